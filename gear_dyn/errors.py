@@ -1,0 +1,116 @@
+"""One error hierarchy for gear_dyn.
+
+- :class:`GearDynError` is the root of every error the toolkit raises on purpose.
+- :class:`InputError` (also a :class:`ValueError`) is a user mistake: a bad scene value, an
+  impossible gear pair, a bad CLI flag or FMU parameter. The CLI maps it to exit code 2.
+- :class:`SolverError` (also a :class:`RuntimeError`) is a numerical failure: the integrator
+  gave up, returned non-finite values, or the linear system is unstable where that was not
+  allowed. The CLI maps it to exit code 3.
+"""
+
+from __future__ import annotations
+
+import math
+
+
+class GearDynError(Exception):
+    """Root of all errors raised on purpose by gear_dyn."""
+
+
+class InputError(GearDynError, ValueError):
+    """A user mistake: bad value, unit, key or combination of parameters."""
+
+
+class SceneError(InputError):
+    """An error in a scene file; the message names the file and the key path."""
+
+
+class SolverError(GearDynError, RuntimeError):
+    """The numerical solution failed; the message carries the solver's own text and advice."""
+
+
+def _fmt(value: object) -> str:
+    if isinstance(value, float):
+        return f"{value:.6g}"
+    return repr(value)
+
+
+def check_range(
+    name: str,
+    value: float,
+    unit: str = "",
+    *,
+    low: float | None = None,
+    high: float | None = None,
+    low_open: bool = False,
+    high_open: bool = False,
+) -> float:
+    """Check that ``value`` is a finite number inside ``[low, high]``.
+
+    Parameters
+    ----------
+    name : str
+        Field name used in the message.
+    value : float
+        Value to check (SI units).
+    unit : str
+        SI unit of the value, for the message ("" for dimensionless).
+    low, high : float or None
+        Bounds; None means unbounded.
+    low_open, high_open : bool
+        Exclude the bound itself.
+
+    Returns
+    -------
+    float
+        ``value`` as a float.
+
+    Raises
+    ------
+    InputError
+        If the value is not a finite real number or lies outside the range.
+    """
+    try:
+        v = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise InputError(
+            f"{name} = {_fmt(value)}: expected a number{_unit_txt(unit)}, "
+            f"valid range {range_text(low, high, low_open, high_open, unit)}"
+        ) from None
+    if isinstance(value, bool):
+        raise InputError(f"{name} = {value!r}: expected a number{_unit_txt(unit)}, not a boolean")
+    ok = math.isfinite(v)
+    if ok and low is not None:
+        ok = v > low if low_open else v >= low
+    if ok and high is not None:
+        ok = v < high if high_open else v <= high
+    if not ok:
+        raise InputError(
+            f"{name} = {_fmt(v)}{(' ' + unit) if unit else ''} is out of range: "
+            f"valid range {range_text(low, high, low_open, high_open, unit)}"
+        )
+    return v
+
+
+def _unit_txt(unit: str) -> str:
+    return f" in {unit}" if unit else ""
+
+
+def range_text(
+    low: float | None,
+    high: float | None,
+    low_open: bool = False,
+    high_open: bool = False,
+    unit: str = "",
+) -> str:
+    """Human-readable interval, e.g. ``0 < x <= 1 m``."""
+    u = f" {unit}" if unit else ""
+    if low is None and high is None:
+        return f"any finite number{u}"
+    if high is None:
+        return f"{'>' if low_open else '>='} {_fmt(low)}{u}"
+    if low is None:
+        return f"{'<' if high_open else '<='} {_fmt(high)}{u}"
+    lo = "<" if low_open else "<="
+    hi = "<" if high_open else "<="
+    return f"{_fmt(low)} {lo} x {hi} {_fmt(high)}{u}"

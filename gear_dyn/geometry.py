@@ -1,0 +1,382 @@
+"""Involute gear pair geometry (PHYSICS.md section 0).
+
+All quantities are SI: metres, radians, pascals, kilograms. Subscript 1 is the pinion (driver),
+2 the gear (driven). Helical pairs are described in the transverse plane with the normal module
+``m_n`` and helix angle ``beta``.
+
+Formulas (ISO 21771 / any gear text; seed 000 eqs. 14, 28, 29 with its typo corrected):
+
+- ``tan a_t = tan a_n / cos b``; ``tan b_b = tan b cos a_t`` (seed 000 eq. 29 prints
+  ``sin b_b = tan b cos a_t``: a typo, not implemented)
+- ``r = m_n z / (2 cos b)``, ``r_b = r cos a_t``, ``r_a = r + m_n (ha* + x)``,
+  ``r_f = r - m_n (ha* + c* - x)``
+- reference centre distance ``a = r1 + r2``; operating ``cos a_wt = a cos a_t / a_w``; the default
+  operating centre distance is the zero-backlash one from
+  ``inv a_wt = inv a_t + 2 tan a_n (x1 + x2) / (z1 + z2)``
+- ``p_bt = pi m_n cos a_t / cos b``, ``g_a = sqrt(r_a1^2 - r_b1^2) + sqrt(r_a2^2 - r_b2^2)
+  - a_w sin a_wt``, ``eps_a = g_a / p_bt``, ``eps_b = B tan b_b / p_bt``
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from .errors import InputError, check_range
+
+
+def involute(alpha: float) -> float:
+    """Involute function ``inv(a) = tan a - a`` (a in rad)."""
+    return math.tan(alpha) - alpha
+
+
+def inverse_involute(value: float) -> float:
+    """Pressure angle (rad) whose involute function equals ``value`` (Newton iteration)."""
+    if value < 0:
+        raise InputError(f"involute value = {value:.6g} must be >= 0")
+    a = (3.0 * value) ** (1.0 / 3.0)  # small-angle start: inv a ~ a^3/3
+    for _ in range(60):
+        f = math.tan(a) - a - value
+        d = math.tan(a) ** 2
+        if d == 0.0:
+            break
+        step = f / d
+        a -= step
+        if abs(step) < 1e-15:
+            break
+    return a
+
+
+@dataclass(frozen=True)
+class GearPair:
+    """An external involute gear pair (spur or helical), validated at construction.
+
+    Parameters
+    ----------
+    z1, z2 : int
+        Teeth of pinion (driver) and gear (driven), >= 5.
+    module : float
+        Normal module m_n in m, 0 < m_n <= 1.
+    pressure_angle : float
+        Normal pressure angle a_n in rad, 5..45 deg.
+    face_width : float
+        Face width B in m, > 0.
+    helix_angle : float
+        Helix angle b in rad, 0 (spur) .. 45 deg.
+    addendum_coef, clearance_coef : float
+        ha* (default 1.0) and c* (default 0.25), dimensionless.
+    x1, x2 : float
+        Profile-shift coefficients, dimensionless, -1..1.5.
+    center_distance : float or None
+        Operating centre distance a_w in m; None gives the zero-backlash value.
+    youngs_modulus1, youngs_modulus2 : float
+        Young's moduli in Pa (default 206 GPa steel).
+    poisson1, poisson2 : float
+        Poisson's ratios (default 0.3).
+    density1, density2 : float
+        Densities in kg/m^3 (default 7850), used for solid-blank inertias.
+
+    Raises
+    ------
+    InputError
+        Non-positive sizes, a contact ratio below 1, an undercut pinion or gear, involute
+        interference, a pointed tip, negative tip clearance, a centre distance too short.
+    """
+
+    z1: int
+    z2: int
+    module: float
+    pressure_angle: float
+    face_width: float
+    helix_angle: float = 0.0
+    addendum_coef: float = 1.0
+    clearance_coef: float = 0.25
+    x1: float = 0.0
+    x2: float = 0.0
+    center_distance: float | None = None
+    youngs_modulus1: float = 206e9
+    youngs_modulus2: float = 206e9
+    poisson1: float = 0.3
+    poisson2: float = 0.3
+    density1: float = 7850.0
+    density2: float = 7850.0
+    _cache: dict[str, float] = field(default_factory=dict, init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        for name in ("z1", "z2"):
+            z = getattr(self, name)
+            if isinstance(z, bool) or not isinstance(z, int | float) or z != int(z):
+                raise InputError(f"{name} = {z!r}: teeth must be a whole number >= 5")
+            check_range(name, z, "teeth", low=5, high=100000)
+            object.__setattr__(self, name, int(z))
+        check_range("module", self.module, "m", low=0.0, high=1.0, low_open=True)
+        check_range(
+            "pressure_angle", self.pressure_angle, "rad", low=math.radians(5), high=math.radians(45)
+        )
+        check_range("face_width", self.face_width, "m", low=0.0, high=10.0, low_open=True)
+        check_range("helix_angle", self.helix_angle, "rad", low=0.0, high=math.radians(45))
+        check_range("addendum_coef", self.addendum_coef, "", low=0.5, high=1.5)
+        check_range("clearance_coef", self.clearance_coef, "", low=0.0, high=0.5)
+        check_range("x1", self.x1, "", low=-1.0, high=1.5)
+        check_range("x2", self.x2, "", low=-1.0, high=1.5)
+        for name in ("youngs_modulus1", "youngs_modulus2"):
+            check_range(name, getattr(self, name), "Pa", low=1e6, high=1e13)
+        for name in ("poisson1", "poisson2"):
+            check_range(name, getattr(self, name), "", low=0.0, high=0.5, high_open=True)
+        for name in ("density1", "density2"):
+            check_range(name, getattr(self, name), "kg/m^3", low=0.0, high=1e5, low_open=True)
+        if self.center_distance is not None:
+            check_range(
+                "center_distance", self.center_distance, "m", low=self.rb1 + self.rb2,
+                high=10 * (self.r1 + self.r2), low_open=True,
+            )
+        self._validate_meshing()
+
+    # ------------------------------------------------------------------ basic radii
+    @property
+    def alpha_t(self) -> float:
+        """Transverse pressure angle a_t in rad."""
+        return math.atan(math.tan(self.pressure_angle) / math.cos(self.helix_angle))
+
+    @property
+    def beta_b(self) -> float:
+        """Base helix angle b_b in rad (tan b_b = tan b cos a_t)."""
+        return math.atan(math.tan(self.helix_angle) * math.cos(self.alpha_t))
+
+    @property
+    def transverse_module(self) -> float:
+        """Transverse module m_t = m_n / cos b in m."""
+        return self.module / math.cos(self.helix_angle)
+
+    @property
+    def r1(self) -> float:
+        """Pinion reference (pitch) radius in m."""
+        return self.transverse_module * self.z1 / 2
+
+    @property
+    def r2(self) -> float:
+        """Gear reference (pitch) radius in m."""
+        return self.transverse_module * self.z2 / 2
+
+    @property
+    def rb1(self) -> float:
+        """Pinion base radius in m."""
+        return self.r1 * math.cos(self.alpha_t)
+
+    @property
+    def rb2(self) -> float:
+        """Gear base radius in m."""
+        return self.r2 * math.cos(self.alpha_t)
+
+    @property
+    def ra1(self) -> float:
+        """Pinion tip radius in m."""
+        return self.r1 + self.module * (self.addendum_coef + self.x1)
+
+    @property
+    def ra2(self) -> float:
+        """Gear tip radius in m."""
+        return self.r2 + self.module * (self.addendum_coef + self.x2)
+
+    @property
+    def rf1(self) -> float:
+        """Pinion root radius in m."""
+        return self.r1 - self.module * (self.addendum_coef + self.clearance_coef - self.x1)
+
+    @property
+    def rf2(self) -> float:
+        """Gear root radius in m."""
+        return self.r2 - self.module * (self.addendum_coef + self.clearance_coef - self.x2)
+
+    @property
+    def ratio(self) -> float:
+        """Gear ratio u = z2 / z1."""
+        return self.z2 / self.z1
+
+    # ------------------------------------------------------------------ centre distance
+    @property
+    def reference_center_distance(self) -> float:
+        """Reference centre distance a = r1 + r2 in m."""
+        return self.r1 + self.r2
+
+    @property
+    def zero_backlash_center_distance(self) -> float:
+        """Centre distance in m at which the shifted teeth mesh without backlash."""
+        inv_w = involute(self.alpha_t) + 2 * math.tan(self.pressure_angle) * (self.x1 + self.x2) / (
+            self.z1 + self.z2
+        )
+        a_wt = inverse_involute(inv_w)
+        return self.reference_center_distance * math.cos(self.alpha_t) / math.cos(a_wt)
+
+    @property
+    def a_w(self) -> float:
+        """Operating centre distance in m."""
+        if self.center_distance is not None:
+            return self.center_distance
+        return self.zero_backlash_center_distance
+
+    @property
+    def alpha_wt(self) -> float:
+        """Operating transverse pressure angle in rad."""
+        return math.acos(self.reference_center_distance * math.cos(self.alpha_t) / self.a_w)
+
+    @property
+    def rw1(self) -> float:
+        """Pinion operating pitch radius in m."""
+        return self.rb1 / math.cos(self.alpha_wt)
+
+    @property
+    def rw2(self) -> float:
+        """Gear operating pitch radius in m."""
+        return self.rb2 / math.cos(self.alpha_wt)
+
+    # ------------------------------------------------------------------ contact
+    @property
+    def base_pitch(self) -> float:
+        """Transverse base pitch p_bt in m."""
+        return math.pi * self.module * math.cos(self.alpha_t) / math.cos(self.helix_angle)
+
+    @property
+    def line_of_action_length(self) -> float:
+        """Distance T1T2 between the tangent points on the base circles, in m."""
+        return self.a_w * math.sin(self.alpha_wt)
+
+    @property
+    def tip_reach1(self) -> float:
+        """Distance from T1 to the pinion tip circle along the line of action, in m."""
+        return math.sqrt(self.ra1**2 - self.rb1**2)
+
+    @property
+    def tip_reach2(self) -> float:
+        """Distance from T2 to the gear tip circle along the line of action, in m."""
+        return math.sqrt(self.ra2**2 - self.rb2**2)
+
+    @property
+    def path_of_contact(self) -> float:
+        """Length g_a of the path of contact (transverse) in m."""
+        return self.tip_reach1 + self.tip_reach2 - self.line_of_action_length
+
+    @property
+    def start_of_contact(self) -> float:
+        """Distance from T1 to the start of contact A (gear tip meets pinion root), in m."""
+        return self.line_of_action_length - self.tip_reach2
+
+    @property
+    def end_of_contact(self) -> float:
+        """Distance from T1 to the end of contact E (pinion tip), in m."""
+        return self.tip_reach1
+
+    @property
+    def pitch_point(self) -> float:
+        """Distance from T1 to the operating pitch point C, in m."""
+        return self.rb1 * math.tan(self.alpha_wt)
+
+    @property
+    def contact_ratio(self) -> float:
+        """Transverse contact ratio eps_a."""
+        return self.path_of_contact / self.base_pitch
+
+    @property
+    def overlap_ratio(self) -> float:
+        """Overlap (face) contact ratio eps_b = B tan b_b / p_bt."""
+        return self.face_width * math.tan(self.beta_b) / self.base_pitch
+
+    @property
+    def total_contact_ratio(self) -> float:
+        """Total contact ratio eps_g = eps_a + eps_b."""
+        return self.contact_ratio + self.overlap_ratio
+
+    # ------------------------------------------------------------------ thickness, backlash
+    def tooth_thickness(self, gear: int, radius: float) -> float:
+        """Transverse circular tooth thickness (arc) of gear 1 or 2 at ``radius`` in m."""
+        z, x = (self.z1, self.x1) if gear == 1 else (self.z2, self.x2)
+        r = self.r1 if gear == 1 else self.r2
+        rb = self.rb1 if gear == 1 else self.rb2
+        s = self.transverse_module * (math.pi / 2 + 2 * x * math.tan(self.pressure_angle))
+        a_y = math.acos(min(1.0, rb / radius))
+        del z
+        return 2 * radius * (s / (2 * r) + involute(self.alpha_t) - involute(a_y))
+
+    @property
+    def backlash(self) -> float:
+        """Theoretical backlash along the line of action in m (zero at the zero-backlash a_w).
+
+        Teeth at nominal thickness (no thickness allowances); a larger operating centre distance
+        opens it: ``j = (2 pi r_w1 / z1 - s_w1 - s_w2) cos a_wt``.
+        """
+        pw = 2 * math.pi * self.rw1 / self.z1
+        jwt = pw - self.tooth_thickness(1, self.rw1) - self.tooth_thickness(2, self.rw2)
+        return jwt * math.cos(self.alpha_wt)
+
+    # ------------------------------------------------------------------ inertia
+    def blank_inertias(self) -> tuple[float, float]:
+        """Polar moments of inertia (kg m^2) of solid cylinders at the pitch radii, width B."""
+        i1 = 0.5 * self.density1 * math.pi * self.face_width * self.r1**4
+        i2 = 0.5 * self.density2 * math.pi * self.face_width * self.r2**4
+        return i1, i2
+
+    @property
+    def effective_youngs_modulus(self) -> float:
+        """Plane-strain contact modulus E* = 1 / ((1-nu1^2)/E1 + (1-nu2^2)/E2) in Pa."""
+        return 1.0 / (
+            (1 - self.poisson1**2) / self.youngs_modulus1
+            + (1 - self.poisson2**2) / self.youngs_modulus2
+        )
+
+    # ------------------------------------------------------------------ validation
+    def _validate_meshing(self) -> None:
+        for gear, z, x, r in ((1, self.z1, self.x1, self.r1), (2, self.z2, self.x2, self.r2)):
+            limit = r * math.sin(self.alpha_t) ** 2
+            need = (self.addendum_coef - x) * self.module
+            if limit < need * (1 - 1e-9):
+                zmin = 2 * (self.addendum_coef - x) * math.cos(self.helix_angle) / math.sin(
+                    self.alpha_t
+                ) ** 2
+                raise InputError(
+                    f"z{gear} = {z}: the {'pinion' if gear == 1 else 'gear'} is undercut by the "
+                    f"generating rack (needs z{gear} >= {zmin:.2f} at x{gear} = {x:g}, or a "
+                    f"profile shift x{gear} >= {self.addendum_coef - limit / self.module:.3f})"
+                )
+            ra = self.ra1 if gear == 1 else self.ra2
+            sa = self.tooth_thickness(gear, ra)
+            if sa <= 0.0:
+                raise InputError(
+                    f"x{gear} = {x:g}: tip of {'pinion' if gear == 1 else 'gear'} is pointed "
+                    f"(tip thickness {sa * 1e3:.3g} mm <= 0); reduce x{gear} or addendum_coef"
+                )
+        gap1 = self.a_w - self.ra1 - self.rf2
+        gap2 = self.a_w - self.ra2 - self.rf1
+        if min(gap1, gap2) < 0.0:
+            raise InputError(
+                f"center_distance = {self.a_w * 1e3:.6g} mm: negative tip clearance "
+                f"({min(gap1, gap2) * 1e3:.3g} mm); valid range >= "
+                f"{(self.a_w - min(gap1, gap2)) * 1e3:.6g} mm"
+            )
+        if self.tip_reach2 > self.line_of_action_length or self.tip_reach1 > (
+            self.line_of_action_length
+        ):
+            raise InputError(
+                f"z1 = {self.z1}, z2 = {self.z2}: involute interference (a tip reaches past the "
+                "mating base-circle tangent point); add positive profile shift to the pinion"
+            )
+        if self.contact_ratio < 1.0:
+            raise InputError(
+                f"contact_ratio = {self.contact_ratio:.4f}: the pair does not mesh continuously "
+                "(transverse contact ratio must be >= 1); check center_distance and addendum_coef"
+            )
+        if self.backlash < -1e-12 * self.module:
+            raise InputError(
+                f"center_distance = {self.a_w * 1e3:.6g} mm: teeth overlap (backlash "
+                f"{self.backlash * 1e6:.3g} um < 0); valid range >= "
+                f"{self.zero_backlash_center_distance * 1e3:.6g} mm"
+            )
+
+
+def mesh_frequency(pair: GearPair, speed1: float) -> float:
+    """Mesh frequency f_m = z1 n1 / 60 in Hz for pinion speed ``speed1`` in rad/s."""
+    return pair.z1 * speed1 / (2 * math.pi)
+
+
+def output_speed(pair: GearPair, speed1: float) -> float:
+    """Driven speed in rad/s: w2 = w1 z1 / z2."""
+    return speed1 * pair.z1 / pair.z2

@@ -1,0 +1,315 @@
+"""The one periodic mesh-stiffness type that every stiffness method returns.
+
+Stiffness is a function of the *mesh phase* ``p`` measured in mesh cycles (one cycle = one base
+pitch of roll = one mesh period ``1/f_m``). Phase 0 is the instant a new tooth pair enters contact.
+The model maps time to phase with ``p = f_m t + p0``.
+
+Two concrete forms:
+
+- :class:`PiecewiseStiffness`: piecewise linear between samples, with jumps allowed at the
+  switching phases (teeth entering or leaving contact). The rectangular wave is the special case of
+  constant pieces. Fourier coefficients are integrated exactly over the linear pieces.
+- :class:`FourierStiffness`: a truncated Fourier series ``k0 + sum a_n cos(2 pi n p) +
+  b_n sin(2 pi n p)`` (seed 002 eq. 13, with its printed second ``cos`` read as ``sin``). Smooth,
+  so it has no switching phases.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..errors import InputError
+
+FloatArray = NDArray[np.float64]
+
+
+class PeriodicStiffness(ABC):
+    """Mesh stiffness k(p) in N/m, periodic in the mesh phase p (cycles) with period 1."""
+
+    name: str
+
+    @abstractmethod
+    def __call__(self, phase: ArrayLike) -> FloatArray:
+        """Stiffness in N/m at mesh phase ``phase`` (cycles, any real value)."""
+
+    @property
+    @abstractmethod
+    def switching_phases(self) -> FloatArray:
+        """Phases in [0, 1) where k jumps (teeth enter or leave contact); empty if smooth."""
+
+    @abstractmethod
+    def fourier_coefficients(self, n: int) -> tuple[float, FloatArray, FloatArray]:
+        """Return ``(k0, a, b)``: mean and cosine/sine coefficients for harmonics 1..n in N/m."""
+
+    def segments(self) -> tuple[FloatArray, FloatArray] | None:
+        """``(edges, values)`` if k is piecewise constant over one cycle, else None.
+
+        ``edges`` has length S+1 from 0 to 1, ``values`` length S.
+        """
+        return None
+
+    @property
+    def mean(self) -> float:
+        """Mean stiffness k_m over one mesh cycle in N/m."""
+        return self.fourier_coefficients(0)[0]
+
+    def _dense(self) -> FloatArray:
+        p = np.linspace(0.0, 1.0, 4097)
+        extra = np.concatenate([self.switching_phases, self.switching_phases - 1e-12])
+        return np.asarray(self(np.concatenate([p, np.mod(extra, 1.0)])))
+
+    @property
+    def min(self) -> float:
+        """Minimum stiffness over a cycle in N/m."""
+        return float(np.min(self._dense()))
+
+    @property
+    def max(self) -> float:
+        """Maximum stiffness over a cycle in N/m."""
+        return float(np.max(self._dense()))
+
+    def truncated(self, n: int) -> FourierStiffness:
+        """The Fourier series of this stiffness truncated at ``n`` harmonics."""
+        k0, a, b = self.fourier_coefficients(n)
+        return FourierStiffness(k0, a, b, name=f"{self.name} (Fourier, {n} terms)")
+
+    def switching_times(self, t0: float, t1: float, mesh_frequency: float,
+                        phase0: float = 0.0) -> FloatArray:
+        """Times in the open interval (t0, t1) at which k jumps, for ``p = f_m t + phase0``."""
+        sw = self.switching_phases
+        if sw.size == 0 or t1 <= t0:
+            return np.empty(0)
+        p0 = mesh_frequency * t0 + phase0
+        p1 = mesh_frequency * t1 + phase0
+        c0 = int(np.floor(p0))
+        c1 = int(np.floor(p1))
+        cycles = np.arange(c0, c1 + 1, dtype=float)
+        ph = (cycles[:, None] + sw[None, :]).ravel()
+        ph = ph[(ph > p0) & (ph < p1)]
+        t = (ph - phase0) / mesh_frequency
+        # guard against rounding putting an instant on an end point
+        tol = 1e-12 * max(abs(t0), abs(t1), 1.0 / mesh_frequency)
+        return np.sort(t[(t > t0 + tol) & (t < t1 - tol)])
+
+
+def _check_k(name: str, values: FloatArray) -> None:
+    if not np.all(np.isfinite(values)) or np.any(values < 0):
+        bad = values[~np.isfinite(values) | (values < 0)][0]
+        raise InputError(f"{name}: stiffness value {bad:.6g} N/m is invalid; valid range >= 0 N/m")
+
+
+@dataclass(frozen=True, eq=False)
+class PiecewiseStiffness(PeriodicStiffness):
+    """Piecewise-linear periodic stiffness with jumps at the switching phases.
+
+    Parameters
+    ----------
+    edges : array_like
+        Segment edges in mesh cycles, strictly increasing from 0 to 1 (length S+1). Every interior
+        edge is a switching phase (a possible jump); phase 0 is one as well.
+    samples : sequence of (phase, value) array pairs
+        For each of the S segments, sample phases (spanning exactly the segment, increasing) and
+        stiffness values in N/m. Constant segments need only their two end points.
+    name : str
+        Method name, reported in summaries.
+
+    Raises
+    ------
+    InputError
+        Non-increasing edges, samples outside their segment, negative or non-finite values.
+    """
+
+    edges: FloatArray
+    samples: tuple[tuple[FloatArray, FloatArray], ...]
+    name: str = "piecewise"
+    _u: FloatArray = field(init=False, repr=False)
+    _v: FloatArray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        e = np.asarray(self.edges, dtype=float)
+        if e.ndim != 1 or e.size < 2 or e[0] != 0.0 or e[-1] != 1.0 or np.any(np.diff(e) <= 0):
+            raise InputError(f"{self.name}: segment edges must rise strictly from 0 to 1, got {e}")
+        if len(self.samples) != e.size - 1:
+            raise InputError(f"{self.name}: {len(self.samples)} sample sets for {e.size - 1} segments")
+        us, vs = [], []
+        for i, (ph, val) in enumerate(self.samples):
+            ph = np.asarray(ph, dtype=float)
+            val = np.asarray(val, dtype=float)
+            if ph.shape != val.shape or ph.size < 2:
+                raise InputError(f"{self.name}: segment {i} needs >= 2 samples of equal length")
+            _check_k(self.name, val)
+            width = e[i + 1] - e[i]
+            u = (ph - e[i]) / width
+            if abs(u[0]) > 1e-9 or abs(u[-1] - 1) > 1e-9 or np.any(np.diff(u) <= 0):
+                raise InputError(f"{self.name}: samples of segment {i} must span it increasingly")
+            u = np.clip(u, 0.0, 1.0)
+            us.append(2 * i + u)
+            vs.append(val)
+        object.__setattr__(self, "edges", e)
+        object.__setattr__(self, "_u", np.concatenate(us))
+        object.__setattr__(self, "_v", np.concatenate(vs))
+
+    @property
+    def switching_phases(self) -> FloatArray:
+        return self.edges[:-1].copy()
+
+    def __call__(self, phase: ArrayLike) -> FloatArray:
+        p = np.mod(np.asarray(phase, dtype=float), 1.0)
+        e = self.edges
+        idx = np.clip(np.searchsorted(e, p, side="right") - 1, 0, e.size - 2)
+        u = 2 * idx + (p - e[idx]) / (e[idx + 1] - e[idx])
+        return np.interp(u, self._u, self._v)
+
+    def segments(self) -> tuple[FloatArray, FloatArray] | None:
+        vals = []
+        for ph, v in self.samples:
+            v = np.asarray(v, dtype=float)
+            if np.ptp(v) > 0:
+                return None
+            vals.append(float(v[0]))
+        return self.edges.copy(), np.asarray(vals)
+
+    def fourier_coefficients(self, n: int) -> tuple[float, FloatArray, FloatArray]:
+        e = self.edges
+        # linear pieces in absolute phase
+        p_lo, p_hi, v_lo, v_hi = [], [], [], []
+        for i, (ph, v) in enumerate(self.samples):
+            ph = np.clip(np.asarray(ph, dtype=float), e[i], e[i + 1])
+            v = np.asarray(v, dtype=float)
+            p_lo.append(ph[:-1])
+            p_hi.append(ph[1:])
+            v_lo.append(v[:-1])
+            v_hi.append(v[1:])
+        p0 = np.concatenate(p_lo)
+        p1 = np.concatenate(p_hi)
+        v0 = np.concatenate(v_lo)
+        v1 = np.concatenate(v_hi)
+        w = p1 - p0
+        keep = w > 0
+        p0, p1, v0, v1, w = p0[keep], p1[keep], v0[keep], v1[keep], w[keep]
+        k0 = float(np.sum(0.5 * (v0 + v1) * w))
+        if n <= 0:
+            return k0, np.empty(0), np.empty(0)
+        s = (v1 - v0) / w
+        om = 2 * np.pi * np.arange(1, n + 1)[:, None]
+
+        def prim(p: FloatArray, v: FloatArray) -> NDArray[np.complex128]:
+            ex = np.exp(-1j * om * p[None, :])
+            return v[None, :] * ex / (-1j * om) + s[None, :] * ex / om**2
+
+        c = np.sum(prim(p1, v1) - prim(p0, v0), axis=1)
+        return k0, 2 * c.real, -2 * c.imag
+
+
+@dataclass(frozen=True, eq=False)
+class FourierStiffness(PeriodicStiffness):
+    """Truncated Fourier series stiffness ``k0 + sum_n a_n cos(2 pi n p) + b_n sin(2 pi n p)``.
+
+    Parameters
+    ----------
+    k0 : float
+        Mean stiffness in N/m.
+    a, b : array_like
+        Cosine and sine coefficients for harmonics 1..N in N/m.
+    name : str
+        Method name for reports.
+    """
+
+    k0: float
+    a: FloatArray
+    b: FloatArray
+    name: str = "fourier"
+
+    def __post_init__(self) -> None:
+        a = np.atleast_1d(np.asarray(self.a, dtype=float))
+        b = np.atleast_1d(np.asarray(self.b, dtype=float))
+        if a.shape != b.shape:
+            raise InputError(f"{self.name}: a and b must have the same length")
+        object.__setattr__(self, "a", a)
+        object.__setattr__(self, "b", b)
+        if not (np.isfinite(self.k0) and self.k0 > 0):
+            raise InputError(f"{self.name}: mean stiffness {self.k0:.6g} N/m must be > 0")
+
+    @property
+    def switching_phases(self) -> FloatArray:
+        return np.empty(0)
+
+    def __call__(self, phase: ArrayLike) -> FloatArray:
+        p = np.asarray(phase, dtype=float)
+        n = np.arange(1, self.a.size + 1)
+        ang = 2 * np.pi * p[..., None] * n
+        return self.k0 + np.cos(ang) @ self.a + np.sin(ang) @ self.b
+
+    def derivative(self, phase: ArrayLike) -> FloatArray:
+        """dk/dp in N/m per cycle."""
+        p = np.asarray(phase, dtype=float)
+        n = np.arange(1, self.a.size + 1)
+        ang = 2 * np.pi * p[..., None] * n
+        return (-np.sin(ang) @ (self.a * 2 * np.pi * n)) + np.cos(ang) @ (self.b * 2 * np.pi * n)
+
+    def fourier_coefficients(self, n: int) -> tuple[float, FloatArray, FloatArray]:
+        a = np.zeros(max(n, 0))
+        b = np.zeros(max(n, 0))
+        m = min(n, self.a.size)
+        a[:m] = self.a[:m]
+        b[:m] = self.b[:m]
+        return float(self.k0), a, b
+
+
+def rectangular_stiffness(contact_ratio: float, k_single: float, k_double: float,
+                          name: str = "rectangular") -> PiecewiseStiffness:
+    """Rectangular-wave mesh stiffness from the transverse contact ratio.
+
+    With ``n = floor(eps)`` and ``f = eps - n``, ``n + 1`` pairs are in contact during the first
+    ``f`` of each mesh cycle (phase 0 = a new pair enters) and ``n`` pairs for the rest.
+    One pair has ``k_single``, two pairs ``k_double``; for high contact ratio (eps >= 2) each pair
+    beyond the second adds ``k_double / 2`` (decision: pairs share equally).
+
+    Parameters
+    ----------
+    contact_ratio : float
+        Transverse contact ratio eps_a >= 1.
+    k_single, k_double : float
+        Single- and double-pair stiffness in N/m, 0 < k_single <= k_double.
+
+    Returns
+    -------
+    PiecewiseStiffness
+
+    Raises
+    ------
+    InputError
+        eps < 1 or inconsistent stiffness values.
+    """
+    if not (np.isfinite(contact_ratio) and contact_ratio >= 1.0):
+        raise InputError(f"contact_ratio = {contact_ratio:.6g}: valid range >= 1")
+    if not (np.isfinite(k_single) and k_single > 0):
+        raise InputError(f"k_single = {k_single:.6g} N/m: valid range > 0 N/m")
+    if not (np.isfinite(k_double) and k_double >= k_single):
+        raise InputError(
+            f"k_double = {k_double:.6g} N/m: valid range >= k_single = {k_single:.6g} N/m"
+        )
+
+    def k_of(pairs: int) -> float:
+        if pairs <= 1:
+            return k_single
+        return k_double + (pairs - 2) * k_double / 2
+
+    n = int(np.floor(contact_ratio))
+    f = contact_ratio - n
+    if f < 1e-9 or f > 1 - 1e-9:
+        pairs = int(round(contact_ratio))
+        k = k_of(pairs)
+        return PiecewiseStiffness(np.array([0.0, 1.0]), ((np.array([0.0, 1.0]), np.array([k, k])),),
+                                  name=name)
+    kh, kl = k_of(n + 1), k_of(n)
+    edges = np.array([0.0, f, 1.0])
+    samples = (
+        (np.array([0.0, f]), np.array([kh, kh])),
+        (np.array([f, 1.0]), np.array([kl, kl])),
+    )
+    return PiecewiseStiffness(edges, samples, name=name)
