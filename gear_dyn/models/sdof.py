@@ -1,0 +1,282 @@
+"""Single-DOF mesh model of seed 002 (eqs. 13-16; PHYSICS.md section 1).
+
+    m_e x'' + c_m (x' - e') + k(t) f(x - e) = W
+
+x is the dynamic transmission error along the line of action (x = r_b1 th1 - r_b2 th2, m),
+m_e = I1 I2 / (r_b1^2 I2 + r_b2^2 I1) (kg), c_m = 2 xi sqrt(m_e k_m) (N s/m), W = T1 / r_b1 (N).
+Options, each off by default and then absent from the right-hand side (no zero terms evaluated):
+
+- backlash with half gap b_g: f(u) = u - b_g for u > b_g, 0 inside the gap, u + b_g below -b_g
+- static transmission error e(t) = e(p(t)), p = f_m t + p0 the mesh phase
+
+With both off the equation is exactly the seed's.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import InputError, check_range
+from ..excitation import HarmonicSignal, SampledSignal
+from ..geometry import GearPair
+from ..stiffness.periodic import PeriodicStiffness
+
+FloatArray = NDArray[np.float64]
+Signal = HarmonicSignal | SampledSignal
+
+
+def effective_mass(i1: float, i2: float, rb1: float, rb2: float) -> float:
+    """Equivalent mass on the line of action, m_e = I1 I2 / (rb1^2 I2 + rb2^2 I1), in kg.
+
+    Parameters
+    ----------
+    i1, i2 : float
+        Polar moments of inertia of pinion and gear in kg m^2 (> 0).
+    rb1, rb2 : float
+        Base radii in m (> 0).
+    """
+    check_range("inertia_pinion", i1, "kg*m^2", low=0.0, low_open=True)
+    check_range("inertia_gear", i2, "kg*m^2", low=0.0, low_open=True)
+    return i1 * i2 / (rb1**2 * i2 + rb2**2 * i1)
+
+
+def dead_zone(u: FloatArray | float, half_gap: float) -> FloatArray:
+    """Backlash function f(u): u - b for u > b, 0 for |u| <= b, u + b for u < -b (m)."""
+    u = np.asarray(u, dtype=float)
+    return np.where(u > half_gap, u - half_gap, np.where(u < -half_gap, u + half_gap, 0.0))
+
+
+@dataclass(frozen=True, eq=False)
+class SDOFModel:
+    """Single-DOF gear mesh model.
+
+    Parameters
+    ----------
+    mass : float
+        Equivalent mass m_e in kg (> 0).
+    stiffness : PeriodicStiffness
+        Mesh stiffness k(p) in N/m, p in mesh cycles.
+    damping_ratio : float
+        Mesh damping ratio xi (0..10); c_m = 2 xi sqrt(m_e k_m).
+    static_load : float
+        Transmitted static load W in N (>= 0).
+    mesh_frequency : float
+        Mesh frequency f_m in Hz (> 0).
+    backlash : float or None
+        Half gap b_g in m (> 0), or None for no backlash.
+    transmission_error : HarmonicSignal, SampledSignal or None
+        Static transmission error e(p) in m, or None.
+    phase0 : float
+        Mesh phase at t = 0 in cycles.
+
+    Raises
+    ------
+    InputError
+        Any parameter outside its valid range.
+    """
+
+    mass: float
+    stiffness: PeriodicStiffness
+    damping_ratio: float
+    static_load: float
+    mesh_frequency: float
+    backlash: float | None = None
+    transmission_error: Signal | None = None
+    phase0: float = 0.0
+    state_labels: tuple[str, ...] = field(default=("x", "v"), init=False)
+    damping: float = field(init=False)
+    _rhs: Callable[[float, FloatArray], FloatArray] = field(init=False, repr=False)
+    _jac: Callable[[float, FloatArray], FloatArray] = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        check_range("mass", self.mass, "kg", low=0.0, low_open=True)
+        check_range("damping_ratio", self.damping_ratio, "", low=0.0, high=10.0)
+        check_range("static_load", self.static_load, "N", low=0.0)
+        check_range("mesh_frequency", self.mesh_frequency, "Hz", low=0.0, high=1e7, low_open=True)
+        check_range("phase0", self.phase0, "cycles")
+        if self.backlash is not None:
+            check_range("backlash", self.backlash, "m", low=0.0, high=0.1, low_open=True)
+        k_m = self.stiffness.mean
+        if not (math.isfinite(k_m) and k_m > 0):
+            raise InputError(f"mean mesh stiffness = {k_m:.6g} N/m: valid range > 0 N/m")
+        object.__setattr__(self, "damping", 2 * self.damping_ratio * math.sqrt(self.mass * k_m))
+        object.__setattr__(self, "_rhs", self._build_rhs())
+        object.__setattr__(self, "_jac", self._build_jac())
+
+    # ---------------------------------------------------------------- derived constants
+    @property
+    def mean_stiffness(self) -> float:
+        """Mean mesh stiffness k_m in N/m."""
+        return self.stiffness.mean
+
+    @property
+    def natural_frequency(self) -> float:
+        """Natural frequency sqrt(k_m / m_e) / (2 pi) in Hz."""
+        return math.sqrt(self.mean_stiffness / self.mass) / (2 * math.pi)
+
+    @property
+    def static_deflection(self) -> float:
+        """Static deflection W / k_m in m (plus the half gap with backlash)."""
+        return self.static_load / self.mean_stiffness + (self.backlash or 0.0)
+
+    @property
+    def state_scale(self) -> FloatArray:
+        """Typical state magnitudes [m, m/s] for tolerances and relative errors."""
+        x = max(self.static_load / self.mean_stiffness, self.backlash or 0.0, 1e-9)
+        return np.array([x, x * 2 * math.pi * self.natural_frequency])
+
+    def phase(self, t: FloatArray | float) -> FloatArray:
+        """Mesh phase p = f_m t + p0 in cycles."""
+        return self.mesh_frequency * np.asarray(t, dtype=float) + self.phase0
+
+    def initial_state(self) -> FloatArray:
+        """Static deflection under the mean stiffness, at rest relative to e(t)."""
+        x0 = self.static_deflection
+        v0 = 0.0
+        if self.transmission_error is not None:
+            p0 = self.phase(0.0)
+            x0 += float(self.transmission_error.value(p0))
+            v0 = float(self.transmission_error.slope(p0)) * self.mesh_frequency
+        return np.array([x0, v0])
+
+    # ---------------------------------------------------------------- right-hand side
+    def _build_rhs(self) -> Callable[[float, FloatArray], FloatArray]:
+        m, c, w, fm, p0 = self.mass, self.damping, self.static_load, self.mesh_frequency, self.phase0
+        k = self.stiffness
+        b = self.backlash
+        te = self.transmission_error
+        if b is None and te is None:
+            def rhs(t: float, y: FloatArray) -> FloatArray:
+                x, v = y
+                kt = float(k(fm * t + p0))
+                return np.array([v, (w - c * v - kt * x) / m])
+        elif te is None:
+            assert b is not None
+
+            def rhs(t: float, y: FloatArray) -> FloatArray:
+                x, v = y
+                kt = float(k(fm * t + p0))
+                fx = x - b if x > b else (x + b if x < -b else 0.0)
+                return np.array([v, (w - c * v - kt * fx) / m])
+        else:
+            bb = b
+
+            def rhs(t: float, y: FloatArray) -> FloatArray:
+                x, v = y
+                p = fm * t + p0
+                kt = float(k(p))
+                u = x - float(te.value(p))
+                ud = v - fm * float(te.slope(p))
+                if bb is not None:
+                    u = u - bb if u > bb else (u + bb if u < -bb else 0.0)
+                return np.array([v, (w - c * ud - kt * u) / m])
+        return rhs
+
+    def _build_jac(self) -> Callable[[float, FloatArray], FloatArray]:
+        m, c, fm, p0 = self.mass, self.damping, self.mesh_frequency, self.phase0
+        k = self.stiffness
+        b = self.backlash
+        te = self.transmission_error
+
+        def jac(t: float, y: FloatArray) -> FloatArray:
+            p = fm * t + p0
+            kt = float(k(p))
+            if b is not None:
+                u = y[0] - (float(te.value(p)) if te is not None else 0.0)
+                if abs(u) <= b:
+                    kt = 0.0
+            return np.array([[0.0, 1.0], [-kt / m, -c / m]])
+        return jac
+
+    def rhs(self, t: float, y: FloatArray) -> FloatArray:
+        """Time derivative [x', v'] of the state y = [x, v] at time t (s)."""
+        return self._rhs(t, y)
+
+    def jac(self, t: float, y: FloatArray) -> FloatArray:
+        """Jacobian d rhs / d y (2 x 2)."""
+        return self._jac(t, y)
+
+    def switching_times(self, t0: float, t1: float) -> FloatArray:
+        """Instants in (t0, t1) where k(t) jumps."""
+        return self.stiffness.switching_times(t0, t1, self.mesh_frequency, self.phase0)
+
+    def linear_segments(self, t0: float, t1: float) -> list[tuple[float, float, FloatArray,
+                                                                   FloatArray]] | None:
+        """Pieces ``(ta, tb, A, g)`` with y' = A y + g, or None if not piecewise-constant linear."""
+        seg = self.stiffness.segments()
+        if seg is None or self.backlash is not None or self.transmission_error is not None:
+            return None
+        cuts = np.concatenate([[t0], self.switching_times(t0, t1), [t1]])
+        out = []
+        g = np.array([0.0, self.static_load / self.mass])
+        for ta, tb in zip(cuts[:-1], cuts[1:], strict=True):
+            kt = float(self.stiffness(self.phase(0.5 * (ta + tb))))
+            a = np.array([[0.0, 1.0], [-kt / self.mass, -self.damping / self.mass]])
+            out.append((float(ta), float(tb), a, g))
+        return out
+
+    # ---------------------------------------------------------------- outputs
+    def outputs(self, t: FloatArray, y: FloatArray) -> dict[str, FloatArray]:
+        """Derived series: ``dte`` (m), ``mesh_force`` (N), ``stiffness`` (N/m)."""
+        t = np.asarray(t, dtype=float)
+        x, v = np.asarray(y[0], dtype=float), np.asarray(y[1], dtype=float)
+        p = self.phase(t)
+        kt = self.stiffness(p)
+        u, ud = x, v
+        if self.transmission_error is not None:
+            u = x - self.transmission_error.value(p)
+            ud = v - self.mesh_frequency * self.transmission_error.slope(p)
+        if self.backlash is not None:
+            u = dead_zone(u, self.backlash)
+        force = kt * u + self.damping * ud
+        return {"dte": x, "mesh_force": force, "stiffness": kt}
+
+
+def sdof_from_pair(
+    pair: GearPair,
+    speed: float,
+    torque: float,
+    stiffness: PeriodicStiffness,
+    damping_ratio: float = 0.06,
+    inertias: tuple[float, float] | None = None,
+    backlash: float | None = None,
+    transmission_error: Signal | None = None,
+) -> SDOFModel:
+    """Build the single-DOF model of a gear pair at an operating point.
+
+    Parameters
+    ----------
+    pair : GearPair
+    speed : float
+        Pinion speed in rad/s (> 0).
+    torque : float
+        Pinion (input) torque T1 in N m (>= 0); W = T1 / r_b1.
+    stiffness : PeriodicStiffness
+        Mesh stiffness.
+    damping_ratio : float
+        xi, default 0.06 (seed 002 range 0.03-0.17).
+    inertias : (float, float) or None
+        (I1, I2) in kg m^2; None uses solid blanks at the pitch radii (GearPair.blank_inertias).
+    backlash : float or None
+        Half gap in m.
+    transmission_error : signal or None
+        Static transmission error e(p) in m.
+    """
+    check_range("speed", speed, "rad/s", low=0.0, high=1e5, low_open=True)
+    check_range("torque", torque, "N*m", low=0.0, high=1e8)
+    i1, i2 = inertias if inertias is not None else pair.blank_inertias()
+    m = effective_mass(i1, i2, pair.rb1, pair.rb2)
+    return SDOFModel(
+        mass=m,
+        stiffness=stiffness,
+        damping_ratio=damping_ratio,
+        static_load=torque / pair.rb1,
+        mesh_frequency=pair.z1 * speed / (2 * math.pi),
+        backlash=backlash,
+        transmission_error=transmission_error,
+    )
