@@ -1,0 +1,37 @@
+"""TOML scenes: one table per part; a table left out disables that part at no cost.
+
+Feature modules that declare their own tables are listed in :data:`FEATURE_MODULES` and imported
+on first use (so the core loads fast and optional parts stay optional).
+"""
+
+from __future__ import annotations
+
+import importlib
+
+from . import core  # noqa: F401  (registers the core tables)
+from .build import RunPlan, build_model, build_pair, build_plan, build_stiffness, run_scene
+from .fields import REQUIRED, Field, Section
+from .loader import Scene, load_scene, parse_scene
+from .registry import MODEL_BUILDERS, SECTIONS, register_model, register_section
+
+#: modules that register extra scene tables or model builders when imported
+FEATURE_MODULES: tuple[str, ...] = ()
+
+_loaded = False
+
+
+def load_feature_sections() -> None:
+    """Import the feature modules once so their tables and models are registered."""
+    global _loaded
+    if _loaded:
+        return
+    for name in FEATURE_MODULES:
+        importlib.import_module(name)
+    _loaded = True
+
+
+__all__ = [
+    "FEATURE_MODULES", "MODEL_BUILDERS", "REQUIRED", "SECTIONS", "Field", "RunPlan", "Scene",
+    "Section", "build_model", "build_pair", "build_plan", "build_stiffness", "load_scene",
+    "parse_scene", "register_model", "register_section", "run_scene",
+]

@@ -1,0 +1,94 @@
+"""The core scene tables: scene, gear, operating, inertia, stiffness, damping, backlash,
+transmission_error, solver."""
+
+from __future__ import annotations
+
+import math
+
+from .fields import REQUIRED, Field, Section
+from .registry import register_section
+
+DEG = math.pi / 180
+
+SCENE = register_section(Section("scene", (
+    Field("name", kind="str", default="", doc="case name"),
+    Field("description", kind="str", default="", doc="free text"),
+    Field("model", kind="str", default="sdof", choices=("sdof", "torsional"),
+          doc="dynamic model: single-DOF mesh model or two-DOF torsional model"),
+), optional=True, doc="what the case is and which model runs it"))
+
+GEAR = register_section(Section("gear", (
+    Field("teeth_pinion", kind="int", default=REQUIRED, low=5, high=10000, doc="z1"),
+    Field("teeth_gear", kind="int", default=REQUIRED, low=5, high=10000, doc="z2"),
+    Field("module", "m", default=REQUIRED, low=0.0, high=1.0, low_open=True,
+          doc="normal module m_n"),
+    Field("pressure_angle", "rad", default=20 * DEG, low=5 * DEG, high=45 * DEG,
+          doc="normal pressure angle"),
+    Field("helix_angle", "rad", default=0.0, low=0.0, high=45 * DEG, doc="helix angle (0 = spur)"),
+    Field("face_width", "m", default=REQUIRED, low=0.0, high=10.0, low_open=True, doc="B"),
+    Field("addendum_coef", default=1.0, low=0.5, high=1.5, doc="ha*"),
+    Field("clearance_coef", default=0.25, low=0.0, high=0.5, doc="c*"),
+    Field("profile_shift_pinion", default=0.0, low=-1.0, high=1.5, doc="x1"),
+    Field("profile_shift_gear", default=0.0, low=-1.0, high=1.5, doc="x2"),
+    Field("center_distance", "m", default=None, low=0.0, low_open=True,
+          doc="operating centre distance a_w (default: zero-backlash)"),
+    Field("center_distance_offset", "m", default=0.0, low=-1.0, high=1.0,
+          doc="shaft offset added to the centre distance (seed 002)"),
+    Field("youngs_modulus", "Pa", default=206e9, low=1e6, high=1e13, doc="E (both gears)"),
+    Field("poisson", default=0.3, low=0.0, high=0.5, high_open=True, doc="nu (both gears)"),
+    Field("density", "kg/m**3", default=7850.0, low=0.0, high=1e5, low_open=True,
+          doc="density (both gears)"),
+), optional=False, doc="the involute gear pair"))
+
+OPERATING = register_section(Section("operating", (
+    Field("speed", "rad/s", default=REQUIRED, low=0.0, high=1e5, low_open=True,
+          doc="pinion (input) speed"),
+    Field("torque", "N*m", default=REQUIRED, low=0.0, high=1e8, doc="pinion (input) torque T1"),
+), optional=False, doc="operating point"))
+
+INERTIA = register_section(Section("inertia", (
+    Field("pinion", "kg*m**2", default=REQUIRED, low=0.0, high=1e6, low_open=True, doc="I1"),
+    Field("gear", "kg*m**2", default=REQUIRED, low=0.0, high=1e6, low_open=True, doc="I2"),
+), doc="polar inertias; without this table, solid blanks of width B at the pitch radii"))
+
+STIFFNESS = register_section(Section("stiffness", (
+    Field("method", kind="str", default="iso6336",
+          choices=("iso6336", "rectangular", "potential_energy", "weber", "contact_line"),
+          doc="how k(t) is computed"),
+    Field("single", "N/m", default=None, low=0.0, high=1e13, low_open=True,
+          doc="single-pair stiffness (rectangular method)"),
+    Field("double", "N/m", default=None, low=0.0, high=1e13, low_open=True,
+          doc="double-pair stiffness (rectangular method)"),
+    Field("fourier_terms", kind="int", default=None, low=1, high=200,
+          doc="truncate k(t) to this many Fourier harmonics (seed 002 uses 5)"),
+), doc="mesh stiffness; default ISO 6336 rectangular wave"))
+
+DAMPING = register_section(Section("damping", (
+    Field("ratio", default=0.06, low=0.0, high=10.0, doc="mesh damping ratio xi"),
+), doc="c_m = 2 xi sqrt(m_e k_m)"))
+
+BACKLASH = register_section(Section("backlash", (
+    Field("half_gap", "m", default=REQUIRED, low=0.0, high=0.01, low_open=True,
+          doc="half of the backlash b_g along the line of action"),
+), doc="dead-zone backlash (present = enabled)"))
+
+TRANSMISSION_ERROR = register_section(Section("transmission_error", (
+    Field("cos", "m", kind="floatlist", default=REQUIRED,
+          doc="cosine amplitudes of mesh harmonics 1..N"),
+    Field("sin", "m", kind="floatlist", default=None, doc="sine amplitudes (default zeros)"),
+), doc="static transmission error e(t) as mesh harmonics (present = enabled)"))
+
+SOLVER = register_section(Section("solver", (
+    Field("method", kind="str", default="auto",
+          choices=("auto", "exact", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA"),
+          doc="integration method"),
+    Field("rtol", default=1e-8, low=1e-13, high=1e-2, doc="relative tolerance"),
+    Field("atol", default=None, low=0.0, low_open=True,
+          doc="absolute tolerance (default rtol x state scale)"),
+    Field("periods", kind="int", default=200, low=2, high=10_000_000,
+          doc="mesh periods simulated"),
+    Field("steady_periods", kind="int", default=None, low=1, high=10_000_000,
+          doc="last mesh periods taken as steady state (default: half)"),
+    Field("samples_per_period", kind="int", default=64, low=4, high=4096,
+          doc="output samples per mesh period"),
+), doc="integration settings"))

@@ -1,0 +1,195 @@
+"""Declarative scene fields: name, unit, kind, default and valid range, parsed with pint.
+
+Units are parsed only here, at the edge. A plain number is taken as SI (metres, radians, rad/s,
+N m, ...); a string carries its unit (``"6 mm"``, ``"3319 rpm"``, ``"22.5 deg"``).
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
+
+from ..errors import SceneError, range_text
+
+REQUIRED: Any = object()
+
+
+@lru_cache(maxsize=1)
+def _ureg() -> Any:
+    import pint
+
+    return pint.UnitRegistry()
+
+
+_DIM_NAMES = {
+    "[length]": "a length (e.g. '6 mm')",
+    "": "a dimensionless number",
+    "[mass]": "a mass (e.g. '2 kg')",
+    "[time]": "a time (e.g. '0.1 s')",
+    "1 / [time]": "a speed or frequency (e.g. '3319 rpm', '50 Hz')",
+    "[length] ** 2 * [mass] / [time] ** 2": "a torque (e.g. '1474.4 N*m')",
+    "[mass] / [length] / [time] ** 2": "a pressure or modulus (e.g. '207 GPa')",
+    "[mass] / [length] ** 3": "a density (e.g. '7850 kg/m^3')",
+    "[length] ** 2 * [mass]": "an inertia (e.g. '0.05 kg*m^2')",
+    "[mass] / [time] ** 2": "a stiffness (e.g. '8e8 N/m')",
+    "[length] * [mass] / [time] ** 2": "a force (e.g. '1 kN')",
+    "[length] ** 2 * [mass] / [time] ** 3": "a power (e.g. '10 kW')",
+}
+
+
+def _dim_text(unit: str) -> str:
+    ureg = _ureg()
+    dim = str(ureg.Quantity(1, unit).dimensionality) if unit else ""
+    if dim == "dimensionless":
+        dim = ""
+    return _DIM_NAMES.get(dim, f"a quantity in {unit}")
+
+
+@dataclass(frozen=True)
+class Field:
+    """One scene key.
+
+    Parameters
+    ----------
+    name : str
+        TOML key.
+    unit : str
+        SI unit the value is converted to ("" = dimensionless, "rad" for angles).
+    kind : str
+        ``"float"``, ``"int"``, ``"str"``, ``"bool"``, ``"floatlist"``.
+    default : object
+        Default value (SI), ``REQUIRED`` if the key must be given, None if optional.
+    low, high : float or None
+        Valid range in SI units.
+    low_open, high_open : bool
+        Exclude the bound.
+    choices : tuple of str or None
+        Allowed strings for kind ``"str"``.
+    doc : str
+        One-line description (for the README and error messages).
+    """
+
+    name: str
+    unit: str = ""
+    kind: str = "float"
+    default: Any = REQUIRED
+    low: float | None = None
+    high: float | None = None
+    low_open: bool = False
+    high_open: bool = False
+    choices: tuple[str, ...] | None = None
+    doc: str = ""
+
+    def parse(self, raw: Any, where: str) -> Any:
+        """Convert a raw TOML value to SI and check it; ``where`` is 'file: section.key'."""
+        if self.kind == "str":
+            if not isinstance(raw, str):
+                raise SceneError(f"{where} = {raw!r}: expected a string")
+            if self.choices is not None and raw not in self.choices:
+                hint = difflib.get_close_matches(raw, self.choices, n=1)
+                mean = f" (did you mean {hint[0]!r}?)" if hint else ""
+                raise SceneError(
+                    f"{where} = {raw!r}: valid choices are {', '.join(self.choices)}{mean}"
+                )
+            return raw
+        if self.kind == "bool":
+            if not isinstance(raw, bool):
+                raise SceneError(f"{where} = {raw!r}: expected true or false")
+            return raw
+        if self.kind == "floatlist":
+            if not isinstance(raw, list) or not raw:
+                raise SceneError(f"{where} = {raw!r}: expected a non-empty list of {_dim_text(self.unit)}")
+            return [self._number(v, f"{where}[{i}]") for i, v in enumerate(raw)]
+        value = self._number(raw, where)
+        if self.kind == "int":
+            if value != int(value):
+                raise SceneError(f"{where} = {raw!r}: expected a whole number")
+            return int(value)
+        return value
+
+    def _number(self, raw: Any, where: str) -> float:
+        unit_txt = f" {self.unit}" if self.unit else ""
+        rng = range_text(self.low, self.high, self.low_open, self.high_open, self.unit)
+        if isinstance(raw, bool) or not isinstance(raw, int | float | str):
+            raise SceneError(
+                f"{where} = {raw!r}: expected {_dim_text(self.unit)}; valid range {rng}"
+            )
+        if isinstance(raw, str):
+            value = self._parse_quantity(raw, where, rng)
+        else:
+            value = float(raw)
+        if not math.isfinite(value):
+            raise SceneError(f"{where} = {raw!r}: must be a finite number; valid range {rng}")
+        ok = True
+        if self.low is not None:
+            ok = value > self.low if self.low_open else value >= self.low
+        if ok and self.high is not None:
+            ok = value < self.high if self.high_open else value <= self.high
+        if not ok:
+            shown = raw if isinstance(raw, str) else f"{value:.6g}{unit_txt}"
+            raise SceneError(f"{where} = {shown!r} is out of range: valid range {rng}")
+        return value
+
+    def _parse_quantity(self, raw: str, where: str, rng: str) -> float:
+        import pint
+
+        ureg = _ureg()
+        try:
+            q = ureg.Quantity(raw.strip())
+        except Exception:  # pint raises many types for unparsable text
+            raise SceneError(
+                f"{where} = {raw!r}: not a number with a unit; expected {_dim_text(self.unit)}"
+            ) from None
+        if not isinstance(q, ureg.Quantity):
+            q = ureg.Quantity(float(q))
+        try:
+            value = float(q.to(self.unit or "dimensionless").magnitude)
+        except pint.DimensionalityError:
+            raise SceneError(
+                f"{where} = {raw!r}: wrong unit; expected {_dim_text(self.unit)}, "
+                f"valid range {rng}"
+            ) from None
+        except Exception:
+            raise SceneError(f"{where} = {raw!r}: not a number with a unit") from None
+        return value
+
+
+@dataclass(frozen=True)
+class Section:
+    """A TOML table of the scene: its fields, and whether it may be left out."""
+
+    name: str
+    fields: tuple[Field, ...]
+    optional: bool = True
+    doc: str = ""
+
+    def parse(self, raw: Any, source: str) -> dict[str, Any]:
+        """Validated dict of SI values with defaults filled in."""
+        where = f"{source}: [{self.name}]"
+        if not isinstance(raw, Mapping):
+            raise SceneError(f"{where}: expected a table, got {type(raw).__name__}")
+        known = {f.name: f for f in self.fields}
+        for key in raw:
+            if key not in known:
+                hint = difflib.get_close_matches(str(key), list(known), n=1)
+                mean = f"; did you mean {hint[0]!r}?" if hint else ""
+                raise SceneError(
+                    f"{source}: {self.name}.{key}: unknown key{mean} (valid keys: "
+                    f"{', '.join(known)})"
+                )
+        out: dict[str, Any] = {}
+        for f in self.fields:
+            if f.name in raw:
+                out[f.name] = f.parse(raw[f.name], f"{source}: {self.name}.{f.name}")
+            elif f.default is REQUIRED:
+                raise SceneError(
+                    f"{source}: {self.name}.{f.name}: missing required key ({f.doc or f.name}"
+                    f"{', ' + f.unit if f.unit else ''})"
+                )
+            else:
+                out[f.name] = f.default
+        return out

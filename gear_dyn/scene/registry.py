@@ -1,0 +1,31 @@
+"""Registries that let each part of the toolkit declare its scene table and model builder.
+
+A feature module (eccentricity, tip relief, ...) declares its own :class:`Section` and calls
+:func:`register_section`; a model kind registers a builder with :func:`register_model`. The
+scene loader imports the feature modules listed in ``gear_dyn.scene.FEATURE_MODULES``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+from ..errors import InputError
+from .fields import Section
+
+SECTIONS: dict[str, Section] = {}
+MODEL_BUILDERS: dict[str, Callable[[Any], Any]] = {}
+
+
+def register_section(section: Section) -> Section:
+    """Make ``section`` a valid table of scene files (idempotent for the same object)."""
+    old = SECTIONS.get(section.name)
+    if old is not None and old is not section and old != section:
+        raise InputError(f"scene section [{section.name}] registered twice with different fields")
+    SECTIONS[section.name] = section
+    return section
+
+
+def register_model(name: str, builder: Callable[[Any], Any]) -> None:
+    """Register ``builder(scene) -> Model`` for ``[scene] model = name``."""
+    MODEL_BUILDERS[name] = builder
