@@ -1,0 +1,61 @@
+"""Profile modification: tip relief, loaded contact with load sharing, Hertz contact stress.
+
+PHYSICS.md section 3 (seeds 001 and 003). Public names:
+
+- :mod:`.relief`: relief curves, :class:`TipRelief`, :class:`ProfileModification`, height/length
+  conversion, recommended amounts (:func:`recommended_relief`)
+- :mod:`.contact`: :func:`loaded_contact` (single/double contact decision, K_TPM, load sharing,
+  the relief's transmission error), :class:`LoadedContact`
+- :mod:`.stress`: Hertz line contact along the path of contact
+"""
+
+from .contact import (
+    ContactState,
+    LoadedContact,
+    PathView,
+    PiecewiseSignal,
+    contact_state,
+    loaded_contact,
+)
+from .relief import (
+    CURVE_EXPONENTS,
+    CURVES,
+    RULES,
+    ProfileModification,
+    ReliefRecommendation,
+    TipRelief,
+    height_from_length,
+    length_from_height,
+    long_relief_length,
+    recommended_relief,
+    recommended_reliefs,
+    relief_shape,
+    tangential_load_per_width,
+)
+from .stress import contact_stress, effective_modulus, hertz_line_contact, profile_curvature
+
+__all__ = [
+    "CURVES",
+    "CURVE_EXPONENTS",
+    "RULES",
+    "ContactState",
+    "LoadedContact",
+    "PathView",
+    "PiecewiseSignal",
+    "ProfileModification",
+    "ReliefRecommendation",
+    "TipRelief",
+    "contact_state",
+    "contact_stress",
+    "effective_modulus",
+    "height_from_length",
+    "hertz_line_contact",
+    "length_from_height",
+    "loaded_contact",
+    "long_relief_length",
+    "profile_curvature",
+    "recommended_relief",
+    "recommended_reliefs",
+    "relief_shape",
+    "tangential_load_per_width",
+]

@@ -1,0 +1,428 @@
+"""Tip relief: curves, amounts and lengths (PHYSICS.md section 3; seed 001 eqs. 1-3, seed 003).
+
+A tip relief removes material from the tip of a tooth along the profile normal, i.e. along the
+line of action. It is described by its amount ``C_a`` (the depth removed at the tip, m), its
+length ``L`` measured along the line of action from the start of the modification towards the
+tip (m), and its curve. At distance ``x`` from the start of the modification the relief is
+
+    D(x) = C_a f(x / L),   f(0) = 0,   f(1) = 1
+
+with the power curves of seed 001 eq. 2, ``f(u) = u^k``: linear (k = 1.0), Yoshio (1.2),
+Walker (1.5), parabolic (2.0).
+
+Sine curve, decision: seed 001 eq. 3 prints ``D = C_a sin(pi x / L)``, which is zero again at the
+tip (x = L) and peaks halfway along the relief: that removes no material at the tip, the opposite
+of a tip relief. The intended curve is the quarter wave ``f(u) = sin(pi u / 2)`` (zero at the start,
+the full amount at the tip, as every other relief curve); the printed argument lacks the factor 1/2.
+
+A relief length can also be given as a *height* on the tooth: the radial distance ``h`` from the
+tip circle down to the start of the modification (seed 003 Fig. 2, ``L_ca``). On the line of action
+a point of gear ``i`` at radius ``r`` lies at roll distance ``sqrt(r^2 - r_b^2)`` from its
+base-circle tangent point, so ``L = sqrt(r_a^2 - r_b^2) - sqrt((r_a - h)^2 - r_b^2)``.
+
+Recommended amounts (seed 003; ``w_t = F_t / B`` with ``F_t = T1 / r1`` the tangential force at
+the reference circle in N and ``B`` in mm, amounts in micrometres): see :func:`recommended_relief`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..errors import InputError, check_range
+from ..geometry import GearPair
+
+FloatArray = NDArray[np.float64]
+
+#: Exponent k of the power relief curves of seed 001 eq. 2.
+CURVE_EXPONENTS: dict[str, float] = {
+    "linear": 1.0,
+    "yoshio": 1.2,
+    "walker": 1.5,
+    "parabolic": 2.0,
+}
+#: All relief curve names.
+CURVES: tuple[str, ...] = (*CURVE_EXPONENTS, "sine")
+
+#: Relief rules of :func:`recommended_relief`.
+RULES: tuple[str, ...] = ("handbook", "dudley", "niemann", "seed001")
+
+
+def _check_curve(curve: str) -> str:
+    if curve not in CURVES:
+        raise InputError(f"relief curve = {curve!r}: valid values are {', '.join(CURVES)}")
+    return curve
+
+
+def relief_shape(u: ArrayLike, curve: str) -> tuple[FloatArray, FloatArray]:
+    """Normalised relief curve ``f(u)`` and its slope ``df/du``.
+
+    Parameters
+    ----------
+    u : array_like
+        Position along the relief as a fraction of its length (dimensionless); values are clipped
+        to [0, 1] (no relief before the start, the full amount beyond the tip).
+    curve : str
+        One of :data:`CURVES`.
+
+    Returns
+    -------
+    f, df : ndarray
+        Value (0 at u = 0, 1 at u = 1) and slope. The slope is 0 outside (0, 1).
+
+    Raises
+    ------
+    InputError
+        Unknown curve name.
+
+    Examples
+    --------
+    >>> f, _ = relief_shape([0.0, 0.5, 1.0], "parabolic")
+    >>> [round(float(v), 6) for v in f]
+    [0.0, 0.25, 1.0]
+    """
+    _check_curve(curve)
+    uu = np.asarray(u, dtype=float)
+    inside = (uu > 0.0) & (uu < 1.0)
+    uc = np.clip(uu, 0.0, 1.0)
+    if curve == "sine":
+        f = np.sin(0.5 * np.pi * uc)
+        df = 0.5 * np.pi * np.cos(0.5 * np.pi * uc)
+    else:
+        k = CURVE_EXPONENTS[curve]
+        f = uc**k
+        with np.errstate(divide="ignore", invalid="ignore"):
+            df = np.where(uc > 0.0, k * uc ** (k - 1.0), 0.0 if k > 1.0 else 1.0)
+    return f, np.where(inside, df, 0.0)
+
+
+@dataclass(frozen=True)
+class TipRelief:
+    """Tip relief of one gear.
+
+    Parameters
+    ----------
+    amount : float
+        Relief amount C_a at the tip in m (0 .. 1 mm).
+    length : float
+        Relief length L along the line of action, from the start of the modification to the tip,
+        in m (> 0, <= 1 m; checked against the tooth in :meth:`ProfileModification.check`).
+    curve : str
+        Relief curve, one of :data:`CURVES` (default ``"linear"``).
+
+    Raises
+    ------
+    InputError
+        Amount or length out of range, unknown curve.
+    """
+
+    amount: float
+    length: float
+    curve: str = "linear"
+
+    def __post_init__(self) -> None:
+        check_range("relief amount", self.amount, "m", low=0.0, high=1e-3)
+        check_range("relief length", self.length, "m", low=0.0, high=1.0, low_open=True)
+        _check_curve(self.curve)
+
+    def depth(self, x: ArrayLike) -> FloatArray:
+        """Relief D(x) in m at distance ``x`` (m) from the start of the modification."""
+        f, _ = relief_shape(np.asarray(x, dtype=float) / self.length, self.curve)
+        return self.amount * f
+
+    def slope(self, x: ArrayLike) -> FloatArray:
+        """dD/dx (dimensionless) at distance ``x`` (m) from the start of the modification."""
+        _, df = relief_shape(np.asarray(x, dtype=float) / self.length, self.curve)
+        return self.amount * df / self.length
+
+
+def _gear_radii(pair: GearPair, gear: int) -> tuple[float, float, float]:
+    if gear not in (1, 2):
+        raise InputError(f"gear = {gear!r}: valid values are 1 (pinion) and 2 (gear)")
+    if gear == 1:
+        return pair.ra1, pair.rb1, pair.tip_reach1
+    return pair.ra2, pair.rb2, pair.tip_reach2
+
+
+def length_from_height(pair: GearPair, gear: int, height: float) -> float:
+    """Relief length along the line of action (m) for a relief height on the tooth.
+
+    Parameters
+    ----------
+    pair : GearPair
+    gear : int
+        1 for the pinion, 2 for the gear.
+    height : float
+        Radial distance from the tip circle to the start of the modification in m
+        (0 < h <= r_a - r_b).
+
+    Returns
+    -------
+    float
+        ``sqrt(r_a^2 - r_b^2) - sqrt((r_a - h)^2 - r_b^2)`` in m.
+
+    Raises
+    ------
+    InputError
+        Height not positive or reaching below the base circle.
+    """
+    ra, rb, reach = _gear_radii(pair, gear)
+    check_range(f"relief height (gear {gear})", height, "m", low=0.0, high=ra - rb, low_open=True)
+    return reach - math.sqrt(max((ra - height) ** 2 - rb**2, 0.0))
+
+
+def height_from_length(pair: GearPair, gear: int, length: float) -> float:
+    """Relief height on the tooth (m) for a relief length along the line of action (m).
+
+    Inverse of :func:`length_from_height`: ``h = r_a - sqrt((sqrt(r_a^2 - r_b^2) - L)^2 + r_b^2)``.
+
+    Raises
+    ------
+    InputError
+        Length not positive or longer than the roll length from the base circle to the tip.
+    """
+    ra, rb, reach = _gear_radii(pair, gear)
+    check_range(f"relief length (gear {gear})", length, "m", low=0.0, high=reach, low_open=True)
+    return ra - math.sqrt((reach - length) ** 2 + rb**2)
+
+
+@dataclass(frozen=True)
+class ProfileModification:
+    """Tip reliefs of a pair: on the pinion, the gear, both or neither.
+
+    Parameters
+    ----------
+    pinion, gear : TipRelief or None
+        Tip relief of the pinion (acts near the end of contact E) and of the gear (acts near the
+        start of contact A); None for an unmodified tooth.
+    """
+
+    pinion: TipRelief | None = None
+    gear: TipRelief | None = None
+
+    @property
+    def is_zero(self) -> bool:
+        """True if neither gear removes any material."""
+        return all(r is None or r.amount == 0.0 for r in (self.pinion, self.gear))
+
+    def check(self, pair: GearPair) -> None:
+        """Check that each relief starts above its base circle.
+
+        Raises
+        ------
+        InputError
+            A relief length longer than the roll length from the base circle to the tip.
+        """
+        for gear, relief in ((1, self.pinion), (2, self.gear)):
+            if relief is not None:
+                _, _, reach = _gear_radii(pair, gear)
+                check_range(f"relief length ({'pinion' if gear == 1 else 'gear'})",
+                            relief.length, "m", low=0.0, high=reach, low_open=True)
+
+    def roll_depth(self, pair: GearPair, gear: int, rho: ArrayLike) -> tuple[FloatArray,
+                                                                            FloatArray]:
+        """Relief of one gear and its slope as functions of that gear's roll distance.
+
+        Parameters
+        ----------
+        pair : GearPair
+        gear : int
+            1 (pinion) or 2 (gear).
+        rho : array_like
+            Roll distance from the gear's base-circle tangent point along the line of action in m
+            (the involute's radius of curvature at the contact point).
+
+        Returns
+        -------
+        depth, slope : ndarray
+            Relief in m and dD/drho (dimensionless); zeros for an unmodified gear.
+        """
+        r = np.asarray(rho, dtype=float)
+        relief = self.pinion if gear == 1 else self.gear
+        if relief is None:
+            return np.zeros_like(r), np.zeros_like(r)
+        _, _, reach = _gear_radii(pair, gear)
+        x = r - (reach - relief.length)
+        return relief.depth(x), relief.slope(x)
+
+    def separation(self, pair: GearPair, s: ArrayLike) -> FloatArray:
+        """Unloaded gap (m) the reliefs open at contact position ``s`` (m from T1 along the LoA).
+
+        The sum of the pinion relief (roll distance ``s``) and the gear relief (roll distance
+        ``T1T2 - s``).
+        """
+        s = np.asarray(s, dtype=float)
+        d1, _ = self.roll_depth(pair, 1, s)
+        d2, _ = self.roll_depth(pair, 2, pair.line_of_action_length - s)
+        return d1 + d2
+
+
+# ---------------------------------------------------------------------------- recommended amounts
+@dataclass(frozen=True)
+class ReliefRecommendation:
+    """A recommended tip relief for both gears of a pair.
+
+    Attributes
+    ----------
+    rule : str
+        Rule name (one of :data:`RULES`).
+    source : str
+        Where the rule comes from, with its formula.
+    amount_pinion, amount_gear : float
+        Relief amounts C_a1, C_a2 in m.
+    height_pinion, height_gear : float
+        Relief heights on the teeth (radial, from the tip) in m.
+    length_pinion, length_gear : float
+        Relief lengths along the line of action in m.
+    """
+
+    rule: str
+    source: str
+    amount_pinion: float
+    amount_gear: float
+    height_pinion: float
+    height_gear: float
+    length_pinion: float
+    length_gear: float
+
+    def modification(self, curve: str = "linear") -> ProfileModification:
+        """The :class:`ProfileModification` with this rule's amounts and lengths."""
+        return ProfileModification(
+            pinion=TipRelief(self.amount_pinion, self.length_pinion, curve),
+            gear=TipRelief(self.amount_gear, self.length_gear, curve),
+        )
+
+
+def tangential_load_per_width(pair: GearPair, torque: float) -> float:
+    """``w_t = F_t / B`` in N/mm with ``F_t = T1 / r1`` at the pinion reference circle (seed 003).
+
+    Parameters
+    ----------
+    pair : GearPair
+    torque : float
+        Pinion torque T1 in N m (> 0).
+    """
+    check_range("torque", torque, "N*m", low=0.0, high=1e8, low_open=True)
+    return torque / pair.r1 / (pair.face_width * 1e3)
+
+
+def long_relief_length(pair: GearPair) -> float:
+    """Length (m) of a *long* relief (tip to single-contact point): ``(eps_a - 1) p_bt``.
+
+    Raises
+    ------
+    InputError
+        Contact ratio >= 2 (no single-contact zone, so no long relief).
+    """
+    eps = pair.contact_ratio
+    if eps >= 2.0:
+        raise InputError(
+            f"contact_ratio = {eps:.4f}: a long relief (tip to single-contact point) needs "
+            "1 <= contact ratio < 2"
+        )
+    return (eps - 1.0) * pair.base_pitch
+
+
+def recommended_relief(
+    pair: GearPair,
+    torque: float,
+    rule: str,
+    *,
+    handbook_a: float = 9.0,
+    handbook_b: float = 4.0,
+    face_load_factor: float = 1.0,
+) -> ReliefRecommendation:
+    """Recommended tip relief of a pair by one of the published rules.
+
+    With ``w_t = F_t / B`` in N/mm (:func:`tangential_load_per_width`) and ``m_n`` in mm:
+
+    - ``"handbook"`` (Gear Handbook 1993, seed 003): ``C_a1 = a + 0.04 w_t``,
+      ``C_a2 = b + 0.04 w_t`` micrometres, a = 5..13 (default 9), b = 0..8 (default 4); relief
+      height 0.4 m_n on both gears.
+    - ``"dudley"`` (Dudley, Handbook of Practical Gear Design, seed 003):
+      ``C_a1 = 4.1 C_m F_t / (1e5 B)``, ``C_a2 = 6.5 C_m F_t / (1e5 B)`` with F_t in N, B in mm and
+      the result in mm (units pinned down: with these units the rule gives 0.041 and 0.065 um per
+      N/mm, the same magnitude as the handbook's 0.04 um per N/mm; any other reading is off by
+      orders of magnitude). C_m is the face load distribution factor (default 1). Dudley's relief
+      height table (seed 003 Table 1) is not in the seed text: long relief (tip to single-contact
+      point) is used, an assumption.
+    - ``"niemann"`` (Niemann, Maschinenelemente, seed 003): ``C_a = 0.009 m_n`` mm on both gears,
+      height 0.493 m_n.
+    - ``"seed001"`` (seed 001 eq. 1): ``C_a,i = c_i + 0.04 F_t / B`` um with c1 = 9, c2 = 4 (the
+      handbook rule with a = 9, b = 4), long relief ``(eps_a - 1) p_bt`` along the line of action
+      (seed 001: the relief region maps onto the segment from the single-contact point to the
+      start of contact).
+
+    Parameters
+    ----------
+    pair : GearPair
+    torque : float
+        Pinion torque T1 in N m (> 0).
+    rule : str
+        One of :data:`RULES`.
+    handbook_a, handbook_b : float
+        Constants a (5..13) and b (0..8) of the handbook rule, micrometres.
+    face_load_factor : float
+        C_m of Dudley's rule (1..3).
+
+    Returns
+    -------
+    ReliefRecommendation
+
+    Raises
+    ------
+    InputError
+        Unknown rule, constants out of range, a height below the base circle, or a long relief
+        for a contact ratio >= 2.
+
+    Examples
+    --------
+    >>> from gear_dyn.geometry import GearPair
+    >>> import math
+    >>> p = GearPair(23, 64, 6e-3, math.radians(22.5), 50e-3)
+    >>> r = recommended_relief(p, 1474.4, "niemann")
+    >>> round(r.amount_pinion * 1e6, 3), round(r.height_pinion * 1e3, 3)
+    (54.0, 2.958)
+    """
+    check_range("handbook_a", handbook_a, "um", low=5.0, high=13.0)
+    check_range("handbook_b", handbook_b, "um", low=0.0, high=8.0)
+    check_range("face_load_factor", face_load_factor, "", low=1.0, high=3.0)
+    w_t = tangential_load_per_width(pair, torque)
+    mn_mm = pair.module * 1e3
+    um = 1e-6
+    if rule in ("handbook", "seed001"):
+        a, b = (handbook_a, handbook_b) if rule == "handbook" else (9.0, 4.0)
+        c1, c2 = (a + 0.04 * w_t) * um, (b + 0.04 * w_t) * um
+        if rule == "handbook":
+            source = (f"gear handbook: C_a1 = {a:g} + 0.04 w_t, C_a2 = {b:g} + 0.04 w_t um, "
+                      "h = 0.4 m_n")
+            h1 = h2 = 0.4 * pair.module
+            l1, l2 = length_from_height(pair, 1, h1), length_from_height(pair, 2, h2)
+        else:
+            source = "seed 001 eq. 1: C_a,i = c_i + 0.04 F_t/B um (c1 = 9, c2 = 4), long relief"
+            l1 = l2 = long_relief_length(pair)
+            h1, h2 = height_from_length(pair, 1, l1), height_from_length(pair, 2, l2)
+    elif rule == "dudley":
+        c1 = 4.1 * face_load_factor * w_t / 1e5 * 1e-3
+        c2 = 6.5 * face_load_factor * w_t / 1e5 * 1e-3
+        source = (f"Dudley: C_a1 = 4.1 C_m F_t/(1e5 B), C_a2 = 6.5 C_m F_t/(1e5 B) mm "
+                  f"(F_t N, B mm, C_m = {face_load_factor:g}), long relief (assumed)")
+        l1 = l2 = long_relief_length(pair)
+        h1, h2 = height_from_length(pair, 1, l1), height_from_length(pair, 2, l2)
+    elif rule == "niemann":
+        c1 = c2 = 0.009 * mn_mm * 1e-3
+        source = "Niemann: C_a = 0.009 m_n, h = 0.493 m_n"
+        h1 = h2 = 0.493 * pair.module
+        l1, l2 = length_from_height(pair, 1, h1), length_from_height(pair, 2, h2)
+    else:
+        raise InputError(f"relief rule = {rule!r}: valid values are {', '.join(RULES)}")
+    return ReliefRecommendation(rule, source, c1, c2, h1, h2, l1, l2)
+
+
+def recommended_reliefs(pair: GearPair, torque: float, **kwargs: float) -> tuple[
+        ReliefRecommendation, ...]:
+    """All rules of :data:`RULES` for one pair and torque (keywords: :func:`recommended_relief`)."""
+    return tuple(recommended_relief(pair, torque, rule, **kwargs) for rule in RULES)
