@@ -1,0 +1,214 @@
+"""One selector for every mesh-stiffness method: ``build_stiffness(pair, method, **options)``.
+
+Methods (all return a :class:`~gear_dyn.stiffness.periodic.PeriodicStiffness`):
+
+- ``"rectangular"``: rectangular wave; ``single``/``double`` in N/m if given, else from ISO 6336
+  (``k_single = c' b``, ``k_double = 1.75 c' b``, so that the mean is ``c_gamma b`` exactly for
+  ``1 <= eps_a < 2``);
+- ``"iso6336"``: the same wave from ISO 6336 (``single``/``double`` not allowed);
+- ``"potential_energy"``: potential-energy method (Hertz, bending, shear, axial, fillet foundation);
+- ``"weber"``: seed 002 Weber sliced cantilever + Hertz;
+- ``"contact_line"``: ``k = k_l L(p)`` with ``L`` the total contact-line length and ``k_l`` chosen
+  so the mean equals ISO ``c_gamma b`` (or ``stiffness_per_length`` in N/m^2 if given).
+
+Any method accepts ``fourier_terms`` (int or None): the Fourier series truncated at that many
+harmonics replaces the curve. Unknown options are refused.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from functools import lru_cache, partial
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..errors import InputError
+from ..geometry import GearPair
+from .contact_line import contact_line_breakpoints, contact_line_length, mean_contact_line_length
+from .iso6336 import iso6336_stiffness
+from .mesh import mesh_stiffness_from_pair
+from .periodic import FloatArray, PeriodicStiffness, PiecewiseStiffness, rectangular_stiffness
+from .potential_energy import potential_energy_pair_stiffness
+from .tooth import ToothOptions
+from .weber import MODULI, weber_pair_stiffness
+
+METHODS = ("rectangular", "iso6336", "potential_energy", "weber", "contact_line")
+
+#: ISO 6336: c_gamma = c' (0.75 eps_a + 0.25). A rectangular wave with k_double = 1.75 k_single
+#: and k_single = c' b has mean c' b (1 + 0.75 (eps_a - 1)) = c_gamma b for 1 <= eps_a < 2.
+ISO_DOUBLE_FACTOR = 1.75
+
+_TOOTH_KEYS = ("fillet_radius_coef", "bore_radius1", "bore_radius2", "plane_strain",
+               "grid_points")
+_ALLOWED: dict[str, tuple[str, ...]] = {
+    "rectangular": ("single", "double", "line_load"),
+    "iso6336": ("line_load",),
+    "potential_energy": _TOOTH_KEYS + ("samples_per_cycle", "slices"),
+    "weber": _TOOTH_KEYS + ("samples_per_cycle", "slices", "weber_slices", "weber_modulus"),
+    "contact_line": ("stiffness_per_length", "line_load"),
+}
+
+
+@dataclass(frozen=True)
+class _Key:
+    """Hashable cache key: pair, method and the sorted option items."""
+
+    pair: GearPair
+    method: str
+    items: tuple[tuple[str, Any], ...]
+
+
+def _positive(name: str, value: Any, unit: str) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} = {value!r}: must be a number in {unit}") from None
+    if not (np.isfinite(v) and v > 0):
+        raise InputError(f"{name} = {v:.6g} {unit}: valid range > 0 {unit}")
+    return v
+
+
+def _iso_wave(pair: GearPair, opts: Mapping[str, Any], name: str) -> PiecewiseStiffness:
+    single, double = opts.get("single"), opts.get("double")
+    if single is None:
+        if double is not None:
+            raise InputError("stiffness.double given without stiffness.single: give both or "
+                             "only single (double = 1.75 single)")
+        iso = iso6336_stiffness(pair, line_load=opts.get("line_load"))
+        k_single = iso.k_single
+        k_double = ISO_DOUBLE_FACTOR * k_single
+    else:
+        k_single = _positive("single", single, "N/m")
+        k_double = (ISO_DOUBLE_FACTOR * k_single if double is None
+                    else _positive("double", double, "N/m"))
+    return rectangular_stiffness(pair.contact_ratio, k_single, k_double, name=name)
+
+
+def _tooth_options(opts: Mapping[str, Any]) -> ToothOptions:
+    kw = {k: opts[k] for k in _TOOTH_KEYS if k in opts and opts[k] is not None}
+    return ToothOptions(**kw)
+
+
+def _int_opt(opts: Mapping[str, Any], key: str, default: int, low: int) -> int:
+    v = opts.get(key, default)
+    if v is None:
+        return default
+    if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < low:
+        raise InputError(f"{key} = {v!r}: valid range >= {low} (integer)")
+    return int(v)
+
+
+def _contact_line(pair: GearPair, opts: Mapping[str, Any]) -> PiecewiseStiffness:
+    k_l = opts.get("stiffness_per_length")
+    if k_l is None:
+        iso = iso6336_stiffness(pair, line_load=opts.get("line_load"))
+        k_l = iso.k_mesh / mean_contact_line_length(pair)
+    else:
+        k_l = _positive("stiffness_per_length", k_l, "N/m^2")
+    bp = contact_line_breakpoints(pair)
+    edges = np.append(bp, 1.0)
+    samples = []
+    eps = 1e-12
+    for lo, hi in zip(edges[:-1], edges[1:], strict=True):
+        ph = np.array([lo, hi])
+        inner = np.array([lo + eps * (hi - lo), hi - eps * (hi - lo)])
+        samples.append((ph, k_l * contact_line_length(pair, inner)))
+    return PiecewiseStiffness(edges, tuple(samples), name="contact_line")
+
+
+@lru_cache(maxsize=128)
+def _build_cached(key: _Key) -> PeriodicStiffness:
+    pair, method, opts = key.pair, key.method, dict(key.items)
+    if method in ("rectangular", "iso6336"):
+        return _iso_wave(pair, opts, method)
+    if method == "contact_line":
+        return _contact_line(pair, opts)
+    samples = _int_opt(opts, "samples_per_cycle", 200, 4)
+    slices = _int_opt(opts, "slices", 40, 1)
+    tooth = _tooth_options(opts)
+    fn: Any
+    if method == "potential_energy":
+        fn = partial(_pem_fn, options=tooth)
+    else:
+        modulus = opts.get("weber_modulus", "seed") or "seed"
+        if modulus not in MODULI:
+            raise InputError(f"weber_modulus = {modulus!r}: valid values are {', '.join(MODULI)}")
+        fn = partial(_weber_fn, options=tooth, slices=_int_opt(opts, "weber_slices", 20, 1),
+                     modulus=modulus)
+    return mesh_stiffness_from_pair(pair, fn, samples_per_cycle=samples, name=method,
+                                    slices=slices)
+
+
+def _pem_fn(pair: GearPair, s: ArrayLike, options: ToothOptions) -> FloatArray:
+    return potential_energy_pair_stiffness(pair, s, options)
+
+
+def _weber_fn(pair: GearPair, s: ArrayLike, options: ToothOptions, slices: int,
+              modulus: str) -> FloatArray:
+    return weber_pair_stiffness(pair, s, slices, options, modulus)
+
+
+def build_stiffness(pair: GearPair, method: str = "iso6336", *,
+                    fourier_terms: int | None = None, **options: Any) -> PeriodicStiffness:
+    """Mesh stiffness of ``pair`` by ``method`` (cached per pair, method and options).
+
+    Parameters
+    ----------
+    pair : GearPair
+    method : str
+        One of ``rectangular``, ``iso6336``, ``potential_energy``, ``weber``, ``contact_line``.
+    fourier_terms : int or None
+        If given (>= 1), return the Fourier series truncated at that many harmonics.
+    **options
+        Method options (None values mean "default"):
+
+        - rectangular: ``single``, ``double`` (N/m), ``line_load`` (N/m, ISO load correction);
+        - iso6336: ``line_load``;
+        - potential_energy / weber: ``samples_per_cycle`` (200), ``slices`` (face slices of a
+          helical pair, 40), ``fillet_radius_coef``, ``bore_radius1``, ``bore_radius2`` (m),
+          ``plane_strain`` (bool), ``grid_points``; weber also ``weber_slices`` (20) and
+          ``weber_modulus`` ("seed", "plane_stress", "plane_strain");
+        - contact_line: ``stiffness_per_length`` (N/m^2), ``line_load``.
+
+    Returns
+    -------
+    PeriodicStiffness
+        Named after the method.
+
+    Raises
+    ------
+    InputError
+        Unknown method or option, bad values.
+
+    Examples
+    --------
+    >>> import math
+    >>> from gear_dyn.geometry import GearPair
+    >>> pair = GearPair(19, 48, 3.2e-3, math.radians(20), 16e-3)
+    >>> k = build_stiffness(pair, "iso6336")
+    >>> from gear_dyn.stiffness.iso6336 import iso6336_stiffness
+    >>> abs(k.mean / iso6336_stiffness(pair).k_mesh - 1) < 1e-12
+    True
+    """
+    if method not in METHODS:
+        raise InputError(f"stiffness method = {method!r}: valid values are {', '.join(METHODS)}")
+    unknown = sorted(set(options) - set(_ALLOWED[method]))
+    if unknown:
+        raise InputError(
+            f"unknown option(s) {', '.join(unknown)} for stiffness method {method!r}; valid: "
+            f"{', '.join(_ALLOWED[method]) or 'none'}"
+        )
+    if method == "iso6336" and ("single" in options or "double" in options):
+        raise InputError("stiffness method 'iso6336' takes no single/double values; use "
+                         "method 'rectangular' to give them")
+    items = tuple(sorted((k, v) for k, v in options.items() if v is not None))
+    k = _build_cached(_Key(pair, method, items))
+    if fourier_terms is not None:
+        if isinstance(fourier_terms, bool) or not isinstance(fourier_terms, int | np.integer) \
+                or fourier_terms < 1:
+            raise InputError(f"fourier_terms = {fourier_terms!r}: valid range >= 1 (integer)")
+        return k.truncated(int(fourier_terms))
+    return k

@@ -1,0 +1,221 @@
+"""Tooth geometry for the beam-type stiffness methods: involute flank, trochoid root fillet.
+
+The tooth is cut by the basic rack (ISO 53 style) of the pair: dedendum ``(ha* + c*) m_n``, tip
+rounding radius ``rho_fP = rho* m_n``. The default ``rho* = c* / (1 - sin a_n)`` is the largest
+rounding that fits the tip clearance (0.38 for c* = 0.25, a_n = 20 deg: ISO 53 profile A).
+
+Frame: the tooth centre line is the y axis (from the gear centre outwards), x is the half
+thickness. The generated profile is computed in the transverse plane:
+
+- involute (r_form <= r <= r_a): half angle ``psi(r) = s_t / (2 r) + inv a_t - inv a_r``;
+  point ``(r sin psi, r cos psi)``;
+- fillet (r_f <= r <= r_form): envelope of the rack tip rounding. With the gear turned by ``phi``
+  and the rack moved by ``r phi`` (rolling on the reference circle, r), the cutting point is on the
+  rounding circle along the line from the instantaneous pitch point I = (0, r) through the circle
+  centre C (the normal of an enveloped curve passes through I): ``P = C + rho (C - I)/|C - I|``,
+  then turned back by ``-phi`` into the gear frame.
+
+The fillet meets the root circle at polar angle ``theta_f`` from the centre line; the root chord is
+at ``y_root = r_f cos theta_f``. Beam methods clamp the tooth there (the foundation deflection below
+is the fillet-foundation term of Sainsot et al. 2004).
+
+For a helical pair the transverse section is used (transverse module and pressure angle, normal
+heights, rounding radius taken as rho* m_n in the transverse plane): a thin-slice approximation.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from ..errors import InputError, check_range
+from ..geometry import GearPair, involute
+from .periodic import FloatArray
+
+
+@dataclass(frozen=True)
+class ToothOptions:
+    """Options of the tooth model used by the potential-energy and Weber methods.
+
+    Parameters
+    ----------
+    fillet_radius_coef : float or None
+        Basic-rack tip rounding radius ``rho_fP / m_n``; None gives the full rounding
+        ``c* / (1 - sin a_n)``. Valid 0 .. that maximum.
+    bore_radius1, bore_radius2 : float or None
+        Bore (rim inner) radius of pinion and gear in m, used by the fillet-foundation term
+        (``h_fi = r_f / r_int``). None: half the root radius.
+    plane_strain : bool
+        Use ``E / (1 - nu^2)`` in the tooth bending, shear and axial terms (wide faces). Default
+        False: plane stress, the convention of Yang & Lin 1987, Tian 2004 and Sainsot 2004.
+    grid_points : int
+        Points of the integration grid along the tooth centre line (>= 200).
+
+    Raises
+    ------
+    InputError
+        Values outside their ranges.
+    """
+
+    fillet_radius_coef: float | None = None
+    bore_radius1: float | None = None
+    bore_radius2: float | None = None
+    plane_strain: bool = False
+    grid_points: int = 3001
+
+    def __post_init__(self) -> None:
+        if self.fillet_radius_coef is not None:
+            check_range("fillet_radius_coef", self.fillet_radius_coef, "", low=0.0, high=1.0)
+        for name in ("bore_radius1", "bore_radius2"):
+            v = getattr(self, name)
+            if v is not None:
+                check_range(name, v, "m", low=0.0, high=10.0, low_open=True)
+        if not isinstance(self.grid_points, int) or self.grid_points < 200:
+            raise InputError(f"grid_points = {self.grid_points!r}: valid range >= 200 (integer)")
+
+
+DEFAULT_OPTIONS = ToothOptions()
+
+
+@dataclass(frozen=True, eq=False)
+class ToothTable:
+    """Profile and cumulative section integrals of one tooth (SI units).
+
+    Attributes
+    ----------
+    y_profile, x_profile : ndarray
+        Profile points (centre-line coordinate, half thickness) from the root to the tip, in m.
+    eta : ndarray
+        Grid of ``y - y_root`` in m along the centre line, from 0 to the tip.
+    half : ndarray
+        Half thickness ``x(eta)`` in m on the grid.
+    j0, j1, j2, k0 : ndarray
+        Cumulative integrals from the root: ``int eta^n / x^3`` (n = 0, 1, 2) and ``int 1 / x``.
+    y_root, r_f, r_form, theta_f, r_int : float
+        Root chord coordinate, root radius, form (fillet/involute) radius, root half angle (rad),
+        bore radius, all in m except theta_f.
+    """
+
+    y_profile: FloatArray
+    x_profile: FloatArray
+    eta: FloatArray
+    half: FloatArray
+    j0: FloatArray
+    j1: FloatArray
+    j2: FloatArray
+    k0: FloatArray
+    y_root: float
+    r_f: float
+    r_form: float
+    theta_f: float
+    r_int: float
+
+
+def _gear_params(pair: GearPair, gear: int) -> tuple[float, float, float, float, float]:
+    if gear not in (1, 2):
+        raise InputError(f"gear = {gear!r}: valid values are 1 (pinion) and 2 (gear)")
+    if gear == 1:
+        return pair.r1, pair.rb1, pair.ra1, pair.rf1, pair.x1
+    return pair.r2, pair.rb2, pair.ra2, pair.rf2, pair.x2
+
+
+def half_angle(pair: GearPair, gear: int, radius: FloatArray) -> FloatArray:
+    """Half angular tooth thickness ``psi(r)`` (rad) of the involute flank at ``radius`` (m)."""
+    r, rb, _, _, x = _gear_params(pair, gear)
+    s_t = pair.transverse_module * (math.pi / 2 + 2 * x * math.tan(pair.pressure_angle))
+    ar = np.arccos(np.clip(rb / np.asarray(radius, dtype=float), -1.0, 1.0))
+    return s_t / (2 * r) + involute(pair.alpha_t) - (np.tan(ar) - ar)
+
+
+def rounding_radius(pair: GearPair, options: ToothOptions = DEFAULT_OPTIONS) -> float:
+    """Basic-rack tip rounding radius rho_fP in m (see module docstring)."""
+    rho_max = pair.clearance_coef / (1 - math.sin(pair.pressure_angle))
+    coef = rho_max if options.fillet_radius_coef is None else options.fillet_radius_coef
+    if coef > rho_max * (1 + 1e-9):
+        raise InputError(
+            f"fillet_radius_coef = {coef:.6g}: the rounding does not fit the tip clearance; "
+            f"valid range 0 .. {rho_max:.4f} for c* = {pair.clearance_coef:g}"
+        )
+    return coef * pair.module
+
+
+def fillet_points(pair: GearPair, gear: int, n: int = 400,
+                  options: ToothOptions = DEFAULT_OPTIONS) -> tuple[FloatArray, FloatArray]:
+    """Points (x, y) in m of the trochoidal root fillet from the root circle to the form radius."""
+    r, rb, ra, rf, xc = _gear_params(pair, gear)
+    a = pair.alpha_t
+    mt, mn = pair.transverse_module, pair.module
+    y_d = r + xc * mn
+    rho = rounding_radius(pair, options)
+    y_c = rf + rho
+    w_c = math.pi * mt / 4 - (y_c - y_d) * math.tan(a)
+    x_c = w_c + rho / math.cos(a)
+    phi0 = x_c / r
+    phi1 = (x_c + (r - y_c) / math.tan(a)) / r
+    phi = np.linspace(phi0, phi1, n)
+    cx = x_c - r * phi
+    cy = np.full_like(phi, y_c)
+    dx, dy = cx, cy - r
+    norm = np.hypot(dx, dy)
+    if rho > 0:
+        px, py = cx + rho * dx / norm, cy + rho * dy / norm
+    else:
+        px, py = cx, cy
+    c, s = np.cos(phi), np.sin(phi)
+    return px * c + py * s, -px * s + py * c
+
+
+@lru_cache(maxsize=64)
+def tooth_table(pair: GearPair, gear: int,
+                options: ToothOptions = DEFAULT_OPTIONS) -> ToothTable:
+    """Profile and cumulative section integrals of the pinion (1) or gear (2) tooth (cached).
+
+    Raises
+    ------
+    InputError
+        Undercut fillet (the profile does not rise monotonically) or bad options.
+    """
+    r, rb, ra, rf, xc = _gear_params(pair, gear)
+    fx, fy = fillet_points(pair, gear, 600, options)
+    r_form = float(math.hypot(fx[-1], fy[-1]))
+    if r_form < rb * (1 - 1e-9):
+        r_form = rb
+    rr = np.linspace(max(r_form, rb), ra, 1200)
+    psi = half_angle(pair, gear, rr)
+    ix, iy = rr * np.sin(psi), rr * np.cos(psi)
+    y = np.concatenate([fy, iy[1:]])
+    x = np.concatenate([fx, ix[1:]])
+    if np.any(np.diff(y) <= 0):
+        raise InputError(
+            f"z{gear} = {pair.z1 if gear == 1 else pair.z2}: the root fillet is undercut "
+            "(profile not monotonic along the tooth); use a positive profile shift"
+        )
+    y_root = float(y[0])
+    theta_f = float(math.atan2(x[0], y[0]))
+    n = options.grid_points
+    # grid denser near the root, where the fillet thickness changes fastest
+    u = np.linspace(0.0, 1.0, n)
+    eta = (y[-1] - y_root) * u**1.5
+    half = np.interp(y_root + eta, y, x)
+
+    def cum(f: FloatArray) -> FloatArray:
+        out = np.zeros_like(f)
+        out[1:] = np.cumsum(0.5 * (f[1:] + f[:-1]) * np.diff(eta))
+        return out
+
+    inv3 = 1.0 / half**3
+    r_int_opt = options.bore_radius1 if gear == 1 else options.bore_radius2
+    r_int = 0.5 * rf if r_int_opt is None else r_int_opt
+    if r_int >= rf:
+        raise InputError(
+            f"bore_radius{gear} = {r_int * 1e3:.6g} mm: valid range 0 < r_int < r_f = "
+            f"{rf * 1e3:.6g} mm"
+        )
+    arrays = (y, x, eta, half, cum(inv3), cum(eta * inv3), cum(eta**2 * inv3), cum(1.0 / half))
+    for arr in arrays:
+        arr.setflags(write=False)
+    return ToothTable(*arrays, y_root=y_root, r_f=rf, r_form=r_form, theta_f=theta_f,
+                      r_int=r_int)
