@@ -4,12 +4,21 @@
     c'_th   = 1 / q'                                 (N/(mm um))
     c'      = c'_th C_M C_R C_B cos(beta) (E / E_steel)
     C_B     = (1 + 0.5 (1.2 - h_fP/m_n)) (1 - 0.02 (20 deg - alpha_n))
-    c_gamma = c' (0.75 eps_a + 0.25)
+    c_gamma = c' (0.75 eps_a + 0.25)        (c_gamma_alpha, for K_v and K_Halpha)
+    c_gamma_beta = 0.85 c_gamma_alpha       (for the face load factor K_Hbeta)
 
 with C1..C9 = 0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182,
 C_M = 0.8 (solid disc), C_R = 1 (solid blank), h_fP = (ha* + c*) m_n the basic rack dedendum,
 zn = z / cos^3(beta) the virtual number of teeth, E_steel = 206 GPa.
 The load correction for F_t/b < 100 N/mm is applied only when a line load is given.
+
+Helical pairs: the helix enters through the virtual tooth numbers zn and the cos(beta) factor of
+c' (stiffness per unit face width of the inclined, longer teeth); the overlap spreads the contact
+lines over the face, which ISO accounts for in c_gamma only through eps_a (the mean of the total
+contact-line length is B eps_a / cos b_b whatever eps_b is). The time shape of a helical mesh
+stiffness is therefore left to the contact-line method, which uses c_gamma b as its mean.
+Validity (ISO 6336-1 method B): steel pairs, beta <= 45 deg, x1 >= x2, -0.5 <= x1 + x2 <= 2; the
+formula is applied as is outside that range.
 """
 
 from __future__ import annotations
@@ -36,12 +45,24 @@ class IsoStiffness:
         Mesh stiffness c_gamma in N/m^2.
     k_single, k_mesh : float
         c' b and c_gamma b in N/m.
+    c_mesh_beta : float
+        c_gamma_beta = 0.85 c_gamma_alpha in N/m^2 (ISO 6336-1, used for K_Hbeta).
+    q_prime : float
+        Minimum flexibility q' of the pair in mm um / N.
+    c_theoretical : float
+        c'_th = 1 / q' in N/(mm um).
+    basic_rack_factor : float
+        C_B.
     """
 
     c_single: float
     c_mesh: float
     k_single: float
     k_mesh: float
+    c_mesh_beta: float = float("nan")
+    q_prime: float = float("nan")
+    c_theoretical: float = float("nan")
+    basic_rack_factor: float = float("nan")
 
 
 def iso6336_stiffness(pair: GearPair, line_load: float | None = None) -> IsoStiffness:
@@ -74,4 +95,6 @@ def iso6336_stiffness(pair: GearPair, line_load: float | None = None) -> IsoStif
         c1 *= (max(line_load, 0.0) / 1e5) ** 0.25
     c1 *= UNIT
     cg = c1 * (0.75 * pair.contact_ratio + 0.25)
-    return IsoStiffness(c1, cg, c1 * pair.face_width, cg * pair.face_width)
+    return IsoStiffness(c1, cg, c1 * pair.face_width, cg * pair.face_width,
+                        c_mesh_beta=0.85 * cg, q_prime=q, c_theoretical=c_th,
+                        basic_rack_factor=c_b)
