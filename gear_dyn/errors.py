@@ -71,7 +71,7 @@ def check_range(
         If the value is not a finite real number or lies outside the range.
     """
     try:
-        v = float(value)  # type: ignore[arg-type]
+        v = float(value)
     except (TypeError, ValueError):
         raise InputError(
             f"{name} = {_fmt(value)}: expected a number{_unit_txt(unit)}, "

@@ -70,7 +70,8 @@ def propagate_exact(
     if pieces is None:
         raise InputError(
             "solver.method = 'exact' needs a linear model with piecewise-constant coefficients "
-            "(piecewise-constant stiffness, no backlash, no transmission error); use DOP853 or LSODA"
+            "(piecewise-constant stiffness, no backlash, no transmission error); "
+            "use DOP853 or LSODA"
         )
     y = np.array(model.initial_state() if y0 is None else y0, dtype=float)
     n = y.size

@@ -50,7 +50,8 @@ class SolverSettings:
     Parameters
     ----------
     method : str
-        ``auto`` (default: the exact propagator where it applies, else DOP853), or one of RK45, RK23, DOP853, Radau, BDF, LSODA (solve_ivp) or ``exact`` (piecewise-exact
+        ``auto`` (default: the exact propagator where it applies, else DOP853), or one of
+        RK45, RK23, DOP853, Radau, BDF, LSODA (solve_ivp) or ``exact`` (piecewise-exact
         propagator, linear models with piecewise-constant coefficients only).
     rtol : float
         Relative tolerance, 1e-13..1e-2.
@@ -195,7 +196,7 @@ def time_grid(mesh_frequency: float, t_end: float, samples_per_period: int) -> F
     """Uniform grid from 0 to ``t_end`` with ``samples_per_period`` points per mesh period."""
     dt = 1.0 / (mesh_frequency * samples_per_period)
     n = int(math.floor(t_end / dt + 1e-9)) + 1
-    return np.arange(n) * dt
+    return np.arange(n, dtype=np.float64) * dt
 
 
 def _atol(model: Model, settings: SolverSettings) -> FloatArray:
@@ -335,7 +336,11 @@ def simulate(
         n_segments=int(st.get("n_segments", 0)),
         run_time_s=run_time,
     )
-    extra = {k: v for k, v in st.items() if k not in ("nfev", "njev", "nlu", "n_segments", "method")}
+    counted = ("nfev", "njev", "nlu", "n_segments", "method")
+    extra = {k: v for k, v in st.items() if k not in counted}
+    info = getattr(model, "summary_info", None)
+    if info is not None:
+        extra = {**info(), **extra}
     return Result(
         t=t_grid, y=y, state_labels=tuple(model.state_labels), outputs=outputs,
         steady_start=float(steady_start), mesh_frequency=model.mesh_frequency,

@@ -60,8 +60,8 @@ def amplitude_spectrum(
     spec = np.fft.rfft(x * w)
     amp = 2 * np.abs(spec) / w.sum()
     amp[0] /= 2
-    f = np.fft.rfftfreq(n, d=float(dt.mean()))
-    return f, amp
+    f = np.fft.rfftfreq(n, d=float(dt.mean())).astype(np.float64)
+    return f, amp.astype(np.float64)
 
 
 def find_peaks(

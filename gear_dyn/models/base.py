@@ -32,9 +32,14 @@ FloatArray = NDArray[np.float64]
 class Model(Protocol):
     """Structural type of a gear_dyn dynamic model."""
 
-    state_labels: tuple[str, ...]
-    mesh_frequency: float
-    static_load: float
+    @property
+    def state_labels(self) -> tuple[str, ...]: ...
+
+    @property
+    def mesh_frequency(self) -> float: ...
+
+    @property
+    def static_load(self) -> float: ...
 
     @property
     def state_scale(self) -> FloatArray: ...

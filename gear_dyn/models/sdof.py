@@ -146,7 +146,8 @@ class SDOFModel:
 
     # ---------------------------------------------------------------- right-hand side
     def _build_rhs(self) -> Callable[[float, FloatArray], FloatArray]:
-        m, c, w, fm, p0 = self.mass, self.damping, self.static_load, self.mesh_frequency, self.phase0
+        m, c, w = self.mass, self.damping, self.static_load
+        fm, p0 = self.mesh_frequency, self.phase0
         k = self.stiffness
         b = self.backlash
         te = self.transmission_error
@@ -219,6 +220,17 @@ class SDOFModel:
             a = np.array([[0.0, 1.0], [-kt / self.mass, -self.damping / self.mass]])
             out.append((float(ta), float(tb), a, g))
         return out
+
+    def summary_info(self) -> dict[str, float | str]:
+        """Model constants for run summaries (SI units in the key names)."""
+        return {
+            "mean_mesh_stiffness_n_per_m": self.mean_stiffness,
+            "static_transmission_error_m": self.static_load / self.mean_stiffness,
+            "natural_frequency_hz": self.natural_frequency,
+            "equivalent_mass_kg": self.mass,
+            "mesh_damping_n_s_per_m": self.damping,
+            "stiffness_name": self.stiffness.name,
+        }
 
     # ---------------------------------------------------------------- outputs
     def outputs(self, t: FloatArray, y: FloatArray) -> dict[str, FloatArray]:

@@ -5,6 +5,8 @@ from __future__ import annotations
 import dataclasses
 from typing import Any
 
+import numpy as np
+
 from ..errors import InputError, SceneError
 from ..excitation import HarmonicSignal
 from ..geometry import GearPair
@@ -96,7 +98,7 @@ def build_sdof(scene: Scene) -> Model:
                 f"{scene.source}: transmission_error.sin has {len(sin)} entries, cos has "
                 f"{len(t['cos'])}: they must match"
             )
-        te = HarmonicSignal(0.0, t["cos"], sin)
+        te = HarmonicSignal(0.0, np.asarray(t["cos"], dtype=float), np.asarray(sin, dtype=float))
     try:
         return sdof_from_pair(
             pair, op["speed"], op["torque"], k, damping_ratio=scene.get("damping")["ratio"],

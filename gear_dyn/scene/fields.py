@@ -102,7 +102,9 @@ class Field:
             return raw
         if self.kind == "floatlist":
             if not isinstance(raw, list) or not raw:
-                raise SceneError(f"{where} = {raw!r}: expected a non-empty list of {_dim_text(self.unit)}")
+                raise SceneError(
+                    f"{where} = {raw!r}: expected a non-empty list of {_dim_text(self.unit)}"
+                )
             return [self._number(v, f"{where}[{i}]") for i, v in enumerate(raw)]
         value = self._number(raw, where)
         if self.kind == "int":

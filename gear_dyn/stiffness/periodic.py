@@ -134,7 +134,9 @@ class PiecewiseStiffness(PeriodicStiffness):
         if e.ndim != 1 or e.size < 2 or e[0] != 0.0 or e[-1] != 1.0 or np.any(np.diff(e) <= 0):
             raise InputError(f"{self.name}: segment edges must rise strictly from 0 to 1, got {e}")
         if len(self.samples) != e.size - 1:
-            raise InputError(f"{self.name}: {len(self.samples)} sample sets for {e.size - 1} segments")
+            raise InputError(
+                f"{self.name}: {len(self.samples)} sample sets for {e.size - 1} segments"
+            )
         us, vs = [], []
         for i, (ph, val) in enumerate(self.samples):
             ph = np.asarray(ph, dtype=float)
@@ -166,7 +168,7 @@ class PiecewiseStiffness(PeriodicStiffness):
 
     def segments(self) -> tuple[FloatArray, FloatArray] | None:
         vals = []
-        for ph, v in self.samples:
+        for _ph, v in self.samples:
             v = np.asarray(v, dtype=float)
             if np.ptp(v) > 0:
                 return None

@@ -1,0 +1,92 @@
+"""The ``gear-dyn`` command: a thin shell over the gear_dyn API.
+
+Exit codes: 0 success; 2 user mistake (bad scene, flag or value: one line on stderr);
+3 solver failure (one line, with the solver's message); 1 anything unexpected (a bug).
+``--debug`` shows the traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+import traceback
+from collections.abc import Sequence
+
+from .errors import InputError, SolverError
+
+#: subcommand modules, each exposing register(subparsers)
+COMMANDS: tuple[str, ...] = (
+    "gear_dyn.commands.run",
+    "gear_dyn.commands.demo",
+)
+
+
+class _Parser(argparse.ArgumentParser):
+    """ArgumentParser whose errors are one line on stderr and exit code 2."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        sys.stderr.write(f"gear-dyn: error: {message} (see {self.prog} --help)\n")
+        raise SystemExit(2)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser with every registered subcommand."""
+    parser = _Parser(
+        prog="gear-dyn",
+        description="Dynamics of gear pairs: mesh stiffness from geometry, single-DOF and "
+        "torsional models, solvers with error figures, FMU export. Scenes are TOML files "
+        "(see README).",
+        epilog="exit codes: 0 ok, 2 bad input, 3 solver failure. Add --debug for tracebacks.",
+    )
+    parser.add_argument("--debug", action="store_true", help="show tracebacks on errors")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub.required = True
+    for name in COMMANDS:
+        importlib.import_module(name).register(sub)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of ``gear-dyn``; returns the exit code."""
+    args_list = list(sys.argv[1:] if argv is None else argv)
+    debug = "--debug" in args_list
+    try:
+        parser = build_parser()
+        args = parser.parse_args(args_list)
+        code = args.func(args)
+        return int(code or 0)
+    except SystemExit as exc:
+        return int(exc.code) if isinstance(exc.code, int) else 2
+    except InputError as exc:
+        if debug:
+            traceback.print_exc()
+        sys.stderr.write(f"gear-dyn: error: {_one_line(exc)}\n")
+        return 2
+    except SolverError as exc:
+        if debug:
+            traceback.print_exc()
+        sys.stderr.write(f"gear-dyn: solver failure: {_one_line(exc)}\n")
+        return 3
+    except BrokenPipeError:  # output piped into e.g. `head`
+        return 0
+    except KeyboardInterrupt:
+        sys.stderr.write("gear-dyn: interrupted; no partial output was kept\n")
+        return 130
+    except Exception as exc:  # a bug: say so, briefly, unless --debug
+        if debug:
+            traceback.print_exc()
+        else:
+            sys.stderr.write(
+                f"gear-dyn: internal error: {exc.__class__.__name__}: {_one_line(exc)} "
+                "(rerun with --debug and report it)\n"
+            )
+        return 1
+
+
+def _one_line(exc: BaseException) -> str:
+    return " ".join(str(exc).split())
+
+
+if __name__ == "__main__":  # pragma: no cover
+    raise SystemExit(main())

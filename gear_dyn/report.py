@@ -1,0 +1,63 @@
+"""Summaries of results as plain dicts (for summary.json and the terminal)."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from .solve import Result
+from .spectrum import amplitude_spectrum, find_peaks
+
+
+def dominant_peak(result: Result, name: str = "dte") -> tuple[float, float]:
+    """Largest non-DC spectral peak ``(frequency Hz, amplitude)`` of a series, steady window."""
+    mask = result.steady
+    f, amp = amplitude_spectrum(result.t[mask], result.series(name)[mask])
+    peaks = find_peaks(f, amp, n=1, min_freq=0.5 * (f[1] - f[0]) + f[1])
+    return peaks[0] if peaks else (math.nan, math.nan)
+
+
+def summarize(result: Result) -> dict[str, Any]:
+    """The run summary: kinematics, stiffness, dynamic factor, DTE figures, solver cost.
+
+    Keys (SI units in the names): mesh_frequency_hz, output_speed_rpm, contact_ratio,
+    mean_mesh_stiffness_n_per_m, static_transmission_error_m, dynamic_factor, rms_dte_m,
+    ptp_dte_m, mean_dte_m, dominant_frequency_hz, solver {...}; plus what the model offers.
+    """
+    from .scene import build_pair
+    from .scene.loader import Scene
+
+    out: dict[str, Any] = {"mesh_frequency_hz": result.mesh_frequency}
+    scene = result.scene
+    if isinstance(scene, Scene):
+        pair = build_pair(scene)
+        op = scene.get("operating")
+        out["scene"] = scene.name
+        out["model"] = scene.get("scene")["model"]
+        out["input_speed_rpm"] = op["speed"] * 60 / (2 * math.pi)
+        out["output_speed_rpm"] = op["speed"] * 60 / (2 * math.pi) * pair.z1 / pair.z2
+        out["contact_ratio"] = pair.contact_ratio
+        out["overlap_ratio"] = pair.overlap_ratio
+        out["center_distance_m"] = pair.a_w
+        out["geometric_backlash_m"] = pair.backlash
+        out["stiffness_method"] = scene.get("stiffness")["method"]
+        out["fourier_terms"] = scene.get("stiffness")["fourier_terms"]
+    k = result.outputs.get("stiffness")
+    if k is not None and "mean_mesh_stiffness_n_per_m" not in result.extra:
+        out["mean_mesh_stiffness_n_per_m"] = float(np.mean(k[result.steady]))
+        out["static_transmission_error_m"] = result.static_load / out[
+            "mean_mesh_stiffness_n_per_m"]
+    out["static_load_n"] = result.static_load
+    out["dynamic_factor"] = result.dynamic_factor
+    out["mean_dte_m"] = result.mean_dte
+    out["rms_dte_m"] = result.rms_dte
+    out["ptp_dte_m"] = result.ptp_dte
+    out["dominant_frequency_hz"] = dominant_peak(result)[0]
+    out["steady_window_s"] = [result.steady_start, float(result.t[-1])]
+    out["transient_window_s"] = [0.0, result.steady_start]
+    out["solver"] = result.stats.as_dict()
+    for key, val in result.extra.items():
+        out[key] = val
+    return out
