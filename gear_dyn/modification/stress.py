@@ -10,9 +10,15 @@ On an involute the radius of curvature at the contact point is the roll distance
 circle tangent point: ``rho1 = s``, ``rho2 = T1T2 - s`` (Euler-Savary, seed 001).
 
 Relieved flanks (seed 001 eqs. 27-28 derive the curvature of the modified profile): removing a
-depth ``D`` along the normal of a curve of curvature ``kappa`` gives, to first order in D,
-``kappa' = kappa + kappa^2 D + d^2 D / dsigma^2`` with sigma the arc length (on an involute
-``sigma = rho^2 / (2 r_b)``, so ``dD/dsigma = (r_b / rho) dD/drho``). The relief curves are not
+depth ``w(sigma)`` along the normal of a curve of curvature ``kappa(sigma)`` (sigma the arc length)
+gives the offset curve ``c + w N`` whose curvature is, exactly,
+
+    kappa' = [(1 - kappa w)((1 - kappa w) kappa + w'') + w' (kappa_s w + 2 kappa w')]
+             / ((1 - kappa w)^2 + w'^2)^(3/2)
+
+(to first order ``kappa + kappa^2 w + w''``). On an involute ``kappa = 1/rho``,
+``sigma = rho^2 / (2 r_b)``, ``dw/dsigma = (r_b / rho) dw/drho`` and
+``kappa_s = -r_b / rho^3``. The relief curves are not
 smooth at their start (a kink for the linear curve, an infinite second derivative for k < 2), so
 the second derivative is averaged over the contact width: the mean of ``d^2 D/dsigma^2`` over
 ``sigma +- b`` is ``(D'(sigma + b) - D'(sigma - b)) / (2 b)`` with the unmodified half-width b.
@@ -136,9 +142,13 @@ def profile_curvature(pair: GearPair, gear: int, rho: ArrayLike,
         _, dd = modification.roll_depth(pair, gear, rr)
         return np.where(rr > 0, dd * rb / np.maximum(rr, 1e-300), 0.0)
 
-    d2 = (slope_sigma(sigma + b) - slope_sigma(sigma - b)) / (2 * b)
-    depth, _ = modification.roll_depth(pair, gear, r)
-    return kappa + kappa**2 * depth + d2
+    w2 = (slope_sigma(sigma + b) - slope_sigma(sigma - b)) / (2 * b)
+    w, w_rho = modification.roll_depth(pair, gear, r)
+    w1 = w_rho * rb / r
+    kappa_s = -rb / r**3
+    q = 1.0 - kappa * w
+    num = q * (q * kappa + w2) + w1 * (kappa_s * w + 2 * kappa * w1)
+    return num / (q**2 + w1**2) ** 1.5
 
 
 def contact_stress(pair: GearPair, position: ArrayLike, force: ArrayLike,
