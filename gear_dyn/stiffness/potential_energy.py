@@ -210,14 +210,7 @@ def potential_energy_compliances(pair: GearPair, s: ArrayLike,
         bend, shear, axial = _compliances_from_tables(
             t.eta, t.j0, t.j1, t.j2, t.k0, y_p - t.y_root, x_p, a1, e, g, b
         )
-        e_plain = pair.youngs_modulus1 if gear == 1 else pair.youngs_modulus2
-        lm, mm, pm, qm = sainsot_coefficients(t.r_f / t.r_int, t.theta_f)
-        u_f = y_p - x_p * np.tan(a1) - t.r_f
-        s_f = 2 * t.r_f * t.theta_f
-        ratio = u_f / s_f
-        fillet = np.cos(a1) ** 2 / (e_plain * b) * (
-            lm * ratio**2 + mm * ratio + pm * (1 + qm * np.tan(a1) ** 2)
-        )
+        fillet = fillet_compliance(pair, gear, rc, options)
         out["bending"].append(bend)
         out["shear"].append(shear)
         out["axial"].append(axial)
@@ -226,6 +219,26 @@ def potential_energy_compliances(pair: GearPair, s: ArrayLike,
     return PairCompliance(hertz=hertz, bending=np.array(out["bending"]),
                           shear=np.array(out["shear"]), axial=np.array(out["axial"]),
                           fillet=np.array(out["fillet"]))
+
+
+def fillet_compliance(pair: GearPair, gear: int, radius: ArrayLike,
+                      options: ToothOptions = DEFAULT_OPTIONS) -> FloatArray:
+    """Fillet-foundation compliance (m/N) of Sainsot et al. (2004) for a load at ``radius`` (m).
+
+    ``cos^2 a1 / (E B) [L* (u_f/S_f)^2 + M* (u_f/S_f) + P* (1 + Q* tan^2 a1)]`` with ``u_f`` the
+    radial distance from the root circle to where the force line crosses the centre line and
+    ``S_f = 2 r_f theta_f`` the root arc thickness.
+    """
+    rc = np.asarray(radius, dtype=float)
+    e = pair.youngs_modulus1 if gear == 1 else pair.youngs_modulus2
+    t = tooth_table(pair, gear, options)
+    y_p, x_p, a1 = tooth_load_geometry(pair, gear, rc)
+    lm, mm, pm, qm = sainsot_coefficients(t.r_f / t.r_int, t.theta_f)
+    u_f = y_p - x_p * np.tan(a1) - t.r_f
+    ratio = u_f / (2 * t.r_f * t.theta_f)
+    return np.asarray(np.cos(a1) ** 2 / (e * pair.face_width) * (
+        lm * ratio**2 + mm * ratio + pm * (1 + qm * np.tan(a1) ** 2)
+    ))
 
 
 def hertz_compliance(pair: GearPair) -> float:

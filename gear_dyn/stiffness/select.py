@@ -47,7 +47,8 @@ _ALLOWED: dict[str, tuple[str, ...]] = {
     "rectangular": ("single", "double", "line_load"),
     "iso6336": ("line_load",),
     "potential_energy": _TOOTH_KEYS + ("samples_per_cycle", "slices"),
-    "weber": _TOOTH_KEYS + ("samples_per_cycle", "slices", "weber_slices", "weber_modulus"),
+    "weber": _TOOTH_KEYS + ("samples_per_cycle", "slices", "weber_slices", "weber_modulus",
+                        "weber_foundation"),
     "contact_line": ("stiffness_per_length", "line_load"),
 }
 
@@ -137,7 +138,7 @@ def _build_cached(key: _Key) -> PeriodicStiffness:
         if modulus not in MODULI:
             raise InputError(f"weber_modulus = {modulus!r}: valid values are {', '.join(MODULI)}")
         fn = partial(_weber_fn, options=tooth, slices=_int_opt(opts, "weber_slices", 20, 1),
-                     modulus=modulus)
+                     modulus=modulus, foundation=bool(opts.get("weber_foundation", False)))
     return mesh_stiffness_from_pair(pair, fn, samples_per_cycle=samples, name=method,
                                     slices=slices)
 
@@ -147,8 +148,8 @@ def _pem_fn(pair: GearPair, s: ArrayLike, options: ToothOptions) -> FloatArray:
 
 
 def _weber_fn(pair: GearPair, s: ArrayLike, options: ToothOptions, slices: int,
-              modulus: str) -> FloatArray:
-    return weber_pair_stiffness(pair, s, slices, options, modulus)
+              modulus: str, foundation: bool) -> FloatArray:
+    return weber_pair_stiffness(pair, s, slices, options, modulus, foundation)
 
 
 def build_stiffness(pair: GearPair, method: str = "iso6336", *,
@@ -170,7 +171,8 @@ def build_stiffness(pair: GearPair, method: str = "iso6336", *,
         - potential_energy / weber: ``samples_per_cycle`` (200), ``slices`` (face slices of a
           helical pair, 40), ``fillet_radius_coef``, ``bore_radius1``, ``bore_radius2`` (m),
           ``plane_strain`` (bool), ``grid_points``; weber also ``weber_slices`` (20) and
-          ``weber_modulus`` ("seed", "plane_stress", "plane_strain");
+          ``weber_modulus`` ("seed", "plane_stress", "plane_strain"), ``weber_foundation``
+          (bool, add the Sainsot fillet-foundation term);
         - contact_line: ``stiffness_per_length`` (N/m^2), ``line_load``.
 
     Returns

@@ -22,7 +22,9 @@ Printed typos read here as intended (documented in docs/stiffness.md):
 - the shear factor ``s_h`` is not given: ``s_h = 5/6`` (rectangular section), i.e. the same 1.2
   energy factor as the potential-energy method.
 
-Unlike the potential-energy method there is no fillet-foundation term (the seed has none).
+Unlike the potential-energy method there is no fillet-foundation term (the seed has none), which
+makes the seed's method about 2.5 times stiffer than ISO 6336 c_gamma b (docs/stiffness.md); the
+option ``foundation=True`` adds the Sainsot et al. (2004) term.
 """
 
 from __future__ import annotations
@@ -35,7 +37,12 @@ from numpy.typing import ArrayLike
 from ..errors import InputError
 from ..geometry import GearPair
 from .periodic import FloatArray
-from .potential_energy import _check_positions, contact_radii, tooth_load_geometry
+from .potential_energy import (
+    _check_positions,
+    contact_radii,
+    fillet_compliance,
+    tooth_load_geometry,
+)
 from .tooth import DEFAULT_OPTIONS, ToothOptions, tooth_table
 
 SHEAR_COEF = 5.0 / 6.0  # s_h for a rectangular section
@@ -51,7 +58,7 @@ MODULI = ("seed", "plane_stress", "plane_strain")
 
 def weber_tooth_compliance(pair: GearPair, gear: int, radius: ArrayLike, slices: int = 20,
                            options: ToothOptions = DEFAULT_OPTIONS,
-                           modulus: str = "seed") -> FloatArray:
+                           modulus: str = "seed", foundation: bool = False) -> FloatArray:
     """Weber bending + shear + axial compliance d_a / F (m/N) of one tooth loaded at ``radius``.
 
     Parameters
@@ -68,6 +75,9 @@ def weber_tooth_compliance(pair: GearPair, gear: int, radius: ArrayLike, slices:
     modulus : str
         Modulus in the tooth terms: "seed" (eq. 11, ``E (1-nu)/((1+nu)(1-2nu))``, default),
         "plane_stress" (E) or "plane_strain" (``E / (1 - nu^2)``).
+    foundation : bool
+        Add the Sainsot et al. (2004) fillet-foundation compliance (not in the seed; default
+        False, as the seed gives the method).
 
     Returns
     -------
@@ -105,7 +115,10 @@ def weber_tooth_compliance(pair: GearPair, gear: int, radius: ArrayLike, slices:
     d_i = eta_load[..., None] - ends[..., 1:]
     term = x_i * ((d_i**2 + x_i * d_i + x_i**2 / 3) / (e_w * j_bar)
                   + 1 / (SHEAR_COEF * g * a_bar) + np.tan(a_m)[..., None] ** 2 / (a_bar * e_w))
-    return np.cos(a_m) ** 2 * np.sum(term, axis=-1)
+    out = np.cos(a_m) ** 2 * np.sum(term, axis=-1)
+    if foundation:
+        out = out + fillet_compliance(pair, gear, rc, options)
+    return np.asarray(out)
 
 
 def weber_hertz_compliance(pair: GearPair) -> float:
@@ -114,19 +127,19 @@ def weber_hertz_compliance(pair: GearPair) -> float:
 
 
 def weber_compliances(pair: GearPair, s: ArrayLike, slices: int = 20,
-                      options: ToothOptions = DEFAULT_OPTIONS, modulus: str = "seed"
-                      ) -> tuple[FloatArray, FloatArray, FloatArray]:
+                      options: ToothOptions = DEFAULT_OPTIONS, modulus: str = "seed",
+                      foundation: bool = False) -> tuple[FloatArray, FloatArray, FloatArray]:
     """``(d_a1/F, d_a2/F, d_h/F)`` in m/N at contact positions ``s`` (m from T1)."""
     sv = _check_positions(pair, s)
     r1, r2 = contact_radii(pair, sv)
-    c1 = weber_tooth_compliance(pair, 1, r1, slices, options, modulus)
-    c2 = weber_tooth_compliance(pair, 2, r2, slices, options, modulus)
+    c1 = weber_tooth_compliance(pair, 1, r1, slices, options, modulus, foundation)
+    c2 = weber_tooth_compliance(pair, 2, r2, slices, options, modulus, foundation)
     return c1, c2, np.full_like(sv, weber_hertz_compliance(pair))
 
 
 def weber_pair_stiffness(pair: GearPair, s: ArrayLike, slices: int = 20,
                          options: ToothOptions = DEFAULT_OPTIONS,
-                         modulus: str = "seed") -> FloatArray:
+                         modulus: str = "seed", foundation: bool = False) -> FloatArray:
     """Single-pair stiffness ``F / (d_a1 + d_a2 + d_h)`` in N/m (seed 002 eq. 9).
 
     Parameters
@@ -139,6 +152,8 @@ def weber_pair_stiffness(pair: GearPair, s: ArrayLike, slices: int = 20,
     options : ToothOptions
     modulus : str
         "seed" (eq. 11, default), "plane_stress" or "plane_strain".
+    foundation : bool
+        Add the Sainsot fillet-foundation compliance (default False: the seed has none).
 
     Returns
     -------
@@ -150,5 +165,5 @@ def weber_pair_stiffness(pair: GearPair, s: ArrayLike, slices: int = 20,
     InputError
         Positions outside the path of contact, bad slice count or modulus.
     """
-    c1, c2, ch = weber_compliances(pair, s, slices, options, modulus)
+    c1, c2, ch = weber_compliances(pair, s, slices, options, modulus, foundation)
     return 1.0 / (c1 + c2 + ch)
