@@ -1,0 +1,10 @@
+"""Seed 000: geometric eccentricity of a helical pair (PHYSICS.md section 4).
+
+- :mod:`.kinematics`: centres, centre distance, dynamic pressure angle, pitch point, ratio, speeds
+- :mod:`.contact_lines`: time-varying contact lines and their total length L(t)
+- :mod:`.friction`: friction force and friction torques on both gears
+"""
+
+from .kinematics import Eccentricity, EccentricMesh, Kinematics
+
+__all__ = ["Eccentricity", "EccentricMesh", "Kinematics"]

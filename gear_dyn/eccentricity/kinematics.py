@@ -1,0 +1,360 @@
+"""Kinematics of a gear pair with geometric eccentricity (seed 000 eqs. 1-13; PHYSICS.md 4).
+
+Frame and symbols (seed 000 Fig. 1): the rotation centres are fixed at O1 = (0, 0) and
+O2 = (H, 0), H the mounting centre distance (``GearPair.a_w``). The geometric centres (centres of
+base and tip circles) orbit them::
+
+    O1' = (e1 cos(ph1 + th1),     e1 sin(ph1 + th1))          (eq. 1)
+    O2' = (H + e2 cos(ph2 - th2), e2 sin(ph2 - th2))
+
+with th1 the pinion rotation (counter-clockwise, driver) and th2 the gear rotation (clockwise).
+Then (eqs. 2-13, all exact for rigid involute teeth):
+
+- actual centre distance ``l = |O1'O2'|``                                           (eq. 2)
+- ``psi = arccos((r_b1 + r_b2) / l)`` (the seed writes ``a cos a_t``, the same number)   (eq. 3)
+- azimuth of the geometric centre line ``gamma = atan2(y2 - y1, x2 - x1)``            (eq. 4)
+- dynamic transverse pressure angle ``alpha = psi - gamma``, measured from the +Y axis (eq. 5)
+- the line of action has direction ``u = (sin alpha, cos alpha)`` and touches the base circles at
+  ``A = O1' + r_b1 (cos alpha, -sin alpha)`` and ``B = O2' - r_b2 (cos alpha, -sin alpha)``
+  (eqs. 6-9; the seed's slope is ``k = cot alpha``)
+- it crosses the line of centres O1O2 at ``P = (x_P, 0)``, ``x_P = x_A - y_A tan alpha`` (eq. 11)
+- instantaneous ratio ``i12 = (H - x_P) / x_P`` (law of gearing, eq. 12) and driven speed
+  ``w2 = w1 / i12``
+- normal speed of the pinion flank on the line of action ``v = w1 x_P cos alpha`` (eq. 13;
+  the seed prints ``cos psi``, which drops the small azimuth ``gamma``: ``x_P cos alpha`` is the
+  distance from O1 to the line of action, the exact moment arm).
+
+Displacement form (used by the contact lines and by the torsional model). Unwinding the involutes
+from their base circles gives, for rigid teeth in contact,
+``r_b1 th1 - r_b2 th2 = |AB| - (r_b1 + r_b2) alpha + const``. Hence
+
+- the gear angle of the rigid eccentric pair driven at constant ``w1`` (solved by fixed-point
+  iteration, because O2' itself moves with th2):
+  ``r_b2 th2 = r_b1 th1 - (|AB| - |AB|_0) + (r_b1 + r_b2)(alpha - alpha_0)`` (th2(0) = 0);
+- the eccentricity's displacement along the line of action
+  ``e_ecc = r_b2 th2 - r_b1 th1`` (m), with rate ``r_b2 w2 - r_b1 w1`` (w2 from eq. 12);
+- the travel of the contact on the line of action, measured from the moving tangent point A,
+  ``tau = r_b1 (th1 + alpha - alpha_0)`` (m); the seed integrates ``v`` instead, which ignores
+  that A itself moves along the line by O(e).
+
+With ``e1 = e2 = 0`` everything reduces to the error-free pair: ``l = H``, ``alpha = a_wt``,
+``x_P = r_w1``, ``i12 = z2 / z1``, ``tau = r_b1 w1 t``, ``e_ecc = 0``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from types import SimpleNamespace
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..errors import InputError, check_range
+from ..geometry import GearPair
+
+FloatArray = NDArray[np.float64]
+Scalar = float | FloatArray
+
+#: math functions under numpy's names, so the same formulas run fast on Python floats
+_MATH = SimpleNamespace(cos=math.cos, sin=math.sin, sqrt=math.sqrt, arccos=math.acos,
+                        arctan2=math.atan2)
+
+_FIXED_POINT_TOL = 1e-14  # rad per rad of pinion angle; each step contracts by ~e2/r_b2
+_FIXED_POINT_MAX = 60
+
+
+@dataclass(frozen=True)
+class Eccentricity:
+    """Geometric eccentricity of pinion and gear.
+
+    Parameters
+    ----------
+    e1, e2 : float
+        Eccentricities of pinion and gear in m (>= 0, <= 0.01 m).
+    phase1, phase2 : float
+        Initial position angles ph1, ph2 of the geometric centres in rad (seed 000 eq. 1).
+
+    Raises
+    ------
+    InputError
+        Negative, non-finite or absurdly large values.
+    """
+
+    e1: float = 0.0
+    e2: float = 0.0
+    phase1: float = 0.0
+    phase2: float = 0.0
+
+    def __post_init__(self) -> None:
+        check_range("eccentricity.pinion", self.e1, "m", low=0.0, high=0.01)
+        check_range("eccentricity.gear", self.e2, "m", low=0.0, high=0.01)
+        check_range("eccentricity.phase_pinion", self.phase1, "rad", low=-1e3, high=1e3)
+        check_range("eccentricity.phase_gear", self.phase2, "rad", low=-1e3, high=1e3)
+
+    @property
+    def active(self) -> bool:
+        """True if either gear is eccentric."""
+        return self.e1 > 0.0 or self.e2 > 0.0
+
+
+@dataclass(slots=True)
+class Kinematics:
+    """Kinematic state of the eccentric pair at one or many instants (SI units).
+
+    Every attribute is a float (one instant) or an array (same shape as the times).
+
+    Attributes
+    ----------
+    t : time in s
+    theta1, theta2 : pinion (CCW) and gear (CW) rotation angles in rad
+    x1, y1, x2, y2 : geometric centres O1', O2' in m (eq. 1)
+    l : actual centre distance in m (eq. 2)
+    psi, gamma, alpha : eq. 3, eq. 4 and dynamic transverse pressure angle (eq. 5) in rad
+    xa, ya, xb, yb : tangent points A, B in m (eq. 9)
+    ab : tangent length |AB| in m
+    xp : abscissa of the pitch point P in m (eq. 11); also the instantaneous pitch radius r1
+    ratio : instantaneous ratio i12 = w1 / w2 (eq. 12)
+    w1, w2 : pinion and gear speeds in rad/s
+    v : normal speed of the pinion flank on the line of action in m/s (eq. 13, exact form)
+    arm1, arm2 : distances from O1, O2 to the line of action in m (moment arms of the normal load)
+    travel : contact travel tau from the moving tangent point A in m
+    l_ac, l_ad, l_ap : distances from A to the start of contact C, end of contact D, pitch point P
+    foot1, foot2 : positions (from A, along the line) of the feet of the perpendiculars from O1, O2
+    e_ecc : displacement of the eccentricity along the line of action in m
+    e_ecc_rate : its time derivative in m/s
+    """
+
+    t: Scalar
+    theta1: Scalar
+    theta2: Scalar
+    x1: Scalar
+    y1: Scalar
+    x2: Scalar
+    y2: Scalar
+    l: Scalar
+    psi: Scalar
+    gamma: Scalar
+    alpha: Scalar
+    xa: Scalar
+    ya: Scalar
+    xb: Scalar
+    yb: Scalar
+    ab: Scalar
+    xp: Scalar
+    ratio: Scalar
+    w1: float
+    w2: Scalar
+    v: Scalar
+    arm1: Scalar
+    arm2: Scalar
+    travel: Scalar
+    l_ac: Scalar
+    l_ad: float
+    l_ap: Scalar
+    foot1: Scalar
+    foot2: Scalar
+    e_ecc: Scalar
+    e_ecc_rate: Scalar
+
+    @property
+    def l_cd(self) -> Scalar:
+        """Instantaneous transverse length of the path of contact C..D in m."""
+        return self.l_ad - self.l_ac
+
+    @property
+    def l_cp(self) -> Scalar:
+        """Distance from the start of contact C to the pitch point P in m (seed eq. 20)."""
+        return self.l_ap - self.l_ac
+
+
+@dataclass(frozen=True, eq=False)
+class EccentricMesh:
+    """A gear pair with geometric eccentricity, driven at constant pinion speed.
+
+    Parameters
+    ----------
+    pair : GearPair
+        The gear pair; its operating centre distance ``a_w`` is the mounting distance H.
+    eccentricity : Eccentricity
+        e1, e2 and their initial phases.
+    speed : float
+        Pinion speed w1 in rad/s (> 0).
+
+    Raises
+    ------
+    InputError
+        Eccentricity so large that the centre distance could reach the base circles, that the
+        total contact ratio could fall below 1, or larger than half the module (the contact-line
+        bookkeeping assumes the start of contact moves by less than a base pitch).
+
+    Examples
+    --------
+    >>> import math
+    >>> from gear_dyn.geometry import GearPair
+    >>> pair = GearPair(18, 70, 3e-3, math.radians(20), 0.04, math.radians(15))
+    >>> mesh = EccentricMesh(pair, Eccentricity(), 50 * math.pi)
+    >>> round(float(mesh.kinematics(0.01).ratio), 12) == round(70 / 18, 12)
+    True
+    """
+
+    pair: GearPair
+    eccentricity: Eccentricity
+    speed: float
+    _c: dict[str, float] = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        check_range("speed", self.speed, "rad/s", low=0.0, high=1e5, low_open=True)
+        p, ec = self.pair, self.eccentricity
+        rbs = p.rb1 + p.rb2
+        h = p.a_w
+        e_sum = ec.e1 + ec.e2
+        if e_sum > 0.5 * p.module:
+            raise InputError(
+                f"eccentricity e1 + e2 = {e_sum * 1e3:.6g} mm: valid range <= half the module "
+                f"({0.5 * p.module * 1e3:.6g} mm)"
+            )
+        l_max, l_min = h + e_sum, h - e_sum
+        if l_min <= rbs * (1 + 1e-9):
+            raise InputError(
+                f"eccentricity e1 + e2 = {e_sum * 1e3:.6g} mm brings the centre distance to the "
+                f"base circles; valid range < {(h - rbs) * 1e3:.6g} mm"
+            )
+        g_min = p.tip_reach1 + p.tip_reach2 - math.sqrt(l_max**2 - rbs**2)
+        eps_min = g_min / p.base_pitch + p.overlap_ratio
+        if eps_min < 1.0:
+            raise InputError(
+                f"eccentricity e1 + e2 = {e_sum * 1e3:.6g} mm: at the largest centre distance the "
+                f"total contact ratio is {eps_min:.4f}; it must stay >= 1"
+            )
+        c: dict[str, float] = dict(
+            e1=ec.e1, e2=ec.e2, p1=ec.phase1, p2=ec.phase2, h=h, rb1=p.rb1, rb2=p.rb2, rbs=rbs,
+            tip2=p.tip_reach2, l_ad=p.tip_reach1, w1=self.speed,
+            ab_min=math.sqrt(l_min**2 - rbs**2), ab_max=math.sqrt(l_max**2 - rbs**2),
+        )
+        c["ab0"] = 0.0
+        c["alpha0"] = 0.0
+        g0 = _geometry(_MATH, c, 0.0, 0.0)
+        c["ab0"] = g0["ab"]
+        c["alpha0"] = g0["alpha"]
+        c["l_ac0"] = g0["ab"] - c["tip2"]
+        object.__setattr__(self, "_c", c)
+
+    # ------------------------------------------------------------------ constants
+    @property
+    def l_ac0(self) -> float:
+        """Distance A..C at t = 0 (the seed's L_AC0) in m."""
+        return self._c["l_ac0"]
+
+    @property
+    def l_ac_range(self) -> tuple[float, float]:
+        """Bounds (min, max) of the distance A..C over all eccentric positions in m."""
+        return self._c["ab_min"] - self._c["tip2"], self._c["ab_max"] - self._c["tip2"]
+
+    @property
+    def shaft_frequencies(self) -> tuple[float, float]:
+        """Nominal rotation frequencies (f1, f2) of pinion and gear in Hz."""
+        f1 = self.speed / (2 * math.pi)
+        return f1, f1 * self.pair.z1 / self.pair.z2
+
+    @property
+    def mesh_frequency(self) -> float:
+        """Mesh frequency z1 f1 in Hz."""
+        return self.pair.z1 * self.speed / (2 * math.pi)
+
+    @property
+    def hunting_period(self) -> float:
+        """Time after which pinion and gear both return to their start (s): z2 / (gcd f1)."""
+        return self.pair.z2 / (math.gcd(self.pair.z1, self.pair.z2) * self.shaft_frequencies[0])
+
+    # ------------------------------------------------------------------ evaluation
+    def kinematics(self, t: ArrayLike | float) -> Kinematics:
+        """Kinematic state at time(s) ``t`` (s) with th1 = w1 t and the rigid gear angle th2.
+
+        A Python float gives floats (fast path used inside model right-hand sides); anything
+        else gives arrays of the shape of ``t``.
+        """
+        c = self._c
+        xp: Any
+        tt: Any
+        if isinstance(t, float | int):
+            xp, tt = _MATH, float(t)
+        else:
+            xp, tt = np, np.asarray(t, dtype=float)
+        th1 = c["w1"] * tt
+        th2 = th1 * c["rb1"] / c["rb2"]
+        g = _geometry(xp, c, th1, th2)
+        if c["e2"] > 0.0:
+            scalar = xp is _MATH
+            tol = _FIXED_POINT_TOL * max(1.0, abs(th1) if scalar else float(np.max(np.abs(th1))))
+            for _ in range(_FIXED_POINT_MAX):
+                th2_new = _rigid_theta2(c, th1, g)
+                change = abs(th2_new - th2) if scalar else float(np.max(np.abs(th2_new - th2)))
+                th2 = th2_new
+                g = _geometry(xp, c, th1, th2)
+                if change <= tol:
+                    break
+        else:
+            th2 = _rigid_theta2(c, th1, g)
+        return _assemble(c, tt, th1, th2, g)
+
+    def geometry_at(self, theta1: ArrayLike, theta2: ArrayLike) -> Kinematics:
+        """Kinematic quantities for given rotation angles (rad) instead of the rigid drive.
+
+        ``t`` is reported as ``theta1 / w1``; ``e_ecc`` is then ``r_b2 th2 - r_b1 th1`` for the
+        given angles minus the rigid-drive constant, i.e. the mismatch along the line of action.
+        """
+        c = self._c
+        th1 = np.asarray(theta1, dtype=float)
+        th2 = np.asarray(theta2, dtype=float)
+        g = _geometry(np, c, th1, th2)
+        return _assemble(c, th1 / c["w1"], th1, th2, g)
+
+
+def _geometry(xp: Any, c: dict[str, float], th1: Any, th2: Any) -> dict[str, Any]:
+    """Seed 000 eqs. 1-11 for rotation angles th1 (CCW) and th2 (CW); xp = numpy or math."""
+    e1, e2, h, rb1, rbs = c["e1"], c["e2"], c["h"], c["rb1"], c["rbs"]
+    x1 = e1 * xp.cos(c["p1"] + th1)
+    y1 = e1 * xp.sin(c["p1"] + th1)
+    x2 = h + e2 * xp.cos(c["p2"] - th2)
+    y2 = e2 * xp.sin(c["p2"] - th2)
+    dx, dy = x2 - x1, y2 - y1
+    l2 = dx * dx + dy * dy
+    l = xp.sqrt(l2)
+    psi = xp.arccos(rbs / l)
+    gamma = xp.arctan2(dy, dx)
+    alpha = psi - gamma
+    ca, sa = xp.cos(alpha), xp.sin(alpha)
+    xa = x1 + rb1 * ca
+    ya = y1 - rb1 * sa
+    xb = x2 - c["rb2"] * ca
+    yb = y2 + c["rb2"] * sa
+    ab = xp.sqrt(l2 - rbs * rbs)
+    xpp = xa - ya * sa / ca
+    a_u = xa * sa + ya * ca
+    return dict(x1=x1, y1=y1, x2=x2, y2=y2, l=l, psi=psi, gamma=gamma, alpha=alpha, ca=ca, sa=sa,
+                xa=xa, ya=ya, xb=xb, yb=yb, ab=ab, xp=xpp, a_u=a_u)
+
+
+def _rigid_theta2(c: dict[str, float], th1: Any, g: dict[str, Any]) -> Any:
+    """Gear angle from the displacement relation of rigid involute teeth (rad)."""
+    return (c["rb1"] * th1 - (g["ab"] - c["ab0"]) + c["rbs"] * (g["alpha"] - c["alpha0"])) / c[
+        "rb2"
+    ]
+
+
+def _assemble(c: dict[str, float], t: Any, th1: Any, th2: Any, g: dict[str, Any]) -> Kinematics:
+    h, w1 = c["h"], c["w1"]
+    xpp, ca = g["xp"], g["ca"]
+    w2 = w1 * xpp / (h - xpp)
+    a_u = g["a_u"]
+    return Kinematics(
+        t=t, theta1=th1, theta2=th2, x1=g["x1"], y1=g["y1"], x2=g["x2"], y2=g["y2"], l=g["l"],
+        psi=g["psi"], gamma=g["gamma"], alpha=g["alpha"], xa=g["xa"], ya=g["ya"], xb=g["xb"],
+        yb=g["yb"], ab=g["ab"], xp=xpp, ratio=(h - xpp) / xpp, w1=w1, w2=w2, v=w1 * xpp * ca,
+        arm1=xpp * ca, arm2=(h - xpp) * ca, travel=c["rb1"] * (th1 + g["alpha"] - c["alpha0"]),
+        l_ac=g["ab"] - c["tip2"], l_ad=c["l_ad"], l_ap=-g["ya"] / ca, foot1=-a_u,
+        foot2=h * g["sa"] - a_u, e_ecc=c["rb2"] * th2 - c["rb1"] * th1,
+        e_ecc_rate=c["rb2"] * w2 - c["rb1"] * w1,
+    )
