@@ -13,8 +13,7 @@ from ..geometry import GearPair
 from ..models.base import Model
 from ..models.sdof import sdof_from_pair
 from ..solve import Result, SolverSettings, simulate
-from ..stiffness.iso6336 import iso6336_stiffness
-from ..stiffness.periodic import PeriodicStiffness, rectangular_stiffness
+from ..stiffness.periodic import PeriodicStiffness
 from .loader import Scene
 from .registry import MODEL_BUILDERS, register_model
 
@@ -53,31 +52,19 @@ def build_pair(scene: Scene) -> GearPair:
 
 
 def build_stiffness(scene: Scene, pair: GearPair) -> PeriodicStiffness:
-    """The mesh stiffness the scene's ``[stiffness]`` table asks for."""
-    s = scene.get("stiffness")
-    method = s["method"]
-    try:
-        if method in ("iso6336", "rectangular"):
-            k_single, k_double = s["single"], s["double"]
-            if method == "rectangular" and (k_single is None) != (k_double is None):
-                raise InputError("stiffness.single and stiffness.double must be given together")
-            if k_single is None:
-                iso = iso6336_stiffness(pair)
-                k_single, k_double = iso.k_single, ISO_DOUBLE_FACTOR * iso.k_single
-            k: PeriodicStiffness = rectangular_stiffness(pair.contact_ratio, k_single, k_double,
-                                                         name=method)
-        else:
-            from .. import stiffness as stiffness_pkg
+    """The mesh stiffness the scene's ``[stiffness]`` table asks for.
 
-            builder = getattr(stiffness_pkg, "build_stiffness", None)
-            if builder is None:
-                raise InputError(f"stiffness.method = {method!r} is not available in this build")
-            k = builder(pair, method)
-        if s["fourier_terms"] is not None:
-            k = k.truncated(s["fourier_terms"])
+    Delegates to :func:`gear_dyn.stiffness.build_stiffness` (one selector for every method).
+    """
+    from ..stiffness.select import build_stiffness as select_stiffness
+    from ..stiffness.select import stiffness_options_from_table
+
+    s = scene.get("stiffness")
+    try:
+        method, options = stiffness_options_from_table(s)
+        return select_stiffness(pair, method, fourier_terms=s["fourier_terms"], **options)
     except InputError as exc:
         raise _wrap(scene, exc) from None
-    return k
 
 
 def build_sdof(scene: Scene) -> Model:
@@ -138,6 +125,8 @@ def build_plan(scene: Scene, **overrides: Any) -> RunPlan:
     for key, val in overrides.items():
         if val is not None:
             sv[key] = val
+    if overrides.get("periods") is not None and overrides.get("steady_periods") is None:
+        sv["steady_periods"] = None  # a new span takes its own second half as steady window
     try:
         settings = SolverSettings(
             method=sv["method"], rtol=sv["rtol"], atol=sv["atol"],
