@@ -61,6 +61,28 @@ STIFFNESS = register_section(Section("stiffness", (
           doc="double-pair stiffness (rectangular method)"),
     Field("fourier_terms", kind="int", default=None, low=1, high=200,
           doc="truncate k(t) to this many Fourier harmonics (seed 002 uses 5)"),
+    # options of the geometric methods (gear_dyn.stiffness.build_stiffness; docs/stiffness.md)
+    Field("samples_per_cycle", kind="int", default=None, low=4, high=100_000,
+          doc="potential_energy/weber: samples per mesh cycle (default 200)"),
+    Field("face_slices", kind="int", default=None, low=1, high=10_000,
+          doc="potential_energy/weber, helical pairs: face slices (default 40)"),
+    Field("fillet_radius_coef", default=None, low=0.0, high=1.0,
+          doc="basic-rack tip rounding rho_fP/m_n (default c*/(1 - sin a_n))"),
+    Field("bore_radius_pinion", "m", default=None, low=0.0, low_open=True,
+          doc="pinion bore radius for the fillet-foundation term (default r_f/2)"),
+    Field("bore_radius_gear", "m", default=None, low=0.0, low_open=True,
+          doc="gear bore radius for the fillet-foundation term (default r_f/2)"),
+    Field("plane_strain", kind="bool", default=None,
+          doc="potential_energy/weber: E/(1-nu^2) in the tooth terms (default false)"),
+    Field("weber_slices", kind="int", default=None, low=1, high=10_000,
+          doc="weber: slices per tooth (default 20)"),
+    Field("weber_modulus", kind="str", default=None,
+          choices=("seed", "plane_stress", "plane_strain"),
+          doc="weber: modulus of seed 002 eq. 11 (default 'seed')"),
+    Field("weber_foundation", kind="bool", default=None,
+          doc="weber: add the Sainsot fillet-foundation term (default false, as the seed)"),
+    Field("per_length", "N/m**2", default=None, low=0.0, low_open=True,
+          doc="contact_line: stiffness per unit contact-line length (default from ISO)"),
 ), doc="mesh stiffness; default ISO 6336 rectangular wave"))
 
 DAMPING = register_section(Section("damping", (

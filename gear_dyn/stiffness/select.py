@@ -214,3 +214,46 @@ def build_stiffness(pair: GearPair, method: str = "iso6336", *,
             raise InputError(f"fourier_terms = {fourier_terms!r}: valid range >= 1 (integer)")
         return k.truncated(int(fourier_terms))
     return k
+
+
+#: scene key -> build_stiffness option (the [stiffness] TOML table, gear_dyn/scene/core.py)
+SCENE_KEYS = {
+    "single": "single",
+    "double": "double",
+    "samples_per_cycle": "samples_per_cycle",
+    "face_slices": "slices",
+    "fillet_radius_coef": "fillet_radius_coef",
+    "bore_radius_pinion": "bore_radius1",
+    "bore_radius_gear": "bore_radius2",
+    "plane_strain": "plane_strain",
+    "weber_slices": "weber_slices",
+    "weber_modulus": "weber_modulus",
+    "weber_foundation": "weber_foundation",
+    "per_length": "stiffness_per_length",
+}
+
+
+def stiffness_options_from_table(table: Mapping[str, Any]) -> tuple[str, dict[str, Any]]:
+    """``(method, options)`` for :func:`build_stiffness` from a parsed ``[stiffness]`` table.
+
+    Keys left at None are dropped; a key that the chosen method does not use is an error.
+
+    Raises
+    ------
+    InputError
+        A key given that the method does not take (names the key and the method).
+    """
+    method = str(table.get("method", "iso6336"))
+    options: dict[str, Any] = {}
+    for key, opt in SCENE_KEYS.items():
+        val = table.get(key)
+        if val is None:
+            continue
+        if method in _ALLOWED and opt not in _ALLOWED[method]:
+            valid = sorted(k for k, o in SCENE_KEYS.items() if o in _ALLOWED[method])
+            raise InputError(
+                f"stiffness.{key} does not apply to method {method!r}; keys for this method: "
+                f"{', '.join(valid) or 'none'}"
+            )
+        options[opt] = val
+    return method, options
