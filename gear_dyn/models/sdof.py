@@ -213,12 +213,16 @@ class SDOFModel:
         if seg is None or self.backlash is not None or self.transmission_error is not None:
             return None
         cuts = np.concatenate([[t0], self.switching_times(t0, t1), [t1]])
-        out = []
         g = np.array([0.0, self.static_load / self.mass])
-        for ta, tb in zip(cuts[:-1], cuts[1:], strict=True):
-            kt = float(self.stiffness(self.phase(0.5 * (ta + tb))))
-            a = np.array([[0.0, 1.0], [-kt / self.mass, -self.damping / self.mass]])
-            out.append((float(ta), float(tb), a, g))
+        # one vectorised stiffness lookup at the piece midpoints; equal values share one A
+        kts = self.stiffness(self.phase(0.5 * (cuts[:-1] + cuts[1:])))
+        mats: dict[float, FloatArray] = {}
+        out = []
+        for ta, tb, kt in zip(cuts[:-1].tolist(), cuts[1:].tolist(), kts.tolist(), strict=True):
+            a = mats.get(kt)
+            if a is None:
+                a = mats[kt] = np.array([[0.0, 1.0], [-kt / self.mass, -self.damping / self.mass]])
+            out.append((ta, tb, a, g))
         return out
 
     def summary_info(self) -> dict[str, float | str]:
