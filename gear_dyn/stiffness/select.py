@@ -197,15 +197,15 @@ def build_stiffness(pair: GearPair, method: str = "iso6336", *,
     """
     if method not in METHODS:
         raise InputError(f"stiffness method = {method!r}: valid values are {', '.join(METHODS)}")
+    if method == "iso6336" and ("single" in options or "double" in options):
+        raise InputError("stiffness method 'iso6336' takes no single/double values; use "
+                         "method 'rectangular' to give them")
     unknown = sorted(set(options) - set(_ALLOWED[method]))
     if unknown:
         raise InputError(
             f"unknown option(s) {', '.join(unknown)} for stiffness method {method!r}; valid: "
             f"{', '.join(_ALLOWED[method]) or 'none'}"
         )
-    if method == "iso6336" and ("single" in options or "double" in options):
-        raise InputError("stiffness method 'iso6336' takes no single/double values; use "
-                         "method 'rectangular' to give them")
     items = tuple(sorted((k, v) for k, v in options.items() if v is not None))
     k = _build_cached(_Key(pair, method, items))
     if fourier_terms is not None:
