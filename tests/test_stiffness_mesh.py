@@ -120,7 +120,8 @@ def test_mean_is_path_integral_over_base_pitch() -> None:
     # Second method: scipy quad of the pair function. Spur: rel 2e-4 (linear interpolation
     # between 200 samples of a smooth convex/concave curve).
     ref = quad(lambda s: float(potential_energy_pair_stiffness(CLASSIC, s)),
-               CLASSIC.start_of_contact, CLASSIC.end_of_contact, epsabs=0, epsrel=1e-6, limit=200)[0]
+               CLASSIC.start_of_contact, CLASSIC.end_of_contact,
+               epsabs=0, epsrel=1e-6, limit=200)[0]
     k = build_stiffness(CLASSIC, "potential_energy")
     assert k.mean == pytest.approx(ref / CLASSIC.base_pitch, rel=2e-4)
 
@@ -137,7 +138,8 @@ def test_helical_pem_is_continuous_and_flatter() -> None:
     one = build_stiffness(HELICAL, "potential_energy", slices=1)
     assert (k.max - k.min) / k.mean < 0.5 * (one.max - one.min) / one.mean
     ref = quad(lambda s: float(potential_energy_pair_stiffness(HELICAL, s)),
-               HELICAL.start_of_contact, HELICAL.end_of_contact, epsabs=0, epsrel=1e-6, limit=200)[0]
+               HELICAL.start_of_contact, HELICAL.end_of_contact,
+               epsabs=0, epsrel=1e-6, limit=200)[0]
     assert k.mean == pytest.approx(ref / HELICAL.base_pitch, rel=3e-3)
 
 
