@@ -19,6 +19,7 @@ from .errors import InputError, SolverError
 COMMANDS: tuple[str, ...] = (
     "gear_dyn.commands.run",
     "gear_dyn.commands.demo",
+    "gear_dyn.commands.stiffness",
 )
 
 

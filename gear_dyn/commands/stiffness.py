@@ -1,0 +1,166 @@
+"""``gear-dyn stiffness SCENE --out DIR``: mesh stiffness of a scene's pair by several methods.
+
+Writes into DIR (whole or not at all): ``stiffness.png`` (k over mesh cycles, every method on one
+figure, double-contact zones shaded), ``components.png`` (Hertz, bending, shear, axial and fillet
+compliances at the pitch point, potential-energy method), ``stiffness.csv`` (k per method against
+phase) and ``stiffness.json`` (mean, min, max, single- and double-pair values per method, ISO 6336
+figures, operating geometry with the backlash of the centre distance, build times).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+from ..errors import InputError
+
+
+def register(sub: Any) -> None:
+    from ..stiffness.select import METHODS
+
+    p = sub.add_parser(
+        "stiffness", help="mesh stiffness of a scene's gear pair by several methods",
+        description="Compute the mesh stiffness of SCENE's pair by the chosen methods and write "
+        "stiffness.png, components.png, stiffness.csv and stiffness.json into DIR. The scene's "
+        "[stiffness] options apply to every method that takes them.",
+    )
+    p.add_argument("scene", type=Path, help="scene file (TOML)")
+    p.add_argument("--out", type=Path, required=True, help="output folder")
+    p.add_argument("--methods", default="scene,iso6336,potential_energy,weber,contact_line",
+                   help="comma-separated methods among " + ", ".join(METHODS) + " and 'scene' "
+                   "(the scene's own method); default: %(default)s")
+    p.add_argument("--cycles", type=float, default=2.0, help="mesh cycles plotted (default 2)")
+    p.add_argument("--samples", type=int, default=400,
+                   help="phase samples per cycle in stiffness.csv (default 400)")
+    p.set_defaults(func=run)
+
+
+def _methods(text: str, scene_method: str) -> list[str]:
+    from ..stiffness.select import METHODS
+
+    out: list[str] = []
+    for raw in text.split(","):
+        name = raw.strip()
+        if not name:
+            continue
+        if name == "scene":
+            name = scene_method
+        if name not in METHODS:
+            raise InputError(f"--methods: {name!r} is not a stiffness method; valid: "
+                             f"{', '.join(METHODS)}, scene")
+        if name not in out:
+            out.append(name)
+    if not out:
+        raise InputError("--methods: give at least one method")
+    return out
+
+
+def compute(scene: Any, methods: list[str]) -> tuple[Any, dict[str, Any], dict[str, Any]]:
+    """``(pair, curves, report)`` for ``methods`` on the scene's pair (no files written)."""
+    import numpy as np
+
+    from ..scene import build_pair
+    from ..stiffness.iso6336 import iso6336_stiffness
+    from ..stiffness.potential_energy import potential_energy_compliances
+    from ..stiffness.select import _ALLOWED, build_stiffness, stiffness_options_from_table
+    from ..stiffness.summary import operating_summary, stiffness_summary
+
+    pair = build_pair(scene)
+    table = dict(scene.get("stiffness"))
+    scene_method, scene_opts = stiffness_options_from_table(table)
+    fourier = table.get("fourier_terms")
+    curves: dict[str, Any] = {}
+    per_method: dict[str, Any] = {}
+    for m in methods:
+        opts = {k: v for k, v in scene_opts.items() if k in _ALLOWED[m]}
+        if m == "iso6336" and ("single" in opts or "double" in opts):
+            opts = {k: v for k, v in opts.items() if k not in ("single", "double")}
+        t0 = time.perf_counter()
+        try:
+            k = build_stiffness(pair, m, **opts)
+        except InputError as exc:
+            raise InputError(f"{scene.source}: method {m}: {exc}") from None
+        dt = time.perf_counter() - t0
+        curves[m] = k
+        summ = stiffness_summary(pair, k)
+        summ["build_time_s"] = dt
+        summ["options"] = opts
+        if fourier is not None and m == scene_method:
+            kf = k.truncated(fourier)
+            curves[f"{m} (Fourier {fourier})"] = kf
+            summ["fourier"] = stiffness_summary(pair, kf)
+        per_method[m] = summ
+    iso = iso6336_stiffness(pair)
+    comp = potential_energy_compliances(pair, np.array([pair.pitch_point]))
+    components = {
+        "position": "pitch point",
+        "s_m": pair.pitch_point,
+        "hertz_m_per_n": float(comp.hertz[0]),
+        "pair_stiffness_n_per_m": float(comp.stiffness[0]),
+    }
+    for term in ("bending", "shear", "axial", "fillet"):
+        arr = getattr(comp, term)
+        components[f"{term}_pinion_m_per_n"] = float(arr[0, 0])
+        components[f"{term}_gear_m_per_n"] = float(arr[1, 0])
+    report: dict[str, Any] = {
+        "scene": scene.name,
+        "scene_method": scene_method,
+        "fourier_terms": fourier,
+        "pair": {"z1": pair.z1, "z2": pair.z2, "module_m": pair.module,
+                 "pressure_angle_deg": float(np.degrees(pair.pressure_angle)),
+                 "helix_angle_deg": float(np.degrees(pair.helix_angle)),
+                 "face_width_m": pair.face_width},
+        "operating": operating_summary(pair),
+        "iso6336": {"c_single_n_per_m2": iso.c_single, "c_gamma_n_per_m2": iso.c_mesh,
+                    "c_gamma_beta_n_per_m2": iso.c_mesh_beta, "k_single_n_per_m": iso.k_single,
+                    "k_mesh_n_per_m": iso.k_mesh},
+        "methods": per_method,
+        "components_at_pitch_point": components,
+        "_components": comp,
+    }
+    return pair, curves, report
+
+
+def run(args: argparse.Namespace) -> int:
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from ..io import save_figure, staged_output, write_csv, write_json
+    from ..plots_stiffness import plot_components, plot_stiffness_curves
+    from ..scene import load_scene
+
+    if not (args.cycles > 0 and args.cycles <= 1000):
+        raise InputError(f"--cycles = {args.cycles}: valid range 0 < cycles <= 1000")
+    if args.samples < 4:
+        raise InputError(f"--samples = {args.samples}: valid range >= 4")
+    scene = load_scene(args.scene)
+    methods = _methods(args.methods, scene.get("stiffness")["method"])
+    pair, curves, report = compute(scene, methods)
+    comp = report.pop("_components")
+    with staged_output(args.out) as tmp:
+        fig = plot_stiffness_curves(curves, pair.contact_ratio, cycles=args.cycles)
+        save_figure(fig, tmp / "stiffness.png", dpi=110)
+        plt.close(fig)
+        fig = plot_components(comp, title="potential-energy compliance split at the pitch point "
+                              f"(K = {1 / float(comp.total[0]):.4g} N/m)")
+        save_figure(fig, tmp / "components.png", dpi=110)
+        plt.close(fig)
+        p = np.arange(args.samples) / args.samples
+        cols: dict[str, Any] = {"phase_cycles": p}
+        for name, k in curves.items():
+            cols[f"k_{name.replace(' ', '_')}_n_per_m"] = k(p)
+        write_csv(tmp / "stiffness.csv", cols)
+        write_json(tmp / "stiffness.json", report)
+    op = report["operating"]
+    print(f"{report['scene']}: eps_a = {op['contact_ratio']:.4f}, single-contact share "
+          f"{op['single_contact_share']:.3f}, backlash {op['backlash_m'] * 1e6:.3f} um",
+          file=sys.stdout)
+    for name, s in report["methods"].items():
+        print(f"  {name:17s} mean {s['mean_n_per_m']:.4g}  min {s['min_n_per_m']:.4g}  "
+              f"max {s['max_n_per_m']:.4g} N/m  ({s['build_time_s'] * 1e3:.3g} ms)",
+              file=sys.stdout)
+    print(f"wrote {args.out}/", file=sys.stdout)
+    return 0
