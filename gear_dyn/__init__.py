@@ -5,6 +5,7 @@ The public API in one place::
     from gear_dyn import GearPair, load_scene, run_scene, simulate, SolverSettings
 """
 
+from . import _threads  # noqa: F401  (must run before numpy is imported)
 from .errors import GearDynError, InputError, SceneError, SolverError
 from .geometry import GearPair, mesh_frequency, output_speed
 from .models import SDOFModel, sdof_from_pair
