@@ -1,0 +1,634 @@
+"""Periodic steady state, monodromy matrix and Floquet multipliers of the mesh models.
+
+The single-DOF mesh model (:mod:`gear_dyn.models.sdof`) is periodic in the mesh period
+``T = 1/f_m``: its steady response is the periodic orbit, found directly instead of waiting for a
+transient to die out.
+
+Linear models (no backlash). The one-period map is affine, ``y(T) = Phi y(0) + q``, with ``Phi``
+the monodromy matrix. The periodic orbit starts at ``y0 = (I - Phi)^-1 q`` and its Floquet
+multipliers are the eigenvalues of ``Phi``; one outside the unit circle means parametric
+instability (the response grows without bound and there is no steady state to report).
+
+- Piecewise-constant stiffness: ``[Phi q; 0 1]`` is the product of the augmented matrix
+  exponentials ``expm([[A_j, g_j], [0, 0]] dt_j)`` of the pieces of one period (the idea of
+  :mod:`gear_dyn.exact`); exact up to rounding.
+- Any other linear case (smooth Fourier stiffness, piecewise-linear stiffness, transmission
+  error): ``Z = [Phi q]`` obeys ``Z' = A(t) Z + [0 g(t)]``, ``Z(0) = [I 0]``, integrated over one
+  period with ``solve_ivp`` (DOP853), cut at the switching instants.
+
+Nonlinear models (backlash). Shooting: Newton's method on ``P(y0) - y0 = 0``, ``P`` the one-period
+map, its Jacobian ``Phi = dP/dy0`` from the variational equations ``Phi' = J(t, y) Phi`` integrated
+with the state. The dead zone makes ``J`` jump where the teeth separate, but the vector field is
+continuous there, so the saltation matrix is the identity and no correction is needed. The
+eigenvalues of ``Phi`` at the converged orbit are its Floquet multipliers: they tell a stable
+orbit (seen in a slow sweep) from an unstable one (the middle branch of a fold).
+
+Stability charts. :func:`stability_chart` maps the largest multiplier modulus over a grid of mesh
+frequency and stiffness variation (or damping) for the linear model, with closed-form 2x2 matrix
+exponentials over a staircase of the stiffness (exact for a rectangular wave).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.integrate import solve_ivp
+from scipy.linalg import expm
+
+from .errors import InputError, SolverError, check_range
+from .models.sdof import SDOFModel
+
+FloatArray = NDArray[np.float64]
+ComplexArray = NDArray[np.complex128]
+
+#: a multiplier modulus above ``1 + UNIT_CIRCLE_TOL`` counts as unstable. Undamped (conservative)
+#: systems have multipliers on the unit circle; rounding and the integrator's tolerance move them
+#: off it by far less than this.
+UNIT_CIRCLE_TOL = 1e-6
+
+
+@dataclass(frozen=True, eq=False)
+class PeriodicSolution:
+    """A periodic orbit of a mesh model and its Floquet multipliers.
+
+    Attributes
+    ----------
+    y0 : ndarray
+        State on the orbit at t = 0 (mesh phase ``model.phase0``), SI units.
+    period : float
+        Mesh period T = 1/f_m in s.
+    monodromy : ndarray (n, n)
+        d y(T) / d y(0) along the orbit.
+    multipliers : ndarray of complex
+        Floquet multipliers (eigenvalues of the monodromy matrix).
+    converged : bool
+        The orbit was found (always True for linear models).
+    iterations : int
+        Newton iterations (0 for linear models: one direct solve).
+    how : str
+        ``expm`` (exact product), ``variational`` (solve_ivp over one period) or ``shooting``.
+    residual : float
+        Final relative closing error max_i |P(y0)_i - y0_i| / scale_i (0 for linear models).
+    """
+
+    y0: FloatArray
+    period: float
+    monodromy: FloatArray
+    multipliers: ComplexArray
+    converged: bool
+    iterations: int
+    how: str
+    residual: float = 0.0
+
+    @property
+    def spectral_radius(self) -> float:
+        """Largest Floquet multiplier modulus."""
+        return float(np.max(np.abs(self.multipliers)))
+
+    @property
+    def stable(self) -> bool:
+        """All multipliers inside the unit circle (up to :data:`UNIT_CIRCLE_TOL`)."""
+        return self.converged and self.spectral_radius <= 1.0 + UNIT_CIRCLE_TOL
+
+
+def _require_sdof(model: Any) -> SDOFModel:
+    if not isinstance(model, SDOFModel):
+        raise InputError(
+            f"the periodic steady state needs a model periodic in the mesh period (sdof); got "
+            f"{type(model).__name__}: use the transient method instead"
+        )
+    return model
+
+
+def is_linear(model: Any) -> bool:
+    """Whether ``model`` is a linear single-DOF model (no backlash)."""
+    return isinstance(model, SDOFModel) and model.backlash is None
+
+
+# ------------------------------------------------------------------ linear one-period map
+def one_period_map(model: SDOFModel, rtol: float = 1e-10) -> tuple[FloatArray, FloatArray, str]:
+    """The affine one-period map ``y(T) = Phi y(0) + q`` of a linear single-DOF model.
+
+    Parameters
+    ----------
+    model : SDOFModel
+        Without backlash.
+    rtol : float
+        Relative tolerance of the variational integration (unused where the stiffness is
+        piecewise constant: that path is exact).
+
+    Returns
+    -------
+    phi : ndarray (2, 2)
+        Monodromy matrix (dimensionless / s / 1/s entries for [x, v]).
+    q : ndarray (2,)
+        Response after one period from rest at zero ([m, m/s]).
+    how : str
+        ``expm`` or ``variational``.
+
+    Raises
+    ------
+    InputError
+        Not a linear single-DOF model.
+    SolverError
+        The integration failed.
+    """
+    model = _require_sdof(model)
+    if model.backlash is not None:
+        raise InputError("one_period_map: the model has backlash (nonlinear); use shoot()")
+    period = 1.0 / model.mesh_frequency
+    pieces = model.linear_segments(0.0, period)
+    n = len(model.state_labels)
+    if pieces is not None:
+        mats = []
+        for ta, tb, a, g in pieces:
+            m = np.zeros((n + 1, n + 1))
+            m[:n, :n] = a
+            m[:n, n] = g
+            mats.append(m * (tb - ta))
+        props = expm(np.stack(mats))
+        total = np.eye(n + 1)
+        for p in props:
+            total = p @ total
+        return total[:n, :n], total[:n, n], "expm"
+    return (*_variational_linear(model, period, rtol), "variational")
+
+
+def _variational_linear(model: SDOFModel, period: float, rtol: float
+                        ) -> tuple[FloatArray, FloatArray]:
+    n = len(model.state_labels)
+    zero = np.zeros(n)
+
+    def rhs_on(ta: float, tb: float) -> Any:
+        f, jac = _piece_functions(model, ta, tb)
+
+        def rhs(t: float, z: FloatArray) -> FloatArray:
+            zz = z.reshape(n, n + 1)
+            out = jac(t, zero) @ zz
+            out[:, n] += f(t, zero)
+            return out.ravel()
+        return rhs
+
+    z0 = np.hstack([np.eye(n), zero[:, None]]).ravel()
+    scale = np.asarray(model.state_scale, dtype=float)
+    # column j of Phi maps y_j to y: entry (i, j) has the unit scale_i / scale_j; q has scale_i
+    col_scale = np.append(1.0 / scale, 1.0)
+    atol = rtol * (scale[:, None] * col_scale[None, :]).ravel()
+    z = _integrate_cut(model, rhs_on, z0, 0.0, period, rtol, atol)
+    zz = z.reshape(n, n + 1)
+    return zz[:, :n].copy(), zz[:, n].copy()
+
+
+def _integrate_cut(model: SDOFModel, rhs: Any, z0: FloatArray, t0: float, t1: float,
+                   rtol: float, atol: FloatArray) -> FloatArray:
+    """Integrate from t0 to t1 with DOP853, restarting at every switching instant.
+
+    ``rhs(ta, tb)`` returns the right-hand side to use on the piece [ta, tb] (so a stiffness
+    that is constant on the piece is evaluated once, not at every step).
+    """
+    cuts = np.concatenate([[t0], model.switching_times(t0, t1), [t1]])
+    z = np.asarray(z0, dtype=float)
+    for ta, tb in zip(cuts[:-1], cuts[1:], strict=True):
+        if tb <= ta:
+            continue
+        sol = solve_ivp(rhs(float(ta), float(tb)), (float(ta), float(tb)), z, method="DOP853",
+                        rtol=rtol, atol=atol)
+        if sol.status != 0:
+            raise SolverError(
+                f"solve_ivp (DOP853) failed over one mesh period at t = {ta:.6g}..{tb:.6g} s: "
+                f"{sol.message}; try a looser rtol"
+            )
+        z = sol.y[:, -1]
+        if not np.all(np.isfinite(z)):
+            raise SolverError("the one-period map produced non-finite states: the response "
+                              "diverges within one mesh period")
+    return z
+
+
+def flow_on_grid(model: SDOFModel, y0: FloatArray, t_grid: FloatArray, rtol: float = 1e-8,
+                 atol: FloatArray | float | None = None) -> FloatArray:
+    """States of a single-DOF model on ``t_grid`` from ``y(t_grid[0]) = y0`` (DOP853).
+
+    The same integration as :func:`gear_dyn.solve.integrate` with DOP853 (cut at the switching
+    instants, dense output on the grid), with the stiffness evaluated once per piece where it
+    is piecewise constant: several times faster for sweeps.
+
+    Parameters
+    ----------
+    model : SDOFModel
+    y0 : ndarray
+        Initial state [m, m/s].
+    t_grid : ndarray
+        Increasing output times in s.
+    rtol : float
+        Relative tolerance.
+    atol : float, ndarray or None
+        Absolute tolerance; None: ``rtol * model.state_scale``.
+
+    Returns
+    -------
+    ndarray (2, n_t)
+
+    Raises
+    ------
+    SolverError
+        Integration failure or non-finite states.
+    """
+    model = _require_sdof(model)
+    t_grid = np.asarray(t_grid, dtype=float)
+    if atol is None:
+        atol = rtol * np.asarray(model.state_scale, dtype=float)
+    t0, t1 = float(t_grid[0]), float(t_grid[-1])
+    cuts = np.concatenate([[t0], model.switching_times(t0, t1), [t1]])
+    y = np.array(y0, dtype=float)
+    out = np.empty((y.size, t_grid.size))
+    out[:, 0] = y
+    idx = np.searchsorted(t_grid, cuts, side="right")
+    for k in range(cuts.size - 1):
+        ta, tb = float(cuts[k]), float(cuts[k + 1])
+        if tb <= ta:
+            continue
+        i0, i1 = idx[k], idx[k + 1]
+        te = t_grid[i0:i1]
+        t_eval = np.concatenate([te, [tb]]) if te.size == 0 or te[-1] < tb else te
+        f, _jac = _piece_functions(model, ta, tb)
+        sol = solve_ivp(f, (ta, tb), y, method="DOP853", t_eval=t_eval, rtol=rtol, atol=atol)
+        if sol.status != 0 or not np.all(np.isfinite(sol.y)):
+            raise SolverError(
+                f"solve_ivp (DOP853) failed at t = {ta:.6g}..{tb:.6g} s: {sol.message}; "
+                "the response diverges or the tolerances are too loose"
+            )
+        out[:, i0:i1] = sol.y[:, : i1 - i0]
+        y = sol.y[:, -1]
+    return out
+
+
+def _piece_functions(model: SDOFModel, ta: float, tb: float) -> tuple[Any, Any]:
+    """(rhs, jac) of the model on the piece [ta, tb].
+
+    Where the stiffness is constant on the piece and there is no transmission error, fast
+    closures with k fixed (the model's own rhs evaluates k(t) at every call); otherwise the
+    model's own functions.
+    """
+    if model.stiffness.segments() is None or model.transmission_error is not None:
+        return model.rhs, model.jac
+    kt = float(model.stiffness(model.phase(0.5 * (ta + tb))))
+    m, c, w = model.mass, model.damping, model.static_load
+    b = model.backlash
+    if b is None:
+        a = np.array([[0.0, 1.0], [-kt / m, -c / m]])
+
+        def rhs(t: float, y: FloatArray) -> FloatArray:
+            return np.array([y[1], (w - c * y[1] - kt * y[0]) / m])
+
+        def jac(t: float, y: FloatArray) -> FloatArray:
+            return a
+        return rhs, jac
+    a_in = np.array([[0.0, 1.0], [0.0, -c / m]])
+    a_out = np.array([[0.0, 1.0], [-kt / m, -c / m]])
+    bb = float(b)
+
+    def rhs_b(t: float, y: FloatArray) -> FloatArray:
+        x, v = y[0], y[1]
+        fx = x - bb if x > bb else (x + bb if x < -bb else 0.0)
+        return np.array([v, (w - c * v - kt * fx) / m])
+
+    def jac_b(t: float, y: FloatArray) -> FloatArray:
+        return a_in if abs(y[0]) <= bb else a_out
+    return rhs_b, jac_b
+
+
+def floquet_multipliers(model: SDOFModel, rtol: float = 1e-10) -> ComplexArray:
+    """Floquet multipliers of a linear single-DOF model (eigenvalues of its monodromy matrix).
+
+    A multiplier with modulus > 1 means parametric instability. For a model with backlash use
+    :func:`periodic_steady_state` (the multipliers belong to an orbit).
+
+    Raises
+    ------
+    InputError
+        Not a linear single-DOF model.
+    """
+    phi, _q, _how = one_period_map(model, rtol)
+    return np.linalg.eigvals(phi).astype(np.complex128)
+
+
+# ------------------------------------------------------------------ periodic steady state
+def periodic_steady_state(
+    model: SDOFModel, y_guess: FloatArray | None = None, rtol: float = 1e-10,
+    max_iter: int = 15,
+) -> PeriodicSolution:
+    """The periodic orbit of a single-DOF model, found directly.
+
+    Linear models: one solve ``(I - Phi) y0 = q``. Models with backlash: shooting from
+    ``y_guess`` (default: the static deflection).
+
+    Parameters
+    ----------
+    model : SDOFModel
+    y_guess : ndarray or None
+        Starting state for shooting (e.g. the orbit at the previous speed of a sweep).
+    rtol : float
+        Relative tolerance of the one-period integration (1e-13..1e-3).
+    max_iter : int
+        Newton iterations for shooting.
+
+    Returns
+    -------
+    PeriodicSolution
+        For linear models ``converged`` is True even when the orbit is unstable (check
+        ``stable``): the orbit exists but the response runs away from it.
+
+    Raises
+    ------
+    InputError
+        Not a single-DOF model, or a bad tolerance.
+    SolverError
+        A multiplier equal to 1 (no isolated periodic orbit) or an integration failure.
+    """
+    model = _require_sdof(model)
+    check_range("rtol", rtol, "", low=1e-13, high=1e-3)
+    period = 1.0 / model.mesh_frequency
+    if model.backlash is None:
+        phi, q, how = one_period_map(model, rtol)
+        n = q.size
+        lhs = np.eye(n) - phi
+        if np.linalg.cond(lhs) > 1e14:
+            raise SolverError("the monodromy matrix has a multiplier at 1: no isolated periodic "
+                              "steady state (undamped resonance?)")
+        y0 = np.asarray(np.linalg.solve(lhs, q), dtype=np.float64)
+        mult = np.linalg.eigvals(phi).astype(np.complex128)
+        return PeriodicSolution(y0, period, phi, mult, True, 0, how)
+    return shoot(model, model.initial_state() if y_guess is None else y_guess, rtol, max_iter)
+
+
+def flow_with_sensitivity(model: SDOFModel, y0: FloatArray, t1: float, rtol: float = 1e-10
+                          ) -> tuple[FloatArray, FloatArray]:
+    """State ``y(t1)`` from ``y(0) = y0`` and its sensitivity ``d y(t1) / d y0``.
+
+    Raises
+    ------
+    SolverError
+        Integration failure or a diverging response.
+    """
+    n = len(model.state_labels)
+
+    def rhs_on(ta: float, tb: float) -> Any:
+        f, jac = _piece_functions(model, ta, tb)
+
+        def rhs(t: float, z: FloatArray) -> FloatArray:
+            y = z[:n]
+            return np.concatenate([f(t, y), (jac(t, y) @ z[n:].reshape(n, n)).ravel()])
+        return rhs
+
+    scale = np.asarray(model.state_scale, dtype=float)
+    atol = rtol * np.concatenate([scale, (scale[:, None] / scale[None, :]).ravel()])
+    z0 = np.concatenate([np.asarray(y0, dtype=float), np.eye(n).ravel()])
+    z = _integrate_cut(model, rhs_on, z0, 0.0, t1, rtol, atol)
+    return z[:n].copy(), z[n:].reshape(n, n).copy()
+
+
+def shoot(model: SDOFModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: int = 15
+          ) -> PeriodicSolution:
+    """Periodic orbit by Newton's method on the one-period map (shooting).
+
+    Converged when the closing error ``|P(y0) - y0|`` is below ``100 rtol`` times the larger of
+    the state scale and the state itself, component by component (the map is only known to
+    about ``rtol``).
+
+    Parameters
+    ----------
+    model : SDOFModel
+    y_guess : ndarray
+        Starting state ([m, m/s]).
+    rtol : float
+        Relative tolerance of each one-period integration.
+    max_iter : int
+        Newton iterations (>= 1).
+
+    Returns
+    -------
+    PeriodicSolution
+        ``converged`` False if Newton did not close the orbit (the last iterate is returned).
+
+    Raises
+    ------
+    SolverError
+        Integration failure.
+    """
+    model = _require_sdof(model)
+    period = 1.0 / model.mesh_frequency
+    scale = np.asarray(model.state_scale, dtype=float)
+    y = np.array(y_guess, dtype=float)
+    n = y.size
+    phi = np.eye(n)
+    res = math.inf
+    for it in range(1, max_iter + 1):
+        yt, phi = flow_with_sensitivity(model, y, period, rtol)
+        r = yt - y
+        ref = np.maximum(scale, np.abs(y))
+        res = float(np.max(np.abs(r) / ref))
+        if res <= 100 * rtol:
+            mult = np.linalg.eigvals(phi).astype(np.complex128)
+            return PeriodicSolution(y, period, phi, mult, True, it, "shooting", res)
+        try:
+            dy = np.linalg.solve(phi - np.eye(n), -r)
+        except np.linalg.LinAlgError:
+            break
+        # limit the step to a few state scales (a far jump leaves Newton's region)
+        lim = 20.0 * ref
+        factor = float(np.min(np.where(np.abs(dy) > lim, lim / np.maximum(np.abs(dy), 1e-300),
+                                       1.0)))
+        y = y + factor * dy
+        if not np.all(np.isfinite(y)):
+            break
+    mult = np.linalg.eigvals(phi).astype(np.complex128)
+    return PeriodicSolution(y, period, phi, mult, False, max_iter, "shooting", res)
+
+
+# ------------------------------------------------------------------ stability charts
+def staircase(model: SDOFModel, pieces: int = 128) -> tuple[FloatArray, FloatArray]:
+    """Piecewise-constant form of the model's stiffness over one mesh cycle.
+
+    Exact (the stiffness's own segments) where the stiffness is piecewise constant; otherwise
+    ``pieces`` cells (cut also at the switching phases), each at its mean value by Simpson's
+    rule. The Floquet multipliers of the staircase converge to the true ones as ``pieces**-2``.
+
+    Returns
+    -------
+    edges : ndarray
+        Cell edges in mesh cycles, 0..1.
+    values : ndarray
+        Stiffness of each cell in N/m.
+    """
+    seg = model.stiffness.segments()
+    if seg is not None:
+        return seg
+    edges = np.union1d(np.linspace(0.0, 1.0, pieces + 1),
+                       np.mod(model.stiffness.switching_phases, 1.0))
+    lo, hi = edges[:-1], edges[1:]
+    eps = 1e-12
+    k = model.stiffness
+    vals = (np.asarray(k(lo + eps)) + 4 * np.asarray(k(0.5 * (lo + hi)))
+            + np.asarray(k(hi - eps))) / 6
+    return edges, vals
+
+
+def _expm2_sdof(kappa: FloatArray, gamma: FloatArray, dt: FloatArray
+                ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Closed-form expm of A dt, A = [[0, 1], [-kappa, -gamma]], elementwise over arrays."""
+    half = -0.5 * gamma
+    s = np.sqrt((half**2 - kappa).astype(np.complex128))
+    st = s * dt
+    ch = np.cosh(st)
+    small = np.abs(st) < 1e-8
+    sh = np.where(small, dt * (1 + st**2 / 6), np.sinh(st) / np.where(small, 1.0, s))
+    e = np.exp(half * dt)
+    e11 = (e * (ch - half * sh)).real
+    e12 = (e * sh).real
+    e21 = (e * (-kappa * sh)).real
+    e22 = (e * (ch + (-gamma - half) * sh)).real
+    return e11, e12, e21, e22
+
+
+def spectral_radius_grid(mass: float, edges: FloatArray, values: FloatArray,
+                         damping: FloatArray, mesh_frequency: FloatArray) -> FloatArray:
+    """Largest Floquet multiplier modulus of ``m x'' + c x' + k(f_m t) x = 0``, vectorised.
+
+    Parameters
+    ----------
+    mass : float
+        m_e in kg.
+    edges : ndarray (S+1,)
+        Cell edges of a piecewise-constant stiffness in mesh cycles, 0..1.
+    values : ndarray (..., S)
+        Stiffness of each cell in N/m; leading axes broadcast with ``damping`` and
+        ``mesh_frequency``.
+    damping : ndarray (...)
+        c in N s/m.
+    mesh_frequency : ndarray (...)
+        f_m in Hz.
+
+    Returns
+    -------
+    ndarray (...)
+        Spectral radius of the monodromy matrix (> 1: parametrically unstable).
+    """
+    values = np.asarray(values, dtype=float)
+    widths = np.diff(np.asarray(edges, dtype=float))
+    damping = np.asarray(damping, dtype=float)
+    fm = np.asarray(mesh_frequency, dtype=float)
+    shape = np.broadcast_shapes(values.shape[:-1], damping.shape, fm.shape)
+    p11 = np.ones(shape)
+    p12 = np.zeros(shape)
+    p21 = np.zeros(shape)
+    p22 = np.ones(shape)
+    gamma = damping / mass
+    for j, w in enumerate(widths):
+        e11, e12, e21, e22 = _expm2_sdof(values[..., j] / mass, gamma, w / fm)
+        p11, p12, p21, p22 = (e11 * p11 + e12 * p21, e11 * p12 + e12 * p22,
+                              e21 * p11 + e22 * p21, e21 * p12 + e22 * p22)
+    tr = p11 + p22
+    det = p11 * p22 - p12 * p21
+    disc = np.sqrt((0.25 * tr**2 - det).astype(np.complex128))
+    lam1 = np.abs(0.5 * tr + disc)
+    lam2 = np.abs(0.5 * tr - disc)
+    return np.asarray(np.maximum(lam1, lam2), dtype=float)
+
+
+@dataclass(frozen=True, eq=False)
+class StabilityChart:
+    """Largest Floquet multiplier modulus over mesh frequency and a second parameter.
+
+    Attributes
+    ----------
+    frequency_ratio : ndarray (nf,)
+        f_m / f_n (f_n = sqrt(k_m / m_e) / 2 pi).
+    parameter : ndarray (np,)
+        Values of the second axis: relative stiffness variation (k_max - k_min) / (2 k_m)
+        or damping ratio.
+    parameter_name : str
+        ``stiffness_variation`` or ``damping_ratio``.
+    spectral_radius : ndarray (np, nf)
+        > 1: parametrically unstable.
+    scene_value : float
+        The model's own value of the second parameter.
+    natural_frequency : float
+        f_n in Hz.
+    """
+
+    frequency_ratio: FloatArray
+    parameter: FloatArray
+    parameter_name: str
+    spectral_radius: FloatArray
+    scene_value: float
+    natural_frequency: float
+
+
+def relative_variation(values: FloatArray, mean: float) -> float:
+    """(k_max - k_min) / (2 k_m) of a staircase stiffness."""
+    return float((np.max(values) - np.min(values)) / (2 * mean))
+
+
+def stability_chart(
+    model: SDOFModel, frequency_ratio: FloatArray, parameter: FloatArray,
+    parameter_name: str = "stiffness_variation", pieces: int = 128,
+) -> StabilityChart:
+    """Stability chart of the linear single-DOF model (backlash, if any, ignored: full contact).
+
+    Parameters
+    ----------
+    model : SDOFModel
+        Its stiffness shape, mass, mean stiffness and damping ratio define the chart.
+    frequency_ratio : array_like
+        f_m / f_n values (> 0).
+    parameter : array_like
+        For ``stiffness_variation``: relative variation eps = (k_max - k_min) / (2 k_m) (>= 0),
+        the stiffness is ``k_m + (eps / eps_0) (k(p) - k_m)`` with eps_0 the model's own
+        (values that would make k negative are refused). For ``damping_ratio``: xi (>= 0).
+    parameter_name : {"stiffness_variation", "damping_ratio"}
+    pieces : int
+        Staircase cells for a stiffness that is not piecewise constant.
+
+    Raises
+    ------
+    InputError
+        Bad axis values, or a constant stiffness asked for a variation chart.
+    """
+    model = _require_sdof(model)
+    ratio = np.asarray(frequency_ratio, dtype=float)
+    par = np.asarray(parameter, dtype=float)
+    if ratio.ndim != 1 or np.any(~np.isfinite(ratio)) or np.any(ratio <= 0):
+        raise InputError("stability chart: frequency ratios must be finite and > 0")
+    if par.ndim != 1 or np.any(~np.isfinite(par)) or np.any(par < 0):
+        raise InputError(f"stability chart: {parameter_name} values must be finite and >= 0")
+    edges, vals = staircase(model, pieces)
+    k_m = float(np.sum(vals * np.diff(edges)))
+    eps0 = relative_variation(vals, k_m)
+    fn = math.sqrt(k_m / model.mass) / (2 * math.pi)
+    fm = ratio * fn
+    if parameter_name == "stiffness_variation":
+        if eps0 <= 0:
+            raise InputError("stability chart over stiffness variation: the stiffness is "
+                             "constant, so there is no variation to scale")
+        alpha = par / eps0
+        k = k_m + alpha[:, None] * (vals - k_m)[None, :]
+        if np.any(k < 0):
+            top = float(k_m / (k_m - np.min(vals)) * eps0)
+            raise InputError(f"stability chart: stiffness_variation up to {top:.4g} keeps the "
+                             "stiffness >= 0; got more")
+        rho = spectral_radius_grid(model.mass, edges, k[:, None, :], np.asarray(model.damping),
+                                   fm[None, :])
+        scene_value = eps0
+    elif parameter_name == "damping_ratio":
+        c = 2 * par * math.sqrt(model.mass * k_m)
+        rho = spectral_radius_grid(model.mass, edges, vals, c[:, None], fm[None, :])
+        scene_value = model.damping_ratio
+    else:
+        raise InputError(f"stability chart parameter {parameter_name!r}: valid choices are "
+                         "'stiffness_variation', 'damping_ratio'")
+    return StabilityChart(ratio, par, parameter_name, rho, scene_value, fn)
