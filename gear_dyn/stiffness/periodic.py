@@ -17,6 +17,7 @@ Two concrete forms:
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from bisect import bisect_right
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -128,6 +129,7 @@ class PiecewiseStiffness(PeriodicStiffness):
     name: str = "piecewise"
     _u: FloatArray = field(init=False, repr=False)
     _v: FloatArray = field(init=False, repr=False)
+    _lists: tuple[list[float], list[float], list[float]] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         e = np.asarray(self.edges, dtype=float)
@@ -154,17 +156,37 @@ class PiecewiseStiffness(PeriodicStiffness):
         object.__setattr__(self, "edges", e)
         object.__setattr__(self, "_u", np.concatenate(us))
         object.__setattr__(self, "_v", np.concatenate(vs))
+        # plain lists for the scalar fast path of __call__ (the solver's right-hand side)
+        object.__setattr__(self, "_lists", (e.tolist(), self._u.tolist(), self._v.tolist()))
 
     @property
     def switching_phases(self) -> FloatArray:
         return self.edges[:-1].copy()
 
     def __call__(self, phase: ArrayLike) -> FloatArray:
+        if isinstance(phase, float | int) and not isinstance(phase, bool):
+            return np.float64(self._scalar(float(phase)))
         p = np.mod(np.asarray(phase, dtype=float), 1.0)
         e = self.edges
         idx = np.clip(np.searchsorted(e, p, side="right") - 1, 0, e.size - 2)
         u = 2 * idx + (p - e[idx]) / (e[idx + 1] - e[idx])
         return np.interp(u, self._u, self._v)
+
+    def _scalar(self, phase: float) -> float:
+        """Same value as the array path (np.searchsorted + np.interp), in plain Python (~1 us)."""
+        e, u_list, v_list = self._lists
+        p = phase % 1.0
+        if p != p:  # nan propagates like np.interp
+            return p
+        i = min(max(bisect_right(e, p) - 1, 0), len(e) - 2)
+        u = 2 * i + (p - e[i]) / (e[i + 1] - e[i])
+        j = bisect_right(u_list, u) - 1
+        if j < 0:
+            return v_list[0]
+        if j >= len(u_list) - 1:
+            return v_list[-1]
+        u0, u1 = u_list[j], u_list[j + 1]
+        return v_list[j] + (v_list[j + 1] - v_list[j]) * (u - u0) / (u1 - u0)
 
     def segments(self) -> tuple[FloatArray, FloatArray] | None:
         vals = []
