@@ -107,6 +107,30 @@ def test_friction_dissipates_power() -> None:
     np.testing.assert_allclose(power, expect, rtol=1e-10)
 
 
+@pytest.mark.parametrize(("beta", "width", "tol"), [(15.0, 0.04, 3e-3), (25.0, 0.06, 3e-3),
+                                                     (15.0, 0.2, 1e-3)])
+def test_mean_mesh_loss_matches_the_uniform_load_closed_form(beta: float, width: float,
+                                                             tol: float) -> None:
+    """Error-free pair. With load F / L per unit line length and line density B / (p_bt cos b_b)
+    per unit transverse length, the time-mean friction power is mu F (w1 + w2) / g_a times the
+    path integral of |s - s_P|, i.e. mu F (w1 + w2) p_bt (eps_1^2 + eps_2^2) / (2 eps_a), so the
+    loss fraction is mu pi (u + 1) / (z1 u) (eps_1^2 + eps_2^2) / eps_a (eps_1, eps_2: approach
+    and recess ratios). The closed form takes L = its mean; the residual from F / L(t) is
+    ~1e-3 for eps_b >= 1 (smaller as eps_b grows). Ohlendorf's H_V (ISO/TR 14179-2) differs by
+    its spur load-sharing assumption."""
+    pair = GearPair(18, 70, 3e-3, math.radians(20), width, math.radians(beta))
+    mesh = EccentricMesh(pair, Eccentricity(), W1)
+    t = np.arange(20000) / 20000 / mesh.mesh_frequency
+    k = mesh.kinematics(t)
+    ff = friction_factors(LineLayout.of(mesh), k, MU)
+    loss = -np.mean(ff.torque_pinion * k.w1 + ff.torque_gear * k.w2) / (pair.rb1 * W1)
+    u = 70 / 18
+    e1 = (pair.pitch_point - pair.start_of_contact) / pair.base_pitch
+    e2 = (pair.end_of_contact - pair.pitch_point) / pair.base_pitch
+    closed = MU * math.pi * (u + 1) / (18 * u) * (e1**2 + e2**2) / pair.contact_ratio
+    assert loss == pytest.approx(closed, rel=tol)
+
+
 def test_friction_torque_changes_sign_at_the_pitch_point() -> None:
     """Spur pair (one line per tooth): in the single-contact zone the friction torque on the
     pinion is that of one line; it helps the pinion before the pitch point and brakes it beyond,

@@ -46,7 +46,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -54,6 +54,29 @@ from numpy.typing import NDArray
 from .kinematics import EccentricMesh, Kinematics
 
 FloatArray = NDArray[np.float64]
+
+
+class LinePlace(Protocol):
+    """Where the field of contact is at one instant (a :class:`Kinematics` from a float time
+    satisfies it): ``travel``, ``l_ac``, ``l_cd``, ``l_cp``, ``foot1``, ``foot2`` in m."""
+
+    @property
+    def travel(self) -> Any: ...
+
+    @property
+    def l_ac(self) -> Any: ...
+
+    @property
+    def l_cd(self) -> Any: ...
+
+    @property
+    def l_cp(self) -> Any: ...
+
+    @property
+    def foot1(self) -> Any: ...
+
+    @property
+    def foot2(self) -> Any: ...
 
 
 @dataclass(frozen=True)
@@ -167,7 +190,7 @@ def contact_lines(layout: LineLayout, kin: Kinematics) -> ContactLines:
     return ContactLines(position=pos, lengths=lengths, total=lengths.sum(axis=0))
 
 
-def total_length_scalar(layout: LineLayout, kin: Kinematics) -> float:
+def total_length_scalar(layout: LineLayout, kin: LinePlace) -> float:
     """L(t) in m at one instant (``kin`` from a float time), in plain Python for speed.
 
     Same numbers as ``contact_lines(layout, kin).total``; used inside model right-hand sides.

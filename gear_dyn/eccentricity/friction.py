@@ -42,7 +42,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import check_range
-from .contact_lines import LineLayout, line_positions, overlap
+from .contact_lines import LineLayout, LinePlace, line_positions, overlap
 from .kinematics import Kinematics
 
 FloatArray = NDArray[np.float64]
@@ -145,7 +145,7 @@ def friction_factors(layout: LineLayout, kin: Kinematics, mu: float,
     return FrictionFactors(force=force, torque_pinion=t1, torque_gear=t2)
 
 
-def line_state_scalar(layout: LineLayout, kin: Kinematics, mu: float) -> tuple[float, float,
+def line_state_scalar(layout: LineLayout, kin: LinePlace, mu: float) -> tuple[float, float,
                                                                                float, float]:
     """``(L, F_f / F, T_f1 / F, T_f2 / F)`` at one instant, in plain Python for speed.
 

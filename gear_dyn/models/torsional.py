@@ -1,0 +1,611 @@
+"""Two-DOF torsional model of a gear pair with eccentricity and friction (PHYSICS.md section 5).
+
+States (decision): vibration angles about the nominal rotation and their rates,
+``y = [q1, q2, q1', q2']`` with ``q1 = th1 - w1 t`` (pinion, counter-clockwise) and
+``q2 = th2 - w1 t z1 / z2`` (gear, clockwise), in rad and rad/s. The nominal rotation is never
+integrated, so a long run keeps full precision. Equations::
+
+    I1 q1'' = T1 - r_b1 F_m + T_f1
+    I2 q2'' = r_b2 F_m - T2 + T_f2
+    F_m     = k(t) f(delta) + c_m delta'
+    delta   = r_b1 q1 - r_b2 q2 + e_ecc(t) - e(t)            (mesh deflection, m)
+
+- ``e_ecc(t)`` is the eccentricity's displacement along the line of action of the rigid pair
+  driven at constant ``w1`` (:mod:`gear_dyn.eccentricity.kinematics`): rigid teeth give
+  ``delta = 0``, so as ``k`` grows the driven speed tends to the kinematic ``w2(t)`` of seed 000
+  eq. 12. Its rate uses eq. 12 exactly: ``e_ecc' = r_b2 w2 - r_b1 w1``.
+- ``k(t)``: either ``k_l L(t)`` with ``L(t)`` the eccentric contact-line length (seed 000 eqs.
+  14-17) and ``k_l`` the stiffness per unit line length, or any :class:`PeriodicStiffness`
+  evaluated at the mesh phase ``p = (tau + L_AC0 - L_AC) / p_bt`` (phase 0 = a pair enters at the
+  moving start of contact; ``p = f_m t`` without eccentricity).
+- ``T_f1 = N phi_1(t)``, ``T_f2 = N phi_2(t)``: the friction torques of seed 000 eqs. 18-27 per
+  unit normal load, driven by the dynamic normal load ``N = max(F_m, 0)`` (friction needs
+  compression; back-flank contact through the backlash carries no friction model).
+- ``f``: identity, or the dead zone of half gap ``b_g`` with backlash; ``e(t)``: optional static
+  transmission error at the nominal mesh phase ``f_m t``.
+- ``c_m = 2 xi sqrt(m_e k_m)``, ``m_e = I1 I2 / (r_b1^2 I2 + r_b2^2 I1)``.
+- Arms ``r_b1, r_b2``: the O(e / r_b) modulation of the moment arms is left in ``e_ecc`` only, so
+  the model stays linear in the states and conservative when nothing varies in time.
+
+Load (decision): ``T1`` is given; the load torque defaults to the value that balances ``T1`` on
+average including the mean friction torques, ``T2 = W (r_b2 + mean phi_2)`` with the static load
+``W = T1 / (r_b1 - mean phi_1)``; without friction ``T2 = T1 z2 / z1``. The initial state is the
+static deflection with rigid-body momentum ``I1 q1' + (r_b1 / r_b2) I2 q2' = 0`` and
+``delta' = 0``: without friction that momentum is conserved exactly, so the rigid-body mode does not
+drift.
+
+Every option left out (eccentricity, friction, backlash, transmission error) is absent from the
+right-hand side: the closures are chosen at construction.
+"""
+
+from __future__ import annotations
+
+import bisect
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..eccentricity.contact_lines import LineLayout, contact_lines, total_length_scalar
+from ..eccentricity.friction import friction_factors, line_state_scalar
+from ..eccentricity.kinematics import Eccentricity, EccentricMesh, Kinematics
+from ..errors import InputError, check_range
+from ..excitation import HarmonicSignal, SampledSignal
+from ..geometry import GearPair
+from ..stiffness.periodic import PeriodicStiffness
+from .sdof import dead_zone, effective_mass
+
+FloatArray = NDArray[np.float64]
+Signal = HarmonicSignal | SampledSignal
+Excite = Callable[[float], tuple[float, float, float, float, float]]
+
+_MEAN_SAMPLES = 200_000  # cap on samples used for the mean friction factors
+
+
+@dataclass(frozen=True)
+class ContactLineStiffness:
+    """Mesh stiffness proportional to the total contact-line length, ``k = k_l L(t)``.
+
+    Parameters
+    ----------
+    per_length : float
+        k_l in N/m per m of contact line (N/m^2), > 0. ISO 6336 gives
+        ``k_l = c_gamma cos b_b / eps_a`` (so that the mean is ``c_gamma B``).
+    """
+
+    per_length: float
+
+    def __post_init__(self) -> None:
+        check_range("stiffness.per_length", self.per_length, "N/m^2", low=0.0, high=1e16,
+                    low_open=True)
+
+
+@dataclass(frozen=True)
+class _Place:
+    """Field of contact of the error-free pair at one instant (LinePlace)."""
+
+    travel: float
+    l_ac: float
+    l_cd: float
+    l_cp: float
+    foot1: float
+    foot2: float
+
+
+@dataclass(frozen=True, eq=False)
+class TorsionalModel:
+    """Two-DOF torsional gear model with optional eccentricity, friction, backlash and TE.
+
+    Parameters
+    ----------
+    pair : GearPair
+    speed : float
+        Nominal pinion speed w1 in rad/s (> 0).
+    torque : float
+        Pinion torque T1 in N m (>= 0).
+    stiffness : PeriodicStiffness or ContactLineStiffness
+        Mesh stiffness.
+    inertias : (float, float)
+        I1, I2 in kg m^2 (> 0).
+    damping_ratio : float
+        xi (0..10).
+    eccentricity : Eccentricity or None
+        None (or zero eccentricity) builds no eccentric kinematics.
+    friction : float or None
+        Mean friction coefficient mu (0..1), or None for no friction machinery.
+    backlash : float or None
+        Half gap b_g in m (> 0), or None.
+    transmission_error : HarmonicSignal, SampledSignal or None
+        Static transmission error e(p) in m at the nominal mesh phase.
+    load_torque : float or None
+        T2 in N m; None balances T1 (see the module docstring).
+
+    Raises
+    ------
+    InputError
+        Any parameter out of range (message names field, value, unit and range).
+    """
+
+    pair: GearPair
+    speed: float
+    torque: float
+    stiffness: PeriodicStiffness | ContactLineStiffness
+    inertias: tuple[float, float]
+    damping_ratio: float = 0.06
+    eccentricity: Eccentricity | None = None
+    friction: float | None = None
+    backlash: float | None = None
+    transmission_error: Signal | None = None
+    load_torque: float | None = None
+    state_labels: tuple[str, ...] = field(default=("q1", "q2", "q1_dot", "q2_dot"), init=False)
+    mesh_frequency: float = field(init=False)
+    static_load: float = field(init=False)
+    load: float = field(init=False)
+    mean_stiffness: float = field(init=False)
+    damping: float = field(init=False)
+    mean_friction_arms: tuple[float, float] = field(init=False)
+    _mesh: EccentricMesh = field(init=False, repr=False)
+    _layout: LineLayout | None = field(init=False, repr=False)
+    _place0: Kinematics = field(init=False, repr=False)
+    _excite: Excite = field(init=False, repr=False)
+    _rhs: Callable[[float, FloatArray], FloatArray] = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        check_range("speed", self.speed, "rad/s", low=0.0, high=1e5, low_open=True)
+        check_range("torque", self.torque, "N*m", low=0.0, high=1e8)
+        check_range("damping_ratio", self.damping_ratio, "", low=0.0, high=10.0)
+        if len(self.inertias) != 2:
+            raise InputError("inertias: expected (I1, I2) in kg*m^2")
+        check_range("inertia_pinion", self.inertias[0], "kg*m^2", low=0.0, high=1e6, low_open=True)
+        check_range("inertia_gear", self.inertias[1], "kg*m^2", low=0.0, high=1e6, low_open=True)
+        if self.friction is not None:
+            check_range("friction.coefficient", self.friction, "", low=0.0, high=1.0)
+        if self.backlash is not None:
+            check_range("backlash", self.backlash, "m", low=0.0, high=0.01, low_open=True)
+        if self.load_torque is not None:
+            check_range("load_torque", self.load_torque, "N*m", low=0.0, high=1e9)
+        if not isinstance(self.stiffness, PeriodicStiffness | ContactLineStiffness):
+            raise InputError("stiffness: expected a PeriodicStiffness or ContactLineStiffness")
+        pair = self.pair
+        ecc = self.eccentricity if self.eccentricity is not None else Eccentricity()
+        mesh = EccentricMesh(pair, ecc, self.speed)
+        need_lines = self.friction is not None or isinstance(self.stiffness, ContactLineStiffness)
+        setf = object.__setattr__
+        setf(self, "_mesh", mesh)
+        setf(self, "_layout", LineLayout.of(mesh) if need_lines else None)
+        setf(self, "_place0", mesh.kinematics(0.0))
+        setf(self, "mesh_frequency", mesh.mesh_frequency)
+        if isinstance(self.stiffness, ContactLineStiffness):
+            k_m = self.stiffness.per_length * pair.face_width * pair.contact_ratio / math.cos(
+                pair.beta_b)
+        else:
+            k_m = self.stiffness.mean
+        if not (math.isfinite(k_m) and k_m > 0):
+            raise InputError(f"mean mesh stiffness = {k_m:.6g} N/m: valid range > 0 N/m")
+        setf(self, "mean_stiffness", k_m)
+        m_e = effective_mass(self.inertias[0], self.inertias[1], pair.rb1, pair.rb2)
+        setf(self, "damping", 2 * self.damping_ratio * math.sqrt(m_e * k_m))
+        setf(self, "_excite", self._build_excite())
+        phi = self._mean_friction_arms() if self.friction is not None else (0.0, 0.0)
+        setf(self, "mean_friction_arms", phi)
+        w = self.torque / (pair.rb1 - phi[0])
+        setf(self, "static_load", w)
+        setf(self, "load", self.load_torque if self.load_torque is not None
+             else w * (pair.rb2 + phi[1]))
+        setf(self, "_rhs", self._build_rhs())
+
+    # ---------------------------------------------------------------- properties
+    @property
+    def eccentric(self) -> bool:
+        """True if an eccentricity is modelled."""
+        return self.eccentricity is not None and self.eccentricity.active
+
+    @property
+    def mesh(self) -> EccentricMesh:
+        """The kinematic (rigid) eccentric mesh the excitations come from."""
+        return self._mesh
+
+    @property
+    def effective_mass(self) -> float:
+        """m_e in kg."""
+        return effective_mass(self.inertias[0], self.inertias[1], self.pair.rb1, self.pair.rb2)
+
+    @property
+    def natural_frequency(self) -> float:
+        """Mesh-mode natural frequency sqrt(k_m / m_e) / (2 pi) in Hz."""
+        return math.sqrt(self.mean_stiffness / self.effective_mass) / (2 * math.pi)
+
+    @property
+    def static_deflection(self) -> float:
+        """W / k_m (+ half gap) in m."""
+        return self.static_load / self.mean_stiffness + (self.backlash or 0.0)
+
+    @property
+    def state_scale(self) -> FloatArray:
+        """Typical magnitudes [rad, rad, rad/s, rad/s] for tolerances."""
+        ecc = self.eccentricity
+        x = max(self.static_load / self.mean_stiffness, self.backlash or 0.0, 1e-9,
+                (ecc.e1 + ecc.e2) if ecc is not None else 0.0)
+        om = 2 * math.pi * self.natural_frequency
+        q1, q2 = x / self.pair.rb1, x / self.pair.rb2
+        return np.array([q1, q2, q1 * om, q2 * om])
+
+    def summary_info(self) -> dict[str, Any]:
+        """Model facts for the run summary."""
+        return {
+            "model": "torsional",
+            "load_torque_n_m": self.load,
+            "mean_stiffness_n_per_m": self.mean_stiffness,
+            "natural_frequency_hz": self.natural_frequency,
+            "eccentric": self.eccentric,
+            "friction_coefficient": self.friction,
+            "mean_friction_arms_m": list(self.mean_friction_arms),
+        }
+
+    # ---------------------------------------------------------------- excitations
+    def _place_scalar(self, t: float) -> Any:
+        if self.eccentric:
+            return self._mesh.kinematics(t)
+        k0 = self._place0
+        return _Place(travel=self.pair.rb1 * self.speed * t, l_ac=float(k0.l_ac),
+                      l_cd=float(k0.l_cd), l_cp=float(k0.l_cp), foot1=float(k0.foot1),
+                      foot2=float(k0.foot2))
+
+    def _build_excite(self) -> Excite:
+        """Closure t -> (e_ecc, e_ecc', k, phi1, phi2), with only the enabled parts."""
+        fm = self.mesh_frequency
+        stiff = self.stiffness
+        lay = self._layout
+        mu = self.friction
+        ecc = self.eccentric
+        pitch = self.pair.base_pitch
+        l_ac0 = self._mesh.l_ac0
+        place = self._place_scalar
+
+        if isinstance(stiff, PeriodicStiffness) and mu is None and not ecc:
+            pst = _fast_periodic(stiff)
+
+            def excite_plain(t: float) -> tuple[float, float, float, float, float]:
+                return 0.0, 0.0, pst(fm * t), 0.0, 0.0
+            return excite_plain
+
+        fast_k = _fast_periodic(stiff) if isinstance(stiff, PeriodicStiffness) else None
+
+        def periodic_k(t: float, kin: Any) -> float:
+            assert fast_k is not None
+            if ecc:
+                return fast_k((kin.travel + l_ac0 - kin.l_ac) / pitch)
+            return fast_k(fm * t)
+
+        k_l = stiff.per_length if isinstance(stiff, ContactLineStiffness) else None
+        if mu is None:
+            def excite_frictionless(t: float) -> tuple[float, float, float, float, float]:
+                kin = place(t)
+                e, ed = (kin.e_ecc, kin.e_ecc_rate) if ecc else (0.0, 0.0)
+                if k_l is not None:
+                    assert lay is not None
+                    return e, ed, k_l * total_length_scalar(lay, kin), 0.0, 0.0
+                return e, ed, periodic_k(t, kin), 0.0, 0.0
+            return excite_frictionless
+
+        assert lay is not None
+        mu_f = float(mu)
+
+        def excite(t: float) -> tuple[float, float, float, float, float]:
+            kin = place(t)
+            e, ed = (kin.e_ecc, kin.e_ecc_rate) if ecc else (0.0, 0.0)
+            total, _, p1, p2 = line_state_scalar(lay, kin, mu_f)
+            k = k_l * total if k_l is not None else periodic_k(t, kin)
+            return e, ed, k, p1, p2
+        return excite
+
+    def excitations(self, t: FloatArray) -> dict[str, FloatArray]:
+        """Explicit time functions on a grid: ``e_ecc``, ``e_ecc_rate`` (m, m/s), ``stiffness``
+        (N/m), ``contact_length`` (m, when contact lines are modelled), ``phi1``, ``phi2``
+        (friction torque per unit normal load, m), ``w2_kinematic`` (rad/s)."""
+        t = np.asarray(t, dtype=float)
+        kin = self._mesh.kinematics(t) if self.eccentric else None
+        out: dict[str, FloatArray] = {}
+        zero = np.zeros_like(t)
+        if kin is not None:
+            out["e_ecc"] = np.asarray(kin.e_ecc, dtype=float)
+            out["e_ecc_rate"] = np.asarray(kin.e_ecc_rate, dtype=float)
+            out["w2_kinematic"] = np.asarray(kin.w2, dtype=float)
+        else:
+            out["e_ecc"] = zero
+            out["e_ecc_rate"] = zero
+            out["w2_kinematic"] = np.full_like(t, self.speed * self.pair.z1 / self.pair.z2)
+        lay = self._layout
+        kin_lines = kin if kin is not None else self._mesh.kinematics(t) if lay is not None \
+            else None
+        if lay is not None:
+            assert kin_lines is not None
+            out["contact_length"] = np.asarray(contact_lines(lay, kin_lines).total, dtype=float)
+        stiff = self.stiffness
+        if isinstance(stiff, ContactLineStiffness):
+            out["stiffness"] = stiff.per_length * out["contact_length"]
+        elif kin is not None:
+            phase = (kin.travel + self._mesh.l_ac0 - kin.l_ac) / self.pair.base_pitch
+            out["stiffness"] = np.asarray(stiff(phase), dtype=float)
+        else:
+            out["stiffness"] = np.asarray(stiff(self.mesh_frequency * t), dtype=float)
+        if self.friction is not None:
+            assert lay is not None and kin_lines is not None
+            ff = friction_factors(lay, kin_lines, self.friction)
+            out["phi1"] = np.asarray(ff.torque_pinion, dtype=float)
+            out["phi2"] = np.asarray(ff.torque_gear, dtype=float)
+            out["friction_force_factor"] = np.asarray(ff.force, dtype=float)
+        else:
+            out["phi1"] = zero
+            out["phi2"] = zero
+        return out
+
+    def _mean_friction_arms(self) -> tuple[float, float]:
+        """Time means of phi1, phi2 over one hunting period (one mesh period if error-free)."""
+        if self.eccentric:
+            span = self._mesh.hunting_period
+            n = int(min(_MEAN_SAMPLES, 64 * round(span * self.mesh_frequency)))
+        else:
+            span = 1.0 / self.mesh_frequency
+            n = 4096
+        t = np.arange(n, dtype=np.float64) * (span / n)
+        ex = self.excitations(t)
+        return float(np.mean(ex["phi1"])), float(np.mean(ex["phi2"]))
+
+    # ---------------------------------------------------------------- dynamics
+    def _build_rhs(self) -> Callable[[float, FloatArray], FloatArray]:
+        rb1, rb2 = self.pair.rb1, self.pair.rb2
+        i1, i2 = self.inertias
+        t1, t2 = self.torque, self.load
+        c = self.damping
+        fm = self.mesh_frequency
+        excite = self._excite
+        bg = self.backlash
+        te = self.transmission_error
+        friction = self.friction is not None
+
+        def rhs(t: float, y: FloatArray) -> FloatArray:
+            q1, q2, v1, v2 = y
+            e, ed, k, p1, p2 = excite(t)
+            d = rb1 * q1 - rb2 * q2 + e
+            dd = rb1 * v1 - rb2 * v2 + ed
+            if te is not None:
+                p = fm * t
+                d -= float(te.value(p))
+                dd -= fm * float(te.slope(p))
+            if bg is not None:
+                d = d - bg if d > bg else (d + bg if d < -bg else 0.0)
+            f = k * d + c * dd
+            if friction:
+                n = f if f > 0.0 else 0.0
+                return np.array([v1, v2, (t1 - rb1 * f + n * p1) / i1,
+                                 (rb2 * f - t2 + n * p2) / i2])
+            return np.array([v1, v2, (t1 - rb1 * f) / i1, (rb2 * f - t2) / i2])
+        return rhs
+
+    def rhs(self, t: float, y: FloatArray) -> FloatArray:
+        """Time derivative of ``y = [q1, q2, q1', q2']`` at time ``t`` (s)."""
+        return self._rhs(t, y)
+
+    def jac(self, t: float, y: FloatArray) -> FloatArray:
+        """Jacobian d rhs / d y (4 x 4)."""
+        rb1, rb2 = self.pair.rb1, self.pair.rb2
+        i1, i2 = self.inertias
+        e, ed, k, p1, p2 = self._excite(t)
+        if self.backlash is not None or self.friction is not None:
+            d = rb1 * y[0] - rb2 * y[1] + e
+            dd = rb1 * y[2] - rb2 * y[3] + ed
+            if self.transmission_error is not None:
+                p = self.mesh_frequency * t
+                d -= float(self.transmission_error.value(p))
+                dd -= self.mesh_frequency * float(self.transmission_error.slope(p))
+            if self.backlash is not None:
+                if abs(d) <= self.backlash:
+                    k, d = 0.0, 0.0
+                else:
+                    d -= math.copysign(self.backlash, d)
+            if self.friction is not None and k * d + self.damping * dd <= 0.0:
+                p1 = p2 = 0.0
+        c = self.damping
+        dfdy = np.array([k * rb1, -k * rb2, c * rb1, -c * rb2])
+        jac = np.zeros((4, 4))
+        jac[0, 2] = jac[1, 3] = 1.0
+        jac[2] = (p1 - rb1) * dfdy / i1
+        jac[3] = (rb2 + p2) * dfdy / i2
+        return jac
+
+    def initial_state(self) -> FloatArray:
+        """Static deflection, delta' = 0 and zero rigid-body momentum (see module docstring)."""
+        rb1, rb2 = self.pair.rb1, self.pair.rb2
+        i1, i2 = self.inertias
+        e, ed = 0.0, 0.0
+        if self.eccentric:
+            k0 = self._mesh.kinematics(0.0)
+            e, ed = float(k0.e_ecc), float(k0.e_ecc_rate)
+        if self.transmission_error is not None:
+            e -= float(self.transmission_error.value(0.0))
+            ed -= self.mesh_frequency * float(self.transmission_error.slope(0.0))
+        q2 = (e - self.static_deflection) / rb2
+        v1 = -ed * i2 * rb1 / (i2 * rb1**2 + i1 * rb2**2)
+        v2 = -i1 * v1 * rb2 / (i2 * rb1)
+        return np.array([0.0, q2, v1, v2])
+
+    # ---------------------------------------------------------------- switching
+    def switching_times(self, t0: float, t1: float) -> FloatArray:
+        """Instants in (t0, t1) where k(t) or the friction torques jump or have a kink.
+
+        Contact lines enter or leave the field (their ends cross C or D), and, with friction,
+        cross the pitch line. All are levels of monotone functions of time (the contact travel
+        ``tau`` and ``tau - L_AC``, ``tau - L_AP``), found by Newton iteration.
+        """
+        if t1 <= t0:
+            return np.empty(0)
+        stiff = self.stiffness
+        if isinstance(stiff, PeriodicStiffness) and self.friction is None and not self.eccentric:
+            return stiff.switching_times(t0, t1, self.mesh_frequency, 0.0)
+        pitch = self.pair.base_pitch
+        l_ac0 = self._mesh.l_ac0
+        l_ad = self.pair.tip_reach1
+        width = self.pair.face_width * math.tan(self.pair.beta_b)
+        rate = self.pair.rb1 * self.speed
+        found: list[FloatArray] = []
+        mesh = self._mesh
+
+        def entry(t: FloatArray) -> FloatArray:  # D_i of the line ends, up to a multiple of p_bt
+            k = mesh.kinematics(t)
+            return np.asarray(k.travel + l_ac0 - k.l_ac, dtype=float)
+
+        def travel(t: FloatArray) -> FloatArray:
+            return np.asarray(mesh.kinematics(t).travel, dtype=float)
+
+        def pitch_line(t: FloatArray) -> FloatArray:
+            k = mesh.kinematics(t)
+            return np.asarray(k.travel - k.l_ap, dtype=float)
+
+        if isinstance(stiff, PeriodicStiffness):
+            found.append(_levels(entry, rate, t0, t1, stiff.switching_phases * pitch, pitch))
+        if self._layout is not None:
+            found.append(_levels(entry, rate, t0, t1, np.array([0.0, width]), pitch))
+            found.append(_levels(travel, rate, t0, t1, np.array([l_ad - l_ac0,
+                                                                 l_ad + width - l_ac0]), pitch))
+        if self.friction is not None:
+            found.append(_levels(pitch_line, rate, t0, t1, np.array([-l_ac0, width - l_ac0]),
+                                 pitch))
+        ts = np.sort(np.concatenate(found)) if found else np.empty(0)
+        if ts.size:
+            tol = 1e-12 * max(abs(t1), 1.0 / self.mesh_frequency)
+            ts = ts[(ts > t0 + tol) & (ts < t1 - tol)]
+            keep = np.concatenate([[True], np.diff(ts) > tol]) if ts.size else ts.astype(bool)
+            ts = ts[keep]
+        return ts
+
+    def linear_segments(self, t0: float, t1: float) -> list[tuple[float, float, FloatArray,
+                                                                   FloatArray]] | None:
+        """Pieces ``(ta, tb, A, g)`` with y' = A y + g, or None.
+
+        Only for the plain model: piecewise-constant periodic stiffness, no eccentricity, no
+        friction, no backlash, no transmission error.
+        """
+        stiff = self.stiffness
+        if (not isinstance(stiff, PeriodicStiffness) or stiff.segments() is None or self.eccentric
+                or self.friction is not None or self.backlash is not None
+                or self.transmission_error is not None):
+            return None
+        rb1, rb2 = self.pair.rb1, self.pair.rb2
+        i1, i2 = self.inertias
+        c = self.damping
+        cuts = np.concatenate([[t0], self.switching_times(t0, t1), [t1]])
+        g = np.array([0.0, 0.0, self.torque / i1, -self.load / i2])
+        out = []
+        for ta, tb in zip(cuts[:-1], cuts[1:], strict=True):
+            k = float(stiff(self.mesh_frequency * 0.5 * (ta + tb)))
+            dfdy = np.array([k * rb1, -k * rb2, c * rb1, -c * rb2])
+            a = np.zeros((4, 4))
+            a[0, 2] = a[1, 3] = 1.0
+            a[2] = -rb1 * dfdy / i1
+            a[3] = rb2 * dfdy / i2
+            out.append((float(ta), float(tb), a, g))
+        return out
+
+    # ---------------------------------------------------------------- outputs
+    def outputs(self, t: FloatArray, y: FloatArray) -> dict[str, FloatArray]:
+        """Derived series.
+
+        ``dte`` r_b1 q1 - r_b2 q2 (m), ``delta`` mesh deflection (m), ``mesh_force`` (N),
+        ``stiffness`` (N/m), ``w1``, ``w2`` speeds (rad/s), ``w2_kinematic`` (rad/s, rigid
+        eccentric pair), and, when enabled, ``e_ecc`` (m), ``contact_length`` (m),
+        ``friction_torque_pinion``, ``friction_torque_gear`` (N m).
+        """
+        t = np.asarray(t, dtype=float)
+        y = np.asarray(y, dtype=float)
+        rb1, rb2 = self.pair.rb1, self.pair.rb2
+        ex = self.excitations(t)
+        dte = rb1 * y[0] - rb2 * y[1]
+        d = dte + ex["e_ecc"]
+        dd = rb1 * y[2] - rb2 * y[3] + ex["e_ecc_rate"]
+        if self.transmission_error is not None:
+            p = self.mesh_frequency * t
+            d = d - self.transmission_error.value(p)
+            dd = dd - self.mesh_frequency * self.transmission_error.slope(p)
+        fd = dead_zone(d, self.backlash) if self.backlash is not None else d
+        force = ex["stiffness"] * fd + self.damping * dd
+        out = {
+            "dte": dte, "delta": d, "mesh_force": force, "stiffness": ex["stiffness"],
+            "w1": self.speed + y[2], "w2": self.speed * self.pair.z1 / self.pair.z2 + y[3],
+            "w2_kinematic": ex["w2_kinematic"],
+        }
+        if self.eccentric:
+            out["e_ecc"] = ex["e_ecc"]
+        if "contact_length" in ex:
+            out["contact_length"] = ex["contact_length"]
+        if self.friction is not None:
+            n = np.maximum(force, 0.0)
+            out["friction_torque_pinion"] = n * ex["phi1"]
+            out["friction_torque_gear"] = n * ex["phi2"]
+        return out
+
+
+def _fast_periodic(stiff: PeriodicStiffness) -> Callable[[float], float]:
+    """Scalar k(p) for right-hand sides: a bisection for piecewise-constant stiffness (numpy's
+    per-call cost dominates there), the stiffness itself otherwise."""
+    seg = stiff.segments()
+    if seg is None:
+        return lambda p: float(stiff(p))
+    edges = [float(e) for e in seg[0]]
+    values = [float(v) for v in seg[1]]
+    last = len(values) - 1
+
+    def k_of(p: float) -> float:
+        return values[min(bisect.bisect_right(edges, p % 1.0) - 1, last)]
+    return k_of
+
+
+def _levels(h: Callable[[FloatArray], FloatArray], rate: float, t0: float, t1: float,
+            residues: FloatArray, period: float) -> FloatArray:
+    """Times in (t0, t1) where the increasing function h(t) equals ``r + n period`` for any
+    residue r and integer n; ``rate`` approximates dh/dt (Newton with a fixed slope: h differs
+    from ``rate t`` by an O(e) periodic term, so each step gains a factor ~e / r_b)."""
+    h0, h1 = h(np.array([t0, t1]))
+    levels = []
+    for r in np.unique(np.asarray(residues, dtype=float)):
+        n0 = math.floor((h0 - r) / period) + 1
+        n1 = math.ceil((h1 - r) / period) - 1
+        if n1 >= n0:
+            levels.append(r + period * np.arange(n0, n1 + 1))
+    if not levels:
+        return np.empty(0)
+    lv = np.concatenate(levels)
+    t = t0 + (lv - h0) / rate
+    for _ in range(50):
+        step = (h(t) - lv) / rate
+        t = t - step
+        if np.max(np.abs(step)) <= 1e-15 * max(abs(t1), 1e-3):
+            break
+    return np.asarray(t[(t > t0) & (t < t1)], dtype=float)
+
+
+def torsional_from_pair(
+    pair: GearPair,
+    speed: float,
+    torque: float,
+    stiffness: PeriodicStiffness | ContactLineStiffness,
+    damping_ratio: float = 0.06,
+    inertias: tuple[float, float] | None = None,
+    **options: Any,
+) -> TorsionalModel:
+    """Build the torsional model; ``inertias=None`` uses solid blanks (GearPair.blank_inertias).
+
+    ``options`` are the optional parts of :class:`TorsionalModel` (eccentricity, friction,
+    backlash, transmission_error, load_torque); unknown names raise InputError.
+    """
+    allowed = {"eccentricity", "friction", "backlash", "transmission_error", "load_torque"}
+    bad = sorted(set(options) - allowed)
+    if bad:
+        raise InputError(f"torsional model: unknown option(s) {', '.join(bad)}; valid: "
+                         f"{', '.join(sorted(allowed))}")
+    i12 = inertias if inertias is not None else pair.blank_inertias()
+    return TorsionalModel(pair=pair, speed=speed, torque=torque, stiffness=stiffness,
+                          inertias=i12, damping_ratio=damping_ratio, **options)
