@@ -20,6 +20,7 @@ COMMANDS: tuple[str, ...] = (
     "gear_dyn.commands.run",
     "gear_dyn.commands.demo",
     "gear_dyn.commands.stiffness",
+    "gear_dyn.commands.bench",
 )
 
 
