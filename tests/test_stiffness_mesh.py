@@ -194,3 +194,17 @@ def test_selector_refuses_bad_input() -> None:
         stiffness_options_from_table({"method": "iso6336", "weber_slices": 4})
     with pytest.raises(InputError, match="bore_radius1"):
         build_stiffness(CLASSIC, "potential_energy", bore_radius1=0.05)
+
+
+def test_scalar_and_array_evaluation_agree() -> None:
+    # PiecewiseStiffness has a plain-Python scalar path for the solver's right-hand side; it must
+    # give the array path's values (np.searchsorted + np.interp) to rounding, also exactly at the
+    # switching phases and sample points, and for phases outside [0, 1).
+    rng = np.random.default_rng(7)
+    for method in ("potential_energy", "contact_line", "iso6336"):
+        for pair in (CLASSIC, HELICAL):
+            k = build_stiffness(pair, method)
+            p = np.concatenate([rng.uniform(-3, 3, 500), k.switching_phases,
+                                k.switching_phases + 2, [0.0, 1.0, 1 - 1e-17]])
+            scalar = np.array([float(k(float(v))) for v in p])
+            np.testing.assert_allclose(scalar, k(p), rtol=1e-14)

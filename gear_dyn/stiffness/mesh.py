@@ -89,6 +89,12 @@ def mesh_stiffness_from_pair(pair: GearPair, pair_fn: PairFunction, samples_per_
         raise InputError(f"samples_per_cycle = {samples_per_cycle!r}: valid range >= 4")
     if pair.helix_angle > 0:
         return _helical(pair, pair_fn, samples_per_cycle, name, slices)
+    return _transverse(pair, pair_fn, samples_per_cycle, name)
+
+
+def _transverse(pair: GearPair, pair_fn: PairFunction, samples_per_cycle: int,
+                name: str) -> PiecewiseStiffness:
+    """The transverse (unsliced) curve: pairs add, switching at entry and exit."""
     edges = [0.0]
     samples = []
     for lo, hi, pairs in _segments(pair.contact_ratio):
@@ -106,19 +112,13 @@ def _helical(pair: GearPair, pair_fn: PairFunction, samples_per_cycle: int, name
     width = pair.face_width / slices
     eps_b = pair.overlap_ratio
     lags = eps_b * (np.arange(slices) + 0.5) / slices
-    f = pair.contact_ratio % 1.0
-    n = int(math.floor(pair.contact_ratio))
     scale = width / pair.face_width
+    # the transverse curve once, finely sampled; the slices are shifted copies of it
+    fine = _transverse(pair, pair_fn, max(1000, 5 * samples_per_cycle), name)
 
     def values(ph: FloatArray) -> FloatArray:
-        q = np.mod(ph[:, None] - lags[None, :], 1.0).ravel()
-        in_first = q <= f
-        out = np.zeros_like(q)
-        if np.any(in_first):
-            out[in_first] = spur_mesh_values(pair, pair_fn, q[in_first], n + 1)
-        if np.any(~in_first) and n > 0:
-            out[~in_first] = spur_mesh_values(pair, pair_fn, q[~in_first], n)
-        return scale * out.reshape(ph.size, slices).sum(axis=1)
+        q = (ph[:, None] - lags[None, :]).ravel()
+        return scale * np.asarray(fine(q)).reshape(ph.size, slices).sum(axis=1)
 
     bp = contact_line_breakpoints(pair)
     edges = np.append(bp, 1.0)
