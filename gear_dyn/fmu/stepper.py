@@ -1,0 +1,287 @@
+"""Advance a gear_dyn model from one communication point to the next, keeping the solver alive.
+
+A co-simulation master asks for the state at ``t + h`` again and again. Setting up a fresh
+``solve_ivp`` for every step would throw away the step-size history (and cost an initial-step
+estimate each time). :class:`Stepper` instead keeps one scipy ``OdeSolver`` object (DOP853,
+RK45, RK23, Radau, BDF or LSODA) alive across communication steps: it steps the solver until it
+has passed the communication point and reads the state there from the solver's dense output, so
+the communication points never disturb the integration. The solver is restarted only where
+:mod:`gear_dyn.solve` restarts it too - at the model's switching instants (teeth entering or
+leaving contact, where the right-hand side jumps) - and where the importer changes an input.
+
+For models that are linear with piecewise-constant coefficients (``model.linear_segments``) the
+``exact`` method carries the state with the matrix exponentials of :mod:`gear_dyn.exact`
+(the pieces of a long horizon and one eigendecomposition per distinct piece matrix are kept
+across steps), so the communication step adds no error at all.
+
+:meth:`Stepper.snapshot` and :meth:`Stepper.restore` save and restore the whole integrator state
+(the solver's step size, stage derivatives, error history, LSODA work arrays), not only the model
+state, so a restored run continues bit for bit as the original did.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, OdeSolver, Radau
+
+from ..errors import InputError, SolverError
+from ..exact import _Exponential  # the exact propagator's cached matrix exponential
+from ..models.base import Model
+from ..solve import IMPLICIT, SolverSettings, resolve_auto
+
+FloatArray = NDArray[np.float64]
+
+#: OdeSolver classes the stepper can keep alive, by solve_ivp method name
+ODE_CLASSES: dict[str, type[OdeSolver]] = {
+    "RK45": RK45, "RK23": RK23, "DOP853": DOP853, "Radau": Radau, "BDF": BDF, "LSODA": LSODA,
+}
+
+
+class _Nested(dict[str, Any]):
+    """Marks the saved attributes of an object nested in the solver (LSODA's work object)."""
+
+
+def _save_attrs(obj: Any) -> _Nested:
+    """Deep copy of the non-callable attributes of ``obj`` (recursing into helper objects)."""
+    out = _Nested()
+    for key, val in vars(obj).items():
+        if callable(val) and not isinstance(val, np.ndarray):
+            continue  # right-hand side and Jacobian closures: rebuilt from the model
+        if hasattr(val, "__dict__") and not isinstance(val, np.ndarray | np.generic):
+            out[key] = _save_attrs(val)
+        else:
+            out[key] = copy.deepcopy(val)
+    return out
+
+
+def _load_attrs(obj: Any, saved: dict[str, Any]) -> None:
+    """Put saved attributes back. Arrays are copied *into* the fresh solver's own arrays where
+    shapes match, so views stay views (DOP853's ``K`` is a view of ``K_extended``)."""
+    for key, val in saved.items():
+        cur = getattr(obj, key, None)
+        if isinstance(val, _Nested):
+            _load_attrs(cur, val)
+        elif _copy_into(cur, val):
+            pass
+        elif isinstance(val, list) and isinstance(cur, list) and len(cur) == len(val):
+            # LSODA's call_args holds its work arrays: keep them the very same objects
+            for i, item in enumerate(val):
+                if not _copy_into(cur[i], item):
+                    cur[i] = copy.deepcopy(item)
+        else:
+            setattr(obj, key, copy.deepcopy(val))
+
+
+def _copy_into(cur: Any, val: Any) -> bool:
+    if (isinstance(val, np.ndarray) and isinstance(cur, np.ndarray) and cur.shape == val.shape
+            and cur.dtype == val.dtype and cur.flags.writeable):
+        np.copyto(cur, val)
+        return True
+    return False
+
+
+def _plain(saved: Any) -> Any:
+    """_Nested -> tagged plain dicts (so a snapshot pickles with builtins and numpy only)."""
+    if isinstance(saved, _Nested):
+        return {"__nested__": {k: _plain(v) for k, v in saved.items()}}
+    return saved
+
+
+def _unplain(saved: Any) -> Any:
+    if isinstance(saved, dict) and set(saved) == {"__nested__"}:
+        return _Nested({k: _unplain(v) for k, v in saved["__nested__"].items()})
+    return saved
+
+
+class Stepper:
+    """Integrator state of one model, advanced by communication steps.
+
+    Parameters
+    ----------
+    model : Model
+        Any gear_dyn model (the face of :mod:`gear_dyn.models.base`).
+    settings : SolverSettings
+        Method (``auto``, ``exact`` or a solve_ivp method name), rtol, atol, max_step.
+    t0 : float
+        Start time in s.
+    y0 : ndarray or None
+        Initial state; None uses ``model.initial_state()``.
+
+    Raises
+    ------
+    InputError
+        ``exact`` asked for a model that is not piecewise-constant linear.
+    """
+
+    def __init__(self, model: Model, settings: SolverSettings, t0: float = 0.0,
+                 y0: FloatArray | None = None) -> None:
+        method = resolve_auto(model) if settings.method == "auto" else settings.method
+        if method == "exact" and getattr(model, "linear_segments", None) is None:
+            raise InputError("solver.method = 'exact' needs a linear model with "
+                             "piecewise-constant coefficients; use DOP853 or LSODA")
+        self.model = model
+        self.settings = replace(settings, method=method)
+        self.method = method
+        self.t = float(t0)
+        self.y = np.array(model.initial_state() if y0 is None else y0, dtype=float)
+        self._solver: OdeSolver | None = None
+        self._pieces: list[tuple[float, float, FloatArray, FloatArray]] = []
+        self._piece = 0
+        self._exps: dict[bytes, Any] = {}
+        self.nfev = 0  # right-hand side evaluations of finished solver segments
+        self.n_restarts = 0
+
+    # ------------------------------------------------------------------ helpers
+    @property
+    def atol(self) -> FloatArray:
+        """Absolute tolerances per state (``rtol * state_scale`` unless set)."""
+        if self.settings.atol is not None:
+            return np.full(self.y.size, self.settings.atol)
+        return self.settings.rtol * np.asarray(self.model.state_scale, dtype=float)
+
+    def _next_switch(self, t: float) -> float:
+        period = 1.0 / self.model.mesh_frequency
+        for span in (2.0, 64.0):
+            sw = self.model.switching_times(t, t + span * period)
+            if sw.size:
+                return float(sw[0])
+        return math.inf
+
+    def _new_solver(self, t: float, y: FloatArray) -> OdeSolver:
+        cls = ODE_CLASSES[self.method]
+        extra: dict[str, Any] = {"jac": self.model.jac} if self.method in IMPLICIT else {}
+        t_bound = self._next_switch(t)
+        return cls(self.model.rhs, t, y, t_bound, rtol=self.settings.rtol, atol=self.atol,
+                   max_step=self.settings.max_step, **extra)
+
+    def _count(self) -> int:
+        return self.nfev + (self._solver.nfev if self._solver is not None else 0)
+
+    @property
+    def evaluations(self) -> int:
+        """Right-hand side evaluations so far (matrix exponentials for ``exact``)."""
+        return self._count()
+
+    # ------------------------------------------------------------------ stepping
+    def advance(self, t1: float) -> FloatArray:
+        """Integrate to ``t1`` (s, >= the current time) and return the state there.
+
+        Raises
+        ------
+        InputError
+            ``t1`` is before the current time.
+        SolverError
+            The solver failed or produced non-finite states (with scipy's message).
+        """
+        if not t1 >= self.t:
+            raise InputError(f"communication point t = {t1:.9g} s is before the current time "
+                             f"{self.t:.9g} s; restore an FMU state to go back")
+        if t1 == self.t:
+            return self.y.copy()
+        if self.method == "exact":
+            self.y = self._advance_exact(t1)
+        else:
+            self.y = self._advance_ode(t1)
+        self.t = float(t1)
+        if not np.all(np.isfinite(self.y)):
+            raise SolverError(f"{self.method} produced non-finite states near t = {t1:.6g} s; "
+                              "the response diverges (parametric instability?) or the "
+                              "tolerances are too loose")
+        return self.y.copy()
+
+    def _advance_exact(self, t1: float) -> FloatArray:
+        t = self.t
+        z = np.append(self.y, 1.0)
+        while t < t1:
+            if self._piece >= len(self._pieces) or not (
+                    self._pieces[self._piece][0] <= t < self._pieces[self._piece][1]):
+                self._load_pieces(t, t1)
+            ta, tb, a, g = self._pieces[self._piece]
+            te = min(tb, t1)
+            key = a.tobytes() + np.asarray(g, float).tobytes()
+            ex = self._exps.get(key)
+            if ex is None:
+                m = np.zeros((z.size, z.size))
+                m[:-1, :-1], m[:-1, -1] = a, g
+                ex = self._exps[key] = _Exponential(m, 4 * float(np.spacing(max(t1, 1.0))))
+            z = ex.apply(np.array([te - t]), z[None, :])[0]
+            self.nfev += 1
+            t = te
+            if te == tb:
+                self._piece += 1
+        return np.ascontiguousarray(z[:-1])
+
+    def _load_pieces(self, t: float, t1: float) -> None:
+        horizon = max(t1, t + 64.0 / self.model.mesh_frequency)
+        segments: Any = getattr(self.model, "linear_segments", None)
+        pieces = segments(t, horizon) if segments is not None else None
+        if not pieces:
+            raise InputError("solver.method = 'exact' needs a linear model with "
+                             "piecewise-constant coefficients; use DOP853 or LSODA")
+        self._pieces = pieces
+        self._piece = 0
+
+    def _advance_ode(self, t1: float) -> FloatArray:
+        solver = self._solver
+        if solver is None:
+            solver = self._solver = self._new_solver(self.t, self.y)
+        while True:
+            if solver.t >= t1:
+                if solver.t == t1 or solver.t_old is None:
+                    return np.array(solver.y, dtype=float)
+                return np.asarray(solver.dense_output()(t1), dtype=float)
+            if solver.status == "finished":  # reached a switching instant: restart there
+                self.nfev += solver.nfev
+                solver = self._solver = self._new_solver(solver.t, np.array(solver.y))
+                continue
+            msg = solver.step()
+            if solver.status == "failed":
+                raise SolverError(f"{self.method} failed at t = {solver.t:.6g} s: {msg}; try a "
+                                  "smaller rtol or an implicit method (Radau, BDF)")
+
+    def replace_model(self, model: Model) -> None:
+        """Continue with another model (e.g. a new input value) from the current state.
+
+        The solver is restarted at the current time: the right-hand side jumps there.
+        """
+        if self._solver is not None:
+            self.nfev += self._solver.nfev
+        self.model = model
+        self._solver = None
+        self._pieces, self._piece, self._exps = [], 0, {}
+        self.n_restarts += 1
+
+    # ------------------------------------------------------------------ state
+    def snapshot(self) -> dict[str, Any]:
+        """Everything needed to continue exactly from here (plain, picklable data)."""
+        solver = None
+        if self._solver is not None:
+            solver = {"t_bound": float(self._solver.t_bound),
+                      "attrs": _plain(_save_attrs(self._solver))}
+        return {"t": self.t, "y": self.y.copy(), "nfev": self.nfev,
+                "n_restarts": self.n_restarts, "method": self.method, "solver": solver}
+
+    def restore(self, snap: dict[str, Any]) -> None:
+        """Return to a :meth:`snapshot` (taken with the same model)."""
+        if snap["method"] != self.method:
+            raise InputError(f"FMU state was saved with solver {snap['method']!r}, this "
+                             f"instance runs {self.method!r}")
+        self.t = float(snap["t"])
+        self.y = np.array(snap["y"], dtype=float)
+        self.nfev = int(snap["nfev"])
+        self.n_restarts = int(snap["n_restarts"])
+        self._pieces, self._piece = [], 0
+        s = snap["solver"]
+        if s is None:
+            self._solver = None
+            return
+        attrs = _unplain(s["attrs"])
+        solver = self._new_solver(float(attrs["t"]), np.array(attrs["y"], dtype=float))
+        _load_attrs(solver, attrs)
+        self._solver = solver
