@@ -21,6 +21,7 @@ COMMANDS: tuple[str, ...] = (
     "gear_dyn.commands.demo",
     "gear_dyn.commands.stiffness",
     "gear_dyn.commands.bench",
+    "gear_dyn.commands.sweep",
 )
 
 
