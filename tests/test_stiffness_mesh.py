@@ -109,6 +109,13 @@ def test_selector_iso_and_contact_line_means() -> None:
             assert k.max == pytest.approx(1.75 * iso.k_single, rel=1e-12)
     k = build_stiffness(HELICAL, "contact_line")
     assert k.mean == pytest.approx(iso6336_stiffness(HELICAL).k_mesh, rel=1e-9)
+    # high contact ratio (eps_a = 2.25): n pairs -> c' b (0.75 n + 0.25) keeps the mean exact
+    high = GearPair(40, 90, 2e-3, math.radians(20), 20e-3, addendum_coef=1.3, clearance_coef=0.3)
+    iso = iso6336_stiffness(high)
+    k = build_stiffness(high, "iso6336")
+    assert high.contact_ratio > 2
+    assert k.mean == pytest.approx(iso.k_mesh, rel=1e-12)
+    assert (k.min, k.max) == pytest.approx((1.75 * iso.k_single, 2.5 * iso.k_single), rel=1e-12)
     user = build_stiffness(CLASSIC, "rectangular", single=2e8, double=3e8)
     assert (user.min, user.max) == (2e8, 3e8)
     assert build_stiffness(CLASSIC, "rectangular", single=2e8).max == pytest.approx(3.5e8)
