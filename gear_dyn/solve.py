@@ -62,6 +62,10 @@ class SolverSettings:
         Output points per mesh period, 4..4096.
     max_step : float
         Largest step in s (inf: unlimited).
+    estimate_error : bool
+        Attach an error estimate to the result (``extra["estimated_error"]``, see
+        :mod:`gear_dyn.accuracy`); for solve_ivp methods it costs a second, tighter run over a
+        short window. Default True.
     """
 
     method: str = "auto"
@@ -69,6 +73,7 @@ class SolverSettings:
     atol: float | None = None
     samples_per_period: int = 64
     max_step: float = math.inf
+    estimate_error: bool = True
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -338,6 +343,11 @@ def simulate(
     )
     counted = ("nfev", "njev", "nlu", "n_segments", "method")
     extra = {k: v for k, v in st.items() if k not in counted}
+    if settings.estimate_error:
+        from .accuracy import estimate_error
+
+        used = replace(settings, method=str(st.get("method", settings.method)))
+        extra["estimated_error"] = estimate_error(model, t_grid, y, used, st)
     info = getattr(model, "summary_info", None)
     if info is not None:
         extra = {**info(), **extra}
