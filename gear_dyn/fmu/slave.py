@@ -29,6 +29,10 @@ logStatusError; pythonfmu forwards it when debug logging is on), gives the nativ
 references it is about to drop (so the instance stays valid and freeing it is safe), and
 raises. The importer sees the call fail (``fmi2Fatal``); nothing crashes and no result is
 silently cut short. A refused parameter keeps its previous value.
+
+pythonfmu's loader also releases, at every instantiation, a reference to the slave script's
+module dict that it does not own; :meth:`GearDynSlave.__init__` hands it one back (a reset adds
+one more than needed: the module dict lives as long as the process anyway).
 """
 
 from __future__ import annotations
@@ -38,6 +42,7 @@ import io
 import json
 import math
 import pickle
+import sys
 from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
@@ -105,9 +110,17 @@ class GearDynSlave(Fmi2Slave):
     license = "MIT"
 
     def __init__(self, **kwargs: Any) -> None:
-        super().__init__(**kwargs)
         # the native wrapper passes its logger; pythonfmu's builder and direct Python use do not
-        self._native = "logger" in kwargs
+        native = "logger" in kwargs
+        if native:
+            # pythonfmu's loader releases a reference to the slave script's module dict that
+            # it never owned, once per instantiation: give it one back, or after a few
+            # instantiations the dict is freed under the module (a crash)
+            module = sys.modules.get(type(self).__module__)
+            if module is not None:
+                ctypes.pythonapi.Py_IncRef(ctypes.py_object(vars(module)))
+        super().__init__(**kwargs)
+        self._native = native
         spec = check_spec(json.loads(Path(str(self.resources), SPEC_FILE).read_text("utf-8")))
         load_feature_sections()
         self._spec = spec

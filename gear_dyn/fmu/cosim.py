@@ -1,0 +1,403 @@
+"""Run an FMU through fmpy and compare it with the same scene integrated by solve_ivp.
+
+:class:`FmuSession` drives one FMU instance step by step through fmpy's FMI 2.0 wrapper and
+turns every failed FMI call into a gear_dyn error carrying the FMU's own log messages (fmpy's
+``simulate_fmu`` would end early without complaint when a step is discarded).
+:func:`compare` runs the FMU at several communication steps and the reference once, and reports
+the differences and run times (:class:`CosimReport`).
+"""
+
+from __future__ import annotations
+
+import math
+import shutil
+import tempfile
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import InputError, SolverError
+from ..scene import Scene, build_pair, build_plan, parse_scene
+from ..solve import DEFAULT_ODE_METHOD, METHODS, SolverSettings, integrate
+from .build import read_spec
+from .inputs import driven_speed
+
+FloatArray = NDArray[np.float64]
+ODE_METHODS = tuple(m for m in METHODS if m not in ("auto", "exact"))
+
+
+class FmuSession:
+    """One FMU instance driven through fmpy, with its log messages collected.
+
+    Parameters
+    ----------
+    fmu : str or Path
+        The .fmu file.
+    instance_name : str
+        FMI instance name.
+    unzipdir : Path or None
+        An already extracted copy to use (None: extract into a temporary folder, removed by
+        :meth:`close`).
+
+    Raises
+    ------
+    InputError
+        Not a readable co-simulation FMU.
+    """
+
+    def __init__(self, fmu: str | Path, instance_name: str = "gear_dyn",
+                 unzipdir: str | Path | None = None) -> None:
+        from fmpy import extract, read_model_description
+
+        self.path = Path(fmu)
+        self._own_dir = unzipdir is None
+        try:
+            self.dir = Path(extract(str(self.path)) if unzipdir is None else unzipdir)
+            self.md = read_model_description(str(self.dir))
+        except Exception as exc:  # fmpy raises plain exceptions for unreadable FMUs
+            raise InputError(f"{self.path}: not a readable FMU ({exc})") from None
+        if self.md.coSimulation is None:
+            raise InputError(f"{self.path}: not a co-simulation FMU")
+        self.vars = {v.name: v for v in self.md.modelVariables}
+        self.instance_name = instance_name
+        self.messages: list[tuple[int, str]] = []
+        self._fmu: Any = None
+        self._callbacks: Any = None
+
+    # ------------------------------------------------------------------ plumbing
+    def _logger(self, env: Any, name: Any, status: int, category: Any, message: Any) -> None:
+        self.messages.append((int(status), message.decode("utf-8", "replace")))
+
+    def _call(self, what: str, func: Any, *args: Any, error: type[Exception] = SolverError) -> Any:
+        from fmpy.fmi1 import FMICallException
+
+        n = len(self.messages)
+        try:
+            return func(*args)
+        except FMICallException as exc:
+            logged = "; ".join(m for s, m in self.messages[n:] if s >= 2) or "no message logged"
+            raise error(f"FMU {what} failed ({exc}): {logged}") from None
+
+    def vr(self, name: str) -> int:
+        """Value reference of a variable (InputError naming the variable if unknown)."""
+        v = self.vars.get(name)
+        if v is None:
+            raise InputError(f"{self.path.name}: no variable {name!r}")
+        return int(v.valueReference)
+
+    # ------------------------------------------------------------------ lifecycle
+    def instantiate(self, logging_on: bool = True) -> None:
+        """Load the binary and create the instance (debug logging on: messages are kept)."""
+        from fmpy.fmi2 import FMU2Slave, defaultCallbacks, fmi2CallbackFunctions
+        from fmpy.fmi2 import fmi2CallbackLoggerTYPE as LoggerType
+
+        cb = fmi2CallbackFunctions()
+        cb.logger = LoggerType(self._logger)
+        cb.allocateMemory = defaultCallbacks.allocateMemory
+        cb.freeMemory = defaultCallbacks.freeMemory
+        self._callbacks = cb  # keep the C callbacks alive as long as the instance
+        self._fmu = FMU2Slave(guid=self.md.guid, unzipDirectory=str(self.dir),
+                              modelIdentifier=self.md.coSimulation.modelIdentifier,
+                              instanceName=self.instance_name)
+        try:
+            self._fmu.instantiate(callbacks=cb, loggingOn=logging_on)
+        except Exception as exc:
+            logged = "; ".join(m for _, m in self.messages) or "no message logged"
+            raise SolverError(f"{self.path.name}: instantiation failed ({exc}): {logged}") from None
+
+    @property
+    def fmu(self) -> Any:
+        """The fmpy FMU2Slave (after :meth:`instantiate`)."""
+        if self._fmu is None:
+            raise InputError("the FMU is not instantiated")
+        return self._fmu
+
+    def set(self, values: dict[str, Any]) -> None:
+        """Set variables by name (Real, Integer, Boolean or String); refused values raise
+        InputError with the FMU's message."""
+        for name, value in values.items():
+            v = self.vars.get(name)
+            if v is None:
+                raise InputError(f"{self.path.name}: no variable {name!r}")
+            setter = {"Real": self.fmu.setReal, "Integer": self.fmu.setInteger,
+                      "Boolean": self.fmu.setBoolean, "String": self.fmu.setString}[v.type]
+            if v.type == "Integer":
+                if isinstance(value, float) and not value.is_integer():
+                    raise InputError(f"{name} = {value!r}: expected a whole number")
+                value = int(value)
+            self._call(f"set {name}", setter, [v.valueReference], [value], error=InputError)
+
+    def get(self, names: Sequence[str]) -> list[float]:
+        """Real values by name."""
+        return list(self.fmu.getReal([self.vr(n) for n in names]))
+
+    def initialize(self, start: float = 0.0, stop: float | None = None,
+                   tolerance: float | None = None, values: dict[str, Any] | None = None) -> None:
+        """setupExperiment, set ``values``, enter and exit initialization mode."""
+        self._call("setupExperiment", self.fmu.setupExperiment, tolerance, start, stop)
+        self._call("enterInitializationMode", self.fmu.enterInitializationMode,
+                   error=InputError)
+        if values:
+            self.set(values)
+        self._call("exitInitializationMode", self.fmu.exitInitializationMode, error=InputError)
+
+    def step(self, t: float, h: float) -> None:
+        """One communication step from ``t`` (s) by ``h`` (s)."""
+        self._call(f"doStep at t = {t:.6g} s", self.fmu.doStep, t, h)
+
+    def terminate(self) -> None:
+        self._call("terminate", self.fmu.terminate)
+
+    def reset(self) -> None:
+        self._call("reset", self.fmu.reset)
+
+    def free(self) -> None:
+        """Free the instance and unload the binary."""
+        if self._fmu is not None:
+            self._fmu.freeInstance()
+            self._fmu = None
+
+    def close(self) -> None:
+        """Free the instance and remove the extracted copy (if this session made it)."""
+        self.free()
+        if self._own_dir:
+            shutil.rmtree(self.dir, ignore_errors=True)
+
+    def __enter__(self) -> FmuSession:
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.close()
+
+    # ------------------------------------------------------------------ a run
+    def run(self, step: float, stop: float, outputs: Sequence[str],
+            values: dict[str, Any] | None = None, tolerance: float | None = None,
+            ) -> tuple[FloatArray, FloatArray, float]:
+        """Instantiate, run from 0 to ``stop`` with communication step ``step``, terminate.
+
+        Returns
+        -------
+        t : ndarray (n,)
+        y : ndarray (len(outputs), n)
+        run_time : float
+            Wall time in s from instantiation to termination (extraction excluded).
+        """
+        n = int(math.floor(stop / step + 1e-9))
+        if n < 1:
+            raise InputError(f"communication step = {step:.6g} s is longer than the run "
+                             f"({stop:.6g} s)")
+        t = np.arange(n + 1) * step
+        y = np.empty((len(outputs), n + 1))
+        vrs = [self.vr(o) for o in outputs]
+        start = time.perf_counter()
+        self.instantiate()
+        self.initialize(0.0, float(t[-1]), tolerance, values)
+        y[:, 0] = self.fmu.getReal(vrs)
+        for k in range(n):
+            self.step(float(t[k]), float(t[k + 1] - t[k]))
+            y[:, k + 1] = self.fmu.getReal(vrs)
+        self.terminate()
+        run_time = time.perf_counter() - start
+        self.free()
+        return t, y, run_time
+
+
+# ---------------------------------------------------------------------- comparison
+@dataclass(frozen=True)
+class StepComparison:
+    """FMU against the reference at one communication step."""
+
+    step: float
+    n_steps: int
+    fmu_run_time_s: float
+    max_diff: dict[str, float]
+    rms_diff: dict[str, float]
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"step_s": self.step, "n_steps": self.n_steps,
+                "fmu_run_time_s": self.fmu_run_time_s,
+                "fmu_time_per_step_s": self.fmu_run_time_s / self.n_steps,
+                "max_diff": self.max_diff, "rms_diff": self.rms_diff}
+
+
+@dataclass(frozen=True)
+class CosimReport:
+    """Co-simulation of an FMU against solve_ivp, at several communication steps."""
+
+    fmu: str
+    scene_name: str
+    fmu_method: str
+    reference_method: str
+    rtol: float
+    stop_time: float
+    mesh_frequency: float
+    outputs: tuple[str, ...]
+    scales: dict[str, float]
+    reference_run_time_s: float
+    fmu_load_time_s: float
+    steps: list[StepComparison]
+    t: FloatArray = field(repr=False)
+    fmu_y: FloatArray = field(repr=False)  # finest step, (n_outputs, n)
+    ref_y: FloatArray = field(repr=False)
+
+    def as_dict(self) -> dict[str, Any]:
+        return {
+            "fmu": self.fmu, "scene": self.scene_name, "fmu_method": self.fmu_method,
+            "reference": f"solve_ivp {self.reference_method}", "rtol": self.rtol,
+            "stop_time_s": self.stop_time, "mesh_frequency_hz": self.mesh_frequency,
+            "outputs": list(self.outputs), "scales": self.scales,
+            "reference_run_time_s": self.reference_run_time_s,
+            "fmu_load_time_s": self.fmu_load_time_s,
+            "steps": [s.as_dict() for s in self.steps],
+        }
+
+
+def scene_values(spec: dict[str, Any], scene: Scene) -> dict[str, Any]:
+    """FMU variable values that make the FMU run ``scene`` (parameters and inputs).
+
+    Raises
+    ------
+    InputError
+        The scene has a table or key that the FMU does not expose, or another model.
+    """
+    kind = scene.get("scene")["model"]
+    if kind != spec["model"]:
+        raise InputError(f"scene {scene.name!r} runs the {kind} model, the FMU the "
+                         f"{spec['model']} model")
+    names = {v["name"] for v in spec["variables"] if v["causality"] != "output"}
+    values: dict[str, Any] = {}
+    for table, entries in scene.tables.items():
+        if table == "scene":
+            continue
+        for key, value in entries.items():
+            name = f"{table}.{key}"
+            if name in names:
+                values[name] = value
+            elif value is not None and value != spec["tables"].get(table, {}).get(key) and (
+                    table, key) not in (("solver", "periods"), ("solver", "steady_periods"),
+                                        ("solver", "samples_per_period")):
+                raise InputError(f"scene {scene.name!r}: {name} = {value!r} is not a parameter "
+                                 "of this FMU; build the FMU from this scene")
+    return values
+
+
+def reference_settings(settings: SolverSettings) -> SolverSettings:
+    """The solve_ivp settings of the reference: the scene's ODE method, else DOP853."""
+    method = settings.method if settings.method in ODE_METHODS else DEFAULT_ODE_METHOD
+    return replace(settings, method=method)
+
+
+def compare(fmu: str | Path, scene: Scene | None = None, steps: Sequence[float] | None = None,
+            stop_time: float | None = None, outputs: Sequence[str] = ("dte", "mesh_force"),
+            fmu_values: dict[str, Any] | None = None) -> CosimReport:
+    """Run ``fmu`` at each communication step and ``scene`` with solve_ivp; compare.
+
+    Parameters
+    ----------
+    fmu : str or Path
+        FMU built by gear_dyn.
+    scene : Scene or None
+        Scene to run (its values are set on the FMU); None runs the scene stored in the FMU.
+    steps : sequence of float or None
+        Communication steps in s, each an integer multiple of the smallest; None uses the
+        DefaultExperiment step times 8, 4, 2 and 1.
+    stop_time : float or None
+        End of the run in s (None: the DefaultExperiment stop time).
+    outputs : sequence of str
+        FMU outputs compared (model output names).
+    fmu_values : dict or None
+        Extra FMU values (e.g. ``{"solver.method": "DOP853"}``); they also change the reference.
+
+    Raises
+    ------
+    InputError
+        Bad steps, stop time, outputs or scene.
+    SolverError
+        The FMU or the reference failed.
+    """
+    spec = read_spec(fmu)
+    base = scene if scene is not None else parse_scene(
+        {k: dict(v) for k, v in spec["tables"].items()}, source=f"{Path(fmu).name} (stored)")
+    values = scene_values(spec, base) if scene is not None else {}
+    values.update(fmu_values or {})
+    tables = {k: {kk: vv for kk, vv in v.items() if vv is not None}
+              for k, v in base.tables.items()}
+    for name, value in (fmu_values or {}).items():
+        table, _, key = name.partition(".")
+        if table in tables and key:
+            tables[table][key] = value
+    ref_scene = parse_scene(tables, source=base.source)
+    plan = build_plan(ref_scene)
+    ex = spec["experiment"]
+    stop = float(stop_time if stop_time is not None else ex["stop_time"])
+    if not (math.isfinite(stop) and stop > 0):
+        raise InputError(f"--stop = {stop!r} s: valid range > 0 s")
+    hs = sorted(float(h) for h in (steps or [ex["step_size"] * k for k in (8, 4, 2, 1)]))
+    if not hs or hs[0] <= 0 or not all(math.isfinite(h) for h in hs):
+        raise InputError(f"communication steps {hs}: each must be a positive number of seconds")
+    h0 = hs[0]
+    ratios = [h / h0 for h in hs]
+    if any(abs(r - round(r)) > 1e-6 for r in ratios):
+        raise InputError(f"communication steps {hs}: each must be an integer multiple of the "
+                         f"smallest ({h0:.6g} s)")
+    out_names = {v["name"] for v in spec["variables"] if v["causality"] == "output"}
+    for o in outputs:
+        if o not in out_names:
+            raise InputError(f"output {o!r} is not an FMU output; available: "
+                             f"{', '.join(sorted(out_names))}")
+    n0 = int(math.floor(stop / h0 + 1e-9))
+    grid = np.arange(n0 + 1) * h0
+    settings = reference_settings(plan.settings)
+    start = time.perf_counter()
+    y_ref, _ = integrate(plan.model, grid, settings)
+    ref_time = time.perf_counter() - start
+    ref_out = plan.model.outputs(grid, y_ref)
+    if "driven_speed" in outputs:
+        ref_out = {**ref_out, "driven_speed": driven_speed(
+            build_pair(ref_scene), ref_scene.get("operating")["speed"], y_ref[1])}
+    ref = np.array([np.asarray(ref_out[o], dtype=float) for o in outputs])
+    scales = {o: float(max(np.sqrt(np.mean(ref[i] ** 2)), 1e-300))
+              for i, o in enumerate(outputs)}
+    start = time.perf_counter()
+    with FmuSession(fmu, instance_name="cosim_load") as session:
+        session.instantiate()  # first load imports the FMU's Python code: not a step cost
+    load_time = time.perf_counter() - start
+    results: list[StepComparison] = []
+    finest: FloatArray | None = None
+    for h, r in zip(hs, ratios, strict=True):
+        stride = int(round(r))
+        with FmuSession(fmu, instance_name=f"cosim_{len(results)}") as session:
+            t, y, run_time = session.run(h0 * stride, grid[-1] + 0.5 * h0, list(outputs),
+                                         values)
+        rsub = ref[:, ::stride][:, : t.size]
+        diff = y[:, : rsub.shape[1]] - rsub
+        results.append(StepComparison(
+            step=h0 * stride, n_steps=t.size - 1, fmu_run_time_s=run_time,
+            max_diff={o: float(np.max(np.abs(diff[i]))) for i, o in enumerate(outputs)},
+            rms_diff={o: float(np.sqrt(np.mean(diff[i] ** 2))) for i, o in enumerate(outputs)},
+        ))
+        if stride == 1:
+            finest = y
+    assert finest is not None
+    fmu_method = str(values.get("solver.method", base.get("solver")["method"]))
+    return CosimReport(
+        fmu=str(fmu), scene_name=base.name, fmu_method=fmu_method,
+        reference_method=settings.method, rtol=settings.rtol, stop_time=float(grid[-1]),
+        mesh_frequency=plan.model.mesh_frequency, outputs=tuple(outputs), scales=scales,
+        reference_run_time_s=ref_time, fmu_load_time_s=load_time, steps=sorted(results, key=lambda s: -s.step),
+        t=grid, fmu_y=finest, ref_y=ref,
+    )
+
+
+def extracted(fmu: str | Path) -> tempfile.TemporaryDirectory[str]:
+    """A temporary folder holding the extracted FMU (for repeated sessions)."""
+    from fmpy import extract
+
+    tmp = tempfile.TemporaryDirectory(prefix="gear_dyn_fmu_run_")
+    extract(str(fmu), tmp.name)
+    return tmp
