@@ -369,7 +369,7 @@ def compare(fmu: str | Path, scene: Scene | None = None, steps: Sequence[float] 
     load_time = time.perf_counter() - start
     results: list[StepComparison] = []
     finest: FloatArray | None = None
-    for h, r in zip(hs, ratios, strict=True):
+    for r in ratios:
         stride = int(round(r))
         with FmuSession(fmu, instance_name=f"cosim_{len(results)}") as session:
             t, y, run_time = session.run(h0 * stride, grid[-1] + 0.5 * h0, list(outputs),
@@ -389,7 +389,8 @@ def compare(fmu: str | Path, scene: Scene | None = None, steps: Sequence[float] 
         fmu=str(fmu), scene_name=base.name, fmu_method=fmu_method,
         reference_method=settings.method, rtol=settings.rtol, stop_time=float(grid[-1]),
         mesh_frequency=plan.model.mesh_frequency, outputs=tuple(outputs), scales=scales,
-        reference_run_time_s=ref_time, fmu_load_time_s=load_time, steps=sorted(results, key=lambda s: -s.step),
+        reference_run_time_s=ref_time, fmu_load_time_s=load_time,
+        steps=sorted(results, key=lambda s: -s.step),
         t=grid, fmu_y=finest, ref_y=ref,
     )
 
