@@ -191,7 +191,7 @@ class FmuSession:
         if n < 1:
             raise InputError(f"communication step = {step:.6g} s is longer than the run "
                              f"({stop:.6g} s)")
-        t = np.arange(n + 1) * step
+        t = np.arange(n + 1, dtype=np.float64) * float(step)
         y = np.empty((len(outputs), n + 1))
         vrs = [self.vr(o) for o in outputs]
         start = time.perf_counter()
@@ -351,7 +351,7 @@ def compare(fmu: str | Path, scene: Scene | None = None, steps: Sequence[float] 
             raise InputError(f"output {o!r} is not an FMU output; available: "
                              f"{', '.join(sorted(out_names))}")
     n0 = int(math.floor(stop / h0 + 1e-9))
-    grid = np.arange(n0 + 1) * h0
+    grid = np.arange(n0 + 1, dtype=np.float64) * float(h0)
     settings = reference_settings(plan.settings)
     start = time.perf_counter()
     y_ref, _ = integrate(plan.model, grid, settings)
