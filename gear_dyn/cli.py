@@ -22,6 +22,9 @@ COMMANDS: tuple[str, ...] = (
     "gear_dyn.commands.stiffness",
     "gear_dyn.commands.bench",
     "gear_dyn.commands.sweep",
+    "gear_dyn.commands.excitation",
+    "gear_dyn.commands.fmu",
+    "gear_dyn.commands.cosim",
 )
 
 
