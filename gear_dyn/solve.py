@@ -254,6 +254,10 @@ def integrate(
     out[:, 0] = y
     extra: dict[str, Any] = {"jac": model.jac} if settings.method in IMPLICIT else {}
     nfev = njev = nlu = 0
+    from .events import contact_event_functions, solve_piece_with_events
+
+    events = contact_event_functions(model)  # contact changes (backlash): restart at each
+    n_events = 0
     idx = np.searchsorted(t_grid, cuts, side="right")  # grid points up to each cut
     for k in range(cuts.size - 1):
         ta, tb = float(cuts[k]), float(cuts[k + 1])
@@ -262,6 +266,15 @@ def integrate(
         i0, i1 = idx[k], idx[k + 1]
         te = t_grid[i0:i1]
         t_eval = np.concatenate([te, [tb]]) if te.size == 0 or te[-1] < tb else te
+        if events:
+            ys, y, est = solve_piece_with_events(
+                model.rhs, ta, tb, y, t_eval, events, settings.method, settings.rtol, atol,
+                settings.max_step, extra,
+            )
+            nfev, njev, nlu = nfev + est["nfev"], njev + est["njev"], nlu + est["nlu"]
+            n_events += est["n_events"]
+            out[:, i0:i1] = ys[:, : i1 - i0]
+            continue
         sol = solve_ivp(
             model.rhs, (ta, tb), y, method=settings.method, t_eval=t_eval, rtol=settings.rtol,
             atol=atol, max_step=settings.max_step, **extra,
@@ -281,7 +294,11 @@ def integrate(
             )
         out[:, i0:i1] = sol.y[:, : i1 - i0]
         y = sol.y[:, -1]
-    return out, {"nfev": nfev, "njev": njev, "nlu": nlu, "n_segments": int(cuts.size - 1)}
+    stats: dict[str, Any] = {"nfev": nfev, "njev": njev, "nlu": nlu,
+                             "n_segments": int(cuts.size - 1)}
+    if events:
+        stats["n_contact_events"] = n_events
+    return out, stats
 
 
 def simulate(
