@@ -77,7 +77,7 @@ def main(argv: list[str] | None = None) -> int:
         f"Machine: {platform.machine()}, Python {platform.python_version()}, "
         f"{platform.system()} (shared 2-core runner; medians of {args.repeats} cold builds)\n\n"
         "Cold build: tooth tables and curve caches cleared before each run; defaults "
-        "(200 samples per cycle, 40 face slices for helical pairs, 3001-point tooth grid, "
+        "(200 samples per cycle, continuous face slicing for helical pairs, 3001-point tooth grid, "
         "20 Weber slices). A cached rebuild costs a dictionary lookup.\n\n"
     )
     text = head + table + "\n"

@@ -135,10 +135,10 @@ def test_mean_is_path_integral_over_base_pitch() -> None:
 
 def test_helical_pem_is_continuous_and_flatter() -> None:
     # Thin-slice helical model: the overlap smears the entries and exits, so the curve has no
-    # jumps (40 slices of 1/40 of the pair stiffness, sampled 400 times per cycle) and a smaller
+    # jumps (continuous slicing, sampled 400 times per cycle) and a smaller
     # relative fluctuation than one slice (the transverse curve); shifting the slices does not
-    # change the mean, (1/p_b) int_A^E K ds, within the sampling error of the staircase
-    # (rel 3e-3: jumps of K/40 interpolated over 1/400 cycle).
+    # change the mean, (1/p_b) int_A^E K ds (rel 1e-3: linear interpolation between samples of
+    # the averaged curve and of the fine transverse curve).
     k = build_stiffness(HELICAL, "potential_energy", samples_per_cycle=400)
     v = k(np.linspace(0, 1, 4001))
     assert np.max(np.abs(np.diff(v))) < 0.01 * k.mean
@@ -147,7 +147,17 @@ def test_helical_pem_is_continuous_and_flatter() -> None:
     ref = quad(lambda s: float(potential_energy_pair_stiffness(HELICAL, s)),
                HELICAL.start_of_contact, HELICAL.end_of_contact,
                epsabs=0, epsrel=1e-6, limit=200)[0]
-    assert k.mean == pytest.approx(ref / HELICAL.base_pitch, rel=3e-3)
+    assert k.mean == pytest.approx(ref / HELICAL.base_pitch, rel=1e-3)
+
+
+def test_continuous_face_slicing_is_the_limit_of_discrete_slices() -> None:
+    # Default helical model: the face sliced continuously (exact antiderivative of the transverse
+    # curve). Second method: 400 discrete slices; they differ by the slice staircase, jumps of
+    # K/400 -> rel 3e-3 pointwise.
+    k = build_stiffness(HELICAL, "potential_energy")
+    d = build_stiffness(HELICAL, "potential_energy", slices=400)
+    p = np.linspace(0, 1, 1001)
+    np.testing.assert_allclose(k(p), d(p), rtol=3e-3)
 
 
 def test_centre_distance_offset_follows_everywhere() -> None:

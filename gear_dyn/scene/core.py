@@ -65,7 +65,8 @@ STIFFNESS = register_section(Section("stiffness", (
     Field("samples_per_cycle", kind="int", default=None, low=4, high=100_000,
           doc="potential_energy/weber: samples per mesh cycle (default 200)"),
     Field("face_slices", kind="int", default=None, low=1, high=10_000,
-          doc="potential_energy/weber, helical pairs: face slices (default 40)"),
+          doc="potential_energy/weber, helical pairs: discrete face slices (default: "
+              "continuous slicing)"),
     Field("fillet_radius_coef", default=None, low=0.0, high=1.0,
           doc="basic-rack tip rounding rho_fP/m_n (default c*/(1 - sin a_n))"),
     Field("bore_radius_pinion", "m", default=None, low=0.0, low_open=True,

@@ -7,10 +7,15 @@ At mesh phase ``p`` in [0, 1) the pairs in contact sit at
 are 0 (entry) and f (exit). The result is a :class:`PiecewiseStiffness` sampled on each segment and
 linear in between, with the jumps at the switching phases kept exact.
 
-Helical pairs are handled by the thin-slice model: the face is cut into ``slices`` spur slices of
-width B / slices, slice ``i`` lagging by ``eps_b (i + 1/2) / slices`` cycles; each slice uses the
-single-pair function per unit face width (all the beam and contact compliances scale with 1/B) and
-the slices add. The switching phases are then the kinks of the contact-line length.
+Helical pairs are handled by the thin-slice model: each transverse slice dz of the face lags by
+``eps_b z / B`` cycles and carries the transverse curve per unit face width (all the beam and
+contact compliances scale with 1/B); the slices add. By default the face is sliced continuously,
+
+    k(p) = (1/eps_b) int_0^eps_b k_t(p - l) dl = (C(p) - C(p - eps_b)) / eps_b,
+
+with ``C`` the antiderivative of the transverse curve ``k_t`` (exact for its linear pieces), so the
+result has no slice ripple; ``slices = n`` uses n discrete slices (lags ``eps_b (i + 1/2) / n``)
+instead. The switching phases are then the kinks of the contact-line length.
 """
 
 from __future__ import annotations
@@ -50,7 +55,8 @@ def spur_mesh_values(pair: GearPair, pair_fn: PairFunction, phase: FloatArray,
 
 
 def mesh_stiffness_from_pair(pair: GearPair, pair_fn: PairFunction, samples_per_cycle: int = 200,
-                             name: str = "mesh", slices: int = 40) -> PiecewiseStiffness:
+                             name: str = "mesh",
+                             slices: int | None = None) -> PiecewiseStiffness:
     """Mesh stiffness k(p) built from the single-pair stiffness ``pair_fn(pair, s)``.
 
     Parameters
@@ -63,8 +69,9 @@ def mesh_stiffness_from_pair(pair: GearPair, pair_fn: PairFunction, samples_per_
         Samples over one mesh cycle (>= 4), shared between segments in proportion to length.
     name : str
         Method name for reports.
-    slices : int
-        Face slices for helical pairs (>= 1; ignored for spur).
+    slices : int or None
+        Helical pairs: None (default) slices the face continuously; n >= 1 uses n discrete
+        slices. Ignored for spur pairs.
 
     Returns
     -------
@@ -106,19 +113,21 @@ def _transverse(pair: GearPair, pair_fn: PairFunction, samples_per_cycle: int,
 
 
 def _helical(pair: GearPair, pair_fn: PairFunction, samples_per_cycle: int, name: str,
-             slices: int) -> PiecewiseStiffness:
-    if not isinstance(slices, int) or slices < 1:
-        raise InputError(f"slices = {slices!r}: valid range >= 1")
-    width = pair.face_width / slices
+             slices: int | None) -> PiecewiseStiffness:
+    if slices is not None and (not isinstance(slices, int) or slices < 1):
+        raise InputError(f"slices = {slices!r}: valid range >= 1, or None (continuous)")
     eps_b = pair.overlap_ratio
-    lags = eps_b * (np.arange(slices) + 0.5) / slices
-    scale = width / pair.face_width
     # the transverse curve once, finely sampled; the slices are shifted copies of it
     fine = _transverse(pair, pair_fn, max(1000, 5 * samples_per_cycle), name)
+    values: Callable[[FloatArray], FloatArray]
+    if slices is None:
+        values = _continuous_average(fine, eps_b)
+    else:
+        lags = eps_b * (np.arange(slices) + 0.5) / slices
 
-    def values(ph: FloatArray) -> FloatArray:
-        q = (ph[:, None] - lags[None, :]).ravel()
-        return scale * np.asarray(fine(q)).reshape(ph.size, slices).sum(axis=1)
+        def values(ph: FloatArray) -> FloatArray:
+            q = (ph[:, None] - lags[None, :]).ravel()
+            return np.asarray(fine(q)).reshape(ph.size, slices).mean(axis=1)
 
     bp = contact_line_breakpoints(pair)
     edges = np.append(bp, 1.0)
@@ -130,3 +139,37 @@ def _helical(pair: GearPair, pair_fn: PairFunction, samples_per_cycle: int, name
         ph = np.linspace(lo, hi, m)
         samples.append((ph, values(ph)))
     return PiecewiseStiffness(edges, tuple(samples), name=name)
+
+
+def _continuous_average(curve: PiecewiseStiffness,
+                        width: float) -> Callable[[FloatArray], FloatArray]:
+    """``p -> (1/width) int_0^width curve(p - l) dl`` via the exact antiderivative of the pieces."""
+    knots, cums = [], []
+    total = 0.0
+    for ph, val in curve.samples:
+        ph = np.asarray(ph, dtype=float)
+        val = np.asarray(val, dtype=float)
+        piece = np.concatenate([[0.0], np.cumsum(0.5 * (val[1:] + val[:-1]) * np.diff(ph))])
+        knots.append(ph)
+        cums.append(total + piece)
+        total += float(piece[-1])
+    x = np.concatenate(knots)
+    c = np.concatenate(cums)
+    mean = total  # integral over one cycle = mean (period 1)
+
+    def antiderivative(q: FloatArray) -> FloatArray:
+        n = np.floor(q)
+        r = q - n
+        # C on one cycle is piecewise quadratic; between knots integrate the linear piece exactly
+        j = np.clip(np.searchsorted(x, r, side="right") - 1, 0, x.size - 2)
+        x0 = x[j]
+        mid = curve(x0 + 0.5 * (r - x0))  # value at the piece's midpoint: exact for linear
+        return n * mean + c[j] + mid * (r - x0)
+
+    if width <= 0:
+        return lambda ph: np.asarray(curve(ph))
+
+    def values(ph: FloatArray) -> FloatArray:
+        return (antiderivative(ph) - antiderivative(ph - width)) / width
+
+    return values

@@ -149,7 +149,9 @@ def _build_cached(key: _Key) -> PeriodicStiffness:
     if method == "contact_line":
         return _contact_line(pair, opts)
     samples = _int_opt(opts, "samples_per_cycle", 200, 4)
-    slices = _int_opt(opts, "slices", 40, 1)
+    slices = opts.get("slices")
+    if slices is not None:
+        slices = _int_opt(opts, "slices", 1, 1)
     tooth = _tooth_options(opts)
     fn: Any
     if method == "potential_energy":
@@ -189,8 +191,9 @@ def build_stiffness(pair: GearPair, method: str = "iso6336", *,
 
         - rectangular: ``single``, ``double`` (N/m), ``line_load`` (N/m, ISO load correction);
         - iso6336: ``line_load``;
-        - potential_energy / weber: ``samples_per_cycle`` (200), ``slices`` (face slices of a
-          helical pair, 40), ``fillet_radius_coef``, ``bore_radius1``, ``bore_radius2`` (m),
+        - potential_energy / weber: ``samples_per_cycle`` (200), ``slices`` (helical pairs:
+          None = continuous face slicing, or a number of discrete slices),
+          ``fillet_radius_coef``, ``bore_radius1``, ``bore_radius2`` (m),
           ``plane_strain`` (bool), ``grid_points``; weber also ``weber_slices`` (20) and
           ``weber_modulus`` ("seed", "plane_stress", "plane_strain"), ``weber_foundation``
           (bool, add the Sainsot fillet-foundation term);
