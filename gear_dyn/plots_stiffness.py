@@ -21,7 +21,7 @@ from .stiffness.potential_energy import PairCompliance  # noqa: E402
 
 def plot_stiffness_curves(curves: Mapping[str, PeriodicStiffness], contact_ratio: float,
                           cycles: float = 2.0, points_per_cycle: int = 800,
-                          ax: Any = None) -> Any:
+                          ax: Any = None, transverse_note: bool = False) -> Any:
     """k(p) of several methods over ``cycles`` mesh cycles, double-contact zones shaded.
 
     Parameters
@@ -34,11 +34,14 @@ def plot_stiffness_curves(curves: Mapping[str, PeriodicStiffness], contact_ratio
     points_per_cycle : int
         Plot resolution.
     ax : matplotlib Axes or None
+    transverse_note : bool
+        Say that the shaded zones count pairs in the transverse section (helical pairs).
 
     Returns
     -------
     matplotlib Figure
     """
+    where = "transverse section: " if transverse_note else ""
     if ax is None:
         fig, ax = plt.subplots(figsize=(9, 4.5))
     else:
@@ -50,7 +53,7 @@ def plot_stiffness_curves(curves: Mapping[str, PeriodicStiffness], contact_ratio
     for c in range(int(math.ceil(cycles))):
         if f > 1e-9:
             ax.axvspan(c, min(c + f, cycles), color="0.9", lw=0,
-                       label=f"{n_low + 1} pairs in contact" if c == 0 else None)
+                       label=f"{where}{n_low + 1} pairs in contact" if c == 0 else None)
     for name, k in curves.items():
         sw = k.switching_phases
         # insert both sides of each jump so the plot shows it vertical
@@ -58,7 +61,7 @@ def plot_stiffness_curves(curves: Mapping[str, PeriodicStiffness], contact_ratio
         extra = extra[(extra > 0) & (extra < cycles)]
         pp = np.sort(np.concatenate([p, extra - 1e-9, extra + 1e-9]))
         ax.plot(pp, k(pp) / 1e8, lw=1.2, label=f"{name} (mean {k.mean / 1e8:.3g})")
-    ax.set_xlabel(f"mesh phase (cycles; unshaded: {n_low} pair{'s' if n_low > 1 else ''})")
+    ax.set_xlabel(f"mesh phase (cycles; unshaded: {where}{n_low} pair{'s' if n_low > 1 else ''})")
     ax.set_ylabel("mesh stiffness k (1e8 N/m)")
     ax.set_xlim(0, cycles)
     ax.grid(True, alpha=0.3)

@@ -141,7 +141,8 @@ def run(args: argparse.Namespace) -> int:
     pair, curves, report = compute(scene, methods)
     comp = report.pop("_components")
     with staged_output(args.out) as tmp:
-        fig = plot_stiffness_curves(curves, pair.contact_ratio, cycles=args.cycles)
+        fig = plot_stiffness_curves(curves, pair.contact_ratio, cycles=args.cycles,
+                                    transverse_note=pair.helix_angle > 0)
         save_figure(fig, tmp / "stiffness.png", dpi=110)
         plt.close(fig)
         fig = plot_components(comp, title="potential-energy compliance split at the pitch point "
