@@ -218,3 +218,56 @@ def test_positions_outside_path_refused() -> None:
         potential_energy_pair_stiffness(CLASSIC, CLASSIC.end_of_contact + 1e-4)
     with pytest.raises(InputError, match="modulus"):
         weber_pair_stiffness(CLASSIC, CLASSIC.pitch_point, modulus="bogus")
+
+
+def test_fillet_is_the_envelope_of_the_rack_rounding() -> None:
+    # Second method for the trochoid: sweep the rack through many roll angles, intersect its tip
+    # rounding disc with each circle r = const, and keep the smallest polar angle reached (the
+    # material the rack removes). The tooth boundary at r is that angle; the generated fillet must
+    # follow it. Grid of 40 001 roll angles: the minimum is found to O(dphi^2) ~ 1e-9 rad.
+    pair = GearPair(19, 48, 3.2e-3, math.radians(20), 16e-3, x1=0.2)
+    m, a = pair.module, pair.alpha_t
+    r = pair.r1
+    rho = 0.25 / (1 - math.sin(math.radians(20))) * m
+    y_d = r + 0.2 * m
+    y_c = pair.rf1 + rho
+    x_c = math.pi * m / 4 - (y_c - y_d) * math.tan(a) + rho / math.cos(a)
+    phi = np.linspace(x_c / r - 0.3, x_c / r + 0.6, 40001)
+    cfx, cfy = x_c - r * phi, np.full_like(phi, y_c)
+    cx = cfx * np.cos(phi) + cfy * np.sin(phi)
+    cy = -cfx * np.sin(phi) + cfy * np.cos(phi)
+    dist = np.hypot(cx, cy)
+    theta_c = np.arctan2(cx, cy)
+    fx, fy = fillet_points(pair, 1, 200)
+    radii = np.hypot(fx, fy)[5:-5]
+    angles = np.arctan2(fx, fy)[5:-5]
+    for rr, ang in zip(radii[::10], angles[::10], strict=True):
+        cosd = (dist**2 + rr**2 - rho**2) / (2 * dist * rr)
+        ok = np.abs(cosd) <= 1
+        brute = np.min(theta_c[ok] - np.arccos(cosd[ok]))
+        assert ang == pytest.approx(brute, abs=1e-7)
+
+
+def test_involute_half_angle_matches_tooth_thickness() -> None:
+    # Two independent routes to the tooth thickness: the tooth module's half angle psi(r) and
+    # GearPair.tooth_thickness (arc thickness s(r) = 2 r psi(r)), with profile shift, at the pitch,
+    # operating pitch and tip radii; and the classical pitch value pi/(2z) + 2 x tan(a)/z.
+    pair = GearPair(19, 48, 3.2e-3, math.radians(20), 16e-3, x1=0.3, x2=-0.1)
+    for gear, rad in ((1, pair.r1), (1, pair.ra1), (2, pair.rw2), (2, pair.ra2)):
+        psi = float(half_angle(pair, gear, np.array(rad)))
+        assert 2 * rad * psi == pytest.approx(pair.tooth_thickness(gear, rad), rel=1e-12)
+    psi1 = float(half_angle(pair, 1, np.array(pair.r1)))
+    assert psi1 == pytest.approx(math.pi / 38 + 2 * 0.3 * math.tan(math.radians(20)) / 19,
+                                 rel=1e-12)
+
+
+def test_tooth_options_are_validated() -> None:
+    from gear_dyn.stiffness.tooth import ToothOptions
+
+    with pytest.raises(InputError, match="fillet_radius_coef"):
+        ToothOptions(fillet_radius_coef=-0.1)
+    with pytest.raises(InputError, match="grid_points"):
+        ToothOptions(grid_points=10)
+    with pytest.raises(InputError, match="does not fit the tip clearance"):
+        potential_energy_pair_stiffness(CLASSIC, CLASSIC.pitch_point,
+                                        ToothOptions(fillet_radius_coef=0.5))
