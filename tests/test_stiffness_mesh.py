@@ -209,6 +209,8 @@ def test_selector_refuses_bad_input() -> None:
         build_stiffness(CLASSIC, "iso6336", fourier_terms=0)
     with pytest.raises(InputError, match="does not apply to method"):
         stiffness_options_from_table({"method": "iso6336", "weber_slices": 4})
+    with pytest.raises(InputError, match="numbers, strings or booleans"):
+        build_stiffness(CLASSIC, "rectangular", single=[1e8])
     with pytest.raises(InputError, match="bore_radius1"):
         build_stiffness(CLASSIC, "potential_energy", bore_radius1=0.05)
 

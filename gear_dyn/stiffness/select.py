@@ -231,6 +231,11 @@ def build_stiffness(pair: GearPair, method: str = "iso6336", *,
             f"{', '.join(_ALLOWED[method]) or 'none'}"
         )
     items = tuple(sorted((k, v) for k, v in options.items() if v is not None))
+    try:
+        hash(items)
+    except TypeError:
+        raise InputError(f"stiffness options must be numbers, strings or booleans, got "
+                         f"{dict(items)!r}") from None
     k = _build_cached(_Key(pair, method, items))
     if fourier_terms is not None:
         if isinstance(fourier_terms, bool) or not isinstance(fourier_terms, int | np.integer) \
