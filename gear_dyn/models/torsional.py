@@ -482,6 +482,36 @@ class TorsionalModel:
             ts = ts[keep]
         return ts
 
+    def contact_events(self) -> list[Callable[[float, FloatArray], float]]:
+        """Functions g(t, y) whose zeros are contact changes through the backlash (none without).
+
+        ``delta - b_g`` (drive flank) and ``delta + b_g`` (back flank), delta the mesh deflection
+        of the module docstring; used by :mod:`gear_dyn.events` to restart the solver there.
+        """
+        bg = self.backlash
+        if bg is None:
+            return []
+        rb1, rb2 = self.pair.rb1, self.pair.rb2
+        fm = self.mesh_frequency
+        excite = self._excite
+        te = self.transmission_error
+        ecc = self.eccentric
+
+        def deflection(t: float, y: FloatArray) -> float:
+            d = rb1 * float(y[0]) - rb2 * float(y[1])
+            if ecc:
+                d += excite(t)[0]
+            if te is not None:
+                d -= float(te.value(fm * t))
+            return d
+
+        def drive(t: float, y: FloatArray) -> float:
+            return deflection(t, y) - bg
+
+        def back(t: float, y: FloatArray) -> float:
+            return deflection(t, y) + bg
+        return [drive, back]
+
     def linear_segments(self, t0: float, t1: float) -> list[tuple[float, float, FloatArray,
                                                                    FloatArray]] | None:
         """Pieces ``(ta, tb, A, g)`` with y' = A y + g, or None.
