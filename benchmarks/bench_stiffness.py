@@ -102,6 +102,32 @@ def helix_table() -> str:
     return "\n".join(lines)
 
 
+BAND_PAIRS = (  # the pairs of tests/test_stiffness_potential_energy.py::test_pem_mean_within_band
+    (19, 48, 3.2e-3, 20.0, 16e-3, 0.0, 0.0),
+    (23, 64, 6e-3, 22.5, 50e-3, 0.0, 0.0),
+    (25, 25, 4e-3, 20.0, 20e-3, 0.0, 0.0),
+    (18, 80, 2e-3, 20.0, 20e-3, 0.0, 0.0),
+    (30, 90, 5e-3, 20.0, 40e-3, 0.0, 0.0),
+    (40, 40, 3e-3, 25.0, 30e-3, 0.0, 0.0),
+    (15, 40, 3e-3, 20.0, 20e-3, 0.25, 0.1),
+    (60, 120, 2e-3, 20.0, 20e-3, 0.0, 0.0),
+)
+
+
+def band_table() -> str:
+    """Mean of each geometric method over ISO c_gamma b for the spur pairs of the band test."""
+    lines = ["| z1/z2 | m (mm) | a_n (deg) | b (mm) | x1, x2 | eps_a | PEM / ISO | Weber / ISO |",
+             "|---|---:|---:|---:|---|---:|---:|---:|"]
+    for z1, z2, m, a, b, x1, x2 in BAND_PAIRS:
+        pair = GearPair(int(z1), int(z2), m, math.radians(a), b, x1=x1, x2=x2)
+        iso = iso6336_stiffness(pair).k_mesh
+        lines.append(
+            f"| {z1}/{z2} | {m * 1e3:g} | {a:g} | {b * 1e3:g} | {x1:g}, {x2:g} | "
+            f"{pair.contact_ratio:.3f} | {build_stiffness(pair, 'potential_energy').mean / iso:.3f}"
+            f" | {build_stiffness(pair, 'weber').mean / iso:.3f} |")
+    return "\n".join(lines)
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=15)
@@ -119,7 +145,8 @@ def main(argv: list[str] | None = None) -> int:
     )
     text = (head + table + "\n\n## Centre-distance offset (helicopter tail pair)\n\n"
             + offset_table() + "\n\n## Helix angle (25/60, m 3 mm, b 30 mm, 20 deg)\n\n"
-            + helix_table() + "\n")
+            + helix_table() + "\n\n## Mean against ISO 6336 for spur pairs\n\n"
+            + band_table() + "\n")
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
     sys.stdout.write(text)
