@@ -80,7 +80,10 @@ class FmuSession:
         try:
             return func(*args)
         except FMICallException as exc:
-            logged = "; ".join(m for s, m in self.messages[n:] if s >= 2) or "no message logged"
+            new = self.messages[n:]
+            # the FMU's own reason (status error) first; pythonfmu's generic fatal note else
+            logged = ("; ".join(m for s, m in new if s == 3)
+                      or "; ".join(m for s, m in new if s >= 2) or "no message logged")
             raise error(f"FMU {what} failed ({exc}): {logged}") from None
 
     def vr(self, name: str) -> int:
@@ -139,11 +142,20 @@ class FmuSession:
     def initialize(self, start: float = 0.0, stop: float | None = None,
                    tolerance: float | None = None, values: dict[str, Any] | None = None) -> None:
         """setupExperiment, set ``values``, enter and exit initialization mode."""
+        self.enter_init(start, stop, tolerance)
+        if values:
+            self.set(values)
+        self.exit_init()
+
+    def enter_init(self, start: float = 0.0, stop: float | None = None,
+                   tolerance: float | None = None) -> None:
+        """setupExperiment and enterInitializationMode."""
         self._call("setupExperiment", self.fmu.setupExperiment, tolerance, start, stop)
         self._call("enterInitializationMode", self.fmu.enterInitializationMode,
                    error=InputError)
-        if values:
-            self.set(values)
+
+    def exit_init(self) -> None:
+        """exitInitializationMode: the FMU builds its model (InputError if it refuses)."""
         self._call("exitInitializationMode", self.fmu.exitInitializationMode, error=InputError)
 
     def step(self, t: float, h: float) -> None:
