@@ -70,7 +70,10 @@ def compute(scene: Any, methods: list[str]) -> tuple[Any, dict[str, Any], dict[s
 
     pair = build_pair(scene)
     table = dict(scene.get("stiffness"))
-    scene_method, scene_opts = stiffness_options_from_table(table)
+    try:
+        scene_method, scene_opts = stiffness_options_from_table(table)
+    except InputError as exc:
+        raise InputError(f"{scene.source}: {exc}") from None
     fourier = table.get("fourier_terms")
     curves: dict[str, Any] = {}
     per_method: dict[str, Any] = {}

@@ -282,7 +282,7 @@ def stiffness_options_from_table(table: Mapping[str, Any]) -> tuple[str, dict[st
             valid = sorted(k for k, o in SCENE_KEYS.items() if o in _ALLOWED[method])
             raise InputError(
                 f"stiffness.{key} does not apply to method {method!r}; keys for this method: "
-                f"{', '.join(valid) or 'none'}"
+                f"{', '.join(valid) or 'none besides method and fourier_terms'}"
             )
         options[opt] = val
     return method, options
