@@ -1,7 +1,7 @@
 """ISO 6336-1 method B stiffness, checked against hand calculations written out here.
 
-Source of the formulas: ISO 6336-1:2006, clause 9 (method B): q' polynomial with C1..C9, c'_th = 1/q',
-c' = c'_th C_M C_R C_B cos(beta) (E/E_st), C_M = 0.8, C_R = 1 (solid blank),
+Source of the formulas: ISO 6336-1:2006, clause 9 (method B): q' polynomial with C1..C9,
+c'_th = 1/q', c' = c'_th C_M C_R C_B cos(beta) (E/E_st), C_M = 0.8, C_R = 1 (solid blank),
 C_B = (1 + 0.5 (1.2 - h_fP/m_n)) (1 - 0.02 (20 - alpha_n[deg])), c_gamma_alpha = c' (0.75 eps_a +
 0.25), c_gamma_beta = 0.85 c_gamma_alpha. The contact ratio is computed here by hand from the tip
 and base radii, independently of gear_dyn.geometry.
