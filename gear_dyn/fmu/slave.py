@@ -136,6 +136,7 @@ class GearDynSlave(Fmi2Slave):
         self._input_names: list[str] = []
         self._phase = "instantiated"
         self._start_time = 0.0
+        self._stop_time: float | None = None
         self._tolerance: float | None = None
         self._stepper: Stepper | None = None
         self._base_model: Any = None
@@ -212,6 +213,7 @@ class GearDynSlave(Fmi2Slave):
         if not math.isfinite(start_time):
             raise InputError(f"start time = {start_time!r} s: must be finite")
         self._start_time = float(start_time)
+        self._stop_time = float(stop_time) if stop_time is not None else None
         self._tolerance = tolerance if tolerance is not None and tolerance > 0 else None
 
     @_fmi_call
@@ -243,7 +245,8 @@ class GearDynSlave(Fmi2Slave):
         self._changes = {}
         op = scene.get("operating")
         self._applied = (float(op["speed"]), float(op["torque"]))
-        self._stepper = Stepper(plan.model, plan.settings, t0=self._start_time)
+        self._stepper = Stepper(plan.model, plan.settings, t0=self._start_time,
+                                stop_time=self._stop_time)
         self._built_tables = {k: dict(v) for k, v in tables.items()}
 
     @_fmi_call
@@ -297,6 +300,7 @@ class GearDynSlave(Fmi2Slave):
         return {
             "phase": self._phase,
             "start_time": self._start_time,
+            "stop_time": self._stop_time,
             "tolerance": self._tolerance,
             "tables": {k: dict(v) for k, v in self._tables.items()},
             "built_tables": self._built_tables,
@@ -312,6 +316,7 @@ class GearDynSlave(Fmi2Slave):
         if not isinstance(state, dict) or "stepper" not in state:
             raise InputError("not an FMU state of this FMU")
         self._start_time = float(state["start_time"])
+        self._stop_time = state["stop_time"]
         self._tolerance = state["tolerance"]
         built = state["built_tables"]
         if built is not None and (self._stepper is None or built != self._built_tables):

@@ -112,6 +112,9 @@ class Stepper:
         Start time in s.
     y0 : ndarray or None
         Initial state; None uses ``model.initial_state()``.
+    stop_time : float or None
+        Expected end of the run in s (the switching instants up to it are found at once);
+        stepping beyond it still works.
 
     Raises
     ------
@@ -120,7 +123,7 @@ class Stepper:
     """
 
     def __init__(self, model: Model, settings: SolverSettings, t0: float = 0.0,
-                 y0: FloatArray | None = None) -> None:
+                 y0: FloatArray | None = None, stop_time: float | None = None) -> None:
         method = resolve_auto(model) if settings.method == "auto" else settings.method
         if method == "exact" and getattr(model, "linear_segments", None) is None:
             raise InputError("solver.method = 'exact' needs a linear model with "
@@ -130,6 +133,9 @@ class Stepper:
         self.method = method
         self.t = float(t0)
         self.y = np.array(model.initial_state() if y0 is None else y0, dtype=float)
+        self.stop_time = math.inf if stop_time is None else float(stop_time)
+        self._switches: FloatArray = np.empty(0)
+        self._switch_end: float | None = None
         self._solver: OdeSolver | None = None
         self._pieces: list[tuple[float, float, FloatArray, FloatArray]] = []
         self._piece = 0
@@ -146,12 +152,29 @@ class Stepper:
         return self.settings.rtol * np.asarray(self.model.state_scale, dtype=float)
 
     def _next_switch(self, t: float) -> float:
+        """First switching instant after ``t``, from switching times computed for a long
+        window at once (up to the stop time when known, as :func:`gear_dyn.solve.integrate`
+        does): some models find them numerically, which is too costly per restart."""
+        sw = self._switches
+        i = int(np.searchsorted(sw, t, side="right"))
+        if i < sw.size:
+            return float(sw[i])
         period = 1.0 / self.model.mesh_frequency
-        for span in (2.0, 64.0):
-            sw = self.model.switching_times(t, t + span * period)
-            if sw.size:
-                return float(sw[0])
-        return math.inf
+        if self._switch_end is None:
+            start = t
+            long = math.isfinite(self.stop_time) and self.stop_time > t + period
+            end = self.stop_time if long else t + 64.0 * period
+        else:  # windows overlap by half a period: an instant on a window end is not lost
+            start = max(t, self._switch_end - 0.5 * period)
+            end = start + 64.0 * period
+        while True:
+            found = np.asarray(self.model.switching_times(start, end), dtype=float)
+            self._switches, self._switch_end = found[found > t], end
+            if self._switches.size:
+                return float(self._switches[0])
+            if end - t > 4096.0 * period:  # a smooth model: no switching instants at all
+                return math.inf
+            start, end = end - 0.5 * period, end + 64.0 * period
 
     def _new_solver(self, t: float, y: FloatArray) -> OdeSolver:
         cls = ODE_CLASSES[self.method]
@@ -255,6 +278,7 @@ class Stepper:
         self.model = model
         self._solver = None
         self._pieces, self._piece, self._exps = [], 0, {}
+        self._switches, self._switch_end = np.empty(0), None
         self.n_restarts += 1
 
     # ------------------------------------------------------------------ state
