@@ -36,6 +36,7 @@ whole face; helical pairs are refused.
 
 from __future__ import annotations
 
+import bisect
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -343,6 +344,32 @@ class PiecewiseSignal(SampledSignal):
     edges: FloatArray = field(default_factory=lambda: np.array([0.0, 1.0]))
     seg_phase: tuple[FloatArray, ...] = ()
     seg_values: tuple[FloatArray, ...] = ()
+    _u: FloatArray = field(init=False, repr=False)
+    _v: FloatArray = field(init=False, repr=False)
+    _slope: FloatArray = field(init=False, repr=False)
+    _edges_list: list[float] = field(init=False, repr=False)
+    _u_list: list[float] = field(init=False, repr=False)
+    _v_list: list[float] = field(init=False, repr=False)
+    _slope_list: list[float] = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        e = np.asarray(self.edges, dtype=float)
+        if len(self.seg_phase) != e.size - 1 or len(self.seg_values) != e.size - 1:
+            raise InputError("piecewise signal: one sample set per segment is needed")
+        us, vs, ss = [], [], []
+        for i, (ph, v) in enumerate(zip(self.seg_phase, self.seg_values, strict=True)):
+            u = 2 * i + (ph - e[i]) / (e[i + 1] - e[i])
+            us.append(u)
+            vs.append(v)
+            ss.append(np.append(np.diff(v) / np.diff(ph), 0.0))
+        object.__setattr__(self, "_u", np.concatenate(us))
+        object.__setattr__(self, "_v", np.concatenate(vs))
+        object.__setattr__(self, "_slope", np.concatenate(ss))
+        object.__setattr__(self, "_edges_list", [float(x) for x in e])
+        object.__setattr__(self, "_u_list", [float(x) for x in self._u])
+        object.__setattr__(self, "_v_list", [float(x) for x in self._v])
+        object.__setattr__(self, "_slope_list", [float(x) for x in self._slope])
 
     @classmethod
     def from_segments(cls, edges: FloatArray, segment: NDArray[np.int_], phase: FloatArray,
@@ -361,30 +388,41 @@ class PiecewiseSignal(SampledSignal):
         return cls(allp[keep], allv[keep], edges=np.asarray(edges, dtype=float),
                    seg_phase=tuple(sp), seg_values=tuple(sv))
 
-    def _locate(self, phase: ArrayLike) -> tuple[FloatArray, NDArray[np.int_]]:
+    def _u_of(self, phase: ArrayLike) -> FloatArray:
+        e = self.edges
         p = np.mod(np.asarray(phase, dtype=float), 1.0)
-        idx = np.clip(np.searchsorted(self.edges, p, side="right") - 1, 0, self.edges.size - 2)
-        return p, idx
+        idx = np.minimum(np.maximum(np.searchsorted(e, p, side="right") - 1, 0), e.size - 2)
+        return 2 * idx + (p - e[idx]) / (e[idx + 1] - e[idx])
+
+    def _scalar(self, phase: float) -> tuple[float, float]:
+        """(value, slope) at one phase, without array overhead (the solver's hot path)."""
+        e = self._edges_list
+        p = phase % 1.0
+        i = min(max(bisect.bisect_right(e, p) - 1, 0), len(e) - 2)
+        u = 2 * i + (p - e[i]) / (e[i + 1] - e[i])
+        us = self._u_list
+        k = min(max(bisect.bisect_right(us, u) - 1, 0), len(us) - 2)
+        v = self._v_list
+        if us[k + 1] > us[k]:
+            val = v[k] + (v[k + 1] - v[k]) * (u - us[k]) / (us[k + 1] - us[k])
+        else:
+            val = v[k]
+        return val, self._slope_list[k]
 
     def value(self, phase: ArrayLike) -> FloatArray:
         """e(p) at mesh phase ``phase`` (right-continuous at jumps)."""
-        p, idx = self._locate(phase)
-        out = np.empty_like(p)
-        for i in np.unique(idx):
-            sel = idx == i
-            out[sel] = np.interp(p[sel], self.seg_phase[i], self.seg_values[i])
-        return out
+        if isinstance(phase, float | int):
+            return np.float64(self._scalar(float(phase))[0])
+        return np.interp(self._u_of(phase), self._u, self._v)
 
     def slope(self, phase: ArrayLike) -> FloatArray:
         """de/dp, piecewise, in unit per cycle."""
-        p, idx = self._locate(phase)
-        out = np.empty_like(p)
-        for i in np.unique(idx):
-            sel = idx == i
-            ph, v = self.seg_phase[i], self.seg_values[i]
-            k = np.clip(np.searchsorted(ph, p[sel], side="right") - 1, 0, ph.size - 2)
-            out[sel] = (v[k + 1] - v[k]) / (ph[k + 1] - ph[k])
-        return out
+        if isinstance(phase, float | int):
+            return np.float64(self._scalar(float(phase))[1])
+        u = self._u_of(phase)
+        k = np.minimum(np.maximum(np.searchsorted(self._u, u, side="right") - 1, 0),
+                       self._u.size - 1)
+        return self._slope[k]
 
     @property
     def jumps(self) -> FloatArray:
