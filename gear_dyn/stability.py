@@ -398,7 +398,8 @@ def shoot(model: SDOFModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: 
 
     Converged when the closing error ``|P(y0) - y0|`` is below ``100 rtol`` times the larger of
     the state scale and the state itself, component by component (the map is only known to
-    about ``rtol``).
+    about ``rtol``). Gives up early when from the fourth iteration on the error no longer
+    halves (Newton is not converging from this guess).
 
     Parameters
     ----------
@@ -427,14 +428,17 @@ def shoot(model: SDOFModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: 
     n = y.size
     phi = np.eye(n)
     res = math.inf
+    it = 0
     for it in range(1, max_iter + 1):
         yt, phi = flow_with_sensitivity(model, y, period, rtol)
         r = yt - y
         ref = np.maximum(scale, np.abs(y))
-        res = float(np.max(np.abs(r) / ref))
+        res_prev, res = res, float(np.max(np.abs(r) / ref))
         if res <= 100 * rtol:
             mult = np.linalg.eigvals(phi).astype(np.complex128)
             return PeriodicSolution(y, period, phi, mult, True, it, "shooting", res)
+        if it >= 4 and res > 0.5 * res_prev:
+            break  # no Newton convergence: the guess is outside the orbit's basin of Newton
         try:
             dy = np.linalg.solve(phi - np.eye(n), -r)
         except np.linalg.LinAlgError:
@@ -447,7 +451,7 @@ def shoot(model: SDOFModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: 
         if not np.all(np.isfinite(y)):
             break
     mult = np.linalg.eigvals(phi).astype(np.complex128)
-    return PeriodicSolution(y, period, phi, mult, False, max_iter, "shooting", res)
+    return PeriodicSolution(y, period, phi, mult, False, it, "shooting", res)
 
 
 # ------------------------------------------------------------------ stability charts

@@ -52,6 +52,8 @@ FloatArray = NDArray[np.float64]
 RPM = 2 * math.pi / 60
 
 METHODS = ("steady", "transient")
+#: periods of settling transient between shooting attempts after an orbit is lost
+SETTLE_CHUNK = 25
 DIRECTIONS = ("auto", "up", "down", "both")
 
 
@@ -107,6 +109,7 @@ class Point(NamedTuple):
     backside: float
     iterations: int
     spectrum: FloatArray
+    state: FloatArray
 
 
 @dataclass(frozen=True, eq=False)
@@ -129,9 +132,10 @@ class SweepCurve:
     stable, periodic : ndarray of bool
         Floquet-stable; response repeats every mesh period.
     status : tuple of str
-        ``periodic``, ``jump`` (orbit lost, re-found after settling), ``aperiodic`` (no period-1
+        ``periodic``, ``settled`` (shooting from the previous orbit failed, the orbit was found
+        again after a settling transient: where the response jumps), ``aperiodic`` (no period-1
         orbit: measured over a settled window), ``unstable`` (parametric instability),
-        ``transient``.
+        ``transient`` (transient method).
     separation, backside : ndarray
         Share of the mesh period with the teeth apart (inside the backlash; for a linear model,
         a negative mesh force) and in back-side contact.
@@ -139,6 +143,9 @@ class SweepCurve:
         Shooting iterations.
     spectrum : ndarray (n_speeds, n_orders)
         DTE amplitude (m) at the orders of :attr:`SweepResult.orders`.
+    state : ndarray (n_speeds, n_states)
+        State on the periodic orbit at t = 0 (steady method) or at the end of the run
+        (transient, aperiodic), SI; NaN where unstable.
     """
 
     direction: str
@@ -156,6 +163,7 @@ class SweepCurve:
     backside: FloatArray
     iterations: NDArray[np.int_]
     spectrum: FloatArray
+    state: FloatArray
 
     @classmethod
     def from_points(cls, direction: str, points: Sequence[Point]) -> SweepCurve:
@@ -171,6 +179,7 @@ class SweepCurve:
             status=tuple(p.status for p in points), separation=arr("separation"),
             backside=arr("backside"), iterations=arr("iterations", int),
             spectrum=np.array([p.spectrum for p in points], dtype=float),
+            state=np.array([p.state for p in points], dtype=float),
         )
 
 
@@ -269,10 +278,10 @@ def _metrics(model: Model, t: FloatArray, y: FloatArray, load: float
     return (df, float(np.std(dte)), float(np.ptp(dte)), float(np.mean(dte)), sep, back)
 
 
-def _nan_point(speed: float, fm: float, rho: float, status: str, n_orders: int) -> Point:
+def _nan_point(model: Model, speed: float, rho: float, status: str, n_orders: int) -> Point:
     nan = math.nan
-    return Point(speed, fm, nan, nan, nan, nan, rho, False, False, status, nan, nan, 0,
-                 np.full(n_orders, nan))
+    return Point(speed, model.mesh_frequency, nan, nan, nan, nan, rho, False, False, status, nan,
+                 nan, 0, np.full(n_orders, nan), np.full(len(model.state_labels), nan))
 
 
 def _flow(model: Model, t: FloatArray, settings: SolverSettings, y0: FloatArray) -> FloatArray:
@@ -301,13 +310,13 @@ def _orbit_point(model: Model, speed: float, y0: FloatArray, settings: SolverSet
     spec = _order_spectrum(np.tile(dte, opts.window_periods), opts.window_periods, spp,
                            opts.harmonics)
     return Point(speed, fm, df, rms, ptp, mean, rho, stable, True, status, sep, back,
-                 iterations, spec)
+                 iterations, spec, np.array(y0, dtype=float))
 
 
 def _window_point(model: Model, speed: float, t: FloatArray, y: FloatArray, n_window: int,
                   settings: SolverSettings, opts: SweepOptions, rho: float, status: str,
                   iterations: int) -> Point:
-    """Metrics over the last ``n_window`` samples of a run (with their closing sample)."""
+    """Metrics over the last ``n_window`` samples of a run (whole periods)."""
     spp = settings.samples_per_period
     tw, yw = t[-n_window:], y[:, -n_window:]
     df, rms, ptp, mean, sep, back = _metrics(model, tw, yw, model.static_load)
@@ -318,7 +327,7 @@ def _window_point(model: Model, speed: float, t: FloatArray, y: FloatArray, n_wi
     closing = np.abs(y[:, -1] - y[:, -1 - spp]) / np.maximum(scale, np.abs(y[:, -1]))
     periodic = bool(np.max(closing) <= 1e3 * settings.rtol)
     return Point(speed, model.mesh_frequency, df, rms, ptp, mean, rho, math.isfinite(rho) and
-                 rho <= 1.0, periodic, status, sep, back, iterations, spec)
+                 rho <= 1.0, periodic, status, sep, back, iterations, spec, y[:, -1].copy())
 
 
 def _steady_point(model: Model, speed: float, settings: SolverSettings, opts: SweepOptions,
@@ -331,8 +340,7 @@ def _steady_point(model: Model, speed: float, settings: SolverSettings, opts: Sw
     if model.backlash is None:
         sol = periodic_steady_state(model, rtol=rtol)
         if not sol.stable:
-            return _nan_point(speed, model.mesh_frequency, sol.spectral_radius, "unstable",
-                              n_orders), None
+            return _nan_point(model, speed, sol.spectral_radius, "unstable", n_orders), None
         return _orbit_point(model, speed, sol.y0, settings, opts, sol.spectral_radius, True,
                             "periodic", 0), sol.y0
     guess = model.initial_state() if y_guess is None else np.asarray(y_guess, dtype=float)
@@ -341,20 +349,31 @@ def _steady_point(model: Model, speed: float, settings: SolverSettings, opts: Sw
     if sol.converged and sol.stable:
         return _orbit_point(model, speed, sol.y0, settings, opts, sol.spectral_radius, True,
                             "periodic", iters), sol.y0
-    # the orbit followed so far is gone (or Newton left it): settle as a slow sweep would
+    # the orbit followed so far is gone (or Newton left it): settle as a slow sweep would, in
+    # chunks of SETTLE_CHUNK periods, shooting after each. The settling run only has to reach
+    # the attractor's basin, so it runs at rtol >= 1e-6; shooting (or the measured window)
+    # restores the full accuracy.
     spp = settings.samples_per_period
     fm = model.mesh_frequency
-    n_set = opts.settle_periods
-    t = time_grid(fm, (n_set + 0.5 / spp) / fm, spp)[: n_set * spp + 1]
-    y = _flow(model, t, settings, guess)
-    sol = shoot(model, y[:, -1], rtol, opts.max_newton)
-    iters += sol.iterations
-    if sol.converged and sol.spectral_radius <= 1.0 + UNIT_CIRCLE_TOL:
-        return _orbit_point(model, speed, sol.y0, settings, opts, sol.spectral_radius, True,
-                            "jump" if y_guess is not None else "periodic", iters), sol.y0
-    n_win = max(opts.window_periods, 1) * spp + 1
-    return _window_point(model, speed, t, y, n_win, settings, opts, math.nan, "aperiodic",
-                         iters), y[:, -1]
+    loose = replace(settings, rtol=max(settings.rtol, 1e-6), atol=None)
+    y_end = guess
+    settled = 0
+    while settled < opts.settle_periods:
+        n = min(SETTLE_CHUNK, opts.settle_periods - settled)
+        y_end = _flow(model, np.arange(n * spp + 1) / (fm * spp), loose, y_end)[:, -1]
+        settled += n
+        sol = shoot(model, y_end, rtol, opts.max_newton)
+        iters += sol.iterations
+        if sol.converged and sol.spectral_radius <= 1.0 + UNIT_CIRCLE_TOL:
+            status = "settled" if y_guess is not None else "periodic"
+            return _orbit_point(model, speed, sol.y0, settings, opts, sol.spectral_radius, True,
+                                status, iters), sol.y0
+    # no period-1 orbit: measure a window of whole periods at full accuracy
+    n_win = opts.window_periods * spp
+    tw = np.arange(n_win + spp + 1) / (fm * spp)
+    yw = _flow(model, tw, settings, y_end)
+    return _window_point(model, speed, tw, yw, n_win, settings, opts, math.nan, "aperiodic",
+                         iters), yw[:, -1]
 
 
 def _transient_point(model: Model, speed: float, settings: SolverSettings,
@@ -367,12 +386,13 @@ def _transient_point(model: Model, speed: float, settings: SolverSettings,
     if isinstance(model, SDOFModel) and model.backlash is None:
         rho = float(np.max(np.abs(floquet_multipliers(model, settings.rtol))))
         if rho > 1.0 + 1e-6:
-            return _nan_point(speed, model.mesh_frequency, rho, "unstable", n_orders), None
+            return _nan_point(model, speed, rho, "unstable", n_orders), None
         y_guess = None  # linear: every speed from the static state, as run_scene
     spp = settings.samples_per_period
     t = time_grid(model.mesh_frequency, periods / model.mesh_frequency, spp)
     y, _ = integrate(model, t, settings, y_guess)
-    n_win = steady_periods * spp + 1
+    # whole periods: the window of run_scene repeats phase 0 at both ends; one is enough
+    n_win = steady_periods * spp
     return _window_point(model, speed, t, y, min(n_win, t.size), settings, opts, rho,
                          "transient", 0), y[:, -1]
 

@@ -1,0 +1,181 @@
+"""``gear-dyn sweep SCENE --speeds START:STOP:N --out DIR``: a speed sweep with plots, CSV, JSON."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any, TextIO
+
+from ..errors import InputError
+from .run import add_solver_flags, overrides
+
+
+def register(sub: Any) -> None:
+    p = sub.add_parser(
+        "sweep", help="sweep a scene over pinion speeds: dynamic factor, DTE, jumps, stability",
+        description="Evaluate SCENE at N pinion speeds from START to STOP and write into DIR: "
+        "response.png (dynamic factor, RMS and peak-to-peak DTE against speed and f_m/f_n; up "
+        "and down sweeps for scenes with backlash; separation, back-side contact and "
+        "instability marked), waterfall.png (DTE spectra over speed), stability.png "
+        "(Floquet stability chart over f_m/f_n and stiffness variation or damping), "
+        "sweep.csv, spectra.csv and sweep.json. DIR is replaced as a whole only on success.",
+        epilog="examples: gear-dyn sweep scene.toml --speeds '500 rpm:12000 rpm:300' --out out; "
+        "on a Dask cluster: --dask tcp://scheduler:8786",
+    )
+    p.add_argument("scene", type=Path, help="scene file (TOML)")
+    p.add_argument("--speeds", required=True, metavar="START:STOP:N",
+                   help="pinion speeds: START and STOP with units ('500 rpm', '50 rad/s', "
+                   "'10 Hz') or plain numbers in rpm; N points, linearly spaced")
+    p.add_argument("--out", type=Path, required=True, help="output folder")
+    p.add_argument("--sweep-method", choices=("steady", "transient"), default="steady",
+                   help="steady: periodic steady state from the monodromy matrix / shooting "
+                   "(default); transient: integrate [solver] periods at every speed")
+    p.add_argument("--direction", choices=("auto", "up", "down", "both"), default="auto",
+                   help="auto (default): up and down with backlash, up otherwise")
+    p.add_argument("--workers", type=int, default=None,
+                   help="local processes (default: all cores; 1 = in this process)")
+    p.add_argument("--dask", metavar="ADDRESS", default=None,
+                   help="run on a Dask distributed scheduler at ADDRESS (e.g. tcp://host:8786)")
+    p.add_argument("--block", type=int, default=8, help="speeds per task (default 8)")
+    p.add_argument("--harmonics", type=int, default=5, help="mesh harmonics in the spectra")
+    p.add_argument("--chart", choices=("stiffness", "damping", "both", "none"), default="both",
+                   help="stability chart axes besides f_m/f_n (default both)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    add_solver_flags(p)
+    p.set_defaults(func=run)
+
+
+def progress_bar(stream: TextIO, width: int = 40) -> Callable[[int, int], None]:
+    """A text progress bar redrawn in place on ``stream`` (``[####....] 12/200``)."""
+    def show(done: int, total: int) -> None:
+        n = int(width * done / max(total, 1))
+        stream.write(f"\r[{'#' * n}{'.' * (width - n)}] {done}/{total} speeds")
+        if done >= total:
+            stream.write("\n")
+        stream.flush()
+    return show
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..scene import load_scene
+    from ..sweep import SweepOptions, parse_speed_range, sweep
+
+    scene = load_scene(args.scene)
+    speeds = parse_speed_range(args.speeds)
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"--workers = {args.workers}: valid range >= 1")
+    opts = SweepOptions(method=args.sweep_method, harmonics=args.harmonics)
+    show = None
+    if not args.no_progress and sys.stderr.isatty():
+        show = progress_bar(sys.stderr)
+    executor = None
+    client = None
+    if args.dask:
+        try:
+            from distributed import Client
+        except ImportError:
+            raise InputError("--dask needs the distributed package: pip install "
+                             "'dask[distributed]'") from None
+        try:
+            client = Client(args.dask, timeout="20s")
+        except (OSError, TimeoutError) as exc:
+            raise InputError(f"--dask {args.dask}: cannot reach the scheduler ({exc})") from None
+        executor = client.get_executor()
+    try:
+        result = sweep(scene, speeds, options=opts, direction=args.direction, executor=executor,
+                       workers=args.workers, block=args.block, progress=show,
+                       **overrides(args))
+    finally:
+        if client is not None:
+            client.close()
+    summary = write_sweep_outputs(result, scene, args.out, args.chart)
+    up = summary["curves"][result.curves[0].direction]
+    print(f"{scene.name}: {summary['n_speeds']} speeds {summary['speed_range_rpm'][0]:.0f}-"
+          f"{summary['speed_range_rpm'][1]:.0f} rpm in {result.run_time_s:.3g} s "
+          f"({result.options.method}, {result.executor}); f_m = f_n at "
+          f"{summary['resonance_speed_rpm']:.0f} rpm")
+    if "max_dynamic_factor" in up:
+        print(f"  max dynamic factor {up['max_dynamic_factor']:.4f} at "
+              f"{up['max_dynamic_factor_speed_rpm']:.0f} rpm")
+    for d, info in summary["curves"].items():
+        if info["unstable_ranges_rpm"]:
+            rng = ", ".join(f"{a:.0f}-{b:.0f}" for a, b in info["unstable_ranges_rpm"])
+            print(f"  parametric instability ({d}): {rng} rpm")
+    if summary["hysteresis_ranges_rpm"]:
+        rng = ", ".join(f"{a:.0f}-{b:.0f}" for a, b in summary["hysteresis_ranges_rpm"])
+        print(f"  up and down sweeps differ (jumps, hysteresis): {rng} rpm")
+    print(f"wrote {args.out}/")
+    return 0
+
+
+def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
+                        ) -> dict[str, Any]:
+    """Write plots, CSV and sweep.json of a sweep into ``out`` (whole or not at all)."""
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from ..io import save_figure, staged_output, write_csv, write_json
+    from ..models.sdof import SDOFModel
+    from ..plots_sweep import plot_stability_chart, plot_sweep_response, plot_waterfall
+    from ..scene import build_model
+    from ..stability import stability_chart, staircase
+    from ..sweep import RPM, summarize_sweep, sweep_columns
+
+    summary = summarize_sweep(result)
+    model = build_model(scene)
+    with staged_output(out) as tmp:
+        write_csv(tmp / "sweep.csv", sweep_columns(result))
+        spec_cols: dict[str, Any] = {}
+        for c in result.curves:
+            spec_cols.setdefault("direction_down", []).extend([float(c.direction == "down")]
+                                                              * c.speed.size)
+            spec_cols.setdefault("speed_rpm", []).extend(list(c.speed / RPM))
+            for j, o in enumerate(result.orders):
+                spec_cols.setdefault(f"dte_amp_m_order_{o:g}", []).extend(list(c.spectrum[:, j]))
+        write_csv(tmp / "spectra.csv", {k: np.asarray(v) for k, v in spec_cols.items()})
+        fig = plot_sweep_response(result)
+        save_figure(fig, tmp / "response.png", dpi=110)
+        plt.close(fig)
+        for c in result.curves:
+            fig = plot_waterfall(result, c.direction)
+            name = "waterfall.png" if c is result.curves[0] else f"waterfall_{c.direction}.png"
+            save_figure(fig, tmp / name, dpi=110)
+            plt.close(fig)
+        if isinstance(model, SDOFModel) and chart != "none":
+            ratio = result.curves[0].mesh_frequency / result.natural_frequency
+            lo, hi = float(np.min(ratio)), float(np.max(ratio))
+            grid = np.linspace(max(0.02, 0.9 * lo), max(1.1 * hi, 2.5), 300)
+            charts = []
+            edges, vals = staircase(model)
+            eps0 = float((np.max(vals) - np.min(vals)) / (2 * model.mean_stiffness))
+            if chart in ("stiffness", "both") and eps0 > 0:
+                top = min(2 * eps0, 0.999 * model.mean_stiffness
+                          / (model.mean_stiffness - float(np.min(vals))) * eps0)
+                charts.append(stability_chart(model, grid, np.linspace(0, top, 120)))
+            if chart in ("damping", "both"):
+                charts.append(stability_chart(
+                    model, grid, np.linspace(0, max(3 * model.damping_ratio, 0.2), 120),
+                    parameter_name="damping_ratio"))
+            if charts:
+                fig, axes = plt.subplots(len(charts), 1, figsize=(8, 4.2 * len(charts)),
+                                         squeeze=False)
+                note = " (backlash ignored: full contact)" if model.backlash is not None else ""
+                for ax, ch in zip(axes[:, 0], charts, strict=True):
+                    plot_stability_chart(ch, ax=ax, sweep_range=(lo, hi), title=(
+                        f"{result.scene_name}: Floquet stability{note}; black line |mu| = 1"))
+                fig.tight_layout()
+                save_figure(fig, tmp / "stability.png", dpi=110)
+                plt.close(fig)
+                summary["stability_chart"] = {
+                    ch.parameter_name: {"scene_value": ch.scene_value,
+                                        "unstable_share_of_chart": float(
+                                            np.mean(ch.spectral_radius > 1))}
+                    for ch in charts
+                }
+        write_json(tmp / "sweep.json", summary)
+    return summary
+
+
+__all__ = ["progress_bar", "register", "run", "write_sweep_outputs"]
