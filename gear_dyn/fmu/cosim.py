@@ -189,8 +189,11 @@ class FmuSession:
     # ------------------------------------------------------------------ a run
     def run(self, step: float, stop: float, outputs: Sequence[str],
             values: dict[str, Any] | None = None, tolerance: float | None = None,
-            ) -> tuple[FloatArray, FloatArray, float]:
+            stop_time: float | None = None) -> tuple[FloatArray, FloatArray, float]:
         """Instantiate, run from 0 to ``stop`` with communication step ``step``, terminate.
+
+        ``stop_time`` (default: the last communication point) is the stop time announced in
+        setupExperiment; the FMU finds the switching instants up to it at once.
 
         Returns
         -------
@@ -208,7 +211,8 @@ class FmuSession:
         vrs = [self.vr(o) for o in outputs]
         start = time.perf_counter()
         self.instantiate()
-        self.initialize(0.0, float(t[-1]), tolerance, values)
+        self.initialize(0.0, float(t[-1]) if stop_time is None else stop_time, tolerance,
+                        values)
         y[:, 0] = self.fmu.getReal(vrs)
         for k in range(n):
             self.step(float(t[k]), float(t[k + 1] - t[k]))
@@ -384,8 +388,9 @@ def compare(fmu: str | Path, scene: Scene | None = None, steps: Sequence[float] 
     for r in ratios:
         stride = int(round(r))
         with FmuSession(fmu, instance_name=f"cosim_{len(results)}") as session:
+            # announce the reference's end time: both then cut at the same switching instants
             t, y, run_time = session.run(h0 * stride, grid[-1] + 0.5 * h0, list(outputs),
-                                         values)
+                                         values, stop_time=float(grid[-1]))
         rsub = ref[:, ::stride][:, : t.size]
         diff = y[:, : rsub.shape[1]] - rsub
         results.append(StepComparison(

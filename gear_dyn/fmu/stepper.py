@@ -289,7 +289,10 @@ class Stepper:
             solver = {"t_bound": float(self._solver.t_bound),
                       "attrs": _plain(_save_attrs(self._solver))}
         return {"t": self.t, "y": self.y.copy(), "nfev": self.nfev,
-                "n_restarts": self.n_restarts, "method": self.method, "solver": solver}
+                "n_restarts": self.n_restarts, "method": self.method, "solver": solver,
+                # the switching instants in use (found numerically by some models: another
+                # search window could move them in the last digits)
+                "switches": self._switches.copy(), "switch_end": self._switch_end}
 
     def restore(self, snap: dict[str, Any]) -> None:
         """Return to a :meth:`snapshot` (taken with the same model)."""
@@ -301,6 +304,8 @@ class Stepper:
         self.nfev = int(snap["nfev"])
         self.n_restarts = int(snap["n_restarts"])
         self._pieces, self._piece = [], 0
+        self._switches = np.array(snap["switches"], dtype=float)
+        self._switch_end = snap["switch_end"]
         s = snap["solver"]
         if s is None:
             self._solver = None
