@@ -83,10 +83,12 @@ def test_vectorised_and_scalar_paths_agree() -> None:
     ff = friction_factors(lay, mesh.kinematics(t), MU)
     for i, ti in enumerate(t):
         _, f, t1, t2 = line_state_scalar(lay, mesh.kinematics(float(ti)), MU)
-        # identical arithmetic apart from summation order: rounding only
-        assert f == pytest.approx(ff.force[i], rel=1e-12, abs=1e-18)
-        assert t1 == pytest.approx(ff.torque_pinion[i], rel=1e-12, abs=1e-18)
-        assert t2 == pytest.approx(ff.torque_gear[i], rel=1e-12, abs=1e-18)
+        # identical arithmetic apart from summation order, on kinematics whose gear angle is
+        # iterated to 1e-14 rad per rad (scalar and array paths stop at slightly different
+        # iterates): agreement to ~1e-11 relative
+        assert f == pytest.approx(ff.force[i], rel=1e-10, abs=1e-16)
+        assert t1 == pytest.approx(ff.torque_pinion[i], rel=1e-10, abs=1e-16)
+        assert t2 == pytest.approx(ff.torque_gear[i], rel=1e-10, abs=1e-16)
 
 
 def test_friction_dissipates_power() -> None:

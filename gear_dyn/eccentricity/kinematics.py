@@ -286,15 +286,27 @@ class EccentricMesh:
         th2 = th1 * c["rb1"] / c["rb2"]
         g = _geometry(xp, c, th1, th2)
         if c["e2"] > 0.0:
+            # fixed point th2 = F(th2), contracting by ~e2 / r_b2 per step: two plain steps, one
+            # Aitken extrapolation, then plain steps until the change is below the tolerance
             scalar = xp is _MATH
             tol = _FIXED_POINT_TOL * max(1.0, abs(th1) if scalar else float(np.max(np.abs(th1))))
+            x1 = _rigid_theta2(c, th1, g)
+            x2 = _rigid_theta2(c, th1, _geometry(xp, c, th1, x1))
+            d1, d2 = x1 - th2, x2 - x1
+            den = d2 - d1
+            if scalar:
+                th2 = x2 - d2 * d2 / den if den != 0.0 else x2
+            else:
+                safe = np.where(den != 0.0, den, 1.0)
+                th2 = np.where(den != 0.0, x2 - d2 * d2 / safe, x2)
+            g = _geometry(xp, c, th1, th2)
             for _ in range(_FIXED_POINT_MAX):
                 th2_new = _rigid_theta2(c, th1, g)
                 change = abs(th2_new - th2) if scalar else float(np.max(np.abs(th2_new - th2)))
-                th2 = th2_new
-                g = _geometry(xp, c, th1, th2)
                 if change <= tol:
                     break
+                th2 = th2_new
+                g = _geometry(xp, c, th1, th2)
         else:
             th2 = _rigid_theta2(c, th1, g)
         return _assemble(c, tt, th1, th2, g)
