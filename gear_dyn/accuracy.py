@@ -130,3 +130,52 @@ def estimate_error(
         "window_s": [float(tw[0]), float(tw[-1])],
         "check_run_time_s": cost,
     }
+
+
+#: explicit solve_ivp methods (stability-limited on stiff or very fast problems)
+EXPLICIT = ("RK45", "RK23", "DOP853")
+#: a problem is called stiff when max|Re lambda| / min|Re lambda| exceeds this
+STIFF_RATIO = 50.0
+#: ... or when an explicit method needs more than this many steps per mesh period for stability
+FAST_STEPS = 500.0
+
+
+def stiffness_check(model: Model, method: str, samples: int = 16) -> dict[str, Any]:
+    """Is the problem stiff (or very fast) for an explicit method? With advice.
+
+    The Jacobian is evaluated at the initial state at ``samples`` instants over one mesh period.
+    ``stiffness_ratio`` = max |Re lambda| / min |Re lambda| over the nonzero real parts (a
+    heavily over-damped mesh: xi = 5 gives about 100); ``explicit_steps_per_period`` = max |lambda|
+    T_m / 3, the fewest steps per mesh period an explicit Runge-Kutta method (stability bound
+    |h lambda| <~ 3) can take, whatever the tolerance.
+
+    Returns
+    -------
+    dict
+        ``stiffness_ratio``, ``explicit_steps_per_period``, ``stiff`` (bool) and ``advice``
+        (empty when the method suits the problem).
+    """
+    period = 1.0 / model.mesh_frequency
+    y0 = model.initial_state()
+    lam_max, re_max, re_min = 0.0, 0.0, math.inf
+    for t in np.linspace(0.0, period, samples, endpoint=False):
+        lam = np.linalg.eigvals(np.asarray(model.jac(float(t), y0), dtype=float))
+        lam_max = max(lam_max, float(np.max(np.abs(lam))))
+        re = np.abs(lam.real)
+        re = re[re > 1e-12 * max(float(np.max(np.abs(lam))), 1e-300)]
+        if re.size:
+            re_max = max(re_max, float(np.max(re)))
+            re_min = min(re_min, float(np.min(re)))
+    ratio = re_max / re_min if re_min < math.inf and re_min > 0 else 1.0
+    steps = lam_max * period / 3.0
+    stiff = ratio > STIFF_RATIO or steps > FAST_STEPS
+    advice = ""
+    if stiff and method in EXPLICIT:
+        advice = (
+            f"stiff or very fast problem (stiffness ratio {ratio:.3g}, an explicit method needs "
+            f">= {steps:.3g} steps per mesh period for stability): {method} is slow here; use "
+            "method auto (exact propagator where it applies, else LSODA, which switches to BDF "
+            "when stiff) or Radau"
+        )
+    return {"stiffness_ratio": ratio, "explicit_steps_per_period": steps, "stiff": stiff,
+            "advice": advice}

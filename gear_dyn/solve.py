@@ -27,7 +27,11 @@ from .models.base import Model
 FloatArray = NDArray[np.float64]
 
 METHODS = ("auto", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA", "exact")
-DEFAULT_ODE_METHOD = "DOP853"
+#: solve_ivp method of ``auto`` when the exact propagator does not apply. LSODA (restarted at
+#: each switching instant) was the fastest for every target error on the helicopter tail scene
+#: with rectangular and Fourier stiffness, heavy damping, a 1000x stiffer mesh and backlash
+#: (docs/solvers.md, ``gear-dyn bench``), and it switches to BDF by itself when stiff.
+DEFAULT_ODE_METHOD = "LSODA"
 IMPLICIT = ("Radau", "BDF", "LSODA")
 
 # Registry of non-solve_ivp methods: name -> function(model, t_grid, settings) -> (y, stats)
@@ -50,7 +54,7 @@ class SolverSettings:
     Parameters
     ----------
     method : str
-        ``auto`` (default: the exact propagator where it applies, else DOP853), or one of
+        ``auto`` (default: the exact propagator where it applies, else LSODA), or one of
         RK45, RK23, DOP853, Radau, BDF, LSODA (solve_ivp) or ``exact`` (piecewise-exact
         propagator, linear models with piecewise-constant coefficients only).
     rtol : float
@@ -211,7 +215,7 @@ def _atol(model: Model, settings: SolverSettings) -> FloatArray:
 
 
 def resolve_auto(model: Model) -> str:
-    """The method ``auto`` picks: ``exact`` for linear piecewise-constant models, else DOP853."""
+    """The method ``auto`` picks: ``exact`` for linear piecewise-constant models, else LSODA."""
     seg = getattr(model, "linear_segments", None)
     if "exact" in _EXTRA_METHODS and seg is not None:
         t1 = 1.0 / model.mesh_frequency
@@ -365,6 +369,10 @@ def simulate(
 
         used = replace(settings, method=str(st.get("method", settings.method)))
         extra["estimated_error"] = estimate_error(model, t_grid, y, used, st)
+    if stats.method in ("RK45", "RK23", "DOP853"):
+        from .accuracy import stiffness_check
+
+        extra["stiffness_check"] = stiffness_check(model, stats.method)
     info = getattr(model, "summary_info", None)
     if info is not None:
         extra = {**info(), **extra}
