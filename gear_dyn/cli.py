@@ -9,7 +9,9 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import signal
 import sys
+import threading
 import traceback
 from collections.abc import Sequence
 
@@ -53,15 +55,43 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+class Terminated(BaseException):
+    """SIGTERM received: unwinds like Ctrl-C so staged outputs are cleaned up."""
+
+
+def _on_sigterm(signum: int, frame: object) -> None:
+    raise Terminated()
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of ``gear-dyn``; returns the exit code."""
+    """Entry point of ``gear-dyn``; returns the exit code.
+
+    SIGTERM is turned into a clean exit (code 143) while the command runs, so that the output
+    folder being staged is removed and the previous output stays whole.
+    """
     args_list = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in args_list
+    if debug:  # accepted anywhere on the line, also after the subcommand
+        args_list = ["--debug", *[a for a in args_list if a != "--debug"]]
+    previous = None
+    if threading.current_thread() is threading.main_thread():
+        previous = signal.signal(signal.SIGTERM, _on_sigterm)
+    try:
+        return _main(args_list, debug)
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _main(args_list: list[str], debug: bool) -> int:
     try:
         parser = build_parser()
         args = parser.parse_args(args_list)
         code = args.func(args)
         return int(code or 0)
+    except Terminated:
+        sys.stderr.write("gear-dyn: terminated (SIGTERM); no partial output was kept\n")
+        return 143
     except SystemExit as exc:
         return int(exc.code) if isinstance(exc.code, int) else 2
     except InputError as exc:

@@ -4,14 +4,21 @@
   fsync, then ``os.replace`` onto the target (atomic on POSIX).
 - :func:`staged_output`: a context manager for a whole output folder. Everything is written into
   a fresh temporary sibling folder; only when the block succeeds is it swapped in place of the
-  target (the previous folder is kept until the swap is done, then removed). A failure or a kill
-  leaves the previous output intact and no partial files in it.
+  target (the previous folder is kept until the swap is done, then removed). A failure, Ctrl-C or
+  SIGTERM (``gear-dyn`` turns it into a clean exit) leaves the previous output intact and no
+  temporary folder. Only SIGKILL (or a power cut) can leave a hidden ``.NAME.PID.*.partial``
+  sibling behind; the next ``staged_output`` for the same target removes it once process PID is
+  gone. The target itself is always either the complete previous output or the complete new one
+  (or absent for an instant during the swap, never half written).
+
+Files and folders get the usual permissions (0666 / 0777 minus the umask), like ``open()``.
 """
 
 from __future__ import annotations
 
 import contextlib
 import csv
+import glob
 import io
 import json
 import math
@@ -27,11 +34,36 @@ import numpy as np
 from .errors import InputError
 
 
+def _read_umask() -> int:
+    try:  # Linux: read it without changing it
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("Umask:"):
+                return int(line.split()[1], 8)
+    except (OSError, ValueError, IndexError):
+        pass
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+_UMASK = _read_umask()
+
+
 def write_bytes(path: str | Path, data: bytes) -> Path:
-    """Atomically write ``data`` to ``path``."""
+    """Atomically write ``data`` to ``path`` (temporary file in the same folder, then rename).
+
+    Raises
+    ------
+    InputError
+        The folder does not exist or is not writable (the message names the path).
+    """
     p = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=p.parent)
     try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=p.parent)
+    except OSError as exc:
+        raise InputError(f"{p}: cannot write here ({exc.strerror})") from None
+    try:
+        os.fchmod(fd, 0o666 & ~_UMASK)
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
             fh.flush()
@@ -107,18 +139,59 @@ def staged_output(out_dir: str | Path) -> Iterator[Path]:
         target.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise InputError(f"--out {target}: cannot create parent folder ({exc.strerror})") from None
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".partial", dir=target.parent))
+    _remove_stale(target)
+    prefix = f".{target.name}.{os.getpid()}."
+    try:
+        tmp = Path(tempfile.mkdtemp(prefix=prefix, suffix=".partial", dir=target.parent))
+        os.chmod(tmp, 0o777 & ~_UMASK)
+    except OSError as exc:
+        raise InputError(f"--out {target}: cannot write here ({exc.strerror})") from None
     try:
         yield tmp
-        old = None
-        if target.exists():
-            old = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".old",
-                                        dir=target.parent))
-            os.rmdir(old)
-            os.replace(target, old)
-        os.replace(tmp, target)
-        if old is not None:
-            shutil.rmtree(old, ignore_errors=True)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
+    old = None
+    try:
+        if target.exists():
+            old = Path(tempfile.mkdtemp(prefix=prefix, suffix=".old", dir=target.parent))
+            os.rmdir(old)
+            os.replace(target, old)
+        os.replace(tmp, target)
+    except BaseException:
+        if old is not None and not target.exists():  # put the previous output back
+            with contextlib.suppress(OSError):
+                os.replace(old, target)
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)
+
+
+def _pid_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # e.g. EPERM: it exists, owned by someone else
+        return True
+    return True
+
+
+def _remove_stale(target: Path) -> None:
+    """Clean ``.NAME.PID.*.partial`` / ``.old`` siblings left by processes killed with SIGKILL.
+
+    A stale ``.old`` folder whose target is missing (killed inside the swap) is the complete
+    previous output: it is put back. Folders of processes still alive are left alone.
+    """
+    with contextlib.suppress(OSError):
+        for sib in sorted(target.parent.glob(f".{glob.escape(target.name)}.*")):
+            parts = sib.name[len(target.name) + 2:].split(".")
+            if len(parts) < 3 or parts[-1] not in ("partial", "old") or not parts[0].isdigit():
+                continue
+            if _pid_alive(int(parts[0])) or not sib.is_dir():
+                continue
+            if parts[-1] == "old" and not target.exists():
+                os.replace(sib, target)
+            else:
+                shutil.rmtree(sib, ignore_errors=True)
