@@ -180,6 +180,8 @@ class Stepper:
         cls = ODE_CLASSES[self.method]
         extra: dict[str, Any] = {"jac": self.model.jac} if self.method in IMPLICIT else {}
         t_bound = self._next_switch(t)
+        if t < self.stop_time < t_bound:
+            t_bound = self.stop_time  # as solve_ivp's last piece: no step beyond the stop time
         return cls(self.model.rhs, t, y, t_bound, rtol=self.settings.rtol, atol=self.atol,
                    max_step=self.settings.max_step, **extra)
 
