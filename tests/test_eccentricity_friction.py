@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
 from gear_dyn.eccentricity import Eccentricity, EccentricMesh
 from gear_dyn.eccentricity.contact_lines import LineLayout, line_positions
@@ -169,3 +171,37 @@ def test_bad_friction_coefficient_is_refused() -> None:
     mesh = EccentricMesh(pair_of(15.0), Eccentricity(), W1)
     with pytest.raises(InputError, match="friction.coefficient"):
         friction_factors(LineLayout.of(mesh), mesh.kinematics(np.zeros(2)), 1.5)
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    z1=st.integers(18, 40), ratio=st.floats(1.0, 5.0), beta=st.floats(0.0, 30.0),
+    width=st.floats(0.01, 0.12), e1=st.floats(0.0, 3e-4), e2=st.floats(0.0, 3e-4),
+    ph1=st.floats(0.0, 6.3), ph2=st.floats(0.0, 6.3),
+)
+def test_friction_never_produces_power_and_lines_stay_in_the_field(
+        z1: int, ratio: float, beta: float, width: float, e1: float, e2: float, ph1: float,
+        ph2: float) -> None:
+    """Property over random pairs and eccentricities: friction power <= 0, every segment lies in
+    [C, D], and the split lengths add up to the total contact length."""
+    z2 = int(round(z1 * ratio))
+    try:
+        pair = GearPair(z1, z2, 3e-3, math.radians(20), width, math.radians(beta))
+        mesh = EccentricMesh(pair, Eccentricity(e1, e2, ph1, ph2), W1)
+    except InputError:
+        assume(False)  # an impossible pair is refused elsewhere (tested); not this property
+    lay = LineLayout.of(mesh)
+    t = np.linspace(0.0, 2 / 25, 801)
+    k = mesh.kinematics(t)
+    seg = split_segments(lay, k)
+    ff = friction_factors(lay, k, MU, seg)
+    assert np.all(ff.torque_pinion * k.w1 + ff.torque_gear * k.w2 <= 1e-15)
+    on = seg.before > 0
+    lo = np.broadcast_to(k.l_ac, seg.before.shape)
+    hi = np.broadcast_to(k.l_ad, seg.before.shape)
+    assert np.all(seg.mid_before[on] >= lo[on] - 1e-12)
+    on = seg.beyond > 0
+    assert np.all(seg.mid_beyond[on] <= hi[on] + 1e-12)
+    from gear_dyn.eccentricity.contact_lines import contact_lines
+
+    np.testing.assert_allclose(seg.total, contact_lines(lay, k).total, rtol=1e-12, atol=1e-15)
