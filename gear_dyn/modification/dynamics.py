@@ -11,7 +11,9 @@ static solution, with the secant instead of the incremental stiffness (for compa
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass, field
 from functools import partial
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -19,6 +21,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..errors import InputError
 from ..geometry import GearPair
 from ..models.sdof import SDOFModel, sdof_from_pair
+from ..stiffness.periodic import PeriodicStiffness
 from .contact import LoadedContact, loaded_contact
 from .relief import ProfileModification
 
@@ -74,7 +77,7 @@ def relief_sdof(
     inertias: tuple[float, float] | None = None,
     linearisation: str = "tangent",
     samples_per_segment: int = 48,
-) -> tuple[SDOFModel, LoadedContact]:
+) -> tuple[ReliefSDOFModel, LoadedContact]:
     """Single-DOF model of a spur pair with tip relief at its operating load.
 
     Parameters
@@ -100,7 +103,7 @@ def relief_sdof(
 
     Returns
     -------
-    (SDOFModel, LoadedContact)
+    (ReliefSDOFModel, LoadedContact)
 
     Raises
     ------
@@ -112,12 +115,163 @@ def relief_sdof(
         raise InputError(f"linearisation = {linearisation!r}: valid values are "
                          f"{', '.join(LINEARISATIONS)}")
     lc = loaded_contact(pair, pair_stiffness, torque, modification, samples_per_segment)
+    relieved = modification is not None and not modification.is_zero
     if linearisation == "secant":
-        model = sdof_from_pair(pair, speed, torque, lc.mesh_stiffness(), damping_ratio,
-                               inertias)
+        k: PeriodicStiffness = lc.mesh_stiffness()
+        te = None
     else:
-        te = lc.transmission_error() if modification is not None and not modification.is_zero \
-            else None
-        model = sdof_from_pair(pair, speed, torque, lc.tangent_stiffness(), damping_ratio,
-                               inertias, transmission_error=te)
+        k = lc.tangent_stiffness()
+        te = lc.transmission_error() if relieved else None
+    base = sdof_from_pair(pair, speed, torque, k, damping_ratio, inertias,
+                          transmission_error=te)
+    info = {
+        "stiffness_method": f"loaded contact ({linearisation})",
+        "tip_relief": relief_info(modification),
+        "static_ptp_transmission_error_m": lc.peak_to_peak_error,
+        "mean_loaded_stiffness_n_per_m": lc.mesh_stiffness().mean,
+    }
+    model = ReliefSDOFModel(
+        mass=base.mass, stiffness=k, damping_ratio=damping_ratio, static_load=base.static_load,
+        mesh_frequency=base.mesh_frequency, transmission_error=te, info=info,
+    )
     return model, lc
+
+
+def relief_info(modification: ProfileModification | None) -> dict[str, Any]:
+    """Plain-dict description of the reliefs (SI units in the key names) for summaries."""
+    out: dict[str, Any] = {}
+    for name in ("pinion", "gear"):
+        r = None if modification is None else getattr(modification, name)
+        out[name] = None if r is None else {"amount_m": r.amount, "length_m": r.length,
+                                            "curve": r.curve}
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class ReliefSDOFModel(SDOFModel):
+    """:class:`~gear_dyn.models.sdof.SDOFModel` that also reports its tip relief in summaries."""
+
+    info: dict[str, Any] = field(default_factory=dict)
+
+    def summary_info(self) -> dict[str, Any]:
+        """Extra summary entries: relief, loaded stiffness, static transmission error."""
+        return dict(self.info)
+
+
+class ContactSDOFModel:
+    """Reference single-DOF model with the loaded-contact force itself (no linearisation).
+
+        m_e x'' + c x' + sum_j K_j(s_j) max(0, x - g_j(s_j)) = W
+
+    Every pair in geometric contact pushes only once ``x`` has closed its relief gap ``g_j``,
+    at every instant of the motion (not only at the static load), so contact loss and the
+    load-dependent pick-up are exact. Used to judge the linearised forms of :func:`relief_sdof`.
+    ``K`` and ``g`` are tabulated along the path of contact (``table_points``, linear
+    interpolation). Damping ``c = 2 xi sqrt(m_e k_m)`` with k_m the unmodified mean stiffness,
+    acting on ``x'``.
+
+    Parameters
+    ----------
+    pair : GearPair
+        Spur pair.
+    speed, torque : float
+        Pinion speed (rad/s) and torque (N m).
+    modification : ProfileModification or None
+    pair_stiffness : callable
+        Unmodified single-pair stiffness ``K(s)`` in N/m.
+    damping_ratio : float
+    inertias : (float, float) or None
+    table_points : int
+        Points of the K and g tables along the path (>= 16).
+    """
+
+    state_labels: tuple[str, ...] = ("x", "v")
+
+    def __init__(self, pair: GearPair, speed: float, torque: float,
+                 modification: ProfileModification | None,
+                 pair_stiffness: Callable[[FloatArray], FloatArray],
+                 damping_ratio: float = 0.06, inertias: tuple[float, float] | None = None,
+                 table_points: int = 2001) -> None:
+        import math
+
+        base = sdof_from_pair(pair, speed, torque,
+                              loaded_contact(pair, pair_stiffness, torque).mesh_stiffness(),
+                              damping_ratio, inertias)
+        self.mass = base.mass
+        self.damping = base.damping
+        self.static_load = base.static_load
+        self.mesh_frequency = base.mesh_frequency
+        self.mean_stiffness = base.mean_stiffness
+        self._s_a, self._pb = pair.start_of_contact, pair.base_pitch
+        self._s_e = pair.end_of_contact
+        self._n = int(math.ceil(pair.contact_ratio)) + 1
+        self._s = np.linspace(self._s_a, self._s_e, max(int(table_points), 16))
+        self._k = np.asarray(pair_stiffness(self._s), dtype=float)
+        if modification is None or modification.is_zero:
+            self._g = np.zeros_like(self._s)
+        else:
+            modification.check(pair)
+            self._g = modification.separation(pair, self._s)
+        self._modification = modification
+        eps = pair.contact_ratio
+        self._switch = np.unique(np.mod([0.0, eps - math.floor(eps)], 1.0))
+
+    @property
+    def state_scale(self) -> FloatArray:
+        """Typical magnitudes [m, m/s]."""
+        x = self.static_load / self.mean_stiffness
+        return np.array([x, x * np.sqrt(self.mean_stiffness / self.mass)])
+
+    def _pairs(self, t: float) -> tuple[FloatArray, FloatArray]:
+        p = (self.mesh_frequency * t) % 1.0
+        s = self._s_a + (p + np.arange(self._n)) * self._pb
+        s = s[s <= self._s_e]
+        return np.interp(s, self._s, self._k), np.interp(s, self._s, self._g)
+
+    def _elastic(self, t: float, x: float) -> tuple[float, float]:
+        k, g = self._pairs(t)
+        comp = x - g
+        on = comp > 0
+        return float(np.sum(k[on] * comp[on])), float(np.sum(k[on]))
+
+    def initial_state(self) -> FloatArray:
+        """Static solution at t = 0 (bisection on the monotone elastic force), at rest."""
+        lo, hi = 0.0, 10 * self.static_load / float(np.min(self._k)) + float(np.max(self._g))
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            if self._elastic(0.0, mid)[0] < self.static_load:
+                lo = mid
+            else:
+                hi = mid
+        return np.array([0.5 * (lo + hi), 0.0])
+
+    def rhs(self, t: float, y: FloatArray) -> FloatArray:
+        """[x', v'] at time t (s)."""
+        f, _ = self._elastic(t, float(y[0]))
+        return np.array([y[1], (self.static_load - self.damping * y[1] - f) / self.mass])
+
+    def jac(self, t: float, y: FloatArray) -> FloatArray:
+        """Jacobian with the tangent stiffness of the pairs in contact."""
+        _, kt = self._elastic(t, float(y[0]))
+        return np.array([[0.0, 1.0], [-kt / self.mass, -self.damping / self.mass]])
+
+    def switching_times(self, t0: float, t1: float) -> FloatArray:
+        """Geometric entry/exit instants (a pair without relief enters with a force jump)."""
+        fm = self.mesh_frequency
+        c0, c1 = int(np.floor(fm * t0)), int(np.floor(fm * t1))
+        ph = (np.arange(c0, c1 + 1)[:, None] + self._switch[None, :]).ravel() / fm
+        return np.sort(ph[(ph > t0) & (ph < t1)])
+
+    def summary_info(self) -> dict[str, Any]:
+        """Extra summary entries."""
+        return {"stiffness_method": "loaded contact (nonlinear contact force)",
+                "tip_relief": relief_info(self._modification)}
+
+    def outputs(self, t: FloatArray, y: FloatArray) -> dict[str, FloatArray]:
+        """``dte`` (m), ``mesh_force`` (N), ``stiffness`` (tangent, N/m)."""
+        f = np.empty(len(t))
+        kt = np.empty(len(t))
+        for i, (ti, xi) in enumerate(zip(t, y[0], strict=True)):
+            f[i], kt[i] = self._elastic(float(ti), float(xi))
+        return {"dte": np.asarray(y[0], dtype=float), "mesh_force": f + self.damping * y[1],
+                "stiffness": kt}

@@ -15,7 +15,7 @@ from .loader import Scene, load_scene, parse_scene
 from .registry import MODEL_BUILDERS, SECTIONS, register_model, register_section
 
 #: modules that register extra scene tables or model builders when imported
-FEATURE_MODULES: tuple[str, ...] = ("gear_dyn.eccentricity.scene",)
+FEATURE_MODULES: tuple[str, ...] = ("gear_dyn.eccentricity.scene", "gear_dyn.modification.scene")
 
 _loaded = False
 
