@@ -34,6 +34,11 @@ METHODS = ("auto", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA", "exact")
 DEFAULT_ODE_METHOD = "LSODA"
 IMPLICIT = ("Radau", "BDF", "LSODA")
 
+#: work limits, so that an absurd input ends in a clear error instead of a hang or a memory blow-up
+MAX_SAMPLES = 4_000_000  #: output samples of one run (periods x samples_per_period)
+MAX_NATURAL_PERIODS = 50_000  #: natural periods of the mesh mode one ODE run may span
+MAX_NFEV = 5_000_000  #: right-hand-side evaluations of one ODE run (checked between pieces)
+
 # Registry of non-solve_ivp methods: name -> function(model, t_grid, settings) -> (y, stats)
 _EXTRA_METHODS: dict[str, Callable[..., tuple[FloatArray, dict[str, Any]]]] = {}
 
@@ -251,6 +256,7 @@ def integrate(
         )
     t0, t1 = float(t_grid[0]), float(t_grid[-1])
     y = np.array(model.initial_state() if y0 is None else y0, dtype=float)
+    check_work(model, t0, t1, y)
     cuts = np.concatenate([[t0], model.switching_times(t0, t1), [t1]])
     atol = _atol(model, settings)
     n = len(model.state_labels)
@@ -276,6 +282,7 @@ def integrate(
                 settings.max_step, extra,
             )
             nfev, njev, nlu = nfev + est["nfev"], njev + est["njev"], nlu + est["nlu"]
+            _check_nfev(nfev, settings.method, tb)
             n_events += est["n_events"]
             out[:, i0:i1] = ys[:, : i1 - i0]
             continue
@@ -284,6 +291,7 @@ def integrate(
             atol=atol, max_step=settings.max_step, **extra,
         )
         nfev += sol.nfev
+        _check_nfev(nfev, settings.method, tb)
         njev += sol.njev
         nlu += sol.nlu
         if sol.status != 0:
@@ -303,6 +311,44 @@ def integrate(
     if events:
         stats["n_contact_events"] = n_events
     return out, stats
+
+
+def check_work(model: Model, t0: float, t1: float, y0: FloatArray) -> None:
+    """Refuse an ODE run that cannot give a sensible answer in reasonable time.
+
+    Raises
+    ------
+    InputError
+        The initial state is not finite, or the span covers more than
+        :data:`MAX_NATURAL_PERIODS` periods of the model's ``natural_frequency`` (an ODE solver
+        needs several steps per natural period, so such a run would take hours).
+    """
+    if not np.all(np.isfinite(y0)):
+        labels = ", ".join(f"{n} = {v:.6g}" for n, v in zip(model.state_labels, y0, strict=False))
+        raise InputError(
+            f"initial state is not finite ({labels}): the inputs are beyond what the model can "
+            "represent (check near-zero sizes, stiffnesses or inertias and huge loads)"
+        )
+    f_n = getattr(model, "natural_frequency", None)
+    if f_n is None:
+        return
+    n_nat = (t1 - t0) * float(f_n)
+    if not (math.isfinite(n_nat) and n_nat <= MAX_NATURAL_PERIODS):
+        raise InputError(
+            f"the run spans {n_nat:.4g} natural periods (natural frequency {float(f_n):.6g} Hz, "
+            f"mesh frequency {model.mesh_frequency:.6g} Hz, duration {t1 - t0:.6g} s): valid "
+            f"range <= {MAX_NATURAL_PERIODS} for an ODE solver; raise operating.speed, lower "
+            "solver.periods, or use method 'exact' where it applies"
+        )
+
+
+def _check_nfev(nfev: int, method: str, t: float) -> None:
+    if nfev > MAX_NFEV:
+        raise SolverError(
+            f"solve_ivp ({method}) gave up at t = {t:.6g} s after {nfev} right-hand-side "
+            f"evaluations (limit {MAX_NFEV}): the problem is stiff or the tolerance too tight; "
+            "try an implicit method (LSODA, Radau, BDF), a looser rtol, or fewer solver.periods"
+        )
 
 
 def simulate(
@@ -336,6 +382,13 @@ def simulate(
     """
     settings = settings or SolverSettings()
     check_range("duration", t_end, "s", low=0.0, low_open=True)
+    n_samples = t_end * model.mesh_frequency * settings.samples_per_period
+    if n_samples > MAX_SAMPLES:
+        raise InputError(
+            f"solver.periods x solver.samples_per_period = {n_samples:.4g} output samples "
+            f"(duration {t_end:.6g} s at mesh frequency {model.mesh_frequency:.6g} Hz): valid "
+            f"range <= {MAX_SAMPLES} samples; simulate fewer periods or fewer samples per period"
+        )
     t_grid = time_grid(model.mesh_frequency, t_end, settings.samples_per_period)
     if t_grid.size < 8:
         raise InputError(
