@@ -14,7 +14,7 @@ from ..models.base import Model
 from ..models.sdof import sdof_from_pair
 from ..solve import Result, SolverSettings, simulate
 from ..stiffness.periodic import PeriodicStiffness
-from .loader import Scene
+from .loader import Scene, scene_error
 from .registry import MODEL_BUILDERS, register_model
 
 #: ISO 6336 gives c_gamma = c' (0.75 eps_a + 0.25); a rectangular wave with k_single = c' b and
@@ -23,9 +23,7 @@ ISO_DOUBLE_FACTOR = 1.75
 
 
 def _wrap(scene: Scene, exc: InputError) -> SceneError:
-    if isinstance(exc, SceneError):
-        return exc
-    return SceneError(f"{scene.source}: {exc}")
+    return scene_error(scene.source, exc)  # file name in front, Python names -> key paths
 
 
 def build_pair(scene: Scene) -> GearPair:

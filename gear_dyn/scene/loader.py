@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import difflib
+import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -46,6 +47,39 @@ class Scene:
         """Case name (file stem if not given)."""
         n = self.tables.get("scene", {}).get("name", "")
         return n or Path(self.source).stem
+
+
+#: Python parameter names (GearPair, sdof_from_pair, SDOFModel) -> scene key paths, so that an
+#: error raised by the API while building a scene names the key the user wrote
+SCENE_KEY_PATHS: dict[str, str] = {
+    "z1": "gear.teeth_pinion", "z2": "gear.teeth_gear", "module": "gear.module",
+    "pressure_angle": "gear.pressure_angle", "face_width": "gear.face_width",
+    "helix_angle": "gear.helix_angle", "addendum_coef": "gear.addendum_coef",
+    "clearance_coef": "gear.clearance_coef", "x1": "gear.profile_shift_pinion",
+    "x2": "gear.profile_shift_gear", "center_distance": "gear.center_distance",
+    "youngs_modulus1": "gear.youngs_modulus", "youngs_modulus2": "gear.youngs_modulus",
+    "poisson1": "gear.poisson", "poisson2": "gear.poisson", "density1": "gear.density",
+    "density2": "gear.density", "speed": "operating.speed", "torque": "operating.torque",
+    "inertia_pinion": "inertia.pinion", "inertia_gear": "inertia.gear",
+    "damping_ratio": "damping.ratio", "backlash": "backlash.half_gap",
+}
+_NAME_RE = re.compile(
+    r"(?<![\w.])(" + "|".join(sorted(SCENE_KEY_PATHS, key=len, reverse=True))
+    + r")(?=\s*(?:=|<|>))"
+)
+
+
+def scene_error(source: str, exc: Exception) -> SceneError:
+    """A :class:`SceneError` for an error raised by the API while building a scene.
+
+    The message gets the file name in front, and Python parameter names used as variables
+    (``z1 = 9``, ``x1 >= 0.3``) become the scene key paths (``gear.teeth_pinion = 9``).
+    A :class:`SceneError` is returned unchanged.
+    """
+    if isinstance(exc, SceneError):
+        return exc
+    text = _NAME_RE.sub(lambda m: SCENE_KEY_PATHS[m.group(1)], str(exc))
+    return SceneError(f"{source}: {text}")
 
 
 def _all_defaults(name: str) -> bool:
