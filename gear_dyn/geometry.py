@@ -24,6 +24,10 @@ from dataclasses import dataclass, field
 
 from .errors import InputError, check_range
 
+#: smallest non-zero helix angle in rad (0.0057 deg); a smaller one is a spur pair in all but
+#: rounding, and the helical contact-line formulas underflow
+MIN_HELIX_ANGLE = 1e-4
+
 
 def involute(alpha: float) -> float:
     """Involute function ``inv(a) = tan a - a`` (a in rad)."""
@@ -115,6 +119,11 @@ class GearPair:
         )
         check_range("face_width", self.face_width, "m", low=0.0, high=10.0, low_open=True)
         check_range("helix_angle", self.helix_angle, "rad", low=0.0, high=math.radians(45))
+        if 0.0 < self.helix_angle < MIN_HELIX_ANGLE:  # contact lines degenerate below this
+            raise InputError(
+                f"helix_angle = {self.helix_angle:.6g} rad: valid range 0 (spur) or "
+                f"{MIN_HELIX_ANGLE:g} <= x <= {math.radians(45):.6g} rad"
+            )
         check_range("addendum_coef", self.addendum_coef, "", low=0.5, high=1.5)
         check_range("clearance_coef", self.clearance_coef, "", low=0.0, high=0.5)
         check_range("x1", self.x1, "", low=-1.0, high=1.5)

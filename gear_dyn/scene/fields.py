@@ -17,6 +17,10 @@ from ..errors import SceneError, range_text
 
 REQUIRED: Any = object()
 
+#: no scene quantity is meaningful below this magnitude in SI units (1e-30 m, N m, kg m^2, ...);
+#: such values only underflow the physics to 0 or inf
+TINY = 1e-30
+
 
 @lru_cache(maxsize=1)
 def _ureg() -> Any:
@@ -126,6 +130,11 @@ class Field:
             value = float(raw)
         if not math.isfinite(value):
             raise SceneError(f"{where} = {raw!r}: must be a finite number; valid range {rng}")
+        if value != 0.0 and abs(value) < TINY:
+            raise SceneError(
+                f"{where} = {raw!r}: {abs(value):.3g}{unit_txt} is below the smallest meaningful "
+                f"magnitude {TINY:g}{unit_txt} (use 0 if you mean zero); valid range {rng}"
+            )
         ok = True
         if self.low is not None:
             ok = value > self.low if self.low_open else value >= self.low
