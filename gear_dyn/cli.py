@@ -27,6 +27,8 @@ COMMANDS: tuple[str, ...] = (
     "gear_dyn.commands.excitation",
     "gear_dyn.commands.fmu",
     "gear_dyn.commands.cosim",
+    "gear_dyn.commands.relief",
+    "gear_dyn.commands.contact",
 )
 
 

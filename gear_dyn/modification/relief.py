@@ -71,7 +71,8 @@ def relief_shape(u: ArrayLike, curve: str) -> tuple[FloatArray, FloatArray]:
     Returns
     -------
     f, df : ndarray
-        Value (0 at u = 0, 1 at u = 1) and slope. The slope is 0 outside (0, 1).
+        Value (0 at u = 0, 1 at u = 1) and slope. The slope is 0 outside (0, 1] (at the tip,
+        u = 1, it is the curve's end slope).
 
     Raises
     ------
@@ -86,7 +87,7 @@ def relief_shape(u: ArrayLike, curve: str) -> tuple[FloatArray, FloatArray]:
     """
     _check_curve(curve)
     uu = np.asarray(u, dtype=float)
-    inside = (uu > 0.0) & (uu < 1.0)
+    inside = (uu > 0.0) & (uu <= 1.0 + 1e-9)  # the tip itself, with rounding
     uc = np.clip(uu, 0.0, 1.0)
     if curve == "sine":
         f = np.sin(0.5 * np.pi * uc)

@@ -21,7 +21,8 @@ gives the offset curve ``c + w N`` whose curvature is, exactly,
 ``kappa_s = -r_b / rho^3``. The relief curves are not
 smooth at their start (a kink for the linear curve, an infinite second derivative for k < 2), so
 the second derivative is averaged over the contact width: the mean of ``d^2 D/dsigma^2`` over
-``sigma +- b`` is ``(D'(sigma + b) - D'(sigma - b)) / (2 b)`` with the unmodified half-width b.
+``sigma +- b`` is ``(D'(sigma + b) - D'(sigma - b)) / (2 b)`` with the unmodified half-width b
+(the window is cut at the tip, where the flank ends).
 Decision: Hertz theory sees the flank through the contact width, and the average is finite for
 every curve.
 """
@@ -136,13 +137,17 @@ def profile_curvature(pair: GearPair, gear: int, rho: ArrayLike,
     rb = pair.rb1 if gear == 1 else pair.rb2
     b = np.maximum(np.asarray(half_width, dtype=float), 0.5e-6)
     sigma = r**2 / (2 * rb)
+    reach = pair.tip_reach1 if gear == 1 else pair.tip_reach2
 
     def slope_sigma(sig: FloatArray) -> FloatArray:
-        rr = np.sqrt(2 * rb * np.maximum(sig, 0.0))
+        rr = np.minimum(np.sqrt(2 * rb * np.maximum(sig, 0.0)), reach)  # rounding at the tip
         _, dd = modification.roll_depth(pair, gear, rr)
         return np.where(rr > 0, dd * rb / np.maximum(rr, 1e-300), 0.0)
 
-    w2 = (slope_sigma(sigma + b) - slope_sigma(sigma - b)) / (2 * b)
+    # the window ends at the tip and at the base circle: the flank ends there
+    sig_hi = np.minimum(sigma + b, reach**2 / (2 * rb))
+    sig_lo = np.maximum(sigma - b, 0.0)
+    w2 = (slope_sigma(sig_hi) - slope_sigma(sig_lo)) / np.maximum(sig_hi - sig_lo, 1e-300)
     w, w_rho = modification.roll_depth(pair, gear, r)
     w1 = w_rho * rb / r
     kappa_s = -rb / r**3
