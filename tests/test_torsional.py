@@ -239,3 +239,28 @@ def test_unknown_option_and_bad_values_are_refused() -> None:
         TorsionalModel(PAIR, W1, T1, constant(8e8), INERTIAS, friction=-0.1)
     with pytest.raises(InputError, match="stiffness.per_length"):
         ContactLineStiffness(-1.0)
+
+
+def test_periodic_stiffness_follows_the_eccentric_mesh_phase() -> None:
+    """Any stiffness method with eccentricity: k is evaluated at the eccentric mesh phase
+    p = (tau + L_AC0 - L_AC) / p_bt, so its jumps happen where that phase crosses the switching
+    phases (1e-9 cycles), not at f_m t; without eccentricity p = f_m t exactly."""
+    k = rectangular_stiffness(PAIR.contact_ratio, 5e8, 8.5e8)
+    model = TorsionalModel(PAIR, W1, T1, k, INERTIAS, eccentricity=ECC)
+    sw = model.switching_times(0.0, 0.02)
+    kin = model.mesh.kinematics(sw)
+    phase = (kin.travel + model.mesh.l_ac0 - kin.l_ac) / PAIR.base_pitch
+    frac = np.mod(phase, 1.0)
+    dist = np.min(np.abs(frac[:, None] - np.append(k.switching_phases, 1.0)[None, :]), axis=1)
+    assert np.max(dist) < 1e-9
+    assert sw.size == pytest.approx(2 * 0.02 * model.mesh_frequency, abs=2)
+    # the stiffness seen by the model jumps exactly there
+    before = np.array([model.excitations(np.array([t - 1e-9]))["stiffness"][0] for t in sw[:6]])
+    after = np.array([model.excitations(np.array([t + 1e-9]))["stiffness"][0] for t in sw[:6]])
+    assert np.all(np.abs(after - before) == pytest.approx(3.5e8, rel=1e-12))
+    plain = TorsionalModel(PAIR, W1, T1, k, INERTIAS)
+    np.testing.assert_allclose(plain.switching_times(0.0, 0.02),
+                               k.switching_times(0.0, 0.02, plain.mesh_frequency), rtol=0,
+                               atol=1e-15)
+    r = simulate(model, 0.004, SolverSettings(method="DOP853", rtol=1e-7))
+    assert np.all(np.isfinite(r.outputs["mesh_force"]))
