@@ -31,11 +31,13 @@ from numpy.typing import NDArray
 from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, OdeSolver, Radau
 
 from ..errors import InputError, SolverError
+from ..events import contact_event_functions
 from ..exact import _Exponential  # the exact propagator's cached matrix exponential
 from ..models.base import Model
 from ..solve import IMPLICIT, SolverSettings, resolve_auto
 
 FloatArray = NDArray[np.float64]
+EPS = float(np.finfo(float).eps)
 
 #: OdeSolver classes the stepper can keep alive, by solve_ivp method name
 ODE_CLASSES: dict[str, type[OdeSolver]] = {
@@ -137,6 +139,13 @@ class Stepper:
         self._switches: FloatArray = np.empty(0)
         self._switch_end: float | None = None
         self._solver: OdeSolver | None = None
+        # contact changes (backlash): restart the solver where one happens, as integrate does
+        self._events = contact_event_functions(model)
+        self._dirs: list[float] = []
+        self._g: list[float] = []
+        self._cut: tuple[float, FloatArray] | None = None
+        self._cut_event: int | None = None
+        self.n_events = 0
         self._pieces: list[tuple[float, float, FloatArray, FloatArray]] = []
         self._piece = 0
         self._exps: dict[bytes, Any] = {}
@@ -255,20 +264,68 @@ class Stepper:
     def _advance_ode(self, t1: float) -> FloatArray:
         solver = self._solver
         if solver is None:
-            solver = self._solver = self._new_solver(self.t, self.y)
+            solver = self._start(self.t, self.y, None)
         while True:
+            if self._cut is not None:  # a contact change inside the last step
+                te, ye = self._cut
+                if t1 <= te:
+                    return np.asarray(solver.dense_output()(t1), dtype=float)
+                self.nfev += solver.nfev
+                solver = self._start(te, ye, self._cut_event)
+                continue
             if solver.t >= t1:
                 if solver.t == t1 or solver.t_old is None:
                     return np.array(solver.y, dtype=float)
                 return np.asarray(solver.dense_output()(t1), dtype=float)
             if solver.status == "finished":  # reached a switching instant: restart there
                 self.nfev += solver.nfev
-                solver = self._solver = self._new_solver(solver.t, np.array(solver.y))
+                solver = self._start(solver.t, np.array(solver.y), None)
                 continue
             msg = solver.step()
             if solver.status == "failed":
                 raise SolverError(f"{self.method} failed at t = {solver.t:.6g} s: {msg}; try a "
                                   "smaller rtol or an implicit method (Radau, BDF)")
+            if self._events:
+                self._check_events(solver)
+
+    def _start(self, t: float, y: FloatArray, event: int | None) -> OdeSolver:
+        """New solver at ``(t, y)``; after a contact change of event ``event`` only that
+        function's opposite crossing is looked for (as :mod:`gear_dyn.events` does)."""
+        solver = self._solver = self._new_solver(t, y)
+        self._cut = None
+        self._cut_event = None
+        if self._events:
+            self._dirs = [0.0] * len(self._events)
+            if event is not None:
+                span = max(solver.t_bound - t, 0.0) if math.isfinite(solver.t_bound) else 0.0
+                dt = 1e-9 * (span or 1.0 / self.model.mesh_frequency)
+                slope = self._events[event](t + dt, y + dt * self.model.rhs(t, y))
+                self._dirs[event] = -1.0 if slope > 0 else 1.0
+            self._g = [float(fn(t, y)) for fn in self._events]
+            self.n_events += event is not None
+        return solver
+
+    def _check_events(self, solver: OdeSolver) -> None:
+        """Locate the first contact change in the last step (root of g on the dense output)."""
+        from scipy.optimize import brentq
+
+        g_new = [float(fn(solver.t, solver.y)) for fn in self._events]
+        first: tuple[float, int] | None = None
+        sol = None
+        for i, (g0, g1, d) in enumerate(zip(self._g, g_new, self._dirs, strict=True)):
+            up, down = g0 <= 0 <= g1, g0 >= 0 >= g1
+            if not ((up and d >= 0) or (down and d <= 0)) or g0 == g1:
+                continue
+            sol = sol or solver.dense_output()
+            fn = self._events[i]
+            tr = float(brentq(lambda tt, fn=fn, sol=sol: fn(tt, sol(tt)), solver.t_old,
+                              solver.t, xtol=4 * EPS, rtol=4 * EPS))
+            if first is None or tr < first[0]:
+                first = (tr, i)
+        self._g = g_new
+        if first is not None and sol is not None:
+            self._cut = (first[0], np.asarray(sol(first[0]), dtype=float))
+            self._cut_event = first[1]
 
     def replace_model(self, model: Model) -> None:
         """Continue with another model (e.g. a new input value) from the current state.
@@ -279,6 +336,8 @@ class Stepper:
             self.nfev += self._solver.nfev
         self.model = model
         self._solver = None
+        self._events = contact_event_functions(model)
+        self._cut, self._cut_event = None, None
         self._pieces, self._piece, self._exps = [], 0, {}
         self._switches, self._switch_end = np.empty(0), None
         self.n_restarts += 1
@@ -294,7 +353,11 @@ class Stepper:
                 "n_restarts": self.n_restarts, "method": self.method, "solver": solver,
                 # the switching instants in use (found numerically by some models: another
                 # search window could move them in the last digits)
-                "switches": self._switches.copy(), "switch_end": self._switch_end}
+                "switches": self._switches.copy(), "switch_end": self._switch_end,
+                "events": {"dirs": list(self._dirs), "g": list(self._g),
+                           "cut": None if self._cut is None else
+                           (self._cut[0], self._cut[1].copy()),
+                           "cut_event": self._cut_event, "n_events": self.n_events}}
 
     def restore(self, snap: dict[str, Any]) -> None:
         """Return to a :meth:`snapshot` (taken with the same model)."""
@@ -308,6 +371,12 @@ class Stepper:
         self._pieces, self._piece = [], 0
         self._switches = np.array(snap["switches"], dtype=float)
         self._switch_end = snap["switch_end"]
+        self._events = contact_event_functions(self.model)
+        ev = snap["events"]
+        self._dirs, self._g = list(ev["dirs"]), list(ev["g"])
+        self._cut = None if ev["cut"] is None else (float(ev["cut"][0]),
+                                                    np.array(ev["cut"][1], dtype=float))
+        self._cut_event, self.n_events = ev["cut_event"], int(ev["n_events"])
         s = snap["solver"]
         if s is None:
             self._solver = None
