@@ -311,18 +311,6 @@ class EccentricMesh:
             th2 = _rigid_theta2(c, th1, g)
         return _assemble(c, tt, th1, th2, g)
 
-    def geometry_at(self, theta1: ArrayLike, theta2: ArrayLike) -> Kinematics:
-        """Kinematic quantities for given rotation angles (rad) instead of the rigid drive.
-
-        ``t`` is reported as ``theta1 / w1``; ``e_ecc`` is then ``r_b2 th2 - r_b1 th1`` for the
-        given angles minus the rigid-drive constant, i.e. the mismatch along the line of action.
-        """
-        c = self._c
-        th1 = np.asarray(theta1, dtype=float)
-        th2 = np.asarray(theta2, dtype=float)
-        g = _geometry(np, c, th1, th2)
-        return _assemble(c, th1 / c["w1"], th1, th2, g)
-
 
 def _geometry(xp: Any, c: dict[str, float], th1: Any, th2: Any) -> dict[str, Any]:
     """Seed 000 eqs. 1-11 for rotation angles th1 (CCW) and th2 (CW); xp = numpy or math."""
