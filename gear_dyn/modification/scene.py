@@ -22,6 +22,7 @@ this module runs. Keys (SI values or strings with units)::
 
 from __future__ import annotations
 
+import importlib
 from typing import Any
 
 from ..errors import InputError, SceneError
@@ -68,6 +69,9 @@ TIP_RELIEF = register_section(Section("tip_relief", (
     Field("samples_per_segment", kind="int", default=48, low=2, high=10000,
           doc="loaded-contact samples between switching phases"),
 ), doc="tip relief on pinion and/or gear; the single-DOF model runs on the loaded contact"))
+
+#: feature modules whose model builders must exist before this module wraps them
+FEATURE_MODULES_BEFORE: tuple[str, ...] = ("gear_dyn.eccentricity.scene",)
 
 _CUSTOM_KEYS = ("amount_pinion", "amount_gear", "length_pinion", "length_gear",
                 "height_pinion", "height_gear")
@@ -176,6 +180,10 @@ def _refuse_relief(kind: str, builder: Any) -> Any:
     return wrapped
 
 
+# the other model kinds do not know [tip_relief]: make them refuse it rather than ignore it
+# (their feature modules are imported first so that their builders are registered to be wrapped)
+for _module in FEATURE_MODULES_BEFORE:
+    importlib.import_module(_module)
 for _kind, _builder in list(MODEL_BUILDERS.items()):
     if _kind != "sdof":
         register_model(_kind, _refuse_relief(_kind, _builder))
