@@ -213,6 +213,10 @@ class ContactSDOFModel:
             modification.check(pair)
             self._g = modification.separation(pair, self._s)
         self._modification = modification
+        self._ds = float(self._s[1] - self._s[0])
+        self._n_tab = int(self._s.size)
+        self._k_list = [float(v) for v in self._k]
+        self._g_list = [float(v) for v in self._g]
         eps = pair.contact_ratio
         self._switch = np.unique(np.mod([0.0, eps - math.floor(eps)], 1.0))
 
@@ -222,17 +226,27 @@ class ContactSDOFModel:
         x = self.static_load / self.mean_stiffness
         return np.array([x, x * np.sqrt(self.mean_stiffness / self.mass)])
 
-    def _pairs(self, t: float) -> tuple[FloatArray, FloatArray]:
-        p = (self.mesh_frequency * t) % 1.0
-        s = self._s_a + (p + np.arange(self._n)) * self._pb
-        s = s[s <= self._s_e]
-        return np.interp(s, self._s, self._k), np.interp(s, self._s, self._g)
-
     def _elastic(self, t: float, x: float) -> tuple[float, float]:
-        k, g = self._pairs(t)
-        comp = x - g
-        on = comp > 0
-        return float(np.sum(k[on] * comp[on])), float(np.sum(k[on]))
+        """(elastic force N, tangent stiffness N/m) at time t and approach x (pure Python: the
+        solver's hot path; K and g interpolated linearly on the uniform table)."""
+        p = (self.mesh_frequency * t) % 1.0
+        s0, ds, n_tab = self._s_a, self._ds, self._n_tab
+        k_list, g_list = self._k_list, self._g_list
+        force = 0.0
+        kt = 0.0
+        for j in range(self._n):
+            s = s0 + (p + j) * self._pb
+            if s > self._s_e:
+                break
+            u = (s - s0) / ds
+            i = min(int(u), n_tab - 2)
+            w = u - i
+            g = g_list[i] + w * (g_list[i + 1] - g_list[i])
+            if x > g:
+                k = k_list[i] + w * (k_list[i + 1] - k_list[i])
+                force += k * (x - g)
+                kt += k
+        return force, kt
 
     def initial_state(self) -> FloatArray:
         """Static solution at t = 0 (bisection on the monotone elastic force), at rest."""
