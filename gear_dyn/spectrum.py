@@ -52,7 +52,7 @@ def amplitude_spectrum(
         x = x - x.mean()
     n = x.size
     if window == "hann":
-        w = np.hanning(n)
+        w = np.hanning(n + 1)[:-1]  # periodic Hann: no leakage past +-1 bin for bin-centred tones
     elif window == "rect":
         w = np.ones(n)
     else:

@@ -37,19 +37,21 @@ ECCENTRICITY = register_section(Section("eccentricity", (
           doc="initial angle of the pinion's geometric centre"),
     Field("phase_gear", "rad", default=0.0, low=-1e3, high=1e3,
           doc="initial angle of the gear's geometric centre"),
-), doc="geometric eccentricity of pinion and gear (seed 000; present = enabled)"))
+), doc="geometric eccentricity of pinion and gear (seed 000; present = enabled)",
+   models=("torsional",)))
 
 FRICTION = register_section(Section("friction", (
     Field("coefficient", default=REQUIRED, low=0.0, high=1.0,
           doc="mean tooth friction coefficient mu"),
-), doc="sliding friction on the contact lines (seed 000; present = enabled)"))
+), doc="sliding friction on the contact lines (seed 000; present = enabled)",
+   models=("torsional",)))
 
 TORSIONAL = register_section(Section("torsional", (
     Field("load_torque", "N*m", default=None, low=0.0, high=1e9,
           doc="gear load torque T2 (default: balances T1 with the mean friction loss)"),
     Field("stiffness_per_length", "N/m**2", default=None, low=0.0, high=1e16, low_open=True,
           doc="k_l for stiffness method contact_line (default from that method's mean)"),
-), doc="options of the two-DOF torsional model"))
+), doc="options of the two-DOF torsional model", models=("torsional",)))
 
 
 def _wrap(scene: Scene, exc: InputError) -> SceneError:

@@ -2,5 +2,6 @@
 
 from .base import Model
 from .sdof import SDOFModel, dead_zone, effective_mass, sdof_from_pair
+from .torsional import TorsionalModel
 
-__all__ = ["Model", "SDOFModel", "dead_zone", "effective_mass", "sdof_from_pair"]
+__all__ = ["Model", "SDOFModel", "TorsionalModel", "dead_zone", "effective_mass", "sdof_from_pair"]

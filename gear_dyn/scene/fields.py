@@ -177,6 +177,9 @@ class Section:
     fields: tuple[Field, ...]
     optional: bool = True
     doc: str = ""
+    #: model kinds (``[scene] model``) this table applies to; None = every model. A table
+    #: present in a scene whose model does not use it is refused, never silently ignored.
+    models: tuple[str, ...] | None = None
 
     def parse(self, raw: Any, source: str) -> dict[str, Any]:
         """Validated dict of SI values with defaults filled in."""

@@ -111,6 +111,14 @@ def parse_scene(data: dict[str, Any], source: str = "<dict>") -> Scene:
                 f"{source}: [{key}]: unknown table{mean} (valid tables: {', '.join(SECTIONS)})"
             )
         tables[key] = SECTIONS[key].parse(value, source)
+    model = tables.get("scene", {}).get("model", "sdof")
+    for name in tables:
+        kinds = SECTIONS[name].models
+        if kinds is not None and model not in kinds:
+            raise SceneError(
+                f"{source}: [{name}] applies to scene.model = {' or '.join(map(repr, kinds))} "
+                f"only; this scene runs {model!r} (remove the table or change scene.model)"
+            )
     for name, sec in SECTIONS.items():
         if not sec.optional and name not in tables:
             raise SceneError(f"{source}: [{name}]: missing required table ({sec.doc})")
