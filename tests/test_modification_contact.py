@@ -167,3 +167,27 @@ def test_helical_pair_and_bad_stiffness_are_refused() -> None:
         loaded_contact(TAIL, lambda s: -np.ones_like(s), 100.0)
     with pytest.raises(InputError, match="torque"):
         loaded_contact(TAIL, constant, 0.0)
+
+
+def test_relief_length_and_exponent_trends() -> None:
+    """Gear-tip relief, amount above the single-pair deflection. A longer relief lowers the
+    entering pair's load everywhere (its gap C f(1 - d/L) grows with L); a larger exponent k
+    opens a smaller gap inside the relief (u^k <= u on [0, 1]), so it never delays the pick-up
+    and never lowers the entering pair's load: the printed trend 'a steeper curve exponent delays
+    load pickup' does not hold at equal amount and length (docs/modification.md)."""
+    long = (TAIL.contact_ratio - 1) * TAIL.base_pitch
+    ph = np.linspace(0.0, TAIL.contact_ratio - 1 - 1e-6, 301)
+
+    def entering_load(relief: TipRelief) -> np.ndarray:
+        c = contact_state(TAIL, parabola, LOAD, ph, ProfileModification(gear=relief))
+        return c.force[:, 0]
+
+    loads = [entering_load(TipRelief(40e-6, f * long)) for f in (0.25, 0.5, 0.75, 1.0)]
+    for a, b in zip(loads, loads[1:], strict=False):
+        assert np.all(b <= a * (1 + 1e-12) + 1e-9) and np.sum(b) < np.sum(a)
+    curves = [entering_load(TipRelief(40e-6, long, c))
+              for c in ("linear", "yoshio", "walker", "parabolic")]
+    pickup = [ph[np.argmax(f > 0)] for f in curves]
+    for a, b in zip(curves, curves[1:], strict=False):
+        assert np.all(b >= a * (1 - 1e-12) - 1e-9) and np.sum(b) > np.sum(a)
+    assert all(q <= p for p, q in zip(pickup, pickup[1:], strict=False))
