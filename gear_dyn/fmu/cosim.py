@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError, SolverError
 from ..scene import Scene, build_pair, build_plan, parse_scene
-from ..solve import DEFAULT_ODE_METHOD, METHODS, SolverSettings, integrate
+from ..solve import DEFAULT_ODE_METHOD, METHODS, SolverSettings, integrate, resolve_auto
 from .build import read_spec
 from .inputs import driven_speed
 
@@ -402,6 +402,8 @@ def compare(fmu: str | Path, scene: Scene | None = None, steps: Sequence[float] 
             finest = y
     assert finest is not None
     fmu_method = str(values.get("solver.method", base.get("solver")["method"]))
+    if fmu_method == "auto":
+        fmu_method = f"auto -> {resolve_auto(plan.model)}"
     return CosimReport(
         fmu=str(fmu), scene_name=base.name, fmu_method=fmu_method,
         reference_method=settings.method, rtol=settings.rtol, stop_time=float(grid[-1]),

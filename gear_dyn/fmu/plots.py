@@ -75,6 +75,11 @@ def convergence_figure(report: CosimReport) -> Any:
     b.set_xlabel("communication step (us)")
     b.set_ylabel("run time (s)")
     b.legend(fontsize=8)
+    from matplotlib.ticker import NullFormatter, ScalarFormatter
+
+    for axis in (a.xaxis, b.xaxis, b.yaxis):
+        axis.set_major_formatter(ScalarFormatter())
+        axis.set_minor_formatter(NullFormatter())
     fig.suptitle(f"{report.scene_name}: difference and cost against the communication step")
     fig.tight_layout()
     return fig
