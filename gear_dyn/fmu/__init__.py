@@ -1,0 +1,10 @@
+"""FMI 2.0 co-simulation export of gear_dyn models (pythonfmu) and the check through fmpy.
+
+- :mod:`.stepper`: advance a model between communication points, keeping the solver alive
+- :mod:`.variables`, :mod:`.inputs`: what an FMU exposes, how its inputs change the model
+- :mod:`.slave`: the pythonfmu slave (imports pythonfmu; used inside built FMUs)
+- :mod:`.build`: ``build_fmu`` (vendored gear_dyn copy, completed modelDescription)
+- :mod:`.cosim`, :mod:`.plots`: ``FmuSession`` (fmpy) and ``compare`` against solve_ivp
+
+Nothing here is imported by ``import gear_dyn``; pythonfmu and fmpy are imported where used.
+"""
