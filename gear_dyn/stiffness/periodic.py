@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import InputError
+from ..errors import InputError, check_range
 
 FloatArray = NDArray[np.float64]
 
@@ -249,14 +249,18 @@ class FourierStiffness(PeriodicStiffness):
     name: str = "fourier"
 
     def __post_init__(self) -> None:
-        a = np.atleast_1d(np.asarray(self.a, dtype=float))
-        b = np.atleast_1d(np.asarray(self.b, dtype=float))
-        if a.shape != b.shape:
+        try:
+            a = np.atleast_1d(np.asarray(self.a, dtype=float))
+            b = np.atleast_1d(np.asarray(self.b, dtype=float))
+        except (TypeError, ValueError):
+            raise InputError(f"{self.name}: a and b must be lists of numbers in N/m") from None
+        if a.shape != b.shape or a.ndim != 1:
             raise InputError(f"{self.name}: a and b must have the same length")
+        if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
+            raise InputError(f"{self.name}: harmonic amplitudes must be finite numbers in N/m")
         object.__setattr__(self, "a", a)
         object.__setattr__(self, "b", b)
-        if not (np.isfinite(self.k0) and self.k0 > 0):
-            raise InputError(f"{self.name}: mean stiffness {self.k0:.6g} N/m must be > 0")
+        check_range(f"{self.name}: mean stiffness", self.k0, "N/m", low=0.0, low_open=True)
 
     @property
     def switching_phases(self) -> FloatArray:
@@ -309,14 +313,9 @@ def rectangular_stiffness(contact_ratio: float, k_single: float, k_double: float
     InputError
         eps < 1 or inconsistent stiffness values.
     """
-    if not (np.isfinite(contact_ratio) and contact_ratio >= 1.0):
-        raise InputError(f"contact_ratio = {contact_ratio:.6g}: valid range >= 1")
-    if not (np.isfinite(k_single) and k_single > 0):
-        raise InputError(f"k_single = {k_single:.6g} N/m: valid range > 0 N/m")
-    if not (np.isfinite(k_double) and k_double >= k_single):
-        raise InputError(
-            f"k_double = {k_double:.6g} N/m: valid range >= k_single = {k_single:.6g} N/m"
-        )
+    contact_ratio = check_range("contact_ratio", contact_ratio, "", low=1.0)
+    k_single = check_range("k_single", k_single, "N/m", low=0.0, low_open=True)
+    k_double = check_range("k_double", k_double, "N/m", low=k_single)
 
     def k_of(pairs: int) -> float:
         if pairs <= 1:
