@@ -146,4 +146,7 @@ def build_plan(scene: Scene, **overrides: Any) -> RunPlan:
 def run_scene(scene: Scene, **overrides: Any) -> Result:
     """Build and simulate a scene; the Result carries the scene."""
     plan = build_plan(scene, **overrides)
-    return simulate(plan.model, plan.t_end, plan.settings, plan.steady_start, scene=scene)
+    try:
+        return simulate(plan.model, plan.t_end, plan.settings, plan.steady_start, scene=scene)
+    except InputError as exc:  # e.g. a run too long for the solver: name the file
+        raise _wrap(scene, exc) from None
