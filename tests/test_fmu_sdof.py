@@ -120,6 +120,9 @@ def test_model_description_valid_and_complete(heli_fmu: Path) -> None:
     ms = root.find("ModelStructure")
     assert [u.get("index") for u in ms.find("Outputs")] == outputs  # type: ignore[union-attr]
     assert [u.get("index") for u in ms.find("InitialUnknowns")] == outputs  # type: ignore[union-attr]
+    cs = root.find("CoSimulation").attrib  # type: ignore[union-attr]
+    assert cs["canGetAndSetFMUstate"] == cs["canSerializeFMUstate"] == "true"
+    assert cs["canBeInstantiatedOnlyOncePerProcess"] == "false"
     # DefaultExperiment from the scene: 200 mesh periods, 64 samples per period, rtol 1e-8
     de = root.find("DefaultExperiment").attrib  # type: ignore[union-attr]
     assert float(de["stopTime"]) == pytest.approx(200 / F_M, rel=1e-12)
