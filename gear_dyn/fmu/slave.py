@@ -46,7 +46,7 @@ import sys
 from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
 import numpy as np
 from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real, String
@@ -192,7 +192,7 @@ class GearDynSlave(Fmi2Slave):
         self._tables[table][key] = parsed
 
     # ------------------------------------------------------------------ refusal
-    def _refuse(self, message: str) -> None:
+    def _refuse(self, message: str) -> NoReturn:
         """Log ``message`` (status error) and raise so the FMI call fails; see module doc."""
         text = " ".join(str(message).split())
         self.log(text, Fmi2Status.error)
