@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import difflib
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
@@ -53,6 +53,13 @@ def _dim_text(unit: str) -> str:
     return _DIM_NAMES.get(dim, f"a quantity in {unit}")
 
 
+def _did_you_mean(word: str, options: Sequence[str]) -> str | None:
+    """The closest option, ignoring case (``dop853`` -> ``DOP853``), or None."""
+    lower = {o.lower(): o for o in options}
+    hint = difflib.get_close_matches(word.lower(), list(lower), n=1)
+    return lower[hint[0]] if hint else None
+
+
 @dataclass(frozen=True)
 class Field:
     """One scene key.
@@ -94,8 +101,8 @@ class Field:
             if not isinstance(raw, str):
                 raise SceneError(f"{where} = {raw!r}: expected a string")
             if self.choices is not None and raw not in self.choices:
-                hint = difflib.get_close_matches(raw, self.choices, n=1)
-                mean = f" (did you mean {hint[0]!r}?)" if hint else ""
+                hint = _did_you_mean(raw, self.choices)
+                mean = f" (did you mean {hint!r}?)" if hint else ""
                 raise SceneError(
                     f"{where} = {raw!r}: valid choices are {', '.join(self.choices)}{mean}"
                 )
@@ -189,8 +196,8 @@ class Section:
         known = {f.name: f for f in self.fields}
         for key in raw:
             if key not in known:
-                hint = difflib.get_close_matches(str(key), list(known), n=1)
-                mean = f"; did you mean {hint[0]!r}?" if hint else ""
+                hint = _did_you_mean(str(key), list(known))
+                mean = f"; did you mean {hint!r}?" if hint else ""
                 raise SceneError(
                     f"{source}: {self.name}.{key}: unknown key{mean} (valid keys: "
                     f"{', '.join(known)})"
