@@ -61,5 +61,12 @@ def run(args: argparse.Namespace) -> int:
         f"({summary['solver']['method']}, {summary['solver']['run_time_s']:.3g} s)",
         file=sys.stdout,
     )
+    est = summary.get("estimated_error")
+    if isinstance(est, dict) and est.get("max_rel") is not None:
+        print(f"estimated error: {est['max_rel']:.2g} of the static deflection "
+              f"({est['basis']})", file=sys.stdout)
+    advice = summary.get("stiffness_check", {}).get("advice")
+    if advice:
+        print(f"advice: {advice}", file=sys.stdout)
     print(f"wrote {args.out}/", file=sys.stdout)
     return 0
