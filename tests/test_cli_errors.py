@@ -192,27 +192,45 @@ def _subcommands() -> dict[str, argparse.ArgumentParser]:
     raise AssertionError("no subcommands")
 
 
-def _fill_required(sub: argparse.ArgumentParser, scene: str, out: str) -> list[str] | None:
-    """A command line with every required argument: scene-like positionals get ``scene``,
-    --out gets ``out``; None if some required argument cannot be guessed."""
-    argv: list[str] = []
+#: sample values for required options other than --out
+_SAMPLES = {"speeds": "1000:2000:3"}
+
+
+def _command_lines(sub: argparse.ArgumentParser, scene: str, out: str,
+                   other: str) -> list[list[str]]:
+    """Command lines with every required argument (nested actions such as ``fmu build``
+    expanded): a positional ``scene`` gets ``scene``, other file positionals (an FMU) ``other``,
+    --out gets ``out``."""
+    lines: list[list[str]] = [[]]
     for action in sub._actions:  # noqa: SLF001
-        if action.option_strings:
+        if isinstance(action, argparse._SubParsersAction):  # noqa: SLF001
+            lines = [[*line, name, *rest] for line in lines
+                     for name, subsub in action.choices.items()
+                     for rest in _command_lines(subsub, scene, out, other)]
+        elif action.option_strings:
             if action.required:
-                if action.dest == "out":
-                    argv += [action.option_strings[0], out]
-                elif action.choices:
-                    argv += [action.option_strings[0], str(next(iter(action.choices)))]
-                else:
-                    return None
-        elif isinstance(action, argparse._SubParsersAction):  # noqa: SLF001
-            return None
+                value = out if action.dest == "out" else _SAMPLES.get(action.dest)
+                if value is None and action.choices:
+                    value = str(next(iter(action.choices)))
+                if value is None:
+                    return []
+                lines = [[*line, action.option_strings[0], value] for line in lines]
         elif action.nargs in (None, 1, "+"):
             if action.choices:
-                argv.append(str(next(iter(action.choices))))
+                value = str(next(iter(action.choices)))
             else:
-                argv.append(scene)
-    return argv
+                value = scene if action.dest == "scene" else other
+            lines = [[*line, value] for line in lines]
+    return lines
+
+
+def _scene_commands(scene: str, out: str, other: str | None = None) -> list[list[str]]:
+    """Every command line (subcommand first) that reads ``scene`` (or ``other`` as its input
+    file, when given)."""
+    wanted = {scene} if other is None else {scene, other}
+    return [[name, *line] for name, sub in _subcommands().items()
+            for line in _command_lines(sub, scene, out, other or "-unused-")
+            if wanted & set(line)]
 
 
 def test_every_subcommand_registered_and_has_help() -> None:
@@ -244,8 +262,9 @@ def test_every_subcommand_rejects_bad_flags_with_exit_2(flag: str) -> None:
 def test_every_scene_command_rejects_a_bad_scene_file_with_exit_2(
     problem: str, tmp_path: Path
 ) -> None:
-    """Every subcommand that takes a scene: a missing file, a folder, broken TOML or binary
-    junk end in exit 2 with one line that names the file, and no output folder."""
+    """Every subcommand that reads a file (a scene, or an FMU for fmu validate / cosim): a
+    missing file, a folder, broken TOML or binary junk end in exit 2 with one line that names
+    the file, and no output."""
     scene = tmp_path / "scene.toml"
     if problem == "directory":
         scene.mkdir()
@@ -253,18 +272,30 @@ def test_every_scene_command_rejects_a_bad_scene_file_with_exit_2(
         scene.write_text("[gear\nteeth_pinion = = 3\n")
     elif problem == "binary":
         scene.write_bytes(b"\xff\xfe\x00\x01garbage")
+    out = tmp_path / "out.fmu"  # a folder name for most commands, the FMU file for fmu build
     tested = []
-    for name, sub in _subcommands().items():
-        out = tmp_path / f"out_{name}"
-        argv = _fill_required(sub, str(scene), str(out))
-        if argv is None or str(scene) not in argv:
-            continue
-        code, _, err = _run([name, *argv])
-        tested.append(name)
-        assert code == 2, (name, argv, err)
-        assert err.count("\n") == 1 and "scene.toml" in err, (name, err)
+    for argv in _scene_commands(str(scene), str(out), other=str(scene)):
+        code, _, err = _run(argv)
+        tested.append(argv[0])
+        assert code == 2, (argv, err)
+        assert err.count("\n") == 1 and "scene.toml" in err, (argv, err)
         assert not out.exists()
-    assert "run" in tested
+    assert {"run", "sweep", "fmu", "cosim"} <= set(tested)
+
+
+def test_every_scene_command_rejects_a_bad_value_with_exit_2(tmp_path: Path) -> None:
+    """Each scene-reading subcommand given the helicopter scene with module = "6 kg" or a
+    NaN torque: exit 2, one line naming the key, no output."""
+    out = tmp_path / "out.fmu"
+    for old, new, key in (('module = "6 mm"', 'module = "6 kg"', "gear.module"),
+                          ('torque = "1474.4 N*m"', "torque = nan", "operating.torque")):
+        scene = tmp_path / "bad.toml"
+        scene.write_text(HELI.read_text().replace(old, new))
+        for argv in _scene_commands(str(scene), str(out)):
+            code, _, err = _run(argv)
+            assert code == 2, (argv, err)
+            assert err.count("\n") == 1 and key in err and "bad.toml" in err, (argv, err)
+            assert not out.exists()
 
 
 def test_bad_override_values_exit_2() -> None:

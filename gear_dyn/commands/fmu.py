@@ -40,7 +40,14 @@ def _problems(path: Path) -> list[str]:
 
     if not path.is_file():
         raise InputError(f"{path}: FMU file not found")
-    return list(validate_fmu(str(path)))
+    import zipfile
+
+    if not zipfile.is_zipfile(path):
+        raise InputError(f"{path}: not an FMU (an FMU is a zip archive)")
+    try:
+        return list(validate_fmu(str(path)))
+    except (zipfile.BadZipFile, KeyError, OSError) as exc:  # broken archive, no description
+        raise InputError(f"{path}: not a readable FMU ({exc.__class__.__name__}: {exc})") from None
 
 
 def run_build(args: argparse.Namespace) -> int:
