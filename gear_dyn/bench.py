@@ -293,8 +293,13 @@ def recommendation_lines(report: BenchReport, targets: Sequence[float]) -> list[
         speed = (f"; {base.run_time_s / best.run_time_s:.3g}x faster than RK45 once over the "
                  f"span ({base.run_time_s:.3g} s)") if base is not None else ""
         rtol = "" if best.mode == "exact" else f" rtol {best.rtol:.0e}"
-        out.append(f"- max error <= {tgt:.0e}: **{best.label}**{rtol} "
-                   f"({best.run_time_s:.3g} s, error {best.err_max:.2g}){speed}")
+        line = (f"- max error <= {tgt:.0e}: **{best.label}**{rtol} "
+                f"({best.run_time_s:.3g} s, error {best.err_max:.2g}){speed}")
+        ode = recommend([c for c in report.cases if c.mode == "restart"], tgt)
+        if best.mode == "exact" and ode is not None:
+            line += (f"; fastest solve_ivp method: {ode.label} rtol {ode.rtol:.0e} "
+                     f"({ode.run_time_s:.3g} s)")
+        out.append(line)
     return out
 
 
