@@ -136,10 +136,12 @@ def solve_piece_with_events(
                 f"solve_ivp ({method}) failed at t = {t:.6g}..{tb:.6g} s: {sol.message}; "
                 "try a smaller rtol or an implicit method (Radau, BDF)"
             )
-        k = sol.y.shape[1]
-        y_eval[:, done:done + k] = sol.y
+        # solve_ivp returns a plain [] when no t_eval point lies before the event
+        sy = np.asarray(sol.y, dtype=float).reshape(n, -1)
+        k = sy.shape[1]
+        y_eval[:, done:done + k] = sy
         done += k
-        if not np.all(np.isfinite(sol.y)):
+        if not np.all(np.isfinite(sy)):
             raise SolverError(
                 f"solve_ivp ({method}) produced non-finite states near t = {t:.6g} s; "
                 "the response diverges or the tolerances are too loose"
