@@ -145,3 +145,25 @@ def test_zero_amount_relief_is_the_unmodified_pair() -> None:
     # same single-pair function; sampling differs (48 per segment vs 200 per cycle): 1e-4
     np.testing.assert_allclose(model.stiffness(ph), plain.stiffness(ph), rtol=1e-4)
     assert model.transmission_error is None
+
+
+def test_contact_command_dynamics(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """--dynamics runs every case through the single-DOF model with the scene's settings."""
+    scene = tmp_path / "short.toml"
+    text = SCENE.read_text()
+    text = text[:text.index("[tip_relief]")] + text[text.index("[damping]"):]
+    text = text.replace("periods = 40 ", "periods = 4 ").replace("steady_periods = 20",
+                                                                 "steady_periods = 2")
+    text = text.replace("samples_per_period = 64", "samples_per_period = 32")
+    text = text.replace("rtol = 1e-7", "rtol = 1e-5")
+    scene.write_text(text)
+    out = tmp_path / "dyn"
+    assert main(["contact", str(scene), "--out", str(out), "--dynamics"]) == 0
+    dyn = json.loads((out / "dynamics.json").read_text())
+    assert list(dyn) == ["unmodified", "handbook", "dudley", "niemann", "seed001"]
+    assert (out / "dynamics.png").stat().st_size > 0
+    # every dynamic factor is at least 1 (the peak force is at least the mean) and finite
+    for row in dyn.values():
+        assert 1.0 <= row["dynamic_factor"] < 3.0
+        assert row["solver"]["method"] == "DOP853"
+    assert "K_v" in capsys.readouterr().out
