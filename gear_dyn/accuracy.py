@@ -12,7 +12,8 @@ The estimate of a run (:func:`estimate_error`):
   the largest difference on each half of that window gives ``e1`` and ``e2``. If the difference
   does not grow (``e2 <= e1``: damped error), the estimate is ``2 max(e1, e2)``; if it grows, it
   is extrapolated linearly to the end of the span, ``2 (e2 + (e2 - e1) (T - T_s) / (T_s / 2))``
-  (undamped phase drift grows linearly). The factor 2 covers the tighter run's own error (about
+  (undamped phase drift grows linearly), and never below the rounding level of the span's
+  sequential products. The factor 2 covers the tighter run's own error (about
   1/60 of the checked run's for DOP853) and the variation of the error along the span; the tests
   in tests/test_solvers_estimate.py check that the estimate bounds the measured error.
 """
@@ -123,6 +124,9 @@ def estimate_error(
     else:
         est = SAFETY * (e2 + (e2 - e1) * (t_end - t_w) / max(0.5 * t_w, 1e-300))
         basis = "second run at rtol/100 over the window; growth extrapolated linearly"
+    # never below the rounding level of the sequential products over the span
+    n_seq = int(stats.get("n_segments", 1)) + int(round(t_end * model.mesh_frequency))
+    est = max(est, rounding_estimate(model, t_grid, y, n_seq))
     return {
         "max_rel": est if math.isfinite(est) else math.inf,
         "basis": basis,

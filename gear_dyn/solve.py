@@ -26,7 +26,7 @@ from .models.base import Model
 
 FloatArray = NDArray[np.float64]
 
-METHODS = ("auto", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA", "exact")
+METHODS = ("auto", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA", "exact", "periodic")
 #: solve_ivp method of ``auto`` when the exact propagator does not apply. LSODA (restarted at
 #: each switching instant) was the fastest for every target error on the helicopter tail scene
 #: with rectangular and Fourier stiffness, heavy damping, a 1000x stiffer mesh and backlash
@@ -59,9 +59,12 @@ class SolverSettings:
     Parameters
     ----------
     method : str
-        ``auto`` (default: the exact propagator where it applies, else LSODA), or one of
-        RK45, RK23, DOP853, Radau, BDF, LSODA (solve_ivp) or ``exact`` (piecewise-exact
-        propagator, linear models with piecewise-constant coefficients only).
+        ``auto`` (default: the exact propagator where it applies; else, for a linear
+        single-DOF model on the usual uniform grid, ``periodic``; else LSODA), or one of
+        RK45, RK23, DOP853, Radau, BDF, LSODA (solve_ivp), ``exact`` (piecewise-exact
+        propagator, linear models with piecewise-constant coefficients only) or ``periodic``
+        (linear mesh-periodic models: one period of step maps integrated, then reused; see
+        :func:`gear_dyn.exact.propagate_periodic`).
     rtol : float
         Relative tolerance, 1e-13..1e-2.
     atol : float or None
@@ -220,7 +223,11 @@ def _atol(model: Model, settings: SolverSettings) -> FloatArray:
 
 
 def resolve_auto(model: Model) -> str:
-    """The method ``auto`` picks: ``exact`` for linear piecewise-constant models, else LSODA."""
+    """The method ``auto`` picks: ``exact`` for linear piecewise-constant models, else LSODA.
+
+    (:func:`integrate` further replaces LSODA by ``periodic`` for a linear single-DOF model on
+    a grid commensurate with the mesh period; that choice needs the grid.)
+    """
     seg = getattr(model, "linear_segments", None)
     if "exact" in _EXTRA_METHODS and seg is not None:
         t1 = 1.0 / model.mesh_frequency
@@ -246,8 +253,13 @@ def integrate(
     """
     if settings.method == "auto":
         method = resolve_auto(model)
+        if method != "exact" and "periodic" in _EXTRA_METHODS:
+            from .exact import periodic_map_applies
+
+            if periodic_map_applies(model, np.asarray(t_grid, dtype=float)):
+                method = "periodic"  # linear, mesh-periodic: one period of integration
         y, st = integrate(model, t_grid, replace(settings, method=method), y0)
-        return y, {**st, "method": method}
+        return y, {**st, "method": st.get("method", method)}
     if settings.method in _EXTRA_METHODS:
         return _EXTRA_METHODS[settings.method](model, t_grid, settings, y0)
     if settings.method == "exact":
@@ -437,9 +449,10 @@ def simulate(
 
 
 def _register_builtin() -> None:
-    from .exact import propagate_exact
+    from .exact import propagate_exact, propagate_periodic
 
     register_method("exact", propagate_exact)
+    register_method("periodic", propagate_periodic)
 
 
 _register_builtin()

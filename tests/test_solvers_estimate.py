@@ -59,15 +59,36 @@ def test_zero_damping_growing_error_is_extrapolated(heli: Any) -> None:
 
 
 def test_smooth_fourier_stiffness(heli: Any) -> None:
-    """Seed 002's 5-term Fourier stiffness (no exact propagator): auto = LSODA, against the
-    DOP853 rtol-1e-13 reference whose own error is 1e-3 of the tested one or less."""
+    """Seed 002's 5-term Fourier stiffness (no exact propagator), LSODA at rtol 1e-7, against
+    the DOP853 rtol-1e-13 reference whose own error is 1e-3 of the tested one or less."""
     model = replace(heli, stiffness=heli.stiffness.truncated(5))
     t_end = 25 / model.mesh_frequency
-    res = simulate(model, t_end, SolverSettings(rtol=1e-7))
-    assert res.stats.method == "LSODA"
+    res = simulate(model, t_end, SolverSettings(method="LSODA", rtol=1e-7))
     ref = reference_solution(model, time_grid(model.mesh_frequency, t_end, 64))
     measured, _ = check(model, res, ref.y)
     assert ref.own_error < 1e-3 * measured
+
+
+@pytest.mark.parametrize("rtol", [1e-5, 1e-7])
+def test_periodic_maps_piecewise_linear_stiffness_with_te(heli: Any, rtol: float) -> None:
+    """Piecewise-linear stiffness with jumps (the shape of the potential-energy and Weber
+    methods) plus a transmission error: linear and mesh-periodic, so auto takes the periodic
+    step maps; the estimate bounds the error against the DOP853 rtol-1e-13 reference."""
+    from gear_dyn.excitation import HarmonicSignal
+    from gear_dyn.stiffness.periodic import PiecewiseStiffness
+
+    pwl = PiecewiseStiffness(
+        np.array([0.0, 0.3, 1.0]),
+        ((np.array([0.0, 0.15, 0.3]), np.array([1.2e9, 1.3e9, 1.25e9])),
+         (np.array([0.3, 1.0]), np.array([0.7e9, 0.75e9]))))
+    te = HarmonicSignal(0.0, np.array([2e-6]), np.array([1e-6]))
+    model = replace(heli, stiffness=pwl, transmission_error=te)
+    t_end = 30 / model.mesh_frequency
+    res = simulate(model, t_end, SolverSettings(rtol=rtol))
+    assert res.stats.method == "periodic"
+    ref = reference_solution(model, res.t)
+    measured, _ = check(model, res, ref.y)
+    assert ref.own_error < 1e-2 * measured
 
 
 def test_backlash_with_contact_events(heli: Any) -> None:
