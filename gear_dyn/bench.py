@@ -28,7 +28,7 @@ from scipy.integrate import solve_ivp
 
 from .accuracy import relative_errors, rounding_estimate
 from .errors import InputError, SolverError
-from .exact import exact_applies
+from .exact import exact_applies, periodic_map_applies
 from .models.base import Model
 from .solve import SolverSettings, integrate, time_grid
 
@@ -54,7 +54,8 @@ class BenchCase:
     """One benchmarked case: method, mode and tolerance, with its cost and error.
 
     ``mode`` is ``restart`` (integrated piece by piece between switching instants, as
-    ``gear-dyn run`` does), ``once`` (one solve_ivp call over the whole span) or ``exact``.
+    ``gear-dyn run`` does), ``once`` (one solve_ivp call over the whole span), ``exact`` or
+    ``periodic`` (one period of step maps, reused; linear mesh-periodic models).
     ``status`` is ``ok``, ``failed`` (the solver raised; ``message`` says why) or ``skipped``
     (a looser tolerance of the same method already took longer than the time budget).
     """
@@ -77,8 +78,8 @@ class BenchCase:
     @property
     def label(self) -> str:
         """Short name for plots and tables."""
-        if self.mode == "exact":
-            return "exact"
+        if self.mode in ("exact", "periodic"):
+            return self.mode
         return self.method if self.mode == "restart" else f"{self.method} (once)"
 
 
@@ -144,7 +145,7 @@ def run_case(model: Model, ref: Reference, method: str, mode: str, rtol: float,
             if mode == "once":
                 y, st = _once(model, t_grid, method, rtol)
             else:
-                m = "exact" if mode == "exact" else method
+                m = mode if mode in ("exact", "periodic") else method
                 y, st = integrate(model, t_grid,
                                   SolverSettings(method=m, rtol=rtol, estimate_error=False))
             times.append(time.perf_counter() - start)
@@ -220,6 +221,8 @@ def run_bench(
                         message="error = rounding estimate (the exact run is the reference)")
         cases.append(c)
     runs: list[tuple[str, str]] = [(m, "restart") for m in methods]
+    if not exact_applies(model) and periodic_map_applies(model, t_grid):
+        runs.insert(0, ("periodic", "periodic"))
     if baseline:
         runs.append(("RK45", "once"))
     for method, mode in runs:

@@ -13,7 +13,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from .bench import BenchReport  # noqa: E402
 
-_MARKERS = {"RK45": "o", "DOP853": "s", "Radau": "^", "BDF": "v", "LSODA": "D", "RK23": "x"}
+_MARKERS = {"RK45": "o", "DOP853": "s", "Radau": "^", "BDF": "v", "LSODA": "D", "RK23": "x",
+            "periodic": "P"}
 
 
 def plot_work_precision(report: BenchReport, targets: Sequence[float] = (1e-6,),
