@@ -183,3 +183,34 @@ def stiffness_check(model: Model, method: str, samples: int = 16) -> dict[str, A
         )
     return {"stiffness_ratio": ratio, "explicit_steps_per_period": steps, "stiff": stiff,
             "advice": advice}
+
+
+def floquet_check(model: Model) -> dict[str, Any] | None:
+    """Parametric stability of a linear single-DOF model before integrating it.
+
+    Uses :func:`gear_dyn.stability.floquet_multipliers` (the monodromy matrix over one mesh
+    period). Returns None for models it does not cover (backlash, other model kinds).
+
+    Returns
+    -------
+    dict or None
+        ``max_multiplier_modulus`` (growth factor per mesh period of the free response),
+        ``unstable`` (bool) and ``advice``.
+    """
+    from .errors import GearDynError
+    from .stability import UNIT_CIRCLE_TOL, floquet_multipliers, is_linear
+
+    if not is_linear(model):
+        return None
+    try:
+        rho = float(np.max(np.abs(floquet_multipliers(model))))  # type: ignore[arg-type]
+    except GearDynError:
+        return None
+    unstable = rho > 1.0 + UNIT_CIRCLE_TOL
+    advice = ""
+    if unstable:
+        advice = (f"parametrically unstable: the free response grows by {rho:.4g} per mesh "
+                  "period (Floquet multiplier); the time history diverges and its peak "
+                  "figures mean nothing - change speed, stiffness variation or damping "
+                  "(see gear-dyn sweep)")
+    return {"max_multiplier_modulus": rho, "unstable": unstable, "advice": advice}

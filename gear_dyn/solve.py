@@ -434,6 +434,11 @@ def simulate(
 
         used = replace(settings, method=str(st.get("method", settings.method)))
         extra["estimated_error"] = estimate_error(model, t_grid, y, used, st)
+    from .accuracy import floquet_check
+
+    floquet = floquet_check(model)
+    if floquet is not None:
+        extra["floquet"] = floquet
     if stats.method in ("RK45", "RK23", "DOP853"):
         from .accuracy import stiffness_check
 

@@ -144,7 +144,8 @@ def exact_monodromy(model: Any) -> np.ndarray:
 def test_parametric_resonance_flagged_then_confirmed(heli: Any) -> None:
     """f_m = 2 f_n (mass raised so 2 f_n / f_m = 1), xi = 0.01. Must happen: the Floquet
     multipliers (gear_dyn.stability, checked against an independent expm product) flag the
-    instability before any integration (|mu| > 1); integration confirms it: the response grows
+    instability before any integration (|mu| > 1; every run summary of a linear single-DOF
+    model carries that check and a warning); integration confirms it: the response grows
     by |mu|^N over N periods (exact and LSODA agree with that rate to 2 %) although every
     solver reports success. The helicopter as built (2 f_n / f_m = 4.6) is stable."""
     ratio = 2 * heli.natural_frequency / heli.mesh_frequency
@@ -155,6 +156,12 @@ def test_parametric_resonance_flagged_then_confirmed(heli: Any) -> None:
     assert mu == pytest.approx(mu_indep, rel=1e-8)
     assert mu > 1.1  # flagged before integration
     assert np.max(np.abs(floquet_multipliers(heli))) < 1.0
+    # every run summary of a linear single-DOF model carries the check and its warning
+    short = 4 / model.mesh_frequency
+    flag = simulate(model, short, SolverSettings(estimate_error=False)).extra["floquet"]
+    assert flag["unstable"] and flag["max_multiplier_modulus"] == pytest.approx(mu, rel=1e-8)
+    assert "unstable" in flag["advice"]
+    assert not simulate(heli, short, SolverSettings()).extra["floquet"]["unstable"]
 
     n = 60
     t = grid(model, n, 16)

@@ -65,8 +65,9 @@ def run(args: argparse.Namespace) -> int:
     if isinstance(est, dict) and est.get("max_rel") is not None:
         print(f"estimated error: {est['max_rel']:.2g} of the static deflection "
               f"({est['basis']})", file=sys.stdout)
-    advice = summary.get("stiffness_check", {}).get("advice")
-    if advice:
-        print(f"advice: {advice}", file=sys.stdout)
+    for key in ("floquet", "stiffness_check"):
+        advice = (summary.get(key) or {}).get("advice")
+        if advice:
+            print(f"warning: {advice}", file=sys.stdout)
     print(f"wrote {args.out}/", file=sys.stdout)
     return 0
