@@ -351,6 +351,7 @@ class PiecewiseSignal(SampledSignal):
     _u_list: list[float] = field(init=False, repr=False)
     _v_list: list[float] = field(init=False, repr=False)
     _slope_list: list[float] = field(init=False, repr=False)
+    _last: list[float] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -370,6 +371,7 @@ class PiecewiseSignal(SampledSignal):
         object.__setattr__(self, "_u_list", [float(x) for x in self._u])
         object.__setattr__(self, "_v_list", [float(x) for x in self._v])
         object.__setattr__(self, "_slope_list", [float(x) for x in self._slope])
+        object.__setattr__(self, "_last", [math.nan, 0.0, 0.0])
 
     @classmethod
     def from_segments(cls, edges: FloatArray, segment: NDArray[np.int_], phase: FloatArray,
@@ -395,7 +397,11 @@ class PiecewiseSignal(SampledSignal):
         return 2 * idx + (p - e[idx]) / (e[idx + 1] - e[idx])
 
     def _scalar(self, phase: float) -> tuple[float, float]:
-        """(value, slope) at one phase, without array overhead (the solver's hot path)."""
+        """(value, slope) at one phase, without array overhead (the solver's hot path; the
+        last phase is remembered because a model asks for value and slope at the same phase)."""
+        last = self._last
+        if phase == last[0]:
+            return last[1], last[2]
         e = self._edges_list
         p = phase % 1.0
         i = min(max(bisect.bisect_right(e, p) - 1, 0), len(e) - 2)
@@ -407,18 +413,19 @@ class PiecewiseSignal(SampledSignal):
             val = v[k] + (v[k + 1] - v[k]) * (u - us[k]) / (us[k + 1] - us[k])
         else:
             val = v[k]
-        return val, self._slope_list[k]
+        last[0], last[1], last[2] = phase, val, self._slope_list[k]
+        return val, last[2]
 
     def value(self, phase: ArrayLike) -> FloatArray:
         """e(p) at mesh phase ``phase`` (right-continuous at jumps)."""
         if isinstance(phase, float | int):
-            return np.float64(self._scalar(float(phase))[0])
+            return self._scalar(float(phase))[0]
         return np.interp(self._u_of(phase), self._u, self._v)
 
     def slope(self, phase: ArrayLike) -> FloatArray:
         """de/dp, piecewise, in unit per cycle."""
         if isinstance(phase, float | int):
-            return np.float64(self._scalar(float(phase))[1])
+            return self._scalar(float(phase))[1]
         u = self._u_of(phase)
         k = np.minimum(np.maximum(np.searchsorted(self._u, u, side="right") - 1, 0),
                        self._u.size - 1)
