@@ -120,6 +120,26 @@ def test_api_errors_from_a_scene_name_the_scene_keys() -> None:
                    "raise the speed")
     same = SceneError("b.toml: x")
     assert scene_error("a.toml", same) is same
+    advice = InputError("contact_ratio = 0.9: check center_distance and addendum_coef")
+    assert str(scene_error("a.toml", advice)) == (
+        "a.toml: contact_ratio = 0.9: check gear.center_distance and gear.addendum_coef")
+    prose = InputError("the torque and speed are fine")
+    assert str(scene_error("a.toml", prose)) == "a.toml: the torque and speed are fine"
+
+
+def test_scene_pair_errors_use_key_paths_throughout() -> None:
+    """An impossible pair from a scene: every parameter named by its key path."""
+    base = {"gear": {"teeth_pinion": 23, "teeth_gear": 64, "module": "2 mm",
+                     "face_width": "20 mm", "profile_shift_pinion": 1.4},
+            "operating": {"speed": "1000 rpm", "torque": "10 N*m"}}
+    from gear_dyn.scene import build_pair
+
+    with pytest.raises(SceneError) as info:
+        build_pair(parse_scene(base, "p.toml"))
+    msg = str(info.value)
+    assert msg.startswith("p.toml: gear.profile_shift_pinion = 1.4: tip of pinion is pointed")
+    assert "reduce gear.profile_shift_pinion or gear.addendum_coef" in msg
+    assert " x1" not in msg
 
 
 @dataclass(frozen=True)

@@ -67,6 +67,18 @@ _NAME_RE = re.compile(
     r"(?<![\w.])(" + "|".join(sorted(SCENE_KEY_PATHS, key=len, reverse=True))
     + r")(?=\s*(?:=|<|>))"
 )
+#: names in advice ("check center_distance and addendum_coef", "reduce x1 or addendum_coef")
+_NAMES = "|".join(sorted(SCENE_KEY_PATHS, key=len, reverse=True))
+_ADVICE_RE = re.compile(
+    rf"\b(check|reduce|increase) ({_NAMES})(?: (and|or) ({_NAMES}))?(?![\w.])"
+)
+
+
+def _advice(m: re.Match[str]) -> str:
+    text = f"{m.group(1)} {SCENE_KEY_PATHS[m.group(2)]}"
+    if m.group(3):
+        text += f" {m.group(3)} {SCENE_KEY_PATHS[m.group(4)]}"
+    return text
 
 
 def scene_error(source: str, exc: Exception) -> SceneError:
@@ -79,6 +91,7 @@ def scene_error(source: str, exc: Exception) -> SceneError:
     if isinstance(exc, SceneError):
         return exc
     text = _NAME_RE.sub(lambda m: SCENE_KEY_PATHS[m.group(1)], str(exc))
+    text = _ADVICE_RE.sub(_advice, text)
     return SceneError(f"{source}: {text}")
 
 
