@@ -55,7 +55,9 @@ TORSIONAL = register_section(Section("torsional", (
 
 
 def _wrap(scene: Scene, exc: InputError) -> SceneError:
-    return exc if isinstance(exc, SceneError) else SceneError(f"{scene.source}: {exc}")
+    from ..scene.loader import scene_error
+
+    return scene_error(scene.source, exc)  # file name in front, Python names -> key paths
 
 
 def scene_eccentricity(scene: Scene) -> Eccentricity | None:

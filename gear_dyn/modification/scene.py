@@ -167,7 +167,9 @@ def build_relief_sdof(scene: Scene) -> Model:
         model, _ = relief_sdof(pair, op["speed"], op["torque"], mod, fn, xi, inertias,
                                t["linearisation"], t["samples_per_segment"])
     except InputError as exc:
-        raise SceneError(f"{scene.source}: {exc}") from None
+        from ..scene.loader import scene_error
+
+        raise scene_error(scene.source, exc) from None  # Python names -> scene key paths
     return model
 
 
