@@ -147,7 +147,7 @@ def test_killed_inside_the_swap_the_previous_output_comes_back(tmp_path: Path) -
 def _start_run(out: Path, cwd: Path) -> subprocess.Popen[str]:
     return subprocess.Popen(
         [sys.executable, "-m", "gear_dyn.cli", "run", str(HELI), "--out", str(out),
-         "--periods", "20"],
+         "--periods", "4"],
         cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
         env={**os.environ, "MPLBACKEND": "Agg"},
     )
