@@ -167,3 +167,25 @@ def test_contact_command_dynamics(tmp_path: Path, capsys: pytest.CaptureFixture[
         assert 1.0 <= row["dynamic_factor"] < 3.0
         assert row["solver"]["method"] == "DOP853"
     assert "K_v" in capsys.readouterr().out
+
+
+def test_scene_tooth_options_reach_the_pair_stiffness() -> None:
+    """[stiffness] with the same method as tip_relief.pair_stiffness passes its tooth options
+    (here a bore) to the single-pair stiffness of the loaded contact."""
+    from gear_dyn.modification.scene import scene_pair_function
+    from gear_dyn.stiffness.potential_energy import potential_energy_pair_stiffness
+    from gear_dyn.stiffness.tooth import ToothOptions
+
+    sc = scene_with(tip_relief={"rule": "niemann"},
+                    stiffness={"method": "potential_energy", "bore_radius_gear": "150 mm"})
+    pair = build_pair(sc)
+    fn = scene_pair_function(sc, pair)
+    s = np.linspace(pair.start_of_contact, pair.end_of_contact, 7)
+    expected = potential_energy_pair_stiffness(pair, s, ToothOptions(bore_radius2=0.15))
+    np.testing.assert_allclose(fn(s), expected, rtol=1e-12)
+    # and the option matters: the default body gives other values (> 1 % apart)
+    assert np.all(np.abs(fn(s) / potential_energy_pair_stiffness(pair, s) - 1) > 0.01)
+    bad = scene_with(tip_relief={"rule": "niemann"},
+                     stiffness={"method": "potential_energy", "weber_slices": 10})
+    with pytest.raises(SceneError, match="weber_slices"):
+        build_model(bad)

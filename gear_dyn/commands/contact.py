@@ -21,7 +21,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError
+from ..errors import InputError, SceneError
 
 
 def register(sub: Any) -> None:
@@ -50,8 +50,7 @@ def compute(scene: Any, curve: str | None = None, pair_method: str | None = None
         str, Any]:
     """The relief cases of a scene (unmodified, scene relief, rules) without writing files."""
     from ..modification.analysis import rule_cases
-    from ..modification.dynamics import pair_stiffness_function
-    from ..modification.scene import relief_from_scene
+    from ..modification.scene import relief_from_scene, scene_pair_function
     from ..scene import build_pair
 
     pair = build_pair(scene)
@@ -67,8 +66,10 @@ def compute(scene: Any, curve: str | None = None, pair_method: str | None = None
     curve = curve or (t["curve"] if t is not None else "linear")
     method = pair_method or (t["pair_stiffness"] if t is not None else "potential_energy")
     try:
-        fn = pair_stiffness_function(pair, method)
+        fn = scene_pair_function(scene, pair, method)
         cases = rule_cases(pair, fn, torque, curve, extra=extra, rule_options=opts)
+    except SceneError:
+        raise
     except InputError as exc:
         raise InputError(f"{scene.source}: {exc}") from None
     return {"pair": pair, "cases": cases, "curve": curve, "pair_stiffness": method,

@@ -10,13 +10,13 @@ static solution, with the secant instead of the incremental stiffness (for compa
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from functools import partial
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..geometry import GearPair
@@ -32,19 +32,16 @@ PAIR_METHODS: tuple[str, ...] = ("potential_energy", "weber")
 LINEARISATIONS: tuple[str, ...] = ("tangent", "secant")
 
 
-def _pem(pair: GearPair, s: ArrayLike) -> FloatArray:
-    from ..stiffness.potential_energy import potential_energy_pair_stiffness
-
-    return potential_energy_pair_stiffness(pair, s)
-
-
-def _weber(pair: GearPair, s: ArrayLike) -> FloatArray:
-    from ..stiffness.weber import weber_pair_stiffness
-
-    return weber_pair_stiffness(pair, s)
+#: options of :func:`pair_stiffness_function` (names as in ``build_stiffness``)
+TOOTH_KEYS: tuple[str, ...] = ("fillet_radius_coef", "bore_radius1", "bore_radius2",
+                               "plane_strain", "grid_points")
+WEBER_KEYS: tuple[str, ...] = ("weber_slices", "weber_modulus", "weber_foundation")
+#: mesh-building options that do not apply to a single pair (accepted and unused)
+MESH_ONLY_KEYS: tuple[str, ...] = ("samples_per_cycle", "slices")
 
 
-def pair_stiffness_function(pair: GearPair, method: str = "potential_energy") -> Callable[
+def pair_stiffness_function(pair: GearPair, method: str = "potential_energy",
+                            options: Mapping[str, Any] | None = None) -> Callable[
         [FloatArray], FloatArray]:
     """The unmodified single-pair stiffness ``K(s)`` (N/m, s in m from T1) of a method.
 
@@ -54,17 +51,36 @@ def pair_stiffness_function(pair: GearPair, method: str = "potential_energy") ->
     method : str
         ``"potential_energy"`` (Hertz, bending, shear, axial, fillet foundation; seed 001 eq. 5)
         or ``"weber"`` (seed 002).
+    options : mapping or None
+        Tooth options as for ``build_stiffness``: ``fillet_radius_coef``, ``bore_radius1``,
+        ``bore_radius2`` (m), ``plane_strain``, ``grid_points``; Weber also ``weber_slices``,
+        ``weber_modulus``, ``weber_foundation``. ``samples_per_cycle`` and ``slices`` (mesh
+        options) are accepted and unused.
 
     Raises
     ------
     InputError
-        Unknown method.
+        Unknown method or option, bad option values.
     """
-    funcs = {"potential_energy": _pem, "weber": _weber}
-    if method not in funcs:
+    from ..stiffness.potential_energy import potential_energy_pair_stiffness
+    from ..stiffness.tooth import ToothOptions
+    from ..stiffness.weber import weber_pair_stiffness
+
+    if method not in PAIR_METHODS:
         raise InputError(
             f"pair stiffness method = {method!r}: valid values are {', '.join(PAIR_METHODS)}")
-    return partial(funcs[method], pair)
+    opts = {k: v for k, v in (options or {}).items() if v is not None}
+    valid = TOOTH_KEYS + MESH_ONLY_KEYS + (WEBER_KEYS if method == "weber" else ())
+    unknown = sorted(set(opts) - set(valid))
+    if unknown:
+        raise InputError(f"unknown option(s) {', '.join(unknown)} for pair stiffness method "
+                         f"{method!r}; valid: {', '.join(valid)}")
+    tooth = ToothOptions(**{k: opts[k] for k in TOOTH_KEYS if k in opts})
+    if method == "potential_energy":
+        return partial(potential_energy_pair_stiffness, pair, options=tooth)
+    return partial(weber_pair_stiffness, pair, slices=int(opts.get("weber_slices", 20)),
+                   options=tooth, modulus=str(opts.get("weber_modulus", "seed")),
+                   foundation=bool(opts.get("weber_foundation", False)))
 
 
 def relief_sdof(

@@ -147,6 +147,31 @@ def _check_combination(scene: Scene) -> None:
             )
 
 
+def scene_pair_function(scene: Scene, pair: GearPair, method: str | None = None) -> Any:
+    """The unmodified single-pair stiffness ``K(s)`` for a scene: ``method`` (default
+    ``tip_relief.pair_stiffness``, else potential energy) with the tooth options of the scene's
+    ``[stiffness]`` table when that table names the same method.
+
+    Raises
+    ------
+    SceneError
+        Unknown method or options.
+    """
+    from ..stiffness.select import stiffness_options_from_table
+
+    t = scene.tables.get("tip_relief")
+    method = method or (t["pair_stiffness"] if t is not None else "potential_energy")
+    options: dict[str, Any] = {}
+    try:
+        if scene.has("stiffness"):
+            s_method, s_opts = stiffness_options_from_table(scene.tables["stiffness"])
+            if s_method == method:
+                options = s_opts
+        return pair_stiffness_function(pair, method, options)
+    except InputError as exc:
+        raise SceneError(f"{scene.source}: {exc}") from None
+
+
 def build_relief_sdof(scene: Scene) -> Model:
     """Single-DOF model of a scene with ``[tip_relief]`` (plain single-DOF without it)."""
     if not scene.has("tip_relief"):
@@ -160,7 +185,7 @@ def build_relief_sdof(scene: Scene) -> Model:
     if scene.has("inertia"):
         inertias = (scene.tables["inertia"]["pinion"], scene.tables["inertia"]["gear"])
     try:
-        fn = pair_stiffness_function(pair, t["pair_stiffness"])
+        fn = scene_pair_function(scene, pair)
         xi = scene.get("damping")["ratio"]
         if t["linearisation"] == "contact":
             return ContactSDOFModel(pair, op["speed"], op["torque"], mod, fn, xi, inertias)
