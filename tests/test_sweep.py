@@ -173,7 +173,7 @@ def test_backlash_markers(backlash_sweep) -> None:
     assert all(s in ("periodic", "settled") for c in res.curves for s in c.status)
 
 
-def test_dask_and_local_executor_identical() -> None:
+def test_dask_and_local_executor_identical(tmp_path: Path) -> None:
     from distributed import Client, LocalCluster
 
     tail = load_scene(TAIL)
@@ -186,6 +186,13 @@ def test_dask_and_local_executor_identical() -> None:
         ex = client.get_executor()
         remote = [sweep(tail, sp_tail, executor=ex, block=3),
                   sweep(bl, sp_bl, executor=ex, block=2)]
+        # the command line reaches the same scheduler by its address
+        code = main(["sweep", str(TAIL), "--speeds", "2000:4000:3", "--out",
+                     str(tmp_path / "d"), "--dask", cluster.scheduler_address, "--chart", "none",
+                     "--no-progress"])
+        assert code == 0
+        assert json.loads((tmp_path / "d" / "sweep.json").read_text())["executor"] == (
+            "ClientExecutor")
     assert remote[0].executor == "ClientExecutor"
     assert local[0].executor == "ProcessPoolExecutor"
     for a, b in zip(local, remote, strict=True):
