@@ -24,6 +24,7 @@ import json
 import math
 import os
 import shutil
+import signal
 import tempfile
 from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
@@ -58,20 +59,23 @@ def write_bytes(path: str | Path, data: bytes) -> Path:
         The folder does not exist or is not writable (the message names the path).
     """
     p = Path(path)
+    tmp: str | None = None
     try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=p.parent)
-    except OSError as exc:
-        raise InputError(f"{p}: cannot write here ({exc.strerror})") from None
-    try:
-        os.fchmod(fd, 0o666 & ~_UMASK)
+        with _signals_deferred():  # a signal cannot land between creating and naming it
+            try:
+                fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=p.parent)
+            except OSError as exc:
+                raise InputError(f"{p}: cannot write here ({exc.strerror})") from None
         with os.fdopen(fd, "wb") as fh:
+            os.fchmod(fh.fileno(), 0o666 & ~_UMASK)
             fh.write(data)
             fh.flush()
             os.fsync(fh.fileno())
         os.replace(tmp, p)
     except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
+        if tmp is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
         raise
     return p
 
@@ -141,31 +145,52 @@ def staged_output(out_dir: str | Path) -> Iterator[Path]:
         raise InputError(f"--out {target}: cannot create parent folder ({exc.strerror})") from None
     _remove_stale(target)
     prefix = f".{target.name}.{os.getpid()}."
+    tmp: Path | None = None
     try:
-        tmp = Path(tempfile.mkdtemp(prefix=prefix, suffix=".partial", dir=target.parent))
-        os.chmod(tmp, 0o777 & ~_UMASK)
-    except OSError as exc:
-        raise InputError(f"--out {target}: cannot write here ({exc.strerror})") from None
-    try:
+        # SIGINT/SIGTERM are held while the folder is created and named, so that the cleanup
+        # below always knows it; they are delivered right after
+        with _signals_deferred():
+            try:
+                tmp = Path(tempfile.mkdtemp(prefix=prefix, suffix=".partial", dir=target.parent))
+                os.chmod(tmp, 0o777 & ~_UMASK)
+            except OSError as exc:
+                raise InputError(f"--out {target}: cannot write here ({exc.strerror})") from None
         yield tmp
     except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
+        if tmp is not None:
+            shutil.rmtree(tmp, ignore_errors=True)
         raise
-    old = None
+    # the swap: a few renames, with SIGINT/SIGTERM held so that it completes either way
+    with _signals_deferred():
+        old = None
+        try:
+            if target.exists():
+                old = Path(tempfile.mkdtemp(prefix=prefix, suffix=".old", dir=target.parent))
+                os.rmdir(old)
+                os.replace(target, old)
+            os.replace(tmp, target)
+        except BaseException:
+            if old is not None and not target.exists():  # put the previous output back
+                with contextlib.suppress(OSError):
+                    os.replace(old, target)
+            shutil.rmtree(tmp, ignore_errors=True)
+            raise
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+
+
+@contextlib.contextmanager
+def _signals_deferred() -> Iterator[None]:
+    """Hold SIGINT and SIGTERM in this thread for the block (POSIX); delivered on exit."""
+    mask = getattr(signal, "pthread_sigmask", None)
+    if mask is None:
+        yield
+        return
+    old = mask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
     try:
-        if target.exists():
-            old = Path(tempfile.mkdtemp(prefix=prefix, suffix=".old", dir=target.parent))
-            os.rmdir(old)
-            os.replace(target, old)
-        os.replace(tmp, target)
-    except BaseException:
-        if old is not None and not target.exists():  # put the previous output back
-            with contextlib.suppress(OSError):
-                os.replace(old, target)
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
+        yield
+    finally:
+        mask(signal.SIG_SETMASK, old)
 
 
 def _pid_alive(pid: int) -> bool:
