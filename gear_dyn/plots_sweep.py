@@ -47,7 +47,11 @@ def _markers(ax: Any, c: SweepCurve, y: np.ndarray, first: bool) -> None:
             label="back-side contact" if first else None)
     if np.any(aper):
         ax.plot(rpm[aper], y[aper], "o", color="0.3", ms=3, mfc="none",
-                label="not period-1" if first else None)
+                label="no periodic orbit" if first else None)
+    p2 = c.orbit_periods == 2
+    if np.any(p2):
+        ax.plot(rpm[p2], y[p2], "D", color="tab:green", ms=3.5, mfc="none",
+                label="period-2 (f_m/2)" if first else None)
 
 
 def plot_sweep_response(result: SweepResult) -> Any:

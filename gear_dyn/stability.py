@@ -392,9 +392,12 @@ def flow_with_sensitivity(model: SDOFModel, y0: FloatArray, t1: float, rtol: flo
     return z[:n].copy(), z[n:].reshape(n, n).copy()
 
 
-def shoot(model: SDOFModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: int = 15
-          ) -> PeriodicSolution:
+def shoot(model: SDOFModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: int = 15,
+          periods: int = 1) -> PeriodicSolution:
     """Periodic orbit by Newton's method on the one-period map (shooting).
+
+    With ``periods = 2`` the map over two mesh periods: a period-2 (subharmonic) orbit, as
+    found inside a parametric instability zone of a pair with backlash.
 
     Converged when the closing error ``|P(y0) - y0|`` is below ``100 rtol`` times the larger of
     the state scale and the state itself, component by component (the map is only known to
@@ -410,11 +413,14 @@ def shoot(model: SDOFModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: 
         Relative tolerance of each one-period integration.
     max_iter : int
         Newton iterations (>= 1).
+    periods : int
+        Mesh periods of the orbit (1..16).
 
     Returns
     -------
     PeriodicSolution
-        ``converged`` False if Newton did not close the orbit (the last iterate is returned).
+        ``converged`` False if Newton did not close the orbit (the last iterate is returned);
+        ``period`` is ``periods / f_m``.
 
     Raises
     ------
@@ -422,7 +428,8 @@ def shoot(model: SDOFModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: 
         Integration failure.
     """
     model = _require_sdof(model)
-    period = 1.0 / model.mesh_frequency
+    check_range("periods", periods, "", low=1, high=16)
+    period = int(periods) / model.mesh_frequency
     scale = np.asarray(model.state_scale, dtype=float)
     y = np.array(y_guess, dtype=float)
     n = y.size

@@ -110,6 +110,7 @@ class Point(NamedTuple):
     iterations: int
     spectrum: FloatArray
     state: FloatArray
+    orbit_periods: int = 0
 
 
 @dataclass(frozen=True, eq=False)
@@ -133,7 +134,8 @@ class SweepCurve:
         Floquet-stable; response repeats every mesh period.
     status : tuple of str
         ``periodic``, ``settled`` (shooting from the previous orbit failed, the orbit was found
-        again after a settling transient: where the response jumps), ``aperiodic`` (no period-1
+        again after a settling transient: where the response jumps), ``period-2`` (a stable
+        orbit over two mesh periods: subharmonic response), ``aperiodic`` (no period-1 or -2
         orbit: measured over a settled window), ``unstable`` (parametric instability),
         ``transient`` (transient method).
     separation, backside : ndarray
@@ -146,6 +148,9 @@ class SweepCurve:
     state : ndarray (n_speeds, n_states)
         State on the periodic orbit at t = 0 (steady method) or at the end of the run
         (transient, aperiodic), SI; NaN where unstable.
+    orbit_periods : ndarray of int
+        Mesh periods of the steady orbit: 1, 2 (period-2, subharmonic f_m/2 response) or 0
+        (not found: aperiodic, transient method, unstable).
     """
 
     direction: str
@@ -164,6 +169,7 @@ class SweepCurve:
     iterations: NDArray[np.int_]
     spectrum: FloatArray
     state: FloatArray
+    orbit_periods: NDArray[np.int_]
 
     @classmethod
     def from_points(cls, direction: str, points: Sequence[Point]) -> SweepCurve:
@@ -180,6 +186,7 @@ class SweepCurve:
             backside=arr("backside"), iterations=arr("iterations", int),
             spectrum=np.array([p.spectrum for p in points], dtype=float),
             state=np.array([p.state for p in points], dtype=float),
+            orbit_periods=arr("orbit_periods", int),
         )
 
 
@@ -297,20 +304,31 @@ def _flow(model: Model, t: FloatArray, settings: SolverSettings, y0: FloatArray)
 
 
 def _orbit_point(model: Model, speed: float, y0: FloatArray, settings: SolverSettings,
-                 opts: SweepOptions, rho: float, stable: bool, status: str, iterations: int
-                 ) -> Point:
-    """Metrics of a periodic orbit starting at ``y0``: one period sampled, tiled for spectra."""
+                 opts: SweepOptions, rho: float, stable: bool, status: str, iterations: int,
+                 orbit_periods: int = 1) -> Point:
+    """Metrics of a periodic orbit of ``orbit_periods`` mesh periods starting at ``y0``: the
+    orbit sampled once, repeated over the spectrum window."""
     spp = settings.samples_per_period
     fm = model.mesh_frequency
-    t = np.arange(spp + 1) / (fm * spp)
+    n = orbit_periods * spp
+    t = np.arange(n + 1) / (fm * spp)
     y = _flow(model, t, settings, y0)
+    if orbit_periods > 1:
+        # a period-1 orbit is a fixed point of the two-period map too: call it what it is
+        scale = np.maximum(np.asarray(model.state_scale, dtype=float), np.abs(y[:, 0]))
+        if np.max(np.abs(y[:, spp] - y[:, 0]) / scale) <= 1e3 * settings.rtol:
+            orbit_periods, n = 1, spp
+            t, y = t[: spp + 1], y[:, : spp + 1]
+            rho = math.sqrt(rho)  # multipliers of the two-period map are squares
+            status = "periodic" if status == "period-2" else status
     t, y = t[:-1], y[:, :-1]
     df, rms, ptp, mean, sep, back = _metrics(model, t, y, model.static_load)
     dte = model.outputs(t, y)["dte"]
-    spec = _order_spectrum(np.tile(dte, opts.window_periods), opts.window_periods, spp,
-                           opts.harmonics)
-    return Point(speed, fm, df, rms, ptp, mean, rho, stable, True, status, sep, back,
-                 iterations, spec, np.array(y0, dtype=float))
+    reps = -(-opts.window_periods // orbit_periods)
+    dte_win = np.tile(dte, reps)[: opts.window_periods * spp]
+    spec = _order_spectrum(dte_win, opts.window_periods, spp, opts.harmonics)
+    return Point(speed, fm, df, rms, ptp, mean, rho, stable, orbit_periods == 1, status, sep,
+                 back, iterations, spec, np.array(y0, dtype=float), orbit_periods)
 
 
 def _window_point(model: Model, speed: float, t: FloatArray, y: FloatArray, n_window: int,
@@ -331,7 +349,8 @@ def _window_point(model: Model, speed: float, t: FloatArray, y: FloatArray, n_wi
 
 
 def _steady_point(model: Model, speed: float, settings: SolverSettings, opts: SweepOptions,
-                  y_guess: FloatArray | None) -> tuple[Point, FloatArray | None]:
+                  y_guess: FloatArray | None, n_prev: int = 1
+                  ) -> tuple[Point, FloatArray | None]:
     from .stability import UNIT_CIRCLE_TOL, periodic_steady_state, shoot
 
     assert isinstance(model, SDOFModel)
@@ -344,15 +363,16 @@ def _steady_point(model: Model, speed: float, settings: SolverSettings, opts: Sw
         return _orbit_point(model, speed, sol.y0, settings, opts, sol.spectral_radius, True,
                             "periodic", 0), sol.y0
     guess = model.initial_state() if y_guess is None else np.asarray(y_guess, dtype=float)
-    sol = shoot(model, guess, rtol, opts.max_newton)
+    first = n_prev if n_prev in (1, 2) else 1
+    sol = shoot(model, guess, rtol, opts.max_newton, periods=first)
     iters = sol.iterations
     if sol.converged and sol.stable:
         return _orbit_point(model, speed, sol.y0, settings, opts, sol.spectral_radius, True,
-                            "periodic", iters), sol.y0
+                            "periodic" if first == 1 else "period-2", iters, first), sol.y0
     # the orbit followed so far is gone (or Newton left it): settle as a slow sweep would, in
-    # chunks of SETTLE_CHUNK periods, shooting after each. The settling run only has to reach
-    # the attractor's basin, so it runs at rtol >= 1e-6; shooting (or the measured window)
-    # restores the full accuracy.
+    # chunks of SETTLE_CHUNK periods, shooting for a period-1, then a period-2 orbit after each.
+    # The settling run only has to reach the attractor's basin, so it runs at rtol >= 1e-6;
+    # shooting (or the measured window) restores the full accuracy.
     spp = settings.samples_per_period
     fm = model.mesh_frequency
     loose = replace(settings, rtol=max(settings.rtol, 1e-6), atol=None)
@@ -362,13 +382,17 @@ def _steady_point(model: Model, speed: float, settings: SolverSettings, opts: Sw
         n = min(SETTLE_CHUNK, opts.settle_periods - settled)
         y_end = _flow(model, np.arange(n * spp + 1) / (fm * spp), loose, y_end)[:, -1]
         settled += n
-        sol = shoot(model, y_end, rtol, opts.max_newton)
-        iters += sol.iterations
-        if sol.converged and sol.spectral_radius <= 1.0 + UNIT_CIRCLE_TOL:
-            status = "settled" if y_guess is not None else "periodic"
-            return _orbit_point(model, speed, sol.y0, settings, opts, sol.spectral_radius, True,
-                                status, iters), sol.y0
-    # no period-1 orbit: measure a window of whole periods at full accuracy
+        for per in (1, 2):
+            sol = shoot(model, y_end, rtol, opts.max_newton, periods=per)
+            iters += sol.iterations
+            if sol.converged and sol.spectral_radius <= 1.0 + UNIT_CIRCLE_TOL:
+                if per == 2:
+                    status = "period-2"
+                else:
+                    status = "settled" if y_guess is not None else "periodic"
+                return _orbit_point(model, speed, sol.y0, settings, opts, sol.spectral_radius,
+                                    True, status, iters, per), sol.y0
+    # no period-1 or -2 orbit: measure a window of whole periods at full accuracy
     n_win = opts.window_periods * spp
     tw = np.arange(n_win + spp + 1) / (fm * spp)
     yw = _flow(model, tw, settings, y_end)
@@ -418,23 +442,27 @@ class _Task:
     speeds: tuple[float, ...]
     y_start: FloatArray | None
     continuation: bool
+    orbit_periods: int = 1
 
 
 def run_block(task: _Task) -> tuple[list[Point], FloatArray | None]:
     """Evaluate a block of speeds in order (the worker function; picklable).
 
-    Returns the points and the last state (the start of the next block of a continuation).
+    Returns the points and the last state (the start of the next block of a continuation; the
+    last point's ``orbit_periods`` goes with it).
     """
     scene, plan, pair = _base(task.source, task.tables_json, task.overrides_json)
     f0 = plan.model.mesh_frequency
     periods = round(plan.t_end * f0)
     steady = round((plan.t_end - plan.steady_start) * f0)
     y = task.y_start
+    n_prev = task.orbit_periods
     points = []
     for s in task.speeds:
         model = model_at_speed(plan.model, pair, s, scene)
         if task.options.method == "steady":
-            p, y_next = _steady_point(model, s, plan.settings, task.options, y)
+            p, y_next = _steady_point(model, s, plan.settings, task.options, y, n_prev)
+            n_prev = p.orbit_periods or n_prev
         else:
             p, y_next = _transient_point(model, s, plan.settings, task.options, periods,
                                          steady, y)
@@ -588,8 +616,9 @@ def sweep(
     try:
         pending: dict[cf.Future[Any], tuple[str, int]] = {}
 
-        def submit(d: str, i: int, y0: FloatArray | None) -> None:
-            task = _Task(speeds=chains[d][i], y_start=y0, continuation=nonlinear, **base)
+        def submit(d: str, i: int, y0: FloatArray | None, n_per: int = 1) -> None:
+            task = _Task(speeds=chains[d][i], y_start=y0, continuation=nonlinear,
+                         orbit_periods=n_per, **base)
             pending[ex.submit(run_block, task)] = (d, i)
 
         for d in dirs:
@@ -608,7 +637,7 @@ def sweep(
                 if progress is not None:
                     progress(done, total)
                 if nonlinear and i + 1 < len(chains[d]):
-                    submit(d, i + 1, y_end)
+                    submit(d, i + 1, y_end, points[-1].orbit_periods or 1)
     finally:
         if own:
             ex.shutdown(wait=True, cancel_futures=True)
@@ -631,7 +660,8 @@ def sweep_columns(result: SweepResult) -> dict[str, Any]:
     cols: dict[str, list[float]] = {k: [] for k in (
         "direction_down", "speed_rpm", "speed_rad_s", "mesh_frequency_hz", "frequency_ratio",
         "dynamic_factor", "rms_dte_m", "ptp_dte_m", "mean_dte_m", "max_floquet_modulus",
-        "stable", "periodic", "separation_share", "backside_share", "newton_iterations")}
+        "stable", "periodic", "orbit_periods", "separation_share", "backside_share",
+        "newton_iterations")}
     fn = result.natural_frequency
     for c in result.curves:
         n = c.speed.size
@@ -647,6 +677,7 @@ def sweep_columns(result: SweepResult) -> dict[str, Any]:
         cols["max_floquet_modulus"] += list(c.spectral_radius)
         cols["stable"] += list(c.stable.astype(float))
         cols["periodic"] += list(c.periodic.astype(float))
+        cols["orbit_periods"] += list(c.orbit_periods.astype(float))
         cols["separation_share"] += list(c.separation)
         cols["backside_share"] += list(c.backside)
         cols["newton_iterations"] += list(c.iterations.astype(float))
@@ -727,6 +758,7 @@ def summarize_sweep(result: SweepResult) -> dict[str, Any]:
             "backside_ranges_rpm": _ranges(c.speed, np.nan_to_num(c.backside) > 0),
             "aperiodic_ranges_rpm": _ranges(c.speed, np.array([s == "aperiodic"
                                                                 for s in c.status])),
+            "period2_ranges_rpm": _ranges(c.speed, c.orbit_periods == 2),
             "jumps": jumps(c),
         }
         if np.any(finite):
