@@ -78,6 +78,12 @@ def test_run_bench_api_and_recommend() -> None:
     assert rep.cases[0].err_max < 1e-11  # the exact run states its rounding level
     best = rep.recommend(1e-6)
     assert best is not None and best.label == "exact"
+    # smooth stiffness: the periodic step maps are benchmarked and win (reference DOP853)
+    fmodel = replace(model, stiffness=model.stiffness.truncated(5))
+    frep = run_bench(fmodel, 3 / model.mesh_frequency, methods=("LSODA",), rtols=(1e-6,),
+                     repeats=1, samples_per_period=32, baseline=False)
+    assert [c.label for c in frep.cases] == ["periodic", "LSODA"]
+    assert frep.cases[0].err_max < 1e-9 < frep.cases[1].err_max
     # recommend() picks the fastest case meeting the target and ignores failures
     mk = lambda m, tm, e, s="ok": BenchCase(m, "restart", 1e-6, tm, tm, 1, e, e, 0, 0, 0, 1, s)  # noqa: E731
     cases = [mk("A", 1.0, 1e-7), mk("B", 0.5, 1e-5), mk("C", 0.2, math.nan, "failed"),
