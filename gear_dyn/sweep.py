@@ -482,7 +482,8 @@ def parse_speed_range(text: str) -> FloatArray:
     Raises
     ------
     InputError
-        Not three parts, a bad number or unit, N < 2, or speeds out of range.
+        Not three parts, a bad number or unit (Hz is refused: pint would read it as rad/s),
+        N < 2, or speeds out of range.
     """
     from .scene.fields import Field
 
@@ -493,6 +494,10 @@ def parse_speed_range(text: str) -> FloatArray:
     ends = []
     for label, part in zip(("START", "STOP"), parts[:2], strict=True):
         part = part.strip()
+        if "hz" in part.lower():
+            # pint reads 1 Hz as 1 rad/s (radians are dimensionless): 2 pi off for a shaft
+            raise InputError(f"--speeds {label} = {part!r}: Hz is ambiguous for a shaft speed "
+                             "(it would be read as rad/s); write e.g. '600 rpm' or '10 turn/s'")
         try:
             v = float(part) * RPM
         except ValueError:

@@ -223,7 +223,7 @@ def test_parse_speed_range() -> None:
     assert np.allclose(parse_speed_range("10 turn/s:40 rad/s:2"), [20 * math.pi, 40])
     for bad, msg in (("500:6000", "START:STOP:N"), ("500:6000:x", "whole number"),
                      ("500:6000:1", "N"), ("-5:6000:4", "out of range"),
-                     ("5 m:6000:4", "wrong unit")):
+                     ("5 m:6000:4", "wrong unit"), ("10 Hz:20 Hz:3", "turn/s")):
         with pytest.raises(InputError, match=msg):
             parse_speed_range(bad)
 
@@ -282,3 +282,16 @@ def test_backlash_inside_parametric_tongue_period_two() -> None:
     assert np.max(np.abs(y[:, -1] - c.state[0]) / model.state_scale) < 1e-5
     assert np.max(np.abs(y[:, -1] - y[:, -1 - 2 * spp]) / model.state_scale) < 1e-6
     assert np.max(np.abs(y[:, -spp:] - y[:, -2 * spp:-spp]) / scale) > 0.1
+
+
+def test_progress_bar_text() -> None:
+    import io
+
+    from gear_dyn.commands.sweep import progress_bar
+
+    buf = io.StringIO()
+    show = progress_bar(buf, width=10)
+    show(3, 10)
+    show(10, 10)
+    # redrawn in place (carriage return), a newline only when done
+    assert buf.getvalue() == "\r[###.......] 3/10 speeds\r[##########] 10/10 speeds\n"

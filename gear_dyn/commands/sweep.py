@@ -27,7 +27,7 @@ def register(sub: Any) -> None:
     p.add_argument("scene", type=Path, help="scene file (TOML)")
     p.add_argument("--speeds", required=True, metavar="START:STOP:N",
                    help="pinion speeds: START and STOP with units ('500 rpm', '50 rad/s', "
-                   "'10 Hz') or plain numbers in rpm; N points, linearly spaced")
+                   "'10 turn/s') or plain numbers in rpm; N points, linearly spaced")
     p.add_argument("--out", type=Path, required=True, help="output folder")
     p.add_argument("--sweep-method", choices=("steady", "transient"), default="steady",
                    help="steady: periodic steady state from the monodromy matrix / shooting "
