@@ -403,13 +403,13 @@ def _steady_point(model: Model, speed: float, settings: SolverSettings, opts: Sw
 def _transient_point(model: Model, speed: float, settings: SolverSettings,
                      opts: SweepOptions, periods: int, steady_periods: int,
                      y_guess: FloatArray | None) -> tuple[Point, FloatArray | None]:
-    from .stability import floquet_multipliers
+    from .stability import UNIT_CIRCLE_TOL, floquet_multipliers
 
     n_orders = opts.window_periods * opts.harmonics
     rho = math.nan
     if isinstance(model, SDOFModel) and model.backlash is None:
         rho = float(np.max(np.abs(floquet_multipliers(model, settings.rtol))))
-        if rho > 1.0 + 1e-6:
+        if rho > 1.0 + UNIT_CIRCLE_TOL:
             return _nan_point(model, speed, rho, "unstable", n_orders), None
         y_guess = None  # linear: every speed from the static state, as run_scene
     spp = settings.samples_per_period
@@ -585,6 +585,8 @@ def sweep(
     if direction not in DIRECTIONS:
         raise InputError(f"direction = {direction!r}: valid choices are {', '.join(DIRECTIONS)}")
     check_range("block", block, "", low=1, high=10_000)
+    if workers is not None:
+        check_range("workers", workers, "", low=1, high=4096)
     sp = np.unique(np.asarray(speeds, dtype=float))
     if sp.size < 1:
         raise InputError("sweep: no speeds given")
@@ -618,8 +620,8 @@ def sweep(
     start = time.perf_counter()
     results: dict[str, list[list[Point]]] = {d: [[] for _ in chains[d]] for d in dirs}
     done = 0
+    pending: dict[cf.Future[Any], tuple[str, int]] = {}
     try:
-        pending: dict[cf.Future[Any], tuple[str, int]] = {}
 
         def submit(d: str, i: int, y0: FloatArray | None, n_per: int = 1) -> None:
             task = _Task(speeds=chains[d][i], y_start=y0, continuation=nonlinear,
@@ -644,6 +646,8 @@ def sweep(
                 if nonlinear and i + 1 < len(chains[d]):
                     submit(d, i + 1, y_end, points[-1].orbit_periods or 1)
     finally:
+        for fut in pending:  # after a failure or an interrupt: drop the queued blocks
+            fut.cancel()
         if own:
             ex.shutdown(wait=True, cancel_futures=True)
     run_time = time.perf_counter() - start
