@@ -138,20 +138,26 @@ def estimate_error(
 
 #: explicit solve_ivp methods (stability-limited on stiff or very fast problems)
 EXPLICIT = ("RK45", "RK23", "DOP853")
-#: a problem is called stiff when max|Re lambda| / min|Re lambda| exceeds this
+#: a problem is called stiff when max|Re lambda| / min|Re lambda| exceeds this and stability
+#: alone forces an explicit method to more than STIFF_STEPS steps per mesh period ...
 STIFF_RATIO = 50.0
+STIFF_STEPS = 20.0
 #: ... or when an explicit method needs more than this many steps per mesh period for stability
 FAST_STEPS = 500.0
+#: eigenvalues below this fraction of the largest count as zero (rigid-body modes, rounding)
+ZERO_EIG = 1e-6
 
 
 def stiffness_check(model: Model, method: str, samples: int = 16) -> dict[str, Any]:
     """Is the problem stiff (or very fast) for an explicit method? With advice.
 
     The Jacobian is evaluated at the initial state at ``samples`` instants over one mesh period.
-    ``stiffness_ratio`` = max |Re lambda| / min |Re lambda| over the nonzero real parts (a
-    heavily over-damped mesh: xi = 5 gives about 100); ``explicit_steps_per_period`` = max |lambda|
-    T_m / 3, the fewest steps per mesh period an explicit Runge-Kutta method (stability bound
-    |h lambda| <~ 3) can take, whatever the tolerance.
+    ``stiffness_ratio`` = max |Re lambda| / min |Re lambda| over the real parts that are not
+    zero (below ZERO_EIG of the largest |lambda|: rigid-body modes and rounding are left out;
+    a heavily over-damped mesh, xi = 5, gives about 100); ``explicit_steps_per_period`` =
+    max |lambda| T_m / 3, the fewest steps per mesh period an explicit Runge-Kutta method
+    (stability bound |h lambda| <~ 3) can take, whatever the tolerance. Stiff: ratio > 50 with
+    > 20 such steps, or > 500 steps (a very fast mesh).
 
     Returns
     -------
@@ -166,13 +172,14 @@ def stiffness_check(model: Model, method: str, samples: int = 16) -> dict[str, A
         lam = np.linalg.eigvals(np.asarray(model.jac(float(t), y0), dtype=float))
         lam_max = max(lam_max, float(np.max(np.abs(lam))))
         re = np.abs(lam.real)
-        re = re[re > 1e-12 * max(float(np.max(np.abs(lam))), 1e-300)]
+        re = re[re > ZERO_EIG * max(float(np.max(np.abs(lam))), 1e-300)]
         if re.size:
             re_max = max(re_max, float(np.max(re)))
             re_min = min(re_min, float(np.min(re)))
     ratio = re_max / re_min if re_min < math.inf and re_min > 0 else 1.0
     steps = lam_max * period / 3.0
-    stiff = ratio > STIFF_RATIO or steps > FAST_STEPS
+    stiff_steps = re_max * period / 3.0
+    stiff = (ratio > STIFF_RATIO and stiff_steps > STIFF_STEPS) or steps > FAST_STEPS
     advice = ""
     if stiff and method in EXPLICIT:
         advice = (

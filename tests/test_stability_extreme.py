@@ -53,6 +53,7 @@ def test_heavy_damping_explicit_slow_implicit_fine_toolkit_advises(heli: Any) ->
     assert nfev["RK45"] > 3 * nfev["Radau"] and nfev["RK45"] > 3 * nfev["LSODA"], nfev
     chk = stiffness_check(model, "RK45")
     assert chk["stiff"] and chk["stiffness_ratio"] > 50 and "LSODA" in chk["advice"]
+    assert not stiffness_check(heli, "RK45")["stiff"]  # xi = 0.06: no false alarm
     res = simulate(model, float(t[-1]), SolverSettings(method="RK45", rtol=1e-4,
                                                        estimate_error=False))
     assert res.extra["stiffness_check"]["advice"]
@@ -222,6 +223,8 @@ def test_eccentricity_comparable_to_backlash(tmp_path: Any) -> None:
     path.write_text(text, encoding="utf-8")
     model = build_plan(load_scene(path)).model
     assert model.backlash == pytest.approx(1e-4)
+    # its rigid-body mode (zero eigenvalues) must not read as stiffness
+    assert not stiffness_check(model, "DOP853")["stiff"]
     t = grid(model, 18)
     y_ref, _ = integrate(model, t, SolverSettings(method="DOP853", rtol=1e-11))
     delta = model.outputs(t, y_ref)["delta"]
