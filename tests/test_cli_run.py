@@ -1,4 +1,4 @@
-"""The CLI's run/demo path and the issue-2 bad-scene cases (exit code 2, one line naming the field)."""
+"""CLI run/demo and the issue-2 bad-scene cases (exit code 2, one line naming the field)."""
 
 from __future__ import annotations
 
@@ -88,3 +88,14 @@ def test_run_command_summary_states_method(tmp_path: Path) -> None:
     s = json.loads((out / "summary.json").read_text())
     assert s["solver"]["method"] == "LSODA"
     assert s["solver"]["rtol"] == 1e-6
+
+
+def test_speed_in_hz_is_refused_not_read_as_rad_per_s() -> None:
+    """pint converts '10 Hz' to 10 rad/s (radian is dimensionless): 2 pi off for a shaft speed.
+    The loader refuses it; '2 turn/s' is 4 pi rad/s exactly."""
+    base = {"gear": {"teeth_pinion": 20, "teeth_gear": 40, "module": 0.002, "face_width": 0.01},
+            "operating": {"speed": "10 Hz", "torque": 1}}
+    with pytest.raises(ValueError, match="operating.speed.*ambiguous"):
+        parse_scene(base)
+    base["operating"]["speed"] = "2 turn/s"
+    assert parse_scene(base).tables["operating"]["speed"] == pytest.approx(4 * math.pi, rel=1e-14)

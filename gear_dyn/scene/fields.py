@@ -164,6 +164,12 @@ class Field:
             ) from None
         if not isinstance(q, ureg.Quantity):
             q = ureg.Quantity(float(q))
+        if self.unit == "rad/s" and "radian" not in str(q.to_root_units().units):
+            # pint takes 1 Hz = 1 1/s = 1 rad/s: 2 pi off for a shaft speed, so refuse it
+            raise SceneError(
+                f"{where} = {raw!r}: ambiguous unit for a rotational speed (pint reads 1 Hz as "
+                "1 rad/s); write it in rpm, rad/s or turn/s"
+            )
         try:
             value = float(q.to(self.unit or "dimensionless").magnitude)
         except pint.DimensionalityError:
