@@ -22,7 +22,6 @@ this module runs. Keys (SI values or strings with units)::
 
 from __future__ import annotations
 
-import importlib
 from typing import Any
 
 from ..errors import InputError, SceneError
@@ -31,7 +30,7 @@ from ..models.base import Model
 from ..scene.build import build_pair, build_sdof
 from ..scene.fields import Field, Section
 from ..scene.loader import Scene
-from ..scene.registry import MODEL_BUILDERS, register_model, register_section
+from ..scene.registry import register_model, register_section
 from .dynamics import PAIR_METHODS, ContactSDOFModel, pair_stiffness_function, relief_sdof
 from .relief import (
     CURVES,
@@ -68,10 +67,9 @@ TIP_RELIEF = register_section(Section("tip_relief", (
           doc="tangent stiffness + relief TE, secant K_TPM, or the nonlinear contact force"),
     Field("samples_per_segment", kind="int", default=48, low=2, high=10000,
           doc="loaded-contact samples between switching phases"),
-), doc="tip relief on pinion and/or gear; the single-DOF model runs on the loaded contact"))
+), doc="tip relief on pinion and/or gear; the single-DOF model runs on the loaded contact",
+   models=("sdof",)))
 
-#: feature modules whose model builders must exist before this module wraps them
-FEATURE_MODULES_BEFORE: tuple[str, ...] = ("gear_dyn.eccentricity.scene",)
 
 _CUSTOM_KEYS = ("amount_pinion", "amount_gear", "length_pinion", "length_gear",
                 "height_pinion", "height_gear")
@@ -198,20 +196,5 @@ def build_relief_sdof(scene: Scene) -> Model:
     return model
 
 
-def _refuse_relief(kind: str, builder: Any) -> Any:
-    def wrapped(scene: Scene) -> Any:
-        if scene.has("tip_relief"):
-            raise SceneError(f"{scene.source}: [tip_relief] works with scene.model = 'sdof' "
-                             f"only, not {kind!r}")
-        return builder(scene)
-    return wrapped
-
-
-# the other model kinds do not know [tip_relief]: make them refuse it rather than ignore it
-# (their feature modules are imported first so that their builders are registered to be wrapped)
-for _module in FEATURE_MODULES_BEFORE:
-    importlib.import_module(_module)
-for _kind, _builder in list(MODEL_BUILDERS.items()):
-    if _kind != "sdof":
-        register_model(_kind, _refuse_relief(_kind, _builder))
+# other model kinds refuse [tip_relief] at load time (the table declares models=("sdof",))
 register_model("sdof", build_relief_sdof)
