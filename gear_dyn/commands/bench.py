@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import csv
 import io
+import math
 import sys
 from pathlib import Path
 from typing import Any
@@ -69,6 +70,12 @@ def run(args: argparse.Namespace) -> int:
     from ..scene import build_plan, load_scene
 
     methods = [m.strip() for m in args.methods.split(",") if m.strip()]
+    if not methods:
+        raise InputError(f"--methods = {args.methods!r}: give at least one solve_ivp method")
+    if not (math.isfinite(args.budget) and args.budget > 0):
+        raise InputError(f"--budget = {args.budget!r} s: valid range > 0 s")
+    if args.repeats < 1:
+        raise InputError(f"--repeats = {args.repeats}: valid range >= 1")
     rtols = _floats(args.rtols, "rtols")
     if args.periods is not None and args.periods < 2:
         raise InputError(f"--periods = {args.periods}: valid range >= 2 mesh periods")
