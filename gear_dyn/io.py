@@ -56,9 +56,12 @@ def write_bytes(path: str | Path, data: bytes) -> Path:
     Raises
     ------
     InputError
-        The folder does not exist or is not writable (the message names the path).
+        The folder does not exist or is not writable, the path is a folder, or the write failed
+        (disk full, ...); the message names the path and the target is unchanged.
     """
     p = Path(path)
+    if not p.name or p.is_dir():
+        raise InputError(f"{str(path)!r}: is a folder, expected a file name")
     tmp: str | None = None
     try:
         with _signals_deferred():  # a signal cannot land between creating and naming it
@@ -72,10 +75,13 @@ def write_bytes(path: str | Path, data: bytes) -> Path:
             fh.flush()
             os.fsync(fh.fileno())
         os.replace(tmp, p)
-    except BaseException:
+    except BaseException as exc:
         if tmp is not None:
             with contextlib.suppress(OSError):
                 os.unlink(tmp)
+        if isinstance(exc, OSError):  # disk full, permission denied, ...: say where
+            raise InputError(f"{p}: cannot write ({exc.strerror or exc}); nothing was "
+                             "changed") from None
         raise
     return p
 

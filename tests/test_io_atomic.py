@@ -44,7 +44,8 @@ def test_failed_write_keeps_the_old_file(tmp_path: Path, monkeypatch: pytest.Mon
         raise OSError(28, "No space left on device")
 
     monkeypatch.setattr(gio.os, "replace", boom)
-    with pytest.raises(OSError, match="No space"):
+    with pytest.raises(InputError, match=r"a.txt: cannot write \(No space left on device\); "
+                       "nothing was changed"):
         gio.write_text(target, "new")
     assert target.read_text() == "old"
     assert _hidden(tmp_path) == []
@@ -64,6 +65,11 @@ def test_files_get_the_usual_permissions(tmp_path: Path) -> None:
 def test_write_into_a_missing_folder_is_an_input_error(tmp_path: Path) -> None:
     with pytest.raises(InputError, match="cannot write here"):
         gio.write_text(tmp_path / "no" / "such" / "x.txt", "x")
+    with pytest.raises(InputError, match="is a folder, expected a file name"):
+        gio.write_text(tmp_path, "x")
+    with pytest.raises(InputError, match="is a folder, expected a file name"):
+        gio.write_text("", "x")
+    assert _hidden(tmp_path) == []
 
 
 def test_staged_output_swaps_the_whole_folder(tmp_path: Path) -> None:

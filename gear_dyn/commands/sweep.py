@@ -80,7 +80,7 @@ def run(args: argparse.Namespace) -> int:
                              "'dask[distributed]'") from None
         try:
             client = Client(args.dask, timeout="20s")
-        except (OSError, TimeoutError) as exc:
+        except (OSError, TimeoutError, ValueError) as exc:  # ValueError: a malformed address
             raise InputError(f"--dask {args.dask}: cannot reach the scheduler ({exc})") from None
         executor = client.get_executor()
     try:
