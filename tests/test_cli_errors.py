@@ -16,6 +16,7 @@ import hashlib
 import io
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -357,3 +358,47 @@ def test_subprocess_solver_failure_is_one_line_exit_3(tmp_path: Path) -> None:
     assert p.stderr.count("\n") == 1 and p.stderr.startswith("gear-dyn: solver failure: ")
     assert "RK45" in p.stderr and "implicit method" in p.stderr
     assert not (tmp_path / "o").exists() and _hidden_leftovers(tmp_path) == []
+
+
+def _leaf_parsers(sub: argparse.ArgumentParser, prefix: list[str]
+                  ) -> list[tuple[list[str], argparse.ArgumentParser]]:
+    for action in sub._actions:  # noqa: SLF001
+        if isinstance(action, argparse._SubParsersAction):  # noqa: SLF001
+            return [leaf for name, s in action.choices.items()
+                    for leaf in _leaf_parsers(s, [*prefix, name])]
+    return [(prefix, sub)]
+
+
+@pytest.mark.parametrize("value", ["abc", "nan", "-1", "1e309"])
+def test_every_option_of_every_subcommand_with_junk_values(
+    value: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, blank_plots: None
+) -> None:
+    """Each value-taking option of each (nested) subcommand given junk on an otherwise valid
+    command line: exit 0, 2 or 3 with one stderr line, never an internal error."""
+    monkeypatch.chdir(tmp_path)  # options that name an output file write here
+    bad = []
+    n = 0
+    for name, sub in _subcommands().items():
+        for prefix, leaf in _leaf_parsers(sub, [name]):
+            lines = _command_lines(leaf, str(HELI), str(tmp_path / "out.fmu"), str(HELI))
+            if not lines:
+                continue
+            for action in leaf._actions:  # noqa: SLF001
+                if not action.option_strings or action.nargs == 0 or action.dest in (
+                        "help", "out"):
+                    continue
+                argv = [*prefix, *lines[0], action.option_strings[0], value]
+                n += 1
+                with _time_limit(120, " ".join(argv)):
+                    code, _, err = _run(argv)
+                label = " ".join([*prefix, action.option_strings[0], value])
+                if code not in DOCUMENTED_EXIT_CODES or "Traceback" in err or (
+                        code != 0 and err.count("\n") != 1):
+                    bad.append(f"{label}: exit {code}: {err.strip()[:300]}")
+                if _hidden_leftovers(tmp_path):
+                    bad.append(f"{label}: temporary files left: {_hidden_leftovers(tmp_path)}")
+                shutil.rmtree(tmp_path / "out.fmu", ignore_errors=True)
+                with contextlib.suppress(FileNotFoundError):
+                    (tmp_path / "out.fmu").unlink()
+    assert n > 20
+    assert not bad, "\n".join(bad)
