@@ -140,7 +140,10 @@ def staged_output(out_dir: str | Path) -> Iterator[Path]:
     Raises
     ------
     InputError
-        ``out_dir`` exists and is not a folder, or its parent cannot be created.
+        ``out_dir`` exists and is not a folder, or its parent cannot be created; or it is a
+        folder holding anything but files with the suffixes in :data:`OUTPUT_SUFFIXES` (a
+        scene, notes, subfolders: replacing the folder would delete them), or the current
+        folder, one of its parents or the home folder.
     """
     target = Path(out_dir)
     if target.exists() and not target.is_dir():
@@ -150,6 +153,7 @@ def staged_output(out_dir: str | Path) -> Iterator[Path]:
     except OSError as exc:
         raise InputError(f"--out {target}: cannot create parent folder ({exc.strerror})") from None
     _remove_stale(target)
+    _check_replaceable(target)
     prefix = f".{target.name}.{os.getpid()}."
     tmp: Path | None = None
     try:
@@ -197,6 +201,37 @@ def _signals_deferred() -> Iterator[None]:
         yield
     finally:
         mask(signal.SIG_SETMASK, old)
+
+
+#: what gear_dyn commands write into an output folder; a folder holding anything else (a scene,
+#: notes, a subfolder) is not replaced, since replacing it would delete those
+OUTPUT_SUFFIXES = (".png", ".svg", ".pdf", ".csv", ".json", ".md")
+_IGNORED = (".DS_Store", "Thumbs.db", "desktop.ini")
+
+
+def _check_replaceable(target: Path) -> None:
+    """Refuse to replace a folder that is not a previous output (it would be deleted whole)."""
+    if not target.is_dir():
+        return
+    res = target.resolve()
+    cwd = Path.cwd().resolve()
+    if res == cwd or res in cwd.parents or res == Path.home().resolve():
+        raise InputError(
+            f"--out {target}: is the current folder, one of its parents or the home folder; "
+            "the output folder is replaced as a whole, so give a new folder"
+        )
+    foreign = sorted(
+        q.name for q in target.iterdir()
+        if q.name not in _IGNORED
+        and not (q.is_file() and not q.is_symlink() and q.suffix.lower() in OUTPUT_SUFFIXES)
+    )
+    if foreign:
+        shown = ", ".join(foreign[:3]) + (", ..." if len(foreign) > 3 else "")
+        raise InputError(
+            f"--out {target}: the folder holds {len(foreign)} item(s) gear_dyn does not write "
+            f"({shown}); the output folder is replaced as a whole, so give a new or empty "
+            "folder, or a previous output folder"
+        )
 
 
 def _pid_alive(pid: int) -> bool:

@@ -100,6 +100,50 @@ def test_staged_output_failure_keeps_the_previous_folder(tmp_path: Path,
     assert _hidden(tmp_path) == []
 
 
+def test_a_folder_with_other_things_is_never_replaced(tmp_path: Path) -> None:
+    """--out pointing at a folder that holds a scene, notes or a subfolder (e.g. the scene's
+    own folder): refused before anything is written, since the swap would delete them."""
+    runs = tmp_path / "runs"
+    runs.mkdir()
+    (runs / "my.toml").write_text("[gear]\n")
+    (runs / "notes.txt").write_text("precious")
+    before = _snapshot(runs)
+    with pytest.raises(InputError, match=r"holds 2 item\(s\) gear_dyn does not write "
+                       r"\(my.toml, notes.txt\)"), gio.staged_output(runs):
+        raise AssertionError("never reached")
+    assert _snapshot(runs) == before
+    (runs / "my.toml").unlink()
+    (runs / "notes.txt").unlink()
+    (runs / "sub").mkdir()
+    with pytest.raises(InputError, match=r"\(sub\)"), gio.staged_output(runs):
+        raise AssertionError("never reached")
+    assert _hidden(tmp_path) == []
+
+
+def test_the_current_folder_is_never_replaced(tmp_path: Path,
+                                             monkeypatch: pytest.MonkeyPatch) -> None:
+    work = tmp_path / "work"
+    (work / "sub").mkdir(parents=True)
+    monkeypatch.chdir(work / "sub")
+    for target in (".", "..", str(work)):
+        with pytest.raises(InputError, match="current folder"), gio.staged_output(target):
+            raise AssertionError("never reached")
+    assert (work / "sub").is_dir()
+
+
+def test_the_cli_refuses_the_scene_folder_as_output(tmp_path: Path) -> None:
+    """gear-dyn run runs/my.toml --out runs: exit 2, scene and notes kept."""
+    from gear_dyn.cli import main
+
+    runs = tmp_path / "runs"
+    runs.mkdir()
+    scene = runs / "my.toml"
+    scene.write_bytes(HELI.read_bytes())
+    (runs / "notes.txt").write_text("precious")
+    assert main(["run", str(scene), "--out", str(runs), "--periods", "2"]) == 2
+    assert scene.read_bytes() == HELI.read_bytes() and (runs / "notes.txt").exists()
+
+
 def test_staged_output_refuses_a_file_as_target(tmp_path: Path) -> None:
     f = tmp_path / "out"
     f.write_text("not a folder")
