@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import signal
 import sys
 import threading
@@ -61,7 +62,15 @@ class Terminated(BaseException):
     """SIGTERM received: unwinds like Ctrl-C so staged outputs are cleaned up."""
 
 
+_MAIN_PID: list[int] = []
+
+
 def _on_sigterm(signum: int, frame: object) -> None:
+    if _MAIN_PID and os.getpid() != _MAIN_PID[-1]:
+        # a forked worker (e.g. of a sweep's process pool) inherited this handler: die as usual
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        os.kill(os.getpid(), signal.SIGTERM)
+        return
     raise Terminated()
 
 
@@ -78,11 +87,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     previous = None
     if threading.current_thread() is threading.main_thread():
         previous = signal.signal(signal.SIGTERM, _on_sigterm)
+        _MAIN_PID.append(os.getpid())
     try:
         return _main(args_list, debug)
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
+            _MAIN_PID.pop()
 
 
 def _main(args_list: list[str], debug: bool) -> int:

@@ -269,3 +269,27 @@ def test_signal_while_writing_a_new_folder_leaves_none(tmp_path: Path) -> None:
     proc.communicate(timeout=300)
     assert proc.returncode == 143 and not out.exists()
     assert _hidden(tmp_path) == []
+
+
+def test_forked_workers_still_die_on_sigterm() -> None:
+    """cli.main's SIGTERM handler is inherited by forked workers (a sweep's process pool on
+    Linux): there it must not turn SIGTERM into an exception the worker could swallow; the
+    worker dies by the signal, as it would without gear_dyn."""
+    import gear_dyn.cli as cli
+
+    old = signal.signal(signal.SIGTERM, cli._on_sigterm)  # noqa: SLF001
+    cli._MAIN_PID.append(os.getpid())  # noqa: SLF001
+    try:
+        pid = os.fork()
+        if pid == 0:  # the worker: wait to be terminated
+            try:
+                time.sleep(30)
+            finally:
+                os._exit(7)
+        time.sleep(0.2)
+        os.kill(pid, signal.SIGTERM)
+        _, status = os.waitpid(pid, 0)
+        assert os.WIFSIGNALED(status) and os.WTERMSIG(status) == signal.SIGTERM
+    finally:
+        cli._MAIN_PID.pop()  # noqa: SLF001
+        signal.signal(signal.SIGTERM, old)
