@@ -16,9 +16,18 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .errors import InputError
+from .errors import InputError, check_range
 
 FloatArray = NDArray[np.float64]
+
+
+def _floats(values: object, what: str, atleast_1d: bool = True) -> FloatArray:
+    """``values`` as a float array, or an InputError naming ``what`` (not a numpy error)."""
+    try:
+        a = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{what} = {values!r}: expected a list of numbers") from None
+    return np.atleast_1d(a) if atleast_1d else a
 
 
 @dataclass(frozen=True, eq=False)
@@ -38,11 +47,12 @@ class HarmonicSignal:
     sin: FloatArray
 
     def __post_init__(self) -> None:
-        c = np.atleast_1d(np.asarray(self.cos, dtype=float))
-        s = np.atleast_1d(np.asarray(self.sin, dtype=float))
+        c = _floats(self.cos, "transmission error: cos coefficients")
+        s = _floats(self.sin, "transmission error: sin coefficients")
         if c.shape != s.shape or c.ndim != 1:
             raise InputError("transmission error: cos and sin coefficient lists differ in length")
-        if not (np.all(np.isfinite(c)) and np.all(np.isfinite(s)) and np.isfinite(self.mean)):
+        check_range("transmission error: mean", self.mean, "m")
+        if not (np.all(np.isfinite(c)) and np.all(np.isfinite(s))):
             raise InputError("transmission error: coefficients must be finite numbers (m)")
         object.__setattr__(self, "cos", c)
         object.__setattr__(self, "sin", s)
@@ -77,11 +87,11 @@ class SampledSignal:
     values: FloatArray
 
     def __post_init__(self) -> None:
-        p = np.asarray(self.phase, dtype=float)
-        v = np.asarray(self.values, dtype=float)
+        p = _floats(self.phase, "sampled signal: phase", atleast_1d=False)
+        v = _floats(self.values, "sampled signal: values", atleast_1d=False)
         if p.ndim != 1 or p.shape != v.shape or p.size < 2:
             raise InputError("sampled signal: phase and values must be 1-D of equal length >= 2")
-        if p[0] < 0 or p[-1] >= 1 or np.any(np.diff(p) <= 0):
+        if not np.all(np.isfinite(p)) or p[0] < 0 or p[-1] >= 1 or np.any(np.diff(p) <= 0):
             raise InputError("sampled signal: phases must increase strictly within [0, 1)")
         if not np.all(np.isfinite(v)):
             raise InputError("sampled signal: values must be finite")

@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Any
 
 import hypothesis.strategies as st
+import numpy as np
 from hypothesis import HealthCheck, given, settings
 from test_scene_mutation import dump_toml, example_scenes, load
 
@@ -281,3 +282,61 @@ def in_range_scenes(draw: st.DrawFn) -> dict[str, Any]:
 @given(in_range_scenes())
 def test_in_range_values_build_a_model_or_raise_documented_errors(data: dict[str, Any]) -> None:
     _load_and_build(data)
+
+
+arrays = st.one_of(
+    st.lists(st.floats(allow_nan=True, allow_infinity=True), max_size=4),
+    st.lists(st.floats(-1e-3, 1e-3), min_size=1, max_size=4),
+    anything, st.lists(anything, max_size=3),
+)
+
+
+@FUZZ
+@given(mean=anything, a=arrays, b=arrays, phase=arrays, values=arrays)
+def test_excitation_signals_are_valid_or_an_input_error(mean: Any, a: Any, b: Any, phase: Any,
+                                                        values: Any) -> None:
+    """HarmonicSignal / SampledSignal from junk: InputError, or finite values at any phase."""
+    from gear_dyn.excitation import HarmonicSignal, SampledSignal
+
+    for make in (lambda: HarmonicSignal(mean, a, b), lambda: SampledSignal(phase, values)):
+        try:
+            sig = make()
+        except InputError:
+            continue
+        v = sig.value(np.linspace(-1.5, 2.5, 7))
+        assert np.all(np.isfinite(v))
+
+
+@FUZZ
+@given(method=st.sampled_from(["iso6336", "rectangular", "contact_line", "weber", "nope", ""]),
+       options=st.dictionaries(st.sampled_from(["single", "double", "line_load", "bogus"]),
+                               anything, max_size=2),
+       terms=st.one_of(st.none(), st.integers(-2, 300), anything))
+def test_stiffness_selector_is_a_stiffness_or_an_input_error(
+    heli_pair: GearPair, method: str, options: dict[str, Any], terms: Any
+) -> None:
+    """build_stiffness with junk options: an InputError, or a stiffness with a finite positive
+    mean. (potential_energy is left out: seconds per call.)"""
+    from gear_dyn.stiffness.select import build_stiffness
+
+    try:
+        k = build_stiffness(heli_pair, method, fourier_terms=terms, **options)
+    except InputError:
+        return
+    assert math.isfinite(k.mean) and k.mean > 0
+
+
+@FUZZ
+@given(t_end=st.one_of(st.floats(1e-6, 0.05), anything),
+       steady=st.one_of(st.none(), st.floats(-1, 1), anything))
+def test_simulate_time_span_is_valid_or_an_input_error(heli_pair: GearPair, t_end: Any,
+                                                       steady: Any) -> None:
+    from gear_dyn.solve import simulate
+
+    k = rectangular_stiffness(heli_pair.contact_ratio, 1e9, 1.75e9)
+    m = sdof_from_pair(heli_pair, 300.0, 1000.0, k)
+    try:
+        r = simulate(m, t_end, SolverSettings(method="exact", samples_per_period=8), steady)
+    except InputError:
+        return
+    assert np.all(np.isfinite(r.y)) and r.t[-1] <= t_end * (1 + 1e-9)
