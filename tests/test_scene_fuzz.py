@@ -340,3 +340,27 @@ def test_simulate_time_span_is_valid_or_an_input_error(heli_pair: GearPair, t_en
     except InputError:
         return
     assert np.all(np.isfinite(r.y)) and r.t[-1] <= t_end * (1 + 1e-9)
+
+
+@FUZZ
+@given(edges=arrays, samples=st.one_of(anything, st.lists(st.tuples(arrays, arrays),
+                                                           max_size=3)),
+       k0=anything, a=arrays, b=arrays, line_load=anything)
+def test_stiffness_constructors_are_valid_or_an_input_error(
+    heli_pair: GearPair, edges: Any, samples: Any, k0: Any, a: Any, b: Any, line_load: Any
+) -> None:
+    """PiecewiseStiffness, FourierStiffness and the ISO 6336 estimate from junk."""
+    from gear_dyn.stiffness.iso6336 import iso6336_stiffness
+    from gear_dyn.stiffness.periodic import FourierStiffness, PiecewiseStiffness
+
+    for make in (lambda: PiecewiseStiffness(edges, samples), lambda: FourierStiffness(k0, a, b)):
+        try:
+            k = make()
+        except InputError:
+            continue
+        assert np.all(np.isfinite(k(np.linspace(0, 1, 5))))
+    try:
+        iso = iso6336_stiffness(heli_pair, line_load=line_load)
+    except InputError:
+        return
+    assert math.isfinite(iso.k_single) and iso.k_single >= 0

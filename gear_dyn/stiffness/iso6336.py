@@ -26,6 +26,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..errors import check_range
 from ..geometry import GearPair
 
 C = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
@@ -91,6 +92,8 @@ def iso6336_stiffness(pair: GearPair, line_load: float | None = None) -> IsoStif
         pair.youngs_modulus1 + pair.youngs_modulus2
     )
     c1 = c_th * c_m * c_r * c_b * cb * (e_eq / E_STEEL)
+    if line_load is not None:
+        line_load = check_range("line_load", line_load, "N/m")  # a number, not NaN or text
     if line_load is not None and line_load < 1e5:
         c1 *= (max(line_load, 0.0) / 1e5) ** 0.25
     c1 *= UNIT

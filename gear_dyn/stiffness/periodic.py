@@ -74,8 +74,11 @@ class PeriodicStiffness(ABC):
         return float(np.max(self._dense()))
 
     def truncated(self, n: int) -> FourierStiffness:
-        """The Fourier series of this stiffness truncated at ``n`` harmonics."""
-        k0, a, b = self.fourier_coefficients(n)
+        """The Fourier series of this stiffness truncated at ``n`` harmonics (1..MAX_TERMS)."""
+        if isinstance(n, bool) or not isinstance(n, int | np.integer):
+            raise InputError(f"fourier_terms = {n!r}: expected a whole number of harmonics")
+        check_range("fourier_terms", n, "harmonics", low=1, high=MAX_FOURIER_TERMS)
+        k0, a, b = self.fourier_coefficients(int(n))
         return FourierStiffness(k0, a, b, name=f"{self.name} (Fourier, {n} terms)")
 
     def switching_times(self, t0: float, t1: float, mesh_frequency: float,
@@ -95,6 +98,10 @@ class PeriodicStiffness(ABC):
         # guard against rounding putting an instant on an end point
         tol = 1e-12 * max(abs(t0), abs(t1), 1.0 / mesh_frequency)
         return np.sort(t[(t > t0 + tol) & (t < t1 - tol)])
+
+
+#: most harmonics a truncated series may keep (the scene allows 200)
+MAX_FOURIER_TERMS = 10_000
 
 
 def _check_k(name: str, values: FloatArray) -> None:
@@ -132,19 +139,26 @@ class PiecewiseStiffness(PeriodicStiffness):
     _lists: tuple[list[float], list[float], list[float]] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
-        e = np.asarray(self.edges, dtype=float)
-        if e.ndim != 1 or e.size < 2 or e[0] != 0.0 or e[-1] != 1.0 or np.any(np.diff(e) <= 0):
+        try:
+            e = np.asarray(self.edges, dtype=float)
+            samples = [(np.asarray(ph, dtype=float), np.asarray(val, dtype=float))
+                       for ph, val in self.samples]
+        except (TypeError, ValueError):
+            raise InputError(f"{self.name}: edges must be numbers and samples (phases, values "
+                             "in N/m) pairs of number lists") from None
+        if e.ndim != 1 or e.size < 2 or not np.all(np.isfinite(e)) or e[0] != 0.0 or (
+                e[-1] != 1.0 or np.any(np.diff(e) <= 0)):
             raise InputError(f"{self.name}: segment edges must rise strictly from 0 to 1, got {e}")
-        if len(self.samples) != e.size - 1:
+        if len(samples) != e.size - 1:
             raise InputError(
-                f"{self.name}: {len(self.samples)} sample sets for {e.size - 1} segments"
+                f"{self.name}: {len(samples)} sample sets for {e.size - 1} segments"
             )
         us, vs = [], []
-        for i, (ph, val) in enumerate(self.samples):
-            ph = np.asarray(ph, dtype=float)
-            val = np.asarray(val, dtype=float)
-            if ph.shape != val.shape or ph.size < 2:
-                raise InputError(f"{self.name}: segment {i} needs >= 2 samples of equal length")
+        for i, (ph, val) in enumerate(samples):
+            if ph.shape != val.shape or ph.ndim != 1 or ph.size < 2 or not np.all(
+                    np.isfinite(ph)):
+                raise InputError(f"{self.name}: segment {i} needs >= 2 finite samples of equal "
+                                 "length")
             _check_k(self.name, val)
             width = e[i + 1] - e[i]
             u = (ph - e[i]) / width
