@@ -164,7 +164,8 @@ class Field:
             ) from None
         if not isinstance(q, ureg.Quantity):
             q = ureg.Quantity(float(q))
-        if self.unit == "rad/s" and "radian" not in str(q.to_root_units().units):
+        if (self.unit == "rad/s" and q.check("1/[time]")
+                and "radian" not in str(q.to_root_units().units)):
             # pint takes 1 Hz = 1 1/s = 1 rad/s: 2 pi off for a shaft speed, so refuse it
             raise SceneError(
                 f"{where} = {raw!r}: ambiguous unit for a rotational speed (pint reads 1 Hz as "
