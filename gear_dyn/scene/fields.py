@@ -34,7 +34,7 @@ _DIM_NAMES = {
     "": "a dimensionless number",
     "[mass]": "a mass (e.g. '2 kg')",
     "[time]": "a time (e.g. '0.1 s')",
-    "1 / [time]": "a speed or frequency (e.g. '3319 rpm', '50 Hz')",
+    "1 / [time]": "a rotational speed or rate (e.g. '3319 rpm', '50 rad/s')",
     "[length] ** 2 * [mass] / [time] ** 2": "a torque (e.g. '1474.4 N*m')",
     "[mass] / [length] / [time] ** 2": "a pressure or modulus (e.g. '207 GPa')",
     "[mass] / [length] ** 3": "a density (e.g. '7850 kg/m^3')",
