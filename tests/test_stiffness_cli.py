@@ -92,7 +92,7 @@ def test_cli_writes_files_and_json(tmp_path: Path) -> None:
     total = comp["hertz_m_per_n"] + sum(
         comp[f"{t}_{g}_m_per_n"] for t in ("bending", "shear", "axial", "fillet")
         for g in ("pinion", "gear"))
-    assert 1 / total == pytest.approx(comp["pair_stiffness_n_per_m"], rel=1e-12)
+    assert comp["pair_stiffness_n_per_m"] == pytest.approx(1 / total, rel=1e-12)
     header = (out / "stiffness.csv").read_text().splitlines()[0]
     assert header.startswith("phase_cycles,k_iso6336_n_per_m")
 
