@@ -215,7 +215,11 @@ def _check_replaceable(target: Path) -> None:
         return
     res = target.resolve()
     cwd = Path.cwd().resolve()
-    if res == cwd or res in cwd.parents or res == Path.home().resolve():
+    try:
+        home: Path | None = Path.home().resolve()
+    except (RuntimeError, KeyError, OSError):  # no HOME and no passwd entry
+        home = None
+    if res == cwd or res in cwd.parents or res == home:
         raise InputError(
             f"--out {target}: is the current folder, one of its parents or the home folder; "
             "the output folder is replaced as a whole, so give a new folder"
