@@ -97,6 +97,8 @@ def test_unknown_keys_and_tables_suggest_the_right_one() -> None:
     ({"center_distance": 0.0864}, "center_distance = 86.4 mm: negative tip clearance"),
     ({"center_distance": 0.0885}, "contact_ratio = 0.9926"),
     ({"helix_angle": 1e-9}, "helix_angle = 1e-09 rad: valid range 0 (spur) or 0.0001"),
+    ({"z1": 40, "z2": 200, "pressure_angle": math.radians(14.5), "x2": -0.8,
+      "addendum_coef": 1.25}, "z1 = 40, z2 = 200: involute interference"),
 ])
 def test_impossible_pairs(kw: dict[str, Any], needle: str) -> None:
     """Contact ratio below 1, undercut, pointed tip, overlapping teeth, negative tip clearance:
