@@ -7,7 +7,7 @@ import math
 import pytest
 
 from gear_dyn.errors import InputError
-from gear_dyn.geometry import GearPair, involute, inverse_involute, mesh_frequency, output_speed
+from gear_dyn.geometry import GearPair, inverse_involute, involute, mesh_frequency, output_speed
 
 
 def test_textbook_spur_pair_by_hand() -> None:
