@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -222,6 +222,26 @@ def _atol(model: Model, settings: SolverSettings) -> FloatArray:
     return settings.rtol * np.asarray(model.state_scale, dtype=float)
 
 
+def pieces(
+    t_grid: FloatArray, cuts: FloatArray
+) -> Iterator[tuple[float, float, int, int, FloatArray]]:
+    """The pieces ``[ta, tb]`` between consecutive ``cuts`` with the output points they own.
+
+    Yields ``(ta, tb, i0, i1, t_eval)``: grid points ``t_grid[i0:i1]`` lie in ``(ta, tb]`` (the
+    first piece also owns ``ta``), and ``t_eval`` is those points with ``tb`` appended when it is
+    not a grid point, so the end state of every piece is always returned.
+    """
+    idx = np.searchsorted(t_grid, cuts, side="right")  # grid points up to each cut
+    for k in range(cuts.size - 1):
+        ta, tb = float(cuts[k]), float(cuts[k + 1])
+        if tb <= ta:
+            continue
+        i0, i1 = int(idx[k]), int(idx[k + 1])
+        te = t_grid[i0:i1]
+        t_eval = np.concatenate([te, [tb]]) if te.size == 0 or te[-1] < tb else te
+        yield ta, tb, i0, i1, t_eval
+
+
 def resolve_auto(model: Model) -> str:
     """The method ``auto`` picks: ``exact`` for linear piecewise-constant models, else LSODA.
 
@@ -280,14 +300,7 @@ def integrate(
 
     events = contact_event_functions(model)  # contact changes (backlash): restart at each
     n_events = 0
-    idx = np.searchsorted(t_grid, cuts, side="right")  # grid points up to each cut
-    for k in range(cuts.size - 1):
-        ta, tb = float(cuts[k]), float(cuts[k + 1])
-        if tb <= ta:
-            continue
-        i0, i1 = idx[k], idx[k + 1]
-        te = t_grid[i0:i1]
-        t_eval = np.concatenate([te, [tb]]) if te.size == 0 or te[-1] < tb else te
+    for ta, tb, i0, i1, t_eval in pieces(t_grid, cuts):
         if events:
             ys, y, est = solve_piece_with_events(
                 model.rhs, ta, tb, y, t_eval, events, settings.method, settings.rtol, atol,

@@ -41,6 +41,7 @@ from scipy.linalg import expm
 
 from .errors import InputError, SolverError, check_range
 from .models.sdof import SDOFModel
+from .solve import pieces
 
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
@@ -247,14 +248,7 @@ def flow_on_grid(model: SDOFModel, y0: FloatArray, t_grid: FloatArray, rtol: flo
     y = np.array(y0, dtype=float)
     out = np.empty((y.size, t_grid.size))
     out[:, 0] = y
-    idx = np.searchsorted(t_grid, cuts, side="right")
-    for k in range(cuts.size - 1):
-        ta, tb = float(cuts[k]), float(cuts[k + 1])
-        if tb <= ta:
-            continue
-        i0, i1 = idx[k], idx[k + 1]
-        te = t_grid[i0:i1]
-        t_eval = np.concatenate([te, [tb]]) if te.size == 0 or te[-1] < tb else te
+    for ta, tb, i0, i1, t_eval in pieces(t_grid, cuts):
         f, _jac = _piece_functions(model, ta, tb)
         sol = solve_ivp(f, (ta, tb), y, method="DOP853", t_eval=t_eval, rtol=rtol, atol=atol)
         if sol.status != 0 or not np.all(np.isfinite(sol.y)):
