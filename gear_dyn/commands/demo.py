@@ -41,6 +41,14 @@ def run(args: argparse.Namespace) -> int:
     print(f"  dynamic factor      {s['dynamic_factor']:.4f}")
     print(f"  RMS / p-p DTE       {s['rms_dte_m'] * 1e6:.4g} / {s['ptp_dte_m'] * 1e6:.4g} um")
     print(f"  solver              {s['solver']['method']}, {s['solver']['run_time_s']:.3g} s")
+    est = s.get("estimated_error")
+    if est:
+        print(f"  estimated error     {est['max_rel']:.2g} of W/k_m ({est['basis']})")
+    fl = s.get("floquet")
+    if fl:
+        state = "UNSTABLE" if fl["unstable"] else "stable"
+        mu = fl["max_multiplier_modulus"]
+        print(f"  Floquet check       largest multiplier {mu:.3f} ({state})")
     print(f"plots: {out / 'time_history.png'}  {out / 'spectrum.png'}")
     print(f"data:  {out / 'timeseries.csv'}  {out / 'summary.json'}")
     return 0
