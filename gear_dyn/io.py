@@ -126,10 +126,19 @@ def write_csv(path: str | Path, columns: Mapping[str, Sequence[float] | np.ndarr
 
 
 def save_figure(fig: Any, path: str | Path, **kwargs: Any) -> Path:
-    """Render a matplotlib figure to bytes and write it atomically."""
+    """Render a matplotlib figure to bytes, write it atomically and close the figure.
+
+    The figure is closed even when rendering fails, so commands that draw many figures do not
+    accumulate them in pyplot's registry.
+    """
+    import matplotlib.pyplot as plt
+
     buf = io.BytesIO()
     fmt = Path(path).suffix.lstrip(".") or "png"
-    fig.savefig(buf, format=fmt, **kwargs)
+    try:
+        fig.savefig(buf, format=fmt, **kwargs)
+    finally:
+        plt.close(fig)
     return write_bytes(path, buf.getvalue())
 
 

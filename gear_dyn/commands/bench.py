@@ -62,7 +62,6 @@ def _csv(cols: dict[str, list[Any]]) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    import matplotlib.pyplot as plt
 
     from ..bench import markdown_table, run_bench, summary_dict, table_columns
     from ..io import save_figure, staged_output, write_json, write_text
@@ -96,7 +95,6 @@ def run(args: argparse.Namespace) -> int:
         write_json(tmp / "bench.json", summary_dict(report, targets))
         fig = plot_work_precision(report, targets=(args.target,))
         save_figure(fig, tmp / "work_precision.png", dpi=110)
-        plt.close(fig)
     best = report.recommend(args.target)
     if best is None:
         print(f"{scene.name}: no case reached max error {args.target:.0e}")

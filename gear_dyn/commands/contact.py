@@ -110,7 +110,6 @@ def _dynamics(scene: Any, res: dict[str, Any]) -> tuple[dict[str, Any], dict[str
 
 
 def run(args: argparse.Namespace) -> int:
-    import matplotlib.pyplot as plt
 
     from ..io import save_figure, staged_output, write_csv, write_json
     from ..plots_contact import plot_load_sharing, plot_loaded_stiffness
@@ -145,10 +144,8 @@ def run(args: argparse.Namespace) -> int:
     with staged_output(args.out) as tmp:
         fig = plot_load_sharing(cases)
         save_figure(fig, tmp / "load_sharing.png", dpi=120)
-        plt.close(fig)
         fig = plot_loaded_stiffness(cases)
         save_figure(fig, tmp / "stiffness.png", dpi=120)
-        plt.close(fig)
         write_csv(tmp / "path.csv", cols)
         write_json(tmp / "contact.json", report)
         if results:
@@ -156,7 +153,6 @@ def run(args: argparse.Namespace) -> int:
 
             fig = plot_dynamic_comparison(results)
             save_figure(fig, tmp / "dynamics.png", dpi=120)
-            plt.close(fig)
             write_json(tmp / "dynamics.json", dyn)
     out = sys.stdout
     print(f"{scene.name}: loaded contact at T1 = {res['torque']:.6g} N m "

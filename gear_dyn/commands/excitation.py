@@ -100,7 +100,6 @@ def analyse(scene: Any, periods: int = 1, samples_per_mesh: int = 64,
 
 
 def run(args: argparse.Namespace) -> int:
-    import matplotlib.pyplot as plt
 
     from ..io import save_figure, staged_output, write_csv, write_json
     from ..plots_excitation import plot_excitation_spectra, plot_excitation_time
@@ -112,10 +111,8 @@ def run(args: argparse.Namespace) -> int:
         write_csv(tmp / "excitation.csv", {"t_s": res["t"], **res["series"]})
         fig = plot_excitation_time(res["t"], res["series"], res["basis"])
         save_figure(fig, tmp / "excitation_time.png", dpi=110)
-        plt.close(fig)
         fig = plot_excitation_spectra(res["spectra"], res["peaks"], res["basis"])
         save_figure(fig, tmp / "excitation_spectrum.png", dpi=110)
-        plt.close(fig)
         write_json(tmp / "peaks.json", res["report"])
     for name, pk in res["peaks"].items():
         top = ", ".join(f"{p['label'] or '?'} {p['frequency_hz']:.2f} Hz" for p in pk[:6])

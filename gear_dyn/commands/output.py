@@ -12,7 +12,6 @@ from ..solve import Result
 
 def write_run_outputs(result: Result, out: Path) -> dict[str, Any]:
     """Write plots, CSV and summary.json of ``result`` into ``out`` (whole or not at all)."""
-    import matplotlib.pyplot as plt
 
     from ..plots import plot_spectrum, plot_time_history
 
@@ -27,9 +26,7 @@ def write_run_outputs(result: Result, out: Path) -> dict[str, Any]:
         write_csv(tmp / "timeseries.csv", cols)
         fig = plot_time_history(result)
         save_figure(fig, tmp / "time_history.png", dpi=110)
-        plt.close(fig)
         fig = plot_spectrum(result)
         save_figure(fig, tmp / "spectrum.png", dpi=110)
-        plt.close(fig)
         write_json(tmp / "summary.json", summary)
     return summary

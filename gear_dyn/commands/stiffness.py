@@ -128,7 +128,6 @@ def compute(scene: Any, methods: list[str]) -> tuple[Any, dict[str, Any], dict[s
 
 
 def run(args: argparse.Namespace) -> int:
-    import matplotlib.pyplot as plt
     import numpy as np
 
     from ..io import save_figure, staged_output, write_csv, write_json
@@ -147,11 +146,9 @@ def run(args: argparse.Namespace) -> int:
         fig = plot_stiffness_curves(curves, pair.contact_ratio, cycles=args.cycles,
                                     transverse_note=pair.helix_angle > 0)
         save_figure(fig, tmp / "stiffness.png", dpi=110)
-        plt.close(fig)
         fig = plot_components(comp, title="potential-energy compliance split at the pitch point "
                               f"(K = {1 / float(comp.total[0]):.4g} N/m)")
         save_figure(fig, tmp / "components.png", dpi=110)
-        plt.close(fig)
         p = np.arange(args.samples) / args.samples
         cols: dict[str, Any] = {"phase_cycles": p}
         for name, k in curves.items():

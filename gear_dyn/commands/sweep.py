@@ -137,12 +137,10 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
         write_csv(tmp / "spectra.csv", {k: np.asarray(v) for k, v in spec_cols.items()})
         fig = plot_sweep_response(result)
         save_figure(fig, tmp / "response.png", dpi=110)
-        plt.close(fig)
         for c in result.curves:
             fig = plot_waterfall(result, c.direction)
             name = "waterfall.png" if c is result.curves[0] else f"waterfall_{c.direction}.png"
             save_figure(fig, tmp / name, dpi=110)
-            plt.close(fig)
         if isinstance(model, SDOFModel) and chart != "none":
             ratio = result.curves[0].mesh_frequency / result.natural_frequency
             lo, hi = float(np.min(ratio)), float(np.max(ratio))
@@ -167,7 +165,6 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
                         f"{result.scene_name}: Floquet stability{note}; black line |mu| = 1"))
                 fig.tight_layout()
                 save_figure(fig, tmp / "stability.png", dpi=110)
-                plt.close(fig)
                 summary["stability_chart"] = {
                     ch.parameter_name: {"scene_value": ch.scene_value,
                                         "unstable_share_of_chart": float(
