@@ -22,11 +22,12 @@ from pathlib import Path
 
 import numpy as np
 
-from gear_dyn.commands.excitation import analyse
+from gear_dyn.analysis.study import simulate
+from gear_dyn.cli.excitation import analyse
 from gear_dyn.eccentricity import Eccentricity
 from gear_dyn.models.torsional import ContactLineStiffness, TorsionalModel
 from gear_dyn.scene import build_plan, load_scene
-from gear_dyn.solve import SolverSettings, simulate
+from gear_dyn.solvers import SolverSettings
 
 ROOT = Path(__file__).resolve().parents[1]
 SEED = ROOT / "examples" / "scenes" / "eccentric_helical.toml"

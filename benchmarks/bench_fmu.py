@@ -7,7 +7,7 @@ For the seed 002 scene (single-DOF, exact propagation, 40 mesh periods) and the 
 (torsional, eccentricity + friction, DOP853 rtol 1e-7, 12 mesh periods), at 4, 16 and 64
 communication steps per mesh period:
 
-- ``direct``: one :func:`gear_dyn.solve.integrate` call on the communication grid with the
+- ``direct``: one :func:`gear_dyn.solvers.integrate` call on the communication grid with the
   scene's own method (what the FMU runs inside);
 - ``stepper``: the FMU's :class:`gear_dyn.fmu.stepper.Stepper` driven from Python step by step,
   with the outputs computed at each step (no FMI layer);
@@ -37,7 +37,7 @@ from gear_dyn.fmu.build import build_fmu
 from gear_dyn.fmu.cosim import FmuSession, compare, extracted
 from gear_dyn.fmu.stepper import Stepper
 from gear_dyn.scene import build_plan, load_scene
-from gear_dyn.solve import integrate
+from gear_dyn.solvers import integrate
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = (("helicopter_tail", 40), ("eccentric_helical", 12))

@@ -18,10 +18,11 @@ import math
 import statistics
 import time
 
+from gear_dyn.analysis.study import simulate
 from gear_dyn.geometry import GearPair
+from gear_dyn.models.relief import ContactSDOFModel, pair_stiffness_function, relief_sdof
 from gear_dyn.modification import RULES, loaded_contact, recommended_relief
-from gear_dyn.modification.dynamics import ContactSDOFModel, pair_stiffness_function, relief_sdof
-from gear_dyn.solve import SolverSettings, simulate
+from gear_dyn.solvers import SolverSettings
 
 PAIR = GearPair(23, 64, 6e-3, math.radians(22.5), 50e-3, youngs_modulus1=207e9,
                 youngs_modulus2=207e9)

@@ -39,11 +39,11 @@ import numpy as np
 import scipy
 from scipy.integrate import solve_ivp
 
-from gear_dyn.accuracy import relative_errors
-from gear_dyn.bench import reference_solution
+from gear_dyn.analysis.accuracy import relative_errors
+from gear_dyn.analysis.bench import reference_solution
 from gear_dyn.scene import load_scene, run_scene
 from gear_dyn.scene.build import build_plan
-from gear_dyn.solve import SolverSettings, integrate
+from gear_dyn.solvers import SolverSettings, integrate
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENE = ROOT / "examples" / "scenes" / "helicopter_tail.toml"
@@ -141,7 +141,7 @@ def main(argv: list[str] | None = None) -> int:
     y_ref, _ = integrate(model, t, SolverSettings(method="exact"))
     # independent check of the default (eigen-route exact) path: the same pieces through
     # scipy.linalg.expm (Pade) instead of the eigendecomposition
-    import gear_dyn.exact as exact_mod
+    import gear_dyn.solvers.exact as exact_mod
 
     cap = exact_mod.MAX_EIGEN_CONDITION
     exact_mod.MAX_EIGEN_CONDITION = 0.0

@@ -102,7 +102,8 @@ def helix_table() -> str:
     return "\n".join(lines)
 
 
-BAND_PAIRS = (  # the pairs of tests/test_stiffness_potential_energy.py::test_pem_mean_within_band
+# the pairs of tests/physics/test_stiffness_potential_energy.py::test_pem_mean_within_band
+BAND_PAIRS = (
     (19, 48, 3.2e-3, 20.0, 16e-3, 0.0, 0.0),
     (23, 64, 6e-3, 22.5, 50e-3, 0.0, 0.0),
     (25, 25, 4e-3, 20.0, 20e-3, 0.0, 0.0),

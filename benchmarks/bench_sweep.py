@@ -8,7 +8,7 @@ line gives the default parallel sweep (local process pool) for reference.
 
 Methods, each producing the dynamic factor and the RMS and peak-to-peak DTE at every speed:
 
-1. ``steady``: ``gear_dyn.sweep.sweep(method="steady")``: the monodromy matrix of one mesh
+1. ``steady``: ``gear_dyn.analysis.sweep.sweep(method="steady")``: the monodromy matrix of one mesh
    period (product of augmented matrix exponentials), one 2x2 solve for the periodic orbit,
    the orbit sampled over one period (64 points), Floquet multipliers as a by-product.
 2. ``transient as run``: what ``gear-dyn run`` does at each speed: ``simulate`` over the scene's
@@ -39,9 +39,11 @@ from pathlib import Path
 
 import numpy as np
 
-from gear_dyn.scene import build_model, build_pair, load_scene
-from gear_dyn.solve import SolverSettings, integrate, simulate
-from gear_dyn.sweep import RPM, model_at_speed, sweep
+from gear_dyn.analysis.study import simulate
+from gear_dyn.analysis.sweep import RPM
+from gear_dyn.scene import build_model, load_scene
+from gear_dyn.scene.sweep import model_at_speed, sweep_scene
+from gear_dyn.solvers import SolverSettings, integrate
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENE = ROOT / "gear_dyn" / "scenes" / "helicopter_tail.toml"
@@ -65,8 +67,6 @@ def transient(scene, speeds, mode: str, method: str = "auto"):  # type: ignore[n
     and one period later differ by less than 1e-9 of the state scale (the remaining transient
     is then ~1e-9 / (1 - rho) <= 1e-8 for rho <= 0.9), then the last period is measured.
     """
-    base = build_model(scene)
-    pair = build_pair(scene)
     spp = 64
     # DOP853 runs at rtol 1e-10 so its period-to-period noise stays below the 1e-9 criterion
     # (its one-period map is not smooth: at rtol 1e-8 the iterates wander at ~1e-9 for ever)
@@ -74,7 +74,7 @@ def transient(scene, speeds, mode: str, method: str = "auto"):  # type: ignore[n
     settings = SolverSettings(method=method, rtol=rtol, samples_per_period=spp)
     df, rms, used = [], [], []
     for w in speeds:
-        model = model_at_speed(base, pair, float(w))
+        model = model_at_speed(scene, float(w))
         fm = model.mesh_frequency
         if mode == "run":
             r = simulate(model, 200 / fm, settings, 100 / fm)
@@ -109,8 +109,7 @@ def main() -> None:
     args = ap.parse_args()
     scene = load_scene(SCENE)
     speeds = np.linspace(500, 12000, args.speeds) * RPM
-    base = build_model(scene)
-    ref = sweep(scene, speeds, workers=1, rtol=1e-12).curves[0]
+    ref = sweep_scene(scene, speeds, workers=1, rtol=1e-12).curves[0]
 
     rows = []
 
@@ -119,7 +118,7 @@ def main() -> None:
         e_rms = float(np.max(np.abs(rms / ref.rms_dte - 1)))
         return f"{e_df:.1e} / {e_rms:.1e}"
 
-    t_st, ts_st, res = _timed(lambda: sweep(scene, speeds, workers=1), args.repeats)
+    t_st, ts_st, res = _timed(lambda: sweep_scene(scene, speeds, workers=1), args.repeats)
     c = res.curves[0]
     rows.append(("steady (monodromy, expm)", t_st, ts_st, err(c.dynamic_factor, c.rms_dte),
                  "measured"))
@@ -139,7 +138,8 @@ def main() -> None:
     rows.append(("transient until converged (DOP853, rtol 1e-10)", t_dop * scale,
                  [t * scale for t in ts_dop], f"{e_df:.1e} / {e_rms:.1e}",
                  f"extrapolated from {sub.size} speeds ({t_dop:.2f} s)"))
-    t_par, ts_par, _ = _timed(lambda: sweep(scene, speeds), args.repeats)
+    t_par, ts_par, _ = _timed(lambda: sweep_scene(scene, speeds), args.repeats)
+    base = build_model(scene)
 
     lines = [
         "# Speed sweep benchmark: steady state vs transient integration",

@@ -25,16 +25,17 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from gear_dyn.analysis.spectrum import amplitude_spectrum  # noqa: E402
+from gear_dyn.analysis.study import simulate
 from gear_dyn.geometry import GearPair  # noqa: E402
 from gear_dyn.io import save_figure, write_json  # noqa: E402
-from gear_dyn.modification import RULES, loaded_contact, recommended_relief  # noqa: E402
-from gear_dyn.modification.dynamics import (  # noqa: E402
+from gear_dyn.models.relief import (  # noqa: E402
     ContactSDOFModel,
     pair_stiffness_function,
     relief_sdof,
 )
-from gear_dyn.solve import SolverSettings, simulate  # noqa: E402
-from gear_dyn.spectrum import amplitude_spectrum  # noqa: E402
+from gear_dyn.modification import RULES, loaded_contact, recommended_relief  # noqa: E402
+from gear_dyn.solvers import SolverSettings  # noqa: E402
 
 PAIR = GearPair(23, 64, 6e-3, math.radians(22.5), 50e-3, youngs_modulus1=207e9,
                 youngs_modulus2=207e9)

@@ -31,6 +31,7 @@ import numpy as np  # noqa: E402
 
 from gear_dyn.geometry import GearPair  # noqa: E402
 from gear_dyn.io import save_figure, write_json  # noqa: E402
+from gear_dyn.models.relief import pair_stiffness_function  # noqa: E402
 from gear_dyn.modification import (  # noqa: E402
     CURVES,
     ProfileModification,
@@ -38,7 +39,6 @@ from gear_dyn.modification import (  # noqa: E402
     loaded_contact,
     long_relief_length,
 )
-from gear_dyn.modification.dynamics import pair_stiffness_function  # noqa: E402
 
 PAIR = GearPair(23, 64, 6e-3, math.radians(22.5), 50e-3, youngs_modulus1=207e9,
                 youngs_modulus2=207e9)

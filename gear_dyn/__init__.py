@@ -3,28 +3,73 @@
 The public API in one place::
 
     from gear_dyn import GearPair, load_scene, run_scene, simulate, SolverSettings
+
+Importing ``gear_dyn`` is cheap: each public name loads its module on first use (a module
+``__getattr__``, Scientific Python SPEC 1), so ``import gear_dyn`` loads neither scipy, matplotlib
+nor pint, and changes no environment variable. The layers of the package are described in
+docs/architecture.md.
 """
 
-from . import _threads  # noqa: F401  (must run before numpy is imported)
-from .errors import GearDynError, InputError, SceneError, SolverError
-from .geometry import GearPair, mesh_frequency, output_speed
-from .models import SDOFModel, sdof_from_pair
-from .report import summarize
-from .scene import load_scene, parse_scene, run_scene
-from .solve import Result, SolverSettings, simulate
-from .stiffness import (
-    FourierStiffness,
-    PeriodicStiffness,
-    PiecewiseStiffness,
-    iso6336_stiffness,
-    rectangular_stiffness,
-)
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
 
 __version__ = "0.1.0"
 
-__all__ = [
-    "FourierStiffness", "GearDynError", "GearPair", "InputError", "PeriodicStiffness",
-    "PiecewiseStiffness", "Result", "SDOFModel", "SceneError", "SolverError", "SolverSettings",
-    "iso6336_stiffness", "load_scene", "mesh_frequency", "output_speed", "parse_scene",
-    "rectangular_stiffness", "run_scene", "sdof_from_pair", "simulate", "summarize",
-]
+#: public name -> module that defines it
+_EXPORTS: dict[str, str] = {
+    "GearDynError": "gear_dyn.errors",
+    "InputError": "gear_dyn.errors",
+    "SceneError": "gear_dyn.errors",
+    "SolverError": "gear_dyn.errors",
+    "GearPair": "gear_dyn.geometry",
+    "mesh_frequency": "gear_dyn.geometry",
+    "output_speed": "gear_dyn.geometry",
+    "SDOFModel": "gear_dyn.models.sdof",
+    "sdof_from_pair": "gear_dyn.models.sdof",
+    "summarize": "gear_dyn.analysis.report",
+    "load_scene": "gear_dyn.scene",
+    "parse_scene": "gear_dyn.scene",
+    "run_scene": "gear_dyn.scene",
+    "Result": "gear_dyn.solvers.result",
+    "SolverSettings": "gear_dyn.solvers.settings",
+    "simulate": "gear_dyn.analysis.study",
+    "FourierStiffness": "gear_dyn.stiffness.periodic",
+    "PeriodicStiffness": "gear_dyn.stiffness.periodic",
+    "PiecewiseStiffness": "gear_dyn.stiffness.periodic",
+    "rectangular_stiffness": "gear_dyn.stiffness.periodic",
+    "iso6336_stiffness": "gear_dyn.stiffness.iso6336",
+}
+
+__all__ = sorted(_EXPORTS)
+
+if TYPE_CHECKING:  # what type checkers and IDEs see; at run time the names load lazily
+    from gear_dyn.analysis.report import summarize
+    from gear_dyn.analysis.study import simulate
+    from gear_dyn.errors import GearDynError, InputError, SceneError, SolverError
+    from gear_dyn.geometry import GearPair, mesh_frequency, output_speed
+    from gear_dyn.models.sdof import SDOFModel, sdof_from_pair
+    from gear_dyn.scene import load_scene, parse_scene, run_scene
+    from gear_dyn.solvers.result import Result
+    from gear_dyn.solvers.settings import SolverSettings
+    from gear_dyn.stiffness.iso6336 import iso6336_stiffness
+    from gear_dyn.stiffness.periodic import (
+        FourierStiffness,
+        PeriodicStiffness,
+        PiecewiseStiffness,
+        rectangular_stiffness,
+    )
+
+
+def __getattr__(name: str) -> Any:
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'gear_dyn' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value  # later lookups skip this function
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .errors import InputError, check_range
+from gear_dyn.errors import InputError, check_range
 
 FloatArray = NDArray[np.float64]
 

@@ -22,7 +22,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from .errors import InputError, check_range
+from gear_dyn.errors import InputError, check_range
 
 #: smallest non-zero helix angle in rad (0.0057 deg); a smaller one is a spur pair in all but
 #: rounding, and the helical contact-line formulas underflow

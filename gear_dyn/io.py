@@ -25,6 +25,7 @@ import math
 import os
 import shutil
 import signal
+import sys
 import tempfile
 from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
@@ -32,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from .errors import InputError
+from gear_dyn.errors import InputError
 
 
 def _read_umask() -> int:
@@ -128,17 +129,19 @@ def write_csv(path: str | Path, columns: Mapping[str, Sequence[float] | np.ndarr
 def save_figure(fig: Any, path: str | Path, **kwargs: Any) -> Path:
     """Render a matplotlib figure to bytes, write it atomically and close the figure.
 
-    The figure is closed even when rendering fails, so commands that draw many figures do not
-    accumulate them in pyplot's registry.
+    Works for a plain :class:`matplotlib.figure.Figure` (no pyplot, no backend: ``savefig``
+    renders off-screen). A figure that pyplot manages is closed even when rendering fails, so
+    commands that draw many figures do not accumulate them in pyplot's registry; saving never
+    imports pyplot itself.
     """
-    import matplotlib.pyplot as plt
-
     buf = io.BytesIO()
     fmt = Path(path).suffix.lstrip(".") or "png"
     try:
         fig.savefig(buf, format=fmt, **kwargs)
     finally:
-        plt.close(fig)
+        plt = sys.modules.get("matplotlib.pyplot")
+        if plt is not None:
+            plt.close(fig)
     return write_bytes(path, buf.getvalue())
 
 

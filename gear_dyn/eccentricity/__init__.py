@@ -5,6 +5,6 @@
 - :mod:`.friction`: friction force and friction torques on both gears
 """
 
-from .kinematics import Eccentricity, EccentricMesh, Kinematics
+from gear_dyn.eccentricity.kinematics import Eccentricity, EccentricMesh, Kinematics
 
 __all__ = ["Eccentricity", "EccentricMesh", "Kinematics"]

@@ -51,7 +51,7 @@ from typing import Any, Protocol
 import numpy as np
 from numpy.typing import NDArray
 
-from .kinematics import EccentricMesh, Kinematics
+from gear_dyn.eccentricity.kinematics import EccentricMesh, Kinematics
 
 FloatArray = NDArray[np.float64]
 

@@ -41,9 +41,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import check_range
-from .contact_lines import LineLayout, LinePlace, line_positions, overlap
-from .kinematics import Kinematics
+from gear_dyn.eccentricity.contact_lines import LineLayout, LinePlace, line_positions, overlap
+from gear_dyn.eccentricity.kinematics import Kinematics
+from gear_dyn.errors import check_range
 
 FloatArray = NDArray[np.float64]
 

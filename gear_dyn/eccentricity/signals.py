@@ -12,10 +12,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import check_range
-from .contact_lines import LineLayout, contact_lines
-from .friction import friction_factors
-from .kinematics import EccentricMesh
+from gear_dyn.eccentricity.contact_lines import LineLayout, contact_lines
+from gear_dyn.eccentricity.friction import friction_factors
+from gear_dyn.eccentricity.kinematics import EccentricMesh
+from gear_dyn.errors import check_range
 
 FloatArray = NDArray[np.float64]
 

@@ -33,10 +33,10 @@ from pathlib import Path
 from typing import Any
 from xml.etree import ElementTree as ET
 
-from ..errors import InputError
-from ..io import write_bytes
-from ..scene import Scene, load_scene
-from .variables import SPEC_FILE, UNITS, fmu_spec
+from gear_dyn.errors import InputError
+from gear_dyn.fmu.variables import SPEC_FILE, UNITS, fmu_spec
+from gear_dyn.io import write_bytes
+from gear_dyn.scene import Scene, load_scene
 
 PACKAGE_ROOT = Path(__file__).resolve().parent.parent
 #: ``gear-dyn fmu build MODEL``: the packaged scene each model name stands for
@@ -67,7 +67,7 @@ def resolve_scene(target: str | Path) -> Scene:
     p = Path(target)
     if p.suffix == ".toml" or p.exists():
         return load_scene(p)
-    from ..commands.demo import scene_path
+    from gear_dyn.scene.packaged import scene_path
 
     name = MODEL_SCENES.get(str(target), str(target))
     candidate = scene_path(name)
@@ -186,7 +186,7 @@ def _finish(fmu: bytes, spec: dict[str, Any]) -> bytes:
 def complete_model_description(xml: bytes, spec: dict[str, Any]) -> bytes:
     """Add UnitDefinitions, units and InitialUnknowns to pythonfmu's modelDescription.xml."""
     root = ET.fromstring(xml)
-    from .. import __version__
+    from gear_dyn import __version__
 
     root.set("generationTool", f"gear_dyn {__version__} ({root.get('generationTool', '')})")
     by_name = {v["name"]: v for v in spec["variables"]}
@@ -236,7 +236,7 @@ def read_spec(fmu: str | Path) -> dict[str, Any]:
     InputError
         Not a readable FMU, or not one built by gear_dyn.
     """
-    from .variables import check_spec
+    from gear_dyn.fmu.variables import check_spec
 
     p = Path(fmu)
     try:

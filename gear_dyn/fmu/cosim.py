@@ -21,11 +21,17 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import InputError, SolverError
-from ..scene import Scene, build_pair, build_plan, parse_scene
-from ..solve import DEFAULT_ODE_METHOD, METHODS, SolverSettings, integrate, resolve_auto
-from .build import read_spec
-from .inputs import driven_speed
+from gear_dyn.errors import InputError, SolverError
+from gear_dyn.fmu.build import read_spec
+from gear_dyn.fmu.inputs import driven_speed
+from gear_dyn.scene import Scene, build_pair, build_plan, parse_scene
+from gear_dyn.solvers import (
+    DEFAULT_ODE_METHOD,
+    METHODS,
+    SolverSettings,
+    integrate,
+    resolve_auto,
+)
 
 FloatArray = NDArray[np.float64]
 ODE_METHODS = tuple(m for m in METHODS if m not in ("auto", "exact"))
@@ -337,6 +343,35 @@ def compare(fmu: str | Path, scene: Scene | None = None, steps: Sequence[float] 
         The FMU or the reference failed.
     """
     spec = read_spec(fmu)
+    base, ref_scene, values = _scenes(fmu, spec, scene, fmu_values)
+    plan = build_plan(ref_scene)
+    stop, h0, ratios = _steps(spec, steps, stop_time, outputs)
+    grid = np.arange(int(math.floor(stop / h0 + 1e-9)) + 1, dtype=np.float64) * float(h0)
+    settings = reference_settings(plan.settings)
+    ref, ref_time = _reference(plan.model, ref_scene, grid, settings, outputs)
+    scales = {o: float(max(np.sqrt(np.mean(ref[i] ** 2)), 1e-300))
+              for i, o in enumerate(outputs)}
+    start = time.perf_counter()
+    with FmuSession(fmu, instance_name="cosim_load") as session:
+        session.instantiate()  # first load imports the FMU's Python code: not a step cost
+    load_time = time.perf_counter() - start
+    results, finest = _fmu_runs(fmu, grid, h0, ratios, ref, values, outputs)
+    fmu_method = str(values.get("solver.method", base.get("solver")["method"]))
+    if fmu_method == "auto":
+        fmu_method = f"auto -> {resolve_auto(plan.model)}"
+    return CosimReport(
+        fmu=str(fmu), scene_name=base.name, fmu_method=fmu_method,
+        reference_method=settings.method, rtol=settings.rtol, stop_time=float(grid[-1]),
+        mesh_frequency=plan.model.mesh_frequency, outputs=tuple(outputs), scales=scales,
+        reference_run_time_s=ref_time, fmu_load_time_s=load_time,
+        steps=sorted(results, key=lambda s: -s.step),
+        t=grid, fmu_y=finest, ref_y=ref,
+    )
+
+
+def _scenes(fmu: str | Path, spec: dict[str, Any], scene: Scene | None,
+            fmu_values: dict[str, Any] | None) -> tuple[Scene, Scene, dict[str, Any]]:
+    """(scene run, reference scene with the FMU values applied, values set on the FMU)."""
     base = scene if scene is not None else parse_scene(
         {k: dict(v) for k, v in spec["tables"].items()}, source=f"{Path(fmu).name} (stored)")
     values = scene_values(spec, base) if scene is not None else {}
@@ -347,8 +382,12 @@ def compare(fmu: str | Path, scene: Scene | None = None, steps: Sequence[float] 
         table, _, key = name.partition(".")
         if table in tables and key:
             tables[table][key] = value
-    ref_scene = parse_scene(tables, source=base.source)
-    plan = build_plan(ref_scene)
+    return base, parse_scene(tables, source=base.source), values
+
+
+def _steps(spec: dict[str, Any], steps: Sequence[float] | None, stop_time: float | None,
+           outputs: Sequence[str]) -> tuple[float, float, list[float]]:
+    """Checked (stop time, smallest step, step ratios); the outputs must be FMU outputs."""
     ex = spec["experiment"]
     stop = float(stop_time if stop_time is not None else ex["stop_time"])
     if not (math.isfinite(stop) and stop > 0):
@@ -366,23 +405,26 @@ def compare(fmu: str | Path, scene: Scene | None = None, steps: Sequence[float] 
         if o not in out_names:
             raise InputError(f"output {o!r} is not an FMU output; available: "
                              f"{', '.join(sorted(out_names))}")
-    n0 = int(math.floor(stop / h0 + 1e-9))
-    grid = np.arange(n0 + 1, dtype=np.float64) * float(h0)
-    settings = reference_settings(plan.settings)
+    return stop, h0, ratios
+
+
+def _reference(model: Any, ref_scene: Scene, grid: FloatArray, settings: SolverSettings,
+               outputs: Sequence[str]) -> tuple[FloatArray, float]:
+    """The solve_ivp reference of the outputs on ``grid`` and its run time."""
     start = time.perf_counter()
-    y_ref, _ = integrate(plan.model, grid, settings)
+    y_ref, _ = integrate(model, grid, settings)
     ref_time = time.perf_counter() - start
-    ref_out = plan.model.outputs(grid, y_ref)
+    ref_out = model.outputs(grid, y_ref)
     if "driven_speed" in outputs:
         ref_out = {**ref_out, "driven_speed": driven_speed(
             build_pair(ref_scene), ref_scene.get("operating")["speed"], y_ref[1])}
-    ref = np.array([np.asarray(ref_out[o], dtype=float) for o in outputs])
-    scales = {o: float(max(np.sqrt(np.mean(ref[i] ** 2)), 1e-300))
-              for i, o in enumerate(outputs)}
-    start = time.perf_counter()
-    with FmuSession(fmu, instance_name="cosim_load") as session:
-        session.instantiate()  # first load imports the FMU's Python code: not a step cost
-    load_time = time.perf_counter() - start
+    return np.array([np.asarray(ref_out[o], dtype=float) for o in outputs]), ref_time
+
+
+def _fmu_runs(fmu: str | Path, grid: FloatArray, h0: float, ratios: list[float],
+              ref: FloatArray, values: dict[str, Any], outputs: Sequence[str]
+              ) -> tuple[list[StepComparison], FloatArray]:
+    """One FMU run per communication step, each compared with the reference."""
     results: list[StepComparison] = []
     finest: FloatArray | None = None
     for r in ratios:
@@ -400,18 +442,9 @@ def compare(fmu: str | Path, scene: Scene | None = None, steps: Sequence[float] 
         ))
         if stride == 1:
             finest = y
-    assert finest is not None
-    fmu_method = str(values.get("solver.method", base.get("solver")["method"]))
-    if fmu_method == "auto":
-        fmu_method = f"auto -> {resolve_auto(plan.model)}"
-    return CosimReport(
-        fmu=str(fmu), scene_name=base.name, fmu_method=fmu_method,
-        reference_method=settings.method, rtol=settings.rtol, stop_time=float(grid[-1]),
-        mesh_frequency=plan.model.mesh_frequency, outputs=tuple(outputs), scales=scales,
-        reference_run_time_s=ref_time, fmu_load_time_s=load_time,
-        steps=sorted(results, key=lambda s: -s.step),
-        t=grid, fmu_y=finest, ref_y=ref,
-    )
+    if finest is None:
+        raise InputError("communication steps: the smallest step must be among them")
+    return results, finest
 
 
 def extracted(fmu: str | Path) -> tempfile.TemporaryDirectory[str]:

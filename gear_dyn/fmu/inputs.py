@@ -11,9 +11,8 @@ import math
 from dataclasses import fields, is_dataclass
 from typing import Any
 
-from ..errors import InputError
-from ..geometry import GearPair
-from ..models.sdof import SDOFModel
+from gear_dyn.errors import InputError
+from gear_dyn.geometry import GearPair
 
 
 def input_changes(model: Any, pair: GearPair, speed: float, torque: float,
@@ -29,7 +28,7 @@ def input_changes(model: Any, pair: GearPair, speed: float, torque: float,
     InputError
         The model has no known way to take the inputs.
     """
-    if isinstance(model, SDOFModel):
+    if model.mesh_periodic:  # the single-DOF mesh model: only f_m, W and the phase change
         f_m = pair.z1 * speed / (2 * math.pi)
         phase_now = model.mesh_frequency * t + model.phase0
         return {"static_load": torque / pair.rb1, "mesh_frequency": f_m,

@@ -53,11 +53,11 @@ from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Fmi2Variability, Intege
 from pythonfmu.default_experiment import DefaultExperiment
 from pythonfmu.enums import Fmi2Status
 
-from ..errors import GearDynError, InputError, SolverError
-from ..scene import SECTIONS, build_pair, build_plan, load_feature_sections, parse_scene
-from .inputs import driven_speed, input_changes
-from .stepper import Stepper
-from .variables import SPEC_FILE, check_spec
+from gear_dyn.errors import GearDynError, InputError, SolverError
+from gear_dyn.fmu.inputs import driven_speed, input_changes
+from gear_dyn.fmu.stepper import Stepper
+from gear_dyn.fmu.variables import SPEC_FILE, check_spec
+from gear_dyn.scene import SECTIONS, build_pair, build_plan, load_feature_sections, parse_scene
 
 _TYPES = {"Real": Real, "Integer": Integer, "String": String, "Boolean": Boolean}
 _CAUSALITY = {"parameter": Fmi2Causality.parameter, "input": Fmi2Causality.input,

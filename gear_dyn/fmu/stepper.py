@@ -6,11 +6,11 @@ estimate each time). :class:`Stepper` instead keeps one scipy ``OdeSolver`` obje
 RK45, RK23, Radau, BDF or LSODA) alive across communication steps: it steps the solver until it
 has passed the communication point and reads the state there from the solver's dense output, so
 the communication points never disturb the integration. The solver is restarted only where
-:mod:`gear_dyn.solve` restarts it too - at the model's switching instants (teeth entering or
+:mod:`gear_dyn.solvers.ode` restarts it too - at the model's switching instants (teeth entering or
 leaving contact, where the right-hand side jumps) - and where the importer changes an input.
 
 For models that are linear with piecewise-constant coefficients (``model.linear_segments``) the
-``exact`` method carries the state with the matrix exponentials of :mod:`gear_dyn.exact`
+``exact`` method carries the state with the matrix exponentials of :mod:`gear_dyn.solvers.exact`
 (the pieces of a long horizon and one eigendecomposition per distinct piece matrix are kept
 across steps), so the communication step adds no error at all.
 
@@ -30,11 +30,10 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, OdeSolver, Radau
 
-from ..errors import InputError, SolverError
-from ..events import contact_event_functions
-from ..exact import _Exponential  # the exact propagator's cached matrix exponential
-from ..models.base import Model
-from ..solve import IMPLICIT, SolverSettings, resolve_auto
+from gear_dyn.errors import InputError, SolverError
+from gear_dyn.models.base import Model
+from gear_dyn.solvers import IMPLICIT, SolverSettings, resolve_auto
+from gear_dyn.solvers.exact import _Exponential  # the exact propagator's cached matrix exponential
 
 FloatArray = NDArray[np.float64]
 EPS = float(np.finfo(float).eps)
@@ -127,7 +126,7 @@ class Stepper:
     def __init__(self, model: Model, settings: SolverSettings, t0: float = 0.0,
                  y0: FloatArray | None = None, stop_time: float | None = None) -> None:
         method = resolve_auto(model) if settings.method == "auto" else settings.method
-        if method == "exact" and getattr(model, "linear_segments", None) is None:
+        if method == "exact" and model.linear_segments(0.0, 1.0 / model.mesh_frequency) is None:
             raise InputError("solver.method = 'exact' needs a linear model with "
                              "piecewise-constant coefficients; use DOP853 or LSODA")
         self.model = model
@@ -140,7 +139,7 @@ class Stepper:
         self._switch_end: float | None = None
         self._solver: OdeSolver | None = None
         # contact changes (backlash): restart the solver where one happens, as integrate does
-        self._events = contact_event_functions(model)
+        self._events = list(model.contact_events())
         self._dirs: list[float] = []
         self._g: list[float] = []
         self._cut: tuple[float, FloatArray] | None = None
@@ -162,7 +161,7 @@ class Stepper:
 
     def _next_switch(self, t: float) -> float:
         """First switching instant after ``t``, from switching times computed for a long
-        window at once (up to the stop time when known, as :func:`gear_dyn.solve.integrate`
+        window at once (up to the stop time when known, as :func:`gear_dyn.solvers.integrate`
         does): some models find them numerically, which is too costly per restart."""
         sw = self._switches
         i = int(np.searchsorted(sw, t, side="right"))
@@ -253,8 +252,7 @@ class Stepper:
 
     def _load_pieces(self, t: float, t1: float) -> None:
         horizon = max(t1, t + 64.0 / self.model.mesh_frequency)
-        segments: Any = getattr(self.model, "linear_segments", None)
-        pieces = segments(t, horizon) if segments is not None else None
+        pieces = self.model.linear_segments(t, horizon)
         if not pieces:
             raise InputError("solver.method = 'exact' needs a linear model with "
                              "piecewise-constant coefficients; use DOP853 or LSODA")
@@ -290,7 +288,7 @@ class Stepper:
 
     def _start(self, t: float, y: FloatArray, event: int | None) -> OdeSolver:
         """New solver at ``(t, y)``; after a contact change of event ``event`` only that
-        function's opposite crossing is looked for (as :mod:`gear_dyn.events` does)."""
+        function's opposite crossing is looked for (as :mod:`gear_dyn.solvers.events` does)."""
         solver = self._solver = self._new_solver(t, y)
         self._cut = None
         self._cut_event = None
@@ -336,7 +334,7 @@ class Stepper:
             self.nfev += self._solver.nfev
         self.model = model
         self._solver = None
-        self._events = contact_event_functions(model)
+        self._events = list(model.contact_events())
         self._cut, self._cut_event = None, None
         self._pieces, self._piece, self._exps = [], 0, {}
         self._switches, self._switch_end = np.empty(0), None
@@ -371,7 +369,7 @@ class Stepper:
         self._pieces, self._piece = [], 0
         self._switches = np.array(snap["switches"], dtype=float)
         self._switch_end = snap["switch_end"]
-        self._events = contact_event_functions(self.model)
+        self._events = list(self.model.contact_events())
         ev = snap["events"]
         self._dirs, self._g = list(ev["dirs"]), list(ev["g"])
         self._cut = None if ev["cut"] is None else (float(ev["cut"][0]),

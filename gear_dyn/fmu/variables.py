@@ -22,8 +22,8 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputError
-from ..scene import SECTIONS, Scene, build_plan
+from gear_dyn.errors import InputError
+from gear_dyn.scene import SECTIONS, Scene, build_plan
 
 SPEC_FILE = "gear_dyn_fmu.json"
 SPEC_FORMAT = 1

@@ -1,39 +1,55 @@
-"""The face every dynamic model offers to the solvers (STYLE.md rule 5).
+"""The one face every dynamic model offers (STYLE.md rule 5): callers ask, never test a class.
 
 A model is an object with:
 
-- ``state_labels``: names of the state components (tuple of str)
-- ``state_scale``: typical magnitude of each state (array, SI), used for absolute tolerances and
-  for relative error figures
-- ``mesh_frequency``: mesh frequency in Hz
-- ``static_load``: the transmitted static load W in N (for dynamic factors)
-- ``initial_state()``: the state at t = 0 (static deflection, so the transient is short)
-- ``rhs(t, y)`` and ``jac(t, y)``: right-hand side and its Jacobian d rhs / d y
-- ``switching_times(t0, t1)``: instants in (t0, t1) where the right-hand side jumps (teeth entering
-  or leaving contact); the solver never steps across them
-- ``outputs(t, y)``: derived time series (dict of arrays) from the states, ``y`` shaped
-  (n_states, n_times)
-- ``linear_segments(t0, t1)`` (optional): for models that are linear with piecewise-constant
-  coefficients, the list of ``(t_start, t_end, A, g)`` with ``y' = A y + g`` on each piece; None
-  when the model is not of that kind. Exact propagators use it.
+Identity and scales
+    ``state_labels`` (names of the states), ``output_names`` (names of :meth:`outputs`),
+    ``mesh_frequency`` (Hz), ``static_load`` (W in N), ``state_scale`` (typical magnitude of each
+    state, SI: absolute tolerances and relative error figures), ``natural_frequency`` (Hz of the
+    mesh mode, or None), ``mean_stiffness`` (N/m, or None).
+Capabilities
+    ``is_linear``: the right-hand side is affine in the state (no contact loss, no backlash);
+    ``mesh_periodic``: the model is the single-DOF mesh equation
+    ``m x'' + c (x' - e') + k(p) f(x - e) = W`` with coefficients periodic in the mesh period
+    (it then also offers ``mass``, ``damping``, ``stiffness``, ``transmission_error``,
+    ``phase0`` and ``phase(t)``: see :class:`MeshModel`); the periodic steady state, the
+    Floquet multipliers and the stability chart apply;
+    ``backlash``: the half gap in m, or None;
+    ``linear_segments(t0, t1)``: for a linear model with piecewise-constant coefficients, the
+    pieces ``(t_start, t_end, A, g)`` with ``y' = A y + g``; None otherwise (exact propagation);
+    ``contact_events()``: scalar functions ``g(t, y)`` whose zeros are contact changes (the
+    solver restarts there); empty when there are none;
+    ``at_mesh_frequency(f)``: the same model at another mesh frequency when nothing else depends
+    on speed; None when it has to be rebuilt from its parameters.
+Dynamics
+    ``initial_state()``, ``rhs(t, y)``, ``jac(t, y)``, ``switching_times(t0, t1)`` (instants where
+    the right-hand side jumps; the solver never steps across them), ``outputs(t, y)`` (derived
+    series from states shaped (n_states, n_times)), ``summary_info()`` (model constants for the
+    run summary, SI units in the key names).
 """
 
 from __future__ import annotations
 
-from typing import Protocol, runtime_checkable
+from collections.abc import Callable
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
 
 FloatArray = NDArray[np.float64]
+EventFn = Callable[[float, FloatArray], float]
+Segment = tuple[float, float, FloatArray, FloatArray]
 
 
 @runtime_checkable
 class Model(Protocol):
-    """Structural type of a gear_dyn dynamic model."""
+    """Structural type of a gear_dyn dynamic model (see the module docstring)."""
 
     @property
     def state_labels(self) -> tuple[str, ...]: ...
+
+    @property
+    def output_names(self) -> tuple[str, ...]: ...
 
     @property
     def mesh_frequency(self) -> float: ...
@@ -44,6 +60,21 @@ class Model(Protocol):
     @property
     def state_scale(self) -> FloatArray: ...
 
+    @property
+    def natural_frequency(self) -> float | None: ...
+
+    @property
+    def mean_stiffness(self) -> float | None: ...
+
+    @property
+    def is_linear(self) -> bool: ...
+
+    @property
+    def mesh_periodic(self) -> bool: ...
+
+    @property
+    def backlash(self) -> float | None: ...
+
     def initial_state(self) -> FloatArray: ...
 
     def rhs(self, t: float, y: FloatArray) -> FloatArray: ...
@@ -52,4 +83,76 @@ class Model(Protocol):
 
     def switching_times(self, t0: float, t1: float) -> FloatArray: ...
 
+    def linear_segments(self, t0: float, t1: float) -> list[Segment] | None: ...
+
+    def contact_events(self) -> list[EventFn]: ...
+
+    def at_mesh_frequency(self, mesh_frequency: float) -> Model | None: ...
+
     def outputs(self, t: FloatArray, y: FloatArray) -> dict[str, FloatArray]: ...
+
+    def summary_info(self) -> dict[str, Any]: ...
+
+
+@runtime_checkable
+class MeshModel(Model, Protocol):
+    """A model with ``mesh_periodic`` True: the single-DOF mesh equation's coefficients."""
+
+    @property
+    def mass(self) -> float: ...
+
+    @property
+    def damping(self) -> float: ...
+
+    @property
+    def damping_ratio(self) -> float: ...
+
+    @property
+    def stiffness(self) -> Any: ...
+
+    @property
+    def transmission_error(self) -> Any: ...
+
+    @property
+    def phase0(self) -> float: ...
+
+    def phase(self, t: Any) -> Any: ...
+
+
+class ModelDefaults:
+    """Conservative answers to the capability questions, for a model written by hand.
+
+    Subclass it and define the dynamics (``state_labels``, ``mesh_frequency``, ``static_load``,
+    ``state_scale``, ``initial_state``, ``rhs``, ``jac``, ``switching_times``, ``outputs``); the
+    capabilities default to "no": nonlinear, not mesh-periodic, no backlash, no exact pieces,
+    no contact events, rebuilt at a new speed. Override what your model can do.
+    """
+
+    is_linear: bool = False
+    mesh_periodic: bool = False
+    backlash: float | None = None
+    natural_frequency: float | None = None
+    mean_stiffness: float | None = None
+
+    @property
+    def output_names(self) -> tuple[str, ...]:
+        """Names of ``outputs`` (evaluated once at the initial state)."""
+        y0 = self.initial_state()  # type: ignore[attr-defined]
+        return tuple(self.outputs(np.zeros(1), np.asarray(y0)[:, None]))  # type: ignore[attr-defined]
+
+    def linear_segments(self, t0: float, t1: float) -> list[Segment] | None:
+        """None: not known to be linear with piecewise-constant coefficients."""
+        del t0, t1
+        return None
+
+    def contact_events(self) -> list[EventFn]:
+        """No contact changes."""
+        return []
+
+    def at_mesh_frequency(self, mesh_frequency: float) -> None:
+        """None: rebuild the model at another speed."""
+        del mesh_frequency
+
+    def summary_info(self) -> dict[str, Any]:
+        """No model constants to report."""
+        return {}

@@ -16,15 +16,15 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import InputError, check_range
-from ..excitation import HarmonicSignal, SampledSignal
-from ..geometry import GearPair
-from ..stiffness.periodic import FourierStiffness, PeriodicStiffness
+from gear_dyn.errors import InputError, check_range
+from gear_dyn.excitation import HarmonicSignal, SampledSignal
+from gear_dyn.geometry import GearPair
+from gear_dyn.stiffness.periodic import FourierStiffness, PeriodicStiffness
 
 FloatArray = NDArray[np.float64]
 Signal = HarmonicSignal | SampledSignal
@@ -114,6 +114,8 @@ class SDOFModel:
     transmission_error: Signal | None = None
     phase0: float = 0.0
     state_labels: tuple[str, ...] = field(default=("x", "v"), init=False)
+    output_names: tuple[str, ...] = field(default=("dte", "mesh_force", "stiffness"), init=False)
+    mesh_periodic: bool = field(default=True, init=False)
     damping: float = field(init=False)
     _rhs: Callable[[float, FloatArray], FloatArray] = field(init=False, repr=False)
     _jac: Callable[[float, FloatArray], FloatArray] = field(init=False, repr=False)
@@ -143,6 +145,34 @@ class SDOFModel:
     def natural_frequency(self) -> float:
         """Natural frequency sqrt(k_m / m_e) / (2 pi) in Hz."""
         return math.sqrt(self.mean_stiffness / self.mass) / (2 * math.pi)
+
+    @property
+    def is_linear(self) -> bool:
+        """True without backlash: the right-hand side is then affine in the state."""
+        return self.backlash is None
+
+    def at_mesh_frequency(self, mesh_frequency: float) -> SDOFModel:
+        """The same model at another mesh frequency (only f_m depends on speed here)."""
+        return replace(self, mesh_frequency=mesh_frequency)
+
+    def contact_events(self) -> list[Callable[[float, FloatArray], float]]:
+        """With backlash: ``x - e - b`` and ``x - e + b`` (drive and back flank); else none."""
+        if self.backlash is None:
+            return []
+        te, fm, p0, bb = self.transmission_error, self.mesh_frequency, self.phase0, self.backlash
+        if te is None:
+            def upper(t: float, y: FloatArray) -> float:
+                return float(y[0]) - bb
+
+            def lower(t: float, y: FloatArray) -> float:
+                return float(y[0]) + bb
+        else:
+            def upper(t: float, y: FloatArray) -> float:
+                return float(y[0]) - float(te.value(fm * t + p0)) - bb
+
+            def lower(t: float, y: FloatArray) -> float:
+                return float(y[0]) - float(te.value(fm * t + p0)) + bb
+        return [upper, lower]
 
     @property
     def static_deflection(self) -> float:

@@ -40,7 +40,6 @@ right-hand side: the closures are chosen at construction.
 
 from __future__ import annotations
 
-import bisect
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -49,50 +48,21 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..eccentricity.contact_lines import LineLayout, contact_lines, total_length_scalar
-from ..eccentricity.friction import friction_factors, line_state_scalar
-from ..eccentricity.kinematics import Eccentricity, EccentricMesh, Kinematics
-from ..errors import InputError, check_range
-from ..excitation import HarmonicSignal, SampledSignal
-from ..geometry import GearPair
-from ..stiffness.periodic import PeriodicStiffness
-from .sdof import dead_zone, effective_mass
+from gear_dyn.eccentricity.contact_lines import LineLayout, contact_lines, total_length_scalar
+from gear_dyn.eccentricity.friction import friction_factors, line_state_scalar
+from gear_dyn.eccentricity.kinematics import Eccentricity, EccentricMesh, Kinematics
+from gear_dyn.errors import InputError, check_range
+from gear_dyn.excitation import HarmonicSignal, SampledSignal
+from gear_dyn.geometry import GearPair
+from gear_dyn.models.sdof import dead_zone, effective_mass
+from gear_dyn.models.torsional_parts import ContactLineStiffness, _fast_periodic, _levels, _Place
+from gear_dyn.stiffness.periodic import PeriodicStiffness
 
 FloatArray = NDArray[np.float64]
 Signal = HarmonicSignal | SampledSignal
 Excite = Callable[[float], tuple[float, float, float, float, float]]
 
 _MEAN_SAMPLES = 200_000  # cap on samples used for the mean friction factors
-
-
-@dataclass(frozen=True)
-class ContactLineStiffness:
-    """Mesh stiffness proportional to the total contact-line length, ``k = k_l L(t)``.
-
-    Parameters
-    ----------
-    per_length : float
-        k_l in N/m per m of contact line (N/m^2), > 0. ISO 6336 gives
-        ``k_l = c_gamma cos b_b / eps_a`` (so that the mean is ``c_gamma B``).
-    """
-
-    per_length: float
-
-    def __post_init__(self) -> None:
-        check_range("stiffness.per_length", self.per_length, "N/m^2", low=0.0, high=1e16,
-                    low_open=True)
-
-
-@dataclass(frozen=True)
-class _Place:
-    """Field of contact of the error-free pair at one instant (LinePlace)."""
-
-    travel: float
-    l_ac: float
-    l_cd: float
-    l_cp: float
-    foot1: float
-    foot2: float
 
 
 @dataclass(frozen=True, eq=False)
@@ -198,6 +168,24 @@ class TorsionalModel:
         setf(self, "_rhs", self._build_rhs())
 
     # ---------------------------------------------------------------- properties
+    @property
+    def output_names(self) -> tuple[str, ...]:
+        """Names of :meth:`outputs` (they depend on the parts modelled)."""
+        return tuple(self.outputs(np.zeros(1), self.initial_state()[:, None]))
+
+    @property
+    def is_linear(self) -> bool:
+        """True without backlash and friction (the friction force follows max(F, 0))."""
+        return self.backlash is None and self.friction is None
+
+    #: not the single-DOF mesh equation (two inertias, eccentric kinematics)
+    mesh_periodic = False
+
+    def at_mesh_frequency(self, mesh_frequency: float) -> None:
+        """None: the kinematics depend on speed, so the model is rebuilt at a new speed."""
+        del mesh_frequency
+        return None
+
     @property
     def eccentric(self) -> bool:
         """True if an eccentricity is modelled."""
@@ -486,7 +474,7 @@ class TorsionalModel:
         """Functions g(t, y) whose zeros are contact changes through the backlash (none without).
 
         ``delta - b_g`` (drive flank) and ``delta + b_g`` (back flank), delta the mesh deflection
-        of the module docstring; used by :mod:`gear_dyn.events` to restart the solver there.
+        of the module docstring; used by :mod:`gear_dyn.solvers.events` to restart the solver there.
         """
         bg = self.backlash
         if bg is None:
@@ -576,45 +564,6 @@ class TorsionalModel:
             out["friction_torque_pinion"] = n * ex["phi1"]
             out["friction_torque_gear"] = n * ex["phi2"]
         return out
-
-
-def _fast_periodic(stiff: PeriodicStiffness) -> Callable[[float], float]:
-    """Scalar k(p) for right-hand sides: a bisection for piecewise-constant stiffness (numpy's
-    per-call cost dominates there), the stiffness itself otherwise."""
-    seg = stiff.segments()
-    if seg is None:
-        return lambda p: float(stiff(p))
-    edges = [float(e) for e in seg[0]]
-    values = [float(v) for v in seg[1]]
-    last = len(values) - 1
-
-    def k_of(p: float) -> float:
-        return values[min(bisect.bisect_right(edges, p % 1.0) - 1, last)]
-    return k_of
-
-
-def _levels(h: Callable[[FloatArray], FloatArray], rate: float, t0: float, t1: float,
-            residues: FloatArray, period: float) -> FloatArray:
-    """Times in (t0, t1) where the increasing function h(t) equals ``r + n period`` for any
-    residue r and integer n; ``rate`` approximates dh/dt (Newton with a fixed slope: h differs
-    from ``rate t`` by an O(e) periodic term, so each step gains a factor ~e / r_b)."""
-    h0, h1 = h(np.array([t0, t1]))
-    levels = []
-    for r in np.unique(np.asarray(residues, dtype=float)):
-        n0 = math.floor((h0 - r) / period) + 1
-        n1 = math.ceil((h1 - r) / period) - 1
-        if n1 >= n0:
-            levels.append(r + period * np.arange(n0, n1 + 1))
-    if not levels:
-        return np.empty(0)
-    lv = np.concatenate(levels)
-    t = t0 + (lv - h0) / rate
-    for _ in range(50):
-        step = (h(t) - lv) / rate
-        t = t - step
-        if np.max(np.abs(step)) <= 1e-15 * max(abs(t1), 1e-3):
-            break
-    return np.asarray(t[(t > t0) & (t < t1)], dtype=float)
 
 
 def torsional_from_pair(

@@ -9,7 +9,7 @@ PHYSICS.md section 3 (seeds 001 and 003). Public names:
 - :mod:`.stress`: Hertz line contact along the path of contact
 """
 
-from .contact import (
+from gear_dyn.modification.contact import (
     ContactState,
     LoadedContact,
     PathView,
@@ -17,7 +17,7 @@ from .contact import (
     contact_state,
     loaded_contact,
 )
-from .relief import (
+from gear_dyn.modification.relief import (
     CURVE_EXPONENTS,
     CURVES,
     RULES,
@@ -32,7 +32,12 @@ from .relief import (
     relief_shape,
     tangential_load_per_width,
 )
-from .stress import contact_stress, effective_modulus, hertz_line_contact, profile_curvature
+from gear_dyn.modification.stress import (
+    contact_stress,
+    effective_modulus,
+    hertz_line_contact,
+    profile_curvature,
+)
 
 __all__ = [
     "CURVES",

@@ -10,10 +10,15 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..geometry import GearPair
-from .contact import LoadedContact, PathView, loaded_contact
-from .relief import RULES, ProfileModification, height_from_length, recommended_relief
-from .stress import contact_stress
+from gear_dyn.geometry import GearPair
+from gear_dyn.modification.contact import LoadedContact, PathView, loaded_contact
+from gear_dyn.modification.relief import (
+    RULES,
+    ProfileModification,
+    height_from_length,
+    recommended_relief,
+)
+from gear_dyn.modification.stress import contact_stress
 
 FloatArray = NDArray[np.float64]
 

@@ -45,11 +45,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 
-from ..errors import InputError, check_range
-from ..excitation import SampledSignal
-from ..geometry import GearPair
-from ..stiffness.periodic import PiecewiseStiffness
-from .relief import ProfileModification
+from gear_dyn.errors import InputError, check_range
+from gear_dyn.excitation import SampledSignal
+from gear_dyn.geometry import GearPair
+from gear_dyn.modification.relief import ProfileModification
+from gear_dyn.stiffness.periodic import PiecewiseStiffness
 
 FloatArray = NDArray[np.float64]
 PairStiffnessFn = Callable[[FloatArray], FloatArray]

@@ -32,8 +32,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import InputError, check_range
-from ..geometry import GearPair
+from gear_dyn.errors import InputError, check_range
+from gear_dyn.geometry import GearPair
 
 FloatArray = NDArray[np.float64]
 

@@ -32,9 +32,9 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import InputError, check_range
-from ..geometry import GearPair
-from .relief import ProfileModification
+from gear_dyn.errors import InputError, check_range
+from gear_dyn.geometry import GearPair
+from gear_dyn.modification.relief import ProfileModification
 
 FloatArray = NDArray[np.float64]
 

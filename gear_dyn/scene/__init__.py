@@ -8,14 +8,21 @@ from __future__ import annotations
 
 import importlib
 
-from . import core  # noqa: F401  (registers the core tables)
-from .build import RunPlan, build_model, build_pair, build_plan, build_stiffness, run_scene
-from .fields import REQUIRED, Field, Section
-from .loader import Scene, load_scene, parse_scene
-from .registry import MODEL_BUILDERS, SECTIONS, register_model, register_section
+from gear_dyn.scene import core  # noqa: F401  (registers the core tables)
+from gear_dyn.scene.build import (
+    RunPlan,
+    build_model,
+    build_pair,
+    build_plan,
+    build_stiffness,
+    run_scene,
+)
+from gear_dyn.scene.fields import REQUIRED, Field, Section
+from gear_dyn.scene.loader import Scene, load_scene, parse_scene
+from gear_dyn.scene.registry import MODEL_BUILDERS, SECTIONS, register_model, register_section
 
 #: modules that register extra scene tables or model builders when imported
-FEATURE_MODULES: tuple[str, ...] = ("gear_dyn.eccentricity.scene", "gear_dyn.modification.scene")
+FEATURE_MODULES: tuple[str, ...] = ("gear_dyn.scene.eccentricity", "gear_dyn.scene.modification")
 
 _loaded = False
 

@@ -3,19 +3,21 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 from typing import Any
 
 import numpy as np
 
-from ..errors import InputError, SceneError
-from ..excitation import HarmonicSignal
-from ..geometry import GearPair
-from ..models.base import Model
-from ..models.sdof import sdof_from_pair
-from ..solve import Result, SolverSettings, simulate
-from ..stiffness.periodic import PeriodicStiffness
-from .loader import Scene, scene_error
-from .registry import MODEL_BUILDERS, register_model
+from gear_dyn.analysis.study import simulate
+from gear_dyn.errors import InputError, SceneError
+from gear_dyn.excitation import HarmonicSignal
+from gear_dyn.geometry import GearPair
+from gear_dyn.models.base import Model
+from gear_dyn.models.sdof import sdof_from_pair
+from gear_dyn.scene.loader import Scene, scene_error
+from gear_dyn.scene.registry import MODEL_BUILDERS, register_model
+from gear_dyn.solvers import Result, SolverSettings
+from gear_dyn.stiffness.periodic import PeriodicStiffness
 
 #: ISO 6336 gives c_gamma = c' (0.75 eps_a + 0.25); a rectangular wave with k_single = c' b and
 #: k_double = 1.75 c' b has exactly the mean c_gamma b, so that is the wave built from ISO values.
@@ -49,13 +51,32 @@ def build_pair(scene: Scene) -> GearPair:
         raise _wrap(scene, exc) from None
 
 
+def scene_facts(scene: Scene) -> dict[str, Any]:
+    """The scene's facts for run summaries (see :meth:`Scene.facts`)."""
+    pair = build_pair(scene)
+    op = scene.get("operating")
+    rpm = op["speed"] * 60 / (2 * math.pi)
+    return {
+        "scene": scene.name,
+        "model": scene.get("scene")["model"],
+        "input_speed_rpm": rpm,
+        "output_speed_rpm": rpm * pair.z1 / pair.z2,
+        "contact_ratio": pair.contact_ratio,
+        "overlap_ratio": pair.overlap_ratio,
+        "center_distance_m": pair.a_w,
+        "geometric_backlash_m": pair.backlash,
+        "stiffness_method": scene.get("stiffness")["method"],
+        "fourier_terms": scene.get("stiffness")["fourier_terms"],
+    }
+
+
 def build_stiffness(scene: Scene, pair: GearPair) -> PeriodicStiffness:
     """The mesh stiffness the scene's ``[stiffness]`` table asks for.
 
     Delegates to :func:`gear_dyn.stiffness.build_stiffness` (one selector for every method).
     """
-    from ..stiffness.select import build_stiffness as select_stiffness
-    from ..stiffness.select import stiffness_options_from_table
+    from gear_dyn.stiffness.select import build_stiffness as select_stiffness
+    from gear_dyn.stiffness.select import stiffness_options_from_table
 
     s = scene.get("stiffness")
     try:

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import math
 
-from .fields import REQUIRED, Field, Section
-from .registry import register_section
+from gear_dyn.scene.fields import REQUIRED, Field, Section
+from gear_dyn.scene.registry import register_section
 
 DEG = math.pi / 180
 

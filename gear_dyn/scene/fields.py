@@ -1,7 +1,8 @@
-"""Declarative scene fields: name, unit, kind, default and valid range, parsed with pint.
+"""Declarative scene fields: name, unit, kind, default and valid range.
 
-Units are parsed only here, at the edge. A plain number is taken as SI (metres, radians, rad/s,
-N m, ...); a string carries its unit (``"6 mm"``, ``"3319 rpm"``, ``"22.5 deg"``).
+Text with a unit is converted by :mod:`gear_dyn.units` (pint), at the edge only. A plain number
+is taken as SI (metres, radians, rad/s, N m, ...); a string carries its unit (``"6 mm"``,
+``"3319 rpm"``, ``"22.5 deg"``).
 """
 
 from __future__ import annotations
@@ -10,47 +11,17 @@ import difflib
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from functools import lru_cache
 from typing import Any
 
-from ..errors import SceneError, range_text
+from gear_dyn.errors import SceneError, range_text
+from gear_dyn.units import dimension_text as _dim_text
+from gear_dyn.units import parse_quantity
 
 REQUIRED: Any = object()
 
 #: no scene quantity is meaningful below this magnitude in SI units (1e-30 m, N m, kg m^2, ...);
 #: such values only underflow the physics to 0 or inf
 TINY = 1e-30
-
-
-@lru_cache(maxsize=1)
-def _ureg() -> Any:
-    import pint
-
-    return pint.UnitRegistry()
-
-
-_DIM_NAMES = {
-    "[length]": "a length (e.g. '6 mm')",
-    "": "a dimensionless number",
-    "[mass]": "a mass (e.g. '2 kg')",
-    "[time]": "a time (e.g. '0.1 s')",
-    "1 / [time]": "a rotational speed or rate (e.g. '3319 rpm', '50 rad/s')",
-    "[length] ** 2 * [mass] / [time] ** 2": "a torque (e.g. '1474.4 N*m')",
-    "[mass] / [length] / [time] ** 2": "a pressure or modulus (e.g. '207 GPa')",
-    "[mass] / [length] ** 3": "a density (e.g. '7850 kg/m^3')",
-    "[length] ** 2 * [mass]": "an inertia (e.g. '0.05 kg*m^2')",
-    "[mass] / [time] ** 2": "a stiffness (e.g. '8e8 N/m')",
-    "[length] * [mass] / [time] ** 2": "a force (e.g. '1 kN')",
-    "[length] ** 2 * [mass] / [time] ** 3": "a power (e.g. '10 kW')",
-}
-
-
-def _dim_text(unit: str) -> str:
-    ureg = _ureg()
-    dim = str(ureg.Quantity(1, unit).dimensionality) if unit else ""
-    if dim == "dimensionless":
-        dim = ""
-    return _DIM_NAMES.get(dim, f"a quantity in {unit}")
 
 
 def _did_you_mean(word: str, options: Sequence[str]) -> str | None:
@@ -153,34 +124,7 @@ class Field:
         return value
 
     def _parse_quantity(self, raw: str, where: str, rng: str) -> float:
-        import pint
-
-        ureg = _ureg()
-        try:
-            q = ureg.Quantity(raw.strip())
-        except Exception:  # pint raises many types for unparsable text
-            raise SceneError(
-                f"{where} = {raw!r}: not a number with a unit; expected {_dim_text(self.unit)}"
-            ) from None
-        if not isinstance(q, ureg.Quantity):
-            q = ureg.Quantity(float(q))
-        if (self.unit == "rad/s" and q.check("1/[time]")
-                and "radian" not in str(q.to_root_units().units)):
-            # pint takes 1 Hz = 1 1/s = 1 rad/s: 2 pi off for a shaft speed, so refuse it
-            raise SceneError(
-                f"{where} = {raw!r}: ambiguous unit for a rotational speed (pint reads 1 Hz as "
-                "1 rad/s); write it in rpm, rad/s or turn/s"
-            )
-        try:
-            value = float(q.to(self.unit or "dimensionless").magnitude)
-        except pint.DimensionalityError:
-            raise SceneError(
-                f"{where} = {raw!r}: wrong unit; expected {_dim_text(self.unit)}, "
-                f"valid range {rng}"
-            ) from None
-        except Exception:
-            raise SceneError(f"{where} = {raw!r}: not a number with a unit") from None
-        return value
+        return parse_quantity(raw, self.unit, where, rng, SceneError)
 
 
 @dataclass(frozen=True)

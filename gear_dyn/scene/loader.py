@@ -9,8 +9,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..errors import SceneError
-from .registry import SECTIONS
+from gear_dyn.errors import SceneError
+from gear_dyn.scene.registry import SECTIONS
 
 
 @dataclass(frozen=True)
@@ -41,6 +41,13 @@ class Scene:
         if name in self.tables:
             return self.tables[name]
         return SECTIONS[name].parse({}, self.source) if _all_defaults(name) else {}
+
+    def facts(self) -> dict[str, Any]:
+        """What the scene says about the case, for run summaries (SI units in the key names):
+        scene, model, speeds, contact and overlap ratios, centre distance, backlash, stiffness."""
+        from gear_dyn.scene.build import scene_facts
+
+        return scene_facts(self)
 
     @property
     def name(self) -> str:
@@ -96,7 +103,7 @@ def scene_error(source: str, exc: Exception) -> SceneError:
 
 
 def _all_defaults(name: str) -> bool:
-    from .fields import REQUIRED
+    from gear_dyn.scene.fields import REQUIRED
 
     return all(f.default is not REQUIRED for f in SECTIONS[name].fields)
 
@@ -110,7 +117,7 @@ def parse_scene(data: dict[str, Any], source: str = "<dict>") -> Scene:
         Unknown tables or keys (with a did-you-mean), missing required keys, wrong types or
         units, non-finite numbers or out-of-range values; the message names file and key path.
     """
-    from . import load_feature_sections
+    from gear_dyn.scene import load_feature_sections
 
     load_feature_sections()
     if not isinstance(data, dict):

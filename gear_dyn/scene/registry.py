@@ -10,8 +10,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from ..errors import InputError
-from .fields import Section
+from gear_dyn.errors import InputError
+from gear_dyn.scene.fields import Section
 
 SECTIONS: dict[str, Section] = {}
 MODEL_BUILDERS: dict[str, Callable[[Any], Any]] = {}

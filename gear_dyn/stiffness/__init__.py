@@ -5,23 +5,23 @@
 ``mesh_stiffness_from_pair`` are public for models that need the pair stiffness K_i(s).
 """
 
-from .contact_line import contact_line_length, mean_contact_line_length
-from .iso6336 import IsoStiffness, iso6336_stiffness
-from .mesh import mesh_stiffness_from_pair
-from .periodic import (
+from gear_dyn.stiffness.contact_line import contact_line_length, mean_contact_line_length
+from gear_dyn.stiffness.iso6336 import IsoStiffness, iso6336_stiffness
+from gear_dyn.stiffness.mesh import mesh_stiffness_from_pair
+from gear_dyn.stiffness.periodic import (
     FourierStiffness,
     PeriodicStiffness,
     PiecewiseStiffness,
     rectangular_stiffness,
 )
-from .potential_energy import (
+from gear_dyn.stiffness.potential_energy import (
     PairCompliance,
     potential_energy_compliances,
     potential_energy_pair_stiffness,
 )
-from .select import METHODS, build_stiffness
-from .tooth import ToothOptions
-from .weber import weber_compliances, weber_pair_stiffness
+from gear_dyn.stiffness.select import METHODS, build_stiffness
+from gear_dyn.stiffness.tooth import ToothOptions
+from gear_dyn.stiffness.weber import weber_compliances, weber_pair_stiffness
 
 __all__ = [
     "METHODS",

@@ -24,8 +24,8 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..geometry import GearPair
-from .periodic import FloatArray
+from gear_dyn.geometry import GearPair
+from gear_dyn.stiffness.periodic import FloatArray
 
 
 def _line_lengths(u: FloatArray, g_a: float, width: float, tan_bb: float,

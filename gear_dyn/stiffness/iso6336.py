@@ -26,8 +26,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..errors import check_range
-from ..geometry import GearPair
+from gear_dyn.errors import check_range
+from gear_dyn.geometry import GearPair
 
 C = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
 E_STEEL = 206e9

@@ -26,10 +26,10 @@ from collections.abc import Callable
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import InputError
-from ..geometry import GearPair
-from .contact_line import contact_line_breakpoints
-from .periodic import FloatArray, PiecewiseStiffness
+from gear_dyn.errors import InputError
+from gear_dyn.geometry import GearPair
+from gear_dyn.stiffness.contact_line import contact_line_breakpoints
+from gear_dyn.stiffness.periodic import FloatArray, PiecewiseStiffness
 
 PairFunction = Callable[[GearPair, ArrayLike], FloatArray]
 

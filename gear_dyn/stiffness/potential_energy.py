@@ -33,10 +33,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import InputError
-from ..geometry import GearPair
-from .periodic import FloatArray
-from .tooth import DEFAULT_OPTIONS, ToothOptions, half_angle, tooth_table
+from gear_dyn.errors import InputError
+from gear_dyn.geometry import GearPair
+from gear_dyn.stiffness.periodic import FloatArray
+from gear_dyn.stiffness.tooth import DEFAULT_OPTIONS, ToothOptions, half_angle, tooth_table
 
 # Sainsot, Velex & Duverger (2004), J. Mech. Design 126, table 1: columns A..F for L*, M*, P*, Q*.
 SAINSOT = np.array([

@@ -25,15 +25,24 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import InputError
-from ..geometry import GearPair
-from .contact_line import contact_line_breakpoints, contact_line_length, mean_contact_line_length
-from .iso6336 import iso6336_stiffness
-from .mesh import mesh_stiffness_from_pair
-from .periodic import FloatArray, PeriodicStiffness, PiecewiseStiffness, rectangular_stiffness
-from .potential_energy import potential_energy_pair_stiffness
-from .tooth import ToothOptions
-from .weber import MODULI, weber_pair_stiffness
+from gear_dyn.errors import InputError
+from gear_dyn.geometry import GearPair
+from gear_dyn.stiffness.contact_line import (
+    contact_line_breakpoints,
+    contact_line_length,
+    mean_contact_line_length,
+)
+from gear_dyn.stiffness.iso6336 import iso6336_stiffness
+from gear_dyn.stiffness.mesh import mesh_stiffness_from_pair
+from gear_dyn.stiffness.periodic import (
+    FloatArray,
+    PeriodicStiffness,
+    PiecewiseStiffness,
+    rectangular_stiffness,
+)
+from gear_dyn.stiffness.potential_energy import potential_energy_pair_stiffness
+from gear_dyn.stiffness.tooth import ToothOptions
+from gear_dyn.stiffness.weber import MODULI, weber_pair_stiffness
 
 METHODS = ("rectangular", "iso6336", "potential_energy", "weber", "contact_line")
 
@@ -43,7 +52,7 @@ ISO_DOUBLE_FACTOR = 1.75
 
 _TOOTH_KEYS = ("fillet_radius_coef", "bore_radius1", "bore_radius2", "plane_strain",
                "grid_points")
-_ALLOWED: dict[str, tuple[str, ...]] = {
+METHOD_OPTIONS: dict[str, tuple[str, ...]] = {
     "rectangular": ("single", "double", "line_load"),
     "iso6336": ("line_load",),
     "potential_energy": _TOOTH_KEYS + ("samples_per_cycle", "slices"),
@@ -224,11 +233,11 @@ def build_stiffness(pair: GearPair, method: str = "iso6336", *,
     if method == "iso6336" and ("single" in options or "double" in options):
         raise InputError("stiffness method 'iso6336' takes no single/double values; use "
                          "method 'rectangular' to give them")
-    unknown = sorted(set(options) - set(_ALLOWED[method]))
+    unknown = sorted(set(options) - set(METHOD_OPTIONS[method]))
     if unknown:
         raise InputError(
             f"unknown option(s) {', '.join(unknown)} for stiffness method {method!r}; valid: "
-            f"{', '.join(_ALLOWED[method]) or 'none'}"
+            f"{', '.join(METHOD_OPTIONS[method]) or 'none'}"
         )
     items = tuple(sorted((k, v) for k, v in options.items() if v is not None))
     try:
@@ -278,8 +287,8 @@ def stiffness_options_from_table(table: Mapping[str, Any]) -> tuple[str, dict[st
         val = table.get(key)
         if val is None:
             continue
-        if method in _ALLOWED and opt not in _ALLOWED[method]:
-            valid = sorted(k for k, o in SCENE_KEYS.items() if o in _ALLOWED[method])
+        if method in METHOD_OPTIONS and opt not in METHOD_OPTIONS[method]:
+            valid = sorted(k for k, o in SCENE_KEYS.items() if o in METHOD_OPTIONS[method])
             raise InputError(
                 f"stiffness.{key} does not apply to method {method!r}; keys for this method: "
                 f"{', '.join(valid) or 'none besides method and fourier_terms'}"

@@ -12,8 +12,8 @@ from typing import Any
 
 import numpy as np
 
-from ..geometry import GearPair
-from .periodic import PeriodicStiffness
+from gear_dyn.geometry import GearPair
+from gear_dyn.stiffness.periodic import PeriodicStiffness
 
 
 def zone_edges(contact_ratio: float) -> tuple[float, int, int]:

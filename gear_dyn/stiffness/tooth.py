@@ -31,9 +31,9 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..errors import InputError, check_range
-from ..geometry import GearPair, involute
-from .periodic import FloatArray
+from gear_dyn.errors import InputError, check_range
+from gear_dyn.geometry import GearPair, involute
+from gear_dyn.stiffness.periodic import FloatArray
 
 
 @dataclass(frozen=True)

@@ -34,16 +34,16 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import InputError
-from ..geometry import GearPair
-from .periodic import FloatArray
-from .potential_energy import (
+from gear_dyn.errors import InputError
+from gear_dyn.geometry import GearPair
+from gear_dyn.stiffness.periodic import FloatArray
+from gear_dyn.stiffness.potential_energy import (
     _check_positions,
     contact_radii,
     fillet_compliance,
     tooth_load_geometry,
 )
-from .tooth import DEFAULT_OPTIONS, ToothOptions, tooth_table
+from gear_dyn.stiffness.tooth import DEFAULT_OPTIONS, ToothOptions, tooth_table
 
 SHEAR_COEF = 5.0 / 6.0  # s_h for a rectangular section
 

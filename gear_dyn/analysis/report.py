@@ -1,0 +1,55 @@
+"""Summaries of results as plain dicts (for summary.json and the terminal)."""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Protocol, runtime_checkable
+
+import numpy as np
+
+from gear_dyn.analysis.spectrum import amplitude_spectrum, find_peaks
+from gear_dyn.solvers import Result
+
+
+@runtime_checkable
+class Provenance(Protocol):
+    """Where a result came from (a :class:`gear_dyn.scene.Scene` is one)."""
+
+    def facts(self) -> dict[str, Any]: ...
+
+
+def dominant_peak(result: Result, name: str = "dte") -> tuple[float, float]:
+    """Largest non-DC spectral peak ``(frequency Hz, amplitude)`` of a series, steady window."""
+    mask = result.steady
+    f, amp = amplitude_spectrum(result.t[mask], result.series(name)[mask])
+    peaks = find_peaks(f, amp, n=1, min_freq=0.5 * (f[1] - f[0]) + f[1])
+    return peaks[0] if peaks else (math.nan, math.nan)
+
+
+def summarize(result: Result) -> dict[str, Any]:
+    """The run summary: kinematics, stiffness, dynamic factor, DTE figures, solver cost.
+
+    Keys (SI units in the names): mesh_frequency_hz, output_speed_rpm, contact_ratio,
+    mean_mesh_stiffness_n_per_m, static_transmission_error_m, dynamic_factor, rms_dte_m,
+    ptp_dte_m, mean_dte_m, dominant_frequency_hz, solver {...}; plus what the model offers.
+    """
+    out: dict[str, Any] = {"mesh_frequency_hz": result.mesh_frequency}
+    if isinstance(result.scene, Provenance):  # e.g. a Scene: what it says about the case
+        out.update(result.scene.facts())
+    k = result.outputs.get("stiffness")
+    if k is not None and "mean_mesh_stiffness_n_per_m" not in result.extra:
+        out["mean_mesh_stiffness_n_per_m"] = float(np.mean(k[result.steady]))
+        out["static_transmission_error_m"] = result.static_load / out[
+            "mean_mesh_stiffness_n_per_m"]
+    out["static_load_n"] = result.static_load
+    out["dynamic_factor"] = result.dynamic_factor
+    out["mean_dte_m"] = result.mean_dte
+    out["rms_dte_m"] = result.rms_dte
+    out["ptp_dte_m"] = result.ptp_dte
+    out["dominant_frequency_hz"] = dominant_peak(result)[0]
+    out["steady_window_s"] = [result.steady_start, float(result.t[-1])]
+    out["transient_window_s"] = [0.0, result.steady_start]
+    out["solver"] = result.stats.as_dict()
+    for key, val in result.extra.items():
+        out[key] = val
+    return out

@@ -1,0 +1,457 @@
+"""Periodic steady state, monodromy matrix and Floquet multipliers of the mesh models.
+
+The single-DOF mesh model (:mod:`gear_dyn.models.sdof`) is periodic in the mesh period
+``T = 1/f_m``: its steady response is the periodic orbit, found directly instead of waiting for a
+transient to die out.
+
+Linear models (no backlash). The one-period map is affine, ``y(T) = Phi y(0) + q``, with ``Phi``
+the monodromy matrix. The periodic orbit starts at ``y0 = (I - Phi)^-1 q`` and its Floquet
+multipliers are the eigenvalues of ``Phi``; one outside the unit circle means parametric
+instability (the response grows without bound and there is no steady state to report).
+
+- Piecewise-constant stiffness: ``[Phi q; 0 1]`` is the product of the augmented matrix
+  exponentials ``expm([[A_j, g_j], [0, 0]] dt_j)`` of the pieces of one period (the idea of
+  :mod:`gear_dyn.solvers.exact`); exact up to rounding.
+- Any other linear case (smooth Fourier stiffness, piecewise-linear stiffness, transmission
+  error): ``Z = [Phi q]`` obeys ``Z' = A(t) Z + [0 g(t)]``, ``Z(0) = [I 0]``, integrated over one
+  period with ``solve_ivp`` (DOP853), cut at the switching instants.
+
+Nonlinear models (backlash). Shooting: Newton's method on ``P(y0) - y0 = 0``, ``P`` the one-period
+map, its Jacobian ``Phi = dP/dy0`` from the variational equations ``Phi' = J(t, y) Phi`` integrated
+with the state. The dead zone makes ``J`` jump where the teeth separate, but the vector field is
+continuous there, so the saltation matrix is the identity and no correction is needed. The
+eigenvalues of ``Phi`` at the converged orbit are its Floquet multipliers: they tell a stable
+orbit (seen in a slow sweep) from an unstable one (the middle branch of a fold).
+
+Stability charts over speed and stiffness variation are in :mod:`gear_dyn.analysis.chart`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.integrate import solve_ivp
+from scipy.linalg import expm
+
+from gear_dyn.errors import InputError, SolverError, check_range
+from gear_dyn.models.base import MeshModel, Model
+from gear_dyn.solvers.pieces import pieces
+
+FloatArray = NDArray[np.float64]
+ComplexArray = NDArray[np.complex128]
+
+#: a multiplier modulus above ``1 + UNIT_CIRCLE_TOL`` counts as unstable. Undamped (conservative)
+#: systems have multipliers on the unit circle; rounding and the integrator's tolerance move them
+#: off it by far less than this.
+UNIT_CIRCLE_TOL = 1e-6
+
+
+@dataclass(frozen=True, eq=False)
+class PeriodicSolution:
+    """A periodic orbit of a mesh model and its Floquet multipliers.
+
+    Attributes
+    ----------
+    y0 : ndarray
+        State on the orbit at t = 0 (mesh phase ``model.phase0``), SI units.
+    period : float
+        Mesh period T = 1/f_m in s.
+    monodromy : ndarray (n, n)
+        d y(T) / d y(0) along the orbit.
+    multipliers : ndarray of complex
+        Floquet multipliers (eigenvalues of the monodromy matrix).
+    converged : bool
+        The orbit was found (always True for linear models).
+    iterations : int
+        Newton iterations (0 for linear models: one direct solve).
+    how : str
+        ``expm`` (exact product), ``variational`` (solve_ivp over one period) or ``shooting``.
+    residual : float
+        Final relative closing error max_i |P(y0)_i - y0_i| / scale_i (0 for linear models).
+    """
+
+    y0: FloatArray
+    period: float
+    monodromy: FloatArray
+    multipliers: ComplexArray
+    converged: bool
+    iterations: int
+    how: str
+    residual: float = 0.0
+
+    @property
+    def spectral_radius(self) -> float:
+        """Largest Floquet multiplier modulus."""
+        return float(np.max(np.abs(self.multipliers)))
+
+    @property
+    def stable(self) -> bool:
+        """All multipliers inside the unit circle (up to :data:`UNIT_CIRCLE_TOL`)."""
+        return self.converged and self.spectral_radius <= 1.0 + UNIT_CIRCLE_TOL
+
+
+def _require_sdof(model: Any) -> MeshModel:
+    if not (isinstance(model, MeshModel) and model.mesh_periodic):
+        raise InputError(
+            f"the periodic steady state needs a model periodic in the mesh period (sdof); got "
+            f"{type(model).__name__}: use the transient method instead"
+        )
+    return model
+
+
+def is_linear_periodic(model: Model) -> bool:
+    """Whether ``model`` is linear and mesh-periodic (Floquet multipliers apply)."""
+    return bool(model.mesh_periodic and model.is_linear)
+
+
+#: earlier name of :func:`is_linear_periodic`
+is_linear = is_linear_periodic
+
+
+# ------------------------------------------------------------------ linear one-period map
+def one_period_map(model: MeshModel, rtol: float = 1e-10) -> tuple[FloatArray, FloatArray, str]:
+    """The affine one-period map ``y(T) = Phi y(0) + q`` of a linear single-DOF model.
+
+    Parameters
+    ----------
+    model : MeshModel
+        Without backlash.
+    rtol : float
+        Relative tolerance of the variational integration (unused where the stiffness is
+        piecewise constant: that path is exact).
+
+    Returns
+    -------
+    phi : ndarray (2, 2)
+        Monodromy matrix (dimensionless / s / 1/s entries for [x, v]).
+    q : ndarray (2,)
+        Response after one period from rest at zero ([m, m/s]).
+    how : str
+        ``expm`` or ``variational``.
+
+    Raises
+    ------
+    InputError
+        Not a linear single-DOF model.
+    SolverError
+        The integration failed.
+    """
+    model = _require_sdof(model)
+    if model.backlash is not None:
+        raise InputError("one_period_map: the model has backlash (nonlinear); use shoot()")
+    period = 1.0 / model.mesh_frequency
+    pieces = model.linear_segments(0.0, period)
+    n = len(model.state_labels)
+    if pieces is not None:
+        mats = []
+        for ta, tb, a, g in pieces:
+            m = np.zeros((n + 1, n + 1))
+            m[:n, :n] = a
+            m[:n, n] = g
+            mats.append(m * (tb - ta))
+        props = expm(np.stack(mats))
+        total = np.eye(n + 1)
+        for p in props:
+            total = p @ total
+        return total[:n, :n], total[:n, n], "expm"
+    return (*_variational_linear(model, period, rtol), "variational")
+
+
+def _variational_linear(model: MeshModel, period: float, rtol: float
+                        ) -> tuple[FloatArray, FloatArray]:
+    n = len(model.state_labels)
+    zero = np.zeros(n)
+
+    def rhs_on(ta: float, tb: float) -> Any:
+        f, jac = _piece_functions(model, ta, tb)
+
+        def rhs(t: float, z: FloatArray) -> FloatArray:
+            zz = z.reshape(n, n + 1)
+            out = jac(t, zero) @ zz
+            out[:, n] += f(t, zero)
+            return out.ravel()
+        return rhs
+
+    z0 = np.hstack([np.eye(n), zero[:, None]]).ravel()
+    scale = np.asarray(model.state_scale, dtype=float)
+    # column j of Phi maps y_j to y: entry (i, j) has the unit scale_i / scale_j; q has scale_i
+    col_scale = np.append(1.0 / scale, 1.0)
+    atol = rtol * (scale[:, None] * col_scale[None, :]).ravel()
+    z = _integrate_cut(model, rhs_on, z0, 0.0, period, rtol, atol)
+    zz = z.reshape(n, n + 1)
+    return zz[:, :n].copy(), zz[:, n].copy()
+
+
+def _integrate_cut(model: MeshModel, rhs: Any, z0: FloatArray, t0: float, t1: float,
+                   rtol: float, atol: FloatArray) -> FloatArray:
+    """Integrate from t0 to t1 with DOP853, restarting at every switching instant.
+
+    ``rhs(ta, tb)`` returns the right-hand side to use on the piece [ta, tb] (so a stiffness
+    that is constant on the piece is evaluated once, not at every step).
+    """
+    cuts = np.concatenate([[t0], model.switching_times(t0, t1), [t1]])
+    z = np.asarray(z0, dtype=float)
+    for ta, tb in zip(cuts[:-1], cuts[1:], strict=True):
+        if tb <= ta:
+            continue
+        sol = solve_ivp(rhs(float(ta), float(tb)), (float(ta), float(tb)), z, method="DOP853",
+                        rtol=rtol, atol=atol)
+        if sol.status != 0:
+            raise SolverError(
+                f"solve_ivp (DOP853) failed over one mesh period at t = {ta:.6g}..{tb:.6g} s: "
+                f"{sol.message}; try a looser rtol"
+            )
+        z = sol.y[:, -1]
+        if not np.all(np.isfinite(z)):
+            raise SolverError("the one-period map produced non-finite states: the response "
+                              "diverges within one mesh period")
+    return z
+
+
+def flow_on_grid(model: MeshModel, y0: FloatArray, t_grid: FloatArray, rtol: float = 1e-8,
+                 atol: FloatArray | float | None = None) -> FloatArray:
+    """States of a single-DOF model on ``t_grid`` from ``y(t_grid[0]) = y0`` (DOP853).
+
+    The same integration as :func:`gear_dyn.solvers.integrate` with DOP853 (cut at the switching
+    instants, dense output on the grid), with the stiffness evaluated once per piece where it
+    is piecewise constant: several times faster for sweeps.
+
+    Parameters
+    ----------
+    model : MeshModel
+    y0 : ndarray
+        Initial state [m, m/s].
+    t_grid : ndarray
+        Increasing output times in s.
+    rtol : float
+        Relative tolerance.
+    atol : float, ndarray or None
+        Absolute tolerance; None: ``rtol * model.state_scale``.
+
+    Returns
+    -------
+    ndarray (2, n_t)
+
+    Raises
+    ------
+    SolverError
+        Integration failure or non-finite states.
+    """
+    model = _require_sdof(model)
+    t_grid = np.asarray(t_grid, dtype=float)
+    if atol is None:
+        atol = rtol * np.asarray(model.state_scale, dtype=float)
+    t0, t1 = float(t_grid[0]), float(t_grid[-1])
+    cuts = np.concatenate([[t0], model.switching_times(t0, t1), [t1]])
+    y = np.array(y0, dtype=float)
+    out = np.empty((y.size, t_grid.size))
+    out[:, 0] = y
+    for ta, tb, i0, i1, t_eval in pieces(t_grid, cuts):
+        f, _jac = _piece_functions(model, ta, tb)
+        sol = solve_ivp(f, (ta, tb), y, method="DOP853", t_eval=t_eval, rtol=rtol, atol=atol)
+        if sol.status != 0 or not np.all(np.isfinite(sol.y)):
+            raise SolverError(
+                f"solve_ivp (DOP853) failed at t = {ta:.6g}..{tb:.6g} s: {sol.message}; "
+                "the response diverges or the tolerances are too loose"
+            )
+        out[:, i0:i1] = sol.y[:, : i1 - i0]
+        y = sol.y[:, -1]
+    return out
+
+
+def _piece_functions(model: MeshModel, ta: float, tb: float) -> tuple[Any, Any]:
+    """(rhs, jac) of the model on the piece [ta, tb].
+
+    Where the stiffness is constant on the piece and there is no transmission error, fast
+    closures with k fixed (the model's own rhs evaluates k(t) at every call); otherwise the
+    model's own functions.
+    """
+    if model.stiffness.segments() is None or model.transmission_error is not None:
+        return model.rhs, model.jac
+    kt = float(model.stiffness(model.phase(0.5 * (ta + tb))))
+    m, c, w = model.mass, model.damping, model.static_load
+    b = model.backlash
+    if b is None:
+        a = np.array([[0.0, 1.0], [-kt / m, -c / m]])
+
+        def rhs(t: float, y: FloatArray) -> FloatArray:
+            return np.array([y[1], (w - c * y[1] - kt * y[0]) / m])
+
+        def jac(t: float, y: FloatArray) -> FloatArray:
+            return a
+        return rhs, jac
+    a_in = np.array([[0.0, 1.0], [0.0, -c / m]])
+    a_out = np.array([[0.0, 1.0], [-kt / m, -c / m]])
+    bb = float(b)
+
+    def rhs_b(t: float, y: FloatArray) -> FloatArray:
+        x, v = y[0], y[1]
+        fx = x - bb if x > bb else (x + bb if x < -bb else 0.0)
+        return np.array([v, (w - c * v - kt * fx) / m])
+
+    def jac_b(t: float, y: FloatArray) -> FloatArray:
+        return a_in if abs(y[0]) <= bb else a_out
+    return rhs_b, jac_b
+
+
+def floquet_multipliers(model: MeshModel, rtol: float = 1e-10) -> ComplexArray:
+    """Floquet multipliers of a linear single-DOF model (eigenvalues of its monodromy matrix).
+
+    A multiplier with modulus > 1 means parametric instability. For a model with backlash use
+    :func:`periodic_steady_state` (the multipliers belong to an orbit).
+
+    Raises
+    ------
+    InputError
+        Not a linear single-DOF model.
+    """
+    phi, _q, _how = one_period_map(model, rtol)
+    return np.linalg.eigvals(phi).astype(np.complex128)
+
+
+# ------------------------------------------------------------------ periodic steady state
+def periodic_steady_state(
+    model: MeshModel, y_guess: FloatArray | None = None, rtol: float = 1e-10,
+    max_iter: int = 15,
+) -> PeriodicSolution:
+    """The periodic orbit of a single-DOF model, found directly.
+
+    Linear models: one solve ``(I - Phi) y0 = q``. Models with backlash: shooting from
+    ``y_guess`` (default: the static deflection).
+
+    Parameters
+    ----------
+    model : MeshModel
+    y_guess : ndarray or None
+        Starting state for shooting (e.g. the orbit at the previous speed of a sweep).
+    rtol : float
+        Relative tolerance of the one-period integration (1e-13..1e-3).
+    max_iter : int
+        Newton iterations for shooting.
+
+    Returns
+    -------
+    PeriodicSolution
+        For linear models ``converged`` is True even when the orbit is unstable (check
+        ``stable``): the orbit exists but the response runs away from it.
+
+    Raises
+    ------
+    InputError
+        Not a single-DOF model, or a bad tolerance.
+    SolverError
+        A multiplier equal to 1 (no isolated periodic orbit) or an integration failure.
+    """
+    model = _require_sdof(model)
+    check_range("rtol", rtol, "", low=1e-13, high=1e-3)
+    period = 1.0 / model.mesh_frequency
+    if model.backlash is None:
+        phi, q, how = one_period_map(model, rtol)
+        n = q.size
+        lhs = np.eye(n) - phi
+        if np.linalg.cond(lhs) > 1e14:
+            raise SolverError("the monodromy matrix has a multiplier at 1: no isolated periodic "
+                              "steady state (undamped resonance?)")
+        y0 = np.asarray(np.linalg.solve(lhs, q), dtype=np.float64)
+        mult = np.linalg.eigvals(phi).astype(np.complex128)
+        return PeriodicSolution(y0, period, phi, mult, True, 0, how)
+    return shoot(model, model.initial_state() if y_guess is None else y_guess, rtol, max_iter)
+
+
+def flow_with_sensitivity(model: MeshModel, y0: FloatArray, t1: float, rtol: float = 1e-10
+                          ) -> tuple[FloatArray, FloatArray]:
+    """State ``y(t1)`` from ``y(0) = y0`` and its sensitivity ``d y(t1) / d y0``.
+
+    Raises
+    ------
+    SolverError
+        Integration failure or a diverging response.
+    """
+    n = len(model.state_labels)
+
+    def rhs_on(ta: float, tb: float) -> Any:
+        f, jac = _piece_functions(model, ta, tb)
+
+        def rhs(t: float, z: FloatArray) -> FloatArray:
+            y = z[:n]
+            return np.concatenate([f(t, y), (jac(t, y) @ z[n:].reshape(n, n)).ravel()])
+        return rhs
+
+    scale = np.asarray(model.state_scale, dtype=float)
+    atol = rtol * np.concatenate([scale, (scale[:, None] / scale[None, :]).ravel()])
+    z0 = np.concatenate([np.asarray(y0, dtype=float), np.eye(n).ravel()])
+    z = _integrate_cut(model, rhs_on, z0, 0.0, t1, rtol, atol)
+    return z[:n].copy(), z[n:].reshape(n, n).copy()
+
+
+def shoot(model: MeshModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: int = 15,
+          periods: int = 1) -> PeriodicSolution:
+    """Periodic orbit by Newton's method on the one-period map (shooting).
+
+    With ``periods = 2`` the map over two mesh periods: a period-2 (subharmonic) orbit, as
+    found inside a parametric instability zone of a pair with backlash.
+
+    Converged when the closing error ``|P(y0) - y0|`` is below ``100 rtol`` times the larger of
+    the state scale and the state itself, component by component (the map is only known to
+    about ``rtol``). Gives up early when from the fourth iteration on the error no longer
+    halves (Newton is not converging from this guess).
+
+    Parameters
+    ----------
+    model : MeshModel
+    y_guess : ndarray
+        Starting state ([m, m/s]).
+    rtol : float
+        Relative tolerance of each one-period integration.
+    max_iter : int
+        Newton iterations (>= 1).
+    periods : int
+        Mesh periods of the orbit (1..16).
+
+    Returns
+    -------
+    PeriodicSolution
+        ``converged`` False if Newton did not close the orbit (the last iterate is returned);
+        ``period`` is ``periods / f_m``.
+
+    Raises
+    ------
+    SolverError
+        Integration failure.
+    """
+    model = _require_sdof(model)
+    check_range("periods", periods, "", low=1, high=16)
+    period = int(periods) / model.mesh_frequency
+    scale = np.asarray(model.state_scale, dtype=float)
+    y = np.array(y_guess, dtype=float)
+    n = y.size
+    phi = np.eye(n)
+    res = math.inf
+    it = 0
+    for it in range(1, max_iter + 1):
+        yt, phi = flow_with_sensitivity(model, y, period, rtol)
+        r = yt - y
+        ref = np.maximum(scale, np.abs(y))
+        res_prev, res = res, float(np.max(np.abs(r) / ref))
+        if res <= 100 * rtol:
+            mult = np.linalg.eigvals(phi).astype(np.complex128)
+            return PeriodicSolution(y, period, phi, mult, True, it, "shooting", res)
+        if it >= 4 and res > 0.5 * res_prev:
+            break  # no Newton convergence: the guess is outside the orbit's basin of Newton
+        try:
+            dy = np.linalg.solve(phi - np.eye(n), -r)
+        except np.linalg.LinAlgError:
+            break
+        # limit the step to a few state scales (a far jump leaves Newton's region)
+        lim = 20.0 * ref
+        factor = float(np.min(np.where(np.abs(dy) > lim, lim / np.maximum(np.abs(dy), 1e-300),
+                                       1.0)))
+        y = y + factor * dy
+        if not np.all(np.isfinite(y)):
+            break
+    mult = np.linalg.eigvals(phi).astype(np.complex128)
+    return PeriodicSolution(y, period, phi, mult, False, it, "shooting", res)

@@ -1,0 +1,103 @@
+"""Mesh stiffness of one pair by several methods, side by side, with ISO 6336 and the
+potential-energy compliance components at the pitch point (the API behind ``gear-dyn stiffness``).
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import numpy as np
+
+from gear_dyn.errors import InputError
+from gear_dyn.geometry import GearPair
+from gear_dyn.stiffness.iso6336 import iso6336_stiffness
+from gear_dyn.stiffness.potential_energy import potential_energy_compliances
+from gear_dyn.stiffness.select import METHOD_OPTIONS, build_stiffness
+from gear_dyn.stiffness.summary import operating_summary, stiffness_summary
+
+
+def _method_curves(pair: GearPair, methods: list[str], scene_method: str,
+                   scene_opts: dict[str, Any], fourier: int | None
+                   ) -> tuple[dict[str, Any], dict[str, Any]]:
+    """Stiffness of each method (with the scene's options that apply to it) and its summary."""
+    curves: dict[str, Any] = {}
+    per_method: dict[str, Any] = {}
+    for m in methods:
+        opts = {k: v for k, v in scene_opts.items() if k in METHOD_OPTIONS[m]}
+        if m == "iso6336" and ("single" in opts or "double" in opts):
+            opts = {k: v for k, v in opts.items() if k not in ("single", "double")}
+        t0 = time.perf_counter()
+        try:
+            k = build_stiffness(pair, m, **opts)
+        except InputError as exc:
+            raise InputError(f"method {m}: {exc}") from None
+        summ = stiffness_summary(pair, k)
+        summ["build_time_s"] = time.perf_counter() - t0
+        summ["options"] = opts
+        curves[m] = k
+        if fourier is not None and m == scene_method:
+            kf = k.truncated(fourier)
+            curves[f"{m} (Fourier {fourier})"] = kf
+            summ["fourier"] = stiffness_summary(pair, kf)
+        per_method[m] = summ
+    return curves, per_method
+
+
+def pitch_point_components(pair: GearPair) -> tuple[Any, dict[str, Any]]:
+    """Potential-energy compliances at the pitch point: the raw object and a JSON-ready dict."""
+    comp = potential_energy_compliances(pair, np.array([pair.pitch_point]))
+    components: dict[str, Any] = {
+        "position": "pitch point",
+        "s_m": pair.pitch_point,
+        "hertz_m_per_n": float(comp.hertz[0]),
+        "pair_stiffness_n_per_m": float(comp.stiffness[0]),
+    }
+    for term, arr in (("bending", comp.bending), ("shear", comp.shear), ("axial", comp.axial),
+                      ("fillet", comp.fillet)):
+        components[f"{term}_pinion_m_per_n"] = float(arr[0, 0])
+        components[f"{term}_gear_m_per_n"] = float(arr[1, 0])
+    return comp, components
+
+
+def compare_methods(pair: GearPair, methods: list[str], scene_method: str,
+                    scene_opts: dict[str, Any], fourier: int | None = None
+                    ) -> tuple[dict[str, Any], dict[str, Any]]:
+    """``(curves, report)``: each method's stiffness and the JSON-ready comparison.
+
+    Parameters
+    ----------
+    pair : GearPair
+    methods : list of str
+        Method names of :data:`gear_dyn.stiffness.select.METHODS`.
+    scene_method : str
+        The method the case itself uses (its Fourier truncation is added when ``fourier``).
+    scene_opts : dict
+        Method options; each method gets the ones it accepts.
+    fourier : int or None
+        Fourier terms of the case's stiffness.
+
+    Raises
+    ------
+    InputError
+        A method's options out of range (the message names the method).
+    """
+    curves, per_method = _method_curves(pair, methods, scene_method, scene_opts, fourier)
+    iso = iso6336_stiffness(pair)
+    comp, components = pitch_point_components(pair)
+    report: dict[str, Any] = {
+        "scene_method": scene_method,
+        "fourier_terms": fourier,
+        "pair": {"z1": pair.z1, "z2": pair.z2, "module_m": pair.module,
+                 "pressure_angle_deg": float(np.degrees(pair.pressure_angle)),
+                 "helix_angle_deg": float(np.degrees(pair.helix_angle)),
+                 "face_width_m": pair.face_width},
+        "operating": operating_summary(pair),
+        "iso6336": {"c_single_n_per_m2": iso.c_single, "c_gamma_n_per_m2": iso.c_mesh,
+                    "c_gamma_beta_n_per_m2": iso.c_mesh_beta, "k_single_n_per_m": iso.k_single,
+                    "k_mesh_n_per_m": iso.k_mesh},
+        "methods": per_method,
+        "components_at_pitch_point": components,
+        "_components": comp,
+    }
+    return curves, report

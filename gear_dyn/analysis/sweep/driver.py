@@ -1,0 +1,238 @@
+"""The sweep driver: speeds cut into blocks, blocks run on an executor, curves assembled.
+
+A sweep takes a model factory ``speed -> Model`` (speed in rad/s); for process pools and Dask it
+must be picklable (the scene layer's :class:`gear_dyn.scene.sweep.SceneModels` is).
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import math
+import multiprocessing
+import os
+import sys
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gear_dyn.analysis.sweep.points import steady_point, transient_point
+from gear_dyn.analysis.sweep.types import (
+    DIRECTIONS,
+    Point,
+    SweepCurve,
+    SweepOptions,
+    SweepResult,
+)
+from gear_dyn.errors import InputError, check_range
+from gear_dyn.models.base import Model
+from gear_dyn.solvers import SolverSettings
+
+FloatArray = NDArray[np.float64]
+ModelFactory = Callable[[float], Model]
+
+
+@dataclass(frozen=True)
+class _Task:
+    factory: ModelFactory
+    settings: SolverSettings
+    options: SweepOptions
+    periods: int
+    steady_periods: int
+    speeds: tuple[float, ...]
+    y_start: FloatArray | None
+    continuation: bool
+    orbit_periods: int = 1
+
+
+def run_block(task: _Task) -> tuple[list[Point], FloatArray | None]:
+    """Evaluate a block of speeds in order (the worker function; picklable).
+
+    Returns the points and the last state (the start of the next block of a continuation; the
+    last point's ``orbit_periods`` goes with it).
+    """
+    y = task.y_start
+    n_prev = task.orbit_periods
+    points = []
+    for s in task.speeds:
+        model = task.factory(s)
+        if task.options.method == "steady":
+            p, y_next = steady_point(model, s, task.settings, task.options, y, n_prev)
+            n_prev = p.orbit_periods or n_prev
+        else:
+            p, y_next = transient_point(model, s, task.settings, task.options, task.periods,
+                                        task.steady_periods, y)
+        points.append(p)
+        if task.continuation and y_next is not None:
+            y = y_next
+    return points, y
+
+
+def _default_executor(workers: int | None) -> cf.Executor:
+    ctx = None
+    if sys.version_info >= (3, 12) and "forkserver" in multiprocessing.get_all_start_methods():
+        ctx = multiprocessing.get_context("forkserver")
+    return cf.ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1, mp_context=ctx)
+
+
+class _Inline(cf.Executor):
+    """Runs each task at once in this process (``workers=1``)."""
+
+    def submit(self, fn: Any, /, *args: Any, **kwargs: Any) -> cf.Future[Any]:
+        fut: cf.Future[Any] = cf.Future()
+        try:
+            fut.set_result(fn(*args, **kwargs))
+        except BaseException as exc:  # handed to the caller through the future
+            fut.set_exception(exc)
+        return fut
+
+
+def _checked_speeds(speeds: Sequence[float] | FloatArray, direction: str, block: int,
+                    workers: int | None) -> FloatArray:
+    if direction not in DIRECTIONS:
+        raise InputError(f"direction = {direction!r}: valid choices are {', '.join(DIRECTIONS)}")
+    check_range("block", block, "", low=1, high=10_000)
+    if workers is not None:
+        check_range("workers", workers, "", low=1, high=4096)
+    sp = np.unique(np.asarray(speeds, dtype=float))
+    if sp.size < 1:
+        raise InputError("sweep: no speeds given")
+    for s in (sp[0], sp[-1]):
+        check_range("speed", s, "rad/s", low=0.0, high=1e5, low_open=True)
+    return sp
+
+
+def _directions(direction: str, nonlinear: bool) -> tuple[str, ...]:
+    if direction == "auto":
+        return ("up", "down") if nonlinear else ("up",)
+    if direction == "both":
+        return ("up", "down")
+    return (direction,)
+
+
+def _run_chains(ex: cf.Executor, template: dict[str, Any],
+                chains: dict[str, list[tuple[float, ...]]], nonlinear: bool,
+                progress: Callable[[int, int], None] | None) -> dict[str, list[list[Point]]]:
+    """Run every block: all at once (linear) or block after block per direction (continuation,
+    each block starting from the previous block's last state)."""
+    results: dict[str, list[list[Point]]] = {d: [[] for _ in chains[d]] for d in chains}
+    total = sum(len(blk) for c in chains.values() for blk in c)
+    done = 0
+    pending: dict[cf.Future[Any], tuple[str, int]] = {}
+
+    def submit(d: str, i: int, y0: FloatArray | None, n_per: int = 1) -> None:
+        task = _Task(speeds=chains[d][i], y_start=y0, continuation=nonlinear,
+                     orbit_periods=n_per, **template)
+        pending[ex.submit(run_block, task)] = (d, i)
+
+    try:
+        for d in chains:
+            for i in range(1 if nonlinear else len(chains[d])):
+                submit(d, i, None)
+        while pending:
+            finished, _ = cf.wait(list(pending), return_when=cf.FIRST_COMPLETED)
+            for fut in finished:
+                d, i = pending.pop(fut)
+                points, y_end = fut.result()
+                results[d][i] = points
+                done += len(points)
+                if progress is not None:
+                    progress(done, total)
+                if nonlinear and i + 1 < len(chains[d]):
+                    submit(d, i + 1, y_end, points[-1].orbit_periods or 1)
+    finally:
+        for fut in pending:  # after a failure or an interrupt: drop the queued blocks
+            fut.cancel()
+    return results
+
+
+def sweep(
+    factory: ModelFactory,
+    speeds: Sequence[float] | FloatArray,
+    *,
+    settings: SolverSettings | None = None,
+    periods: int = 200,
+    steady_periods: int | None = None,
+    name: str = "",
+    options: SweepOptions | None = None,
+    direction: str = "auto",
+    executor: cf.Executor | None = None,
+    workers: int | None = None,
+    block: int = 8,
+    progress: Callable[[int, int], None] | None = None,
+) -> SweepResult:
+    """Sweep a model over pinion speeds.
+
+    Parameters
+    ----------
+    factory : callable
+        ``factory(speed) -> Model``, speed in rad/s; picklable for process pools and Dask
+        (e.g. :class:`gear_dyn.scene.sweep.SceneModels`).
+    speeds : sequence of float
+        Pinion speeds in rad/s (> 0); sorted, duplicates removed.
+    settings : SolverSettings or None
+        Solver settings of every speed (default: the defaults).
+    periods, steady_periods : int
+        Transient method: mesh periods per run and of its measured window (default: half).
+    name : str
+        Name stored in the result (the scene's).
+    options : SweepOptions or None
+        Method and spectrum settings (default: steady state).
+    direction : {"auto", "up", "down", "both"}
+        ``auto``: up and down for nonlinear models, up only for linear ones.
+    executor : concurrent.futures.Executor or None
+        Where blocks run (e.g. ``distributed.Client(...).get_executor()``); it is not shut
+        down. None: a process pool over ``workers`` local cores, shut down at the end.
+    workers : int or None
+        Local processes when ``executor`` is None (default: all cores; 1 runs in-process).
+    block : int
+        Speeds per task (1..10000).
+    progress : callable or None
+        ``progress(done, total)`` after each finished block.
+
+    Returns
+    -------
+    SweepResult
+
+    Raises
+    ------
+    InputError
+        Bad speeds, options or direction; the steady method on a model it does not cover.
+    SolverError
+        An integration failed.
+    """
+    opts = options or SweepOptions()
+    settings = settings or SolverSettings()
+    sp = _checked_speeds(speeds, direction, block, workers)
+    model = factory(float(sp[0]))
+    nonlinear = not model.is_linear
+    if opts.method == "steady" and not model.mesh_periodic:
+        raise InputError(f"sweep method 'steady' covers the single-DOF model; this scene's model "
+                         f"is {type(model).__name__}: use method 'transient'")
+    dirs = _directions(direction, nonlinear)
+    chains = {d: [tuple(float(v) for v in order[i:i + block]) for i in range(0, order.size, block)]
+              for d in dirs for order in [sp if d == "up" else sp[::-1]]}
+    template = dict(factory=factory, settings=settings, options=opts, periods=int(periods),
+                    steady_periods=int(periods // 2 if steady_periods is None else steady_periods))
+    own = executor is None
+    ex: cf.Executor = executor if executor is not None else (
+        _Inline() if workers == 1 else _default_executor(workers))
+    start = time.perf_counter()
+    try:
+        results = _run_chains(ex, template, chains, nonlinear, progress)
+    finally:
+        if own:
+            ex.shutdown(wait=True, cancel_futures=True)
+    curves = tuple(SweepCurve.from_points(d, [p for blk in results[d] for p in blk])
+                   for d in dirs)
+    orders = np.arange(1, opts.window_periods * opts.harmonics + 1) / opts.window_periods
+    fn = model.natural_frequency
+    return SweepResult(
+        scene_name=name, curves=curves, orders=orders,
+        natural_frequency=math.nan if fn is None else float(fn),
+        static_load=float(model.static_load), nonlinear=nonlinear, options=opts,
+        settings=settings, run_time_s=time.perf_counter() - start, executor=type(ex).__name__,
+    )

@@ -1,0 +1,208 @@
+"""One speed of a sweep: the periodic steady state (or a transient) and its metrics."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from typing import cast
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gear_dyn.analysis.stability import (
+    UNIT_CIRCLE_TOL,
+    floquet_multipliers,
+    flow_on_grid,
+    periodic_steady_state,
+    shoot,
+)
+from gear_dyn.analysis.sweep.types import Point, SweepOptions
+from gear_dyn.models.base import MeshModel, Model
+from gear_dyn.solvers import SolverSettings, integrate, time_grid
+
+FloatArray = NDArray[np.float64]
+
+#: periods of settling transient between shooting attempts after an orbit is lost
+SETTLE_CHUNK = 25
+
+
+def _contact(model: Model, t: FloatArray, y: FloatArray, force: FloatArray
+             ) -> tuple[float, float]:
+    """Shares of samples with the teeth apart and in back-side contact."""
+    if model.mesh_periodic and model.backlash is not None:
+        assert isinstance(model, MeshModel)
+        u = y[0]
+        if model.transmission_error is not None:
+            u = u - model.transmission_error.value(model.phase(t))
+        b = model.backlash
+        return float(np.mean(np.abs(u) <= b)), float(np.mean(u < -b))
+    return float(np.mean(force < 0)), 0.0
+
+
+def _order_spectrum(dte: FloatArray, window: int, spp: int, harmonics: int) -> FloatArray:
+    """Amplitudes at orders k / window, k = 1..window*harmonics, of ``window`` periods."""
+    x = dte - dte.mean()
+    spec = np.fft.rfft(x) * 2.0 / x.size
+    return np.abs(spec[1: window * harmonics + 1])
+
+
+def _metrics(model: Model, t: FloatArray, y: FloatArray, load: float
+             ) -> tuple[float, float, float, float, float, float]:
+    out = model.outputs(t, y)
+    dte, force = out["dte"], out["mesh_force"]
+    if not (np.all(np.isfinite(dte)) and np.all(np.isfinite(force))):
+        nan = math.nan
+        return nan, nan, nan, nan, nan, nan
+    df = float(np.max(force) / load) if load > 0 else math.nan
+    sep, back = _contact(model, t, y, force)
+    return (df, float(np.std(dte)), float(np.ptp(dte)), float(np.mean(dte)), sep, back)
+
+
+def _nan_point(model: Model, speed: float, rho: float, status: str, n_orders: int) -> Point:
+    nan = math.nan
+    return Point(speed, model.mesh_frequency, nan, nan, nan, nan, rho, False, False, status, nan,
+                 nan, 0, np.full(n_orders, nan), np.full(len(model.state_labels), nan))
+
+
+def _flow(model: Model, t: FloatArray, settings: SolverSettings, y0: FloatArray) -> FloatArray:
+    """States on ``t`` from ``y0``: the exact propagator for linear piecewise-constant models,
+    else DOP853 with the stiffness fixed per piece
+    (:func:`gear_dyn.analysis.stability.flow_on_grid`)."""
+    if (model.mesh_periodic and model.linear_segments(0.0, float(t[-1])) is None
+            and settings.method in ("auto", "DOP853")):
+        return flow_on_grid(cast(MeshModel, model), y0, t, settings.rtol, settings.atol)
+    y, _ = integrate(model, t, settings, y0)
+    return y
+
+
+def _orbit_point(model: Model, speed: float, y0: FloatArray, settings: SolverSettings,
+                 opts: SweepOptions, rho: float, stable: bool, status: str, iterations: int,
+                 orbit_periods: int = 1) -> Point:
+    """Metrics of a periodic orbit of ``orbit_periods`` mesh periods starting at ``y0``: the
+    orbit sampled once, repeated over the spectrum window."""
+    spp = settings.samples_per_period
+    fm = model.mesh_frequency
+    n = orbit_periods * spp
+    t = np.arange(n + 1) / (fm * spp)
+    y = _flow(model, t, settings, y0)
+    if orbit_periods > 1:
+        # a period-1 orbit is a fixed point of the two-period map too: call it what it is
+        scale = np.maximum(np.asarray(model.state_scale, dtype=float), np.abs(y[:, 0]))
+        if np.max(np.abs(y[:, spp] - y[:, 0]) / scale) <= 1e3 * settings.rtol:
+            orbit_periods, n = 1, spp
+            t, y = t[: spp + 1], y[:, : spp + 1]
+            rho = math.sqrt(rho)  # multipliers of the two-period map are squares
+            status = "periodic" if status == "period-2" else status
+    t, y = t[:-1], y[:, :-1]
+    df, rms, ptp, mean, sep, back = _metrics(model, t, y, model.static_load)
+    dte = model.outputs(t, y)["dte"]
+    reps = -(-opts.window_periods // orbit_periods)
+    dte_win = np.tile(dte, reps)[: opts.window_periods * spp]
+    spec = _order_spectrum(dte_win, opts.window_periods, spp, opts.harmonics)
+    return Point(speed, fm, df, rms, ptp, mean, rho, stable, orbit_periods == 1, status, sep,
+                 back, iterations, spec, np.array(y0, dtype=float), orbit_periods)
+
+
+def _window_point(model: Model, speed: float, t: FloatArray, y: FloatArray, n_window: int,
+                  settings: SolverSettings, opts: SweepOptions, rho: float, status: str,
+                  iterations: int) -> Point:
+    """Metrics over the last ``n_window`` samples of a run (whole periods)."""
+    spp = settings.samples_per_period
+    tw, yw = t[-n_window:], y[:, -n_window:]
+    df, rms, ptp, mean, sep, back = _metrics(model, tw, yw, model.static_load)
+    dte = model.outputs(t, y)["dte"]
+    nspec = opts.window_periods * spp
+    spec = _order_spectrum(dte[-nspec - 1:-1], opts.window_periods, spp, opts.harmonics)
+    scale = np.asarray(model.state_scale, dtype=float)
+    closing = np.abs(y[:, -1] - y[:, -1 - spp]) / np.maximum(scale, np.abs(y[:, -1]))
+    periodic = bool(np.max(closing) <= 1e3 * settings.rtol)
+    return Point(speed, model.mesh_frequency, df, rms, ptp, mean, rho, math.isfinite(rho) and
+                 rho <= 1.0, periodic, status, sep, back, iterations, spec, y[:, -1].copy())
+
+
+def steady_point(model: Model, speed: float, settings: SolverSettings, opts: SweepOptions,
+                 y_guess: FloatArray | None, n_prev: int = 1
+                 ) -> tuple[Point, FloatArray | None]:
+    """The steady method at one speed: the periodic orbit (linear: directly; backlash: shooting
+    from ``y_guess``, settling where the orbit is lost). Returns the point and the state to
+    continue from."""
+    if not model.mesh_periodic:
+        raise ValueError("steady_point needs a mesh-periodic model")  # checked by sweep()
+    mesh = model
+    assert isinstance(mesh, MeshModel)
+    if mesh.backlash is None:
+        return _linear_orbit_point(mesh, speed, settings, opts)
+    guess = mesh.initial_state() if y_guess is None else np.asarray(y_guess, dtype=float)
+    first = n_prev if n_prev in (1, 2) else 1
+    sol = shoot(mesh, guess, settings.rtol, opts.max_newton, periods=first)
+    if sol.converged and sol.stable:
+        return _orbit_point(mesh, speed, sol.y0, settings, opts, sol.spectral_radius, True,
+                            "periodic" if first == 1 else "period-2", sol.iterations,
+                            first), sol.y0
+    return _settle_and_shoot(mesh, speed, settings, opts, guess, sol.iterations,
+                             continuing=y_guess is not None)
+
+
+def _linear_orbit_point(model: MeshModel, speed: float, settings: SolverSettings,
+                        opts: SweepOptions) -> tuple[Point, FloatArray | None]:
+    """Linear model: the periodic orbit from the one-period map, or NaN where unstable."""
+    sol = periodic_steady_state(model, rtol=settings.rtol)
+    if not sol.stable:
+        n_orders = opts.window_periods * opts.harmonics
+        return _nan_point(model, speed, sol.spectral_radius, "unstable", n_orders), None
+    return _orbit_point(model, speed, sol.y0, settings, opts, sol.spectral_radius, True,
+                        "periodic", 0), sol.y0
+
+
+def _settle_and_shoot(model: MeshModel, speed: float, settings: SolverSettings,
+                      opts: SweepOptions, guess: FloatArray, iters: int, continuing: bool
+                      ) -> tuple[Point, FloatArray | None]:
+    """The orbit followed so far is gone (or Newton left it): settle as a slow sweep would.
+
+    In chunks of SETTLE_CHUNK periods, shooting for a period-1, then a period-2 orbit after
+    each. The settling run only has to reach the attractor's basin, so it runs at rtol >= 1e-6;
+    shooting (or the measured window) restores the full accuracy. With no such orbit, a window
+    of whole periods is measured at full accuracy (``aperiodic``).
+    """
+    spp = settings.samples_per_period
+    fm = model.mesh_frequency
+    loose = replace(settings, rtol=max(settings.rtol, 1e-6), atol=None)
+    y_end = guess
+    settled = 0
+    while settled < opts.settle_periods:
+        n = min(SETTLE_CHUNK, opts.settle_periods - settled)
+        y_end = _flow(model, np.arange(n * spp + 1) / (fm * spp), loose, y_end)[:, -1]
+        settled += n
+        for per in (1, 2):
+            sol = shoot(model, y_end, settings.rtol, opts.max_newton, periods=per)
+            iters += sol.iterations
+            if sol.converged and sol.spectral_radius <= 1.0 + UNIT_CIRCLE_TOL:
+                status = "period-2" if per == 2 else ("settled" if continuing else "periodic")
+                return _orbit_point(model, speed, sol.y0, settings, opts, sol.spectral_radius,
+                                    True, status, iters, per), sol.y0
+    n_win = opts.window_periods * spp
+    tw = np.arange(n_win + spp + 1) / (fm * spp)
+    yw = _flow(model, tw, settings, y_end)
+    return _window_point(model, speed, tw, yw, n_win, settings, opts, math.nan, "aperiodic",
+                         iters), yw[:, -1]
+
+
+def transient_point(model: Model, speed: float, settings: SolverSettings,
+                     opts: SweepOptions, periods: int, steady_periods: int,
+                     y_guess: FloatArray | None) -> tuple[Point, FloatArray | None]:
+    """The transient method at one speed: a run as ``gear-dyn run`` and its last window."""
+    n_orders = opts.window_periods * opts.harmonics
+    rho = math.nan
+    if model.mesh_periodic and model.is_linear:
+        assert isinstance(model, MeshModel)
+        rho = float(np.max(np.abs(floquet_multipliers(model, settings.rtol))))
+        if rho > 1.0 + UNIT_CIRCLE_TOL:
+            return _nan_point(model, speed, rho, "unstable", n_orders), None
+        y_guess = None  # linear: every speed from the static state, as run_scene
+    spp = settings.samples_per_period
+    t = time_grid(model.mesh_frequency, periods / model.mesh_frequency, spp)
+    y, _ = integrate(model, t, settings, y_guess)
+    # whole periods: the window of run_scene repeats phase 0 at both ends; one is enough
+    n_win = steady_periods * spp
+    return _window_point(model, speed, t, y, min(n_win, t.size), settings, opts, rho,
+                         "transient", 0), y[:, -1]

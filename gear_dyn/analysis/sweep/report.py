@@ -1,0 +1,135 @@
+"""Tables and summaries of a sweep: CSV columns, ranges, jumps, hysteresis, sweep.json."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gear_dyn.analysis.sweep.types import RPM, SweepCurve, SweepResult
+
+FloatArray = NDArray[np.float64]
+
+
+def sweep_columns(result: SweepResult) -> dict[str, Any]:
+    """CSV columns: one row per (direction, speed); direction coded 0 = up, 1 = down."""
+    cols: dict[str, list[float]] = {k: [] for k in (
+        "direction_down", "speed_rpm", "speed_rad_s", "mesh_frequency_hz", "frequency_ratio",
+        "dynamic_factor", "rms_dte_m", "ptp_dte_m", "mean_dte_m", "max_floquet_modulus",
+        "stable", "periodic", "orbit_periods", "separation_share", "backside_share",
+        "newton_iterations")}
+    fn = result.natural_frequency
+    for c in result.curves:
+        n = c.speed.size
+        cols["direction_down"] += [float(c.direction == "down")] * n
+        cols["speed_rpm"] += list(c.speed / RPM)
+        cols["speed_rad_s"] += list(c.speed)
+        cols["mesh_frequency_hz"] += list(c.mesh_frequency)
+        cols["frequency_ratio"] += list(c.mesh_frequency / fn)
+        cols["dynamic_factor"] += list(c.dynamic_factor)
+        cols["rms_dte_m"] += list(c.rms_dte)
+        cols["ptp_dte_m"] += list(c.ptp_dte)
+        cols["mean_dte_m"] += list(c.mean_dte)
+        cols["max_floquet_modulus"] += list(c.spectral_radius)
+        cols["stable"] += list(c.stable.astype(float))
+        cols["periodic"] += list(c.periodic.astype(float))
+        cols["orbit_periods"] += list(c.orbit_periods.astype(float))
+        cols["separation_share"] += list(c.separation)
+        cols["backside_share"] += list(c.backside)
+        cols["newton_iterations"] += list(c.iterations.astype(float))
+    return {k: np.asarray(v, dtype=float) for k, v in cols.items()}
+
+
+def _ranges(speed: FloatArray, mask: NDArray[np.bool_]) -> list[list[float]]:
+    """Contiguous speed ranges (rpm, sorted) where ``mask`` holds."""
+    order = np.argsort(speed)
+    s, m = speed[order] / RPM, mask[order]
+    out: list[list[float]] = []
+    i = 0
+    while i < s.size:
+        if m[i]:
+            j = i
+            while j + 1 < s.size and m[j + 1]:
+                j += 1
+            out.append([float(s[i]), float(s[j])])
+            i = j + 1
+        else:
+            i += 1
+    return out
+
+
+def hysteresis_ranges(result: SweepResult, rel: float = 0.05) -> list[list[float]]:
+    """Speed ranges (rpm) where the up and down sweeps differ by more than ``rel`` in RMS DTE."""
+    if len(result.curves) < 2:
+        return []
+    up, down = result.curve("up"), result.curve("down")
+    d = down.rms_dte[::-1]
+    ref = np.maximum(np.abs(up.rms_dte), np.abs(d))
+    with np.errstate(invalid="ignore"):
+        differ = np.abs(up.rms_dte - d) > rel * ref
+    return _ranges(up.speed, differ & np.isfinite(ref))
+
+
+def jumps(curve: SweepCurve, rel: float = 0.3) -> list[dict[str, float]]:
+    """Adjacent speeds whose RMS DTE changes by more than ``rel`` of the larger value."""
+    r = curve.rms_dte
+    out = []
+    for i in range(r.size - 1):
+        a, b = r[i], r[i + 1]
+        if np.isfinite(a) and np.isfinite(b) and abs(b - a) > rel * max(abs(a), abs(b)):
+            out.append({"from_rpm": float(curve.speed[i] / RPM),
+                        "to_rpm": float(curve.speed[i + 1] / RPM),
+                        "rms_dte_before_m": float(a), "rms_dte_after_m": float(b)})
+    return out
+
+
+def summarize_sweep(result: SweepResult) -> dict[str, Any]:
+    """Summary of a sweep for sweep.json (SI units in the key names, speeds in rpm)."""
+    out: dict[str, Any] = {
+        "scene": result.scene_name,
+        "method": result.options.method,
+        "nonlinear": result.nonlinear,
+        "natural_frequency_hz": result.natural_frequency,
+        "resonance_speed_rpm": _resonance_rpm(result),
+        "static_load_n": result.static_load,
+        "n_speeds": int(result.curves[0].speed.size),
+        "speed_range_rpm": [float(np.min(result.curves[0].speed) / RPM),
+                            float(np.max(result.curves[0].speed) / RPM)],
+        "run_time_s": result.run_time_s,
+        "executor": result.executor,
+        "solver": {"method": result.settings.method, "rtol": result.settings.rtol,
+                   "samples_per_period": result.settings.samples_per_period},
+        "options": {"window_periods": result.options.window_periods,
+                    "harmonics": result.options.harmonics,
+                    "settle_periods": result.options.settle_periods},
+        "curves": {},
+        "hysteresis_ranges_rpm": hysteresis_ranges(result),
+    }
+    for c in result.curves:
+        finite = np.isfinite(c.dynamic_factor)
+        info: dict[str, Any] = {
+            "unstable_ranges_rpm": _ranges(c.speed, np.array([s == "unstable"
+                                                               for s in c.status])),
+            "separation_ranges_rpm": _ranges(c.speed, np.nan_to_num(c.separation) > 0),
+            "backside_ranges_rpm": _ranges(c.speed, np.nan_to_num(c.backside) > 0),
+            "aperiodic_ranges_rpm": _ranges(c.speed, np.array([s == "aperiodic"
+                                                                for s in c.status])),
+            "period2_ranges_rpm": _ranges(c.speed, c.orbit_periods == 2),
+            "jumps": jumps(c),
+        }
+        if np.any(finite):
+            i = int(np.nanargmax(np.where(finite, c.dynamic_factor, -np.inf)))
+            info["max_dynamic_factor"] = float(c.dynamic_factor[i])
+            info["max_dynamic_factor_speed_rpm"] = float(c.speed[i] / RPM)
+            j = int(np.nanargmax(np.where(finite, c.rms_dte, -np.inf)))
+            info["max_rms_dte_m"] = float(c.rms_dte[j])
+            info["max_rms_dte_speed_rpm"] = float(c.speed[j] / RPM)
+        out["curves"][c.direction] = info
+    return out
+
+
+def _resonance_rpm(result: SweepResult) -> float:
+    """Speed (rpm) at which f_m equals f_n, from the sweep's own speed-to-f_m ratio."""
+    c = result.curves[0]
+    return float(result.natural_frequency / (c.mesh_frequency[0] / c.speed[0]) / RPM)

@@ -1,0 +1,198 @@
+"""Sweep options and results: per-speed points stacked into curves."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any, NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gear_dyn.errors import InputError, check_range
+from gear_dyn.solvers import SolverSettings
+
+FloatArray = NDArray[np.float64]
+RPM = 2 * math.pi / 60
+
+METHODS = ("steady", "transient")
+DIRECTIONS = ("auto", "up", "down", "both")
+
+
+@dataclass(frozen=True)
+class SweepOptions:
+    """How each speed of a sweep is evaluated.
+
+    Parameters
+    ----------
+    method : {"steady", "transient"}
+        Periodic steady state directly, or transient integration as ``gear-dyn run``.
+    window_periods : int
+        Mesh periods in the spectrum window (1..64); 4 resolves subharmonics down to f_m / 4.
+    harmonics : int
+        Mesh harmonics kept in the spectra (1..64).
+    settle_periods : int
+        Steady method with backlash: periods of settling transient where shooting from the
+        previous orbit fails (10..100000).
+    max_newton : int
+        Shooting iterations per attempt (2..100).
+    """
+
+    method: str = "steady"
+    window_periods: int = 4
+    harmonics: int = 5
+    settle_periods: int = 100
+    max_newton: int = 12
+
+    def __post_init__(self) -> None:
+        if self.method not in METHODS:
+            raise InputError(f"sweep method = {self.method!r}: valid choices are "
+                             f"{', '.join(METHODS)}")
+        check_range("window_periods", self.window_periods, "", low=1, high=64)
+        check_range("harmonics", self.harmonics, "", low=1, high=64)
+        check_range("settle_periods", self.settle_periods, "", low=10, high=100_000)
+        check_range("max_newton", self.max_newton, "", low=2, high=100)
+
+
+class Point(NamedTuple):
+    """One speed of a sweep (SI units)."""
+
+    speed: float
+    mesh_frequency: float
+    dynamic_factor: float
+    rms_dte: float
+    ptp_dte: float
+    mean_dte: float
+    spectral_radius: float
+    stable: bool
+    periodic: bool
+    status: str
+    separation: float
+    backside: float
+    iterations: int
+    spectrum: FloatArray
+    state: FloatArray
+    orbit_periods: int = 0
+
+
+@dataclass(frozen=True, eq=False)
+class SweepCurve:
+    """One sweep direction: arrays over the speeds in sweep order.
+
+    Attributes
+    ----------
+    direction : str
+        ``up`` (increasing speed) or ``down``.
+    speed : ndarray
+        Pinion speed in rad/s.
+    mesh_frequency : ndarray
+        Hz.
+    dynamic_factor, rms_dte, ptp_dte, mean_dte : ndarray
+        Peak mesh force / W; DTE RMS (mean removed), peak-to-peak and mean in m. NaN where the
+        linear model is parametrically unstable.
+    spectral_radius : ndarray
+        Largest Floquet multiplier modulus of the steady orbit (NaN where not computed).
+    stable, periodic : ndarray of bool
+        Floquet-stable; response repeats every mesh period.
+    status : tuple of str
+        ``periodic``, ``settled`` (shooting from the previous orbit failed, the orbit was found
+        again after a settling transient: where the response jumps), ``period-2`` (a stable
+        orbit over two mesh periods: subharmonic response), ``aperiodic`` (no period-1 or -2
+        orbit: measured over a settled window), ``unstable`` (parametric instability),
+        ``transient`` (transient method).
+    separation, backside : ndarray
+        Share of the mesh period with the teeth apart (inside the backlash; for a linear model,
+        a negative mesh force) and in back-side contact.
+    iterations : ndarray of int
+        Shooting iterations.
+    spectrum : ndarray (n_speeds, n_orders)
+        DTE amplitude (m) at the orders of :attr:`SweepResult.orders`.
+    state : ndarray (n_speeds, n_states)
+        State on the periodic orbit at t = 0 (steady method) or at the end of the run
+        (transient, aperiodic), SI; NaN where unstable.
+    orbit_periods : ndarray of int
+        Mesh periods of the steady orbit: 1, 2 (period-2, subharmonic f_m/2 response) or 0
+        (not found: aperiodic, transient method, unstable).
+    """
+
+    direction: str
+    speed: FloatArray
+    mesh_frequency: FloatArray
+    dynamic_factor: FloatArray
+    rms_dte: FloatArray
+    ptp_dte: FloatArray
+    mean_dte: FloatArray
+    spectral_radius: FloatArray
+    stable: NDArray[np.bool_]
+    periodic: NDArray[np.bool_]
+    status: tuple[str, ...]
+    separation: FloatArray
+    backside: FloatArray
+    iterations: NDArray[np.int_]
+    spectrum: FloatArray
+    state: FloatArray
+    orbit_periods: NDArray[np.int_]
+
+    @classmethod
+    def from_points(cls, direction: str, points: Sequence[Point]) -> SweepCurve:
+        """Stack per-speed points."""
+        def arr(name: str, dtype: Any = float) -> Any:
+            return np.array([getattr(p, name) for p in points], dtype=dtype)
+
+        return cls(
+            direction=direction, speed=arr("speed"), mesh_frequency=arr("mesh_frequency"),
+            dynamic_factor=arr("dynamic_factor"), rms_dte=arr("rms_dte"), ptp_dte=arr("ptp_dte"),
+            mean_dte=arr("mean_dte"), spectral_radius=arr("spectral_radius"),
+            stable=arr("stable", bool), periodic=arr("periodic", bool),
+            status=tuple(p.status for p in points), separation=arr("separation"),
+            backside=arr("backside"), iterations=arr("iterations", int),
+            spectrum=np.array([p.spectrum for p in points], dtype=float),
+            state=np.array([p.state for p in points], dtype=float),
+            orbit_periods=arr("orbit_periods", int),
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class SweepResult:
+    """A speed sweep.
+
+    Attributes
+    ----------
+    scene_name : str
+    curves : tuple of SweepCurve
+        One per direction (``up`` first).
+    orders : ndarray
+        Spectrum frequencies in multiples of the mesh frequency (k / window_periods).
+    natural_frequency : float
+        f_n = sqrt(k_m / m_e) / 2 pi in Hz (NaN for models without it).
+    static_load : float
+        W in N.
+    nonlinear : bool
+        The model has backlash.
+    options : SweepOptions
+    settings : SolverSettings
+    run_time_s : float
+        Wall time of the whole sweep.
+    executor : str
+        Name of the executor class that ran it.
+    """
+
+    scene_name: str
+    curves: tuple[SweepCurve, ...]
+    orders: FloatArray
+    natural_frequency: float
+    static_load: float
+    nonlinear: bool
+    options: SweepOptions
+    settings: SolverSettings
+    run_time_s: float
+    executor: str
+
+    def curve(self, direction: str) -> SweepCurve:
+        """The curve of ``direction`` (``up`` or ``down``)."""
+        for c in self.curves:
+            if c.direction == direction:
+                return c
+        raise InputError(f"sweep direction {direction!r} not in this result; available: "
+                         f"{', '.join(c.direction for c in self.curves)}")

@@ -1,0 +1,32 @@
+"""Writing a run's files (shared by ``run`` and ``demo``)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from gear_dyn.analysis.report import summarize
+from gear_dyn.io import save_figure, staged_output, write_csv, write_json
+from gear_dyn.solvers import Result
+
+
+def write_run_outputs(result: Result, out: Path) -> dict[str, Any]:
+    """Write plots, CSV and summary.json of ``result`` into ``out`` (whole or not at all)."""
+
+    from gear_dyn.plots.run import plot_spectrum, plot_time_history
+
+    summary = summarize(result)
+    with staged_output(out) as tmp:
+        cols: dict[str, Any] = {"t_s": result.t}
+        for i, name in enumerate(result.state_labels):
+            cols[name] = result.y[i]
+        for name, arr in result.outputs.items():
+            if name not in cols:
+                cols[name] = arr
+        write_csv(tmp / "timeseries.csv", cols)
+        fig = plot_time_history(result)
+        save_figure(fig, tmp / "time_history.png", dpi=110)
+        fig = plot_spectrum(result)
+        save_figure(fig, tmp / "spectrum.png", dpi=110)
+        write_json(tmp / "summary.json", summary)
+    return summary

@@ -1,0 +1,82 @@
+"""``gear-dyn relief SCENE``: recommended tip relief of a scene's pair by every rule, side by side.
+
+Rules (PHYSICS.md section 3, docs/modification.md): gear handbook, Dudley, Niemann (seed 003) and
+seed 001 eq. 1, at the scene's torque. The scene's ``[tip_relief]`` table, if present, supplies the
+handbook constants and Dudley's C_m. ``--json PATH`` also writes the table as JSON.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import Any
+
+
+def register(sub: Any) -> None:
+    p = sub.add_parser(
+        "relief", help="recommended tip relief by the handbook, Dudley, Niemann and seed 001 rules",
+        description="Print the tip relief (amount, radial height, length along the line of "
+        "action, for pinion and gear) that each published rule recommends for SCENE's pair at "
+        "its torque.",
+    )
+    p.add_argument("scene", type=Path, help="scene file (TOML)")
+    p.add_argument("--json", type=Path, default=None, help="also write the table to this file")
+    p.set_defaults(func=run)
+
+
+def table(scene: Any) -> dict[str, Any]:
+    """The rules' recommendations for the scene as a JSON-ready dict (SI units in key names)."""
+    from gear_dyn.modification.relief import recommended_reliefs, tangential_load_per_width
+    from gear_dyn.scene import build_pair
+
+    pair = build_pair(scene)
+    torque = scene.get("operating")["torque"]
+    opts: dict[str, float] = {}
+    if scene.has("tip_relief"):
+        t = scene.tables["tip_relief"]
+        opts = {k: t[k] for k in ("handbook_a", "handbook_b", "face_load_factor")}
+    rows = []
+    for rec in recommended_reliefs(pair, torque, **opts):
+        rows.append({
+            "rule": rec.rule, "source": rec.source,
+            "amount_pinion_m": rec.amount_pinion, "amount_gear_m": rec.amount_gear,
+            "height_pinion_m": rec.height_pinion, "height_gear_m": rec.height_gear,
+            "length_pinion_m": rec.length_pinion, "length_gear_m": rec.length_gear,
+        })
+    return {
+        "scene": scene.name,
+        "torque_n_m": torque,
+        "tangential_force_n": torque / pair.r1,
+        "load_per_width_n_per_mm": tangential_load_per_width(pair, torque),
+        "contact_ratio": pair.contact_ratio,
+        "base_pitch_m": pair.base_pitch,
+        "rules": rows,
+    }
+
+
+def run(args: argparse.Namespace) -> int:
+    from gear_dyn.io import write_json
+    from gear_dyn.scene import load_scene
+
+    scene = load_scene(args.scene)
+    tab = table(scene)
+    out = sys.stdout
+    print(f"{tab['scene']}: T1 = {tab['torque_n_m']:.6g} N m, F_t = {tab['tangential_force_n']:.6g}"
+          f" N, w_t = F_t/B = {tab['load_per_width_n_per_mm']:.6g} N/mm, eps_a = "
+          f"{tab['contact_ratio']:.4f}", file=out)
+    head = (f"{'rule':<10} {'C_a1 um':>8} {'C_a2 um':>8} {'h1 mm':>7} {'h2 mm':>7} "
+            f"{'L1 mm':>7} {'L2 mm':>7}")
+    print(head, file=out)
+    print("-" * len(head), file=out)
+    for r in tab["rules"]:
+        print(f"{r['rule']:<10} {r['amount_pinion_m'] * 1e6:8.2f} {r['amount_gear_m'] * 1e6:8.2f} "
+              f"{r['height_pinion_m'] * 1e3:7.3f} {r['height_gear_m'] * 1e3:7.3f} "
+              f"{r['length_pinion_m'] * 1e3:7.3f} {r['length_gear_m'] * 1e3:7.3f}", file=out)
+    print("h: radial height from the tip; L: length along the line of action", file=out)
+    for r in tab["rules"]:
+        print(f"  {r['rule']}: {r['source']}", file=out)
+    if args.json is not None:
+        write_json(args.json, tab)
+        print(f"wrote {args.json}", file=out)
+    return 0

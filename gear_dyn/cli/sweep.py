@@ -1,0 +1,159 @@
+"""``gear-dyn sweep SCENE --speeds START:STOP:N --out DIR``: a speed sweep with plots, CSV, JSON."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any, TextIO, cast
+
+from gear_dyn.cli.run import add_solver_flags, overrides
+from gear_dyn.errors import InputError
+
+
+def register(sub: Any) -> None:
+    p = sub.add_parser(
+        "sweep", help="sweep a scene over pinion speeds: dynamic factor, DTE, jumps, stability",
+        description="Evaluate SCENE at N pinion speeds from START to STOP and write into DIR: "
+        "response.png (dynamic factor, RMS and peak-to-peak DTE against speed and f_m/f_n; up "
+        "and down sweeps for scenes with backlash; separation, back-side contact and "
+        "instability marked), waterfall.png (DTE spectra over speed), stability.png "
+        "(Floquet stability chart over f_m/f_n and stiffness variation or damping), "
+        "sweep.csv, spectra.csv and sweep.json. DIR is replaced as a whole only on success.",
+        epilog="examples: gear-dyn sweep scene.toml --speeds '500 rpm:12000 rpm:300' --out out; "
+        "on a Dask cluster: --dask tcp://scheduler:8786",
+    )
+    p.add_argument("scene", type=Path, help="scene file (TOML)")
+    p.add_argument("--speeds", required=True, metavar="START:STOP:N",
+                   help="pinion speeds: START and STOP with units ('500 rpm', '50 rad/s', "
+                   "'10 turn/s') or plain numbers in rpm; N points, linearly spaced")
+    p.add_argument("--out", type=Path, required=True, help="output folder")
+    p.add_argument("--sweep-method", choices=("steady", "transient"), default="steady",
+                   help="steady: periodic steady state from the monodromy matrix / shooting "
+                   "(default); transient: integrate [solver] periods at every speed")
+    p.add_argument("--direction", choices=("auto", "up", "down", "both"), default="auto",
+                   help="auto (default): up and down with backlash, up otherwise")
+    p.add_argument("--workers", type=int, default=None,
+                   help="local processes (default: all cores; 1 = in this process)")
+    p.add_argument("--dask", metavar="ADDRESS", default=None,
+                   help="run on a Dask distributed scheduler at ADDRESS (e.g. tcp://host:8786)")
+    p.add_argument("--block", type=int, default=8, help="speeds per task (default 8)")
+    p.add_argument("--harmonics", type=int, default=5, help="mesh harmonics in the spectra")
+    p.add_argument("--chart", choices=("stiffness", "damping", "both", "none"), default="both",
+                   help="stability chart axes besides f_m/f_n (default both)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    add_solver_flags(p)
+    p.set_defaults(func=run)
+
+
+def progress_bar(stream: TextIO, width: int = 40) -> Callable[[int, int], None]:
+    """A text progress bar redrawn in place on ``stream`` (``[####....] 12/200``)."""
+    def show(done: int, total: int) -> None:
+        n = int(width * done / max(total, 1))
+        stream.write(f"\r[{'#' * n}{'.' * (width - n)}] {done}/{total} speeds")
+        if done >= total:
+            stream.write("\n")
+        stream.flush()
+    return show
+
+
+def run(args: argparse.Namespace) -> int:
+    from gear_dyn.analysis.sweep import SweepOptions
+    from gear_dyn.scene import load_scene
+    from gear_dyn.scene.sweep import parse_speed_range, sweep_scene
+
+    scene = load_scene(args.scene)
+    speeds = parse_speed_range(args.speeds)
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"--workers = {args.workers}: valid range >= 1")
+    opts = SweepOptions(method=args.sweep_method, harmonics=args.harmonics)
+    show = None
+    if not args.no_progress and sys.stderr.isatty():
+        show = progress_bar(sys.stderr)
+    executor = None
+    client = None
+    if args.dask:
+        try:
+            from distributed import Client
+        except ImportError:
+            raise InputError("--dask needs the distributed package: pip install "
+                             "'dask[distributed]'") from None
+        try:
+            client = Client(args.dask, timeout="20s")
+        except (OSError, TimeoutError, ValueError) as exc:  # ValueError: a malformed address
+            raise InputError(f"--dask {args.dask}: cannot reach the scheduler ({exc})") from None
+        executor = client.get_executor()
+    try:
+        result = sweep_scene(scene, speeds, options=opts, direction=args.direction,
+                             executor=executor,
+                             workers=args.workers, block=args.block, progress=show,
+                             **overrides(args))
+    finally:
+        if client is not None:
+            client.close()
+    summary = write_sweep_outputs(result, scene, args.out, args.chart)
+    up = summary["curves"][result.curves[0].direction]
+    print(f"{scene.name}: {summary['n_speeds']} speeds {summary['speed_range_rpm'][0]:.0f}-"
+          f"{summary['speed_range_rpm'][1]:.0f} rpm in {result.run_time_s:.3g} s "
+          f"({result.options.method}, {result.executor}); f_m = f_n at "
+          f"{summary['resonance_speed_rpm']:.0f} rpm")
+    if "max_dynamic_factor" in up:
+        print(f"  max dynamic factor {up['max_dynamic_factor']:.4f} at "
+              f"{up['max_dynamic_factor_speed_rpm']:.0f} rpm")
+    for d, info in summary["curves"].items():
+        if info["unstable_ranges_rpm"]:
+            rng = ", ".join(f"{a:.0f}-{b:.0f}" for a, b in info["unstable_ranges_rpm"])
+            print(f"  parametric instability ({d}): {rng} rpm")
+    if summary["hysteresis_ranges_rpm"]:
+        rng = ", ".join(f"{a:.0f}-{b:.0f}" for a, b in summary["hysteresis_ranges_rpm"])
+        print(f"  up and down sweeps differ (jumps, hysteresis): {rng} rpm")
+    print(f"wrote {args.out}/")
+    return 0
+
+
+def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
+                        ) -> dict[str, Any]:
+    """Write plots, CSV and sweep.json of a sweep into ``out`` (whole or not at all)."""
+    import numpy as np
+
+    from gear_dyn.analysis.chart import chart_summary, sweep_charts
+    from gear_dyn.analysis.sweep import RPM, summarize_sweep, sweep_columns
+    from gear_dyn.io import save_figure, staged_output, write_csv, write_json
+    from gear_dyn.models.base import MeshModel
+    from gear_dyn.plots.sweep import plot_stability_charts, plot_sweep_response, plot_waterfall
+    from gear_dyn.scene import build_model
+
+    summary = summarize_sweep(result)
+    model = build_model(scene)
+    with staged_output(out) as tmp:
+        write_csv(tmp / "sweep.csv", sweep_columns(result))
+        spec_cols: dict[str, Any] = {}
+        for c in result.curves:
+            spec_cols.setdefault("direction_down", []).extend([float(c.direction == "down")]
+                                                              * c.speed.size)
+            spec_cols.setdefault("speed_rpm", []).extend(list(c.speed / RPM))
+            for j, o in enumerate(result.orders):
+                spec_cols.setdefault(f"dte_amp_m_order_{o:g}", []).extend(list(c.spectrum[:, j]))
+        write_csv(tmp / "spectra.csv", {k: np.asarray(v) for k, v in spec_cols.items()})
+        fig = plot_sweep_response(result)
+        save_figure(fig, tmp / "response.png", dpi=110)
+        for c in result.curves:
+            fig = plot_waterfall(result, c.direction)
+            name = "waterfall.png" if c is result.curves[0] else f"waterfall_{c.direction}.png"
+            save_figure(fig, tmp / name, dpi=110)
+        if chart != "none" and model.mesh_periodic:
+            ratio = result.curves[0].mesh_frequency / result.natural_frequency
+            lo, hi = float(np.min(ratio)), float(np.max(ratio))
+            charts = sweep_charts(cast(MeshModel, model), lo, hi, chart)
+            if charts:
+                note = " (backlash ignored: full contact)" if model.backlash is not None else ""
+                fig = plot_stability_charts(charts, sweep_range=(lo, hi), title=(
+                    f"{result.scene_name}: Floquet stability{note}; black line |mu| = 1"))
+                save_figure(fig, tmp / "stability.png", dpi=110)
+                summary["stability_chart"] = chart_summary(charts)
+        write_json(tmp / "sweep.json", summary)
+    return summary
+
+
+__all__ = ["progress_bar", "register", "run", "write_sweep_outputs"]

@@ -1,0 +1,86 @@
+"""Parts of the torsional model: the contact-line stiffness law, the error-free field of
+contact, and two numerical helpers (scalar stiffness lookup, level crossings)."""
+
+from __future__ import annotations
+
+import bisect
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gear_dyn.errors import check_range
+from gear_dyn.stiffness.periodic import PeriodicStiffness
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class ContactLineStiffness:
+    """Mesh stiffness proportional to the total contact-line length, ``k = k_l L(t)``.
+
+    Parameters
+    ----------
+    per_length : float
+        k_l in N/m per m of contact line (N/m^2), > 0. ISO 6336 gives
+        ``k_l = c_gamma cos b_b / eps_a`` (so that the mean is ``c_gamma B``).
+    """
+
+    per_length: float
+
+    def __post_init__(self) -> None:
+        check_range("stiffness.per_length", self.per_length, "N/m^2", low=0.0, high=1e16,
+                    low_open=True)
+
+
+@dataclass(frozen=True)
+class _Place:
+    """Field of contact of the error-free pair at one instant (LinePlace)."""
+
+    travel: float
+    l_ac: float
+    l_cd: float
+    l_cp: float
+    foot1: float
+    foot2: float
+
+
+def _fast_periodic(stiff: PeriodicStiffness) -> Callable[[float], float]:
+    """Scalar k(p) for right-hand sides: a bisection for piecewise-constant stiffness (numpy's
+    per-call cost dominates there), the stiffness itself otherwise."""
+    seg = stiff.segments()
+    if seg is None:
+        return lambda p: float(stiff(p))
+    edges = [float(e) for e in seg[0]]
+    values = [float(v) for v in seg[1]]
+    last = len(values) - 1
+
+    def k_of(p: float) -> float:
+        return values[min(bisect.bisect_right(edges, p % 1.0) - 1, last)]
+    return k_of
+
+
+def _levels(h: Callable[[FloatArray], FloatArray], rate: float, t0: float, t1: float,
+            residues: FloatArray, period: float) -> FloatArray:
+    """Times in (t0, t1) where the increasing function h(t) equals ``r + n period`` for any
+    residue r and integer n; ``rate`` approximates dh/dt (Newton with a fixed slope: h differs
+    from ``rate t`` by an O(e) periodic term, so each step gains a factor ~e / r_b)."""
+    h0, h1 = h(np.array([t0, t1]))
+    levels = []
+    for r in np.unique(np.asarray(residues, dtype=float)):
+        n0 = math.floor((h0 - r) / period) + 1
+        n1 = math.ceil((h1 - r) / period) - 1
+        if n1 >= n0:
+            levels.append(r + period * np.arange(n0, n1 + 1))
+    if not levels:
+        return np.empty(0)
+    lv = np.concatenate(levels)
+    t = t0 + (lv - h0) / rate
+    for _ in range(50):
+        step = (h(t) - lv) / rate
+        t = t - step
+        if np.max(np.abs(step)) <= 1e-15 * max(abs(t1), 1e-3):
+            break
+    return np.asarray(t[(t > t0) & (t < t1)], dtype=float)

@@ -1,0 +1,89 @@
+"""Axes for the plot functions: new pyplot-free figures, or the caller's axes.
+
+Figures are plain :class:`matplotlib.figure.Figure` objects (no pyplot, so no global figure
+registry and no backend choice); :func:`gear_dyn.io.save_figure` renders them off-screen.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+from matplotlib.layout_engine import PlaceHolderLayoutEngine, TightLayoutEngine
+
+
+def given_axes(ax: Any, n: int, name: str) -> list[Any]:
+    """The caller's axes as a flat list of ``n`` Axes of one figure (row-major order).
+
+    ``ax`` is one Axes (``n == 1``) or a sequence / array of Axes of size ``n``.
+
+    Raises
+    ------
+    ValueError
+        Not ``n`` Axes, or the axes belong to different figures.
+    """
+    if isinstance(ax, Axes):
+        flat = [ax]
+    elif isinstance(ax, Sequence | np.ndarray):
+        flat = list(np.asarray(ax, dtype=object).ravel())
+    else:
+        raise ValueError(f"{name}: ax must be a matplotlib Axes or a sequence of {n} Axes, "
+                         f"got {type(ax).__name__}")
+    if len(flat) != n or not all(isinstance(a, Axes) for a in flat):
+        raise ValueError(f"{name}: expected {n} matplotlib Axes, got {len(flat)} "
+                         f"item{'s' if len(flat) != 1 else ''}")
+    if any(a.figure is not flat[0].figure for a in flat):
+        raise ValueError(f"{name}: the {n} Axes must belong to one figure")
+    return flat
+
+
+def axes_of(ax: Any, nrows: int = 1, ncols: int = 1, figsize: tuple[float, float] = (8, 4),
+            name: str = "plot", **kw: Any) -> tuple[Figure, Any]:
+    """(figure, axes) to draw into, shaped as ``Figure.subplots(nrows, ncols, **kw)`` returns.
+
+    Parameters
+    ----------
+    ax : None, Axes or sequence of Axes
+        None: a new :class:`~matplotlib.figure.Figure` of ``figsize`` with
+        ``fig.subplots(nrows, ncols, **kw)``. Otherwise the caller's axes: one Axes for a
+        single panel, else ``nrows * ncols`` Axes (flat in row-major order, or an array of that
+        size) of one figure; ``kw`` (``sharex``, ``gridspec_kw``...) is then ignored except
+        ``squeeze``.
+    nrows, ncols : int
+        Panel grid.
+    figsize : (float, float)
+        Size in inches of a new figure.
+    name : str
+        The plot function, named in errors.
+
+    Raises
+    ------
+    ValueError
+        ``ax`` is not one Axes / ``nrows * ncols`` Axes of one figure.
+    """
+    if ax is None:
+        fig = Figure(figsize=figsize)
+        return fig, fig.subplots(nrows, ncols, **kw)
+    flat = given_axes(ax, nrows * ncols, name)
+    fig = flat[0].figure
+    if not kw.get("squeeze", True):
+        return fig, np.array(flat, dtype=object).reshape(nrows, ncols)
+    if nrows * ncols == 1:
+        return fig, flat[0]
+    if nrows == 1 or ncols == 1:
+        return fig, np.array(flat, dtype=object)
+    return fig, np.array(flat, dtype=object).reshape(nrows, ncols)
+
+
+def tidy(fig: Any) -> None:
+    """``fig.tight_layout()``, unless the caller's figure has a layout engine of its own
+    (constrained layout...), which tight_layout would replace with a warning."""
+    engine = fig.get_layout_engine()
+    if engine is None or isinstance(engine, PlaceHolderLayoutEngine | TightLayoutEngine):
+        fig.tight_layout()
+
+
+__all__ = ["axes_of", "given_axes", "tidy"]

@@ -1,0 +1,84 @@
+"""Figures of a co-simulation check: FMU over solve_ivp, and the difference against the step.
+
+The report is a :class:`gear_dyn.fmu.cosim.CosimReport`, typed ``Any`` here: the plot layer
+never imports :mod:`gear_dyn.fmu`.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from matplotlib.ticker import NullFormatter, ScalarFormatter
+
+from gear_dyn.plots._axes import axes_of, tidy
+
+_LABELS = {"dte": ("DTE", "um", 1e6), "mesh_force": ("mesh force", "kN", 1e-3),
+           "driven_speed": ("driven speed", "rad/s", 1.0)}
+
+
+def _label(name: str) -> tuple[str, str, float]:
+    return _LABELS.get(name, (name, "SI", 1.0))
+
+
+def overlay_figure(report: Any, periods: float = 5.0, ax: Any = None) -> Any:
+    """FMU (finest communication step) over the solve_ivp reference for the last ``periods``
+    mesh periods, one row per output, with the difference below each.
+
+    ``report``: a CosimReport; ``ax``: 2 Axes per output (overlay, difference) or None.
+    """
+    n = len(report.outputs)
+    fig, axes = axes_of(ax, 2 * n, 1, figsize=(8, 3.2 * n + 1), name="overlay_figure",
+                        squeeze=False, sharex=True, gridspec_kw={"height_ratios": [3, 1] * n})
+    axes = axes[:, 0]
+    t = report.t
+    keep = t >= t[-1] - periods / report.mesh_frequency
+    tm = t[keep] * 1e3
+    h = min(s.step for s in report.steps)
+    for i, name in enumerate(report.outputs):
+        title, unit, f = _label(name)
+        a, d = axes[2 * i], axes[2 * i + 1]
+        a.plot(tm, report.ref_y[i][keep] * f, color="0.2", lw=2.2,
+               label=f"solve_ivp {report.reference_method}")
+        a.plot(tm, report.fmu_y[i][keep] * f, color="tab:orange", lw=1.0, ls="--",
+               label=f"FMU via fmpy, step {h * 1e6:.3g} us")
+        a.set_ylabel(f"{title} ({unit})")
+        a.legend(loc="upper right", fontsize=8)
+        d.plot(tm, (report.fmu_y[i][keep] - report.ref_y[i][keep]) * f, color="tab:red", lw=0.8)
+        d.set_ylabel(f"diff ({unit})")
+    axes[-1].set_xlabel("time (ms)")
+    axes[0].set_title(f"{report.scene_name}: FMU ({report.fmu_method}) against solve_ivp "
+                      f"(rtol {report.rtol:g})")
+    tidy(fig)
+    return fig
+
+
+def convergence_figure(report: Any, ax: Any = None) -> Any:
+    """Max and RMS difference (relative to each output's RMS) and FMU run time per step,
+    against the communication step.
+
+    ``report``: a CosimReport; ``ax``: 2 Axes (difference, run time) or None.
+    """
+    fig, (a, b) = axes_of(ax, 1, 2, figsize=(10, 4), name="convergence_figure")
+    hs = np.array([s.step for s in report.steps]) * 1e6
+    for name in report.outputs:
+        scale = report.scales[name]
+        a.loglog(hs, [max(s.max_diff[name] / scale, 1e-17) for s in report.steps], "o-",
+                 label=f"{name} max")
+        a.loglog(hs, [max(s.rms_diff[name] / scale, 1e-17) for s in report.steps], "s--",
+                 label=f"{name} RMS")
+    a.axhline(report.rtol, color="0.5", lw=0.8, ls=":", label="rtol")
+    a.set_xlabel("communication step (us)")
+    a.set_ylabel("|FMU - solve_ivp| / RMS of the output")
+    a.legend(fontsize=8)
+    b.loglog(hs, [s.fmu_run_time_s for s in report.steps], "o-", label="FMU (fmpy)")
+    b.axhline(report.reference_run_time_s, color="0.2", ls="--", label="solve_ivp (one run)")
+    b.set_xlabel("communication step (us)")
+    b.set_ylabel("run time (s)")
+    b.legend(fontsize=8)
+    for axis in (a.xaxis, b.xaxis, b.yaxis):
+        axis.set_major_formatter(ScalarFormatter())
+        axis.set_minor_formatter(NullFormatter())
+    fig.suptitle(f"{report.scene_name}: difference and cost against the communication step")
+    tidy(fig)
+    return fig

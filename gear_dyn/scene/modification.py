@@ -1,0 +1,205 @@
+"""The ``[tip_relief]`` scene table and the single-DOF model with tip relief.
+
+A scene with a ``[tip_relief]`` table runs the single-DOF model on the loaded contact of the
+relieved pair (:func:`~gear_dyn.models.relief.relief_sdof`); without the table nothing of
+this module runs. Keys (SI values or strings with units)::
+
+    [tip_relief]
+    rule = "custom"            # or handbook, dudley, niemann, seed001 (amounts and lengths
+                               # from the rule at the scene's torque)
+    curve = "linear"           # linear, yoshio, walker, parabolic, sine
+    amount_pinion = "20 um"    # custom only; leave out for an unmodified pinion
+    amount_gear = "15 um"
+    length_pinion = "5 mm"     # along the line of action ...
+    height_gear = "2.4 mm"     # ... or as a radial height from the tip (not both per gear)
+    handbook_a = 9             # handbook rule constants (um), Dudley's C_m
+    handbook_b = 4
+    face_load_factor = 1.0
+    pair_stiffness = "potential_energy"   # or "weber": the unmodified single-pair stiffness
+    linearisation = "tangent"  # tangent (k_t + e), secant (K_TPM), contact (nonlinear reference)
+    samples_per_segment = 48
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from gear_dyn.errors import InputError, SceneError
+from gear_dyn.geometry import GearPair
+from gear_dyn.models.base import Model
+from gear_dyn.models.relief import (
+    PAIR_METHODS,
+    ContactSDOFModel,
+    pair_stiffness_function,
+    relief_sdof,
+)
+from gear_dyn.modification.relief import (
+    CURVES,
+    RULES,
+    ProfileModification,
+    TipRelief,
+    length_from_height,
+    recommended_relief,
+)
+from gear_dyn.scene.build import build_pair, build_sdof
+from gear_dyn.scene.fields import Field, Section
+from gear_dyn.scene.loader import Scene
+from gear_dyn.scene.registry import register_model, register_section
+
+TIP_RELIEF = register_section(Section("tip_relief", (
+    Field("rule", kind="str", default="custom", choices=("custom", *RULES),
+          doc="custom amounts and lengths, or a recommended rule at the scene's torque"),
+    Field("curve", kind="str", default="linear", choices=CURVES, doc="relief curve"),
+    Field("amount_pinion", "m", default=None, low=0.0, high=1e-3,
+          doc="pinion relief amount C_a1 (custom)"),
+    Field("amount_gear", "m", default=None, low=0.0, high=1e-3,
+          doc="gear relief amount C_a2 (custom)"),
+    Field("length_pinion", "m", default=None, low=0.0, high=1.0, low_open=True,
+          doc="pinion relief length along the line of action (custom)"),
+    Field("length_gear", "m", default=None, low=0.0, high=1.0, low_open=True,
+          doc="gear relief length along the line of action (custom)"),
+    Field("height_pinion", "m", default=None, low=0.0, high=1.0, low_open=True,
+          doc="pinion relief height, radial from the tip (custom)"),
+    Field("height_gear", "m", default=None, low=0.0, high=1.0, low_open=True,
+          doc="gear relief height, radial from the tip (custom)"),
+    Field("handbook_a", default=9.0, low=5.0, high=13.0, doc="handbook rule constant a (um)"),
+    Field("handbook_b", default=4.0, low=0.0, high=8.0, doc="handbook rule constant b (um)"),
+    Field("face_load_factor", default=1.0, low=1.0, high=3.0, doc="Dudley's C_m"),
+    Field("pair_stiffness", kind="str", default="potential_energy", choices=PAIR_METHODS,
+          doc="unmodified single-pair stiffness method for the loaded contact"),
+    Field("linearisation", kind="str", default="tangent",
+          choices=("tangent", "secant", "contact"),
+          doc="tangent stiffness + relief TE, secant K_TPM, or the nonlinear contact force"),
+    Field("samples_per_segment", kind="int", default=48, low=2, high=10000,
+          doc="loaded-contact samples between switching phases"),
+), doc="tip relief on pinion and/or gear; the single-DOF model runs on the loaded contact",
+   models=("sdof",)))
+
+
+_CUSTOM_KEYS = ("amount_pinion", "amount_gear", "length_pinion", "length_gear",
+                "height_pinion", "height_gear")
+
+
+def _custom_relief(pair: GearPair, t: dict[str, Any], gear: int, where: str) -> TipRelief | None:
+    name = "pinion" if gear == 1 else "gear"
+    amount, length, height = t[f"amount_{name}"], t[f"length_{name}"], t[f"height_{name}"]
+    if amount is None:
+        if length is not None or height is not None:
+            raise SceneError(f"{where}.amount_{name}: missing (a length or height is given "
+                             f"for the {name} but no amount)")
+        return None
+    if (length is None) == (height is None):
+        raise SceneError(f"{where}: give exactly one of length_{name} (along the line of "
+                         f"action) or height_{name} (radial from the tip)")
+    if height is not None:
+        length = length_from_height(pair, gear, height)
+    return TipRelief(amount, length, t["curve"])
+
+
+def relief_from_scene(scene: Scene, pair: GearPair | None = None) -> ProfileModification:
+    """The :class:`ProfileModification` of the scene's ``[tip_relief]`` table.
+
+    Raises
+    ------
+    SceneError
+        No table, missing or conflicting keys, values the pair cannot take.
+    """
+    if not scene.has("tip_relief"):
+        raise SceneError(f"{scene.source}: [tip_relief]: missing table (this command needs it)")
+    pair = pair or build_pair(scene)
+    t = scene.tables["tip_relief"]
+    where = f"{scene.source}: tip_relief"
+    try:
+        if t["rule"] == "custom":
+            mod = ProfileModification(_custom_relief(pair, t, 1, where),
+                                      _custom_relief(pair, t, 2, where))
+            if mod.pinion is None and mod.gear is None:
+                raise SceneError(f"{where}: rule 'custom' needs amount_pinion and/or amount_gear")
+        else:
+            given = [k for k in _CUSTOM_KEYS if t[k] is not None]
+            if given:
+                raise SceneError(f"{where}.{given[0]}: only for rule = 'custom' (rule "
+                                 f"{t['rule']!r} sets amounts and lengths itself)")
+            rec = recommended_relief(pair, scene.get("operating")["torque"], t["rule"],
+                                     handbook_a=t["handbook_a"], handbook_b=t["handbook_b"],
+                                     face_load_factor=t["face_load_factor"])
+            mod = rec.modification(t["curve"])
+        mod.check(pair)
+    except SceneError:
+        raise
+    except InputError as exc:
+        raise SceneError(f"{where}: {exc}") from None
+    return mod
+
+
+def _check_combination(scene: Scene) -> None:
+    for table, why in (("transmission_error", "the relief sets the transmission error"),
+                       ("backlash", "backlash with tip relief is not implemented")):
+        if scene.has(table):
+            raise SceneError(f"{scene.source}: [{table}] cannot be combined with [tip_relief] "
+                             f"({why}); remove one of them")
+    t = scene.tables["tip_relief"]
+    if scene.has("stiffness"):
+        s = scene.tables["stiffness"]
+        if s["method"] != t["pair_stiffness"] or s["fourier_terms"] is not None:
+            raise SceneError(
+                f"{scene.source}: [stiffness] with [tip_relief]: the mesh stiffness comes from "
+                f"the loaded contact with tip_relief.pair_stiffness = {t['pair_stiffness']!r}; "
+                f"remove [stiffness] or set stiffness.method = {t['pair_stiffness']!r} without "
+                "fourier_terms"
+            )
+
+
+def scene_pair_function(scene: Scene, pair: GearPair, method: str | None = None) -> Any:
+    """The unmodified single-pair stiffness ``K(s)`` for a scene: ``method`` (default
+    ``tip_relief.pair_stiffness``, else potential energy) with the tooth options of the scene's
+    ``[stiffness]`` table when that table names the same method.
+
+    Raises
+    ------
+    SceneError
+        Unknown method or options.
+    """
+    from gear_dyn.stiffness.select import stiffness_options_from_table
+
+    t = scene.tables.get("tip_relief")
+    method = method or (t["pair_stiffness"] if t is not None else "potential_energy")
+    options: dict[str, Any] = {}
+    try:
+        if scene.has("stiffness"):
+            s_method, s_opts = stiffness_options_from_table(scene.tables["stiffness"])
+            if s_method == method:
+                options = s_opts
+        return pair_stiffness_function(pair, method, options)
+    except InputError as exc:
+        raise SceneError(f"{scene.source}: {exc}") from None
+
+
+def build_relief_sdof(scene: Scene) -> Model:
+    """Single-DOF model of a scene with ``[tip_relief]`` (plain single-DOF without it)."""
+    if not scene.has("tip_relief"):
+        return build_sdof(scene)
+    _check_combination(scene)
+    pair = build_pair(scene)
+    mod = relief_from_scene(scene, pair)
+    t = scene.tables["tip_relief"]
+    op = scene.get("operating")
+    inertias = None
+    if scene.has("inertia"):
+        inertias = (scene.tables["inertia"]["pinion"], scene.tables["inertia"]["gear"])
+    try:
+        fn = scene_pair_function(scene, pair)
+        xi = scene.get("damping")["ratio"]
+        if t["linearisation"] == "contact":
+            return ContactSDOFModel(pair, op["speed"], op["torque"], mod, fn, xi, inertias)
+        model, _ = relief_sdof(pair, op["speed"], op["torque"], mod, fn, xi, inertias,
+                               t["linearisation"], t["samples_per_segment"])
+    except InputError as exc:
+        from gear_dyn.scene.loader import scene_error
+
+        raise scene_error(scene.source, exc) from None  # Python names -> scene key paths
+    return model
+
+
+# other model kinds refuse [tip_relief] at load time (the table declares models=("sdof",))
+register_model("sdof", build_relief_sdof)

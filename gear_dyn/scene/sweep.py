@@ -1,0 +1,144 @@
+"""Sweeps of a scene: the model factory over speed, and the scene's sweep in one call.
+
+The analysis layer sweeps any model factory ``speed -> Model``
+(:func:`gear_dyn.analysis.sweep.sweep`); here a scene becomes such a factory. The factory is
+picklable (the scene travels as JSON) and builds the scene's model once per process.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gear_dyn.analysis.sweep import SweepResult, sweep
+from gear_dyn.errors import InputError, check_range
+from gear_dyn.geometry import GearPair, mesh_frequency
+from gear_dyn.models.base import Model
+from gear_dyn.scene.build import RunPlan, build_model, build_pair, build_plan
+from gear_dyn.scene.loader import Scene
+
+FloatArray = NDArray[np.float64]
+RPM = 2 * math.pi / 60
+
+
+@lru_cache(maxsize=4)
+def _base(source: str, tables_json: str, overrides_json: str) -> tuple[Scene, RunPlan, GearPair]:
+    """(scene, plan, pair) rebuilt from JSON (cached per worker process)."""
+    from gear_dyn.scene import load_feature_sections
+
+    load_feature_sections()
+    scene = Scene(source=source, tables=json.loads(tables_json))
+    plan = build_plan(scene, **json.loads(overrides_json))
+    return scene, plan, build_pair(scene)
+
+
+@dataclass(frozen=True)
+class SceneModels:
+    """The model of a scene at any pinion speed: ``SceneModels.of(scene)(speed) -> Model``.
+
+    Picklable: it holds the scene as JSON, so process pools and Dask workers rebuild the scene's
+    model once each (cached) and then only what depends on speed.
+    """
+
+    source: str
+    tables_json: str
+    overrides_json: str
+
+    @classmethod
+    def of(cls, scene: Scene, **overrides: Any) -> SceneModels:
+        """The factory of ``scene`` with ``[solver]`` ``overrides``."""
+        ov = {k: v for k, v in overrides.items() if v is not None}
+        return cls(scene.source, json.dumps(scene.tables, sort_keys=True),
+                   json.dumps(ov, sort_keys=True))
+
+    @property
+    def plan(self) -> RunPlan:
+        """The scene's run plan (model at the scene's own speed, settings, span)."""
+        return _base(self.source, self.tables_json, self.overrides_json)[1]
+
+    def __call__(self, speed: float) -> Model:
+        """The scene's model at pinion speed ``speed`` in rad/s, as ``run_scene`` builds it."""
+        check_range("speed", speed, "rad/s", low=0.0, high=1e5, low_open=True)
+        scene, plan, pair = _base(self.source, self.tables_json, self.overrides_json)
+        model = plan.model.at_mesh_frequency(mesh_frequency(pair, speed))
+        if model is not None:
+            return model
+        tables = {**scene.tables, "operating": {**scene.tables["operating"], "speed": speed}}
+        return build_model(Scene(source=scene.source, tables=tables))
+
+
+def model_at_speed(scene: Scene, speed: float, **overrides: Any) -> Model:
+    """The scene's model at pinion speed ``speed`` (rad/s), as ``run_scene`` would build it."""
+    return SceneModels.of(scene, **overrides)(speed)
+
+
+def sweep_scene(scene: Scene, speeds: Any, **kwargs: Any) -> SweepResult:
+    """Sweep a scene over pinion speeds (rad/s): :func:`gear_dyn.analysis.sweep.sweep` with the
+    scene's model factory, solver settings and span.
+
+    ``kwargs``: the options of :func:`~gear_dyn.analysis.sweep.sweep` (options, direction,
+    executor, workers, block, progress) and ``[solver]`` overrides (rtol, method,
+    samples_per_period, periods, steady_periods).
+
+    Raises
+    ------
+    InputError
+        Bad speeds, options, overrides or direction.
+    SolverError
+        An integration failed.
+    """
+    names = ("options", "direction", "executor", "workers", "block", "progress")
+    sweep_kw = {k: kwargs.pop(k) for k in names if k in kwargs}
+    factory = SceneModels.of(scene, **kwargs)
+    plan = factory.plan
+    f0 = plan.model.mesh_frequency
+    periods = round(plan.t_end * f0)
+    steady = round((plan.t_end - plan.steady_start) * f0)
+    return sweep(factory, speeds, settings=plan.settings, periods=periods, steady_periods=steady,
+                 name=scene.name, **sweep_kw)
+
+
+def parse_speed_range(text: str) -> FloatArray:
+    """Speeds from ``START:STOP:N`` (units allowed; plain numbers are rpm), in rad/s.
+
+    >>> parse_speed_range("600:1200:3") * 60 / (2 * math.pi)
+    array([ 600.,  900., 1200.])
+
+    Raises
+    ------
+    InputError
+        Not three parts, a bad number or unit (Hz is refused: pint would read it as rad/s),
+        N < 2, or speeds out of range.
+    """
+    from gear_dyn.scene.fields import Field
+
+    parts = text.split(":")
+    if len(parts) != 3:
+        raise InputError(f"--speeds {text!r}: expected START:STOP:N, e.g. '500 rpm:6000 rpm:200'")
+    fld = Field("speed", "rad/s", low=0.0, high=1e5, low_open=True)
+    ends = []
+    for label, part in zip(("START", "STOP"), parts[:2], strict=True):
+        part = part.strip()
+        if "hz" in part.lower():
+            # pint reads 1 Hz as 1 rad/s (radians are dimensionless): 2 pi off for a shaft
+            raise InputError(f"--speeds {label} = {part!r}: Hz is ambiguous for a shaft speed "
+                             "(it would be read as rad/s); write e.g. '600 rpm' or '10 turn/s'")
+        try:
+            v = float(part) * RPM
+        except ValueError:
+            v = fld.parse(part, f"--speeds {label}")
+        else:
+            v = fld.parse(v, f"--speeds {label} ({part} rpm)")
+        ends.append(v)
+    try:
+        n = int(parts[2])
+    except ValueError:
+        raise InputError(f"--speeds N = {parts[2]!r}: expected a whole number >= 2") from None
+    check_range("--speeds N", n, "", low=2, high=1_000_000)
+    return np.linspace(ends[0], ends[1], n)

@@ -1,0 +1,70 @@
+"""Choose the integration method for a model and grid, and run it.
+
+``auto`` picks the exact propagator for a linear model with piecewise-constant coefficients
+(:mod:`~gear_dyn.solvers.exact`), else ``periodic`` for a linear mesh-periodic model on a grid
+commensurate with the mesh period (:mod:`~gear_dyn.solvers.periodic`), else solve_ivp with
+:data:`~gear_dyn.solvers.settings.DEFAULT_ODE_METHOD` (:mod:`~gear_dyn.solvers.ode`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gear_dyn.models.base import Model
+from gear_dyn.solvers.exact import exact_applies, propagate_exact
+from gear_dyn.solvers.ode import integrate_ode
+from gear_dyn.solvers.periodic import periodic_map_applies, propagate_periodic
+from gear_dyn.solvers.settings import DEFAULT_ODE_METHOD, SolverSettings
+
+FloatArray = NDArray[np.float64]
+
+
+def resolve_auto(model: Model) -> str:
+    """The method ``auto`` picks without a grid: ``exact`` where it applies, else LSODA.
+
+    (:func:`integrate` further replaces LSODA by ``periodic`` for a linear mesh-periodic model on
+    a grid commensurate with the mesh period; that choice needs the grid.)
+    """
+    return "exact" if exact_applies(model) else DEFAULT_ODE_METHOD
+
+
+def resolve_method(model: Model, t_grid: FloatArray, method: str) -> str:
+    """The concrete method that ``method`` means for ``model`` on ``t_grid``."""
+    if method != "auto":
+        return method
+    chosen = resolve_auto(model)
+    if chosen != "exact" and periodic_map_applies(model, np.asarray(t_grid, dtype=float)):
+        return "periodic"  # linear, mesh-periodic: one period of integration
+    return chosen
+
+
+def integrate(
+    model: Model, t_grid: FloatArray, settings: SolverSettings, y0: FloatArray | None = None
+) -> tuple[FloatArray, dict[str, Any]]:
+    """States on ``t_grid`` (which starts at the initial time) and the solver statistics.
+
+    Returns
+    -------
+    y : ndarray (n_states, n_t)
+    stats : dict with method, nfev, njev, nlu, n_segments (and method-specific counts)
+
+    Raises
+    ------
+    InputError
+        ``exact`` asked for a model it does not apply to; a span too long for an ODE solver.
+    SolverError
+        solve_ivp failure or non-finite states, with scipy's message.
+    """
+    method = resolve_method(model, t_grid, settings.method)
+    run = replace(settings, method=method)
+    if method == "exact":
+        y, st = propagate_exact(model, t_grid, run, y0)
+    elif method == "periodic":
+        y, st = propagate_periodic(model, t_grid, run, y0)
+    else:
+        y, st = integrate_ode(model, t_grid, run, y0)
+    return y, {**st, "method": st.get("method", method)}

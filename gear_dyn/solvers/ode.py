@@ -1,0 +1,145 @@
+"""scipy's solve_ivp, piece by piece between switching instants, restarted at contact changes.
+
+The solver never steps across an instant where the right-hand side jumps (teeth entering or
+leaving contact): the span is cut at ``model.switching_times`` and each piece is integrated by its
+own ``solve_ivp`` call, started from the end state of the previous one. A model with contact
+changes (``model.contact_events()`` non-empty: backlash) is also restarted at each of them
+(:mod:`gear_dyn.solvers.events`).
+
+Failures are never silent: a solver that reports failure or a non-finite state raises
+:class:`~gear_dyn.errors.SolverError` carrying scipy's own message and advice.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gear_dyn.errors import InputError, SolverError
+from gear_dyn.models.base import Model
+from gear_dyn.solvers import settings as limits
+from gear_dyn.solvers.events import solve_piece_with_events
+from gear_dyn.solvers.pieces import pieces
+from gear_dyn.solvers.settings import IMPLICIT, SolverSettings
+
+FloatArray = NDArray[np.float64]
+
+
+def atol_of(model: Model, settings: SolverSettings) -> FloatArray:
+    """Absolute tolerances per state: ``settings.atol`` or ``rtol * model.state_scale``."""
+    if settings.atol is not None:
+        return np.full(len(model.state_labels), settings.atol)
+    return settings.rtol * np.asarray(model.state_scale, dtype=float)
+
+
+def integrate_ode(
+    model: Model, t_grid: FloatArray, settings: SolverSettings, y0: FloatArray | None = None
+) -> tuple[FloatArray, dict[str, Any]]:
+    """States on ``t_grid`` with the solve_ivp method ``settings.method``, piece by piece.
+
+    Returns
+    -------
+    y : ndarray (n_states, n_t)
+    stats : dict with nfev, njev, nlu, n_segments (and n_contact_events with contact changes)
+
+    Raises
+    ------
+    InputError
+        A non-finite initial state or a span too long for an ODE solver (:func:`check_work`).
+    SolverError
+        solve_ivp failure or non-finite states, with scipy's message.
+    """
+    t0, t1 = float(t_grid[0]), float(t_grid[-1])
+    y = np.array(model.initial_state() if y0 is None else y0, dtype=float)
+    check_work(model, t0, t1, y)
+    cuts = np.concatenate([[t0], model.switching_times(t0, t1), [t1]])
+    atol = atol_of(model, settings)
+    out = np.empty((len(model.state_labels), t_grid.size))
+    out[:, 0] = y
+    extra: dict[str, Any] = {"jac": model.jac} if settings.method in IMPLICIT else {}
+    events = list(model.contact_events())
+    counts = {"nfev": 0, "njev": 0, "nlu": 0, "n_events": 0}
+    for ta, tb, i0, i1, t_eval in pieces(t_grid, cuts):
+        if events:
+            ys, y, st = solve_piece_with_events(
+                model.rhs, ta, tb, y, t_eval, events, settings.method, settings.rtol, atol,
+                settings.max_step, extra,
+            )
+        else:
+            ys, st = _solve_piece(model, ta, tb, y, t_eval, settings, atol, extra)
+            y = ys[:, -1]
+        for key in counts:
+            counts[key] += st.get(key, 0)
+        _check_nfev(counts["nfev"], settings.method, tb)
+        out[:, i0:i1] = ys[:, : i1 - i0]
+    stats: dict[str, Any] = {"nfev": counts["nfev"], "njev": counts["njev"],
+                             "nlu": counts["nlu"], "n_segments": int(cuts.size - 1)}
+    if events:
+        stats["n_contact_events"] = counts["n_events"]
+    return out, stats
+
+
+def _solve_piece(model: Model, ta: float, tb: float, y: FloatArray, t_eval: FloatArray,
+                 settings: SolverSettings, atol: FloatArray, extra: dict[str, Any]
+                 ) -> tuple[FloatArray, dict[str, int]]:
+    """One smooth piece ``[ta, tb]`` by one solve_ivp call; states at ``t_eval``."""
+    from scipy.integrate import solve_ivp
+
+    sol = solve_ivp(
+        model.rhs, (ta, tb), y, method=settings.method, t_eval=t_eval, rtol=settings.rtol,
+        atol=atol, max_step=settings.max_step, **extra,
+    )
+    if sol.status != 0:
+        raise SolverError(
+            f"solve_ivp ({settings.method}) failed at t = {ta:.6g}..{tb:.6g} s: {sol.message}; "
+            "try a smaller rtol or an implicit method (Radau, BDF)"
+        )
+    if not np.all(np.isfinite(sol.y)):
+        raise SolverError(
+            f"solve_ivp ({settings.method}) produced non-finite states near t = {tb:.6g} s; "
+            "the response diverges (parametric instability?) or the tolerances are too loose"
+        )
+    return sol.y, {"nfev": sol.nfev, "njev": sol.njev, "nlu": sol.nlu}
+
+
+def check_work(model: Model, t0: float, t1: float, y0: FloatArray) -> None:
+    """Refuse an ODE run that cannot give a sensible answer in reasonable time.
+
+    Raises
+    ------
+    InputError
+        The initial state is not finite, or the span covers more than
+        :data:`~gear_dyn.solvers.settings.MAX_NATURAL_PERIODS` periods of the model's
+        ``natural_frequency`` (an ODE solver needs several steps per natural period, so such a
+        run would take hours).
+    """
+    if not np.all(np.isfinite(y0)):
+        labels = ", ".join(f"{n} = {v:.6g}" for n, v in zip(model.state_labels, y0, strict=False))
+        raise InputError(
+            f"initial state is not finite ({labels}): the inputs are beyond what the model can "
+            "represent (check near-zero sizes, stiffnesses or inertias and huge loads)"
+        )
+    f_n = model.natural_frequency
+    if f_n is None:
+        return
+    n_nat = (t1 - t0) * float(f_n)
+    if not (math.isfinite(n_nat) and n_nat <= limits.MAX_NATURAL_PERIODS):
+        raise InputError(
+            f"the run spans {n_nat:.4g} natural periods (natural frequency {float(f_n):.6g} Hz, "
+            f"mesh frequency {model.mesh_frequency:.6g} Hz, duration {t1 - t0:.6g} s): valid "
+            f"range <= {limits.MAX_NATURAL_PERIODS} for an ODE solver; raise operating.speed, "
+            "lower solver.periods, or use method 'exact' where it applies"
+        )
+
+
+def _check_nfev(nfev: int, method: str, t: float) -> None:
+    if nfev > limits.MAX_NFEV:
+        raise SolverError(
+            f"solve_ivp ({method}) gave up at t = {t:.6g} s after {nfev} right-hand-side "
+            f"evaluations (limit {limits.MAX_NFEV}): the problem is stiff or the tolerance too "
+            "tight; try an implicit method (LSODA, Radau, BDF), a looser rtol, or fewer "
+            "solver.periods"
+        )

@@ -1,0 +1,125 @@
+"""The result of a simulation: time series, derived outputs, solver statistics."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gear_dyn.errors import InputError
+from gear_dyn.solvers.settings import SolverSettings
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class SolverStats:
+    """What the integration cost: method, tolerances, counts and wall time."""
+
+    method: str
+    rtol: float
+    atol: list[float]
+    nfev: int
+    njev: int
+    nlu: int
+    n_segments: int
+    run_time_s: float
+
+    def as_dict(self) -> dict[str, Any]:
+        """Plain dict for JSON."""
+        return {
+            "method": self.method,
+            "rtol": self.rtol,
+            "atol": self.atol,
+            "nfev": self.nfev,
+            "njev": self.njev,
+            "nlu": self.nlu,
+            "n_segments": self.n_segments,
+            "run_time_s": self.run_time_s,
+        }
+
+
+@dataclass(frozen=True, eq=False)
+class Result:
+    """A simulation: time series, derived outputs, solver statistics and provenance.
+
+    Attributes
+    ----------
+    t : ndarray
+        Uniform output times in s.
+    y : ndarray
+        States, shape (n_states, n_times).
+    state_labels : tuple of str
+    outputs : dict of ndarray
+        Derived series from ``model.outputs`` (e.g. ``dte`` in m, ``mesh_force`` in N).
+    steady_start : float
+        Start of the steady-state window in s (the transient is before it).
+    mesh_frequency : float
+        Hz.
+    static_load : float
+        W in N.
+    stats : SolverStats
+    settings : SolverSettings
+    scene : object or None
+        The scene that produced the run (if any).
+    """
+
+    t: FloatArray
+    y: FloatArray
+    state_labels: tuple[str, ...]
+    outputs: dict[str, FloatArray]
+    steady_start: float
+    mesh_frequency: float
+    static_load: float
+    stats: SolverStats
+    settings: SolverSettings
+    scene: Any = None
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def steady(self) -> NDArray[np.bool_]:
+        """Boolean mask of the steady-state window."""
+        return self.t >= self.steady_start - 1e-12 * max(1.0, abs(self.steady_start))
+
+    def series(self, name: str) -> FloatArray:
+        """A state or an output series by name."""
+        if name in self.outputs:
+            return self.outputs[name]
+        if name in self.state_labels:
+            return self.y[self.state_labels.index(name)]
+        raise InputError(
+            f"series {name!r} not in this result; available: "
+            f"{', '.join([*self.state_labels, *self.outputs])}"
+        )
+
+    @property
+    def dynamic_factor(self) -> float:
+        """Peak dynamic mesh force / W over the steady window (NaN if W = 0)."""
+        f = self.outputs["mesh_force"][self.steady]
+        return float(np.max(f) / self.static_load) if self.static_load > 0 else math.nan
+
+    @property
+    def mean_dte(self) -> float:
+        """Mean dynamic transmission error over the steady window in m."""
+        return float(np.mean(self.outputs["dte"][self.steady]))
+
+    @property
+    def rms_dte(self) -> float:
+        """RMS of the fluctuating DTE (mean removed) over the steady window in m."""
+        x = self.outputs["dte"][self.steady]
+        return float(np.sqrt(np.mean((x - x.mean()) ** 2)))
+
+    @property
+    def ptp_dte(self) -> float:
+        """Peak-to-peak DTE over the steady window in m."""
+        return float(np.ptp(self.outputs["dte"][self.steady]))
+
+
+def time_grid(mesh_frequency: float, t_end: float, samples_per_period: int) -> FloatArray:
+    """Uniform grid from 0 to ``t_end`` with ``samples_per_period`` points per mesh period."""
+    dt = 1.0 / (mesh_frequency * samples_per_period)
+    n = int(math.floor(t_end / dt + 1e-9)) + 1
+    return np.arange(n, dtype=np.float64) * dt

@@ -1,0 +1,75 @@
+"""Solver settings: the method, tolerances and output grid of a run, and the work limits."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from gear_dyn.errors import InputError, check_range
+
+METHODS = ("auto", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA", "exact", "periodic")
+#: solve_ivp method of ``auto`` when the exact propagator does not apply. LSODA (restarted at
+#: each switching instant) was the fastest for every target error on the helicopter tail scene
+#: with rectangular and Fourier stiffness, heavy damping, a 1000x stiffer mesh and backlash
+#: (docs/solvers.md, ``gear-dyn bench``), and it switches to BDF by itself when stiff.
+DEFAULT_ODE_METHOD = "LSODA"
+IMPLICIT = ("Radau", "BDF", "LSODA")
+
+#: work limits, so that an absurd input ends in a clear error instead of a hang or a memory blow-up
+MAX_SAMPLES = 4_000_000  #: output samples of one run (periods x samples_per_period)
+MAX_NATURAL_PERIODS = 50_000  #: natural periods of the mesh mode one ODE run may span
+MAX_NFEV = 5_000_000  #: right-hand-side evaluations of one ODE run (checked between pieces)
+
+@dataclass(frozen=True)
+class SolverSettings:
+    """Integration settings.
+
+    Parameters
+    ----------
+    method : str
+        ``auto`` (default: the exact propagator where it applies; else, for a linear
+        single-DOF model on the usual uniform grid, ``periodic``; else LSODA), or one of
+        RK45, RK23, DOP853, Radau, BDF, LSODA (solve_ivp), ``exact`` (piecewise-exact
+        propagator, linear models with piecewise-constant coefficients only) or ``periodic``
+        (linear mesh-periodic models: one period of step maps integrated, then reused; see
+        :func:`gear_dyn.solvers.exact.propagate_periodic`).
+    rtol : float
+        Relative tolerance, 1e-13..1e-2.
+    atol : float or None
+        Absolute tolerance in units of the states; None means ``rtol * model.state_scale``
+        (the static deflection and its velocity scale), i.e. a purely relative criterion.
+    samples_per_period : int
+        Output points per mesh period, 4..4096.
+    max_step : float
+        Largest step in s (inf: unlimited).
+    estimate_error : bool
+        Attach an error estimate to the result (``extra["estimated_error"]``, see
+        :mod:`gear_dyn.analysis.accuracy`); for solve_ivp methods it costs a second, tighter run
+        over a
+        short window. Default True.
+    """
+
+    method: str = "auto"
+    rtol: float = 1e-8
+    atol: float | None = None
+    samples_per_period: int = 64
+    max_step: float = math.inf
+    estimate_error: bool = True
+
+    def __post_init__(self) -> None:
+        if self.method not in METHODS:
+            raise InputError(
+                f"solver.method = {self.method!r}: valid choices are {', '.join(METHODS)}"
+            )
+        check_range("solver.rtol", self.rtol, "", low=1e-13, high=1e-2)
+        if self.atol is not None:
+            check_range("solver.atol", self.atol, "", low=0.0, low_open=True)
+        if isinstance(self.samples_per_period, bool) or int(self.samples_per_period) != (
+            self.samples_per_period
+        ):
+            raise InputError(
+                f"solver.samples_per_period = {self.samples_per_period!r}: expected an integer"
+            )
+        check_range("solver.samples_per_period", self.samples_per_period, "", low=4, high=4096)
+        if not (isinstance(self.max_step, int | float) and self.max_step > 0):
+            raise InputError(f"solver.max_step = {self.max_step!r} s: valid range > 0 s")

@@ -1,0 +1,95 @@
+"""`gear-dyn fmu build/validate` and `gear-dyn cosim`: files, numbers and exit codes."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from gear_dyn.cli.app import main
+from gear_dyn.solvers import DEFAULT_ODE_METHOD
+
+pytestmark = pytest.mark.fmu
+
+SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
+F_M = 23 * 3319 / 60  # seed 002 mesh frequency, Hz
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("cli") / "heli.fmu"
+    assert main(["fmu", "build", "sdof", "--out", str(out)]) == 0  # model name -> seed 002
+    return out
+
+
+def test_build_and_validate(built: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert built.is_file()
+    assert main(["fmu", "validate", str(built)]) == 0
+    assert "no problems" in capsys.readouterr().out
+
+
+def test_cosim_writes_the_comparison(built: Path, tmp_path: Path) -> None:
+    """Two communication steps over 6 mesh periods: the FMU (exact propagation) against
+    solve_ivp (the default ODE method) at rtol 1e-8 differs by solve_ivp's own error,
+    < 100 rtol of the RMS DTE, at both steps (a kept state: the step adds no error)."""
+    h = 1 / (16 * F_M)
+    out = tmp_path / "cosim"
+    code = main(["cosim", str(built), "--out", str(out), "--periods", "6",
+                 "--step", repr(h), "--step", repr(4 * h)])
+    assert code == 0
+    for name in ("summary.json", "steps.csv", "timeseries.csv", "overlay.png",
+                 "convergence.png"):
+        assert (out / name).is_file(), name
+    s = json.loads((out / "summary.json").read_text())
+    assert s["reference"] == f"solve_ivp {DEFAULT_ODE_METHOD}"
+    assert [st["n_steps"] for st in s["steps"]] == [24, 96]
+    for st in s["steps"]:
+        assert st["max_diff"]["dte"] <= 100 * s["rtol"] * s["scales"]["dte"]
+    header = (out / "steps.csv").read_text().splitlines()[0]
+    assert header.startswith("step_s,n_steps,fmu_run_time_s")
+
+
+def test_cosim_with_a_scene_and_set(built: Path, tmp_path: Path) -> None:
+    """A scene file's values are set on the FMU (here a heavier load and more damping) and
+    --set changes the FMU's solver; the reference follows both (same tolerance as above)."""
+    text = (SCENES / "helicopter_tail.toml").read_text()
+    text = text.replace('torque = "1474.4 N*m"', 'torque = "2000 N*m"').replace(
+        "ratio = 0.06", "ratio = 0.1")
+    scene = tmp_path / "heavier.toml"
+    scene.write_text(text)
+    out = tmp_path / "c2"
+    h = 1 / (16 * F_M)
+    assert main(["cosim", str(built), str(scene), "--out", str(out), "--periods", "4",
+                 "--step", repr(h), "--set", "solver.method=DOP853"]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["fmu_method"] == "DOP853"
+    # same method, same pieces, one kept solver: rounding only
+    assert s["steps"][0]["max_diff"]["dte"] <= 1e-9 * s["scales"]["dte"]
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["fmu", "build", "helicopter_tail", "--out", "x.zip"], "must end in .fmu"),
+    (["fmu", "build", "no_such_scene", "--out", "x.fmu"], "not a scene file"),
+    (["fmu", "validate", "missing.fmu"], "FMU file not found"),
+    (["cosim", "missing.fmu", "--out", "d"], "FMU file not found"),
+])
+def test_bad_input_exit_2(argv: list[str], message: str, tmp_path: Path,
+                          monkeypatch: pytest.MonkeyPatch,
+                          capsys: pytest.CaptureFixture[str]) -> None:
+    monkeypatch.chdir(tmp_path)
+    assert main(argv) == 2
+    assert message in capsys.readouterr().err
+
+
+def test_cosim_refuses_scene_parts_the_fmu_lacks(built: Path, tmp_path: Path,
+                                                 capsys: pytest.CaptureFixture[str]) -> None:
+    text = (SCENES / "helicopter_tail.toml").read_text() + '\n[backlash]\nhalf_gap = "0.1 mm"\n'
+    scene = tmp_path / "backlash.toml"
+    scene.write_text(text)
+    assert main(["cosim", str(built), str(scene), "--out", str(tmp_path / "o")]) == 2
+    assert "backlash.half_gap" in capsys.readouterr().err
+    h = 1 / (16 * F_M)
+    assert main(["cosim", str(built), "--out", str(tmp_path / "o"), "--step", repr(h),
+                 "--step", repr(1.5 * h)]) == 2
+    assert "integer multiple" in capsys.readouterr().err
