@@ -109,7 +109,8 @@ class GearPair:
     def __post_init__(self) -> None:
         for name in ("z1", "z2"):
             z = getattr(self, name)
-            if isinstance(z, bool) or not isinstance(z, int | float) or z != int(z):
+            if (isinstance(z, bool) or not isinstance(z, int | float) or not math.isfinite(z)
+                    or z != int(z)):
                 raise InputError(f"{name} = {z!r}: teeth must be a whole number >= 5")
             check_range(name, z, "teeth", low=5, high=100000)
             object.__setattr__(self, name, int(z))

@@ -122,7 +122,7 @@ def write_csv(path: str | Path, columns: Mapping[str, Sequence[float] | np.ndarr
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(names)
     for row in zip(*arrays, strict=True):
-        w.writerow([f"{float(v):.10g}" for v in row])
+        w.writerow([repr(float(v)) for v in row])  # shortest text that reads back exactly
     return write_text(path, buf.getvalue())
 
 

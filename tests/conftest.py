@@ -1,11 +1,23 @@
-"""Shared fixtures: the seed 002 helicopter tail pair and model."""
+"""Shared fixtures (the seed 002 helicopter tail pair) and the hypothesis profiles.
+
+Property tests are derandomized by default (profile ``ci``): the same examples on every run
+and machine, so a verdict never depends on the draw; a bug a property test once found is kept
+as an explicit ``@example``. Longer randomized runs are a separate command:
+``GEAR_DYN_HYPOTHESIS=random python -m pytest tests/scene/test_scene_fuzz.py``.
+"""
 
 from __future__ import annotations
 
 import math
+import os
 from pathlib import Path
 
 import pytest
+from hypothesis import settings
+
+settings.register_profile("ci", derandomize=True, print_blob=True)
+settings.register_profile("random", derandomize=False, print_blob=True)
+settings.load_profile(os.environ.get("GEAR_DYN_HYPOTHESIS", "ci"))
 
 from gear_dyn.geometry import GearPair
 

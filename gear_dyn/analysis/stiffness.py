@@ -13,7 +13,7 @@ from gear_dyn.errors import InputError
 from gear_dyn.geometry import GearPair
 from gear_dyn.stiffness.iso6336 import iso6336_stiffness
 from gear_dyn.stiffness.potential_energy import potential_energy_compliances
-from gear_dyn.stiffness.select import METHOD_OPTIONS, build_stiffness
+from gear_dyn.stiffness.select import METHOD_OPTIONS, build_stiffness, tooth_options
 from gear_dyn.stiffness.summary import operating_summary, stiffness_summary
 
 
@@ -44,9 +44,16 @@ def _method_curves(pair: GearPair, methods: list[str], scene_method: str,
     return curves, per_method
 
 
-def pitch_point_components(pair: GearPair) -> tuple[Any, dict[str, Any]]:
-    """Potential-energy compliances at the pitch point: the raw object and a JSON-ready dict."""
-    comp = potential_energy_compliances(pair, np.array([pair.pitch_point]))
+def pitch_point_components(pair: GearPair, options: dict[str, Any] | None = None
+                           ) -> tuple[Any, dict[str, Any]]:
+    """Potential-energy compliances at the pitch point: the raw object and a JSON-ready dict.
+
+    ``options``: the stiffness options of the case (fillet radius, bore radii, plane strain,
+    grid points apply), so that the split adds up to the potential-energy curve drawn beside
+    it.
+    """
+    comp = potential_energy_compliances(pair, np.array([pair.pitch_point]),
+                                        tooth_options(options or {}))
     components: dict[str, Any] = {
         "position": "pitch point",
         "s_m": pair.pitch_point,
@@ -84,7 +91,7 @@ def compare_methods(pair: GearPair, methods: list[str], scene_method: str,
     """
     curves, per_method = _method_curves(pair, methods, scene_method, scene_opts, fourier)
     iso = iso6336_stiffness(pair)
-    comp, components = pitch_point_components(pair)
+    comp, components = pitch_point_components(pair, scene_opts)
     report: dict[str, Any] = {
         "scene_method": scene_method,
         "fourier_terms": fourier,

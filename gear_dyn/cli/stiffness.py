@@ -107,7 +107,7 @@ def run(args: argparse.Namespace) -> int:
         write_json(tmp / "stiffness.json", report)
     op = report["operating"]
     print(f"{report['scene']}: eps_a = {op['contact_ratio']:.4f}, single-contact share "
-          f"{op['single_contact_share']:.3f}, backlash {op['backlash_m'] * 1e6:.3f} um",
+          f"{op['single_contact_share']:.3f}, backlash {_um(op['backlash_m'])} um",
           file=sys.stdout)
     for name, s in report["methods"].items():
         print(f"  {name:17s} mean {s['mean_n_per_m']:.4g}  min {s['min_n_per_m']:.4g}  "
@@ -115,3 +115,9 @@ def run(args: argparse.Namespace) -> int:
               file=sys.stdout)
     print(f"wrote {args.out}/", file=sys.stdout)
     return 0
+
+
+def _um(x: float) -> str:
+    """Micrometres with 3 decimals, without a sign on a rounded zero ("-0.000")."""
+    v = round(x * 1e6, 3)
+    return f"{v + 0.0:.3f}"  # -0.0 + 0.0 is 0.0

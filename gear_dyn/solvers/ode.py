@@ -137,9 +137,11 @@ def check_work(model: Model, t0: float, t1: float, y0: FloatArray) -> None:
 
 def _check_nfev(nfev: int, method: str, t: float) -> None:
     if nfev > limits.MAX_NFEV:
+        others = ", ".join(m for m in IMPLICIT if m != method)
+        advice = (f"an implicit method ({others})" if method not in IMPLICIT
+                  else f"another implicit method ({others})")
         raise SolverError(
             f"solve_ivp ({method}) gave up at t = {t:.6g} s after {nfev} right-hand-side "
             f"evaluations (limit {limits.MAX_NFEV}): the problem is stiff or the tolerance too "
-            "tight; try an implicit method (LSODA, Radau, BDF), a looser rtol, or fewer "
-            "solver.periods"
+            f"tight; try {advice}, a looser rtol, or fewer solver.periods"
         )

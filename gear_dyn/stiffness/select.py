@@ -118,9 +118,14 @@ def _iso_high_contact(eps: float, k_single: float, name: str) -> PiecewiseStiffn
                                (np.array([f, 1.0]), np.array([lo, lo]))), name=name)
 
 
-def _tooth_options(opts: Mapping[str, Any]) -> ToothOptions:
+def tooth_options(opts: Mapping[str, Any]) -> ToothOptions:
+    """The :class:`ToothOptions` in a method's options (fillet radius, bore radii, plane
+    strain, grid points); other keys are ignored."""
     kw = {k: opts[k] for k in _TOOTH_KEYS if k in opts and opts[k] is not None}
     return ToothOptions(**kw)
+
+
+_tooth_options = tooth_options
 
 
 def _int_opt(opts: Mapping[str, Any], key: str, default: int, low: int) -> int:

@@ -103,3 +103,29 @@ def test_cli_bad_method_is_exit_2(tmp_path: Path, capsys: pytest.CaptureFixture[
     err = capsys.readouterr().err
     assert "not a stiffness method" in err and err.count("\n") == 1
     assert not (tmp_path / "o").exists()
+
+
+def test_component_split_follows_the_scene_options() -> None:
+    """The pitch-point split of ``gear-dyn stiffness`` uses the scene's own tooth options: the
+    components add up to the potential-energy curve it draws beside them. With plane strain
+    the pair is 0.6 % stiffer here: the split must move with the curve (it ignored the options
+    before, and stayed at the plane-stress split, 0.6 % off the curve)."""
+    from gear_dyn.cli.stiffness import compute
+
+    scene = _scene({"method": "potential_energy", "plane_strain": True})
+    pair, curves, report = compute(scene, ["potential_energy"])
+    comp = report["components_at_pitch_point"]
+    total = comp["hertz_m_per_n"] + sum(
+        comp[f"{t}_{g}_m_per_n"] for t in ("bending", "shear", "axial", "fillet")
+        for g in ("pinion", "gear"))
+    assert 1.0 / total == pytest.approx(comp["pair_stiffness_n_per_m"], rel=1e-12)
+    # the curve at the phase where one pair meshes at the pitch point, alone (single contact)
+    p = ((pair.pitch_point - pair.start_of_contact) / pair.base_pitch) % 1.0
+    assert pair.contact_ratio - 1.0 <= p < 1.0  # the pitch point is in single contact here
+    k_curve = float(curves["potential_energy"](p))
+    # the curve is sampled at 200 points per cycle and interpolated: 1e-4 covers that
+    assert comp["pair_stiffness_n_per_m"] == pytest.approx(k_curve, rel=1e-4)
+    default = compute(_scene({"method": "potential_energy"}), ["potential_energy"])[2]
+    ratio = comp["pair_stiffness_n_per_m"] / default["components_at_pitch_point"][
+        "pair_stiffness_n_per_m"]
+    assert ratio > 1.003  # plane strain stiffens the pair: the options reached the split

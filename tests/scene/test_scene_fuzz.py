@@ -12,7 +12,7 @@ from typing import Any
 
 import hypothesis.strategies as st
 import numpy as np
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from scene_cases import dump_toml, example_scenes, load
 
 from gear_dyn.errors import InputError, SceneError, SolverError
@@ -169,6 +169,8 @@ anything = st.one_of(finite, numbers, st.none(), st.text(max_size=3), st.boolean
 
 
 @FUZZ
+@example({"z1": math.inf, "z2": 64, "module": 6e-3, "pressure_angle": 0.39, "face_width": 0.05})
+@example({"z1": 23, "z2": math.nan, "module": 6e-3, "pressure_angle": 0.39, "face_width": 0.05})
 @given(st.fixed_dictionaries({
     "z1": st.one_of(st.integers(-5, 200), anything), "z2": st.one_of(st.integers(-5, 400),
                                                                       anything),
