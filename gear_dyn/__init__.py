@@ -40,6 +40,7 @@ _EXPORTS: dict[str, str] = {
     "PiecewiseStiffness": "gear_dyn.stiffness.periodic",
     "rectangular_stiffness": "gear_dyn.stiffness.periodic",
     "iso6336_stiffness": "gear_dyn.stiffness.iso6336",
+    "build_stiffness": "gear_dyn.stiffness.select",
 }
 
 __all__ = sorted(_EXPORTS)
@@ -54,6 +55,7 @@ if TYPE_CHECKING:  # what type checkers and IDEs see; at run time the names load
     from gear_dyn.solvers.result import Result
     from gear_dyn.solvers.settings import SolverSettings
     from gear_dyn.stiffness.iso6336 import iso6336_stiffness
+    from gear_dyn.stiffness.select import build_stiffness
     from gear_dyn.stiffness.periodic import (
         FourierStiffness,
         PeriodicStiffness,
