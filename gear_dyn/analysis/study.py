@@ -6,16 +6,28 @@
 - ``estimated_error`` when ``settings.estimate_error`` (:func:`~.accuracy.estimate_error`);
 - ``floquet``: the Floquet multipliers of a linear mesh-periodic model
   (:func:`~.accuracy.floquet_check`);
-- ``stiffness_check`` for explicit Runge-Kutta methods (:func:`~.accuracy.stiffness_check`).
+- ``stiffness_check`` for explicit Runge-Kutta methods (:func:`~.accuracy.stiffness_check`);
+- ``contact``: for models with backlash, the share of the steady window with the teeth apart
+  and in back-side contact; for linear models, whether the mesh force goes negative (the teeth
+  would separate, which a linear model cannot represent: a warning points to the backlash
+  model);
+- ``orbit``: for nonlinear mesh-periodic models (backlash), the stability statement: the
+  period-1 orbit found by shooting from the run's end state and its largest Floquet multiplier,
+  or that none was found (the response is not period-1);
+- ``warnings``: one line each, printed by the CLI.
 """
 
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Any
+from typing import Any, cast
+
+import numpy as np
 
 from gear_dyn.analysis.accuracy import EXPLICIT, estimate_error, floquet_check, stiffness_check
-from gear_dyn.models.base import Model
+from gear_dyn.analysis.stability import shoot
+from gear_dyn.errors import GearDynError
+from gear_dyn.models.base import MeshModel, Model
 from gear_dyn.solvers import Result, SolverSettings
 from gear_dyn.solvers import simulate as simulate_bare
 
@@ -23,16 +35,86 @@ from gear_dyn.solvers import simulate as simulate_bare
 def checks(model: Model, result: Result) -> dict[str, Any]:
     """The error estimate and stability checks of ``result`` (a run of ``model``)."""
     out: dict[str, Any] = {}
+    warnings: list[str] = []
     if result.settings.estimate_error:
         used = replace(result.settings, method=result.stats.method)
         stats = {"n_segments": result.stats.n_segments}
-        out["estimated_error"] = estimate_error(model, result.t, result.y, used, stats)
+        est = estimate_error(model, result.t, result.y, used, stats, result.steady_start)
+        out["estimated_error"] = est
+        if not est.get("reproducible", True):
+            warnings.append(est["basis"].split("; ", 1)[-1])
     floquet = floquet_check(model)
     if floquet is not None:
         out["floquet"] = floquet
+        if floquet["advice"]:
+            warnings.append(floquet["advice"])
     if result.stats.method in EXPLICIT:
         out["stiffness_check"] = stiffness_check(model, result.stats.method)
+        if out["stiffness_check"]["advice"]:
+            warnings.append(out["stiffness_check"]["advice"])
+    out["contact"] = contact_check(model, result)
+    if out["contact"].get("warning"):
+        warnings.append(out["contact"]["warning"])
+    if model.mesh_periodic and not model.is_linear:
+        out["orbit"] = orbit_check(model, result)
+    out["warnings"] = warnings
     return out
+
+
+def contact_check(model: Model, result: Result) -> dict[str, Any]:
+    """Contact over the steady window: teeth apart / back-side shares, or a negative force.
+
+    With backlash (mesh-periodic model): ``separation_share`` (|x - e| <= b_g) and
+    ``backside_share`` (x - e < -b_g) of the steady samples. Without it: ``min_force_n`` and,
+    when it is negative, a ``warning``: a linear model cannot represent teeth that separate.
+    """
+    steady = result.steady
+    force = result.outputs.get("mesh_force")
+    out: dict[str, Any] = {}
+    if "n_contact_events" in result.extra:
+        out["n_contact_events"] = int(result.extra["n_contact_events"])
+    if model.backlash is not None and model.mesh_periodic:
+        mesh = cast(MeshModel, model)
+        u = result.y[0, steady]
+        if mesh.transmission_error is not None:
+            u = u - mesh.transmission_error.value(mesh.phase(result.t[steady]))
+        b = float(mesh.backlash or 0.0)
+        out["separation_share"] = float(np.mean(np.abs(u) <= b))
+        out["backside_share"] = float(np.mean(u < -b))
+        return out
+    if force is not None and model.is_linear:
+        fmin = float(np.min(force[steady]))
+        out["min_force_n"] = fmin
+        if fmin < 0:
+            out["warning"] = (
+                f"the mesh force goes negative (down to {fmin:.4g} N, "
+                f"{fmin / max(model.static_load, 1e-300):.3g} W): the teeth would separate, "
+                "which this linear model cannot represent; add a [backlash] table (the "
+                "backlash model) for contact loss")
+    return out
+
+
+def orbit_check(model: Model, result: Result) -> dict[str, Any]:
+    """The stability statement of a nonlinear mesh-periodic run: shooting from its end state.
+
+    Returns ``period1`` (a period-1 orbit was found), ``max_multiplier_modulus`` and
+    ``stable``, or the reason none was found.
+    """
+    mesh = cast(MeshModel, model)
+    rtol = min(max(result.settings.rtol, 1e-10), 1e-6)
+    try:
+        sol = shoot(mesh, result.y[:, -1], rtol=rtol, max_iter=12)
+    except GearDynError as exc:
+        return {"period1": False, "statement": f"shooting failed: {exc}"}
+    if not sol.converged:
+        return {"period1": False, "statement": "no period-1 orbit near the end state: the "
+                "response is not periodic in the mesh period (subharmonic, quasi-periodic or "
+                "chaotic)"}
+    rho = sol.spectral_radius
+    stable = sol.stable
+    return {"period1": True, "max_multiplier_modulus": rho, "stable": stable,
+            "statement": f"period-1 orbit, largest Floquet multiplier {rho:.3g} "
+                         f"({'stable' if stable else 'unstable'})"}
 
 
 def simulate(

@@ -61,13 +61,37 @@ def run(args: argparse.Namespace) -> int:
         f"({summary['solver']['method']}, {summary['solver']['run_time_s']:.3g} s)",
         file=sys.stdout,
     )
-    est = summary.get("estimated_error")
-    if isinstance(est, dict) and est.get("max_rel") is not None:
-        print(f"estimated error: {est['max_rel']:.2g} of the static deflection "
-              f"({est['basis']})", file=sys.stdout)
-    for key in ("floquet", "stiffness_check"):
-        advice = (summary.get(key) or {}).get("advice")
-        if advice:
-            print(f"warning: {advice}", file=sys.stdout)
+    for line in honesty_lines(summary):
+        print(line, file=sys.stdout)
     print(f"wrote {args.out}/", file=sys.stdout)
     return 0
+
+
+def honesty_lines(summary: dict[str, Any]) -> list[str]:
+    """What the run states about itself: its error (pointwise, or of its figures where the
+    trajectory is not reproducible), contact loss, the orbit's stability, and its warnings."""
+    lines = []
+    est = summary.get("estimated_error")
+    if isinstance(est, dict) and est.get("max_rel") is not None:
+        if est.get("reproducible", True):
+            lines.append(f"estimated error: {est['max_rel']:.2g} of the static deflection "
+                         f"({est['basis']})")
+        else:
+            figs = ", ".join(f"{name.replace('_', ' ')} {err:.2g}"
+                             for name, err in est.get("figures", {}).items())
+            lines.append(f"estimated error of the figures (relative): {figs}")
+    contact = summary.get("contact") or {}
+    if "separation_share" in contact:
+        sep, back = contact["separation_share"], contact["backside_share"]
+        events = contact.get("n_contact_events")
+        n = f", {events} contact changes in the run" if events is not None else ""
+        lines.append("contact: " + (f"teeth apart {100 * sep:.3g} % and on the back flank "
+                                    f"{100 * back:.3g} % of the steady window{n}"
+                                    if sep > 0 or back > 0 else
+                                    f"no contact loss in the steady window{n}"))
+    orbit = summary.get("orbit")
+    if orbit:
+        lines.append(f"stability: {orbit['statement']}")
+    for warning in summary.get("warnings") or []:
+        lines.append(f"warning: {warning}")
+    return lines
