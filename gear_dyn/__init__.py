@@ -55,13 +55,13 @@ if TYPE_CHECKING:  # what type checkers and IDEs see; at run time the names load
     from gear_dyn.solvers.result import Result
     from gear_dyn.solvers.settings import SolverSettings
     from gear_dyn.stiffness.iso6336 import iso6336_stiffness
-    from gear_dyn.stiffness.select import build_stiffness
     from gear_dyn.stiffness.periodic import (
         FourierStiffness,
         PeriodicStiffness,
         PiecewiseStiffness,
         rectangular_stiffness,
     )
+    from gear_dyn.stiffness.select import build_stiffness
 
 
 def __getattr__(name: str) -> Any:

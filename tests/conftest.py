@@ -15,11 +15,11 @@ from pathlib import Path
 import pytest
 from hypothesis import settings
 
+from gear_dyn.geometry import GearPair
+
 settings.register_profile("ci", derandomize=True, print_blob=True)
 settings.register_profile("random", derandomize=False, print_blob=True)
 settings.load_profile(os.environ.get("GEAR_DYN_HYPOTHESIS", "ci"))
-
-from gear_dyn.geometry import GearPair
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENES = ROOT / "examples" / "scenes"

@@ -44,8 +44,9 @@ def test_public_api_names_unchanged() -> None:
     import gear_dyn
 
     assert set(gear_dyn.__all__) == {
-        "FourierStiffness", "GearDynError", "build_stiffness", "GearPair", "InputError", "PeriodicStiffness",
-        "PiecewiseStiffness", "Result", "SDOFModel", "SceneError", "SolverError",
+        "FourierStiffness", "GearDynError", "build_stiffness", "GearPair", "InputError",
+        "PeriodicStiffness", "PiecewiseStiffness", "Result", "SDOFModel", "SceneError",
+        "SolverError",
         "SolverSettings", "iso6336_stiffness", "load_scene", "mesh_frequency", "output_speed",
         "parse_scene", "rectangular_stiffness", "run_scene", "sdof_from_pair", "simulate",
         "summarize",
