@@ -9,7 +9,10 @@
 
 with C1..C9 = 0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182,
 C_M = 0.8 (solid disc), C_R = 1 (solid blank), h_fP = (ha* + c*) m_n the basic rack dedendum,
-zn = z / cos^3(beta) the virtual number of teeth, E_steel = 206 GPa.
+zn = z / (cos^2(beta_b) cos(beta)) the virtual number of teeth (ISO 6336-1 definition, beta_b
+the base helix angle; the textbook z / cos^3(beta) gives q' 0.17 % off on the pair of ISO/TR
+6336-30 example 1 without profile shift: tests/physics/test_stiffness_iso6336.py),
+E_steel = 206 GPa.
 The load correction for F_t/b < 100 N/mm is applied only when a line load is given.
 
 Helical pairs: the helix enters through the virtual tooth numbers zn and the cos(beta) factor of
@@ -77,8 +80,9 @@ def iso6336_stiffness(pair: GearPair, line_load: float | None = None) -> IsoStif
         ``(line_load / 1e5) ** 0.25`` as ISO 6336-1 prescribes. None: no reduction.
     """
     cb = math.cos(pair.helix_angle)
-    zn1 = pair.z1 / cb**3
-    zn2 = pair.z2 / cb**3
+    virtual = math.cos(pair.beta_b) ** 2 * cb  # zn = z / (cos^2(beta_b) cos(beta))
+    zn1 = pair.z1 / virtual
+    zn2 = pair.z2 / virtual
     x1, x2 = pair.x1, pair.x2
     q = (
         C[0] + C[1] / zn1 + C[2] / zn2 + C[3] * x1 + C[4] * x1 / zn1 + C[5] * x2
