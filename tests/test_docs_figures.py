@@ -1,0 +1,79 @@
+"""Figures printed in README.md and docs/*.md, each checked against an independent reference
+(a hand calculation written out here, or a second method), so that the text cannot drift.
+
+Figures reproduced elsewhere: relief tables (tests/physics/test_modification_relief.py),
+solver error figures (tests/analysis/test_solvers_estimate.py), speed figures (benchmarks/).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gear_dyn.geometry import GearPair
+
+ROOT = Path(__file__).resolve().parents[1]
+README = (ROOT / "README.md").read_text()
+STIFFNESS_MD = (ROOT / "docs" / "stiffness.md").read_text()
+
+
+def _heli(**kw: float) -> GearPair:
+    return GearPair(23, 64, 6e-3, math.radians(22.5), 0.05, youngs_modulus1=2.07e11,
+                    youngs_modulus2=2.07e11, **kw)
+
+
+def test_seed_002_static_load_is_t1_over_rb1() -> None:
+    """README: W = T1 / rb1 = 23 129 N for seed 002 (not the 9354 N of its multibody model).
+    By hand: rb1 = m z1 cos(alpha) / 2 = 6 * 23 * cos(22.5 deg) / 2 = 63.747 mm."""
+    import gear_dyn as gd
+
+    rb1 = 6e-3 * 23 * math.cos(math.radians(22.5)) / 2
+    w = 1474.4 / rb1
+    assert round(w) == 23129 and "23 129 N" in README
+    res = gd.run_scene(gd.load_scene(ROOT / "gear_dyn" / "scenes" / "helicopter_tail.toml"),
+                       periods=10)
+    assert res.static_load == pytest.approx(w, rel=1e-12)
+
+
+def test_shaft_offset_contact_ratio_and_backlash() -> None:
+    """README and docs/stiffness.md: a 0.3 mm offset takes eps_a from 1.5849 to 1.5401 and opens
+    230 um of backlash. By hand: at a_w = a + 0.3 mm the operating pressure angle is
+    cos(a_w') = a cos(alpha) / a_w; eps = (sqrt(ra1^2 - rb1^2) + sqrt(ra2^2 - rb2^2)
+    - a_w sin(a_w')) / (pi m cos(alpha)); the circular backlash at the operating pitch circles
+    j_t = 2 a_w (inv a_w' - inv alpha) (zero-backlash teeth at a), along the line of action
+    j_n = j_t cos(a_w'); the table gives the normal backlash of both flanks, j_n."""
+    m, z1, z2, al = 6e-3, 23, 64, math.radians(22.5)
+    a = m * (z1 + z2) / 2
+    rb1, rb2 = m * z1 * math.cos(al) / 2, m * z2 * math.cos(al) / 2
+    ra1, ra2 = m * z1 / 2 + m, m * z2 / 2 + m
+
+    def eps(aw: float) -> float:
+        aw_ang = math.acos(a * math.cos(al) / aw)
+        ga = (math.sqrt(ra1**2 - rb1**2) + math.sqrt(ra2**2 - rb2**2) - aw * math.sin(aw_ang))
+        return ga / (math.pi * m * math.cos(al))
+
+    assert f"{eps(a):.4f}" == "1.5849" and f"{eps(a + 0.3e-3):.4f}" == "1.5401"
+    pair = _heli(center_distance=a + 0.3e-3)
+    assert pair.contact_ratio == pytest.approx(eps(a + 0.3e-3), rel=1e-12)
+    inv = lambda x: math.tan(x) - x  # noqa: E731
+    aw_ang = math.acos(a * math.cos(al) / (a + 0.3e-3))
+    j_n = 2 * (a + 0.3e-3) * (inv(aw_ang) - inv(al)) * math.cos(aw_ang)
+    assert f"{j_n * 1e6:.1f}" == "230.4" and "| 0.3 mm | 1.5401 |" in STIFFNESS_MD
+    assert pair.backlash == pytest.approx(j_n, rel=1e-9)
+
+
+def test_fillet_share_of_the_pitch_point_compliance() -> None:
+    """README: at the pitch point of the helicopter tail pair the fillet foundation carries
+    56 % of the compliance. From the term-by-term compliances (each term checked against closed
+    forms in tests/physics/test_stiffness_potential_energy.py)."""
+    from gear_dyn.stiffness.potential_energy import potential_energy_compliances
+
+    pair = _heli()
+    c = potential_energy_compliances(pair, np.array([pair.pitch_point]))
+    fillet = float(c.fillet[0, 0] + c.fillet[1, 0])
+    total = 1.0 / float(c.stiffness[0])
+    share = fillet / total
+    assert round(100 * share) == 56 and "fillet foundation carries 56 %" in README
