@@ -77,3 +77,58 @@ def test_fillet_share_of_the_pitch_point_compliance() -> None:
     total = 1.0 / float(c.stiffness[0])
     share = fillet / total
     assert round(100 * share) == 56 and "fillet foundation carries 56 %" in README
+
+
+RPM = 2 * math.pi / 60
+
+
+def _edge(rho: object, lo: float, hi: float) -> float:
+    """Bisection to 0.01 rpm of the speed where rho(rpm) crosses 1 + UNIT_CIRCLE_TOL."""
+    from gear_dyn.analysis.stability import UNIT_CIRCLE_TOL
+
+    inside_lo = rho(lo) > 1 + UNIT_CIRCLE_TOL  # type: ignore[operator]
+    while hi - lo > 0.01:
+        mid = 0.5 * (lo + hi)
+        if (rho(mid) > 1 + UNIT_CIRCLE_TOL) == inside_lo:  # type: ignore[operator]
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+def test_instability_band_edges() -> None:
+    """README and docs/sweep.md: the linear helicopter tail pair is parametrically unstable from
+    14371 to 15938 rpm (f_m/f_n 1.891..2.097). Floquet multipliers of the one-period map by the
+    exact matrix exponentials (rectangular stiffness: exact to rounding), bisected; and the
+    first-order tongue of Nayfeh & Mook (W = 2 w0 (1 -+ eps/4) without damping) must contain
+    the band, as damping only narrows it."""
+    from gear_dyn.analysis.stability import floquet_multipliers
+    from gear_dyn.scene import load_scene
+    from gear_dyn.scene.sweep import model_at_speed
+
+    scene = load_scene(ROOT / "gear_dyn" / "scenes" / "helicopter_tail.toml")
+
+    def rho(rpm: float) -> float:
+        return float(np.max(np.abs(floquet_multipliers(model_at_speed(scene, rpm * RPM)))))
+
+    lo, hi = _edge(rho, 14000, 15000), _edge(rho, 15000, 16500)
+    assert (round(lo), round(hi)) == (14371, 15938)
+    assert "14371 to\n15938 rpm" in README or "14371 to 15938 rpm" in README
+    f_n = model_at_speed(scene, 3319 * RPM).natural_frequency
+    assert f"{23 * lo / 60 / f_n:.3f}" == "1.891" and f"{23 * hi / 60 / f_n:.3f}" == "2.097"
+
+
+def test_backlash_sweep_jump_speeds() -> None:
+    """README and docs/sweep.md: the backlash scene jumps up between 6100 and 6200 rpm sweeping up
+    and down between 4900 and 4800 rpm sweeping down (softening resonance with hysteresis), on
+    the 100-rpm grid of the documented sweep."""
+    from gear_dyn.analysis.sweep import jumps
+    from gear_dyn.scene import load_scene
+    from gear_dyn.scene.sweep import sweep_scene
+
+    scene = load_scene(ROOT / "gear_dyn" / "scenes" / "helicopter_tail_backlash.toml")
+    res = sweep_scene(scene, np.arange(4600.0, 6401.0, 100.0) * RPM, workers=1,
+                      direction="both")
+    up = [(round(j["from_rpm"]), round(j["to_rpm"])) for j in jumps(res.curve("up"))]
+    down = [(round(j["from_rpm"]), round(j["to_rpm"])) for j in jumps(res.curve("down"))]
+    assert (6100, 6200) in up and (4900, 4800) in down, (up, down)
