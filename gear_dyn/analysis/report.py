@@ -3,19 +3,17 @@
 from __future__ import annotations
 
 import math
-from typing import Any, Protocol, runtime_checkable
+from typing import Any
 
 import numpy as np
 
 from gear_dyn.analysis.spectrum import amplitude_spectrum, find_peaks
 from gear_dyn.solvers import Result
 
-
-@runtime_checkable
-class Provenance(Protocol):
-    """Where a result came from (a :class:`gear_dyn.scene.Scene` is one)."""
-
-    def facts(self) -> dict[str, Any]: ...
+#: the keys of :func:`gear_dyn.scene.build.scene_facts`, listed first in summaries
+SCENE_FACTS = ("scene", "model", "input_speed_rpm", "output_speed_rpm", "contact_ratio",
+               "overlap_ratio", "center_distance_m", "geometric_backlash_m", "stiffness_method",
+               "fourier_terms")
 
 
 def dominant_peak(result: Result, name: str = "dte") -> tuple[float, float]:
@@ -34,8 +32,8 @@ def summarize(result: Result) -> dict[str, Any]:
     ptp_dte_m, mean_dte_m, dominant_frequency_hz, solver {...}; plus what the model offers.
     """
     out: dict[str, Any] = {"mesh_frequency_hz": result.mesh_frequency}
-    if isinstance(result.scene, Provenance):  # e.g. a Scene: what it says about the case
-        out.update(result.scene.facts())
+    # what a scene says about the case (run_scene puts it in extra), first as in earlier files
+    out.update({k: result.extra[k] for k in SCENE_FACTS if k in result.extra})
     k = result.outputs.get("stiffness")
     if k is not None and "mean_mesh_stiffness_n_per_m" not in result.extra:
         out["mean_mesh_stiffness_n_per_m"] = float(np.mean(k[result.steady]))

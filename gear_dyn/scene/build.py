@@ -165,9 +165,13 @@ def build_plan(scene: Scene, **overrides: Any) -> RunPlan:
 
 
 def run_scene(scene: Scene, **overrides: Any) -> Result:
-    """Build and simulate a scene; the Result carries the scene."""
+    """Build and simulate a scene; the Result carries the scene and, in ``extra``, what the
+    scene says about the case (:func:`scene_facts`: speeds, contact ratio, backlash, ...)."""
     plan = build_plan(scene, **overrides)
     try:
-        return simulate(plan.model, plan.t_end, plan.settings, plan.steady_start, scene=scene)
+        result = simulate(plan.model, plan.t_end, plan.settings, plan.steady_start, scene=scene)
     except InputError as exc:  # e.g. a run too long for the solver: name the file
         raise _wrap(scene, exc) from None
+    for key, value in scene_facts(scene).items():
+        result.extra.setdefault(key, value)  # the model's own figures take precedence
+    return result

@@ -42,13 +42,6 @@ class Scene:
             return self.tables[name]
         return SECTIONS[name].parse({}, self.source) if _all_defaults(name) else {}
 
-    def facts(self) -> dict[str, Any]:
-        """What the scene says about the case, for run summaries (SI units in the key names):
-        scene, model, speeds, contact and overlap ratios, centre distance, backlash, stiffness."""
-        from gear_dyn.scene.build import scene_facts
-
-        return scene_facts(self)
-
     @property
     def name(self) -> str:
         """Case name (file stem if not given)."""

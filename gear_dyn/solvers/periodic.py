@@ -100,7 +100,8 @@ def _step_maps(model: Any, t0: float, dt: float, n_steps: int, rtol: float
 
 
 def propagate_periodic(
-    model: Model, t_grid: FloatArray, settings: Any = None, y0: FloatArray | None = None
+    model: Model, t_grid: FloatArray, settings: SolverSettings | None = None,
+    y0: FloatArray | None = None
 ) -> tuple[FloatArray, dict[str, Any]]:
     """States of a linear periodic model on a commensurate uniform grid by recurring step maps.
 
@@ -118,10 +119,10 @@ def propagate_periodic(
         Failed integration of the maps or non-finite states.
     """
     t_grid = np.asarray(t_grid, dtype=float)
-    rtol = float(getattr(settings, "rtol", 1e-8))
+    settings = settings if settings is not None else SolverSettings()
+    rtol = settings.rtol
     if not periodic_map_applies(model, t_grid):
-        s = settings if settings is not None else SolverSettings()
-        y, st = integrate_ode(model, t_grid, replace(s, method="LSODA"), y0)
+        y, st = integrate_ode(model, t_grid, replace(settings, method="LSODA"), y0)
         return y, {**st, "method": "LSODA"}
     y = np.array(model.initial_state() if y0 is None else y0, dtype=float)
     n = y.size
