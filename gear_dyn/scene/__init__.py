@@ -1,12 +1,11 @@
 """TOML scenes: one table per part; a table left out disables that part at no cost.
 
-Feature modules that declare their own tables are listed in :data:`FEATURE_MODULES` and imported
-on first use (so the core loads fast and optional parts stay optional).
+The adapters of the optional parts (:mod:`.eccentricity`: eccentricity, friction, torsional
+model; :mod:`.modification`: tip relief) register their tables and model builders when imported;
+:func:`load_feature_sections` imports them on first use, so the core loads fast.
 """
 
 from __future__ import annotations
-
-import importlib
 
 from gear_dyn.scene import core  # noqa: F401  (registers the core tables)
 from gear_dyn.scene.build import (
@@ -32,8 +31,8 @@ def load_feature_sections() -> None:
     global _loaded
     if _loaded:
         return
-    for name in FEATURE_MODULES:
-        importlib.import_module(name)
+    from gear_dyn.scene import eccentricity, modification  # noqa: F401  (they register)
+
     _loaded = True
 
 
