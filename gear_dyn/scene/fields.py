@@ -1,8 +1,8 @@
 """Declarative scene fields: name, unit, kind, default and valid range.
 
-Text with a unit is converted by :mod:`gear_dyn.units` (pint), at the edge only. A dimensional
-field needs its unit (``"6 mm"``, ``"3319 rpm"``, ``"22.5 deg"``): a plain number there is refused
-with the readings it could have (zero needs none); dimensionless fields take plain numbers.
+Text with a unit is converted by :mod:`gear_dyn.units` (pint), at the edge only. A plain number
+is taken as SI (metres, radians, rad/s, N m, ...); a string carries its unit (``"6 mm"``,
+``"3319 rpm"``, ``"22.5 deg"``).
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from typing import Any
 
 from gear_dyn.errors import SceneError, range_text
 from gear_dyn.units import dimension_text as _dim_text
-from gear_dyn.units import parse_quantity, plain_number_message
+from gear_dyn.units import parse_quantity
 
 REQUIRED: Any = object()
 
@@ -66,12 +66,8 @@ class Field:
     choices: tuple[str, ...] | None = None
     doc: str = ""
 
-    def parse(self, raw: Any, where: str, si: bool = False) -> Any:
-        """Convert a raw TOML value to SI and check it; ``where`` is 'file: section.key'.
-
-        ``si``: plain numbers are already SI (values a program hands over, e.g. an FMU's
-        parameters or a stored scene); user text (``si`` False) needs its unit.
-        """
+    def parse(self, raw: Any, where: str) -> Any:
+        """Convert a raw TOML value to SI and check it; ``where`` is 'file: section.key'."""
         if self.kind == "str":
             if not isinstance(raw, str):
                 raise SceneError(f"{where} = {raw!r}: expected a string")
@@ -91,15 +87,15 @@ class Field:
                 raise SceneError(
                     f"{where} = {raw!r}: expected a non-empty list of {_dim_text(self.unit)}"
                 )
-            return [self._number(v, f"{where}[{i}]", si) for i, v in enumerate(raw)]
-        value = self._number(raw, where, si)
+            return [self._number(v, f"{where}[{i}]") for i, v in enumerate(raw)]
+        value = self._number(raw, where)
         if self.kind == "int":
             if value != int(value):
                 raise SceneError(f"{where} = {raw!r}: expected a whole number")
             return int(value)
         return value
 
-    def _number(self, raw: Any, where: str, si: bool = False) -> float:
+    def _number(self, raw: Any, where: str) -> float:
         unit_txt = f" {self.unit}" if self.unit else ""
         rng = range_text(self.low, self.high, self.low_open, self.high_open, self.unit)
         if isinstance(raw, bool) or not isinstance(raw, int | float | str):
@@ -110,8 +106,6 @@ class Field:
             value = self._parse_quantity(raw, where, rng)
         else:
             value = float(raw)
-            if self.unit and not si and value != 0.0 and math.isfinite(value):
-                raise SceneError(plain_number_message(where, value, self.unit))
         if not math.isfinite(value):
             raise SceneError(f"{where} = {raw!r}: must be a finite number; valid range {rng}")
         if value != 0.0 and abs(value) < TINY:
@@ -145,7 +139,7 @@ class Section:
     #: present in a scene whose model does not use it is refused, never silently ignored.
     models: tuple[str, ...] | None = None
 
-    def parse(self, raw: Any, source: str, si: bool = False) -> dict[str, Any]:
+    def parse(self, raw: Any, source: str) -> dict[str, Any]:
         """Validated dict of SI values with defaults filled in."""
         where = f"{source}: [{self.name}]"
         if not isinstance(raw, Mapping):
@@ -162,7 +156,7 @@ class Section:
         out: dict[str, Any] = {}
         for f in self.fields:
             if f.name in raw:
-                out[f.name] = f.parse(raw[f.name], f"{source}: {self.name}.{f.name}", si)
+                out[f.name] = f.parse(raw[f.name], f"{source}: {self.name}.{f.name}")
             elif f.default is REQUIRED:
                 raise SceneError(
                     f"{source}: {self.name}.{f.name}: missing required key ({f.doc or f.name}"

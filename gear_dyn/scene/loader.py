@@ -101,11 +101,8 @@ def _all_defaults(name: str) -> bool:
     return all(f.default is not REQUIRED for f in SECTIONS[name].fields)
 
 
-def parse_scene(data: dict[str, Any], source: str = "<dict>", si: bool = False) -> Scene:
+def parse_scene(data: dict[str, Any], source: str = "<dict>") -> Scene:
     """Validate a scene given as a dict (the parsed TOML).
-
-    Dimensional values need their unit (``"6 mm"``); with ``si`` True plain numbers are taken as
-    SI (for values a program hands over: a scene stored in an FMU, tables rebuilt from a Scene).
 
     Raises
     ------
@@ -126,7 +123,7 @@ def parse_scene(data: dict[str, Any], source: str = "<dict>", si: bool = False) 
             raise SceneError(
                 f"{source}: [{key}]: unknown table{mean} (valid tables: {', '.join(SECTIONS)})"
             )
-        tables[key] = SECTIONS[key].parse(value, source, si)
+        tables[key] = SECTIONS[key].parse(value, source)
     model = tables.get("scene", {}).get("model", "sdof")
     for name in tables:
         kinds = SECTIONS[name].models

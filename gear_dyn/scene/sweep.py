@@ -105,10 +105,9 @@ def sweep_scene(scene: Scene, speeds: Any, **kwargs: Any) -> SweepResult:
 
 
 def parse_speed_range(text: str) -> FloatArray:
-    """Speeds from ``START:STOP:N`` with units, in rad/s (the scene rule: a plain number is
-    refused with its readings, e.g. ``"600 rpm"``).
+    """Speeds from ``START:STOP:N`` (units allowed; plain numbers are rpm), in rad/s.
 
-    >>> parse_speed_range("600 rpm:1200 rpm:3") * 60 / (2 * math.pi)
+    >>> parse_speed_range("600:1200:3") * 60 / (2 * math.pi)
     array([ 600.,  900., 1200.])
 
     Raises
@@ -130,7 +129,13 @@ def parse_speed_range(text: str) -> FloatArray:
             # pint reads 1 Hz as 1 rad/s (radians are dimensionless): 2 pi off for a shaft
             raise InputError(f"--speeds {label} = {part!r}: Hz is ambiguous for a shaft speed "
                              "(it would be read as rad/s); write e.g. '600 rpm' or '10 turn/s'")
-        ends.append(fld.parse(part, f"--speeds {label}"))
+        try:
+            v = float(part) * RPM
+        except ValueError:
+            v = fld.parse(part, f"--speeds {label}")
+        else:
+            v = fld.parse(v, f"--speeds {label} ({part} rpm)")
+        ends.append(v)
     try:
         n = int(parts[2])
     except ValueError:

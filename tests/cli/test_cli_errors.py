@@ -194,7 +194,7 @@ def _subcommands() -> dict[str, argparse.ArgumentParser]:
 
 
 #: sample values for required options other than --out
-_SAMPLES = {"speeds": "1000 rpm:2000 rpm:3"}
+_SAMPLES = {"speeds": "1000:2000:3"}
 
 
 def _command_lines(sub: argparse.ArgumentParser, scene: str, out: str,
