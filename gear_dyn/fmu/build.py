@@ -250,6 +250,11 @@ def complete_model_description(xml: bytes, spec: dict[str, Any]) -> bytes:
     ms = root.find("ModelStructure")
     if ms is None:
         ms = ET.SubElement(root, "ModelStructure")
+    # no direct feedthrough: outputs are computed from the state at doStep (and at
+    # exitInitializationMode) only, so setting an input changes no output before the next step
+    out_list = ms.find("Outputs")
+    for unknown in [] if out_list is None else out_list.findall("Unknown"):
+        unknown.set("dependencies", "")
     if outputs and ms.find("InitialUnknowns") is None:
         iu = ET.SubElement(ms, "InitialUnknowns")
         for index in outputs:
