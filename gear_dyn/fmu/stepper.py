@@ -114,8 +114,9 @@ class Stepper:
     y0 : ndarray or None
         Initial state; None uses ``model.initial_state()``.
     stop_time : float or None
-        Expected end of the run in s (the switching instants up to it are found at once);
-        stepping beyond it still works.
+        End of the run announced by the master in s; kept for information only: the steps
+        taken (switching windows, solver bounds) never depend on it, so the outputs at t do
+        not depend on what the master plans after t.
 
     Raises
     ------
@@ -160,18 +161,16 @@ class Stepper:
         return self.settings.rtol * np.asarray(self.model.state_scale, dtype=float)
 
     def _next_switch(self, t: float) -> float:
-        """First switching instant after ``t``, from switching times computed for a long
-        window at once (up to the stop time when known, as :func:`gear_dyn.solvers.integrate`
-        does): some models find them numerically, which is too costly per restart."""
+        """First switching instant after ``t``, from switching times computed for windows of
+        64 mesh periods from the start time (some models find them numerically, too costly per
+        restart); the windows never depend on the announced stop time."""
         sw = self._switches
         i = int(np.searchsorted(sw, t, side="right"))
         if i < sw.size:
             return float(sw[i])
         period = 1.0 / self.model.mesh_frequency
         if self._switch_end is None:
-            start = t
-            long = math.isfinite(self.stop_time) and self.stop_time > t + period
-            end = self.stop_time if long else t + 64.0 * period
+            start, end = t, t + 64.0 * period
         else:  # windows overlap by half a period: an instant on a window end is not lost
             start = max(t, self._switch_end - 0.5 * period)
             end = start + 64.0 * period
@@ -187,9 +186,9 @@ class Stepper:
     def _new_solver(self, t: float, y: FloatArray) -> OdeSolver:
         cls = ODE_CLASSES[self.method]
         extra: dict[str, Any] = {"jac": self.model.jac} if self.method in IMPLICIT else {}
+        # neither the switching windows nor the solver's bound depend on the announced stop
+        # time: an FMU's outputs at t must not depend on what the master plans after t
         t_bound = self._next_switch(t)
-        if t < self.stop_time < t_bound:
-            t_bound = self.stop_time  # as solve_ivp's last piece: no step beyond the stop time
         return cls(self.model.rhs, t, y, t_bound, rtol=self.settings.rtol, atol=self.atol,
                    max_step=self.settings.max_step, **extra)
 

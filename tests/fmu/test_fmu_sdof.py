@@ -382,3 +382,20 @@ def test_serialized_state_moves_to_a_fresh_instance(heli_fmu: Path) -> None:
             b.step(k * H, H)
             got.append(b.get(OUT))
     np.testing.assert_array_equal(np.array(got), np.array(expected))
+
+
+def test_outputs_declare_no_direct_feedthrough(heli_fmu: Path) -> None:
+    """ModelStructure declares every output with dependencies="" (no algebraic loop through
+    the FMU), and that is true: a new torque or speed input changes no output before the
+    next doStep, and does change them after it."""
+    root = ET.fromstring(zipfile.ZipFile(heli_fmu).read("modelDescription.xml"))
+    unknowns = root.find("ModelStructure").find("Outputs")  # type: ignore[union-attr]
+    assert all(u.get("dependencies") == "" for u in unknowns)  # type: ignore[union-attr]
+    with FmuSession(heli_fmu) as s:
+        s.instantiate()
+        _run(s, 4)
+        before = s.get(OUT)
+        s.set({"operating.torque": 3000.0, "operating.speed": 300.0})
+        assert s.get(OUT) == before
+        s.step(4 * H, H)
+        assert s.get(OUT) != before

@@ -44,12 +44,11 @@ def test_cosim_seed000_matches_solve_ivp(ecc_fmu: Path) -> None:
     """FMU (DOP853, its solver kept across communication points) against solve_ivp DOP853 at
     the scene's rtol = 1e-7, at two communication steps. The bound any two runs at this rtol
     must meet is 100 rtol of each output's RMS (the mesh force is a small deflection times a
-    large stiffness, so it carries ~10x the states' relative error). The FMU does better: it
-    integrates the same pieces between the same switching instants, up to the announced stop
-    time, with one solver kept across communication points, so it takes solve_ivp's very
-    steps: the states agree to rounding, the outputs to 1e-9 of their RMS (the FMU evaluates
-    the eccentric kinematics one instant at a time, the reference on the whole grid, and their
-    fixed-point iteration stops on a grid-wide criterion), whatever the communication step."""
+    large stiffness, so it carries ~10x the states' relative error). The FMU keeps one solver
+    across communication points, so the communication step only decides where it is read:
+    the coarse points, a subset of the fine ones, show the same differences. (The FMU's
+    switching windows and solver bounds do not depend on the announced stop time, unlike
+    solve_ivp's: the two take slightly different steps near the stop time.)"""
     report = compare(ecc_fmu, stop_time=8 / F_M, outputs=OUTPUTS,
                      steps=[1 / (16 * F_M), 1 / (4 * F_M)])
     assert report.rtol == 1e-7
@@ -57,7 +56,6 @@ def test_cosim_seed000_matches_solve_ivp(ecc_fmu: Path) -> None:
     for step in report.steps:
         for name in OUTPUTS:
             assert step.max_diff[name] <= 100 * report.rtol * report.scales[name], (step, name)
-            assert step.max_diff[name] <= 1e-9 * report.scales[name], (step, name)
     coarse, fine = report.steps
     for name in OUTPUTS:
         # coarse points are a subset of the fine ones: same differences there
