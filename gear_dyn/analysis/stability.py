@@ -34,7 +34,6 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.integrate import solve_ivp
 from scipy.linalg import expm
 
 from gear_dyn.errors import InputError, SolverError, check_range
@@ -193,6 +192,8 @@ def _integrate_cut(model: MeshModel, rhs: Any, z0: FloatArray, t0: float, t1: fl
     ``rhs(ta, tb)`` returns the right-hand side to use on the piece [ta, tb] (so a stiffness
     that is constant on the piece is evaluated once, not at every step).
     """
+    from scipy.integrate import solve_ivp  # on use: scipy.integrate costs ~0.25 s to import
+
     cuts = np.concatenate([[t0], model.switching_times(t0, t1), [t1]])
     z = np.asarray(z0, dtype=float)
     for ta, tb in zip(cuts[:-1], cuts[1:], strict=True):
@@ -241,6 +242,8 @@ def flow_on_grid(model: MeshModel, y0: FloatArray, t_grid: FloatArray, rtol: flo
     SolverError
         Integration failure or non-finite states.
     """
+    from scipy.integrate import solve_ivp  # on use: scipy.integrate costs ~0.25 s to import
+
     model = _require_sdof(model)
     t_grid = np.asarray(t_grid, dtype=float)
     if atol is None:
