@@ -23,7 +23,6 @@ from typing import Any
 
 from gear_dyn.errors import InputError, SceneError
 
-
 #: relief curve names of ``gear_dyn.modification.relief.CURVES``, spelt out so that building the
 #: parser imports no physics (tests/cli/test_cli_startup.py checks they agree)
 CURVES: tuple[str, ...] = ("linear", "yoshio", "walker", "parabolic", "sine")

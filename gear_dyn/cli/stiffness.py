@@ -16,7 +16,6 @@ from typing import Any
 
 from gear_dyn.errors import InputError
 
-
 #: stiffness methods of ``gear_dyn.stiffness.select.METHODS``, spelt out so that building the
 #: parser imports no physics (tests/cli/test_cli_startup.py checks they agree)
 METHODS: tuple[str, ...] = ("rectangular", "iso6336", "potential_energy", "weber", "contact_line")
