@@ -100,6 +100,15 @@ def estimate_error(
             "basis": "rounding level of the exact propagator",
             "relative_to": "static deflection W/k_m",
         }
+    if settings.method == "exact_contact":  # closed form between located contact changes
+        from gear_dyn.solvers.contact_exact import rounding_bound
+
+        return {
+            "max_rel": rounding_bound(y, np.asarray(model.state_scale),
+                                      int(stats.get("n_segments", 1))),
+            "basis": "rounding level of the closed form between located contact changes",
+            "relative_to": "static deflection W/k_m",
+        }
     import time
 
     period = 1.0 / model.mesh_frequency
