@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 import statistics
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field, replace
 from typing import Any
 
@@ -180,6 +180,7 @@ def run_bench(
     samples_per_period: int = 64,
     budget_s: float = 20.0,
     baseline: bool = True,
+    progress: Callable[[int, int], None] | None = None,
 ) -> BenchReport:
     """Benchmark every method and tolerance on ``model`` over ``[0, t_end]``.
 
@@ -203,6 +204,8 @@ def run_bench(
         skipped (recorded with status ``skipped``).
     baseline : bool
         Also run RK45 once over the whole span (the hand-written baseline).
+    progress : callable or None
+        Called as ``progress(done, total)`` after the reference and after each case.
 
     Raises
     ------
@@ -217,20 +220,28 @@ def run_bench(
     t_grid = time_grid(model.mesh_frequency, t_end, samples_per_period)
     if t_grid.size < 8:
         raise InputError(f"bench span {t_end:.6g} s is too short; valid range >= 8 samples")
+    rt = sorted(rtols, reverse=True)
+    runs: list[tuple[str, str]] = [(m, "restart") for m in methods]
+    if not exact_applies(model) and periodic_map_applies(model, t_grid):
+        runs.insert(0, ("periodic", "periodic"))
+    if baseline:
+        runs.append(("RK45", "once"))
+    total = 1 + int(exact_applies(model)) + len(runs) * len(rt)
+
+    def tick(cases: list[BenchCase]) -> None:
+        if progress is not None:
+            progress(1 + len(cases), total)
+
     ref = reference_solution(model, t_grid)
     cases: list[BenchCase] = []
-    rt = sorted(rtols, reverse=True)
+    tick(cases)
     if exact_applies(model):
         c = run_case(model, ref, "exact", "exact", 1e-8, repeats)
         if ref.kind == "exact propagator":  # it is its own reference: state its rounding level
             c = replace(c, err_max=ref.own_error, err_rms=ref.own_error,
                         message="error = rounding estimate (the exact run is the reference)")
         cases.append(c)
-    runs: list[tuple[str, str]] = [(m, "restart") for m in methods]
-    if not exact_applies(model) and periodic_map_applies(model, t_grid):
-        runs.insert(0, ("periodic", "periodic"))
-    if baseline:
-        runs.append(("RK45", "once"))
+        tick(cases)
     for method, mode in runs:
         over = False
         for r in rt:
@@ -238,9 +249,11 @@ def run_bench(
                 cases.append(BenchCase(method, mode, r, math.nan, math.nan, 0, math.nan,
                                        math.nan, 0, 0, 0, 0, status="skipped",
                                        message=f"looser rtol took > {budget_s:g} s"))
+                tick(cases)
                 continue
             c = run_case(model, ref, method, mode, r, repeats, budget_s)
             cases.append(c)
+            tick(cases)
             over = c.status == "ok" and c.run_time_s > budget_s
     return BenchReport(
         name=name, t_end=float(t_grid[-1]), n_periods=float(t_grid[-1] * model.mesh_frequency),

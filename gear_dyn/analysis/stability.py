@@ -34,7 +34,6 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.integrate import solve_ivp
 from scipy.linalg import expm
 
 from gear_dyn.errors import InputError, SolverError, check_range
@@ -224,6 +223,8 @@ def _piece(f: Any, ta: float, tb: float, z: FloatArray, t_eval: FloatArray, even
     buys is the integrator's full order on both sides (a step across the kink loses it, and with
     it the accuracy of the sensitivities: 3e-4 in a Floquet multiplier, seen in a test).
     """
+    from scipy.integrate import solve_ivp  # on use: scipy.integrate costs ~0.25 s to import
+
     if events:
         ys, z_end, _ = solve_piece_with_events(f, ta, tb, z, t_eval, events, "DOP853", rtol,
                                                atol, math.inf, {})

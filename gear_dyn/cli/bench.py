@@ -38,6 +38,8 @@ def register(sub: Any) -> None:
                    "are skipped (default 20)")
     p.add_argument("--target", type=float, default=1e-6,
                    help="target max error for the headline recommendation (default 1e-6)")
+    p.add_argument("--quiet", action="store_true",
+                   help="no progress bar on stderr (there is none when stderr is not a terminal)")
     p.set_defaults(func=run)
 
 
@@ -62,7 +64,6 @@ def _csv(cols: dict[str, list[Any]]) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-
     from gear_dyn.analysis.bench import markdown_table, run_bench, summary_dict, table_columns
     from gear_dyn.io import save_figure, staged_output, write_json, write_text
     from gear_dyn.plots.bench import plot_work_precision
@@ -83,9 +84,14 @@ def run(args: argparse.Namespace) -> int:
     scene = load_scene(args.scene)
     ov = {"periods": args.periods} if args.periods is not None else {}
     plan = build_plan(scene, **ov)
+    show = None
+    if not args.quiet and sys.stderr.isatty():
+        from gear_dyn.cli.sweep import progress_bar
+
+        show = progress_bar(sys.stderr, unit="cases")
     report = run_bench(plan.model, plan.t_end, name=scene.name, methods=methods, rtols=rtols,
                        repeats=args.repeats, samples_per_period=plan.settings.samples_per_period,
-                       budget_s=args.budget)
+                       budget_s=args.budget, progress=show)
     targets = tuple(sorted({*TARGETS, args.target}, reverse=True))
     md = markdown_table(report, targets)
     cmd = "gear-dyn bench " + " ".join(sys.argv[2:]) if len(sys.argv) > 2 else "gear-dyn bench"

@@ -23,10 +23,12 @@ from typing import Any
 
 from gear_dyn.errors import InputError, SceneError
 
+#: relief curve names of ``gear_dyn.modification.relief.CURVES``, spelt out so that building the
+#: parser imports no physics (tests/cli/test_cli_startup.py checks they agree)
+CURVES: tuple[str, ...] = ("linear", "yoshio", "walker", "parabolic", "sine")
+
 
 def register(sub: Any) -> None:
-    from gear_dyn.modification.relief import CURVES
-
     p = sub.add_parser(
         "contact", help="loaded contact with tip relief: load sharing, contact stress, K_TPM",
         description="Loaded-contact analysis of SCENE's spur pair at its torque: the unmodified "

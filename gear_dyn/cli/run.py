@@ -12,8 +12,8 @@ from gear_dyn.errors import InputError
 
 def add_solver_flags(p: argparse.ArgumentParser) -> None:
     """The solver override flags shared by commands that integrate."""
-    p.add_argument("--method", help="override [solver] method (auto, exact, RK45, DOP853, "
-                   "Radau, BDF, LSODA)")
+    p.add_argument("--method", help="override [solver] method (auto, exact, exact_contact, "
+                   "periodic, RK45, DOP853, Radau, BDF, LSODA)")
     p.add_argument("--rtol", type=float, help="override [solver] rtol")
     p.add_argument("--atol", type=float, help="override [solver] atol")
     p.add_argument("--periods", type=int, help="override [solver] periods (mesh periods)")

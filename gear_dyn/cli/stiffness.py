@@ -16,10 +16,12 @@ from typing import Any
 
 from gear_dyn.errors import InputError
 
+#: stiffness methods of ``gear_dyn.stiffness.select.METHODS``, spelt out so that building the
+#: parser imports no physics (tests/cli/test_cli_startup.py checks they agree)
+METHODS: tuple[str, ...] = ("rectangular", "iso6336", "potential_energy", "weber", "contact_line")
+
 
 def register(sub: Any) -> None:
-    from gear_dyn.stiffness.select import METHODS
-
     p = sub.add_parser(
         "stiffness", help="mesh stiffness of a scene's gear pair by several methods",
         description="Compute the mesh stiffness of SCENE's pair by the chosen methods and write "

@@ -42,16 +42,18 @@ def register(sub: Any) -> None:
     p.add_argument("--harmonics", type=int, default=5, help="mesh harmonics in the spectra")
     p.add_argument("--chart", choices=("stiffness", "damping", "both", "none"), default="both",
                    help="stability chart axes besides f_m/f_n (default both)")
-    p.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    p.add_argument("--no-progress", "--quiet", dest="no_progress", action="store_true",
+                   help="no progress bar on stderr (there is none when stderr is not a terminal)")
     add_solver_flags(p)
     p.set_defaults(func=run)
 
 
-def progress_bar(stream: TextIO, width: int = 40) -> Callable[[int, int], None]:
-    """A text progress bar redrawn in place on ``stream`` (``[####....] 12/200``)."""
+def progress_bar(stream: TextIO, width: int = 40, unit: str = "speeds"
+                 ) -> Callable[[int, int], None]:
+    """A text progress bar redrawn in place on ``stream`` (``[####....] 12/200 speeds``)."""
     def show(done: int, total: int) -> None:
         n = int(width * done / max(total, 1))
-        stream.write(f"\r[{'#' * n}{'.' * (width - n)}] {done}/{total} speeds")
+        stream.write(f"\r[{'#' * n}{'.' * (width - n)}] {done}/{total} {unit}")
         if done >= total:
             stream.write("\n")
         stream.flush()

@@ -24,13 +24,13 @@ from numpy.typing import NDArray
 from gear_dyn.errors import InputError, SolverError
 from gear_dyn.fmu.build import read_spec
 from gear_dyn.fmu.inputs import driven_speed
+from gear_dyn.fmu.stepper import stepper_method
 from gear_dyn.scene import Scene, build_pair, build_plan, parse_scene
 from gear_dyn.solvers import (
     DEFAULT_ODE_METHOD,
     METHODS,
     SolverSettings,
     integrate,
-    resolve_auto,
 )
 
 FloatArray = NDArray[np.float64]
@@ -358,7 +358,7 @@ def compare(fmu: str | Path, scene: Scene | None = None, steps: Sequence[float] 
     results, finest = _fmu_runs(fmu, grid, h0, ratios, ref, values, outputs)
     fmu_method = str(values.get("solver.method", base.get("solver")["method"]))
     if fmu_method == "auto":
-        fmu_method = f"auto -> {resolve_auto(plan.model)}"
+        fmu_method = f"auto -> {stepper_method(plan.model)}"
     return CosimReport(
         fmu=str(fmu), scene_name=base.name, fmu_method=fmu_method,
         reference_method=settings.method, rtol=settings.rtol, stop_time=float(grid[-1]),

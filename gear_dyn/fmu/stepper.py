@@ -32,7 +32,7 @@ from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, OdeSolver, Radau
 
 from gear_dyn.errors import InputError, SolverError
 from gear_dyn.models.base import Model
-from gear_dyn.solvers import IMPLICIT, SolverSettings, resolve_auto
+from gear_dyn.solvers import DEFAULT_ODE_METHOD, IMPLICIT, SolverSettings, resolve_auto
 from gear_dyn.solvers.exact import _Exponential  # the exact propagator's cached matrix exponential
 
 FloatArray = NDArray[np.float64]
@@ -42,6 +42,14 @@ EPS = float(np.finfo(float).eps)
 ODE_CLASSES: dict[str, type[OdeSolver]] = {
     "RK45": RK45, "RK23": RK23, "DOP853": DOP853, "Radau": Radau, "BDF": BDF, "LSODA": LSODA,
 }
+
+
+def stepper_method(model: Model) -> str:
+    """The method ``auto`` means for a stepper: the exact propagator where it applies, else
+    the solve_ivp default (the closed form between contact changes, which ``auto`` takes for a
+    whole run with backlash, is not kept alive across communication steps)."""
+    method = resolve_auto(model)
+    return method if method in ("exact", *ODE_CLASSES) else DEFAULT_ODE_METHOD
 
 
 class _Nested(dict[str, Any]):
@@ -126,7 +134,7 @@ class Stepper:
 
     def __init__(self, model: Model, settings: SolverSettings, t0: float = 0.0,
                  y0: FloatArray | None = None, stop_time: float | None = None) -> None:
-        method = resolve_auto(model) if settings.method == "auto" else settings.method
+        method = stepper_method(model) if settings.method == "auto" else settings.method
         if method == "exact" and model.linear_segments(0.0, 1.0 / model.mesh_frequency) is None:
             raise InputError("solver.method = 'exact' needs a linear model with "
                              "piecewise-constant coefficients; use DOP853 or LSODA")

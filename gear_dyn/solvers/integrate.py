@@ -1,7 +1,10 @@
 """Choose the integration method for a model and grid, and run it.
 
 ``auto`` picks the exact propagator for a linear model with piecewise-constant coefficients
-(:mod:`~gear_dyn.solvers.exact`), else ``periodic`` for a linear mesh-periodic model on a grid
+(:mod:`~gear_dyn.solvers.exact`), else the closed form between located contact changes for the
+single-DOF model with backlash and piecewise-constant stiffness
+(:mod:`~gear_dyn.solvers.contact_exact`), else ``periodic`` for a linear mesh-periodic model on a
+grid
 commensurate with the mesh period (:mod:`~gear_dyn.solvers.periodic`), else solve_ivp with
 :data:`~gear_dyn.solvers.settings.DEFAULT_ODE_METHOD` (:mod:`~gear_dyn.solvers.ode`).
 """
@@ -15,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.models.base import Model
+from gear_dyn.solvers.contact_exact import contact_exact_applies, propagate_contact_exact
 from gear_dyn.solvers.exact import exact_applies, propagate_exact
 from gear_dyn.solvers.ode import integrate_ode
 from gear_dyn.solvers.periodic import periodic_map_applies, propagate_periodic
@@ -24,12 +28,15 @@ FloatArray = NDArray[np.float64]
 
 
 def resolve_auto(model: Model) -> str:
-    """The method ``auto`` picks without a grid: ``exact`` where it applies, else LSODA.
+    """The method ``auto`` picks without a grid: ``exact`` or ``exact_contact`` where they
+    apply, else LSODA.
 
     (:func:`integrate` further replaces LSODA by ``periodic`` for a linear mesh-periodic model on
     a grid commensurate with the mesh period; that choice needs the grid.)
     """
-    return "exact" if exact_applies(model) else DEFAULT_ODE_METHOD
+    if exact_applies(model):
+        return "exact"
+    return "exact_contact" if contact_exact_applies(model) else DEFAULT_ODE_METHOD
 
 
 def resolve_method(model: Model, t_grid: FloatArray, method: str) -> str:
@@ -37,7 +44,8 @@ def resolve_method(model: Model, t_grid: FloatArray, method: str) -> str:
     if method != "auto":
         return method
     chosen = resolve_auto(model)
-    if chosen != "exact" and periodic_map_applies(model, np.asarray(t_grid, dtype=float)):
+    t_arr = np.asarray(t_grid, dtype=float)
+    if chosen == DEFAULT_ODE_METHOD and periodic_map_applies(model, t_arr):
         return "periodic"  # linear, mesh-periodic: one period of integration
     return chosen
 
@@ -63,6 +71,8 @@ def integrate(
     run = replace(settings, method=method)
     if method == "exact":
         y, st = propagate_exact(model, t_grid, run, y0)
+    elif method == "exact_contact":
+        y, st = propagate_contact_exact(model, t_grid, run, y0)
     elif method == "periodic":
         y, st = propagate_periodic(model, t_grid, run, y0)
     else:

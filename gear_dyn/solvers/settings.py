@@ -7,7 +7,8 @@ from dataclasses import dataclass
 
 from gear_dyn.errors import InputError, check_range
 
-METHODS = ("auto", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA", "exact", "periodic")
+METHODS = ("auto", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA", "exact", "periodic",
+           "exact_contact")
 #: solve_ivp method of ``auto`` when the exact propagator does not apply. LSODA (restarted at
 #: each switching instant) was the fastest for every target error on the helicopter tail scene
 #: with rectangular and Fourier stiffness, heavy damping, a 1000x stiffer mesh and backlash

@@ -71,10 +71,14 @@ def test_smooth_reference_error_is_estimated_and_small() -> None:
 
 def test_run_bench_api_and_recommend() -> None:
     model = build_plan(load_scene(SCENE)).model
+    ticks: list[tuple[int, int]] = []
     rep = run_bench(model, 3 / model.mesh_frequency, name="t", methods=("RK45",),
-                    rtols=(1e-4, 1e-7), repeats=1, samples_per_period=32, baseline=False)
+                    rtols=(1e-4, 1e-7), repeats=1, samples_per_period=32, baseline=False,
+                    progress=lambda done, total: ticks.append((done, total)))
     labels = [c.label for c in rep.cases]
     assert labels == ["exact", "RK45", "RK45"]
+    # progress: the reference, then one tick per case, ending at the total
+    assert ticks == [(1, 4), (2, 4), (3, 4), (4, 4)]
     assert rep.cases[0].err_max < 1e-11  # the exact run states its rounding level
     best = rep.recommend(1e-6)
     assert best is not None and best.label == "exact"

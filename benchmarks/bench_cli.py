@@ -1,0 +1,183 @@
+"""Whole-process speed of ``gear-dyn run`` against the naive script, side by side.
+
+Run:  python benchmarks/bench_cli.py [--repeats 5] [--scenes helicopter_tail,...] [--out DIR]
+      [--record]
+
+What a user feels is the whole command: start-up, scene parsing, the solve, plots and files.
+For each scene this measures, in one run and interleaved (naive, gear-dyn, naive, gear-dyn, ...):
+
+1. ``python benchmarks/naive_run.py``: one ``solve_ivp(RK45)`` call, plain Python right-hand
+   side, and the same two PNGs (time history, spectrum), at its loosest rtol (of 1e-6..1e-11)
+   reaching max error <= 1e-6 of the static deflection against the reference;
+2. ``gear-dyn run SCENE --out DIR`` (the scene's own settings), whose error is read back from its
+   ``timeseries.csv`` (10 significant digits) and must also be <= 1e-6;
+
+and the ratio naive / gear-dyn pair by pair (median, min, max). It also times
+``gear-dyn --help`` and ``python -c "import gear_dyn"`` as whole processes. The reference is
+``gear_dyn.analysis.bench.reference_solution`` (the exact propagator, or DOP853 restarted at
+every switching instant and contact change at rtol 1e-13 for backlash).
+
+Writes ``cli.md`` into ``--out`` (default ``benchmarks/out/``, git-ignored); ``--record`` writes
+it into ``benchmarks/results/`` instead (the figures the README quotes).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from gear_dyn.analysis.accuracy import relative_errors
+from gear_dyn.analysis.bench import reference_solution
+from gear_dyn.scene import load_scene
+from gear_dyn.scene.build import build_plan
+from gear_dyn.solvers import output_grid
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENES = ("helicopter_tail", "helicopter_tail_backlash")
+TARGET = 1e-6
+RTOLS = (1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11)
+GEAR_DYN = str(Path(sys.executable).with_name("gear-dyn"))
+
+
+def spread(values: list[float]) -> str:
+    """``median (min..max)`` of ``values``."""
+    return f"{statistics.median(values):.3g} ({min(values):.3g}..{max(values):.3g})"
+
+
+def timed(cmd: list[str]) -> float:
+    """Wall time of one whole process in s (its output discarded; a failure raises)."""
+    t0 = time.perf_counter()
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                   env={**os.environ, "MPLBACKEND": "Agg"})
+    return time.perf_counter() - t0
+
+
+def naive_params(model: Any, t: np.ndarray, rtol: float) -> dict[str, Any]:
+    """The numbers the naive script needs (it imports nothing from gear_dyn)."""
+    edges, values = model.stiffness.segments()
+    return {"mass": model.mass, "damping": model.damping, "static_load": model.static_load,
+            "mesh_frequency": model.mesh_frequency, "f_switch": float(edges[1]),
+            "k_hi": float(values[0]), "k_lo": float(values[1]), "half_gap": model.backlash,
+            "y0": [float(v) for v in model.initial_state()], "t_end": float(t[-1]),
+            "n_samples": len(t), "rtol": rtol,
+            "atol": [rtol * float(s) for s in model.state_scale]}
+
+
+def naive_cmd(params: dict[str, Any], work: Path) -> list[str]:
+    pfile = work / f"params_{params['rtol']:.0e}.json"
+    pfile.write_text(json.dumps(params))
+    return [sys.executable, str(ROOT / "benchmarks" / "naive_run.py"), str(pfile),
+            str(work / "naive")]
+
+
+def bench_scene(name: str, repeats: int, work: Path) -> dict[str, Any]:
+    """One scene: the naive script at its loosest rtol reaching TARGET against gear-dyn run."""
+    path = ROOT / "examples" / "scenes" / f"{name}.toml"
+    plan = build_plan(load_scene(path))
+    model = plan.model
+    t = output_grid(model, plan.t_end, plan.settings)
+    ref = reference_solution(model, t)
+    chosen: dict[str, Any] | None = None
+    for rtol in RTOLS:
+        cmd = naive_cmd(naive_params(model, t, rtol), work)
+        timed(cmd)
+        err = relative_errors(model, t, np.load(work / "naive" / "y.npy"), ref.y)[0]
+        if err <= TARGET:
+            chosen = {"rtol": rtol, "cmd": cmd, "err": err}
+            break
+    if chosen is None:
+        raise SystemExit(f"{name}: the naive script does not reach {TARGET:g} at rtol 1e-11")
+    ours = [GEAR_DYN, "run", str(path), "--out", str(work / "gd")]
+    t_naive, t_ours = [], []
+    timed(ours)  # warm-up (pint's definition cache, file-system caches)
+    for _ in range(repeats):
+        t_naive.append(timed(chosen["cmd"]))
+        t_ours.append(timed(ours))
+    data = np.loadtxt(work / "gd" / "timeseries.csv", delimiter=",", skiprows=1)
+    err_ours = relative_errors(model, t, data[:, 1:3].T, ref.y)[0]
+    ratios = [a / b for a, b in zip(t_naive, t_ours, strict=True)]
+    return {"scene": name, "naive_rtol": chosen["rtol"], "naive_err": chosen["err"],
+            "ours_err": err_ours, "t_naive": t_naive, "t_ours": t_ours, "ratios": ratios,
+            "ref": ref.kind}
+
+
+def startup(repeats: int) -> dict[str, list[float]]:
+    """Whole-process times of ``gear-dyn --help`` and ``import gear_dyn``."""
+    out: dict[str, list[float]] = {"gear-dyn --help": [], "python -c 'import gear_dyn'": [],
+                                   "python -c 'pass'": []}
+    cmds = {"gear-dyn --help": [GEAR_DYN, "--help"],
+            "python -c 'import gear_dyn'": [sys.executable, "-c", "import gear_dyn"],
+            "python -c 'pass'": [sys.executable, "-c", "pass"]}
+    for cmd in cmds.values():
+        timed(cmd)
+    for _ in range(repeats):
+        for key, cmd in cmds.items():
+            out[key].append(timed(cmd))
+    return out
+
+
+def report(rows: list[dict[str, Any]], start: dict[str, list[float]], repeats: int) -> str:
+    lines = [
+        "# Whole-command speed: `gear-dyn run` vs the naive script (one side-by-side run)", "",
+        f"Produced by `python benchmarks/bench_cli.py --repeats {repeats}` on "
+        f"{platform.machine()} (Python {platform.python_version()}); {repeats} interleaved "
+        "pairs per scene, figures as median (min..max). The machine is shared (2 cores): the "
+        "ratios, measured pair by pair, are the figures to quote.", "",
+        "Naive script: `benchmarks/naive_run.py` (one `solve_ivp(RK45)` call, plain Python "
+        "right-hand side, pyplot time history + spectrum PNGs) at its loosest rtol reaching "
+        f"max error <= {TARGET:g} of the static deflection. `gear-dyn run SCENE --out DIR`: the "
+        "scene's own settings (also writes the CSV and summary.json).", "",
+        "| scene | naive rtol | naive error | gear-dyn error | naive (s) | gear-dyn run (s) "
+        "| ratio naive / gear-dyn |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        lines.append(
+            f"| {r['scene']} | {r['naive_rtol']:.0e} | {r['naive_err']:.1e} | "
+            f"{r['ours_err']:.1e} | {spread(r['t_naive'])} | {spread(r['t_ours'])} | "
+            f"**{spread(r['ratios'])}x** |")
+    lines += ["", "Start-up, whole processes:", "", "| command | wall time (s) |", "|---|---|"]
+    for key, vals in start.items():
+        lines.append(f"| `{key}` | {spread(vals)} |")
+    return "\n".join(lines) + "\n"
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--scenes", default=",".join(SCENES))
+    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "out")
+    ap.add_argument("--record", action="store_true",
+                    help="write into benchmarks/results/ (the recorded figures)")
+    args = ap.parse_args(argv)
+    out_dir = ROOT / "benchmarks" / "results" if args.record else args.out
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for name in args.scenes.split(","):
+            r = bench_scene(name.strip(), args.repeats, Path(tmp))
+            print(f"{r['scene']}: naive / gear-dyn run = {spread(r['ratios'])}x "
+                  f"(errors {r['naive_err']:.1e} / {r['ours_err']:.1e})", flush=True)
+            rows.append(r)
+    start = startup(args.repeats)
+    for key, vals in start.items():
+        print(f"{key}: {spread(vals)} s")
+    out_dir.mkdir(parents=True, exist_ok=True)
+    (out_dir / "cli.md").write_text(report(rows, start, args.repeats))
+    print(f"wrote {out_dir / 'cli.md'}")
+    return 0 if all(math.isfinite(statistics.median(r["ratios"])) for r in rows) else 1
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

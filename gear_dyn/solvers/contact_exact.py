@@ -1,0 +1,320 @@
+"""Exact propagation of the single-DOF model with backlash and piecewise-constant stiffness.
+
+``m x'' + c x' + k(t) f(x) = W`` with the dead zone f (half gap b): between a stiffness switch
+and a contact change the equation is linear with constant coefficients, in one of three contact
+states,
+
+- drive flank (x > b):  ``m x'' + c x' + k (x - b) = W``
+- gap (|x| <= b):       ``m x'' + c x' = W``
+- back flank (x < -b):  ``m x'' + c x' + k (x + b) = W``
+
+so the solution is closed-form on each piece (:func:`flow`: the Cayley-Hamilton form of the 2x2
+matrix exponential about the piece's equilibrium in contact; the exponential relaxation of the
+velocity in the gap). Contact changes (``x = +-b``) are located on that closed form: the piece is
+sampled at a spacing of at most a quarter of the contact state's damped period (so a sampling
+interval holds at most one extremum of x), a sign change of ``x -+ b`` brackets a crossing, a
+sign change of the velocity brackets an extremum that is checked too (a crossing and return
+inside one interval), and each bracket is closed by a safeguarded root finder (Illinois false
+position, bisection fallback, :func:`find_root`) to a few ulps of the time. The state is then
+carried exactly to the event and the next piece starts there. No step-size control, no
+truncation error: what is left is rounding and the event times' own rounding (stated by
+:func:`rounding_bound`). Method ``exact_contact``; ``auto`` takes it where it applies
+(:func:`contact_exact_applies`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gear_dyn.errors import InputError, SolverError
+from gear_dyn.models.base import Model
+
+FloatArray = NDArray[np.float64]
+
+#: contact states
+BACK, GAP, DRIVE = -1, 0, 1
+#: largest number of contact changes in one stiffness piece (a chattering graze ends in an error)
+MAX_EVENTS_PER_PIECE = 1000
+
+
+def contact_exact_applies(model: Model) -> bool:
+    """True for a mesh-periodic model with backlash, piecewise-constant stiffness and no TE."""
+    if not getattr(model, "mesh_periodic", False) or model.backlash is None:
+        return False
+    if getattr(model, "transmission_error", None) is not None:
+        return False
+    stiffness = getattr(model, "stiffness", None)
+    return stiffness is not None and stiffness.segments() is not None
+
+
+def flow(state: int, k: float, m: float, c: float, w: float, b: float, x0: float, v0: float,
+         s: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Closed-form ``x(s), v(s)`` (m, m/s) after ``s`` seconds in one contact state.
+
+    Parameters
+    ----------
+    state : int
+        ``DRIVE`` (+1), ``GAP`` (0) or ``BACK`` (-1).
+    k, m, c, w, b : float
+        Stiffness (N/m), mass (kg), damping (N s/m), static load (N), half gap (m).
+    x0, v0 : float
+        State at ``s = 0``.
+    s : ndarray
+        Times since the piece start in s (>= 0).
+    """
+    s = np.asarray(s, dtype=float)
+    a = c / m
+    if state == GAP:
+        if a == 0.0:
+            return x0 + v0 * s + 0.5 * (w / m) * s**2, v0 + (w / m) * s
+        e1 = -np.expm1(-a * s) / a  # (1 - e^{-a s}) / a, exact also for small a s
+        return x0 + v0 * e1 + (w / m) * (s - e1) / a, v0 + (w / m - a * v0) * e1
+    w2 = k / m
+    x_eq = state * b + w / k
+    u0 = x0 - x_eq
+    q2 = 0.25 * a * a - w2
+    if q2 < 0.0:  # underdamped: cos, sin
+        q = math.sqrt(-q2)
+        cs, sn = np.cos(q * s), np.sin(q * s) / q
+    elif q2 > 0.0:  # overdamped: cosh, sinh
+        q = math.sqrt(q2)
+        cs, sn = np.cosh(q * s), np.sinh(q * s) / q
+    else:
+        cs, sn = np.ones_like(s), s
+    dec = np.exp(-0.5 * a * s)
+    u = dec * (cs * u0 + sn * (v0 + 0.5 * a * u0))
+    v = dec * (cs * v0 - sn * (w2 * u0 + 0.5 * a * v0))
+    return x_eq + u, v
+
+
+def find_root(f: Callable[[float], float], lo: float, hi: float, f_lo: float, f_hi: float,
+              xtol: float) -> float:
+    """A root of ``f`` in ``[lo, hi]`` (``f_lo``, ``f_hi`` of opposite signs), to ``xtol``.
+
+    Illinois false position, safeguarded: a step that does not halve the bracket every other
+    iteration is replaced by bisection, so the bracket always shrinks (at most ~2 log2 of
+    ``(hi - lo) / xtol`` evaluations).
+    """
+    side = 0
+    width = hi - lo
+    for it in range(200):
+        if hi - lo <= xtol:
+            break
+        t = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
+        if not (lo < t < hi) or (it % 2 == 1 and hi - lo > 0.5 * width):
+            t = 0.5 * (lo + hi)
+        width = hi - lo
+        ft = f(t)
+        if ft == 0.0:
+            return t
+        if (ft > 0) == (f_hi > 0):
+            hi, f_hi = t, ft
+            if side == -1:
+                f_lo *= 0.5
+            side = -1
+        else:
+            lo, f_lo = t, ft
+            if side == 1:
+                f_hi *= 0.5
+            side = 1
+    return 0.5 * (lo + hi)
+
+
+class _Piece:
+    """The constants of one contact state in one stiffness piece."""
+
+    def __init__(self, model: Any, k: float, state: int) -> None:
+        self.m, self.c, self.w = float(model.mass), float(model.damping), float(model.static_load)
+        self.b, self.k, self.state = float(model.backlash), float(k), state
+        a = self.c / self.m
+        w2 = self.k / self.m if state != GAP else 0.0
+        wd2 = w2 - 0.25 * a * a
+        # sampling step: a quarter of the damped period (one extremum per interval at most)
+        self.h = 0.25 * 2 * math.pi / math.sqrt(wd2) if wd2 > 0 else math.inf
+
+    def at(self, x0: float, v0: float, s: FloatArray) -> tuple[FloatArray, FloatArray]:
+        return flow(self.state, self.k, self.m, self.c, self.w, self.b, x0, v0, s)
+
+    def levels(self) -> tuple[float, ...]:
+        """The contact boundaries this state can leave through."""
+        return (self.b, -self.b) if self.state == GAP else (self.state * self.b,)
+
+
+def _first_crossing(pc: _Piece, x0: float, v0: float, length: float, xtol: float
+                    ) -> float | None:
+    """Time of the first contact change after the piece start within ``length``, or None."""
+    n = max(2, math.ceil(length / pc.h)) if math.isfinite(pc.h) else 4
+    s = np.linspace(0.0, length, n + 1)
+    x, v = pc.at(x0, v0, s)
+    best: float | None = None
+    for level in pc.levels():
+        inside = 1.0 if pc.state == DRIVE or (pc.state == GAP and level < 0) else -1.0
+        g = (x - level) * inside  # >= 0 while in this state
+        g[0] = abs(g[0])  # the piece starts on or inside the boundary
+        hit = _bracket(pc, x0, v0, s, g, v * inside, level, inside, xtol)
+        if hit is not None and (best is None or hit < best):
+            best = hit
+    return best
+
+
+def _bracket(pc: _Piece, x0: float, v0: float, s: FloatArray, g: FloatArray, dg: FloatArray,
+             level: float, inside: float, xtol: float) -> float | None:
+    """First zero of ``g`` (sampled on ``s``, slope ``dg``) by sign change or by extremum."""
+    def gf(t: float) -> float:
+        return float((pc.at(x0, v0, np.array([t]))[0][0] - level) * inside)
+
+    def dgf(t: float) -> float:
+        return float(pc.at(x0, v0, np.array([t]))[1][0] * inside)
+
+    neg = np.flatnonzero(g[1:] < 0.0)
+    turn = np.flatnonzero((dg[:-1] < 0.0) & (dg[1:] > 0.0))  # a minimum of g inside
+    j_cross = int(neg[0]) if neg.size else None
+    for j in turn:
+        if j_cross is not None and j >= j_cross:
+            break
+        sm = find_root(dgf, float(s[j]), float(s[j + 1]), float(dg[j]), float(dg[j + 1]),
+                       xtol)
+        gm = gf(sm)
+        if gm < 0.0:  # dips below the boundary and returns inside the interval
+            return find_root(gf, float(s[j]), sm, float(g[j]), gm, xtol)
+    if j_cross is None:
+        return None
+    lo, hi = float(s[j_cross]), float(s[j_cross + 1])
+    return find_root(gf, lo, hi, float(g[j_cross]), float(g[j_cross + 1]), xtol)
+
+
+def _state_at(x: float, v: float, b: float) -> int:
+    if x > b or (x == b and v > 0):
+        return DRIVE
+    if x < -b or (x == -b and v < 0):
+        return BACK
+    return GAP
+
+
+def _next_state(state: int, x: float, v: float, b: float) -> int:
+    """Contact state entered at a located event (on a boundary, by the velocity's sign)."""
+    if state == GAP:
+        return DRIVE if v > 0 or x > 0 else BACK
+    return GAP
+
+
+def propagate_contact_exact(
+    model: Model, t_grid: FloatArray, settings: Any = None, y0: FloatArray | None = None
+) -> tuple[FloatArray, dict[str, Any]]:
+    """States of ``model`` on ``t_grid``: closed form between located contact changes.
+
+    Parameters
+    ----------
+    model : Model
+        Single-DOF mesh model with backlash, piecewise-constant stiffness, no transmission error
+        (:func:`contact_exact_applies`).
+    t_grid : ndarray
+        Increasing output times in s; the first is the initial time.
+    settings : SolverSettings, unused
+        Accepted for the solver registry's signature (there is no tolerance to set).
+    y0 : ndarray or None
+        Initial state [x, v]; None uses ``model.initial_state()``.
+
+    Returns
+    -------
+    y : ndarray (2, n_t)
+    stats : dict
+        ``nfev`` 0, ``n_segments`` (closed-form pieces), ``n_contact_events``, ``event_times``
+        (s, the located contact changes).
+
+    Raises
+    ------
+    InputError
+        The model is not of that kind.
+    SolverError
+        A chattering contact (too many events in one stiffness piece) or non-finite states.
+    """
+    del settings
+    if not contact_exact_applies(model):
+        raise InputError(
+            "solver.method = 'exact_contact' needs the single-DOF model with backlash, "
+            "piecewise-constant stiffness and no transmission error; use DOP853 or LSODA")
+    mm: Any = model
+    t_grid = np.asarray(t_grid, dtype=float)
+    t0, t1 = float(t_grid[0]), float(t_grid[-1])
+    cuts = np.concatenate([[t0], model.switching_times(t0, t1), [t1]])
+    kts = mm.stiffness(mm.phase(0.5 * (cuts[:-1] + cuts[1:])))
+    x, v = (float(u) for u in (model.initial_state() if y0 is None else y0))
+    b = float(mm.backlash)
+    xtol = 4 * float(np.spacing(max(abs(t0), abs(t1), 1e-300)))
+    cache: dict[tuple[float, int], _Piece] = {}
+    starts: list[float] = []
+    rows: list[tuple[_Piece, float, float]] = []
+    events: list[float] = []
+    state = _state_at(x, v, b)
+    for ta, tb, kt in zip(cuts[:-1].tolist(), cuts[1:].tolist(), kts.tolist(), strict=True):
+        t, n_ev = ta, 0
+        while t < tb:
+            pc = cache.get((kt, state)) or cache.setdefault((kt, state), _Piece(mm, kt, state))
+            starts.append(t)
+            rows.append((pc, x, v))
+            hit = _first_crossing(pc, x, v, tb - t, xtol)
+            if hit is None or t + hit >= tb:
+                xs, vs = pc.at(x, v, np.array([tb - t]))
+                x, v, t = float(xs[0]), float(vs[0]), tb
+                break
+            xs, vs = pc.at(x, v, np.array([hit]))
+            x, v, t = float(xs[0]), float(vs[0]), t + hit
+            x = b if abs(x - b) < abs(x + b) else -b  # exactly on the boundary it crossed
+            state = _next_state(state, x, v, b)
+            events.append(t)
+            n_ev += 1
+            if n_ev > MAX_EVENTS_PER_PIECE:
+                raise SolverError(
+                    f"exact_contact: more than {MAX_EVENTS_PER_PIECE} contact changes in one "
+                    f"stiffness piece at t = {t:.6g} s (a chattering graze); use LSODA")
+    out = _on_grid(t_grid, np.array(starts), rows)
+    if not np.all(np.isfinite(out)):
+        raise SolverError("exact_contact produced non-finite states: the response diverges")
+    stats = {"nfev": 0, "njev": 0, "nlu": 0, "n_segments": len(rows),
+             "n_contact_events": len(events), "event_times": np.array(events)}
+    return out, stats
+
+
+def _on_grid(t_grid: FloatArray, starts: FloatArray, rows: list[tuple[_Piece, float, float]]
+             ) -> FloatArray:
+    """The closed form of each grid point's piece, evaluated piece group by piece group."""
+    owner = np.clip(np.searchsorted(starts, t_grid, side="right") - 1, 0, len(rows) - 1)
+    tau = t_grid - starts[owner]
+    out = np.empty((2, t_grid.size))
+    pcs = [r[0] for r in rows]
+    ids = {id(p): p for p in pcs}
+    pid = np.array([id(p) for p in pcs])[owner]
+    x0 = np.array([r[1] for r in rows])[owner]
+    v0 = np.array([r[2] for r in rows])[owner]
+    for key, pc in ids.items():
+        sel = np.flatnonzero(pid == key)
+        if sel.size:
+            out[0, sel], out[1, sel] = _flow_many(pc, x0[sel], v0[sel], tau[sel])
+    return out
+
+
+def _flow_many(pc: _Piece, x0: FloatArray, v0: FloatArray, s: FloatArray
+               ) -> tuple[FloatArray, FloatArray]:
+    """:func:`flow` for many start states at once (the closed form is linear in them)."""
+    xa, va = flow(pc.state, pc.k, pc.m, pc.c, pc.w, pc.b, 0.0, 0.0, s)  # affine part
+    xx, vx = flow(pc.state, pc.k, pc.m, pc.c, 0.0, 0.0, 1.0, 0.0, s)  # response to x0
+    xv, vv = flow(pc.state, pc.k, pc.m, pc.c, 0.0, 0.0, 0.0, 1.0, s)  # response to v0
+    return xa + xx * x0 + xv * v0, va + vx * x0 + vv * v0
+
+
+def rounding_bound(y: FloatArray, scale: FloatArray, n_segments: int) -> float:
+    """Stated error of :func:`propagate_contact_exact`, relative to ``scale[0]``.
+
+    Rounding of the closed form and of the carried state, ``eps`` per piece relative to the
+    state magnitude, taken linear in the number of pieces with a safety factor of 1000 (the
+    event times are located to 4 ulps; the dead zone is continuous, so an event-time error
+    dt changes the state by O(k dt^2 / m) only): ``1000 eps (n_segments + 1) max|x| / scale``.
+    """
+    amp = float(np.max(np.abs(y[0]))) / float(scale[0])
+    return float(1000 * np.finfo(float).eps * (n_segments + 1) * max(amp, 1.0))

@@ -1,0 +1,35 @@
+"""Start-up of the command: building the parser loads no physics, numerics or plotting."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+from gear_dyn.cli import contact, stiffness
+from gear_dyn.modification.relief import CURVES
+from gear_dyn.stiffness.select import METHODS
+
+
+def test_spelt_out_choices_agree_with_their_sources() -> None:
+    assert contact.CURVES == CURVES
+    assert stiffness.METHODS == METHODS
+
+
+def test_help_imports_no_heavy_module() -> None:
+    code = (
+        "import sys\n"
+        "from gear_dyn.cli.app import build_parser\n"
+        "build_parser().format_help()\n"
+        "heavy = ('numpy', 'scipy', 'matplotlib', 'pint')\n"
+        "print(sorted({m.split('.')[0] for m in sys.modules} & set(heavy)))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
+
+
+def test_registry_is_built_once_per_process() -> None:
+    from gear_dyn.units import registry
+
+    assert registry() is registry()
+    q = registry().Quantity("3319 rpm").to("rad/s").magnitude
+    assert abs(q - 3319 * 2 * 3.141592653589793 / 60) < 1e-9

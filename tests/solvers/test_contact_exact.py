@@ -1,0 +1,133 @@
+"""The closed-form backlash propagator (method exact_contact) against an event-locating DOP853.
+
+The reference is written here, independently of gear_dyn's solvers: ``solve_ivp(DOP853)`` on
+the model's right-hand side, restarted at every stiffness switch and at every contact change it
+locates with its own event finder (``x = +-b``), at rtol 1e-12 and 1e-13. Its own error is the
+difference of the two; the tolerance of each comparison is the propagator's stated error plus
+that measured reference error (times two for safety), never a hand-picked number.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+from scipy.linalg import expm
+
+from gear_dyn.analysis.accuracy import error_scale, estimate_error, relative_errors
+from gear_dyn.models.sdof import SDOFModel
+from gear_dyn.solvers import SolverSettings, integrate, resolve_auto, time_grid
+from gear_dyn.solvers.contact_exact import find_root, flow, propagate_contact_exact
+from gear_dyn.stiffness.periodic import rectangular_stiffness
+
+M_E, K1, FM0 = 3.0, 1.0e9, 1272.0  # helicopter-tail magnitudes (kg, N/m, Hz)
+
+
+def backlash_model(f_ratio: float, load: float, xi: float = 0.06) -> SDOFModel:
+    k = rectangular_stiffness(1.5, K1, 1.75 * K1)
+    fn = math.sqrt(k.mean / M_E) / (2 * math.pi)
+    return SDOFModel(mass=M_E, stiffness=k, damping_ratio=xi, static_load=load,
+                     mesh_frequency=f_ratio * fn, backlash=10e-6)
+
+
+def dop853_events(model: SDOFModel, t: np.ndarray, rtol: float, y0: np.ndarray
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """States on ``t`` and located contact changes: DOP853 restarted at switches and events."""
+    b = float(model.backlash or 0.0)
+    atol = rtol * model.state_scale
+    cuts = np.concatenate([[t[0]], model.switching_times(t[0], t[-1]), [t[-1]]])
+    y = np.array(y0, dtype=float)
+    out = np.empty((2, t.size))
+    out[:, 0] = y
+    events: list[float] = []
+    skip: dict[int, float] = {}  # event just located: only the opposite crossing next
+    for ta, tb in zip(cuts[:-1], cuts[1:], strict=True):
+        t_now = float(ta)
+        while t_now < tb:
+            fns: list[Any] = []
+            for i, lev in enumerate((b, -b)):
+                def ev(_t: float, yy: np.ndarray, lev: float = lev) -> float:
+                    return float(yy[0] - lev)
+                ev.terminal = True  # type: ignore[attr-defined]
+                ev.direction = -skip[i] if i in skip else 0.0  # type: ignore[attr-defined]
+                fns.append(ev)
+            sel = (t > t_now) & (t <= tb)
+            sol = solve_ivp(model.rhs, (t_now, float(tb)), y, method="DOP853", rtol=rtol,
+                            atol=atol, events=fns, dense_output=True)
+            assert sol.status >= 0, sol.message
+            t_stop = float(sol.t[-1])
+            grid = t[sel & (t <= t_stop)]
+            if grid.size:
+                out[:, np.searchsorted(t, grid)] = sol.sol(grid)
+            y = sol.y[:, -1]
+            skip = {}
+            if sol.status == 1:
+                for i, te in enumerate(sol.t_events):
+                    if te.size:
+                        events.append(float(te[0]))
+                        skip[i] = float(np.sign(sol.y_events[i][0][1]))
+            t_now = t_stop
+    return out, np.array(events)
+
+
+@pytest.mark.parametrize("xi", [0.0, 0.06, 1.0, 3.0])
+def test_flow_is_the_matrix_exponential(xi: float) -> None:
+    """Each contact state's closed form equals expm of its augmented matrix (rounding level)."""
+    m, k, w, b = 3.0, 1.2e9, 8.0e3, 1e-5
+    c = 2 * xi * math.sqrt(m * k)
+    s = np.linspace(0.0, 4e-4, 41)
+    for state in (1, 0, -1):
+        kk = k if state else 0.0
+        mat = np.array([[0.0, 1.0, 0.0], [-kk / m, -c / m, (w + kk * state * b) / m],
+                        [0.0, 0.0, 0.0]])
+        z0 = np.array([1.3e-5 * (state or 0.5), 0.02, 1.0])
+        ref = np.array([expm(mat * si) @ z0 for si in s])
+        x, v = flow(state, k, m, c, w, b, z0[0], z0[1], s)
+        assert np.max(np.abs(x - ref[:, 0])) <= 1e-12 * np.max(np.abs(ref[:, 0]))
+        assert np.max(np.abs(v - ref[:, 1])) <= 1e-12 * np.max(np.abs(ref[:, 1]))
+
+
+def test_find_root_is_safeguarded() -> None:
+    """A flat-then-steep function (false position alone stalls) converges to a few ulps."""
+    def f(x: float) -> float:
+        return x**9 - 1e-9
+    root = find_root(f, 0.0, 1.0, f(0.0), f(1.0), 1e-15)
+    assert abs(root - 1e-1) < 1e-14
+
+
+@pytest.mark.parametrize(("f_ratio", "load", "kick"),
+                         [(1.0, 2000.0, 0.0), (0.5, 2000.0, 0.0), (0.7, 500.0, -4.0)])
+def test_events_and_trajectory_match_dop853(f_ratio: float, load: float, kick: float) -> None:
+    """``kick``: initial velocity in units of the velocity scale (-4: hits the back flank)."""
+    model = backlash_model(f_ratio, load)
+    assert resolve_auto(model) == "exact_contact"
+    t = time_grid(model.mesh_frequency, 30 / model.mesh_frequency, 64)
+    y0 = model.initial_state() + np.array([0.0, kick * model.state_scale[1]])
+    y, st = propagate_contact_exact(model, t, y0=y0)
+    y12, ev12 = dop853_events(model, t, 1e-12, y0)
+    y13, ev13 = dop853_events(model, t, 1e-13, y0)
+    if kick:
+        assert np.min(y13[0]) < -float(model.backlash or 0.0), "must reach the back flank"
+    assert ev13.size > 10, "the case must separate the teeth"
+    ours = np.asarray(st["event_times"])
+    assert ours.size == ev13.size
+    ev_own = float(np.max(np.abs(ev12 - ev13)))
+    period = 1 / model.mesh_frequency
+    assert np.max(np.abs(ours - ev13)) <= 10 * ev_own + 1e-12 * period
+    ref_own = relative_errors(model, t, y12, y13)[0]
+    est = estimate_error(model, t, y, SolverSettings(method="exact_contact"), st)["max_rel"]
+    err = relative_errors(model, t, y, y13)[0]
+    assert err <= 2 * (est + ref_own), (err, est, ref_own)
+    assert error_scale(model) > 0
+
+
+def test_auto_runs_it_and_states_its_error() -> None:
+    model = backlash_model(1.0, 2000.0)
+    t = time_grid(model.mesh_frequency, 20 / model.mesh_frequency, 64)
+    y, st = integrate(model, t, SolverSettings())
+    assert st["method"] == "exact_contact"
+    y_d, _ = integrate(model, t, SolverSettings(method="DOP853", rtol=1e-10))
+    assert relative_errors(model, t, y, y_d)[0] < 1e-6
