@@ -26,8 +26,8 @@ def register(sub: Any) -> None:
     )
     p.add_argument("scene", type=Path, help="scene file (TOML)")
     p.add_argument("--speeds", required=True, metavar="START:STOP:N",
-                   help="pinion speeds: START and STOP with units ('500 rpm', '50 rad/s', "
-                   "'10 turn/s') or plain numbers in rpm; N points, linearly spaced")
+                   help="pinion speeds: START and STOP with their units ('500 rpm', '50 rad/s', "
+                   "'10 turn/s'; a plain number is refused); N points, linearly spaced")
     p.add_argument("--out", type=Path, required=True, help="output folder")
     p.add_argument("--sweep-method", choices=("steady", "transient"), default="steady",
                    help="steady: periodic steady state from the monodromy matrix / shooting "

@@ -108,8 +108,11 @@ def _all_defaults(name: str) -> bool:
     return all(f.default is not REQUIRED for f in SECTIONS[name].fields)
 
 
-def parse_scene(data: dict[str, Any], source: str = "<dict>") -> Scene:
+def parse_scene(data: dict[str, Any], source: str = "<dict>", si: bool = False) -> Scene:
     """Validate a scene given as a dict (the parsed TOML).
+
+    Dimensional keys need text with a unit (``"1500 rpm"``); a plain number there is refused,
+    unless ``si`` (the values are already SI floats, e.g. a scene's own ``tables``).
 
     Raises
     ------
@@ -130,7 +133,7 @@ def parse_scene(data: dict[str, Any], source: str = "<dict>") -> Scene:
             raise SceneError(
                 f"{source}: [{key}]: unknown table{mean} (valid tables: {', '.join(SECTIONS)})"
             )
-        tables[key] = SECTIONS[key].parse(value, source)
+        tables[key] = SECTIONS[key].parse(value, source, si)
     model = tables.get("scene", {}).get("model", "sdof")
     for name in tables:
         kinds = SECTIONS[name].models
