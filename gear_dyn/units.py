@@ -96,12 +96,25 @@ def needs_unit_message(where: str, raw: Any, unit: str) -> str:
     """``speed = 1500: give a unit, e.g. "1500 rpm" (or "1500 rad/s")``."""
     number = raw if isinstance(raw, str) else f"{raw:g}" if isinstance(raw, float) else raw
     number = str(number).strip()
-    units = SUGGESTED_UNITS.get(unit, (unit,))
+    units = _suggested(unit, number)
     first = f'"{number} {units[0]}"'
     others = " or ".join(f'"{number} {u}"' for u in units[1:])
     alt = f" (or {others})" if others else ""
     return (f"{where} = {number}: give a unit, e.g. {first}{alt}; a plain number is refused "
             f"for {dimension_text(unit).split(' (e.g.')[0]}")
+
+
+def _suggested(unit: str, number: str) -> tuple[str, ...]:
+    """The proposed units, the likelier reading of this magnitude first (0.006 -> m, 6 -> mm)."""
+    units = SUGGESTED_UNITS.get(unit, (unit,))
+    try:
+        size = abs(float(number))
+    except ValueError:
+        return units
+    si_first = {"m": size < 0.5, "Pa": size >= 1e5, "N/m": size >= 1e5, "N/m**2": size >= 1e5}
+    if si_first.get(unit, False):
+        units = (unit, *[u for u in units if u != unit])
+    return units
 
 
 def normalise_torque_text(raw: str) -> str:
