@@ -149,14 +149,19 @@ def parse_scene(data: dict[str, Any], source: str = "<dict>", si: bool = False) 
 
 
 def load_scene(path: str | Path) -> Scene:
-    """Read and validate a scene file.
+    """Read and validate a scene file, or a packaged scene by name (``"helicopter_tail"``).
+
+    A ``path`` that is no existing file is looked up among the packaged scenes
+    (:func:`gear_dyn.scene.packaged.resolve_scene`), so names work from any folder.
 
     Raises
     ------
     SceneError
         Missing or unreadable file, invalid TOML, or any invalid value (see :func:`parse_scene`).
     """
-    p = Path(path)
+    from gear_dyn.scene.packaged import resolve_scene
+
+    p = resolve_scene(path)
     try:
         text = p.read_bytes().decode("utf-8")
     except FileNotFoundError:
