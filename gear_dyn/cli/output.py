@@ -10,8 +10,11 @@ from gear_dyn.io import save_figure, staged_output, write_csv, write_json
 from gear_dyn.solvers import Result
 
 
-def write_run_outputs(result: Result, out: Path) -> dict[str, Any]:
-    """Write plots, CSV and summary.json of ``result`` into ``out`` (whole or not at all)."""
+def write_run_outputs(result: Result, out: Path, spectrum_scale: str = "log") -> dict[str, Any]:
+    """Write plots, CSV and summary.json of ``result`` into ``out`` (whole or not at all).
+
+    ``spectrum_scale``: amplitude axis of spectrum.png, ``"log"`` or ``"linear"``.
+    """
 
     from gear_dyn.plots.run import plot_spectrum, plot_time_history
 
@@ -26,7 +29,7 @@ def write_run_outputs(result: Result, out: Path) -> dict[str, Any]:
         write_csv(tmp / "timeseries.csv", cols)
         fig = plot_time_history(result)
         save_figure(fig, tmp / "time_history.png", dpi=110)
-        fig = plot_spectrum(result)
+        fig = plot_spectrum(result, scale=spectrum_scale)
         save_figure(fig, tmp / "spectrum.png", dpi=110)
         write_json(tmp / "summary.json", summary)
     return summary
