@@ -132,8 +132,8 @@ def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = No
     for r in range(nrows):
         axes[r, 0].legend(loc="upper right", fontsize=7)
     if periods:
-        axes[0, 1].set_title(f"last {periods:g} mesh periods ({periods / result.mesh_frequency * 1e3:.3g} ms)",
-                             fontsize=10)
+        span_ms = periods / result.mesh_frequency * 1e3
+        axes[0, 1].set_title(f"last {periods:g} mesh periods ({span_ms:.3g} ms)", fontsize=10)
     axes[0, 0].set_title("whole run", fontsize=10)
     fig.suptitle(DTE_TEXT[model_kind(result)], fontsize=8)
     tidy(fig)
