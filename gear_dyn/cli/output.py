@@ -6,8 +6,13 @@ from pathlib import Path
 from typing import Any
 
 from gear_dyn.analysis.report import summarize
-from gear_dyn.io import save_figure, staged_output, write_csv, write_json
+from gear_dyn.io import save_figure, staged_output, write_csv, write_json, write_text
 from gear_dyn.solvers import Result
+
+
+def result_name(result: Result) -> str:
+    """The scene's name, or ``run`` for a result without a scene."""
+    return str(getattr(result.scene, "name", None) or "run")
 
 
 def write_run_outputs(result: Result, out: Path, spectrum_scale: str = "log") -> dict[str, Any]:
@@ -27,6 +32,14 @@ def write_run_outputs(result: Result, out: Path, spectrum_scale: str = "log") ->
             if name not in cols:
                 cols[name] = arr
         write_csv(tmp / "timeseries.csv", cols)
+        head = [f"# {result_name(result)}: time series in SI units (t_s in s; dte, delta, "
+                "e_ecc in m;", "# mesh_force in N; stiffness in N/m; angles in rad, rates in "
+                "rad/s)",
+                f"# dte: {summary['dte_definition']}",
+                f"# dynamic factor {summary['dynamic_factor']:.6g}: "
+                f"{summary['dynamic_factor_definition']}"]
+        path = tmp / "timeseries.csv"
+        write_text(path, "\n".join(head) + "\n" + path.read_text())
         fig = plot_time_history(result)
         save_figure(fig, tmp / "time_history.png", dpi=110)
         fig = plot_spectrum(result, scale=spectrum_scale)

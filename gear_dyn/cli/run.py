@@ -65,6 +65,8 @@ def run(args: argparse.Namespace) -> int:
         f"({summary['solver']['method']}, {summary['solver']['run_time_s']:.3g} s)",
         file=sys.stdout,
     )
+    print(f"  dynamic factor = {summary['dynamic_factor_definition']}", file=sys.stdout)
+    print(f"  {summary['dte_definition']}", file=sys.stdout)
     est = summary.get("estimated_error")
     if isinstance(est, dict) and est.get("max_rel") is not None:
         print(f"estimated error: {est['max_rel']:.2g} of the static deflection "

@@ -23,7 +23,8 @@ def register(sub: Any) -> None:
         description="Write a commented starter scene to FILE: a spur pair with every value in "
         "its unit, ready for gear-dyn run FILE --out DIR.",
     )
-    p.add_argument("file", type=Path, help="scene file to write (e.g. my_pair.toml)")
+    p.add_argument("file", type=Path, nargs="?", default=Path("my_pair.toml"),
+                   help="scene file to write (default my_pair.toml)")
     p.add_argument("--force", action="store_true", help="overwrite FILE if it exists")
     p.set_defaults(func=run_init)
     p = sub.add_parser(

@@ -17,19 +17,11 @@ from typing import Any
 
 import numpy as np
 
+from gear_dyn.analysis.report import DTE_DEFINITION, model_kind
 from gear_dyn.analysis.spectrum import amplitude_spectrum
 from gear_dyn.errors import InputError
 from gear_dyn.plots._axes import axes_of, tidy
 from gear_dyn.solvers import Result
-
-#: what ``dte`` is, per model (also in the summary and CSV header)
-DTE_TEXT = {
-    "sdof": "DTE x: dynamic transmission error on the line of action (base-circle arc of the "
-            "pinion minus that of the gear; elastic deflection incl. the static W/k_m)",
-    "torsional": "DTE = r_b1 q1 - r_b2 q2 (base-circle arcs of the vibration angles): kinematic "
-                 "part -e_ecc (eccentricity, rigid teeth) + elastic part delta (mesh deflection)",
-}
-
 
 _BOX = {"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 0.5}
 
@@ -61,11 +53,6 @@ def spectrum_marks(result: Result) -> Marks:
         shafts = (("f1", result.mesh_frequency / g["teeth_pinion"]),
                   ("f2", result.mesh_frequency / g["teeth_gear"]))
     return Marks(result.mesh_frequency, float(fn) if fn else None, shafts)
-
-
-def model_kind(result: Result) -> str:
-    """``"torsional"`` or ``"sdof"`` (what DTE means in this result)."""
-    return "torsional" if "w1" in result.outputs else "sdof"
 
 
 def noise_floor(result: Result) -> float | None:
@@ -135,7 +122,7 @@ def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = No
         span_ms = periods / result.mesh_frequency * 1e3
         axes[0, 1].set_title(f"last {periods:g} mesh periods ({span_ms:.3g} ms)", fontsize=10)
     axes[0, 0].set_title("whole run", fontsize=10)
-    fig.suptitle(DTE_TEXT[model_kind(result)], fontsize=8)
+    fig.suptitle(DTE_DEFINITION[model_kind(result)], fontsize=8)
     tidy(fig)
     return fig
 
