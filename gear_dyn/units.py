@@ -1,10 +1,17 @@
 """Units: the one unit registry of the process and text -> SI conversion (pint).
 
+One rule everywhere (scene files, CLI options, strings given to the API): a dimensional quantity
+carries its unit (``"1500 rpm"``, ``"20 deg"``, ``"200 N*m"``, ``"6 mm"``); a plain number there
+is refused with a message proposing readings. Dimensionless quantities stay plain numbers.
+``Nm`` (and ``kNm``, ``N.m``, ``N·m``) means newton-metre in torque fields (pint alone reads
+``Nm`` as nanometre).
+
 pint is imported on first use, and the registry is built once per process.
 """
 
 from __future__ import annotations
 
+import re
 from functools import lru_cache
 from typing import Any
 
@@ -28,28 +35,100 @@ def registry() -> Any:
         return pint.UnitRegistry()
 
 
-_DIM_NAMES = {
-    "[length]": "a length (e.g. '6 mm')",
-    "": "a dimensionless number",
-    "[mass]": "a mass (e.g. '2 kg')",
-    "[time]": "a time (e.g. '0.1 s')",
-    "1 / [time]": "a rotational speed or rate (e.g. '3319 rpm', '50 rad/s')",
-    "[length] ** 2 * [mass] / [time] ** 2": "a torque (e.g. '1474.4 N*m')",
-    "[mass] / [length] / [time] ** 2": "a pressure or modulus (e.g. '207 GPa')",
-    "[mass] / [length] ** 3": "a density (e.g. '7850 kg/m^3')",
-    "[length] ** 2 * [mass]": "an inertia (e.g. '0.05 kg*m^2')",
-    "[mass] / [time] ** 2": "a stiffness (e.g. '8e8 N/m')",
-    "[length] * [mass] / [time] ** 2": "a force (e.g. '1 kN')",
-    "[length] ** 2 * [mass] / [time] ** 3": "a power (e.g. '10 kW')",
+#: (example unit, words) for each dimension; an exact unit match is tried first
+_DIM_NAMES: tuple[tuple[str, str], ...] = (
+    ("rad", "an angle (e.g. '20 deg')"),
+    ("m", "a length (e.g. '6 mm')"),
+    ("kg", "a mass (e.g. '2 kg')"),
+    ("s", "a time (e.g. '0.1 s')"),
+    ("rad/s", "a rotational speed (e.g. '3319 rpm', '50 rad/s')"),
+    ("N*m", "a torque (e.g. '1474.4 N*m' or '1474.4 Nm')"),
+    ("N/m**2", "a stiffness per contact-line length (e.g. '14 N/(mm*um)')"),
+    ("Pa", "a pressure or modulus (e.g. '207 GPa')"),
+    ("kg/m**3", "a density (e.g. '7850 kg/m^3')"),
+    ("kg*m**2", "an inertia (e.g. '0.05 kg*m^2')"),
+    ("N/m", "a stiffness (e.g. '8e8 N/m')"),
+    ("N", "a force (e.g. '1 kN')"),
+    ("W", "a power (e.g. '10 kW')"),
+)
+
+#: units proposed for a plain number, per SI unit of the field (first = the usual reading)
+SUGGESTED_UNITS: dict[str, tuple[str, ...]] = {
+    "rad/s": ("rpm", "rad/s"),
+    "rad": ("deg", "rad"),
+    "m": ("mm", "um", "m"),
+    "N*m": ("N*m", "kN*m"),
+    "Pa": ("GPa", "MPa", "Pa"),
+    "kg/m**3": ("kg/m^3",),
+    "kg*m**2": ("kg*m^2",),
+    "N/m": ("N/um", "N/m"),
+    "N/m**2": ("N/(mm*um)", "N/m^2"),
+    "N": ("N", "kN"),
+    "s": ("s", "ms"),
+    "W": ("kW", "W"),
+    "kg": ("kg",),
 }
+
+#: torque spellings pint does not read as newton-metre: Nm (nanometre!), kNm, N.m, N·m
+_NM_RE = re.compile(r"(?<![A-Za-z_])(k|M)?N\s*(?:m|\.m|·m|⋅m)(?![A-Za-z_])")
 
 
 def dimension_text(unit: str) -> str:
+    """What a quantity in the SI ``unit`` is, in words with an example (``"a length ..."``)."""
+    if not is_dimensional(unit):
+        return "a dimensionless number"
+    for example, words in _DIM_NAMES:
+        if example == unit:
+            return words
+    for example, words in _DIM_NAMES[1:]:
+        if _dimension(example) == _dimension(unit):
+            return words
+    return f"a quantity in {unit}"
+
+
+def _dimension(unit: str) -> str:
     ureg = registry()
     dim = str(ureg.Quantity(1, unit).dimensionality) if unit else ""
-    if dim == "dimensionless":
-        dim = ""
-    return _DIM_NAMES.get(dim, f"a quantity in {unit}")
+    return "" if dim == "dimensionless" else dim
+
+
+def _is_torque(unit: str) -> bool:
+    return bool(unit) and _dimension(unit) == _dimension("N*m")
+
+
+def is_dimensional(unit: str) -> bool:
+    """Whether a field in the SI ``unit`` needs a unit when given (angles included)."""
+    return bool(unit) and unit not in ("", "dimensionless", "1")
+
+
+def needs_unit_message(where: str, raw: Any, unit: str) -> str:
+    """``speed = 1500: give a unit, e.g. "1500 rpm" (or "1500 rad/s")``."""
+    number = raw if isinstance(raw, str) else f"{raw:g}" if isinstance(raw, float) else raw
+    number = str(number).strip()
+    units = _suggested(unit, number)
+    first = f'"{number} {units[0]}"'
+    others = " or ".join(f'"{number} {u}"' for u in units[1:])
+    alt = f" (or {others})" if others else ""
+    return (f"{where} = {number}: give a unit, e.g. {first}{alt}; a plain number is refused "
+            f"for {dimension_text(unit).split(' (e.g.')[0]}")
+
+
+def _suggested(unit: str, number: str) -> tuple[str, ...]:
+    """The proposed units, the likelier reading of this magnitude first (0.006 -> m, 6 -> mm)."""
+    units = SUGGESTED_UNITS.get(unit, (unit,))
+    try:
+        size = abs(float(number))
+    except ValueError:
+        return units
+    si_first = {"m": size < 0.5, "Pa": size >= 1e5, "N/m": size >= 1e5, "N/m**2": size >= 1e5}
+    if si_first.get(unit, False):
+        units = (unit, *[u for u in units if u != unit])
+    return units
+
+
+def normalise_torque_text(raw: str) -> str:
+    """``"200 Nm"`` -> ``"200 N*m"`` (also kNm, N.m, N·m): newton-metre, never nanometre."""
+    return _NM_RE.sub(lambda m: f"{m.group(1) or ''}N*m", raw)
 
 
 def parse_quantity(raw: str, unit: str, where: str, rng: str,
@@ -57,25 +136,32 @@ def parse_quantity(raw: str, unit: str, where: str, rng: str,
     """``raw`` (text with a unit, e.g. ``"6 mm"``) in the SI ``unit`` (``""``: dimensionless).
 
     ``where`` names the field and ``rng`` its valid range in messages; ``error`` is the
-    exception class raised (an :class:`~gear_dyn.errors.InputError` subclass).
+    exception class raised (an :class:`~gear_dyn.errors.InputError` subclass). In a torque
+    field ``Nm`` is newton-metre. A text without a unit (``"1500"``) in a dimensional field is
+    refused like a plain number (exact zero excepted: it is zero in every unit).
 
     Raises
     ------
     InputError
-        Unparsable text, a wrong dimension, or Hz for a rotational speed (pint would read
-        1 Hz as 1 rad/s).
+        Unparsable text, a missing unit, a wrong dimension, or Hz for a rotational speed (pint
+        would read 1 Hz as 1 rad/s).
     """
     import pint
 
     ureg = registry()
+    text = raw.strip()
+    if _is_torque(unit):
+        text = normalise_torque_text(text)
     try:
-        q = ureg.Quantity(raw.strip())
+        q = ureg.Quantity(text)
     except Exception:  # pint raises many types for unparsable text
         raise error(
             f"{where} = {raw!r}: not a number with a unit; expected {dimension_text(unit)}"
         ) from None
     if not isinstance(q, ureg.Quantity):
         q = ureg.Quantity(float(q))
+    if is_dimensional(unit) and q.unitless and float(q.magnitude) != 0.0:
+        raise error(needs_unit_message(where, raw, unit))
     if (unit == "rad/s" and q.check("1/[time]")
             and "radian" not in str(q.to_root_units().units)):
         # pint takes 1 Hz = 1 1/s = 1 rad/s: 2 pi off for a shaft speed, so refuse it
@@ -86,10 +172,14 @@ def parse_quantity(raw: str, unit: str, where: str, rng: str,
     try:
         value = float(q.to(unit or "dimensionless").magnitude)
     except pint.DimensionalityError:
+        hint = ""
+        if "nanometer" in str(q.units) and "Nm" in raw:
+            hint = " (Nm is newton-metre only in torque fields)"
         raise error(
             f"{where} = {raw!r}: wrong unit; expected {dimension_text(unit)}, "
-            f"valid range {rng}"
+            f"valid range {rng}{hint}"
         ) from None
     except Exception:
         raise error(f"{where} = {raw!r}: not a number with a unit") from None
     return value
+

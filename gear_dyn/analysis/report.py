@@ -16,6 +16,24 @@ SCENE_FACTS = ("scene", "model", "input_speed_rpm", "output_speed_rpm", "contact
                "fourier_terms")
 
 
+#: what ``dte`` is, per model kind (summary.json ``dte_definition``, CSV header, plots)
+DTE_DEFINITION = {
+    "sdof": "DTE x: dynamic transmission error on the line of action (base-circle arc of the "
+            "pinion minus that of the gear; elastic deflection incl. the static W/k_m)",
+    "torsional": "DTE = r_b1 q1 - r_b2 q2 (base-circle arcs of the vibration angles): kinematic "
+                 "part -e_ecc (eccentricity, rigid teeth) + elastic part delta (mesh deflection)",
+}
+
+#: what the dynamic factor is (summary.json ``dynamic_factor_definition``, terminal output)
+DYNAMIC_FACTOR_DEFINITION = (
+    "peak of the dynamic mesh force over the steady window / static load W = T1 / r_b1")
+
+
+def model_kind(result: Result) -> str:
+    """``"torsional"`` or ``"sdof"``: which DTE definition applies to ``result``."""
+    return "torsional" if "w1" in result.outputs else "sdof"
+
+
 def dominant_peak(result: Result, name: str = "dte") -> tuple[float, float]:
     """Largest non-DC spectral peak ``(frequency Hz, amplitude)`` of a series, steady window."""
     mask = result.steady
@@ -41,6 +59,8 @@ def summarize(result: Result) -> dict[str, Any]:
             "mean_mesh_stiffness_n_per_m"]
     out["static_load_n"] = result.static_load
     out["dynamic_factor"] = result.dynamic_factor
+    out["dynamic_factor_definition"] = DYNAMIC_FACTOR_DEFINITION
+    out["dte_definition"] = DTE_DEFINITION[model_kind(result)]
     out["mean_dte_m"] = result.mean_dte
     out["rms_dte_m"] = result.rms_dte
     out["ptp_dte_m"] = result.ptp_dte

@@ -34,7 +34,10 @@ def run(args: argparse.Namespace) -> int:
     k_m = s["mean_mesh_stiffness_n_per_m"]
     print(f"  mean mesh stiffness {k_m:.4g} N/m ({s['stiffness_method']})")
     print(f"  static TE W/k_m     {s['static_transmission_error_m'] * 1e6:.4g} um")
-    print(f"  dynamic factor      {s['dynamic_factor']:.4f}")
+    print(f"  dynamic factor      {s['dynamic_factor']:.4f} ({s['dynamic_factor_definition']})")
+    print("                      ISO 6336 rectangular-wave k(t); the relief table's 1.415 uses "
+          "the loaded-contact k(t) (docs/modification.md)")
+    print(f"  DTE                 {s['dte_definition']}")
     print(f"  RMS / p-p DTE       {s['rms_dte_m'] * 1e6:.4g} / {s['ptp_dte_m'] * 1e6:.4g} um")
     print(f"  solver              {s['solver']['method']}, {s['solver']['run_time_s']:.3g} s")
     est = s.get("estimated_error")

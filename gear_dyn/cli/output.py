@@ -6,12 +6,20 @@ from pathlib import Path
 from typing import Any
 
 from gear_dyn.analysis.report import summarize
-from gear_dyn.io import save_figure, staged_output, write_csv, write_json
+from gear_dyn.io import save_figure, staged_output, write_csv, write_json, write_text
 from gear_dyn.solvers import Result
 
 
-def write_run_outputs(result: Result, out: Path) -> dict[str, Any]:
-    """Write plots, CSV and summary.json of ``result`` into ``out`` (whole or not at all)."""
+def result_name(result: Result) -> str:
+    """The scene's name, or ``run`` for a result without a scene."""
+    return str(getattr(result.scene, "name", None) or "run")
+
+
+def write_run_outputs(result: Result, out: Path, spectrum_scale: str = "log") -> dict[str, Any]:
+    """Write plots, CSV and summary.json of ``result`` into ``out`` (whole or not at all).
+
+    ``spectrum_scale``: amplitude axis of spectrum.png, ``"log"`` or ``"linear"``.
+    """
 
     from gear_dyn.plots.run import plot_spectrum, plot_time_history
 
@@ -24,9 +32,17 @@ def write_run_outputs(result: Result, out: Path) -> dict[str, Any]:
             if name not in cols:
                 cols[name] = arr
         write_csv(tmp / "timeseries.csv", cols)
+        head = [f"# {result_name(result)}: time series in SI units (t_s in s; dte, delta, "
+                "e_ecc in m;", "# mesh_force in N; stiffness in N/m; angles in rad, rates in "
+                "rad/s)",
+                f"# dte: {summary['dte_definition']}",
+                f"# dynamic factor {summary['dynamic_factor']:.6g}: "
+                f"{summary['dynamic_factor_definition']}"]
+        path = tmp / "timeseries.csv"
+        write_text(path, "\n".join(head) + "\n" + path.read_text())
         fig = plot_time_history(result)
         save_figure(fig, tmp / "time_history.png", dpi=110)
-        fig = plot_spectrum(result)
+        fig = plot_spectrum(result, scale=spectrum_scale)
         save_figure(fig, tmp / "spectrum.png", dpi=110)
         write_json(tmp / "summary.json", summary)
     return summary

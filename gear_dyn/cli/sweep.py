@@ -26,8 +26,8 @@ def register(sub: Any) -> None:
     )
     p.add_argument("scene", type=Path, help="scene file (TOML)")
     p.add_argument("--speeds", required=True, metavar="START:STOP:N",
-                   help="pinion speeds: START and STOP with units ('500 rpm', '50 rad/s', "
-                   "'10 turn/s') or plain numbers in rpm; N points, linearly spaced")
+                   help="pinion speeds: START and STOP with their units ('500 rpm', '50 rad/s', "
+                   "'10 turn/s'; a plain number is refused); N points, linearly spaced")
     p.add_argument("--out", type=Path, required=True, help="output folder")
     p.add_argument("--sweep-method", choices=("steady", "transient"), default="steady",
                    help="steady: periodic steady state from the monodromy matrix / shooting "
@@ -101,9 +101,18 @@ def run(args: argparse.Namespace) -> int:
           f"({result.options.method}, {result.executor}); f_m = f_n at "
           f"{summary['resonance_speed_rpm']:.0f} rpm")
     if "max_dynamic_factor" in up:
+        share = up.get("max_dynamic_factor_separation_share", 0.0)
+        lost = (f" - CONTACT LOSS there: the teeth separate over {share:.0%} of the mesh period"
+                if share > 0 else " (teeth in contact)")
         print(f"  max dynamic factor {up['max_dynamic_factor']:.4f} at "
-              f"{up['max_dynamic_factor_speed_rpm']:.0f} rpm")
+              f"{up['max_dynamic_factor_speed_rpm']:.0f} rpm{lost}")
+        print("  dynamic factor = peak dynamic mesh force / static load W = T1 / r_b1 "
+              "(steady window)")
     for d, info in summary["curves"].items():
+        if info["separation_ranges_rpm"]:
+            rng = ", ".join(f"{a:.0f}-{b:.0f}" for a, b in info["separation_ranges_rpm"])
+            print(f"  contact loss, teeth separate ({d}): {rng} rpm (column separation_share "
+                  "in sweep.csv)")
         if info["unstable_ranges_rpm"]:
             rng = ", ".join(f"{a:.0f}-{b:.0f}" for a, b in info["unstable_ranges_rpm"])
             print(f"  parametric instability ({d}): {rng} rpm")

@@ -373,7 +373,8 @@ def _scenes(fmu: str | Path, spec: dict[str, Any], scene: Scene | None,
             fmu_values: dict[str, Any] | None) -> tuple[Scene, Scene, dict[str, Any]]:
     """(scene run, reference scene with the FMU values applied, values set on the FMU)."""
     base = scene if scene is not None else parse_scene(
-        {k: dict(v) for k, v in spec["tables"].items()}, source=f"{Path(fmu).name} (stored)")
+        {k: dict(v) for k, v in spec["tables"].items()}, source=f"{Path(fmu).name} (stored)",
+        si=True)
     values = scene_values(spec, base) if scene is not None else {}
     values.update(fmu_values or {})
     tables = {k: {kk: vv for kk, vv in v.items() if vv is not None}
@@ -382,7 +383,7 @@ def _scenes(fmu: str | Path, spec: dict[str, Any], scene: Scene | None,
         table, _, key = name.partition(".")
         if table in tables and key:
             tables[table][key] = value
-    return base, parse_scene(tables, source=base.source), values
+    return base, parse_scene(tables, source=base.source, si=True), values
 
 
 def _steps(spec: dict[str, Any], steps: Sequence[float] | None, stop_time: float | None,

@@ -186,7 +186,7 @@ class GearDynSlave(Fmi2Slave):
             field = next(f for f in SECTIONS[table].fields if f.name == key)
             if isinstance(value, float) and field.kind == "int":
                 raise InputError(f"{name} = {value!r}: expected a whole number")
-            parsed = field.parse(value, f"FMU parameter {name}")
+            parsed = field.parse(value, f"FMU parameter {name}", si=True)
         except Exception as exc:  # refuse; the previous value stays
             self._refuse(f"set {name}: {exc}")
         self._tables[table][key] = parsed
@@ -235,7 +235,7 @@ class GearDynSlave(Fmi2Slave):
 
     def _build(self, tables: dict[str, dict[str, Any]]) -> None:
         scene = parse_scene({k: dict(v) for k, v in tables.items()},
-                            source=f"FMU {self.instance_name}")
+                            source=f"FMU {self.instance_name}", si=True)
         overrides: dict[str, Any] = {}
         if self._tolerance is not None:
             overrides["rtol"] = self._tolerance

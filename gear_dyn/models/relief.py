@@ -172,8 +172,9 @@ class ReliefSDOFModel(SDOFModel):
     info: dict[str, Any] = field(default_factory=dict)
 
     def summary_info(self) -> dict[str, Any]:
-        """Extra summary entries: relief, loaded stiffness, static transmission error."""
-        return dict(self.info)
+        """Extra summary entries: relief, loaded stiffness, static transmission error, f_n."""
+        return {**self.info, "natural_frequency_hz": self.natural_frequency,
+                "equivalent_mass_kg": self.mass}
 
 
 class ContactSDOFModel:

@@ -1,21 +1,79 @@
 """Figures of simulation results (pyplot-free matplotlib Figures; no window, no backend choice).
 
 Plots are functions of results: they take an optional ``ax`` and return the figure.
+
+The spectrum shows the physics a gear engineer looks for: its range covers the natural frequency
+f_n and the mesh harmonics up to the first above f_n; f_n, the mesh harmonics and (eccentric
+models) the shaft frequencies and the sidebands f_m +- f_shaft are marked with their frequency in
+Hz; the analysis window is stated; the run's stated error is drawn as a noise floor, so nothing
+below it is read as physics.
 """
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from gear_dyn.analysis.report import DTE_DEFINITION, model_kind
 from gear_dyn.analysis.spectrum import amplitude_spectrum
+from gear_dyn.errors import InputError
 from gear_dyn.plots._axes import axes_of, tidy
 from gear_dyn.solvers import Result
+
+_BOX = {"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 0.5}
+
+
+@dataclass(frozen=True)
+class Marks:
+    """Frequencies (Hz) a run's spectrum is read by."""
+
+    mesh: float
+    natural: float | None
+    shafts: tuple[tuple[str, float], ...]  # ("f1", 25.0), ("f2", 6.4): eccentric models only
+
+    @property
+    def top_harmonic(self) -> int:
+        """The mesh harmonic the range reaches: the first above f_n, at least 3."""
+        if self.natural is None:
+            return 5
+        return max(3, math.floor(self.natural / self.mesh) + 1)
+
+
+def spectrum_marks(result: Result) -> Marks:
+    """f_m, f_n (from the model's summary facts) and, for eccentric models, the shaft
+    frequencies f1 = f_m / z1 and f2 = f_m / z2."""
+    fn = result.extra.get("natural_frequency_hz")
+    shafts: tuple[tuple[str, float], ...] = ()
+    scene = result.scene
+    if result.extra.get("eccentric") and scene is not None and hasattr(scene, "tables"):
+        g = scene.tables["gear"]
+        shafts = (("f1", result.mesh_frequency / g["teeth_pinion"]),
+                  ("f2", result.mesh_frequency / g["teeth_gear"]))
+    return Marks(result.mesh_frequency, float(fn) if fn else None, shafts)
+
+
+def noise_floor(result: Result) -> float | None:
+    """The run's stated error in m (``estimated_error.max_rel`` x static deflection W/k_m)."""
+    est = result.extra.get("estimated_error")
+    k = result.outputs.get("stiffness")
+    if not isinstance(est, dict) or est.get("max_rel") is None or k is None:
+        return None
+    km = float(np.mean(k[result.steady]))
+    rel = float(est["max_rel"])
+    if km <= 0 or not math.isfinite(rel):
+        return None
+    return rel * result.static_load / km
 
 
 def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = None) -> Any:
     """DTE and dynamic mesh force against time, the steady-state window shaded.
+
+    In the eccentric torsional model the DTE holds the eccentricity's kinematic error (rigid
+    teeth, -e_ecc, hundreds of um) and the elastic mesh deflection delta (a few um): a middle row
+    shows the elastic part on its own scale, and the DTE row names both parts.
 
     Parameters
     ----------
@@ -23,53 +81,180 @@ def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = No
     periods : float or None
         Also draws a zoom on the last ``periods`` mesh periods (None: no zoom).
     ax : sequence of Axes or None
-        2 Axes (DTE, force), or 4 with a zoom (row-major: DTE, DTE zoom, force, force zoom).
+        ``rows x cols`` Axes, row-major: rows DTE, [elastic part,] force (the middle row only
+        for eccentric models); cols whole run[, zoom].
     """
+    split = "e_ecc" in result.outputs
     ncols = 2 if periods else 1
-    fig, axes = axes_of(ax, 2, ncols, figsize=(6 * ncols, 6), name="plot_time_history",
-                        squeeze=False, sharex="col")
+    nrows = 3 if split else 2
+    fig, axes = axes_of(ax, nrows, ncols, figsize=(6.5 * ncols, 3 * nrows),
+                        name="plot_time_history", squeeze=False, sharex="col")
     t = result.t
-    dte = result.outputs["dte"] * 1e6
-    force = result.outputs["mesh_force"] / 1e3
+    rows: list[list[tuple[Any, str, str]]] = [[(result.outputs["dte"] * 1e6, "DTE", "tab:blue")]]
+    ylabels = ["DTE (µm)"]
+    if split:
+        rows[0].append((-result.outputs["e_ecc"] * 1e6, "kinematic part -e_ecc (eccentricity)",
+                        "tab:orange"))
+        rows.append([(result.outputs["delta"] * 1e6, "elastic part delta (mesh deflection)",
+                      "tab:purple")])
+        ylabels.append("elastic part (µm)")
+    rows.append([(result.outputs["mesh_force"] / 1e3, "mesh force", "tab:blue")])
+    ylabels.append("mesh force (kN)")
     for col in range(ncols):
         sel = slice(None)
         if col == 1 and periods:
             sel = t >= t[-1] - periods / result.mesh_frequency
-        for ax, y, label in ((axes[0, col], dte, "DTE x (µm)"),
-                             (axes[1, col], force, "mesh force (kN)")):
-            ax.plot(t[sel] * 1e3, y[sel], lw=0.8)
-            ax.set_ylabel(label)
-            ax.grid(alpha=0.3)
+        for r, series in enumerate(rows):
+            a = axes[r, col]
+            for y, label, color in series:
+                a.plot(t[sel] * 1e3, y[sel], lw=0.8, color=color, label=label)
+            a.set_ylabel(ylabels[r])
+            a.grid(alpha=0.3)
             if col == 0:
-                ax.axvspan(result.steady_start * 1e3, t[-1] * 1e3, color="tab:green", alpha=0.1,
-                           label="steady-state window")
-        axes[1, col].set_xlabel("time (ms)")
-    axes[0, 0].legend(loc="upper right", fontsize=8)
-    axes[1, 0].axhline(result.static_load / 1e3, color="k", ls="--", lw=0.7, label="W")
-    axes[1, 0].legend(loc="upper right", fontsize=8)
+                a.axvspan(result.steady_start * 1e3, t[-1] * 1e3, color="tab:green", alpha=0.1,
+                          label="steady-state window" if r == 0 else None)
+        axes[-1, col].set_xlabel("time (ms)")
+    axes[-1, 0].axhline(result.static_load / 1e3, color="k", ls="--", lw=0.7,
+                        label=f"static load W = {result.static_load / 1e3:.4g} kN")
+    for r in range(nrows):
+        axes[r, 0].legend(loc="upper right", fontsize=7)
     if periods:
-        axes[0, 1].set_title(f"last {periods:g} mesh periods")
-    axes[0, 0].set_title("whole run")
+        span_ms = periods / result.mesh_frequency * 1e3
+        axes[0, 1].set_title(f"last {periods:g} mesh periods ({span_ms:.3g} ms)", fontsize=10)
+    axes[0, 0].set_title("whole run", fontsize=10)
+    fig.suptitle(DTE_DEFINITION[model_kind(result)], fontsize=8)
     tidy(fig)
     return fig
 
 
-def plot_spectrum(result: Result, name: str = "dte", harmonics: int = 5, ax: Any = None) -> Any:
-    """Amplitude spectrum of a series over the steady window, mesh harmonics marked."""
-    fig, ax = axes_of(ax, figsize=(8, 4), name="plot_spectrum")
+def _scale(scale: str) -> str:
+    if scale not in ("log", "linear"):
+        raise InputError(f"spectrum scale = {scale!r}: valid choices are 'log', 'linear'")
+    return scale
+
+
+def plot_spectrum(result: Result, name: str = "dte", harmonics: int | None = None,
+                  ax: Any = None, scale: str = "log", floor: float | None = None) -> Any:
+    """Amplitude spectrum of a series over the steady window, with the physics marked.
+
+    Parameters
+    ----------
+    result : Result
+    name : str
+        Series (``dte`` in µm by default; any output or state).
+    harmonics : int or None
+        Mesh harmonics shown (default: up to the first above f_n, at least 3).
+    ax : Axes, sequence of 2 Axes, or None
+        One Axes: the spectrum. Two: the spectrum and a zoom on the sidebands around f_m
+        (eccentric models). None: a new figure (two panels for eccentric models).
+    scale : {"log", "linear"}
+        Amplitude axis.
+    floor : float or None
+        Noise floor in the series' SI unit (default for DTE: the run's stated error,
+        :func:`noise_floor`); drawn as a line, the band below it shaded.
+    """
+    marks = spectrum_marks(result)
+    zoom = bool(marks.shafts)
+    if ax is not None:
+        zoom = not hasattr(ax, "plot") and len(list(np.ravel(ax))) == 2
+    fig, axes = axes_of(ax, 2 if zoom else 1, 1, figsize=(10, 7 if zoom else 4.5),
+                        name="plot_spectrum", squeeze=False)
     mask = result.steady
-    f, amp = amplitude_spectrum(result.t[mask], result.series(name)[mask])
-    scale, unit = (1e6, "µm") if name in ("dte", "x") else (1.0, "")
-    ax.semilogy(f, np.maximum(amp * scale, 1e-12), lw=0.8)
-    fm = result.mesh_frequency
-    for n in range(1, harmonics + 1):
-        if n * fm <= f[-1]:
-            ax.axvline(n * fm, color="tab:red", ls=":", lw=0.8)
-            ax.text(n * fm, ax.get_ylim()[1], f"{n}f_m", color="tab:red", fontsize=8,
-                    ha="center", va="bottom")
-    ax.set_xlim(0, min(f[-1], (harmonics + 0.5) * fm))
-    ax.set_xlabel("frequency (Hz)")
-    ax.set_ylabel(f"amplitude of {name}" + (f" ({unit})" if unit else ""))
-    ax.grid(alpha=0.3, which="both")
+    t = result.t[mask]
+    f, amp = amplitude_spectrum(t, result.series(name)[mask])
+    dte_like = name in ("dte", "x", "delta", "e_ecc")
+    factor, unit = (1e6, "µm") if dte_like else (1.0, "SI")
+    amp = amp * factor
+    if floor is None and dte_like:
+        floor = noise_floor(result)
+    top = harmonics or marks.top_harmonic
+    fmax = min(f[-1], max((top + 0.5) * marks.mesh, 1.1 * (marks.natural or 0.0)))
+    main = axes[0, 0]
+    _draw_amplitude(main, f, amp, _scale(scale), floor * factor if floor else None, fmax, unit)
+    _mark_physics(main, marks, top, fmax)
+    if marks.natural is not None and marks.natural > f[-1]:
+        main.text(0.5, 0.5, f"f_n = {marks.natural:.0f} Hz is above the Nyquist frequency "
+                  f"{f[-1]:.0f} Hz: raise samples_per_period", transform=main.transAxes,
+                  ha="center", color="tab:red")
+    main.set_xlim(0, fmax)
+    main.set_ylabel(f"amplitude of {name} ({unit})")
+    df = 1.0 / (t[-1] - t[0] + (t[1] - t[0]))
+    main.set_title(f"{name} spectrum, steady window {t[0] * 1e3:.4g}-{t[-1] * 1e3:.4g} ms "
+                   f"({(t[-1] - t[0]) * marks.mesh:.0f} mesh periods), Hann window, "
+                   f"resolution {df:.3g} Hz", fontsize=9)
+    if zoom:
+        _sideband_zoom(axes[1, 0], f, amp, marks, scale, floor * factor if floor else None, unit)
+        axes[1, 0].set_ylabel(f"amplitude ({unit})")
+    axes[-1, 0].set_xlabel("frequency (Hz)")
     tidy(fig)
     return fig
+
+
+def _draw_amplitude(ax: Any, f: Any, amp: Any, scale: str, floor: float | None,
+                    fmax: float, unit: str) -> None:
+    sel = f <= fmax
+    peak = float(np.max(amp[sel][1:])) if np.count_nonzero(sel) > 1 else 1.0
+    if scale == "log":
+        ax.set_yscale("log")
+        low = peak * 1e-8
+        if floor:
+            low = max(min(low, floor / 10), peak * 1e-12)
+        ax.plot(f[sel], np.maximum(amp[sel], low), lw=0.7, color="tab:blue")
+        ax.set_ylim(low, peak * 30)
+    else:
+        ax.plot(f[sel], amp[sel], lw=0.8, color="tab:blue")
+        ax.set_ylim(0, peak * 1.25)
+    if floor:
+        ax.axhline(floor, color="0.3", ls="--", lw=0.8)
+        ax.axhspan(ax.get_ylim()[0], floor, color="0.5", alpha=0.15,
+                   label=f"below the run's stated error ({floor:.2g} {unit}): not physics")
+        ax.legend(loc="lower right", fontsize=7)
+    ax.grid(alpha=0.3, which="major")
+
+
+def _mark_physics(ax: Any, marks: Marks, top: int, fmax: float) -> None:
+    trans = ax.get_xaxis_transform()
+    step = max(1, math.ceil(top / 8))  # at most ~8 labelled harmonics
+    for n in range(1, top + 1):
+        fn = n * marks.mesh
+        if fn > fmax:
+            break
+        ax.axvline(fn, color="tab:red", ls=":", lw=0.8)
+        if n % step == 0 or n == 1:
+            ax.text(fn, 0.98, f"{n}f_m\n{fn:.0f} Hz", transform=trans, color="tab:red",
+                    fontsize=7, ha="center", va="top", bbox=_BOX)
+    if marks.natural is not None and marks.natural <= fmax:
+        ax.axvline(marks.natural, color="tab:green", ls="--", lw=1.0)
+        ax.text(marks.natural, 0.75, f"f_n = {marks.natural:.0f} Hz", transform=trans,
+                color="tab:green", fontsize=8, ha="center", va="top", bbox=_BOX)
+    for label, fs in marks.shafts:
+        ax.axvline(fs, color="tab:purple", ls="-.", lw=0.7)
+        ax.text(fs, 0.55 if label == "f1" else 0.3, f" {label} = {fs:.3g} Hz", transform=trans,
+                color="tab:purple", fontsize=7)
+
+
+def _sideband_zoom(ax: Any, f: Any, amp: Any, marks: Marks, scale: str,
+                   floor: float | None, unit: str) -> None:
+    """Zoom on f_m +- 3.5 f1: the sidebands f_m +- k f1 and f_m +- k f2, labelled."""
+    f1 = max(fs for _, fs in marks.shafts)
+    lo, hi = marks.mesh - 3.5 * f1, marks.mesh + 3.5 * f1
+    sel = (f >= lo) & (f <= hi)
+    _draw_amplitude(ax, f[sel], amp[sel], scale, floor, hi, unit)
+    ax.set_xlim(lo, hi)
+    trans = ax.get_xaxis_transform()
+    ax.axvline(marks.mesh, color="tab:red", ls=":", lw=0.8)
+    ax.text(marks.mesh, 0.98, f"f_m\n{marks.mesh:.0f} Hz", transform=trans, color="tab:red",
+            fontsize=7, ha="center", va="top", bbox=_BOX)
+    for label, fs in marks.shafts:
+        kmax = 3 if label == "f1" else 2
+        for k in range(1, kmax + 1):
+            y = 0.98 if label == "f1" else (0.84 if k == 1 else 0.70)
+            for sign in (-1, 1):
+                fb = marks.mesh + sign * k * fs
+                ax.axvline(fb, color="tab:purple", ls=":", lw=0.6)
+                kk = "" if k == 1 else str(k)
+                ax.text(fb, y, f"f_m{'+' if sign > 0 else '-'}{kk}{label}\n{fb:.1f} Hz",
+                        transform=trans, color="tab:purple", fontsize=6, ha="center", va="top",
+                        bbox=_BOX)
+    ax.set_title(f"sidebands around f_m: f1 = {marks.shafts[0][1]:.3g} Hz (pinion shaft), "
+                 f"f2 = {marks.shafts[1][1]:.3g} Hz (gear shaft)", fontsize=9)

@@ -1,8 +1,11 @@
 """Declarative scene fields: name, unit, kind, default and valid range.
 
-Text with a unit is converted by :mod:`gear_dyn.units` (pint), at the edge only. A plain number
-is taken as SI (metres, radians, rad/s, N m, ...); a string carries its unit (``"6 mm"``,
-``"3319 rpm"``, ``"22.5 deg"``).
+Text with a unit is converted by :mod:`gear_dyn.units` (pint), at the edge only. A dimensional
+quantity carries its unit (``"6 mm"``, ``"3319 rpm"``, ``"22.5 deg"``, ``"200 Nm"``); a plain
+number there is refused with a message proposing readings (exact 0 excepted: zero in every
+unit). Dimensionless keys (teeth, coefficients, ratios, tolerances) are plain numbers. Values
+that are already SI floats (an FMU's parameters, a scene rebuilt from its SI tables) are parsed
+with ``si=True``.
 """
 
 from __future__ import annotations
@@ -15,7 +18,7 @@ from typing import Any
 
 from gear_dyn.errors import SceneError, range_text
 from gear_dyn.units import dimension_text as _dim_text
-from gear_dyn.units import parse_quantity
+from gear_dyn.units import is_dimensional, needs_unit_message, parse_quantity
 
 REQUIRED: Any = object()
 
@@ -66,8 +69,11 @@ class Field:
     choices: tuple[str, ...] | None = None
     doc: str = ""
 
-    def parse(self, raw: Any, where: str) -> Any:
-        """Convert a raw TOML value to SI and check it; ``where`` is 'file: section.key'."""
+    def parse(self, raw: Any, where: str, si: bool = False) -> Any:
+        """Convert a raw TOML value to SI and check it; ``where`` is 'file: section.key'.
+
+        ``si``: plain numbers are SI values (not refused for want of a unit).
+        """
         if self.kind == "str":
             if not isinstance(raw, str):
                 raise SceneError(f"{where} = {raw!r}: expected a string")
@@ -87,15 +93,15 @@ class Field:
                 raise SceneError(
                     f"{where} = {raw!r}: expected a non-empty list of {_dim_text(self.unit)}"
                 )
-            return [self._number(v, f"{where}[{i}]") for i, v in enumerate(raw)]
-        value = self._number(raw, where)
+            return [self._number(v, f"{where}[{i}]", si) for i, v in enumerate(raw)]
+        value = self._number(raw, where, si)
         if self.kind == "int":
             if value != int(value):
                 raise SceneError(f"{where} = {raw!r}: expected a whole number")
             return int(value)
         return value
 
-    def _number(self, raw: Any, where: str) -> float:
+    def _number(self, raw: Any, where: str, si: bool = False) -> float:
         unit_txt = f" {self.unit}" if self.unit else ""
         rng = range_text(self.low, self.high, self.low_open, self.high_open, self.unit)
         if isinstance(raw, bool) or not isinstance(raw, int | float | str):
@@ -106,6 +112,8 @@ class Field:
             value = self._parse_quantity(raw, where, rng)
         else:
             value = float(raw)
+            if not si and is_dimensional(self.unit) and value != 0.0 and math.isfinite(value):
+                raise SceneError(needs_unit_message(where, raw, self.unit))
         if not math.isfinite(value):
             raise SceneError(f"{where} = {raw!r}: must be a finite number; valid range {rng}")
         if value != 0.0 and abs(value) < TINY:
@@ -139,8 +147,8 @@ class Section:
     #: present in a scene whose model does not use it is refused, never silently ignored.
     models: tuple[str, ...] | None = None
 
-    def parse(self, raw: Any, source: str) -> dict[str, Any]:
-        """Validated dict of SI values with defaults filled in."""
+    def parse(self, raw: Any, source: str, si: bool = False) -> dict[str, Any]:
+        """Validated dict of SI values with defaults filled in (``si``: see :meth:`Field.parse`)."""
         where = f"{source}: [{self.name}]"
         if not isinstance(raw, Mapping):
             raise SceneError(f"{where}: expected a table, got {type(raw).__name__}")
@@ -156,7 +164,7 @@ class Section:
         out: dict[str, Any] = {}
         for f in self.fields:
             if f.name in raw:
-                out[f.name] = f.parse(raw[f.name], f"{source}: {self.name}.{f.name}")
+                out[f.name] = f.parse(raw[f.name], f"{source}: {self.name}.{f.name}", si)
             elif f.default is REQUIRED:
                 raise SceneError(
                     f"{source}: {self.name}.{f.name}: missing required key ({f.doc or f.name}"

@@ -101,8 +101,11 @@ def _all_defaults(name: str) -> bool:
     return all(f.default is not REQUIRED for f in SECTIONS[name].fields)
 
 
-def parse_scene(data: dict[str, Any], source: str = "<dict>") -> Scene:
+def parse_scene(data: dict[str, Any], source: str = "<dict>", si: bool = False) -> Scene:
     """Validate a scene given as a dict (the parsed TOML).
+
+    Dimensional keys need text with a unit (``"1500 rpm"``); a plain number there is refused,
+    unless ``si`` (the values are already SI floats, e.g. a scene's own ``tables``).
 
     Raises
     ------
@@ -123,7 +126,7 @@ def parse_scene(data: dict[str, Any], source: str = "<dict>") -> Scene:
             raise SceneError(
                 f"{source}: [{key}]: unknown table{mean} (valid tables: {', '.join(SECTIONS)})"
             )
-        tables[key] = SECTIONS[key].parse(value, source)
+        tables[key] = SECTIONS[key].parse(value, source, si)
     model = tables.get("scene", {}).get("model", "sdof")
     for name in tables:
         kinds = SECTIONS[name].models
@@ -139,14 +142,19 @@ def parse_scene(data: dict[str, Any], source: str = "<dict>") -> Scene:
 
 
 def load_scene(path: str | Path) -> Scene:
-    """Read and validate a scene file.
+    """Read and validate a scene file, or a packaged scene by name (``"helicopter_tail"``).
+
+    A ``path`` that is no existing file is looked up among the packaged scenes
+    (:func:`gear_dyn.scene.packaged.resolve_scene`), so names work from any folder.
 
     Raises
     ------
     SceneError
         Missing or unreadable file, invalid TOML, or any invalid value (see :func:`parse_scene`).
     """
-    p = Path(path)
+    from gear_dyn.scene.packaged import resolve_scene
+
+    p = resolve_scene(path)
     try:
         text = p.read_bytes().decode("utf-8")
     except FileNotFoundError:

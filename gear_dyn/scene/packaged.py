@@ -1,8 +1,17 @@
-"""The example scenes shipped inside the package (gear_dyn/scenes/*.toml)."""
+"""The example scenes shipped inside the package (gear_dyn/scenes/*.toml), found by name.
+
+``load_scene("helicopter_tail")`` and ``gear-dyn run helicopter_tail`` work from any folder: a
+name that is not an existing file is looked up here. :data:`STARTER_SCENE` is the commented
+scene that ``gear-dyn init`` writes.
+"""
 
 from __future__ import annotations
 
+import difflib
+import tomllib
 from pathlib import Path
+
+from gear_dyn.errors import SceneError
 
 #: folder of the packaged scenes
 SCENES_DIR = Path(__file__).resolve().parent.parent / "scenes"
@@ -11,3 +20,91 @@ SCENES_DIR = Path(__file__).resolve().parent.parent / "scenes"
 def scene_path(name: str) -> Path:
     """Path of a scene shipped with the package (gear_dyn/scenes/NAME.toml)."""
     return SCENES_DIR / f"{name}.toml"
+
+
+def packaged_names() -> list[str]:
+    """Names of the packaged scenes, sorted."""
+    return sorted(p.stem for p in SCENES_DIR.glob("*.toml"))
+
+
+def packaged_scenes() -> list[tuple[str, str]]:
+    """(name, description) of every packaged scene (the ``[scene] description`` line)."""
+    out = []
+    for name in packaged_names():
+        data = tomllib.loads(scene_path(name).read_text(encoding="utf-8"))
+        out.append((name, str(data.get("scene", {}).get("description", ""))))
+    return out
+
+
+def resolve_scene(target: str | Path) -> Path:
+    """The file of ``target``: an existing path, else the packaged scene of that name.
+
+    ``"helicopter_tail"`` and ``"helicopter_tail.toml"`` both find the packaged scene when no
+    such file exists in the current folder.
+
+    Raises
+    ------
+    SceneError
+        Neither a file nor a packaged scene (the message lists the packaged names, with a
+        did-you-mean).
+    """
+    p = Path(target)
+    if p.exists():
+        return p
+    name = p.name[:-5] if p.name.endswith(".toml") else p.name
+    if p.parent == Path(".") and name in packaged_names():
+        return scene_path(name)
+    names = packaged_names()
+    hint = difflib.get_close_matches(name, names, n=1)
+    mean = f"; did you mean {hint[0]!r}?" if hint else ""
+    raise SceneError(f"{p}: scene file not found, and no packaged scene of that name{mean} "
+                     f"(packaged scenes: {', '.join(names)}; see gear-dyn scenes)")
+
+
+#: the commented starter scene written by ``gear-dyn init`` (loads and runs as it is)
+STARTER_SCENE = '''\
+# gear_dyn scene: one TOML table per part of the model. Every dimensional value carries its unit
+# ("3 mm", "1500 rpm", "20 deg", "120 Nm"); a plain number there is refused. Dimensionless values
+# (teeth, coefficients, ratios, tolerances) are plain numbers.
+# Reference of every table and key: docs/scenes.md, or `gear-dyn scene keys [TABLE]`.
+# Run it:  gear-dyn run {name} --out out     (plots, timeseries.csv, summary.json in ./out)
+
+[scene]
+name = "{stem}"
+description = "my gear pair (starter scene written by gear-dyn init)"
+model = "sdof"              # "sdof": single-DOF mesh model; "torsional": two-DOF torsional
+
+[gear]                      # the involute pair (pinion = driver)
+teeth_pinion = 20
+teeth_gear = 40
+module = "3 mm"             # normal module
+pressure_angle = "20 deg"
+helix_angle = "0 deg"       # 0 = spur
+face_width = "30 mm"
+# profile_shift_pinion = 0.0
+# profile_shift_gear = 0.0
+# youngs_modulus = "206 GPa"
+# density = "7850 kg/m^3"
+
+[operating]
+speed = "1500 rpm"          # pinion speed
+torque = "120 Nm"           # pinion torque (Nm = newton-metre)
+
+[stiffness]
+method = "iso6336"          # or rectangular, potential_energy, weber, contact_line
+
+[damping]
+ratio = 0.06                # mesh damping ratio xi
+
+# [inertia]                 # default: solid blanks of width B at the pitch radii
+# pinion = "0.01 kg*m^2"
+# gear = "0.1 kg*m^2"
+
+# [backlash]                # dead-zone backlash: the teeth may separate
+# half_gap = "50 um"
+
+[solver]
+method = "auto"             # exact propagator for linear models, else LSODA
+rtol = 1e-8
+periods = 200               # mesh periods simulated
+'''

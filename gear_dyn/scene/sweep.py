@@ -105,16 +105,17 @@ def sweep_scene(scene: Scene, speeds: Any, **kwargs: Any) -> SweepResult:
 
 
 def parse_speed_range(text: str) -> FloatArray:
-    """Speeds from ``START:STOP:N`` (units allowed; plain numbers are rpm), in rad/s.
+    """Speeds from ``START:STOP:N``, in rad/s; START and STOP carry their unit.
 
-    >>> parse_speed_range("600:1200:3") * 60 / (2 * math.pi)
+    >>> parse_speed_range("600 rpm:1200 rpm:3") * 60 / (2 * math.pi)
     array([ 600.,  900., 1200.])
 
     Raises
     ------
     InputError
-        Not three parts, a bad number or unit (Hz is refused: pint would read it as rad/s),
-        N < 2, or speeds out of range.
+        Not three parts, a plain number (``1500``: give a unit, e.g. ``1500 rpm``), a bad
+        number or unit (Hz is refused: pint would read it as rad/s), N < 2, or speeds out of
+        range.
     """
     from gear_dyn.scene.fields import Field
 
@@ -129,13 +130,7 @@ def parse_speed_range(text: str) -> FloatArray:
             # pint reads 1 Hz as 1 rad/s (radians are dimensionless): 2 pi off for a shaft
             raise InputError(f"--speeds {label} = {part!r}: Hz is ambiguous for a shaft speed "
                              "(it would be read as rad/s); write e.g. '600 rpm' or '10 turn/s'")
-        try:
-            v = float(part) * RPM
-        except ValueError:
-            v = fld.parse(part, f"--speeds {label}")
-        else:
-            v = fld.parse(v, f"--speeds {label} ({part} rpm)")
-        ends.append(v)
+        ends.append(fld.parse(part, f"--speeds {label}"))
     try:
         n = int(parts[2])
     except ValueError:

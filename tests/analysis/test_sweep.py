@@ -84,9 +84,9 @@ def _te_scene(zeta: float, amp: float) -> dict:
         "gear": {"teeth_pinion": 23, "teeth_gear": 64, "module": "6 mm",
                  "pressure_angle": "22.5 deg", "face_width": "50 mm"},
         "operating": {"speed": "3000 rpm", "torque": "1000 N*m"},
-        "stiffness": {"method": "rectangular", "single": 1e9, "double": 1e9},
+        "stiffness": {"method": "rectangular", "single": "1e9 N/m", "double": "1e9 N/m"},
         "damping": {"ratio": zeta},
-        "transmission_error": {"cos": [amp]},
+        "transmission_error": {"cos": [f"{amp} m"]},
         "solver": {"rtol": 1e-10},
     }
 
@@ -197,7 +197,7 @@ def test_dask_and_local_executor_identical(tmp_path: Path) -> None:
         remote = [sweep_scene(tail, sp_tail, executor=ex, block=3),
                   sweep_scene(bl, sp_bl, executor=ex, block=2)]
         # the command line reaches the same scheduler by its address
-        code = main(["sweep", str(TAIL), "--speeds", "2000:4000:3", "--out",
+        code = main(["sweep", str(TAIL), "--speeds", "2000 rpm:4000 rpm:3", "--out",
                      str(tmp_path / "d"), "--dask", cluster.scheduler_address, "--chart", "none",
                      "--no-progress"])
         assert code == 0
@@ -229,11 +229,16 @@ def test_progress_and_thread_executor() -> None:
 
 def test_parse_speed_range() -> None:
     assert np.allclose(parse_speed_range("500 rpm:6000 rpm:12") / RPM, np.linspace(500, 6000, 12))
-    assert np.allclose(parse_speed_range("500:6000:3") / RPM, [500, 3250, 6000])
+    assert np.allclose(parse_speed_range("500 rpm:6000 rpm:3") / RPM, [500, 3250, 6000])
     assert np.allclose(parse_speed_range("10 turn/s:40 rad/s:2"), [20 * math.pi, 40])
-    for bad, msg in (("500:6000", "START:STOP:N"), ("500:6000:x", "whole number"),
-                     ("500:6000:1", "N"), ("-5:6000:4", "out of range"),
-                     ("5 m:6000:4", "wrong unit"), ("10 Hz:20 Hz:3", "turn/s")):
+    for bad, msg in (("500 rpm:6000 rpm", "START:STOP:N"),
+                     ("500 rpm:6000 rpm:x", "whole number"), ("500 rpm:6000 rpm:1", "N"),
+                     ("-5 rpm:6000 rpm:4", "out of range"), ("5 m:6000 rpm:4", "wrong unit"),
+                     ("10 Hz:20 Hz:3", "turn/s"),
+                     # a plain number is refused (one rule with the scene files)
+                     ("1500:3000:10", r'START = 1500: give a unit, e\.g\. "1500 rpm" '
+                                      r'\(or "1500 rad/s"\)'),
+                     ("1500 rpm:3000:10", r'STOP = 3000: give a unit')):
         with pytest.raises(InputError, match=msg):
             parse_speed_range(bad)
 
@@ -267,7 +272,7 @@ def test_cli_sweep(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert summary["resonance_speed_rpm"] == pytest.approx(
         summary["natural_frequency_hz"] * 60 / 23, rel=1e-12)
     assert "parametric instability" in capsys.readouterr().out
-    code = main(["sweep", str(TAIL), "--speeds", "3000:oops:4", "--out", str(out)])
+    code = main(["sweep", str(TAIL), "--speeds", "3000 rpm:oops:4", "--out", str(out)])
     assert code == 2
     assert "--speeds STOP" in capsys.readouterr().err
 

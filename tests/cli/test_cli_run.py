@@ -93,8 +93,9 @@ def test_run_command_summary_states_method(tmp_path: Path) -> None:
 def test_speed_in_hz_is_refused_not_read_as_rad_per_s() -> None:
     """pint converts '10 Hz' to 10 rad/s (radian is dimensionless): 2 pi off for a shaft speed.
     The loader refuses it; '2 turn/s' is 4 pi rad/s exactly."""
-    base = {"gear": {"teeth_pinion": 20, "teeth_gear": 40, "module": 0.002, "face_width": 0.01},
-            "operating": {"speed": "10 Hz", "torque": 1}}
+    base = {"gear": {"teeth_pinion": 20, "teeth_gear": 40, "module": "2 mm",
+                     "face_width": "10 mm"},
+            "operating": {"speed": "10 Hz", "torque": "1 N*m"}}
     with pytest.raises(ValueError, match="operating.speed.*ambiguous"):
         parse_scene(base)
     base["operating"]["speed"] = "2 turn/s"

@@ -59,7 +59,7 @@ def test_rule_relief_equals_recommendation() -> None:
      "exactly one of length_gear"),
     ({"tip_relief": {"rule": "dudley", "amount_gear": "10 um"}}, "only for rule = 'custom'"),
     ({"tip_relief": {"amount_gear": "10 um", "length_gear": "300 mm"}}, "relief length"),
-    ({"tip_relief": {"rule": "niemann"}, "transmission_error": {"cos": [1e-6]}},
+    ({"tip_relief": {"rule": "niemann"}, "transmission_error": {"cos": ["1 um"]}},
      "cannot be combined"),
     ({"tip_relief": {"rule": "niemann"}, "stiffness": {"method": "iso6336"}},
      "mesh stiffness comes from the loaded contact"),

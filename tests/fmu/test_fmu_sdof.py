@@ -354,7 +354,7 @@ def test_stored_scene_reproduces_the_scene_file(heli_fmu: Path) -> None:
     from gear_dyn.fmu.build import read_spec
 
     spec = read_spec(heli_fmu)
-    stored = build_plan(parse_scene(spec["tables"])).model
+    stored = build_plan(parse_scene(spec["tables"], si=True)).model
     original = build_plan(load_scene(SCENES / "helicopter_tail.toml")).model
     assert stored.mesh_frequency == original.mesh_frequency
     assert stored.mass == original.mass

@@ -102,7 +102,7 @@ def test_contact_changes_restart_the_solver_as_integrate_does() -> None:
               for k, v in scene.tables.items()}
     tables["transmission_error"] = {"cos": [20e-6]}
     tables["operating"]["torque"] = 50.0
-    plan = build_plan(parse_scene(tables))
+    plan = build_plan(parse_scene(tables, si=True))
     model = plan.model
     settings = replace(plan.settings, method="DOP853")
     grid = time_grid(model.mesh_frequency, 3 / model.mesh_frequency, 256)

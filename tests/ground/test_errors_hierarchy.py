@@ -59,6 +59,8 @@ def test_check_range_accepts_and_converts() -> None:
     ("2 m", "'2 m' is out of range: valid range 0 < x <= 1 m"),
     ("1e-40 m", "below the smallest meaningful magnitude"),
     (True, "expected a length"),
+    (0.006, 'f.toml: gear.module = 0.006: give a unit, e.g. "0.006 m" (or "0.006 mm"'),
+    ("6", 'f.toml: gear.module = 6: give a unit, e.g. "6 mm" (or "6 um" or "6 m")'),
     ([6], "expected a length"),
     ({"a": 1}, "expected a length"),
 ])
@@ -72,8 +74,9 @@ def test_scene_field_messages(raw: Any, needle: str) -> None:
 
 
 def test_unknown_keys_and_tables_suggest_the_right_one() -> None:
-    base = {"gear": {"teeth_pinion": 20, "teeth_gear": 40, "module": 0.002, "face_width": 0.01},
-            "operating": {"speed": 100, "torque": 1}}
+    base = {"gear": {"teeth_pinion": 20, "teeth_gear": 40, "module": "2 mm",
+                     "face_width": "10 mm"},
+            "operating": {"speed": "100 rad/s", "torque": "1 N*m"}}
     with pytest.raises(SceneError, match=r"s.toml: gear.modul: unknown key; did you mean "
                        r"'module'\?"):
         parse_scene({**base, "gear": {**base["gear"], "modul": 1}}, "s.toml")
@@ -81,7 +84,7 @@ def test_unknown_keys_and_tables_suggest_the_right_one() -> None:
                        r"\[operating\]\?"):
         parse_scene({**base, "operatng": {}}, "s.toml")
     with pytest.raises(SceneError, match=r"s.toml: operating.torque: missing required key"):
-        parse_scene({**base, "operating": {"speed": 100}}, "s.toml")
+        parse_scene({**base, "operating": {"speed": "100 rad/s"}}, "s.toml")
     with pytest.raises(SceneError, match=r"s.toml: \[operating\]: missing required table"):
         parse_scene({"gear": base["gear"]}, "s.toml")
     with pytest.raises(SceneError, match=r"s.toml: solver.method = 'dop853': valid choices "

@@ -122,6 +122,8 @@ def summarize_sweep(result: SweepResult) -> dict[str, Any]:
             i = int(np.nanargmax(np.where(finite, c.dynamic_factor, -np.inf)))
             info["max_dynamic_factor"] = float(c.dynamic_factor[i])
             info["max_dynamic_factor_speed_rpm"] = float(c.speed[i] / RPM)
+            # share of the period with the teeth out of contact at that speed (0: in contact)
+            info["max_dynamic_factor_separation_share"] = float(np.nan_to_num(c.separation[i]))
             j = int(np.nanargmax(np.where(finite, c.rms_dte, -np.inf)))
             info["max_rms_dte_m"] = float(c.rms_dte[j])
             info["max_rms_dte_speed_rpm"] = float(c.speed[j] / RPM)
