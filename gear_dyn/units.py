@@ -160,7 +160,9 @@ def parse_quantity(raw: str, unit: str, where: str, rng: str,
         ) from None
     if not isinstance(q, ureg.Quantity):
         q = ureg.Quantity(float(q))
-    if is_dimensional(unit) and q.unitless and float(q.magnitude) != 0.0:
+    if is_dimensional(unit) and q.unitless:
+        if float(q.magnitude) == 0.0:
+            return 0.0  # zero is zero in every unit, written "0" too
         raise error(needs_unit_message(where, raw, unit))
     if (unit == "rad/s" and q.check("1/[time]")
             and "radian" not in str(q.to_root_units().units)):

@@ -1,0 +1,93 @@
+"""One unit rule for scenes, CLI options and API strings (gear_dyn.units).
+
+A dimensional value needs its unit; a plain number there is refused with the readings it could
+have, never read in SI (``speed = 1500`` would be 14 324 rpm). "Nm" is newton-metre in torque
+fields (pint alone reads it as nanometre). Zero needs no unit; dimensionless fields stay plain.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from gear_dyn.errors import InputError, SceneError
+from gear_dyn.scene import parse_scene
+from gear_dyn.scene.sweep import parse_speed_range
+
+ROOT = Path(__file__).resolve().parents[2]
+HELI = ROOT / "gear_dyn" / "scenes" / "helicopter_tail.toml"
+
+
+def _with(table: str, key: str, value: object) -> dict:
+    data = tomllib.loads(HELI.read_text())
+    data[table][key] = value
+    return data
+
+
+@pytest.mark.parametrize(("table", "key", "value", "readings"), [
+    ("operating", "speed", 1500, ('"1500 rpm"', '"1500 rad/s"')),
+    ("gear", "pressure_angle", 20, ('"20 deg"', '"20 rad"')),
+    ("gear", "module", 6, ('"6 mm"', '"6 m"')),
+    ("operating", "torque", 1474.4, ('"1474.4 N*m"', '"1474.4 kN*m"')),
+    ("gear", "youngs_modulus", 207, ('"207 GPa"', '"207 MPa"')),
+    ("operating", "speed", "1500", ('"1500 rpm"', '"1500 rad/s"')),  # a number in a string
+])
+def test_plain_number_in_a_dimensional_field_is_refused_with_its_readings(
+        table: str, key: str, value: object, readings: tuple[str, str]) -> None:
+    with pytest.raises(SceneError) as info:
+        parse_scene(_with(table, key, value), "pair.toml")
+    msg = str(info.value)
+    assert msg.startswith(f"pair.toml: {table}.{key} = ") and "give a unit" in msg
+    assert all(r in msg for r in readings), msg
+
+
+def test_newton_metre_spelled_nm_in_torque_fields() -> None:
+    for text, expected in (("200 Nm", 200.0), ("1.5 kNm", 1500.0), ("200 N*m", 200.0),
+                           ("200 N m", 200.0)):
+        scene = parse_scene(_with("operating", "torque", text), "pair.toml")
+        assert scene.tables["operating"]["torque"] == pytest.approx(expected, rel=1e-12)
+    with pytest.raises(SceneError, match="operating.torque = '200 nm': wrong unit"):
+        parse_scene(_with("operating", "torque", "200 nm"), "pair.toml")  # nanometre
+
+
+def test_zero_and_dimensionless_values_stay_plain() -> None:
+    scene = parse_scene(_with("gear", "helix_angle", 0), "pair.toml")
+    assert scene.tables["gear"]["helix_angle"] == 0.0
+    scene = parse_scene(_with("gear", "center_distance_offset", "0"), "pair.toml")
+    assert scene.tables["gear"]["center_distance_offset"] == 0.0
+    scene = parse_scene(_with("gear", "poisson", 0.29), "pair.toml")  # dimensionless
+    assert scene.tables["gear"]["poisson"] == pytest.approx(0.29)
+
+
+def test_si_numbers_from_a_program_are_accepted() -> None:
+    """Tables a program hands over (an FMU's stored scene, FMI parameters) are SI numbers."""
+    data = _with("operating", "speed", 3319 * 2 * math.pi / 60)
+    scene = parse_scene(data, "stored", si=True)
+    assert scene.tables["operating"]["speed"] == pytest.approx(347.57, rel=1e-4)
+
+
+def test_cli_speeds_follow_the_same_rule() -> None:
+    with pytest.raises(InputError, match=r'--speeds START = 1500: give a unit, e\.g\. "1500 rpm"'):
+        parse_speed_range("1500:3000:10")
+    speeds = parse_speed_range("1500 rpm:3000 rpm:2")
+    assert speeds.tolist() == pytest.approx([1500 * math.pi / 30, 3000 * math.pi / 30])
+
+
+def test_cli_plain_speed_is_exit_2_one_line(tmp_path: Path) -> None:
+    from gear_dyn.cli import main
+
+    scene = tmp_path / "plain.toml"
+    scene.write_text(HELI.read_text().replace('speed = "3319 rpm"', "speed = 3319"))
+    import subprocess
+    import sys
+
+    p = subprocess.run([sys.executable, "-m", "gear_dyn.cli", "run", str(scene), "--out",
+                        str(tmp_path / "o")], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 2 and p.stderr.count("\n") == 1
+    assert 'operating.speed = 3319: give a unit, e.g. "3319 rpm"' in p.stderr
+    assert not (tmp_path / "o").exists()
+    assert main(["sweep", str(HELI), "--speeds", "1000:2000:3", "--out",
+                 str(tmp_path / "s")]) == 2
