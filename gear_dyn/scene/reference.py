@@ -96,12 +96,20 @@ def table_reference(section: Section) -> str:
     return "\n".join(lines) + "\n"
 
 
+#: the core tables in reading order; feature tables follow alphabetically (registration order
+#: depends on import order, the reference must not)
+CORE_ORDER = ("scene", "gear", "operating", "inertia", "stiffness", "damping", "backlash",
+              "transmission_error", "solver")
+
+
 def _sections() -> dict[str, Section]:
     from gear_dyn.scene import load_feature_sections
     from gear_dyn.scene.registry import SECTIONS
 
     load_feature_sections()
-    return SECTIONS
+    names = [n for n in CORE_ORDER if n in SECTIONS]
+    names += sorted(n for n in SECTIONS if n not in CORE_ORDER)
+    return {n: SECTIONS[n] for n in names}
 
 
 def scene_reference(table: str | None = None) -> str:
