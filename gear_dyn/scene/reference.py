@@ -96,10 +96,10 @@ def table_reference(section: Section) -> str:
     return "\n".join(lines) + "\n"
 
 
-#: the order of the reference: the core tables as a scene reads, then the optional parts
-#: (registration order depends on which module was imported first, so it is not used)
-ORDER = ("scene", "gear", "operating", "inertia", "stiffness", "damping", "backlash",
-         "transmission_error", "solver", "eccentricity", "friction", "torsional", "tip_relief")
+#: the core tables in reading order; feature tables follow alphabetically (registration order
+#: depends on import order, the reference must not)
+CORE_ORDER = ("scene", "gear", "operating", "inertia", "stiffness", "damping", "backlash",
+              "transmission_error", "solver")
 
 
 def _sections() -> dict[str, Section]:
@@ -107,9 +107,9 @@ def _sections() -> dict[str, Section]:
     from gear_dyn.scene.registry import SECTIONS
 
     load_feature_sections()
-    rank = {name: i for i, name in enumerate(ORDER)}
-    names = sorted(SECTIONS, key=lambda n: (rank.get(n, len(ORDER)), n))
-    return {name: SECTIONS[name] for name in names}
+    names = [n for n in CORE_ORDER if n in SECTIONS]
+    names += sorted(n for n in SECTIONS if n not in CORE_ORDER)
+    return {n: SECTIONS[n] for n in names}
 
 
 def scene_reference(table: str | None = None) -> str:
