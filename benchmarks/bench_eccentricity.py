@@ -104,8 +104,11 @@ def mesh_loss() -> list[str]:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results" /
-                    "eccentricity.md")
+    ap.add_argument("--out", type=Path,
+                    default=Path(__file__).resolve().parent / "out" / "eccentricity.md",
+                    help="report file (default benchmarks/out/, git-ignored)")
+    ap.add_argument("--record", action="store_true",
+                    help="write the recorded results, benchmarks/results/eccentricity.md")
     args = ap.parse_args()
     text = "\n".join([
         "# Seed 000 / torsional model figures",
@@ -128,6 +131,8 @@ def main() -> None:
         *mesh_loss(),
         "",
     ])
+    if args.record:
+        args.out = Path(__file__).resolve().parent / "results" / "eccentricity.md"
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
     print(text)

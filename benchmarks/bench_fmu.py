@@ -118,7 +118,11 @@ def agreement(name: str, periods: int, fmu: Path) -> list[str]:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results" / "fmu.md")
+    ap.add_argument("--out", type=Path,
+                    default=Path(__file__).resolve().parent / "out" / "fmu.md",
+                    help="report file (default benchmarks/out/, git-ignored)")
+    ap.add_argument("--record", action="store_true",
+                    help="write the recorded results, benchmarks/results/fmu.md")
     args = ap.parse_args()
     lines = [
         "# FMU co-simulation: overhead and agreement",
@@ -146,6 +150,8 @@ def main() -> None:
             lines += overhead(name, periods, fmu, args.repeats)
             agree += agreement(name, periods, fmu)
     text = "\n".join(lines + [""] + agree) + "\n"
+    if args.record:
+        args.out = Path(__file__).resolve().parent / "results" / "fmu.md"
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
     print(text)

@@ -1,6 +1,6 @@
 """Side-by-side speed of the default `gear-dyn run` path against hand-written solve_ivp RK45.
 
-Run:  python benchmarks/bench_solvers.py [--repeats 3] [--out benchmarks/results/solvers.md]
+Run:  python benchmarks/bench_solvers.py [--repeats 3] [--out FILE] [--record]
 
 One run measures, on the helicopter tail scene (seed 002, 200 mesh periods, 64 samples per
 period), each at its loosest setting that reaches max error <= 1e-6 of the static deflection
@@ -129,7 +129,11 @@ def profile_summary(fn: Callable[[], Any], rhs_names: tuple[str, ...]) -> str:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results" / "solvers.md")
+    ap.add_argument("--out", type=Path,
+                    default=Path(__file__).resolve().parent / "out" / "solvers.md",
+                    help="report file (default benchmarks/out/, git-ignored)")
+    ap.add_argument("--record", action="store_true",
+                    help="write the recorded results, benchmarks/results/solvers.md")
     args = ap.parse_args(argv)
     rep = args.repeats
 
@@ -238,6 +242,8 @@ def main(argv: list[str] | None = None) -> int:
         "machinery, and solve_ivp's Python overhead per step is the wall: see the profile).",
         "",
     ]
+    if args.record:
+        args.out = Path(__file__).resolve().parent / "results" / "solvers.md"
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text("\n".join(lines), encoding="utf-8")
     print("\n".join(lines))

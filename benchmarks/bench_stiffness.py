@@ -132,7 +132,11 @@ def band_table() -> str:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=15)
-    ap.add_argument("--out", type=Path, default=Path(__file__).parent / "results" / "stiffness.md")
+    ap.add_argument("--out", type=Path,
+                    default=Path(__file__).resolve().parent / "out" / "stiffness.md",
+                    help="report file (default benchmarks/out/, git-ignored)")
+    ap.add_argument("--record", action="store_true",
+                    help="write the recorded results, benchmarks/results/stiffness.md")
     args = ap.parse_args(argv)
     table = bench(args.repeats)
     head = (
@@ -148,6 +152,8 @@ def main(argv: list[str] | None = None) -> int:
             + offset_table() + "\n\n## Helix angle (25/60, m 3 mm, b 30 mm, 20 deg)\n\n"
             + helix_table() + "\n\n## Mean against ISO 6336 for spur pairs\n\n"
             + band_table() + "\n")
+    if args.record:
+        args.out = Path(__file__).resolve().parent / "results" / "stiffness.md"
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
     sys.stdout.write(text)

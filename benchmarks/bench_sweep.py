@@ -105,7 +105,11 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--speeds", type=int, default=500)
     ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results" / "sweep.md")
+    ap.add_argument("--out", type=Path,
+                    default=Path(__file__).resolve().parent / "out" / "sweep.md",
+                    help="report file (default benchmarks/out/, git-ignored)")
+    ap.add_argument("--record", action="store_true",
+                    help="write the recorded results, benchmarks/results/sweep.md")
     args = ap.parse_args()
     scene = load_scene(SCENE)
     speeds = np.linspace(500, 12000, args.speeds) * RPM
@@ -188,6 +192,8 @@ def main() -> None:
     ]
     text = "\n".join(lines)
     print(text)
+    if args.record:
+        args.out = Path(__file__).resolve().parent / "results" / "sweep.md"
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
 

@@ -43,7 +43,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.optimize import brentq
 
 from gear_dyn.errors import InputError, check_range
 from gear_dyn.excitation import SampledSignal
@@ -443,6 +442,8 @@ def _loaded_switches(pair: GearPair, fn: PairStiffnessFn, load: float,
     """Phases where a pair picks up or sheds load: roots of delta(p) - g_j(p)."""
     if mod is None or mod.is_zero:
         return []
+    from scipy.optimize import brentq  # on use: scipy.optimize costs ~0.25 s to import
+
     roots: list[float] = []
     n = _pair_count(pair)
     for a, b in zip(geo_edges[:-1], geo_edges[1:], strict=True):

@@ -55,8 +55,13 @@ class PeriodicStiffness(ABC):
 
     @property
     def mean(self) -> float:
-        """Mean stiffness k_m over one mesh cycle in N/m."""
-        return self.fourier_coefficients(0)[0]
+        """Mean stiffness k_m over one mesh cycle in N/m (computed once per object: the
+        stiffness objects are immutable, and a sweep asks for it thousands of times)."""
+        cached = self.__dict__.get("_mean_cache")
+        if cached is None:
+            cached = float(self.fourier_coefficients(0)[0])
+            object.__setattr__(self, "_mean_cache", cached)
+        return cached
 
     def _dense(self) -> FloatArray:
         p = np.linspace(0.0, 1.0, 4097)
