@@ -231,6 +231,11 @@ def complete_model_description(xml: bytes, spec: dict[str, Any]) -> bytes:
             continue
         if sv.get("causality") == "output":
             outputs.append(index)
+        typed = next(iter(sv), None)
+        if typed is not None and typed.tag in ("Real", "Integer"):
+            for key in ("min", "max", "nominal"):
+                if key in v and (key != "nominal" or typed.tag == "Real"):
+                    typed.set(key, repr(v[key]))
         real = sv.find("Real")
         if real is not None and v.get("unit") in UNITS:
             fmi_name = UNITS[v["unit"]][0]
