@@ -108,12 +108,13 @@ def test_model_description_valid_and_complete(heli_fmu: Path) -> None:
             assert unit in units
     # units by hand: module in m, speed in rad/s shown in rpm (factor 60 / 2 pi), force in N
     assert by_name["gear.module"].find("Real").get("unit") == "m"  # type: ignore[union-attr]
-    # physical bounds of the scene fields: z1 in [5, 10000], inertia > 0, nominal = |start|
+    # physical bounds of the scene fields: z1 in [5, 10000], damping ratio in [0, 10],
+    # nominal = |start|
     teeth = by_name["gear.teeth_pinion"].find("Integer").attrib  # type: ignore[union-attr]
     assert (teeth["min"], teeth["max"]) == ("5", "10000")
-    inertia = by_name["inertia.pinion"].find("Real").attrib  # type: ignore[union-attr]
-    assert float(inertia["min"]) == 0.0
-    assert float(inertia["nominal"]) == float(inertia["start"])
+    ratio = by_name["damping.ratio"].find("Real").attrib  # type: ignore[union-attr]
+    assert (float(ratio["min"]), float(ratio["max"])) == (0.0, 10.0)
+    assert float(ratio["nominal"]) == float(ratio["start"])
     for sv in svs:
         t = next(iter(sv)).attrib
         if "min" in t and "start" in t:
