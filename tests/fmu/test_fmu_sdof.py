@@ -410,3 +410,25 @@ def test_outputs_declare_no_direct_feedthrough(heli_fmu: Path) -> None:
         assert s.get(OUT) == before
         s.step(4 * H, H)
         assert s.get(OUT) != before
+
+
+def test_missing_package_named_at_instantiate(heli_fmu: Path) -> None:
+    """A host Python without scipy: instantiation fails, and the reason naming scipy reaches
+    stderr with logging off (pythonfmu would show it only with debug logging on)."""
+    code = textwrap.dedent(f"""
+        import sys
+        class Block:
+            def find_spec(self, name, path=None, target=None):
+                if name.split(".")[0] == "scipy":
+                    raise ModuleNotFoundError("No module named 'scipy'", name="scipy")
+        sys.meta_path.insert(0, Block())
+        from fmpy import simulate_fmu
+        try:
+            simulate_fmu({str(heli_fmu)!r}, stop_time=1e-4, output_interval=1e-5)
+        except Exception as exc:
+            print("refused:", exc)
+    """)
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=240)
+    assert "refused: Failed to instantiate" in proc.stdout, proc.stdout + proc.stderr
+    assert "Python package 'scipy' is missing" in proc.stderr, proc.stderr
