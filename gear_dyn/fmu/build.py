@@ -80,12 +80,24 @@ def resolve_scene(target: str | Path) -> Scene:
                      f"(models: {', '.join(MODEL_SCENES)})")
 
 
+#: gear_dyn sources the FMU never runs (the slim FMU leaves them out): the CLI, plots, the FMU
+#: build and co-simulation side, file output, and the studies beyond a run's own checks
+NOT_IN_FMU = ("cli/", "plots/", "fmu/build.py", "fmu/cosim.py", "fmu/native.py", "io.py",
+              "scene/packaged.py", "scene/sweep.py", "scenes/", "analysis/sweep/",
+              "analysis/bench.py", "analysis/chart.py", "analysis/excitation.py",
+              "analysis/report.py", "analysis/spectrum.py", "analysis/spectrum_labels.py",
+              "analysis/stiffness.py")
+
+
 def _vendor(dest: Path, package: str) -> None:
-    """Copy the gear_dyn sources to ``dest/package`` with imports renamed to ``package``."""
+    """Copy the gear_dyn sources the FMU runs (all but :data:`NOT_IN_FMU`) to
+    ``dest/package`` with imports renamed to ``package``."""
     target = dest / package
     for src in PACKAGE_ROOT.rglob("*"):
         rel = src.relative_to(PACKAGE_ROOT)
         if "__pycache__" in rel.parts or src.is_dir():
+            continue
+        if rel.as_posix().startswith(NOT_IN_FMU):
             continue
         if src.suffix not in (".py", ".toml", ".typed"):
             continue

@@ -432,3 +432,18 @@ def test_missing_package_named_at_instantiate(heli_fmu: Path) -> None:
                           timeout=240)
     assert "refused: Failed to instantiate" in proc.stdout, proc.stdout + proc.stderr
     assert "Python package 'scipy' is missing" in proc.stderr, proc.stderr
+
+
+def test_fmu_is_slim(heli_fmu: Path) -> None:
+    """The FMU carries only the code it runs: no CLI, plots, FMU build/co-simulation side or
+    studies, and no module of its gear_dyn copy imports matplotlib."""
+    names = zipfile.ZipFile(heli_fmu).namelist()
+    copy = [n for n in names if n.startswith("resources/gear_dyn_fmu_") and n.endswith(".py")]
+    assert copy
+    for part in ("/cli/", "/plots/", "/fmu/build.py", "/fmu/cosim.py", "/analysis/sweep/",
+                 "/analysis/chart.py", "/scenes/"):
+        assert not any(part in n for n in names), part
+    with zipfile.ZipFile(heli_fmu) as z:
+        for n in copy:
+            text = z.read(n).decode("utf-8")
+            assert "import matplotlib" not in text and "from matplotlib" not in text, n
