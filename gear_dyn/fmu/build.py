@@ -82,7 +82,8 @@ def resolve_scene(target: str | Path) -> Scene:
 
 #: gear_dyn sources the FMU never runs (the slim FMU leaves them out): the CLI, plots, the FMU
 #: build and co-simulation side, file output, and the studies beyond a run's own checks
-NOT_IN_FMU = ("cli/", "plots/", "fmu/build.py", "fmu/cosim.py", "fmu/native.py", "io.py",
+NOT_IN_FMU = ("cli/", "plots/", "fmu/build.py", "fmu/check.py", "fmu/cosim.py",
+              "fmu/native.py", "io.py",
               "scene/packaged.py", "scene/sweep.py", "scenes/", "analysis/sweep/",
               "analysis/bench.py", "analysis/chart.py", "analysis/excitation.py",
               "analysis/report.py", "analysis/spectrum.py", "analysis/spectrum_labels.py",
