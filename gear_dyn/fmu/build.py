@@ -262,6 +262,7 @@ def complete_model_description(xml: bytes, spec: dict[str, Any]) -> bytes:
             fmi_name = UNITS[v["unit"]][0]
             real.set("unit", fmi_name)
             used[v["unit"]] = fmi_name
+    _enumerations(root, mv, by_name)
     if used:
         defs = ET.Element("UnitDefinitions")
         for unit in sorted(used):
@@ -287,6 +288,27 @@ def complete_model_description(xml: bytes, spec: dict[str, Any]) -> bytes:
             ET.SubElement(iu, "Unknown", {"index": str(index)})
     ET.indent(root, space="  ")
     return ET.tostring(root, encoding="UTF-8", xml_declaration=True)
+
+
+def _enumerations(root: ET.Element, mv: ET.Element, by_name: dict[str, Any]) -> None:
+    """Turn the Integer stand-ins of choice parameters into FMI Enumerations with their
+    TypeDefinitions (item k = choice k), so a master offers the choices."""
+    types = ET.Element("TypeDefinitions")
+    for sv in mv.findall("ScalarVariable"):
+        v = by_name.get(sv.get("name", ""))
+        typed = next(iter(sv), None)
+        if v is None or v["type"] != "Enumeration" or typed is None:
+            continue
+        type_name = f"{v['name']}.choices"
+        typed.tag = "Enumeration"
+        typed.set("declaredType", type_name)
+        simple = ET.SubElement(types, "SimpleType", {"name": type_name})
+        enum = ET.SubElement(simple, "Enumeration")
+        for k, choice in enumerate(v["choices"], start=1):
+            ET.SubElement(enum, "Item", {"name": choice, "value": str(k)})
+    if len(types):
+        anchor = root.find("CoSimulation")
+        root.insert(list(root).index(anchor) + 1 if anchor is not None else 0, types)
 
 
 def read_spec(fmu: str | Path) -> dict[str, Any]:

@@ -133,7 +133,9 @@ def fmu_spec(scene: Scene) -> dict[str, Any]:
             unit_txt = f" [{f.unit}]" if f.unit else ""
             variables.append({
                 "name": f"{table}.{f.name}", "table": table, "key": f.name,
-                "type": _KINDS[f.kind], "causality": "input" if is_input else "parameter",
+                "type": "Enumeration" if f.choices else _KINDS[f.kind],
+                **({"choices": list(f.choices)} if f.choices else {}),
+                "causality": "input" if is_input else "parameter",
                 "variability": "continuous" if is_input else "fixed",
                 "unit": f.unit, "start": value,
                 "description": f"{SECTIONS[table].name}: {doc}{unit_txt}",

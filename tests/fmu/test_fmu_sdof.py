@@ -447,3 +447,24 @@ def test_fmu_is_slim(heli_fmu: Path) -> None:
         for n in copy:
             text = z.read(n).decode("utf-8")
             assert "import matplotlib" not in text and "from matplotlib" not in text, n
+
+
+def test_choices_are_enumerations(heli_fmu: Path) -> None:
+    """solver.method and stiffness.method are FMI Enumerations (item k = choice k of the scene
+    field); setting item k runs choice k (same result as setting it by name), and an item
+    outside 1..n is refused with a message naming the range and the choices."""
+    from fmpy import read_model_description
+
+    md = read_model_description(str(heli_fmu))
+    v = {x.name: x for x in md.modelVariables}
+    for name in ("solver.method", "stiffness.method"):
+        assert v[name].type == "Enumeration", name
+    items = [i.name for i in v["solver.method"].declaredType.items]
+    assert items == ["auto", "exact", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA"]
+    by_name = _solo(heli_fmu, 6, {"solver.method": "DOP853"})
+    np.testing.assert_array_equal(_solo(heli_fmu, 6, {"solver.method": 5}), by_name)
+    assert not np.array_equal(_solo(heli_fmu, 6, {"solver.method": "LSODA"}), by_name)
+    with FmuSession(heli_fmu) as s:
+        s.instantiate()
+        with pytest.raises(InputError, match=r"solver\.method = 99: valid range 1 <= x <= 8"):
+            s.set({"solver.method": 99})
