@@ -468,3 +468,26 @@ def test_choices_are_enumerations(heli_fmu: Path) -> None:
         s.instantiate()
         with pytest.raises(InputError, match=r"solver\.method = 99: valid range 1 <= x <= 8"):
             s.set({"solver.method": 99})
+
+
+def test_bad_parameter_is_fmi2_error_with_one_message(heli_fmu: Path) -> None:
+    """A bad parameter value: the set call returns fmi2Error (3, not fmi2Fatal), the host
+    logger gets one message naming the parameter, its value and the valid range, and after
+    fmi2Reset the instance gives the normal run."""
+    from fmpy.fmi1 import FMICallException
+
+    normal = _solo(heli_fmu, 6)
+    with FmuSession(heli_fmu) as s:
+        s.instantiate()
+        s.enter_init()
+        before = len(s.messages)
+        with pytest.raises(FMICallException) as info:
+            s.fmu.setReal([s.vr("damping.ratio")], [-1.0])
+        assert info.value.status == 3
+        new = s.messages[before:]
+        assert len(new) == 1, new
+        status, text = new[0]
+        assert status == 3
+        assert "damping.ratio" in text and "-1" in text and "0 <= x <= 10" in text, text
+        s.reset()
+        np.testing.assert_array_equal(_run(s, 6), normal)
