@@ -2,6 +2,9 @@
 
 Usage: python benchmarks/bench_fmu.py [--repeats N] [--out FILE]
 (default FILE: benchmarks/results/fmu.md)
+       python benchmarks/bench_fmu.py --per-step [--repeats N]
+(per-step cost against a trivial pythonfmu FMU, side by side in one run;
+default FILE: benchmarks/results/fmu_per_step.md)
 
 For the seed 002 scene (single-DOF, exact propagation, 40 mesh periods) and the seed 000 scene
 (torsional, eccentricity + friction, DOP853 rtol 1e-7, 12 mesh periods), at 4, 16 and 64
@@ -115,15 +118,106 @@ def agreement(name: str, periods: int, fmu: Path) -> list[str]:
     return rows
 
 
+TRIVIAL = '''
+from pythonfmu import Fmi2Causality, Fmi2Slave, Real
+
+
+class TrivialBench(Fmi2Slave):
+    """One output, y = t: the floor of a pythonfmu FMU's per-step cost."""
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        self.y = 0.0
+        self.register_variable(Real("y", causality=Fmi2Causality.output))
+
+    def do_step(self, current_time, step_size):
+        self.y = current_time + step_size
+        return True
+'''
+
+
+def _per_step_us(fmu: Path, outputs: list[str], h: float, n: int, repeats: int,
+                 values: dict[str, object] | None = None) -> list[float]:
+    """Microseconds per doStep + getReal(outputs) through fmpy, one value per repeat."""
+    out = []
+    tmp = extracted(fmu)
+    for _ in range(repeats):
+        with FmuSession(fmu, unzipdir=tmp.name) as s:
+            s.instantiate()
+            s.initialize(0.0, None, None, values)
+            vrs = [s.vr(k) for k in outputs]
+            do_step, get_real = s.fmu.doStep, s.fmu.getReal
+            t0 = time.perf_counter()
+            for k in range(n):
+                do_step(k * h, h)
+                get_real(vrs)
+            out.append((time.perf_counter() - t0) / n * 1e6)
+            s.terminate()
+    tmp.cleanup()
+    return out
+
+
+def per_step(repeats: int, out: Path) -> None:
+    """Per-step cost of the seed 002 FMU (exact, LSODA, DOP853; 16 steps per mesh period)
+    and of the seed 000 FMU (DOP853) against a trivial pythonfmu FMU, in one run."""
+    from pythonfmu import FmuBuilder
+
+    n = 2000
+    lines = ["# FMU per-step cost against a trivial pythonfmu FMU", "",
+             f"Command: `python benchmarks/bench_fmu.py --per-step --repeats {repeats}`  ",
+             f"Machine: {platform.machine()}, Python {platform.python_version()} (2 shared "
+             f"cores). {n} x (doStep + getReal of the outputs) through fmpy, after "
+             "initialization; median and range of the repeats, all measured in this one run.",
+             "", "| FMU | method | outputs read | per step (median) | range | / trivial |",
+             "|---|---|---:|---:|---:|---:|"]
+    with tempfile.TemporaryDirectory() as tmp:
+        script = Path(tmp) / "trivial_bench.py"
+        script.write_text(TRIVIAL)
+        trivial = FmuBuilder.build_FMU(script, dest=tmp)
+        floor_runs = _per_step_us(Path(trivial), ["y"], 1e-5, n, repeats)
+        floor = statistics.median(floor_runs)
+        cases: list[tuple[str, Path, dict[str, object] | None, float]] = []
+        heli = build_fmu("helicopter_tail", Path(tmp) / "heli.fmu")
+        ecc = build_fmu("eccentric_helical", Path(tmp) / "ecc.fmu")
+        h_heli = 1 / (16 * heli.spec["mesh_frequency"])
+        h_ecc = 1 / (16 * ecc.spec["mesh_frequency"])
+        for method in ("exact", "LSODA", "DOP853"):
+            cases.append((f"helicopter_tail ({method})", heli.path, {"solver.method": method},
+                          h_heli))
+        cases.append(("eccentric_helical (DOP853)", ecc.path, None, h_ecc))
+        rows = [("trivial pythonfmu", "-", 1, floor_runs)]
+        for label, path, values, h in cases:
+            spec = heli.spec if path == heli.path else ecc.spec
+            outs = [v["name"] for v in spec["variables"] if v["causality"] == "output"]
+            runs = _per_step_us(path, outs, h, n, repeats, values)
+            rows.append((label.split(" (")[0], label.split("(")[-1].rstrip(")"), len(outs),
+                         runs))
+    for name, method, n_out, runs in rows:
+        med = statistics.median(runs)
+        lines.append(f"| {name} | {method} | {n_out} | {med:.1f} us | {min(runs):.1f}-"
+                     f"{max(runs):.1f} us | {med / floor:.1f}x |")
+    text = "\n".join(lines) + "\n"
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(text)
+    print(text)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--out", type=Path,
-                    default=Path(__file__).resolve().parent / "out" / "fmu.md",
+    ap.add_argument("--out", type=Path, default=None,
                     help="report file (default benchmarks/out/, git-ignored)")
     ap.add_argument("--record", action="store_true",
-                    help="write the recorded results, benchmarks/results/fmu.md")
+                    help="write the recorded results in benchmarks/results/")
+    ap.add_argument("--per-step", action="store_true",
+                    help="per-step cost against a trivial pythonfmu FMU only")
     args = ap.parse_args()
+    results = ROOT / "benchmarks" / ("results" if args.record else "out")
+    results.mkdir(parents=True, exist_ok=True)
+    if args.per_step:
+        per_step(args.repeats, args.out or results / "fmu_per_step.md")
+        return
+    args.out = args.out or results / "fmu.md"
     lines = [
         "# FMU co-simulation: overhead and agreement",
         "",

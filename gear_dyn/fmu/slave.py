@@ -161,10 +161,35 @@ class GearDynSlave(Fmi2Slave):
             setter = self._value_setter(table, key, causality)
             if causality == "input":
                 self._input_names.append(name)
-        var = _TYPES[v["type"]](
+        if v["type"] == "Enumeration":  # an FMI Integer 1..n (modelDescription: Enumeration)
+            getter, setter = self._enum_access(v, getter, setter)
+        kind = _TYPES["Integer" if v["type"] == "Enumeration" else v["type"]]
+        var = kind(
             name, causality=_CAUSALITY[causality], variability=_VARIABILITY[v["variability"]],
             description=v["description"], getter=getter, setter=setter)
         self.register_variable(var, nested=False)
+
+    def _enum_access(self, v: dict[str, Any], getter: Callable[[], Any],
+                     setter: Callable[[Any], None] | None
+                     ) -> tuple[Callable[[], int], Callable[[Any], None] | None]:
+        """Getter and setter of an enumeration: item k (1..n) stands for choice k."""
+        choices: list[str] = v["choices"]
+
+        def get() -> int:
+            return choices.index(getter()) + 1
+
+        def put(value: Any) -> None:
+            assert setter is not None
+            if isinstance(value, int) and not isinstance(value, bool):
+                if not 1 <= value <= len(choices):
+                    self._refuse(f"set {v['name']}: {v['name']} = {value}: valid range "
+                                 f"1 <= x <= {len(choices)} ("
+                                 + ", ".join(f"{i} {c}" for i, c in enumerate(choices, 1))
+                                 + ")")
+                value = choices[value - 1]
+            setter(value)
+
+        return get, (put if setter is not None else None)
 
     def _output_getter(self, name: str) -> Callable[[], float]:
         return lambda: self._outputs[name]

@@ -90,6 +90,22 @@ def _jsonable(value: Any) -> Any:
     return value
 
 
+def _bounds(field: Any, start: Any) -> dict[str, Any]:
+    """FMI ``min``/``max`` (the field's physical range; an open bound such as ``0 < x`` gives
+    ``min = 0``, the FMU still refuses 0 itself) and, for Reals, ``nominal`` = |start|."""
+    out: dict[str, Any] = {}
+    if field.kind not in ("float", "int"):
+        return out
+    cast = int if field.kind == "int" else float
+    if field.low is not None and math.isfinite(field.low):
+        out["min"] = cast(math.ceil(field.low) if cast is int else field.low)
+    if field.high is not None and math.isfinite(field.high):
+        out["max"] = cast(math.floor(field.high) if cast is int else field.high)
+    if field.kind == "float" and isinstance(start, int | float) and start != 0:
+        out["nominal"] = abs(float(start))
+    return out
+
+
 def fmu_spec(scene: Scene) -> dict[str, Any]:
     """The FMU description of a scene: SI tables, variables and the default experiment.
 
@@ -117,10 +133,13 @@ def fmu_spec(scene: Scene) -> dict[str, Any]:
             unit_txt = f" [{f.unit}]" if f.unit else ""
             variables.append({
                 "name": f"{table}.{f.name}", "table": table, "key": f.name,
-                "type": _KINDS[f.kind], "causality": "input" if is_input else "parameter",
+                "type": "Enumeration" if f.choices else _KINDS[f.kind],
+                **({"choices": list(f.choices)} if f.choices else {}),
+                "causality": "input" if is_input else "parameter",
                 "variability": "continuous" if is_input else "fixed",
                 "unit": f.unit, "start": value,
                 "description": f"{SECTIONS[table].name}: {doc}{unit_txt}",
+                **_bounds(f, value),
             })
     y0 = model.initial_state()
     out_names = list(model.outputs(np.zeros(1), np.asarray(y0, float)[:, None]))

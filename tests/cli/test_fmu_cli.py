@@ -72,6 +72,7 @@ def test_cosim_with_a_scene_and_set(built: Path, tmp_path: Path) -> None:
     (["fmu", "build", "helicopter_tail", "--out", "x.zip"], "must end in .fmu"),
     (["fmu", "build", "no_such_scene", "--out", "x.fmu"], "not a scene file"),
     (["fmu", "validate", "missing.fmu"], "FMU file not found"),
+    (["fmu", "check", "missing.fmu"], "FMU file not found"),
     (["cosim", "missing.fmu", "--out", "d"], "FMU file not found"),
 ])
 def test_bad_input_exit_2(argv: list[str], message: str, tmp_path: Path,
@@ -93,3 +94,15 @@ def test_cosim_refuses_scene_parts_the_fmu_lacks(built: Path, tmp_path: Path,
     assert main(["cosim", str(built), "--out", str(tmp_path / "o"), "--step", repr(h),
                  "--step", repr(1.5 * h)]) == 2
     assert "integer multiple" in capsys.readouterr().err
+
+
+def test_check_reports_every_check(built: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """`gear-dyn fmu check`: four report lines and a verdict; the C host line passes where a
+    C compiler exists (else it is reported as not run, and the verdict says so)."""
+    code = main(["fmu", "check", str(built), "--steps", "16"])
+    out = capsys.readouterr().out
+    assert code == 0, out
+    for name in ("validation", "fmpy run", "stop-time independence", "C host"):
+        assert name in out
+    assert "verdict: PASS" in out
+    assert "FAIL" not in out

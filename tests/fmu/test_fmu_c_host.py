@@ -1,14 +1,9 @@
-"""The FMU in a plain C host (tests/fmu/host/fmi2_host.c): loaded with dlopen(RTLD_LOCAL) as
+"""The FMU in a plain C host (gear_dyn/fmu/fmi2_host.c): loaded with dlopen(RTLD_LOCAL) as
 fmuCheck and other C masters load it, with no Python in the process and an empty environment.
 It must give fmpy's numbers and exit cleanly, run after run."""
 
 from __future__ import annotations
 
-import shutil
-import subprocess
-import sys
-import textwrap
-import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
 
@@ -16,13 +11,12 @@ import numpy as np
 import pytest
 
 from gear_dyn.fmu.build import build_fmu
-from gear_dyn.fmu.cosim import FmuSession
+from gear_dyn.fmu.check import compile_host, fmpy_rows, run_c_host
 from gear_dyn.fmu.native import unsupported_reason
 
 pytestmark = pytest.mark.fmu
 
 SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
-HOST = Path(__file__).with_name("host") / "fmi2_host.c"
 F_M = 23 * 3319 / 60  # seed 002 mesh frequency, Hz
 H = 1 / (16 * F_M)
 NAMES = ["dte", "mesh_force", "state.x", "state.v"]
@@ -30,14 +24,12 @@ NAMES = ["dte", "mesh_force", "state.x", "state.v"]
 
 @pytest.fixture(scope="module")
 def host(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    cc = shutil.which("cc") or shutil.which("gcc")
-    if cc is None:
-        pytest.skip("no C compiler (cc/gcc) on PATH: the C host cannot be compiled")
     reason = unsupported_reason()
     if reason:
         pytest.skip(f"the FMU cannot run in a C host here: {reason}")
-    exe = tmp_path_factory.mktemp("host") / "fmi2_host"
-    subprocess.run([cc, "-O1", "-o", str(exe), str(HOST), "-ldl"], check=True)
+    exe = compile_host(tmp_path_factory.mktemp("host"))
+    if exe is None:
+        pytest.skip("no C compiler (cc/gcc/clang) on PATH: the C host cannot be compiled")
     return exe
 
 
@@ -49,33 +41,6 @@ def heli(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
     with zipfile.ZipFile(fmu.path) as z:
         z.extractall(d / "unzipped")
     return fmu.path, d / "unzipped"
-
-
-def run_c_host(exe: Path, unzipped: Path, names: list[str], stop: float | None, step: float,
-               n: int) -> tuple[subprocess.CompletedProcess[str], np.ndarray]:
-    """Run the C host in an empty environment; the printed rows (t, outputs)."""
-    root = ET.parse(unzipped / "modelDescription.xml").getroot()
-    vr = {sv.get("name"): sv.get("valueReference") for sv in root.iter("ScalarVariable")}
-    ident = root.find("CoSimulation").get("modelIdentifier")  # type: ignore[union-attr]
-    argv = [str(exe), str(unzipped.resolve()), str(ident), str(root.get("guid")),
-            "none" if stop is None else repr(stop), repr(step), str(n),
-            ",".join(str(vr[k]) for k in names)]
-    proc = subprocess.run(argv, capture_output=True, text=True, env={}, timeout=300)
-    rows = np.array([[float(v) for v in line.split()] for line in proc.stdout.splitlines()])
-    return proc, rows
-
-
-def fmpy_rows(fmu: Path, names: list[str], stop: float | None, step: float,
-              n: int) -> np.ndarray:
-    with FmuSession(fmu) as s:
-        s.instantiate()
-        s.initialize(0.0, stop)
-        rows = [[0.0, *s.get(names)]]
-        for k in range(n):
-            s.step(k * step, step)
-            rows.append([(k + 1) * step, *s.get(names)])
-        s.terminate()
-    return np.array(rows)
 
 
 @pytest.mark.parametrize("stop", [None, 40 * H])
@@ -105,21 +70,3 @@ def test_c_host_exits_cleanly_20_runs(host: Path, heli: tuple[Path, Path]) -> No
         if first is None:
             first = rows
         np.testing.assert_array_equal(rows, first)
-
-
-@pytest.mark.slow
-def test_fmpy_process_exits_cleanly_20_runs(heli: tuple[Path, Path]) -> None:
-    """20 fresh Python processes run the FMU through fmpy (instantiate, steps, terminate,
-    free, unload) and exit: every exit code is 0."""
-    fmu, _ = heli
-    code = textwrap.dedent(f"""
-        from fmpy import simulate_fmu
-        r = simulate_fmu({str(fmu)!r}, stop_time={8 * H!r}, output_interval={H!r},
-                         output=["dte"])
-        print(len(r))
-    """)
-    for k in range(20):
-        proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                              timeout=300)
-        assert proc.returncode == 0, (k, proc.returncode, proc.stderr[-2000:])
-        assert proc.stdout.split()[-1] == "9"

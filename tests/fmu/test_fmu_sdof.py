@@ -108,6 +108,17 @@ def test_model_description_valid_and_complete(heli_fmu: Path) -> None:
             assert unit in units
     # units by hand: module in m, speed in rad/s shown in rpm (factor 60 / 2 pi), force in N
     assert by_name["gear.module"].find("Real").get("unit") == "m"  # type: ignore[union-attr]
+    # physical bounds of the scene fields: z1 in [5, 10000], damping ratio in [0, 10],
+    # nominal = |start|
+    teeth = by_name["gear.teeth_pinion"].find("Integer").attrib  # type: ignore[union-attr]
+    assert (teeth["min"], teeth["max"]) == ("5", "10000")
+    ratio = by_name["damping.ratio"].find("Real").attrib  # type: ignore[union-attr]
+    assert (float(ratio["min"]), float(ratio["max"])) == (0.0, 10.0)
+    assert float(ratio["nominal"]) == float(ratio["start"])
+    for sv in svs:
+        t = next(iter(sv)).attrib
+        if "min" in t and "start" in t:
+            assert float(t["min"]) <= float(t["start"]) <= float(t.get("max", "inf"))
     speed = by_name["operating.speed"].find("Real")
     assert speed.get("unit") == "rad/s"  # type: ignore[union-attr]
     assert float(speed.get("start")) == pytest.approx(3319 * 2 * math.pi / 60, rel=1e-12)  # type: ignore[union-attr, arg-type]
@@ -399,3 +410,84 @@ def test_outputs_declare_no_direct_feedthrough(heli_fmu: Path) -> None:
         assert s.get(OUT) == before
         s.step(4 * H, H)
         assert s.get(OUT) != before
+
+
+def test_missing_package_named_at_instantiate(heli_fmu: Path) -> None:
+    """A host Python without scipy: instantiation fails, and the reason naming scipy reaches
+    stderr with logging off (pythonfmu would show it only with debug logging on)."""
+    code = textwrap.dedent(f"""
+        import sys
+        class Block:
+            def find_spec(self, name, path=None, target=None):
+                if name.split(".")[0] == "scipy":
+                    raise ModuleNotFoundError("No module named 'scipy'", name="scipy")
+        sys.meta_path.insert(0, Block())
+        from fmpy import simulate_fmu
+        try:
+            simulate_fmu({str(heli_fmu)!r}, stop_time=1e-4, output_interval=1e-5)
+        except Exception as exc:
+            print("refused:", exc)
+    """)
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=240)
+    assert "refused: Failed to instantiate" in proc.stdout, proc.stdout + proc.stderr
+    assert "Python package 'scipy' is missing" in proc.stderr, proc.stderr
+
+
+def test_fmu_is_slim(heli_fmu: Path) -> None:
+    """The FMU carries only the code it runs: no CLI, plots, FMU build/co-simulation side or
+    studies, and no module of its gear_dyn copy imports matplotlib."""
+    names = zipfile.ZipFile(heli_fmu).namelist()
+    copy = [n for n in names if n.startswith("resources/gear_dyn_fmu_") and n.endswith(".py")]
+    assert copy
+    for part in ("/cli/", "/plots/", "/fmu/build.py", "/fmu/cosim.py", "/analysis/sweep/",
+                 "/analysis/chart.py", "/scenes/"):
+        assert not any(part in n for n in names), part
+    with zipfile.ZipFile(heli_fmu) as z:
+        for n in copy:
+            text = z.read(n).decode("utf-8")
+            assert "import matplotlib" not in text and "from matplotlib" not in text, n
+
+
+def test_choices_are_enumerations(heli_fmu: Path) -> None:
+    """solver.method and stiffness.method are FMI Enumerations (item k = choice k of the scene
+    field); setting item k runs choice k (same result as setting it by name), and an item
+    outside 1..n is refused with a message naming the range and the choices."""
+    from fmpy import read_model_description
+
+    md = read_model_description(str(heli_fmu))
+    v = {x.name: x for x in md.modelVariables}
+    for name in ("solver.method", "stiffness.method"):
+        assert v[name].type == "Enumeration", name
+    items = [i.name for i in v["solver.method"].declaredType.items]
+    assert items == ["auto", "exact", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA"]
+    by_name = _solo(heli_fmu, 6, {"solver.method": "DOP853"})
+    np.testing.assert_array_equal(_solo(heli_fmu, 6, {"solver.method": 5}), by_name)
+    assert not np.array_equal(_solo(heli_fmu, 6, {"solver.method": "LSODA"}), by_name)
+    with FmuSession(heli_fmu) as s:
+        s.instantiate()
+        with pytest.raises(InputError, match=r"solver\.method = 99: valid range 1 <= x <= 8"):
+            s.set({"solver.method": 99})
+
+
+def test_bad_parameter_is_fmi2_error_with_one_message(heli_fmu: Path) -> None:
+    """A bad parameter value: the set call returns fmi2Error (3, not fmi2Fatal), the host
+    logger gets one message naming the parameter, its value and the valid range, and after
+    fmi2Reset the instance gives the normal run."""
+    from fmpy.fmi1 import FMICallException
+
+    normal = _solo(heli_fmu, 6)
+    with FmuSession(heli_fmu) as s:
+        s.instantiate()
+        s.enter_init()
+        before = len(s.messages)
+        with pytest.raises(FMICallException) as info:
+            s.fmu.setReal([s.vr("damping.ratio")], [-1.0])
+        assert info.value.status == 3
+        new = s.messages[before:]
+        assert len(new) == 1, new
+        status, text = new[0]
+        assert status == 3
+        assert "damping.ratio" in text and "-1" in text and "0 <= x <= 10" in text, text
+        s.reset()
+        np.testing.assert_array_equal(_run(s, 6), normal)

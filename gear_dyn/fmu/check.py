@@ -1,0 +1,152 @@
+"""``gear-dyn fmu check``: a user's own check of an FMU built by gear_dyn.
+
+Four checks, each a line of the report: fmpy's validation of the modelDescription, a run in
+fmpy (a Python host), a run in a plain C host (``fmi2_host.c``, compiled with the system
+compiler, loading the binary ``RTLD_LOCAL`` in an empty environment) that must give fmpy's
+outputs to 1e-12, and stop-time independence (the same run with and without a stop time
+announced in setupExperiment must agree to 1e-12).
+"""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import tempfile
+import xml.etree.ElementTree as ET
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from gear_dyn.errors import InputError
+
+HOST_SOURCE = Path(__file__).with_name("fmi2_host.c")
+#: agreement required between hosts and between stop-time settings (relative to each
+#: output's largest value): the same code runs, so only rounding may differ
+AGREEMENT = 1e-12
+
+
+@dataclass(frozen=True)
+class CheckLine:
+    """One check: its name, outcome (None: could not run here) and a one-line detail."""
+
+    name: str
+    ok: bool | None
+    detail: str
+
+
+def compile_host(dest: Path) -> Path | None:
+    """Compile the C host into ``dest``; None when no C compiler is on PATH."""
+    cc = shutil.which("cc") or shutil.which("gcc") or shutil.which("clang")
+    if cc is None:
+        return None
+    exe = dest / "fmi2_host"
+    subprocess.run([cc, "-O1", "-o", str(exe), str(HOST_SOURCE), "-ldl"], check=True,
+                   capture_output=True)
+    return exe
+
+
+def run_c_host(exe: Path, unzipped: Path, names: list[str], stop: float | None, step: float,
+               n: int) -> tuple[subprocess.CompletedProcess[str], np.ndarray]:
+    """Run the C host (empty environment) on an unzipped FMU: the process and the printed
+    rows (t, outputs...)."""
+    root = ET.parse(unzipped / "modelDescription.xml").getroot()
+    vr = {sv.get("name"): sv.get("valueReference") for sv in root.iter("ScalarVariable")}
+    cs = root.find("CoSimulation")
+    if cs is None:
+        raise InputError(f"{unzipped}: not a co-simulation FMU")
+    argv = [str(exe), str(unzipped.resolve()), str(cs.get("modelIdentifier")),
+            str(root.get("guid")), "none" if stop is None else repr(stop), repr(step), str(n),
+            ",".join(str(vr[k]) for k in names)]
+    proc = subprocess.run(argv, capture_output=True, text=True, env={}, timeout=600)
+    rows = [[float(v) for v in line.split()] for line in proc.stdout.splitlines()]
+    return proc, np.array(rows)
+
+
+def fmpy_rows(fmu: Path, names: list[str], stop: float | None, step: float,
+              n: int) -> np.ndarray:
+    """The same run through fmpy: rows (t, outputs...) after initialization and each step."""
+    from gear_dyn.fmu.cosim import FmuSession
+
+    with FmuSession(fmu) as s:
+        s.instantiate()
+        s.initialize(0.0, stop)
+        rows = [[0.0, *s.get(names)]]
+        for k in range(n):
+            s.step(k * step, step)
+            rows.append([(k + 1) * step, *s.get(names)])
+        s.terminate()
+    return np.array(rows)
+
+
+def _rel(a: np.ndarray, b: np.ndarray) -> float:
+    scale = np.max(np.abs(b), axis=0) + 1e-300
+    return float(np.max(np.abs(a - b) / scale))
+
+
+def check_fmu(fmu: str | Path, n_steps: int = 64) -> list[CheckLine]:
+    """Run the four checks on an FMU built by gear_dyn (``n_steps`` default-experiment steps).
+
+    Raises
+    ------
+    InputError
+        Not a readable FMU built by gear_dyn.
+    """
+    from fmpy.validation import validate_fmu
+
+    from gear_dyn.fmu.build import read_spec
+
+    path = Path(fmu)
+    spec = read_spec(path)
+    names = [v["name"] for v in spec["variables"] if v["causality"] == "output"]
+    h = float(spec["experiment"]["step_size"])
+    lines = []
+    problems = list(validate_fmu(str(path)))
+    lines.append(CheckLine("validation", not problems,
+                           "fmpy: no problems" if not problems else "; ".join(problems)[:200]))
+    try:
+        free = fmpy_rows(path, names, None, h, n_steps)
+        announced = fmpy_rows(path, names, n_steps * h, h, n_steps)
+    except Exception as exc:  # the report says why the run failed
+        lines.append(CheckLine("fmpy run", False, str(exc)[:200]))
+        return lines
+    finite = bool(np.all(np.isfinite(free)))
+    lines.append(CheckLine("fmpy run", finite, f"{n_steps} steps of {h:.6g} s, "
+                           f"{len(names)} outputs" + ("" if finite else ", NOT finite")))
+    d = _rel(announced, free)
+    lines.append(CheckLine("stop-time independence", d <= AGREEMENT,
+                           f"with vs without stop time: max diff {d:.2e} of each output's "
+                           f"largest value (required <= {AGREEMENT:g})"))
+    lines.append(_c_host_line(path, names, h, n_steps, free))
+    return lines
+
+
+def _c_host_line(path: Path, names: list[str], h: float, n: int,
+                 ref: np.ndarray) -> CheckLine:
+    with zipfile.ZipFile(path) as z:
+        if not any(x.endswith("libgear_dyn_pyboot.so") for x in z.namelist()):
+            return CheckLine("C host", None, "this FMU has no boot library (built without a C "
+                             "compiler or patchelf): Python hosts only")
+    with tempfile.TemporaryDirectory(prefix="gear_dyn_check_") as tmp:
+        d = Path(tmp)
+        exe = compile_host(d)
+        if exe is None:
+            return CheckLine("C host", None, "skipped: no C compiler (cc) to build the host")
+        with zipfile.ZipFile(path) as z:
+            z.extractall(d / "fmu")
+        proc, rows = run_c_host(exe, d / "fmu", names, None, h, n)
+    if proc.returncode != 0:
+        tail = proc.stderr.strip().splitlines()[-1:] or [""]
+        return CheckLine("C host", False, f"exit code {proc.returncode}: {tail[0][:160]}")
+    if rows.shape != ref.shape:
+        return CheckLine("C host", False, f"{rows.shape[0]} rows, expected {ref.shape[0]}")
+    d_c = _rel(rows, ref)
+    return CheckLine("C host", d_c <= AGREEMENT,
+                     f"dlopen RTLD_LOCAL, empty environment, exit 0; vs fmpy max diff "
+                     f"{d_c:.2e} (required <= {AGREEMENT:g})")
+
+
+def verdict(lines: list[CheckLine]) -> bool:
+    """True when no check failed (a check that could not run here does not fail)."""
+    return all(line.ok is not False for line in lines)
