@@ -134,7 +134,9 @@ class Stepper:
 
     def __init__(self, model: Model, settings: SolverSettings, t0: float = 0.0,
                  y0: FloatArray | None = None, stop_time: float | None = None) -> None:
-        method = stepper_method(model) if settings.method == "auto" else settings.method
+        # a whole-run method (periodic step maps) is not kept alive across steps: auto's choice
+        method = (stepper_method(model) if settings.method in ("auto", "periodic")
+                  else settings.method)
         if method == "exact" and model.linear_segments(0.0, 1.0 / model.mesh_frequency) is None:
             raise InputError("solver.method = 'exact' needs a linear model with "
                              "piecewise-constant coefficients; use DOP853 or LSODA")

@@ -103,8 +103,8 @@ TRANSMISSION_ERROR = register_section(Section("transmission_error", (
 
 SOLVER = register_section(Section("solver", (
     Field("method", kind="str", default="auto",
-          choices=("auto", "exact", "periodic", "RK45", "RK23", "DOP853", "Radau", "BDF",
-                   "LSODA"),
+          choices=("auto", "exact", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA",
+                   "periodic"),  # periodic last: FMU enumeration items keep their numbers
           doc="integration method"),
     Field("rtol", default=1e-8, low=1e-13, high=1e-2, doc="relative tolerance"),
     Field("atol", default=None, low=0.0, low_open=True,

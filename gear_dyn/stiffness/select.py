@@ -141,6 +141,9 @@ def _contact_line(pair: GearPair, opts: Mapping[str, Any]) -> PiecewiseStiffness
     k_l = opts.get("stiffness_per_length")
     if k_l is None:
         iso = iso6336_stiffness(pair, line_load=opts.get("line_load"))
+        if not iso.k_mesh > 0:  # line_load = 0 scales ISO's c' to zero: no stiffness at all
+            raise InputError(f"line_load = {opts.get('line_load')!r} N/m gives an ISO 6336 "
+                             "mesh stiffness of 0 N/m: valid range line_load > 0 N/m")
         k_l = iso.k_mesh / mean_contact_line_length(pair)
     else:
         k_l = _positive("stiffness_per_length", k_l, "N/m^2")

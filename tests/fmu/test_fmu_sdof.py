@@ -460,13 +460,14 @@ def test_choices_are_enumerations(heli_fmu: Path) -> None:
     for name in ("solver.method", "stiffness.method"):
         assert v[name].type == "Enumeration", name
     items = [i.name for i in v["solver.method"].declaredType.items]
-    assert items == ["auto", "exact", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA"]
+    assert items == ["auto", "exact", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA",
+                     "periodic"]
     by_name = _solo(heli_fmu, 6, {"solver.method": "DOP853"})
     np.testing.assert_array_equal(_solo(heli_fmu, 6, {"solver.method": 5}), by_name)
     assert not np.array_equal(_solo(heli_fmu, 6, {"solver.method": "LSODA"}), by_name)
     with FmuSession(heli_fmu) as s:
         s.instantiate()
-        with pytest.raises(InputError, match=r"solver\.method = 99: valid range 1 <= x <= 8"):
+        with pytest.raises(InputError, match=r"solver\.method = 99: valid range 1 <= x <= 9"):
             s.set({"solver.method": 99})
 
 
