@@ -66,3 +66,15 @@ def test_build_stiffness_is_public() -> None:
     pair = gd.GearPair(23, 64, 6e-3, math.radians(22.5), 0.05)
     k = gd.build_stiffness(pair, "iso6336")
     assert k.mean == pytest.approx(gd.iso6336_stiffness(pair).k_mesh, rel=1e-12)
+
+
+def test_result_has_a_short_text_and_html_repr() -> None:
+    """A Result in a notebook shows its key figures, not a wall of arrays (issue 17)."""
+    import gear_dyn as gd
+
+    res = gd.run_scene(gd.load_scene("helicopter_tail"), periods=20)
+    text = repr(res)
+    assert len(text) < 400 and f"dynamic factor: {res.dynamic_factor:.4f}" in text
+    assert "exact" in text and "20 mesh periods" in text
+    html = res._repr_html_()  # noqa: SLF001
+    assert html.startswith("<table>") and f"{res.dynamic_factor:.4f}" in html

@@ -117,6 +117,31 @@ class Result:
         """Peak-to-peak DTE over the steady window in m."""
         return float(np.ptp(self.outputs["dte"][self.steady]))
 
+    def key_figures(self) -> list[tuple[str, str]]:
+        """(name, value with unit) of the figures a notebook shows for this run."""
+        periods = (self.t[-1] - self.t[0]) * self.mesh_frequency
+        rows = [("method", f"{self.stats.method} (rtol {self.stats.rtol:g})"),
+                ("span", f"{periods:.0f} mesh periods at f_m = {self.mesh_frequency:.1f} Hz")]
+        if "dte" in self.outputs and "mesh_force" in self.outputs:
+            rows += [("dynamic factor", f"{self.dynamic_factor:.4f}"),
+                     ("RMS / p-p DTE", f"{self.rms_dte * 1e6:.4g} / {self.ptp_dte * 1e6:.4g} um")]
+        est = self.extra.get("estimated_error")
+        if isinstance(est, dict) and est.get("max_rel") is not None:
+            tail = "" if est.get("reproducible", True) else " (trajectory not reproducible)"
+            rows.append(("estimated error", f"{est['max_rel']:.2g} of W/k_m{tail}"))
+        rows.append(("run time", f"{self.stats.run_time_s:.3g} s"))
+        return rows
+
+    def __repr__(self) -> str:
+        return "Result(" + ", ".join(f"{k}: {v}" for k, v in self.key_figures()) + ")"
+
+    def _repr_html_(self) -> str:
+        from html import escape
+
+        cells = "".join(f"<tr><th style='text-align:left'>{escape(k)}</th><td>{escape(v)}</td>"
+                        "</tr>" for k, v in self.key_figures())
+        return f"<table><caption>gear_dyn Result</caption>{cells}</table>"
+
 
 def time_grid(mesh_frequency: float, t_end: float, samples_per_period: int) -> FloatArray:
     """Uniform grid from 0 to ``t_end`` with ``samples_per_period`` points per mesh period."""
