@@ -118,6 +118,7 @@ def test_component_split_follows_the_scene_options() -> None:
     total = comp["hertz_m_per_n"] + sum(
         comp[f"{t}_{g}_m_per_n"] for t in ("bending", "shear", "axial", "fillet")
         for g in ("pinion", "gear"))
+    # every term the report lists, and only those, make up the pair compliance it reports
     assert 1.0 / total == pytest.approx(comp["pair_stiffness_n_per_m"], rel=1e-12)
     # the curve at the phase where one pair meshes at the pitch point, alone (single contact)
     p = ((pair.pitch_point - pair.start_of_contact) / pair.base_pitch) % 1.0
