@@ -72,7 +72,7 @@ def run_build(args: argparse.Namespace) -> int:
           f"(model identifier {built.model_identifier}; {n_par} parameters, {n_in} inputs, "
           f"{n_out} outputs)")
     if built.c_host_missing is None:
-        print("C hosts: boot library binaries/linux64/libgear_dyn_pyboot.so added (runs in any "
+        print("C hosts: boot library libgear_dyn_pyboot_<id>.so added (runs in any "
               "FMI host on this machine's Python, see docs/fmu.md)")
     else:
         print(f"C hosts: not supported by this FMU ({built.c_host_missing}); it runs in "

@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from gear_dyn.errors import InputError
+from gear_dyn.fmu.native import BOOT_LIB
 
 HOST_SOURCE = Path(__file__).with_name("fmi2_host.c")
 #: agreement required between hosts and between stop-time settings (relative to each
@@ -125,7 +126,7 @@ def check_fmu(fmu: str | Path, n_steps: int = 64) -> list[CheckLine]:
 def _c_host_line(path: Path, names: list[str], h: float, n: int,
                  ref: np.ndarray) -> CheckLine:
     with zipfile.ZipFile(path) as z:
-        if not any(x.endswith("libgear_dyn_pyboot.so") for x in z.namelist()):
+        if not any(Path(x).name.startswith(BOOT_LIB) for x in z.namelist()):
             return CheckLine("C host", None, "this FMU has no boot library (built without a C "
                              "compiler or patchelf): Python hosts only")
     with tempfile.TemporaryDirectory(prefix="gear_dyn_check_") as tmp:
