@@ -23,6 +23,9 @@ def register(sub: Any) -> None:
     )
     b.add_argument("scene", help="scene file (TOML), packaged scene name or model name")
     b.add_argument("--out", type=Path, required=True, help="FMU file to write (.fmu)")
+    b.add_argument("--fmi", type=int, default=2, choices=(2, 3),
+                   help="FMI version: 2 (default, pythonfmu) or 3 (pythonfmu3: pip install "
+                   "'gear_dyn[fmi3]')")
     b.add_argument("--no-validate", action="store_true",
                    help="skip the fmpy validation of the built FMU")
     b.set_defaults(func=run_build)
@@ -64,11 +67,12 @@ def run_build(args: argparse.Namespace) -> int:
     from gear_dyn.errors import SolverError
     from gear_dyn.fmu.build import build_fmu
 
-    built = build_fmu(args.scene, args.out)
+    built = build_fmu(args.scene, args.out, fmi=args.fmi)
     n_par = sum(v["causality"] == "parameter" for v in built.spec["variables"])
     n_in = sum(v["causality"] == "input" for v in built.spec["variables"])
     n_out = sum(v["causality"] == "output" for v in built.spec["variables"])
     print(f"{built.spec['scene_name']}: {built.spec['model']} model -> {built.path} "
+          f"(FMI {args.fmi}.0 co-simulation) "
           f"(model identifier {built.model_identifier}; {n_par} parameters, {n_in} inputs, "
           f"{n_out} outputs)")
     if built.c_host_missing is None:

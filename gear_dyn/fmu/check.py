@@ -1,6 +1,7 @@
-"""``gear-dyn fmu check``: a user's own check of an FMU built by gear_dyn.
+"""``gear-dyn fmu check``: a user's own check of an FMU built by gear_dyn (FMI 2 or 3).
 
-Four checks, each a line of the report: fmpy's validation of the modelDescription, a run in
+Four checks, each a line of the report (for an FMI 3 FMU the C host line says it was not
+run: the C host is FMI 2 only): fmpy's validation of the modelDescription, a run in
 fmpy (a Python host), a run in a plain C host (``fmi2_host.c``, compiled with the system
 compiler, loading the binary ``RTLD_LOCAL`` in an empty environment) that must give fmpy's
 outputs to 1e-12, and stop-time independence (the same run with and without a stop time
@@ -67,10 +68,11 @@ def run_c_host(exe: Path, unzipped: Path, names: list[str], stop: float | None, 
 
 def fmpy_rows(fmu: Path, names: list[str], stop: float | None, step: float,
               n: int) -> np.ndarray:
-    """The same run through fmpy: rows (t, outputs...) after initialization and each step."""
-    from gear_dyn.fmu.cosim import FmuSession
+    """The same run through fmpy (FMI 2 or 3): rows (t, outputs...) after initialization and
+    each step."""
+    from gear_dyn.fmu.session3 import open_session
 
-    with FmuSession(fmu) as s:
+    with open_session(fmu) as s:
         s.instantiate()
         s.initialize(0.0, stop)
         rows = [[0.0, *s.get(names)]]
@@ -97,15 +99,18 @@ def check_fmu(fmu: str | Path, n_steps: int = 64) -> list[CheckLine]:
     from fmpy.validation import validate_fmu
 
     from gear_dyn.fmu.build import read_spec
+    from gear_dyn.fmu.session3 import fmi_version
 
     path = Path(fmu)
     spec = read_spec(path)
+    version = fmi_version(path)
     names = [v["name"] for v in spec["variables"] if v["causality"] == "output"]
     h = float(spec["experiment"]["step_size"])
     lines = []
     problems = list(validate_fmu(str(path)))
     lines.append(CheckLine("validation", not problems,
-                           "fmpy: no problems" if not problems else "; ".join(problems)[:200]))
+                           f"fmpy, FMI {version}: no problems" if not problems
+                           else "; ".join(problems)[:200]))
     try:
         free = fmpy_rows(path, names, None, h, n_steps)
         announced = fmpy_rows(path, names, n_steps * h, h, n_steps)
@@ -119,7 +124,11 @@ def check_fmu(fmu: str | Path, n_steps: int = 64) -> list[CheckLine]:
     lines.append(CheckLine("stop-time independence", d <= AGREEMENT,
                            f"with vs without stop time: max diff {d:.2e} of each output's "
                            f"largest value (required <= {AGREEMENT:g})"))
-    lines.append(_c_host_line(path, names, h, n_steps, free))
+    if version.startswith("3"):
+        lines.append(CheckLine("C host", None, "not run: the C host (fmi2_host.c) is FMI 2 "
+                               "only; this FMU is FMI 3"))
+    else:
+        lines.append(_c_host_line(path, names, h, n_steps, free))
     return lines
 
 
