@@ -110,7 +110,8 @@ def boot_binaries(binary: bytes, model_identifier: str, fmi: int = 2) -> dict[st
               f'-DGEAR_DYN_PYTHON="{info["executable"]}"',
               f'-DGEAR_DYN_MODEL="{model_identifier}"',
               *(["-DGEAR_DYN_BOOT_ONLY"] if fmi == 3 else []), str(_SOURCE), "-o", str(lib),
-              f"-Wl,-soname,{boot}", "-Wl,--no-as-needed", f"-L{libpython.parent}", f"-l:{libpython.name}",
+              f"-Wl,-soname,{boot}", "-Wl,--no-as-needed", f"-L{libpython.parent}",
+              f"-l:{libpython.name}",
               f"-Wl,-rpath,{libpython.parent}", "-ldl"])
         names = d / "rename.map"
         names.write_text("".join(f"{f} gear_dyn_orig_{f}\n" for f in WRAPPED))

@@ -34,7 +34,7 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 import numpy as np
-from pythonfmu3 import Boolean, Fmi3Causality, Fmi3Slave, Fmi3Variability, Float64, Int32, Int64
+from pythonfmu3 import Boolean, Float64, Fmi3Causality, Fmi3Slave, Fmi3Variability, Int32, Int64
 from pythonfmu3 import String as String3
 from pythonfmu3.default_experiment import DefaultExperiment
 from pythonfmu3.enums import Fmi3Status
