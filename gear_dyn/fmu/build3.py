@@ -99,7 +99,8 @@ def build_fmu3(target: str | Path | Scene, out: str | Path) -> BuiltFmu:
         try:
             raw = FmuBuilder.build_FMU(script, dest=raw_dir,
                                        project_files=[stage / package, stage / SPEC_FILE,
-                                                      stage / PYTHON_FILE])
+                                                      stage / PYTHON_FILE],
+                                       canGetAndSetFMUState=True, canSerializeFMUState=True)
         finally:
             # forget the staged modules, so the FMU loads its own copy when instantiated
             sys.path[:] = saved_path

@@ -20,14 +20,17 @@ What pythonfmu3 (0.3.4) passes on, and what follows
 - A Python exception in any call is ``fmi3Fatal`` and pythonfmu3 then drops its references to
   the class, the instance and the log queue (yet frees them again later): a refused call logs
   its reason (status error), hands those references back and raises, as the FMI 2 slave does.
-- No FMU state (get/set/serialize) in this FMU (``canGetAndSetFMUState`` false).
+- FMU state: get/set/serialize keep the whole integrator state, as in FMI 2 (pickled with
+  builtins and numpy arrays only).
 """
 
 from __future__ import annotations
 
 import ctypes
+import io
 import json
 import math
+import pickle
 from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
@@ -74,6 +77,19 @@ def _fmi_call(func: Callable[..., Any]) -> Callable[..., Any]:
     return wrapper
 
 
+class _StateUnpickler(pickle.Unpickler):
+    """Unpickler for FMU states: builtins and numpy arrays only (no arbitrary objects)."""
+
+    ALLOWED = {("numpy", "ndarray"), ("numpy", "dtype"), ("numpy.core.multiarray", "_reconstruct"),
+               ("numpy._core.multiarray", "_reconstruct"), ("numpy.core.multiarray", "scalar"),
+               ("numpy._core.multiarray", "scalar"), ("builtins", "complex")}
+
+    def find_class(self, module: str, name: str) -> Any:
+        if (module, name) not in self.ALLOWED:
+            raise pickle.UnpicklingError(f"FMU state may not contain {module}.{name}")
+        return super().find_class(module, name)
+
+
 class GearDynSlave3(Fmi3Slave):
     """FMI 3.0 co-simulation slave of a gear_dyn scene (single-DOF or torsional model).
 
@@ -102,6 +118,8 @@ class GearDynSlave3(Fmi3Slave):
         self._base_model: Any = None
         self._pair: Any = None
         self._applied: tuple[float, float] | None = None
+        self._changes: dict[str, float] = {}
+        self._built_tables: dict[str, dict[str, Any]] | None = None
         for v in spec["variables"]:
             self._register(v)
         # FMI 3 requires the independent variable; last, so the other value references are
@@ -196,16 +214,21 @@ class GearDynSlave3(Fmi3Slave):
         compute the initial outputs."""
         if self._phase != "initializing":
             raise InputError(f"exitInitializationMode in state {self._phase}")
-        scene = parse_scene({k: dict(v) for k, v in self._tables.items()},
+        self._build(self._tables)
+        self._phase = "stepping"
+        self._update_outputs()
+
+    def _build(self, tables: dict[str, dict[str, Any]]) -> None:
+        scene = parse_scene({k: dict(v) for k, v in tables.items()},
                             source=f"FMU {self.instance_name}", si=True)
         plan = build_plan(scene)
         self._pair = build_pair(scene)
         self._base_model = plan.model
+        self._changes = {}
         op = scene.get("operating")
         self._applied = (float(op["speed"]), float(op["torque"]))
         self._stepper = Stepper(plan.model, plan.settings, t0=0.0, stop_time=None)
-        self._phase = "stepping"
-        self._update_outputs()
+        self._built_tables = {k: dict(v) for k, v in tables.items()}
 
     @_fmi_call
     def do_step(self, current_time: float, step_size: float) -> bool:
@@ -222,8 +245,9 @@ class GearDynSlave3(Fmi3Slave):
         op = self._tables["operating"]
         inputs = (float(op["speed"]), float(op["torque"]))
         if inputs != self._applied:
-            changes = input_changes(self._base_model, self._pair, inputs[0], inputs[1], st.t)
-            st.replace_model(replace(self._base_model, **changes))
+            self._changes = input_changes(self._base_model, self._pair, inputs[0], inputs[1],
+                                          st.t)
+            st.replace_model(replace(self._base_model, **self._changes))
             self._applied = inputs
         st.advance(current_time + step_size)
         self._update_outputs()
@@ -249,6 +273,48 @@ class GearDynSlave3(Fmi3Slave):
     def terminate(self) -> None:
         """End the run; further doSteps are refused (reset to start again)."""
         self._phase = "terminated"
+
+    # ------------------------------------------------------------------ FMU state
+    @_fmi_call
+    def _get_fmu_state(self) -> dict[str, Any]:
+        """A deep snapshot: values, phase and the whole integrator state."""
+        return {
+            "phase": self._phase,
+            "tables": {k: dict(v) for k, v in self._tables.items()},
+            "built_tables": self._built_tables,
+            "changes": dict(self._changes),
+            "applied": self._applied,
+            "outputs": dict(self._outputs),
+            "stepper": self._stepper.snapshot() if self._stepper is not None else None,
+        }
+
+    @_fmi_call
+    def _set_fmu_state(self, state: dict[str, Any]) -> None:
+        """Return to a state from :meth:`_get_fmu_state` (or its deserialised bytes)."""
+        if not isinstance(state, dict) or "stepper" not in state:
+            raise InputError("not an FMU state of this FMU")
+        built = state["built_tables"]
+        if built is not None and (self._stepper is None or built != self._built_tables):
+            self._build(built)  # the state was taken with other parameter values
+        self._tables = {k: dict(v) for k, v in state["tables"].items()}
+        self._phase = state["phase"]
+        self._applied = tuple(state["applied"]) if state["applied"] is not None else None
+        self._changes = dict(state["changes"])
+        self._outputs = dict(state["outputs"])
+        if state["stepper"] is not None and self._stepper is not None:
+            self._stepper.model = (replace(self._base_model, **self._changes) if self._changes
+                                   else self._base_model)
+            self._stepper.restore(state["stepper"])
+        elif state["stepper"] is None:
+            self._stepper = None
+
+    @staticmethod
+    def _fmu_state_to_bytes(state: dict[str, Any]) -> bytes:
+        return pickle.dumps(state, protocol=4)
+
+    @staticmethod
+    def _fmu_state_from_bytes(state: bytes) -> dict[str, Any]:
+        return dict(_StateUnpickler(io.BytesIO(bytes(state))).load())
 
 
 __all__ = ["Fmu3CallError", "GearDynSlave3"]
