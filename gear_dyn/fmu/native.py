@@ -34,9 +34,14 @@ def boot_lib_name(model_identifier: str) -> str:
 
 PYTHON_FILE = "gear_dyn_python.json"
 _SOURCE = Path(__file__).with_name("pyboot.c")
+#: the FMI 3 boot library: pyboot.c's constructor plus the FMI 3 status wrappers
+_SOURCE3 = Path(__file__).with_name("pyboot3.c")
 #: FMI functions the boot library wraps (see pyboot.c: refusals as fmi2Error, one message)
 WRAPPED = ("fmi2Instantiate", "fmi2SetReal", "fmi2SetInteger", "fmi2SetBoolean",
            "fmi2SetString", "fmi2ExitInitializationMode")
+#: the FMI 3 functions pyboot3.c wraps
+WRAPPED3 = ("fmi3InstantiateCoSimulation", "fmi3SetFloat64", "fmi3SetInt32", "fmi3SetInt64",
+            "fmi3SetBoolean", "fmi3SetString", "fmi3ExitInitializationMode")
 
 
 def _compiler() -> str | None:
@@ -89,7 +94,7 @@ def unsupported_reason() -> str | None:
 
 def boot_binaries(binary: bytes, model_identifier: str, fmi: int = 2) -> dict[str, bytes]:
     """The patched FMU binary and the boot library, by file name in its binaries folder
-    (``fmi``: 2 wraps the FMI 2 calls listed in :data:`WRAPPED`; 3 adds the boot only).
+    (``fmi``: 2 wraps the FMI 2 calls listed in :data:`WRAPPED`, 3 those in :data:`WRAPPED3`).
 
     Raises
     ------
@@ -109,14 +114,15 @@ def boot_binaries(binary: bytes, model_identifier: str, fmi: int = 2) -> dict[st
               f'-DGEAR_DYN_LIBPYTHON="{libpython.name}"',
               f'-DGEAR_DYN_PYTHON="{info["executable"]}"',
               f'-DGEAR_DYN_MODEL="{model_identifier}"',
-              *(["-DGEAR_DYN_BOOT_ONLY"] if fmi == 3 else []), str(_SOURCE), "-o", str(lib),
+              str(_SOURCE3 if fmi == 3 else _SOURCE), "-o", str(lib),
               f"-Wl,-soname,{boot}", "-Wl,--no-as-needed", f"-L{libpython.parent}",
               f"-l:{libpython.name}",
               f"-Wl,-rpath,{libpython.parent}", "-ldl"])
         names = d / "rename.map"
-        names.write_text("".join(f"{f} gear_dyn_orig_{f}\n" for f in WRAPPED))
-        rename = ["--rename-dynamic-symbols", str(names)] if fmi == 2 else []
-        _run([patchelf, *rename, "--add-needed", boot, "--set-rpath", "$ORIGIN", str(so)])
+        names.write_text("".join(f"{f} gear_dyn_orig_{f}\n"
+                                 for f in (WRAPPED3 if fmi == 3 else WRAPPED)))
+        _run([patchelf, "--rename-dynamic-symbols", str(names), "--add-needed", boot,
+              "--set-rpath", "$ORIGIN", str(so)])
         return {so.name: so.read_bytes(), boot: lib.read_bytes()}
 
 

@@ -20,6 +20,8 @@ What pythonfmu3 (0.3.4) passes on, and what follows
 - A Python exception in any call is ``fmi3Fatal`` and pythonfmu3 then drops its references to
   the class, the instance and the log queue (yet frees them again later): a refused call logs
   its reason (status error), hands those references back and raises, as the FMI 2 slave does.
+  The instance stays valid, so the boot library (``pyboot3.c``, Linux) reports a refusal of
+  fmi3Set* and fmi3ExitInitializationMode as ``fmi3Error``.
 - FMU state: get/set/serialize keep the whole integrator state, as in FMI 2 (pickled with
   builtins and numpy arrays only).
 """
