@@ -306,3 +306,11 @@ def test_fmi3_fmu_state_restores_the_run_bit_for_bit(fmus: dict[str, dict[int, P
         s.fmu.freeFMUState(restored)
     np.testing.assert_array_equal(again, first)
     np.testing.assert_array_equal(from_bytes, first)
+
+
+def test_cosim_refuses_fmi3_with_a_clear_message(fmus: dict[str, dict[int, Path]]) -> None:
+    """FmuSession (gear-dyn cosim) is FMI 2 only: an FMI 3 FMU is an InputError saying so."""
+    from gear_dyn.fmu.cosim import FmuSession
+
+    with pytest.raises(InputError, match="an FMI 3.0 FMU; co-simulation against solve_ivp"):
+        FmuSession(fmus["helicopter_tail"][3])
