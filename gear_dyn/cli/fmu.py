@@ -9,8 +9,9 @@ from typing import Any
 
 def register(sub: Any) -> None:
     p = sub.add_parser(
-        "fmu", help="export a scene as an FMI 2.0 co-simulation FMU, or validate one",
-        description="Build an FMI 2.0 co-simulation FMU (pythonfmu) that carries gear_dyn and "
+        "fmu", help="export a scene as an FMI 2.0 (or 3.0) co-simulation FMU, or check one",
+        description="Build an FMI 2.0 (pythonfmu) or 3.0 (pythonfmu3, --fmi 3) co-simulation "
+        "FMU that carries gear_dyn and "
         "the scene inside it, or validate an FMU with fmpy. See docs/fmu.md.",
     )
     fsub = p.add_subparsers(dest="fmu_command", metavar="ACTION")
@@ -36,7 +37,8 @@ def register(sub: Any) -> None:
     v.set_defaults(func=run_validate)
     c = fsub.add_parser(
         "check", help="check an FMU built by gear_dyn: validation, fmpy, C host, stop time",
-        description="Validate FILE.fmu with fmpy, run it in fmpy and in a plain C host "
+        description="Validate FILE.fmu (FMI 2 or 3) with fmpy, run it in fmpy and in a plain C "
+        "host "
         "(compiled with the system compiler, loading the binary RTLD_LOCAL in an empty "
         "environment), and check that its outputs do not depend on the announced stop time. "
         "Exit code 0 when every check passes, 3 when one fails.")
