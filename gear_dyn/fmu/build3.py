@@ -116,7 +116,8 @@ def build_fmu3(target: str | Path | Scene, out: str | Path) -> BuiltFmu:
 
 def _finish3(fmu: bytes, spec: dict[str, Any], boot_id: str | None) -> bytes:
     """The FMU zip with the completed modelDescription and, with ``boot_id``, the boot
-    library next to the patched Linux binary."""
+    library next to the patched Linux binary; without pythonfmu3's C++ sources (the FMI 2
+    FMU carries none either)."""
     src = zipfile.ZipFile(io.BytesIO(fmu))
     xml = complete_model_description3(src.read("modelDescription.xml"), spec)
     native: dict[str, bytes] = {}
@@ -128,6 +129,8 @@ def _finish3(fmu: bytes, spec: dict[str, Any], boot_id: str | None) -> bytes:
     with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as dst:
         for info in src.infolist():
             name = info.filename
+            if name.startswith("sources/"):
+                continue  # pythonfmu3's loader sources: not what the (patched) binary runs
             data = xml if name == "modelDescription.xml" else native.pop(name, None)
             dst.writestr(info, src.read(name) if data is None else data)
         for name, data in native.items():

@@ -153,6 +153,7 @@ def test_fmi3_fmu_is_slim(fmus: dict[str, dict[int, Path]]) -> None:
         assert not any(part in f for f in private), part
     assert not any("matplotlib" in f or f.startswith("resources/pythonfmu/") for f in files)
     assert any(f.startswith("resources/pythonfmu3/") for f in files)
+    assert not any(f.startswith("sources/") for f in files)
 
 
 def test_fmi3_bad_parameter_is_fmi3_error_and_instance_survives(
