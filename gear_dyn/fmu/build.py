@@ -82,23 +82,23 @@ def resolve_scene(target: str | Path) -> Scene:
 
 #: gear_dyn sources the FMU never runs (the slim FMU leaves them out): the CLI, plots, the FMU
 #: build and co-simulation side, file output, and the studies beyond a run's own checks
-NOT_IN_FMU = ("cli/", "plots/", "fmu/build.py", "fmu/check.py", "fmu/cosim.py",
-              "fmu/native.py", "io.py",
+NOT_IN_FMU = ("cli/", "plots/", "fmu/build.py", "fmu/build3.py", "fmu/check.py",
+              "fmu/cosim.py", "fmu/native.py", "io.py",
               "scene/packaged.py", "scene/sweep.py", "scenes/", "analysis/sweep/",
               "analysis/bench.py", "analysis/chart.py", "analysis/excitation.py",
               "analysis/report.py", "analysis/spectrum.py", "analysis/spectrum_labels.py",
               "analysis/stiffness.py")
 
 
-def _vendor(dest: Path, package: str) -> None:
-    """Copy the gear_dyn sources the FMU runs (all but :data:`NOT_IN_FMU`) to
-    ``dest/package`` with imports renamed to ``package``."""
+def _vendor(dest: Path, package: str, skip: tuple[str, ...] = ("fmu/slave3.py",)) -> None:
+    """Copy the gear_dyn sources the FMU runs (all but :data:`NOT_IN_FMU` and ``skip``, the
+    other FMI version's slave) to ``dest/package`` with imports renamed to ``package``."""
     target = dest / package
     for src in PACKAGE_ROOT.rglob("*"):
         rel = src.relative_to(PACKAGE_ROOT)
         if "__pycache__" in rel.parts or src.is_dir():
             continue
-        if rel.as_posix().startswith(NOT_IN_FMU):
+        if rel.as_posix().startswith(NOT_IN_FMU + skip):
             continue
         if src.suffix not in (".py", ".toml", ".typed"):
             continue
@@ -150,7 +150,7 @@ def _script(package: str, class_name: str, spec: dict[str, Any]) -> str:
     )
 
 
-def build_fmu(target: str | Path | Scene, out: str | Path) -> BuiltFmu:
+def build_fmu(target: str | Path | Scene, out: str | Path, fmi: int = 2) -> BuiltFmu:
     """Build the FMU of a scene into ``out`` (a ``.fmu`` file, written whole or not at all).
 
     Parameters
@@ -159,12 +159,21 @@ def build_fmu(target: str | Path | Scene, out: str | Path) -> BuiltFmu:
         Scene file, packaged scene name, model name (``sdof``, ``torsional``) or a Scene.
     out : str or Path
         FMU file to write (must end in ``.fmu``).
+    fmi : int
+        FMI version: 2 (pythonfmu) or 3 (pythonfmu3, :mod:`gear_dyn.fmu.build3`).
 
     Raises
     ------
     InputError
-        Bad target or output name, invalid scene, pythonfmu without binaries for this platform.
+        Bad target or output name, invalid scene, pythonfmu without binaries for this platform,
+        an FMI version other than 2 and 3, or pythonfmu3 missing for FMI 3.
     """
+    if fmi not in (2, 3):
+        raise InputError(f"--fmi {fmi}: valid FMI versions are 2 and 3")
+    if fmi == 3:
+        from gear_dyn.fmu.build3 import build_fmu3
+
+        return build_fmu3(target, out)
     from pythonfmu import FmuBuilder
 
     out = Path(out)

@@ -1,10 +1,11 @@
-"""``gear-dyn fmu check``: a user's own check of an FMU built by gear_dyn.
+"""``gear-dyn fmu check``: a user's own check of an FMU built by gear_dyn (FMI 2 or 3).
 
-Four checks, each a line of the report: fmpy's validation of the modelDescription, a run in
-fmpy (a Python host), a run in a plain C host (``fmi2_host.c``, compiled with the system
-compiler, loading the binary ``RTLD_LOCAL`` in an empty environment) that must give fmpy's
-outputs to 1e-12, and stop-time independence (the same run with and without a stop time
-announced in setupExperiment must agree to 1e-12).
+Four checks, each a line of the report, for FMI 2 and FMI 3 FMUs: fmpy's validation of the
+modelDescription, a run in fmpy (a Python host), a run in a plain C host (``fmi2_host.c``,
+or its FMI 3 twin ``fmi3_host.c``, compiled with the system compiler, loading the binary
+``RTLD_LOCAL`` in an empty environment) that must give fmpy's outputs to 1e-12, and stop-time
+independence (the same run with and without a stop time announced at initialization must
+agree to 1e-12).
 """
 
 from __future__ import annotations
@@ -20,8 +21,11 @@ from pathlib import Path
 import numpy as np
 
 from gear_dyn.errors import InputError
+from gear_dyn.fmu.native import BOOT_LIB
 
 HOST_SOURCE = Path(__file__).with_name("fmi2_host.c")
+#: the FMI 3 twin (same arguments and output)
+HOST3_SOURCE = Path(__file__).with_name("fmi3_host.c")
 #: agreement required between hosts and between stop-time settings (relative to each
 #: output's largest value): the same code runs, so only rounding may differ
 AGREEMENT = 1e-12
@@ -36,13 +40,15 @@ class CheckLine:
     detail: str
 
 
-def compile_host(dest: Path) -> Path | None:
-    """Compile the C host into ``dest``; None when no C compiler is on PATH."""
+def compile_host(dest: Path, fmi: int = 2) -> Path | None:
+    """Compile the FMI 2 (or, ``fmi=3``, the FMI 3) C host into ``dest``; None when no C
+    compiler is on PATH."""
     cc = shutil.which("cc") or shutil.which("gcc") or shutil.which("clang")
     if cc is None:
         return None
-    exe = dest / "fmi2_host"
-    subprocess.run([cc, "-O1", "-o", str(exe), str(HOST_SOURCE), "-ldl"], check=True,
+    exe = dest / f"fmi{fmi}_host"
+    source = HOST3_SOURCE if fmi == 3 else HOST_SOURCE
+    subprocess.run([cc, "-O1", "-o", str(exe), str(source), "-ldl"], check=True,
                    capture_output=True)
     return exe
 
@@ -52,12 +58,16 @@ def run_c_host(exe: Path, unzipped: Path, names: list[str], stop: float | None, 
     """Run the C host (empty environment) on an unzipped FMU: the process and the printed
     rows (t, outputs...)."""
     root = ET.parse(unzipped / "modelDescription.xml").getroot()
-    vr = {sv.get("name"): sv.get("valueReference") for sv in root.iter("ScalarVariable")}
+    fmi3 = str(root.get("fmiVersion", "")).startswith("3")
+    mv = root.find("ModelVariables")
+    variables = list(mv if mv is not None else []) if fmi3 else root.iter("ScalarVariable")
+    vr = {sv.get("name"): sv.get("valueReference") for sv in variables}
     cs = root.find("CoSimulation")
     if cs is None:
         raise InputError(f"{unzipped}: not a co-simulation FMU")
+    token = root.get("instantiationToken") if fmi3 else root.get("guid")
     argv = [str(exe), str(unzipped.resolve()), str(cs.get("modelIdentifier")),
-            str(root.get("guid")), "none" if stop is None else repr(stop), repr(step), str(n),
+            str(token), "none" if stop is None else repr(stop), repr(step), str(n),
             ",".join(str(vr[k]) for k in names)]
     proc = subprocess.run(argv, capture_output=True, text=True, env={}, timeout=600)
     rows = [[float(v) for v in line.split()] for line in proc.stdout.splitlines()]
@@ -66,10 +76,11 @@ def run_c_host(exe: Path, unzipped: Path, names: list[str], stop: float | None, 
 
 def fmpy_rows(fmu: Path, names: list[str], stop: float | None, step: float,
               n: int) -> np.ndarray:
-    """The same run through fmpy: rows (t, outputs...) after initialization and each step."""
-    from gear_dyn.fmu.cosim import FmuSession
+    """The same run through fmpy (FMI 2 or 3): rows (t, outputs...) after initialization and
+    each step."""
+    from gear_dyn.fmu.session3 import open_session
 
-    with FmuSession(fmu) as s:
+    with open_session(fmu) as s:
         s.instantiate()
         s.initialize(0.0, stop)
         rows = [[0.0, *s.get(names)]]
@@ -96,15 +107,18 @@ def check_fmu(fmu: str | Path, n_steps: int = 64) -> list[CheckLine]:
     from fmpy.validation import validate_fmu
 
     from gear_dyn.fmu.build import read_spec
+    from gear_dyn.fmu.session3 import fmi_version
 
     path = Path(fmu)
     spec = read_spec(path)
+    version = fmi_version(path)
     names = [v["name"] for v in spec["variables"] if v["causality"] == "output"]
     h = float(spec["experiment"]["step_size"])
     lines = []
     problems = list(validate_fmu(str(path)))
     lines.append(CheckLine("validation", not problems,
-                           "fmpy: no problems" if not problems else "; ".join(problems)[:200]))
+                           f"fmpy, FMI {version}: no problems" if not problems
+                           else "; ".join(problems)[:200]))
     try:
         free = fmpy_rows(path, names, None, h, n_steps)
         announced = fmpy_rows(path, names, n_steps * h, h, n_steps)
@@ -118,19 +132,20 @@ def check_fmu(fmu: str | Path, n_steps: int = 64) -> list[CheckLine]:
     lines.append(CheckLine("stop-time independence", d <= AGREEMENT,
                            f"with vs without stop time: max diff {d:.2e} of each output's "
                            f"largest value (required <= {AGREEMENT:g})"))
-    lines.append(_c_host_line(path, names, h, n_steps, free))
+    lines.append(_c_host_line(path, names, h, n_steps, free, 3 if version.startswith("3")
+                              else 2))
     return lines
 
 
 def _c_host_line(path: Path, names: list[str], h: float, n: int,
-                 ref: np.ndarray) -> CheckLine:
+                 ref: np.ndarray, fmi: int) -> CheckLine:
     with zipfile.ZipFile(path) as z:
-        if not any(x.endswith("libgear_dyn_pyboot.so") for x in z.namelist()):
+        if not any(Path(x).name.startswith(BOOT_LIB) for x in z.namelist()):
             return CheckLine("C host", None, "this FMU has no boot library (built without a C "
                              "compiler or patchelf): Python hosts only")
     with tempfile.TemporaryDirectory(prefix="gear_dyn_check_") as tmp:
         d = Path(tmp)
-        exe = compile_host(d)
+        exe = compile_host(d, fmi)
         if exe is None:
             return CheckLine("C host", None, "skipped: no C compiler (cc) to build the host")
         with zipfile.ZipFile(path) as z:
@@ -143,8 +158,8 @@ def _c_host_line(path: Path, names: list[str], h: float, n: int,
         return CheckLine("C host", False, f"{rows.shape[0]} rows, expected {ref.shape[0]}")
     d_c = _rel(rows, ref)
     return CheckLine("C host", d_c <= AGREEMENT,
-                     f"dlopen RTLD_LOCAL, empty environment, exit 0; vs fmpy max diff "
-                     f"{d_c:.2e} (required <= {AGREEMENT:g})")
+                     f"fmi{fmi}_host: dlopen RTLD_LOCAL, empty environment, exit 0; vs fmpy "
+                     f"max diff {d_c:.2e} (required <= {AGREEMENT:g})")
 
 
 def verdict(lines: list[CheckLine]) -> bool:

@@ -69,6 +69,10 @@ class FmuSession:
             raise InputError(f"{self.path}: not a readable FMU ({exc})") from None
         if self.md.coSimulation is None:
             raise InputError(f"{self.path}: not a co-simulation FMU")
+        if self.md.fmiVersion != "2.0":
+            raise InputError(f"{self.path}: an FMI {self.md.fmiVersion} FMU; co-simulation "
+                             "against solve_ivp runs FMI 2.0 FMUs (build one with --fmi 2; "
+                             "gear-dyn fmu check runs FMI 3 FMUs)")
         self.vars = {v.name: v for v in self.md.modelVariables}
         self.instance_name = instance_name
         self.messages: list[tuple[int, str]] = []

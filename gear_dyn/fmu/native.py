@@ -2,7 +2,7 @@
 
 pythonfmu's ``binaries/linux64/<id>.so`` leaves the Python C API unresolved (it expects a host
 that already runs Python). At build time this module compiles ``pyboot.c`` against the build
-interpreter into ``binaries/linux64/libgear_dyn_pyboot.so`` and makes it a needed library of
+interpreter into ``binaries/linux64/libgear_dyn_pyboot_<id>.so`` and makes it a needed library of
 the FMU binary (``patchelf --add-needed``, run path ``$ORIGIN``). Loading the FMU then loads
 libpython (absolute run path of the build interpreter's ``LIBDIR``), makes it global and starts
 the interpreter as the build interpreter would start (same prefix, virtual environment and
@@ -24,12 +24,24 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-BOOT_LIB = "libgear_dyn_pyboot.so"
+BOOT_LIB = "libgear_dyn_pyboot"
+
+
+def boot_lib_name(model_identifier: str) -> str:
+    """File name (and soname) of an FMU's boot library: unique per build, because the dynamic
+    loader shares a library by name, and two FMUs in one process need their own."""
+    return f"{BOOT_LIB}_{model_identifier}.so"
+
 PYTHON_FILE = "gear_dyn_python.json"
 _SOURCE = Path(__file__).with_name("pyboot.c")
+#: the FMI 3 boot library: pyboot.c's constructor plus the FMI 3 status wrappers
+_SOURCE3 = Path(__file__).with_name("pyboot3.c")
 #: FMI functions the boot library wraps (see pyboot.c: refusals as fmi2Error, one message)
 WRAPPED = ("fmi2Instantiate", "fmi2SetReal", "fmi2SetInteger", "fmi2SetBoolean",
            "fmi2SetString", "fmi2ExitInitializationMode")
+#: the FMI 3 functions pyboot3.c wraps
+WRAPPED3 = ("fmi3InstantiateCoSimulation", "fmi3SetFloat64", "fmi3SetInt32", "fmi3SetInt64",
+            "fmi3SetBoolean", "fmi3SetString", "fmi3ExitInitializationMode")
 
 
 def _compiler() -> str | None:
@@ -80,8 +92,9 @@ def unsupported_reason() -> str | None:
     return None
 
 
-def boot_binaries(binary: bytes, model_identifier: str) -> dict[str, bytes]:
-    """The patched FMU binary and the boot library, by file name in ``binaries/linux64``.
+def boot_binaries(binary: bytes, model_identifier: str, fmi: int = 2) -> dict[str, bytes]:
+    """The patched FMU binary and the boot library, by file name in its binaries folder
+    (``fmi``: 2 wraps the FMI 2 calls listed in :data:`WRAPPED`, 3 those in :data:`WRAPPED3`).
 
     Raises
     ------
@@ -94,19 +107,23 @@ def boot_binaries(binary: bytes, model_identifier: str) -> dict[str, bytes]:
     assert cc is not None and patchelf is not None
     with tempfile.TemporaryDirectory(prefix="gear_dyn_boot_") as tmp:
         d = Path(tmp)
-        lib, so = d / BOOT_LIB, d / f"{model_identifier}.so"
+        boot = boot_lib_name(model_identifier)
+        lib, so = d / boot, d / f"{model_identifier}.so"
         so.write_bytes(binary)
         _run([cc, "-shared", "-fPIC", "-O2", f"-I{sysconfig.get_paths()['include']}",
               f'-DGEAR_DYN_LIBPYTHON="{libpython.name}"',
               f'-DGEAR_DYN_PYTHON="{info["executable"]}"',
-              f'-DGEAR_DYN_MODEL="{model_identifier}"', str(_SOURCE), "-o", str(lib),
-              "-Wl,--no-as-needed", f"-L{libpython.parent}", f"-l:{libpython.name}",
+              f'-DGEAR_DYN_MODEL="{model_identifier}"',
+              str(_SOURCE3 if fmi == 3 else _SOURCE), "-o", str(lib),
+              f"-Wl,-soname,{boot}", "-Wl,--no-as-needed", f"-L{libpython.parent}",
+              f"-l:{libpython.name}",
               f"-Wl,-rpath,{libpython.parent}", "-ldl"])
         names = d / "rename.map"
-        names.write_text("".join(f"{f} gear_dyn_orig_{f}\n" for f in WRAPPED))
-        _run([patchelf, "--rename-dynamic-symbols", str(names), "--add-needed", BOOT_LIB,
+        names.write_text("".join(f"{f} gear_dyn_orig_{f}\n"
+                                 for f in (WRAPPED3 if fmi == 3 else WRAPPED)))
+        _run([patchelf, "--rename-dynamic-symbols", str(names), "--add-needed", boot,
               "--set-rpath", "$ORIGIN", str(so)])
-        return {so.name: so.read_bytes(), BOOT_LIB: lib.read_bytes()}
+        return {so.name: so.read_bytes(), boot: lib.read_bytes()}
 
 
 def _run(cmd: list[str]) -> None:

@@ -61,6 +61,7 @@ __attribute__((constructor)) static void gear_dyn_boot(void) {
 }
 
 /* ------------------------------------------------------------------ FMI wrappers */
+#ifndef GEAR_DYN_BOOT_ONLY /* defined by pyboot3.c (FMI 3): the constructor only */
 typedef int Status; /* fmi2OK 0, fmi2Warning 1, fmi2Discard 2, fmi2Error 3, fmi2Fatal 4 */
 typedef void (*Logger)(void *, const char *, Status, const char *, const char *, ...);
 typedef struct {
@@ -148,3 +149,4 @@ Status fmi2ExitInitializationMode(void *c) {
     Fn fn = (Fn)original("fmi2ExitInitializationMode");
     return fn ? recoverable(fn(c)) : 4;
 }
+#endif /* GEAR_DYN_BOOT_ONLY */
