@@ -174,4 +174,7 @@ def run_scene(scene: Scene, **overrides: Any) -> Result:
         raise _wrap(scene, exc) from None
     for key, value in scene_facts(scene).items():
         result.extra.setdefault(key, value)  # the model's own figures take precedence
+    from gear_dyn.scene.iso import iso_kv_summary  # the standard's K_v beside the simulated one
+
+    result.extra.setdefault("iso_6336_kv", iso_kv_summary(scene))
     return result

@@ -182,8 +182,13 @@ class Result:
         rows = [("method", f"{self.stats.method} (rtol {self.stats.rtol:g})"),
                 ("span", f"{periods:.0f} mesh periods at f_m = {self.mesh_frequency:.1f} Hz")]
         if "dte" in self.outputs and "mesh_force" in self.outputs:
-            rows += [("dynamic factor", f"{self.dynamic_factor:.4f}"),
-                     ("RMS / p-p DTE", f"{self.rms_dte * 1e6:.4g} / {self.ptp_dte * 1e6:.4g} um")]
+            rows += [("dynamic factor", f"{self.dynamic_factor:.4f}")]
+            iso = self.extra.get("iso_6336_kv")
+            if isinstance(iso, dict) and iso.get("k_v") is not None:
+                rows.append(("ISO 6336-1 K_v", f"{iso['k_v']:.4f} (N = "
+                             f"{iso['resonance_ratio_n']:.3g}, {iso['speed_range']})"))
+            rows.append(("RMS / p-p DTE",
+                         f"{self.rms_dte * 1e6:.4g} / {self.ptp_dte * 1e6:.4g} um"))
         est = self.extra.get("estimated_error")
         if isinstance(est, dict) and est.get("max_rel") is not None:
             tail = "" if est.get("reproducible", True) else " (trajectory not reproducible)"
