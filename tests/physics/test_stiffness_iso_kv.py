@@ -87,6 +87,9 @@ def test_run_summary_states_kv_beside_the_simulated_factor(tail: gd.Scene) -> No
     assert iso["resonance_ratio_n"] == pytest.approx(n, rel=1e-12)
     assert iso["speed_range"] == rng == "subcritical"
     assert iso["formula"] == FORMULAS["subcritical"]
+    # the figures the README quotes
+    assert (round(iso["k_v"], 4), round(iso["resonance_ratio_n"], 3),
+            round(iso["resonance_speed_rpm"])) == (1.1844, 0.437, 7599)
     assert "ISO 6336-1 K_v" in repr(result)
 
 
