@@ -146,8 +146,9 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
     if (kv := iso_kv_at(scene, cols["speed_rad_s"])) is not None:  # the standard per speed
         cols["iso_6336_kv"] = kv
         rpm = np.linspace(float(np.min(cols["speed_rpm"])), float(np.max(cols["speed_rpm"])), 600)
-        iso_curve = (rpm, iso_kv_at(scene, rpm * RPM))
-        summary["iso_6336_kv_max"] = float(np.max(iso_curve[1]))
+        dense = np.asarray(iso_kv_at(scene, rpm * RPM))
+        iso_curve = (rpm, dense)
+        summary["iso_6336_kv_max"] = float(np.max(dense))
     with staged_output(out) as tmp:
         write_csv(tmp / "sweep.csv", cols)
         spec_cols: dict[str, Any] = {}

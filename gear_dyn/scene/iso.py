@@ -37,6 +37,8 @@ from gear_dyn.stiffness.iso_kv import (
     IsoKv,
     iso1328_deviations,
     iso_dynamic_factor,
+    reduced_mass_solid_wheels,
+    resonance_speed,
     running_in_tip_relief,
 )
 
@@ -120,6 +122,7 @@ def iso_kv_summary(scene: Scene) -> dict[str, Any]:
     if not scene.get("operating")["torque"] > 0:
         return {"k_v": None, "note": "not defined at zero load (operating.torque = 0)"}
     kv, src = scene_iso_kv(scene)
+    pair = build_pair(scene)
     rng = str(kv.speed_range[0])
     cv = kv.cv
     return {
@@ -137,6 +140,9 @@ def iso_kv_summary(scene: Scene) -> dict[str, Any]:
         "c_single_n_per_m2": kv.c_single,
         "c_gamma_alpha_n_per_m2": kv.c_gamma_alpha,
         "m_red_kg_per_m": kv.m_red,
+        "m_red_iso_solid_wheels_kg_per_m": (m_iso := reduced_mass_solid_wheels(pair)),
+        "resonance_speed_iso_solid_wheels_rpm": resonance_speed(pair.z1, kv.c_gamma_alpha,
+                                                                m_iso),
         "line_load_n_per_m": kv.line_load,
         "f_pb_eff_m": float(kv.f_pb_eff[0]), "f_f_eff_m": float(kv.f_f_eff[0]),
         "tip_relief_c_a_m": kv.tip_relief,

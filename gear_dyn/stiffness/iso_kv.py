@@ -121,6 +121,19 @@ def reduced_mass(i1: float, i2: float, rb1: float, rb2: float, face_width: float
     return m1 * m2 / (m1 + m2)
 
 
+def reduced_mass_solid_wheels(pair: GearPair) -> float:
+    """m_red in kg/m by ISO 6336-1's approximation for solid wheels (6.5.9, eq. 30):
+    pi/8 (d_m1/d_b1)^2 d_m1^2 / (1/rho1 + 1/(rho2 u^2)), d_m1 = (d_a1 + d_f1)/2, u = z2/z1.
+
+    For comparison with :func:`reduced_mass` of the model's inertias (the model's default blanks
+    are solid cylinders at the pitch radii, not at d_m).
+    """
+    d_m1 = pair.ra1 + pair.rf1
+    u = pair.z2 / pair.z1
+    return (math.pi / 8 * (d_m1 / (2 * pair.rb1)) ** 2 * d_m1**2
+            / (1 / pair.density1 + 1 / (pair.density2 * u**2)))
+
+
 def resonance_speed(z1: int, c_gamma_alpha: float, m_red: float) -> float:
     """n_E1 in rpm (eq. 6 in SI units): 60 / (2 pi z1) sqrt(c_gamma_alpha / m_red).
 

@@ -18,6 +18,7 @@ from gear_dyn.stiffness.iso_kv import (
     iso1328_deviations,
     kv_method_b,
     lower_resonance_limit,
+    reduced_mass_solid_wheels,
     running_in_allowance,
     running_in_tip_relief,
 )
@@ -184,3 +185,12 @@ def test_running_in_allowances() -> None:
     # C_ay for sigma_Hlim = 1500 N/mm^2: (15.464 - 18.45)^2 / 18 + 1.5 = 1.9953 um
     assert running_in_tip_relief(1500e6) == pytest.approx(((1500 / 97 - 18.45) ** 2 / 18 + 1.5)
                                                           * 1e-6, rel=1e-12)
+
+
+def test_iso_solid_wheel_mass_by_hand(tail: gd.Scene) -> None:
+    """ISO eq. 30 in ISO units (kg/mm, mm): d_m1 = (d_a1 + d_f1)/2 = (150 + 123)/2 = 136.5 mm."""
+    from gear_dyn.scene import build_pair
+
+    d_m1, d_b1, u, rho = 136.5, 138 * math.cos(math.radians(22.5)), 64 / 23, 7850e-9
+    m_red = math.pi / 8 * (d_m1 / d_b1) ** 2 * d_m1**2 / (1 / rho + 1 / (rho * u**2))  # kg/mm
+    assert reduced_mass_solid_wheels(build_pair(tail)) == pytest.approx(m_red * 1e3, rel=1e-12)
