@@ -121,7 +121,14 @@ def iso_kv_summary(scene: Scene) -> dict[str, Any]:
     range and its formula, the B factors and the inputs with their sources (SI units in names)."""
     if not scene.get("operating")["torque"] > 0:
         return {"k_v": None, "note": "not defined at zero load (operating.torque = 0)"}
-    kv, src = scene_iso_kv(scene)
+    t = scene.get("iso")
+    if t["running_in"] == "through_hardened" and t["sigma_hlim"] is None:
+        raise SceneError(f"{scene.source}: iso.sigma_hlim: missing (running_in = "
+                         "'through_hardened' needs sigma_Hlim, e.g. \"900 MPa\")")
+    try:
+        kv, src = scene_iso_kv(scene)
+    except InputError as exc:  # the standard's figure is beside the run, never in its way
+        return {"k_v": None, "note": f"not computed: {exc}"}
     pair = build_pair(scene)
     rng = str(kv.speed_range[0])
     cv = kv.cv

@@ -62,3 +62,20 @@ def test_running_in_relief_needs_sigma_hlim() -> None:
 def test_zero_load_states_that_kv_is_not_defined() -> None:
     scene = parse_scene({**BASE, "operating": {"speed": "3319 rpm", "torque": 0}}, "s.toml")
     assert iso_kv_summary(scene)["k_v"] is None
+
+
+def test_through_hardened_without_sigma_hlim_is_refused() -> None:
+    with pytest.raises(SceneError, match=r"iso.sigma_hlim: missing"):
+        iso_kv_summary(_scene(running_in="through_hardened"))
+
+
+def test_a_figure_the_formulas_cannot_take_is_noted_not_raised(monkeypatch) -> None:
+    """K_v is beside the run: where ISO has no value (here eps_gamma refused), the run goes on."""
+    import gear_dyn.stiffness.iso_kv as kv_mod
+
+    def refuse(eps: float) -> None:
+        raise kv_mod.InputError(f"eps_gamma = {eps}: out of range")
+
+    monkeypatch.setattr(kv_mod, "cv_coefficients", refuse)
+    s = iso_kv_summary(_scene())
+    assert s["k_v"] is None and "eps_gamma" in s["note"]
