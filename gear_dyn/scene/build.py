@@ -166,7 +166,8 @@ def build_plan(scene: Scene, **overrides: Any) -> RunPlan:
 
 def run_scene(scene: Scene, **overrides: Any) -> Result:
     """Build and simulate a scene; the Result carries the scene and, in ``extra``, what the
-    scene says about the case (:func:`scene_facts`: speeds, contact ratio, backlash, ...)."""
+    scene says about the case (:func:`scene_facts`: speeds, contact ratio, backlash, ...) and
+    ``iso_6336_kv``, the ISO 6336-1 method B K_v at the same speed (:mod:`gear_dyn.scene.iso`)."""
     from gear_dyn.scene.iso import iso_kv_summary  # the standard's K_v beside the simulated one
 
     plan = build_plan(scene, **overrides)
