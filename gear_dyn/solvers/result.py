@@ -12,16 +12,13 @@ from __future__ import annotations
 import importlib
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.errors import InputError
 from gear_dyn.solvers.settings import SolverSettings
-
-if TYPE_CHECKING:  # for the annotations only: nothing of matplotlib is imported at run time
-    from matplotlib.figure import Figure
 
 FloatArray = NDArray[np.float64]
 
@@ -31,8 +28,9 @@ PLOTS_MODULE = "gear_dyn.plots.run"
 
 class ResultPlots:
     """``result.plot``: the run's figures as methods, each taking ``ax=None`` and returning the
-    matplotlib Figure (for notebooks). Thin forwards to :mod:`gear_dyn.plots.run`, which is
-    imported on the first call (see the module docstring).
+    matplotlib Figure (for notebooks; annotated ``Any`` so that this module never names
+    matplotlib, which the FMU's slim copy of the solvers checks). Thin forwards to
+    :mod:`gear_dyn.plots.run`, which is imported on the first call (see the module docstring).
 
     Examples
     --------
@@ -47,24 +45,22 @@ class ResultPlots:
     def _plots() -> Any:
         return importlib.import_module(PLOTS_MODULE)
 
-    def time(self, periods: float | None = 10.0, ax: Any = None) -> Figure:
+    def time(self, periods: float | None = 10.0, ax: Any = None) -> Any:
         """DTE and mesh force against time (:func:`gear_dyn.plots.run.plot_time_history`).
 
         ``ax``: None (new figure) or ``rows x cols`` Axes: rows DTE[, elastic part], force;
         cols whole run[, zoom on the last ``periods`` mesh periods; ``periods=None``: no zoom].
         """
-        fig: Figure = self._plots().plot_time_history(self._result, periods=periods, ax=ax)
-        return fig
+        return self._plots().plot_time_history(self._result, periods=periods, ax=ax)
 
     def spectrum(self, name: str = "dte", harmonics: int | None = None, ax: Any = None,
-                 scale: str = "log", floor: float | None = None) -> Figure:
+                 scale: str = "log", floor: float | None = None) -> Any:
         """Amplitude spectrum over the steady window, f_n, mesh harmonics, shaft frequencies and
         sidebands marked, the stated error drawn as a noise floor
         (:func:`gear_dyn.plots.run.plot_spectrum`; ``ax``: None, one Axes, or two for the
         sideband zoom)."""
-        fig: Figure = self._plots().plot_spectrum(self._result, name=name, harmonics=harmonics,
-                                                  ax=ax, scale=scale, floor=floor)
-        return fig
+        return self._plots().plot_spectrum(self._result, name=name, harmonics=harmonics, ax=ax,
+                                           scale=scale, floor=floor)
 
 
 
