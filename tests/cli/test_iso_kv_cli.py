@@ -1,5 +1,5 @@
-"""The sweep carries ISO 6336-1 K_v per speed (CSV, sweep.json, terminal) and draws it beside the
-simulated dynamic factor."""
+"""ISO 6336-1 K_v in the CLI: the run prints it beside the simulated dynamic factor; the sweep
+carries it per speed (CSV, sweep.json, terminal) and draws it beside the simulated one."""
 
 from __future__ import annotations
 
@@ -49,3 +49,15 @@ def test_response_plot_draws_kv_beside_the_dynamic_factor() -> None:
     lines = [ln for ln in fig.axes[0].lines if ln.get_label().startswith("ISO 6336-1 K_v")]
     assert len(lines) == 1
     assert np.allclose(lines[0].get_ydata(), kv) and np.allclose(lines[0].get_xdata(), rpm)
+
+
+def test_run_prints_kv_beside_the_dynamic_factor(tmp_path: Path,
+                                                 capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["run", "helicopter_tail", "--periods", "20", "--out", str(tmp_path / "r")]) == 0
+    out = capsys.readouterr().out
+    summary = json.loads((tmp_path / "r" / "summary.json").read_text())
+    iso = summary["iso_6336_kv"]
+    assert (f"ISO 6336-1 method B: K_v = {iso['k_v']:.4f} at N = n1/n_E1 = "
+            f"{iso['resonance_ratio_n']:.3f}") in out
+    assert "subcritical range N <= N_S (N_S = 0.85)" in out
+    assert iso["formula"] in out and "grade 5 (assumed" in out
