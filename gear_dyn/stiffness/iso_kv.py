@@ -115,8 +115,9 @@ def reduced_mass(i1: float, i2: float, rb1: float, rb2: float, face_width: float
 
     The same mass as the single-DOF model's m_e = I1 I2 / (r_b1^2 I2 + r_b2^2 I1), divided by b.
     """
-    for name, v in (("inertia_pinion", i1), ("inertia_gear", i2), ("face_width", face_width)):
-        check_range(name, v, "", low=0.0, low_open=True)
+    for name, v, unit in (("inertia_pinion", i1, "kg*m^2"), ("inertia_gear", i2, "kg*m^2"),
+                          ("face_width", face_width, "m")):
+        check_range(name, v, unit, low=0.0, low_open=True)
     m1, m2 = i1 / (face_width * rb1**2), i2 / (face_width * rb2**2)
     return m1 * m2 / (m1 + m2)
 
@@ -286,6 +287,8 @@ def iso_dynamic_factor(pair: GearPair, speed: ArrayLike, torque: float,
     k_a = check_range("application_factor", application_factor, "", low=1.0, high=10.0)
     w = k_a * torque / pair.r1 / pair.face_width  # K_A F_t / b in N/m
     n1 = np.asarray(speed, dtype=float) * 60 / (2 * math.pi)
+    if not np.all(np.isfinite(n1) & (n1 > 0)):
+        raise InputError("speed: K_v needs pinion speeds > 0 rad/s")
     iso = iso6336_stiffness(pair, line_load=w)
     m_red = reduced_mass(*inertias, pair.rb1, pair.rb2, pair.face_width)
     n_e1 = resonance_speed(pair.z1, iso.c_mesh, m_red)
