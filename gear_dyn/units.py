@@ -12,6 +12,7 @@ pint is imported on first use, and the registry is built once per process.
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from functools import lru_cache
 from typing import Any
 
@@ -101,16 +102,32 @@ def is_dimensional(unit: str) -> bool:
     return bool(unit) and unit not in ("", "dimensionless", "1")
 
 
-def needs_unit_message(where: str, raw: Any, unit: str) -> str:
-    """``speed = 1500: give a unit, e.g. "1500 rpm" (or "1500 rad/s")``."""
+def needs_unit_message(where: str, raw: Any, unit: str,
+                       valid: Callable[[float], bool] | None = None) -> str:
+    """``speed = 1500: give a unit, e.g. "1500 rpm" (or "1500 rad/s")``.
+
+    ``valid``: the field's range check on an SI value; readings inside the range are proposed
+    first (``handbook_a = 9`` -> ``"9 um"`` before ``"9 mm"``).
+    """
     number = raw if isinstance(raw, str) else f"{raw:g}" if isinstance(raw, float) else raw
     number = str(number).strip()
     units = _suggested(unit, number)
+    if valid is not None:
+        units = tuple(sorted(units, key=lambda u: not _reading_valid(number, u, unit, valid)))
     first = f'"{number} {units[0]}"'
     others = " or ".join(f'"{number} {u}"' for u in units[1:])
     alt = f" (or {others})" if others else ""
     return (f"{where} = {number}: give a unit, e.g. {first}{alt}; a plain number is refused "
             f"for {dimension_text(unit).split(' (e.g.')[0]}")
+
+
+def _reading_valid(number: str, reading: str, unit: str,
+                   valid: Callable[[float], bool]) -> bool:
+    """Whether ``number`` read in the unit ``reading`` lies in the field's range (SI ``unit``)."""
+    try:
+        return valid(float(registry().Quantity(float(number), reading).to(unit).magnitude))
+    except Exception:  # not a number, or a unit pint cannot convert: no preference
+        return False
 
 
 def _suggested(unit: str, number: str) -> tuple[str, ...]:
@@ -132,11 +149,13 @@ def normalise_torque_text(raw: str) -> str:
 
 
 def parse_quantity(raw: str, unit: str, where: str, rng: str,
-                   error: type[InputError] = InputError) -> float:
+                   error: type[InputError] = InputError,
+                   valid: Callable[[float], bool] | None = None) -> float:
     """``raw`` (text with a unit, e.g. ``"6 mm"``) in the SI ``unit`` (``""``: dimensionless).
 
     ``where`` names the field and ``rng`` its valid range in messages; ``error`` is the
-    exception class raised (an :class:`~gear_dyn.errors.InputError` subclass). In a torque
+    exception class raised (an :class:`~gear_dyn.errors.InputError` subclass); ``valid`` (the
+    field's range check) orders the readings proposed for a missing unit. In a torque
     field ``Nm`` is newton-metre. A text without a unit (``"1500"``) in a dimensional field is
     refused like a plain number (exact zero excepted: it is zero in every unit).
 
@@ -163,7 +182,7 @@ def parse_quantity(raw: str, unit: str, where: str, rng: str,
     if is_dimensional(unit) and q.unitless:
         if float(q.magnitude) == 0.0:
             return 0.0  # zero is zero in every unit, written "0" too
-        raise error(needs_unit_message(where, raw, unit))
+        raise error(needs_unit_message(where, raw, unit, valid))
     if (unit == "rad/s" and q.check("1/[time]")
             and "radian" not in str(q.to_root_units().units)):
         # pint takes 1 Hz = 1 1/s = 1 rad/s: 2 pi off for a shaft speed, so refuse it

@@ -53,7 +53,7 @@ def compute(scene: Any, curve: str | None = None, pair_method: str | None = None
     """The relief cases of a scene (unmodified, scene relief, rules) without writing files."""
     from gear_dyn.modification.analysis import rule_cases
     from gear_dyn.scene import build_pair
-    from gear_dyn.scene.modification import relief_from_scene, scene_pair_function
+    from gear_dyn.scene.modification import relief_from_scene, rule_options, scene_pair_function
 
     pair = build_pair(scene)
     torque = scene.get("operating")["torque"]
@@ -63,7 +63,7 @@ def compute(scene: Any, curve: str | None = None, pair_method: str | None = None
     extra = {}
     t = scene.tables.get("tip_relief")
     if t is not None:
-        opts = {k: t[k] for k in ("handbook_a", "handbook_b", "face_load_factor")}
+        opts = rule_options(t)
         extra["scene relief"] = relief_from_scene(scene, pair)
     curve = curve or (t["curve"] if t is not None else "linear")
     method = pair_method or (t["pair_stiffness"] if t is not None else "potential_energy")

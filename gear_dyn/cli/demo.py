@@ -37,6 +37,14 @@ def run(args: argparse.Namespace) -> int:
     print(f"  dynamic factor      {s['dynamic_factor']:.4f} ({s['dynamic_factor_definition']})")
     print("                      ISO 6336 rectangular-wave k(t); the relief table's 1.415 uses "
           "the loaded-contact k(t) (docs/modification.md)")
+    iso = s.get("iso_6336_kv")
+    if iso:
+        from gear_dyn.scene.iso import iso_kv_lines
+
+        lines = iso_kv_lines(iso)
+        print(f"  ISO 6336 K_v        {lines[0].split(': ', 1)[-1]}")
+        for line in lines[1:]:
+            print(f"                    {line}")
     print(f"  DTE                 {s['dte_definition']}")
     print(f"  RMS / p-p DTE       {s['rms_dte_m'] * 1e6:.4g} / {s['ptp_dte_m'] * 1e6:.4g} um")
     print(f"  solver              {s['solver']['method']}, {s['solver']['run_time_s']:.3g} s")

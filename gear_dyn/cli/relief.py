@@ -29,13 +29,14 @@ def table(scene: Any) -> dict[str, Any]:
     """The rules' recommendations for the scene as a JSON-ready dict (SI units in key names)."""
     from gear_dyn.modification.relief import recommended_reliefs, tangential_load_per_width
     from gear_dyn.scene import build_pair
+    from gear_dyn.scene.modification import rule_options
 
     pair = build_pair(scene)
     torque = scene.get("operating")["torque"]
     opts: dict[str, float] = {}
     if scene.has("tip_relief"):
         t = scene.tables["tip_relief"]
-        opts = {k: t[k] for k in ("handbook_a", "handbook_b", "face_load_factor")}
+        opts = rule_options(t)
     rows = []
     for rec in recommended_reliefs(pair, torque, **opts):
         rows.append({

@@ -66,6 +66,11 @@ def run(args: argparse.Namespace) -> int:
         file=sys.stdout,
     )
     print(f"  dynamic factor = {summary['dynamic_factor_definition']}", file=sys.stdout)
+    if summary.get("iso_6336_kv"):
+        from gear_dyn.scene.iso import iso_kv_lines
+
+        for line in iso_kv_lines(summary["iso_6336_kv"]):
+            print(f"  {line}", file=sys.stdout)
     print(f"  {summary['dte_definition']}", file=sys.stdout)
     for line in honesty_lines(summary):
         print(line, file=sys.stdout)

@@ -108,6 +108,9 @@ def run(args: argparse.Namespace) -> int:
               f"{up['max_dynamic_factor_speed_rpm']:.0f} rpm{lost}")
         print("  dynamic factor = peak dynamic mesh force / static load W = T1 / r_b1 "
               "(steady window)")
+    if "iso_6336_kv_max" in summary:
+        print(f"  ISO 6336-1 method B K_v: max {summary['iso_6336_kv_max']:.4f} over the range "
+              "(column iso_6336_kv in sweep.csv, dash-dot line in response.png)")
     for d, info in summary["curves"].items():
         if info["separation_ranges_rpm"]:
             rng = ", ".join(f"{a:.0f}-{b:.0f}" for a, b in info["separation_ranges_rpm"])
@@ -134,11 +137,20 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
     from gear_dyn.models.base import MeshModel
     from gear_dyn.plots.sweep import plot_stability_charts, plot_sweep_response, plot_waterfall
     from gear_dyn.scene import build_model
+    from gear_dyn.scene.iso import iso_kv_at
 
     summary = summarize_sweep(result)
     model = build_model(scene)
+    cols = sweep_columns(result)
+    iso_curve = None
+    if (kv := iso_kv_at(scene, cols["speed_rad_s"])) is not None:  # the standard per speed
+        cols["iso_6336_kv"] = kv
+        rpm = np.linspace(float(np.min(cols["speed_rpm"])), float(np.max(cols["speed_rpm"])), 600)
+        dense = np.asarray(iso_kv_at(scene, rpm * RPM))
+        iso_curve = (rpm, dense)
+        summary["iso_6336_kv_max"] = float(np.max(dense))
     with staged_output(out) as tmp:
-        write_csv(tmp / "sweep.csv", sweep_columns(result))
+        write_csv(tmp / "sweep.csv", cols)
         spec_cols: dict[str, Any] = {}
         for c in result.curves:
             spec_cols.setdefault("direction_down", []).extend([float(c.direction == "down")]
@@ -147,7 +159,7 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
             for j, o in enumerate(result.orders):
                 spec_cols.setdefault(f"dte_amp_m_order_{o:g}", []).extend(list(c.spectrum[:, j]))
         write_csv(tmp / "spectra.csv", {k: np.asarray(v) for k, v in spec_cols.items()})
-        fig = plot_sweep_response(result)
+        fig = plot_sweep_response(result, iso_kv=iso_curve)
         save_figure(fig, tmp / "response.png", dpi=110)
         for c in result.curves:
             fig = plot_waterfall(result, c.direction)

@@ -53,12 +53,14 @@ def _markers(ax: Any, c: SweepCurve, y: np.ndarray, first: bool) -> None:
                 label="period-2 (f_m/2)" if first else None)
 
 
-def plot_sweep_response(result: SweepResult, ax: Any = None) -> Any:
+def plot_sweep_response(result: SweepResult, ax: Any = None,
+                        iso_kv: tuple[Any, Any] | None = None) -> Any:
     """Dynamic factor, RMS and peak-to-peak DTE against speed (top axis: f_m / f_n).
 
     Up and down sweeps are drawn (solid, dashed) so jumps and hysteresis show; crosses mark
     tooth separation, open triangles back-side contact, shaded bands parametric instability.
-    ``ax``: 3 Axes (dynamic factor, RMS, peak-to-peak) or None.
+    ``ax``: 3 Axes (dynamic factor, RMS, peak-to-peak) or None. ``iso_kv``: (pinion speeds in
+    rpm, ISO 6336-1 K_v) drawn beside the simulated dynamic factor.
     """
     fig, axes = axes_of(ax, 3, 1, figsize=(9, 9), name="plot_sweep_response", sharex=True)
     quantities = (("dynamic_factor", 1.0, "dynamic factor"), ("rms_dte", 1e6, "RMS DTE (µm)"),
@@ -79,6 +81,8 @@ def plot_sweep_response(result: SweepResult, ax: Any = None) -> Any:
         ax.grid(alpha=0.3)
         if row == 0:
             _resonance_marks(ax, result, lo, hi)
+            if iso_kv is not None:
+                ax.plot(*iso_kv, color="k", lw=1.0, ls="-.", label="ISO 6336-1 K_v (method B)")
     axes[-1].set_xlabel("pinion speed (rpm)")
     axes[0].legend(loc="upper right", fontsize=8, ncol=2)
     fn = result.natural_frequency

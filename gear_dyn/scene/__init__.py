@@ -1,8 +1,9 @@
 """TOML scenes: one table per part; a table left out disables that part at no cost.
 
 The adapters of the optional parts (:mod:`.eccentricity`: eccentricity, friction, torsional
-model; :mod:`.modification`: tip relief) register their tables and model builders when imported;
-:func:`load_feature_sections` imports them on first use, so the core loads fast.
+model; :mod:`.modification`: tip relief; :mod:`.iso`: ISO 6336 K_v inputs) register their
+tables and model builders when imported; :func:`load_feature_sections` imports them on first
+use, so the core loads fast.
 """
 
 from __future__ import annotations
@@ -21,7 +22,8 @@ from gear_dyn.scene.loader import Scene, load_scene, parse_scene
 from gear_dyn.scene.registry import MODEL_BUILDERS, SECTIONS, register_model, register_section
 
 #: modules that register extra scene tables or model builders when imported
-FEATURE_MODULES: tuple[str, ...] = ("gear_dyn.scene.eccentricity", "gear_dyn.scene.modification")
+FEATURE_MODULES: tuple[str, ...] = ("gear_dyn.scene.eccentricity", "gear_dyn.scene.modification",
+                                     "gear_dyn.scene.iso")
 
 _loaded = False
 
@@ -31,7 +33,7 @@ def load_feature_sections() -> None:
     global _loaded
     if _loaded:
         return
-    from gear_dyn.scene import eccentricity, modification  # noqa: F401  (they register)
+    from gear_dyn.scene import eccentricity, iso, modification  # noqa: F401  (they register)
 
     _loaded = True
 

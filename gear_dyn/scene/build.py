@@ -166,12 +166,17 @@ def build_plan(scene: Scene, **overrides: Any) -> RunPlan:
 
 def run_scene(scene: Scene, **overrides: Any) -> Result:
     """Build and simulate a scene; the Result carries the scene and, in ``extra``, what the
-    scene says about the case (:func:`scene_facts`: speeds, contact ratio, backlash, ...)."""
+    scene says about the case (:func:`scene_facts`: speeds, contact ratio, backlash, ...) and
+    ``iso_6336_kv``, the ISO 6336-1 method B K_v at the same speed (:mod:`gear_dyn.scene.iso`)."""
+    from gear_dyn.scene.iso import iso_kv_summary  # the standard's K_v beside the simulated one
+
     plan = build_plan(scene, **overrides)
+    iso_kv = iso_kv_summary(scene)  # before the run: a bad [iso] table fails fast
     try:
         result = simulate(plan.model, plan.t_end, plan.settings, plan.steady_start, scene=scene)
     except InputError as exc:  # e.g. a run too long for the solver: name the file
         raise _wrap(scene, exc) from None
     for key, value in scene_facts(scene).items():
         result.extra.setdefault(key, value)  # the model's own figures take precedence
+    result.extra.setdefault("iso_6336_kv", iso_kv)
     return result

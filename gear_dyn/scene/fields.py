@@ -113,7 +113,7 @@ class Field:
         else:
             value = float(raw)
             if not si and is_dimensional(self.unit) and value != 0.0 and math.isfinite(value):
-                raise SceneError(needs_unit_message(where, raw, self.unit))
+                raise SceneError(needs_unit_message(where, raw, self.unit, self._in_range))
         if not math.isfinite(value):
             raise SceneError(f"{where} = {raw!r}: must be a finite number; valid range {rng}")
         if value != 0.0 and abs(value) < TINY:
@@ -121,18 +121,22 @@ class Field:
                 f"{where} = {raw!r}: {abs(value):.3g}{unit_txt} is below the smallest meaningful "
                 f"magnitude {TINY:g}{unit_txt} (use 0 if you mean zero); valid range {rng}"
             )
+        if not self._in_range(value):
+            shown = raw if isinstance(raw, str) else f"{value:.6g}{unit_txt}"
+            raise SceneError(f"{where} = {shown!r} is out of range: valid range {rng}")
+        return value
+
+    def _in_range(self, value: float) -> bool:
+        """Whether the SI ``value`` lies in the field's valid range."""
         ok = True
         if self.low is not None:
             ok = value > self.low if self.low_open else value >= self.low
         if ok and self.high is not None:
             ok = value < self.high if self.high_open else value <= self.high
-        if not ok:
-            shown = raw if isinstance(raw, str) else f"{value:.6g}{unit_txt}"
-            raise SceneError(f"{where} = {shown!r} is out of range: valid range {rng}")
-        return value
+        return ok
 
     def _parse_quantity(self, raw: str, where: str, rng: str) -> float:
-        return parse_quantity(raw, self.unit, where, rng, SceneError)
+        return parse_quantity(raw, self.unit, where, rng, SceneError, self._in_range)
 
 
 @dataclass(frozen=True)

@@ -12,8 +12,8 @@ this module runs. Keys (SI values or strings with units)::
     amount_gear = "15 um"
     length_pinion = "5 mm"     # along the line of action ...
     height_gear = "2.4 mm"     # ... or as a radial height from the tip (not both per gear)
-    handbook_a = 9             # handbook rule constants (um), Dudley's C_m
-    handbook_b = 4
+    handbook_a = "9 um"        # handbook rule constants (lengths), Dudley's C_m
+    handbook_b = "4 um"
     face_load_factor = 1.0
     pair_stiffness = "potential_energy"   # or "weber": the unmodified single-pair stiffness
     linearisation = "tangent"  # tangent (k_t + e), secant (K_TPM), contact (nonlinear reference)
@@ -62,8 +62,10 @@ TIP_RELIEF = register_section(Section("tip_relief", (
           doc="pinion relief height, radial from the tip (custom)"),
     Field("height_gear", "m", default=None, low=0.0, high=1.0, low_open=True,
           doc="gear relief height, radial from the tip (custom)"),
-    Field("handbook_a", default=9.0, low=5.0, high=13.0, doc="handbook rule constant a (um)"),
-    Field("handbook_b", default=4.0, low=0.0, high=8.0, doc="handbook rule constant b (um)"),
+    Field("handbook_a", "m", default=9e-6, low=5e-6, high=13e-6,
+          doc="handbook rule constant a (pinion amount at zero load, e.g. \"9 um\")"),
+    Field("handbook_b", "m", default=4e-6, low=0.0, high=8e-6,
+          doc="handbook rule constant b (gear amount at zero load, e.g. \"4 um\")"),
     Field("face_load_factor", default=1.0, low=1.0, high=3.0, doc="Dudley's C_m"),
     Field("pair_stiffness", kind="str", default="potential_energy", choices=PAIR_METHODS,
           doc="unmodified single-pair stiffness method for the loaded contact"),
@@ -74,6 +76,13 @@ TIP_RELIEF = register_section(Section("tip_relief", (
           doc="loaded-contact samples between switching phases"),
 ), doc="tip relief on pinion and/or gear; the single-DOF model runs on the loaded contact",
    models=("sdof",)))
+
+
+def rule_options(table: dict[str, Any]) -> dict[str, float]:
+    """The rule constants of a parsed ``[tip_relief]`` table as
+    :func:`~gear_dyn.modification.relief.recommended_relief` takes them (a, b in micrometres)."""
+    return {"handbook_a": table["handbook_a"] * 1e6, "handbook_b": table["handbook_b"] * 1e6,
+            "face_load_factor": table["face_load_factor"]}
 
 
 _CUSTOM_KEYS = ("amount_pinion", "amount_gear", "length_pinion", "length_gear",
@@ -121,8 +130,7 @@ def relief_from_scene(scene: Scene, pair: GearPair | None = None) -> ProfileModi
                 raise SceneError(f"{where}.{given[0]}: only for rule = 'custom' (rule "
                                  f"{t['rule']!r} sets amounts and lengths itself)")
             rec = recommended_relief(pair, scene.get("operating")["torque"], t["rule"],
-                                     handbook_a=t["handbook_a"], handbook_b=t["handbook_b"],
-                                     face_load_factor=t["face_load_factor"])
+                                     **rule_options(t))
             mod = rec.modification(t["curve"])
         mod.check(pair)
     except SceneError:

@@ -103,6 +103,13 @@ ratio = 0.06                # mesh damping ratio xi
 # [backlash]                # dead-zone backlash: the teeth may separate
 # half_gap = "50 um"
 
+# [iso]                     # ISO 6336-1 method B K_v printed beside the simulated dynamic factor
+# accuracy_grade = 6        # ISO 1328-1 grade (default 5, stated as assumed), or explicit:
+# f_pb = "8 um"             #   base pitch deviation
+# f_falpha = "7 um"         #   profile form deviation
+# running_in = "case_hardened"   # none (default), case_hardened, through_hardened
+# sigma_hlim = "1500 MPa"
+
 [solver]
 method = "auto"             # exact propagator for linear models, else LSODA
 rtol = 1e-8

@@ -1,7 +1,15 @@
-"""The result of a simulation: time series, derived outputs, solver statistics."""
+"""The result of a simulation: time series, derived outputs, solver statistics.
+
+``Result.plot`` is the one deliberate upward reference of the solver layer (docs/architecture.md):
+like pandas' ``DataFrame.plot``, the accessor looks up the plotting module by name when a plot
+method is called (``importlib.import_module("gear_dyn.plots.run")``), so importing this module
+loads no matplotlib and no plots module, and the layers contract (``lint-imports``, which follows
+import statements) stays as it is: the figures remain functions of the plots layer.
+"""
 
 from __future__ import annotations
 
+import importlib
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -13,6 +21,47 @@ from gear_dyn.errors import InputError
 from gear_dyn.solvers.settings import SolverSettings
 
 FloatArray = NDArray[np.float64]
+
+#: the module that draws a Result; looked up by name at call time (never imported on load)
+PLOTS_MODULE = "gear_dyn.plots.run"
+
+
+class ResultPlots:
+    """``result.plot``: the run's figures as methods, each taking ``ax=None`` and returning the
+    matplotlib Figure (for notebooks; annotated ``Any`` so that this module never names
+    matplotlib, which the FMU's slim copy of the solvers checks). Thin forwards to
+    :mod:`gear_dyn.plots.run`, which is imported on the first call (see the module docstring).
+
+    Examples
+    --------
+    >>> fig = result.plot.spectrum(scale="linear")          # doctest: +SKIP
+    >>> fig, ax = plt.subplots(); result.plot.spectrum(ax=ax)  # doctest: +SKIP
+    """
+
+    def __init__(self, result: Result) -> None:
+        self._result = result
+
+    @staticmethod
+    def _plots() -> Any:
+        return importlib.import_module(PLOTS_MODULE)
+
+    def time(self, periods: float | None = 10.0, ax: Any = None) -> Any:
+        """DTE and mesh force against time (:func:`gear_dyn.plots.run.plot_time_history`).
+
+        ``ax``: None (new figure) or ``rows x cols`` Axes: rows DTE[, elastic part], force;
+        cols whole run[, zoom on the last ``periods`` mesh periods; ``periods=None``: no zoom].
+        """
+        return self._plots().plot_time_history(self._result, periods=periods, ax=ax)
+
+    def spectrum(self, name: str = "dte", harmonics: int | None = None, ax: Any = None,
+                 scale: str = "log", floor: float | None = None) -> Any:
+        """Amplitude spectrum over the steady window, f_n, mesh harmonics, shaft frequencies and
+        sidebands marked, the stated error drawn as a noise floor
+        (:func:`gear_dyn.plots.run.plot_spectrum`; ``ax``: None, one Axes, or two for the
+        sideband zoom)."""
+        return self._plots().plot_spectrum(self._result, name=name, harmonics=harmonics, ax=ax,
+                                           scale=scale, floor=floor)
+
 
 
 @dataclass(frozen=True)
@@ -80,6 +129,12 @@ class Result:
     extra: dict[str, Any] = field(default_factory=dict)
 
     @property
+    def plot(self) -> ResultPlots:
+        """The run's figures: ``result.plot.time(ax=None)``, ``result.plot.spectrum(ax=None)``
+        (each returns the Figure; :class:`ResultPlots`)."""
+        return ResultPlots(self)
+
+    @property
     def steady(self) -> NDArray[np.bool_]:
         """Boolean mask of the steady-state window."""
         return self.t >= self.steady_start - 1e-12 * max(1.0, abs(self.steady_start))
@@ -123,8 +178,13 @@ class Result:
         rows = [("method", f"{self.stats.method} (rtol {self.stats.rtol:g})"),
                 ("span", f"{periods:.0f} mesh periods at f_m = {self.mesh_frequency:.1f} Hz")]
         if "dte" in self.outputs and "mesh_force" in self.outputs:
-            rows += [("dynamic factor", f"{self.dynamic_factor:.4f}"),
-                     ("RMS / p-p DTE", f"{self.rms_dte * 1e6:.4g} / {self.ptp_dte * 1e6:.4g} um")]
+            rows += [("dynamic factor", f"{self.dynamic_factor:.4f}")]
+            iso = self.extra.get("iso_6336_kv")
+            if isinstance(iso, dict) and iso.get("k_v") is not None:
+                rows.append(("ISO 6336-1 K_v", f"{iso['k_v']:.4f} (N = "
+                             f"{iso['resonance_ratio_n']:.3g}, {iso['speed_range']})"))
+            rows.append(("RMS / p-p DTE",
+                         f"{self.rms_dte * 1e6:.4g} / {self.ptp_dte * 1e6:.4g} um"))
         est = self.extra.get("estimated_error")
         if isinstance(est, dict) and est.get("max_rel") is not None:
             tail = "" if est.get("reproducible", True) else " (trajectory not reproducible)"
