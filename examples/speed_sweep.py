@@ -26,7 +26,7 @@ def main(out: Path, fast: bool = False) -> dict[str, float]:
     from distributed import Client, LocalCluster
 
     with LocalCluster(n_workers=1, processes=False, threads_per_worker=2,
-                      dashboard_address=None) as cluster, Client(cluster) as client:
+                      dashboard_address=":0") as cluster, Client(cluster) as client:
         remote = sweep_scene(scene, speeds, executor=client.get_executor(), block=4)
     a, b = local.curves[0], remote.curves[0]
     same = bool(np.array_equal(a.dynamic_factor, b.dynamic_factor))

@@ -192,7 +192,7 @@ def test_dask_and_local_executor_identical(tmp_path: Path) -> None:
     local = [sweep_scene(tail, sp_tail, workers=2, block=3),
              sweep_scene(bl, sp_bl, workers=2, block=2)]
     with LocalCluster(n_workers=1, processes=False, threads_per_worker=2,
-                      dashboard_address=None) as cluster, Client(cluster) as client:
+                      dashboard_address=":0") as cluster, Client(cluster) as client:
         ex = client.get_executor()
         remote = [sweep_scene(tail, sp_tail, executor=ex, block=3),
                   sweep_scene(bl, sp_bl, executor=ex, block=2)]
