@@ -105,7 +105,9 @@ def bench_scene(name: str, repeats: int, work: Path) -> dict[str, Any]:
     for _ in range(repeats):
         t_naive.append(timed(chosen["cmd"]))
         t_ours.append(timed(ours))
-    data = np.loadtxt(work / "gd" / "timeseries.csv", delimiter=",", skiprows=1)
+    lines = (work / "gd" / "timeseries.csv").read_text().splitlines()
+    body = [ln for ln in lines if not ln.startswith("#")][1:]  # comments, then the header
+    data = np.loadtxt(body, delimiter=",")
     err_ours = relative_errors(model, t, data[:, 1:3].T, ref.y)[0]
     ratios = [a / b for a, b in zip(t_naive, t_ours, strict=True)]
     return {"scene": name, "naive_rtol": chosen["rtol"], "naive_err": chosen["err"],
