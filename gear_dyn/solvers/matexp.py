@@ -15,6 +15,8 @@ numpy.ma...), more than the whole solve. These are the textbook algorithms:
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -98,7 +100,7 @@ def _expm_pade13(a: FloatArray) -> FloatArray:
              + b[1] * ident)
     v = a6 @ (b[12] * a6 + b[10] * a4 + b[8] * a2) + b[6] * a6 + b[4] * a4 + b[2] * a2 \
         + b[0] * ident
-    r = np.linalg.solve(v - u, v + u)
+    r = cast(FloatArray, np.linalg.solve(v - u, v + u))
     for _ in range(s):
         r = r @ r
     return r
