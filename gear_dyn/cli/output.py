@@ -40,7 +40,7 @@ def write_run_outputs(result: Result, out: Path, spectrum_scale: str = "log") ->
                 f"{summary['dynamic_factor_definition']}"]
         path = tmp / "timeseries.csv"
         write_text(path, "\n".join(head) + "\n" + path.read_text())
-        fig = plot_time_history(result)
+        fig = plot_time_history(result, blocks=1500)  # ~2 per pixel column at dpi 110
         save_figure(fig, tmp / "time_history.png", dpi=110)
         fig = plot_spectrum(result, scale=spectrum_scale)
         save_figure(fig, tmp / "spectrum.png", dpi=110)
