@@ -10,6 +10,10 @@ from gear_dyn.io import save_figure, staged_output, write_csv, write_json, write
 from gear_dyn.solvers import Result
 
 
+#: zlib level 1: the same pixels, ~20 % larger files, the encoder ~2x faster (~40 ms a run)
+_PNG = {"compress_level": 1}
+
+
 def result_name(result: Result) -> str:
     """The scene's name, or ``run`` for a result without a scene."""
     return str(getattr(result.scene, "name", None) or "run")
@@ -41,8 +45,8 @@ def write_run_outputs(result: Result, out: Path, spectrum_scale: str = "log") ->
         path = tmp / "timeseries.csv"
         write_text(path, "\n".join(head) + "\n" + path.read_text())
         fig = plot_time_history(result, blocks=1500)  # ~2 per pixel column at dpi 110
-        save_figure(fig, tmp / "time_history.png", dpi=110)
+        save_figure(fig, tmp / "time_history.png", dpi=110, pil_kwargs=_PNG)
         fig = plot_spectrum(result, scale=spectrum_scale)
-        save_figure(fig, tmp / "spectrum.png", dpi=110)
+        save_figure(fig, tmp / "spectrum.png", dpi=110, pil_kwargs=_PNG)
         write_json(tmp / "summary.json", summary)
     return summary
