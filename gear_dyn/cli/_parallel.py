@@ -1,0 +1,64 @@
+"""One task in a forked child while the command goes on (two figures drawn at once).
+
+matplotlib draws in one thread; a run's two PNGs are independent, so ``gear-dyn run`` draws the
+time history in a forked child while it draws the spectrum itself. The child only writes its
+file; the parent waits for it and, if the child could not do it (no ``fork`` on this platform,
+the fork failed, the child failed), does the task itself, so errors surface in the parent with
+the command's usual handling and exit codes.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import signal
+import sys
+import threading
+from collections.abc import Callable, Iterator
+
+
+@contextlib.contextmanager
+def task_in_child(task: Callable[[], object]) -> Iterator[None]:
+    """Run ``task`` in a forked child during the ``with`` block; done (by the child or, if that
+    failed, in this process) when the block exits normally. If the block raises, the child is
+    killed and the exception propagates."""
+    pid = _fork_for(task)
+    try:
+        yield
+    except BaseException:
+        if pid:
+            with contextlib.suppress(OSError):
+                os.kill(pid, signal.SIGKILL)
+                os.waitpid(pid, 0)
+        raise
+    if pid:
+        _, status = os.waitpid(pid, 0)
+        if os.waitstatus_to_exitcode(status) == 0:
+            return
+    task()  # no child, or it failed: do it here (its error, if any, is the command's)
+
+
+def _fork_for(task: Callable[[], object]) -> int:
+    """The child's pid (0: not forked: no fork here, other threads running, fork failed)."""
+    if not hasattr(os, "fork") or threading.active_count() > 1:
+        return 0
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(Exception):
+            stream.flush()  # nothing buffered is written twice
+    try:
+        pid = os.fork()
+    except OSError:
+        return 0
+    if pid:
+        return pid
+    code = 1
+    try:  # the child: the task, then out without the parent's cleanup (staged output...)
+        task()
+        code = 0
+    except BaseException:  # noqa: S110 - the parent redoes the task and reports the error
+        pass
+    finally:
+        os._exit(code)
+
+
+__all__ = ["task_in_child"]
