@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 from scipy.linalg import expm as scipy_expm
@@ -25,7 +27,7 @@ def taylor_expm_longdouble(m: np.ndarray) -> np.ndarray:
     a = m.astype(np.longdouble)
     k = int(np.ceil(np.log2(max(float(np.abs(a).sum(axis=0).max()), 1.0)))) + 4
     a = a / np.longdouble(2) ** k
-    term = np.eye(a.shape[0], dtype=np.longdouble)
+    term: Any = np.eye(a.shape[0], dtype=np.longdouble)
     total = term.copy()
     for j in range(1, 40):
         term = term @ a / j
