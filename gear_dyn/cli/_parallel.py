@@ -16,29 +16,50 @@ import sys
 import threading
 from collections.abc import Callable, Iterator
 
+#: signals the command turns into exceptions (app.py): held back while forking, so that none
+#: lands inside fork's own at-fork hooks (where Python ignores the exception it raises)
+_HELD = (signal.SIGINT, signal.SIGTERM)
+
 
 @contextlib.contextmanager
 def task_in_child(task: Callable[[], object]) -> Iterator[None]:
     """Run ``task`` in a forked child during the ``with`` block; done (by the child or, if that
-    failed, in this process) when the block exits normally. If the block raises, the child is
-    killed and the exception propagates."""
-    pid = _fork_for(task)
+    failed, in this process) when the block exits normally. If the block raises (also by a
+    signal), the child is killed and the exception propagates."""
+    pid = 0
     try:
-        yield
+        with _held_signals() as mask:
+            pid = _fork_for(task, mask)
+        yield  # a signal that came during the fork is raised here, with pid known
+        if pid:
+            _, status = os.waitpid(pid, 0)
+            pid, done = 0, os.waitstatus_to_exitcode(status) == 0
+        else:
+            done = False
     except BaseException:
         if pid:
             with contextlib.suppress(OSError):
                 os.kill(pid, signal.SIGKILL)
                 os.waitpid(pid, 0)
         raise
-    if pid:
-        _, status = os.waitpid(pid, 0)
-        if os.waitstatus_to_exitcode(status) == 0:
-            return
-    task()  # no child, or it failed: do it here (its error, if any, is the command's)
+    if not done:
+        task()  # no child, or it failed: do it here (its error, if any, is the command's)
 
 
-def _fork_for(task: Callable[[], object]) -> int:
+@contextlib.contextmanager
+def _held_signals() -> Iterator[set[signal.Signals] | None]:
+    """Block SIGINT/SIGTERM for the block (where the platform can); yields the previous mask."""
+    if not hasattr(signal, "pthread_sigmask"):
+        yield None
+        return
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, _HELD)
+    try:
+        yield old
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+def _fork_for(task: Callable[[], object], mask: set[signal.Signals] | None) -> int:
     """The child's pid (0: not forked: no fork here, other threads running, fork failed)."""
     if not hasattr(os, "fork") or threading.active_count() > 1:
         return 0
@@ -53,6 +74,8 @@ def _fork_for(task: Callable[[], object]) -> int:
         return pid
     code = 1
     try:  # the child: the task, then out without the parent's cleanup (staged output...)
+        if mask is not None:
+            signal.pthread_sigmask(signal.SIG_SETMASK, mask)
         task()
         code = 0
     except BaseException:  # noqa: S110 - the parent redoes the task and reports the error
