@@ -47,7 +47,7 @@ def task_in_child(task: Callable[[], object]) -> Iterator[None]:
 
 
 @contextlib.contextmanager
-def _held_signals() -> Iterator[set[signal.Signals] | None]:
+def _held_signals() -> Iterator[set[int | signal.Signals] | None]:
     """Block SIGINT/SIGTERM for the block (where the platform can); yields the previous mask."""
     if not hasattr(signal, "pthread_sigmask"):
         yield None
@@ -59,7 +59,7 @@ def _held_signals() -> Iterator[set[signal.Signals] | None]:
         signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
-def _fork_for(task: Callable[[], object], mask: set[signal.Signals] | None) -> int:
+def _fork_for(task: Callable[[], object], mask: set[int | signal.Signals] | None) -> int:
     """The child's pid (0: not forked: no fork here, other threads running, fork failed)."""
     if not hasattr(os, "fork") or threading.active_count() > 1:
         return 0
