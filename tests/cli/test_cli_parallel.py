@@ -26,14 +26,29 @@ def writer(path: Path, fail_in_child: bool = False) -> Callable[[], None]:
     return task
 
 
-def test_the_child_does_the_task(tmp_path: Path) -> None:
+@pytest.fixture
+def single_threaded(monkeypatch: pytest.MonkeyPatch) -> None:
+    """As in the gear-dyn process (a test run may have left helper threads behind)."""
+    monkeypatch.setattr(_parallel.threading, "active_count", lambda: 1)
+
+
+def test_the_child_does_the_task(tmp_path: Path, single_threaded: None) -> None:
     out = tmp_path / "a.txt"
     with task_in_child(writer(out)):
         pass
     assert int(out.read_text()) != os.getpid()
 
 
-def test_a_failed_child_is_redone_in_the_parent(tmp_path: Path) -> None:
+def test_with_other_threads_the_parent_does_it(tmp_path: Path,
+                                               monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(_parallel.threading, "active_count", lambda: 2)
+    out = tmp_path / "t.txt"
+    with task_in_child(writer(out)):
+        pass
+    assert int(out.read_text()) == os.getpid()
+
+
+def test_a_failed_child_is_redone_in_the_parent(tmp_path: Path, single_threaded: None) -> None:
     out = tmp_path / "b.txt"
     with task_in_child(writer(out, fail_in_child=True)):
         pass
@@ -48,7 +63,7 @@ def test_without_fork_the_parent_does_it(tmp_path: Path, monkeypatch: pytest.Mon
     assert int(out.read_text()) == os.getpid()
 
 
-def test_an_error_in_the_block_kills_the_child(tmp_path: Path) -> None:
+def test_an_error_in_the_block_kills_the_child(tmp_path: Path, single_threaded: None) -> None:
     out = tmp_path / "d.txt"
 
     def slow() -> None:
