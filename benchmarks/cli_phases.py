@@ -11,6 +11,7 @@ benchmarks/bench_cli.py for the phase table of its report.
 
 from __future__ import annotations
 
+import gc
 import sys
 import tempfile
 import time
@@ -25,6 +26,7 @@ def lap(name: str) -> None:
 
 
 def main(scene_path: str) -> None:
+    gc.disable()  # as cli/run.py does while it runs
     import numpy  # noqa: F401
 
     lap("import numpy")
@@ -59,6 +61,7 @@ def main(scene_path: str) -> None:
     for name, t in LAPS:
         print(f"{name}\t{t - prev:.4f}")
         prev = t
+    gc.freeze()  # as cli/app.py does at the end (not timed here: the exit itself)
 
 
 if __name__ == "__main__":
