@@ -3,8 +3,9 @@
 Run:  python benchmarks/cli_phases.py [SCENE]      (prints ``phase<TAB>seconds`` lines)
 
 The same steps as ``gear-dyn run SCENE --out DIR`` in their order, in a fresh interpreter, each
-timed by wall clock, but serially: the command itself draws the time history in a forked child
-while it draws the spectrum and writes the CSV (gear_dyn/cli/_parallel.py). Python's own
+timed by wall clock, but serially: the command itself, when a core is free, draws the time
+history in a forked child while it draws the spectrum and writes the CSV
+(gear_dyn/cli/_parallel.py). Python's own
 start-up is not included (``python -c pass`` in benchmarks/bench_cli.py). Used by
 benchmarks/bench_cli.py for the phase table of its report.
 """

@@ -1,10 +1,11 @@
 """One task in a forked child while the command goes on (two figures drawn at once).
 
 matplotlib draws in one thread; a run's two PNGs are independent, so ``gear-dyn run`` draws the
-time history in a forked child while it draws the spectrum itself. The child only writes its
-file; the parent waits for it and, if the child could not do it (no ``fork`` on this platform,
-the fork failed, the child failed), does the task itself, so errors surface in the parent with
-the command's usual handling and exit codes.
+time history in a forked child while it draws the spectrum itself, when a core is free for it
+(:func:`spare_core`). The child only writes its file; the parent waits for it. Without a child
+(no ``fork`` on this platform, other threads running, no spare core, the fork failed) or when the
+child failed, the parent does the task itself, so errors surface in the parent with the
+command's usual handling and exit codes.
 """
 
 from __future__ import annotations
@@ -59,9 +60,26 @@ def _held_signals() -> Iterator[set[int | signal.Signals] | None]:
         signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
+def spare_core() -> bool:
+    """Whether a core is free for a child: the 1-minute load average (this process included)
+    is at most the usable cores minus one. On a busy machine a child would only compete with
+    its parent for the same cores, and forking costs time of its own.
+    """
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        cores = os.cpu_count() or 1
+    try:
+        load = os.getloadavg()[0]
+    except (AttributeError, OSError):
+        return cores > 1
+    return cores > 1 and load <= cores - 1
+
+
 def _fork_for(task: Callable[[], object], mask: set[int | signal.Signals] | None) -> int:
-    """The child's pid (0: not forked: no fork here, other threads running, fork failed)."""
-    if not hasattr(os, "fork") or threading.active_count() > 1:
+    """The child's pid (0: not forked: no fork here, other threads running, no spare core, the
+    fork failed)."""
+    if not hasattr(os, "fork") or threading.active_count() > 1 or not spare_core():
         return 0
     for stream in (sys.stdout, sys.stderr):
         with contextlib.suppress(Exception):

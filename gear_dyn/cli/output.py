@@ -34,7 +34,7 @@ def write_run_outputs(result: Result, out: Path, spectrum_scale: str = "log") ->
             fig = plot_time_history(result, blocks=1500)  # ~2 per pixel column at dpi 110
             save_figure(fig, tmp / "time_history.png", dpi=110, pil_kwargs=_PNG)
 
-        # the larger figure in a forked child, the rest here meanwhile (2 cores)
+        # the larger figure in a forked child when a core is free, the rest here meanwhile
         with task_in_child(time_history):
             fig = plot_spectrum(result, scale=spectrum_scale)
             save_figure(fig, tmp / "spectrum.png", dpi=110, pil_kwargs=_PNG)

@@ -28,8 +28,10 @@ def writer(path: Path, fail_in_child: bool = False) -> Callable[[], None]:
 
 @pytest.fixture
 def single_threaded(monkeypatch: pytest.MonkeyPatch) -> None:
-    """As in the gear-dyn process (a test run may have left helper threads behind)."""
+    """As in the gear-dyn process (a test run may have left helper threads behind), on a
+    machine with a core to spare (a test run keeps it busy)."""
     monkeypatch.setattr(_parallel.threading, "active_count", lambda: 1)
+    monkeypatch.setattr(_parallel, "spare_core", lambda: True)
 
 
 def test_the_child_does_the_task(tmp_path: Path, single_threaded: None) -> None:
@@ -42,6 +44,7 @@ def test_the_child_does_the_task(tmp_path: Path, single_threaded: None) -> None:
 def test_with_other_threads_the_parent_does_it(tmp_path: Path,
                                                monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(_parallel.threading, "active_count", lambda: 2)
+    monkeypatch.setattr(_parallel, "spare_core", lambda: True)
     out = tmp_path / "t.txt"
     with task_in_child(writer(out)):
         pass
@@ -76,3 +79,24 @@ def test_an_error_in_the_block_kills_the_child(tmp_path: Path, single_threaded: 
     assert time.perf_counter() - t0 < 10
     time.sleep(0.2)
     assert not out.exists()
+
+
+def test_on_a_busy_machine_the_parent_does_it(tmp_path: Path,
+                                              monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(_parallel.threading, "active_count", lambda: 1)
+    monkeypatch.setattr(_parallel.os, "getloadavg", lambda: (64.0, 64.0, 64.0))
+    out = tmp_path / "busy.txt"
+    with task_in_child(writer(out)):
+        pass
+    assert int(out.read_text()) == os.getpid()
+
+
+def test_spare_core_reads_the_load(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(_parallel.os, "sched_getaffinity", lambda pid: {0, 1}, raising=False)
+    monkeypatch.setattr(_parallel.os, "getloadavg", lambda: (0.9, 0.0, 0.0))
+    assert _parallel.spare_core()
+    monkeypatch.setattr(_parallel.os, "getloadavg", lambda: (1.5, 0.0, 0.0))
+    assert not _parallel.spare_core()
+    monkeypatch.setattr(_parallel.os, "sched_getaffinity", lambda pid: {0}, raising=False)
+    monkeypatch.setattr(_parallel.os, "getloadavg", lambda: (0.0, 0.0, 0.0))
+    assert not _parallel.spare_core()
