@@ -190,7 +190,8 @@ def report(rows: list[dict[str, Any]], start: dict[str, list[float]], repeats: i
                   "`python benchmarks/cli_phases.py` and "
                   "`NAIVE_PHASES=1 python benchmarks/naive_run.py`). When a core is free (1-minute "
                   "load average <= cores - 1), `gear-dyn run` itself draws the time history in "
-                  "a forked child while it draws the spectrum and writes the CSV:", "", "| process | phase | wall time (s) |", "|---|---|---|"]
+                  "a forked child while it draws the spectrum and writes the CSV:", "",
+                  "| process | phase | wall time (s) |", "|---|---|---|"]
         for who, table in phase.items():
             for name, vals in table.items():
                 lines.append(f"| {who} | {name} | {spread(vals)} |")
