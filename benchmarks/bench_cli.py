@@ -166,8 +166,9 @@ def report(rows: list[dict[str, Any]], start: dict[str, list[float]], repeats: i
         "# Whole-command speed: `gear-dyn run` vs the naive script (one side-by-side run)", "",
         f"Produced by `python benchmarks/bench_cli.py --repeats {repeats}` on "
         f"{platform.machine()} (Python {platform.python_version()}); {repeats} interleaved "
-        "pairs per scene, figures as median (min..max). The machine is shared (2 cores): the "
-        "ratios, measured pair by pair, are the figures to quote.", "",
+        "pairs per scene, figures as median (min..max). The machine is shared "
+        f"({os.cpu_count()} cores, 1-minute load average {os.getloadavg()[0]:.1f} at the end): "
+        "the ratios, measured pair by pair, are the figures to quote.", "",
         "Naive script: `benchmarks/naive_run.py` (one `solve_ivp(RK45)` call, plain Python "
         "right-hand side, pyplot time history + spectrum PNGs) at its loosest rtol reaching "
         f"max error <= {TARGET:g} of the static deflection. `gear-dyn run SCENE --out DIR`: the "
