@@ -7,7 +7,7 @@ from typing import Any
 
 from gear_dyn.analysis.report import summarize
 from gear_dyn.cli._parallel import task_in_child
-from gear_dyn.io import save_figure, staged_output, write_csv, write_json, write_text
+from gear_dyn.io import save_figure, staged_output, write_csv, write_json
 from gear_dyn.solvers import Result
 
 #: zlib level 1: the same pixels, ~20 % larger files, the encoder ~2x faster (~40 ms a run)
@@ -51,11 +51,10 @@ def _write_timeseries(result: Result, summary: dict[str, Any], path: Path) -> No
     for name, arr in result.outputs.items():
         if name not in cols:
             cols[name] = arr
-    write_csv(path, cols)
     head = [f"# {result_name(result)}: time series in SI units (t_s in s; dte, delta, "
             "e_ecc in m;", "# mesh_force in N; stiffness in N/m; angles in rad, rates in "
             "rad/s)",
             f"# dte: {summary['dte_definition']}",
             f"# dynamic factor {summary['dynamic_factor']:.6g}: "
             f"{summary['dynamic_factor_definition']}"]
-    write_text(path, "\n".join(head) + "\n" + path.read_text())
+    write_csv(path, cols, comments=head)
