@@ -17,6 +17,10 @@ and the ratio naive / gear-dyn pair by pair (median, min, max). It also times
 ``gear_dyn.analysis.bench.reference_solution`` (the exact propagator, or DOP853 restarted at
 every switching instant and contact change at rtol 1e-13 for backlash).
 
+For the first scene it also times the phases of both (``benchmarks/cli_phases.py``, the run
+path serially; ``NAIVE_PHASES=1 benchmarks/naive_run.py``), ``repeats`` fresh processes each:
+where the time goes.
+
 Writes ``cli.md`` into ``--out`` (default ``benchmarks/out/``, git-ignored); ``--record`` writes
 it into ``benchmarks/results/`` instead (the figures the README quotes).
 """
@@ -105,12 +109,40 @@ def bench_scene(name: str, repeats: int, work: Path) -> dict[str, Any]:
     for _ in range(repeats):
         t_naive.append(timed(chosen["cmd"]))
         t_ours.append(timed(ours))
-    data = np.loadtxt(work / "gd" / "timeseries.csv", delimiter=",", skiprows=1)
+    lines = (work / "gd" / "timeseries.csv").read_text().splitlines()
+    body = [ln for ln in lines if not ln.startswith("#")][1:]  # comments, then the header
+    data = np.loadtxt(body, delimiter=",")
     err_ours = relative_errors(model, t, data[:, 1:3].T, ref.y)[0]
     ratios = [a / b for a, b in zip(t_naive, t_ours, strict=True)]
     return {"scene": name, "naive_rtol": chosen["rtol"], "naive_err": chosen["err"],
             "ours_err": err_ours, "t_naive": t_naive, "t_ours": t_ours, "ratios": ratios,
-            "ref": ref.kind}
+            "ref": ref.kind, "naive_cmd": chosen["cmd"], "path": path}
+
+
+def phase_times(cmd: list[str], stream: str, env: dict[str, str]) -> dict[str, float]:
+    """``phase<TAB>seconds`` lines a process prints (stdout or stderr) as a dict."""
+    t0 = time.perf_counter()
+    out = subprocess.run(cmd, check=True, capture_output=True, text=True,
+                         env={**os.environ, "MPLBACKEND": "Agg", **env})
+    wall = time.perf_counter() - t0
+    lines = (out.stdout if stream == "stdout" else out.stderr).splitlines()
+    res = {ln.split("\t")[0]: float(ln.split("\t")[1]) for ln in lines if "\t" in ln}
+    res["the rest: interpreter start-up and exit"] = wall - sum(res.values())
+    return res
+
+
+def phases(row: dict[str, Any], repeats: int) -> dict[str, dict[str, list[float]]]:
+    """Phase times of the gear-dyn run path (benchmarks/cli_phases.py, serial) and of the naive
+    script (NAIVE_PHASES=1), ``repeats`` interleaved fresh processes each."""
+    ours_cmd = [sys.executable, str(ROOT / "benchmarks" / "cli_phases.py"), str(row["path"])]
+    res: dict[str, dict[str, list[float]]] = {"gear-dyn run": {}, "naive script": {}}
+    for _ in range(repeats):
+        for key, cmd, stream, env in (("gear-dyn run", ours_cmd, "stdout", {}),
+                                      ("naive script", row["naive_cmd"], "stderr",
+                                       {"NAIVE_PHASES": "1"})):
+            for name, sec in phase_times(cmd, stream, env).items():
+                res[key].setdefault(name, []).append(sec)
+    return res
 
 
 def startup(repeats: int) -> dict[str, list[float]]:
@@ -128,13 +160,15 @@ def startup(repeats: int) -> dict[str, list[float]]:
     return out
 
 
-def report(rows: list[dict[str, Any]], start: dict[str, list[float]], repeats: int) -> str:
+def report(rows: list[dict[str, Any]], start: dict[str, list[float]], repeats: int,
+           phase: dict[str, dict[str, list[float]]] | None = None) -> str:
     lines = [
         "# Whole-command speed: `gear-dyn run` vs the naive script (one side-by-side run)", "",
         f"Produced by `python benchmarks/bench_cli.py --repeats {repeats}` on "
         f"{platform.machine()} (Python {platform.python_version()}); {repeats} interleaved "
-        "pairs per scene, figures as median (min..max). The machine is shared (2 cores): the "
-        "ratios, measured pair by pair, are the figures to quote.", "",
+        "pairs per scene, figures as median (min..max). The machine is shared "
+        f"({os.cpu_count()} cores, 1-minute load average {os.getloadavg()[0]:.1f} at the end): "
+        "the ratios, measured pair by pair, are the figures to quote.", "",
         "Naive script: `benchmarks/naive_run.py` (one `solve_ivp(RK45)` call, plain Python "
         "right-hand side, pyplot time history + spectrum PNGs) at its loosest rtol reaching "
         f"max error <= {TARGET:g} of the static deflection. `gear-dyn run SCENE --out DIR`: the "
@@ -151,6 +185,19 @@ def report(rows: list[dict[str, Any]], start: dict[str, list[float]], repeats: i
     lines += ["", "Start-up, whole processes:", "", "| command | wall time (s) |", "|---|---|"]
     for key, vals in start.items():
         lines.append(f"| `{key}` | {spread(vals)} |")
+    if phase:
+        lines += ["", f"Where the time goes ({rows[0]['scene']}; fresh processes, phases timed "
+                  "serially inside them, the rest is the process's wall time minus the phases; "
+                  "`python benchmarks/cli_phases.py` and "
+                  "`NAIVE_PHASES=1 python benchmarks/naive_run.py`). When a core is free (1-minute "
+                  "load average <= cores - 1), `gear-dyn run` itself draws the time history in "
+                  "a forked child while it draws the spectrum and writes the CSV:", "",
+                  "| process | phase | wall time (s) |", "|---|---|---|"]
+        for who, table in phase.items():
+            for name, vals in table.items():
+                lines.append(f"| {who} | {name} | {spread(vals)} |")
+            total = [sum(v) for v in zip(*table.values(), strict=True)]
+            lines.append(f"| {who} | **whole process** | {spread(total)} |")
     return "\n".join(lines) + "\n"
 
 
@@ -170,11 +217,12 @@ def main(argv: list[str] | None = None) -> int:
             print(f"{r['scene']}: naive / gear-dyn run = {spread(r['ratios'])}x "
                   f"(errors {r['naive_err']:.1e} / {r['ours_err']:.1e})", flush=True)
             rows.append(r)
+        phase = phases(rows[0], args.repeats) if rows else None
     start = startup(args.repeats)
     for key, vals in start.items():
         print(f"{key}: {spread(vals)} s")
     out_dir.mkdir(parents=True, exist_ok=True)
-    (out_dir / "cli.md").write_text(report(rows, start, args.repeats))
+    (out_dir / "cli.md").write_text(report(rows, start, args.repeats, phase))
     print(f"wrote {out_dir / 'cli.md'}")
     return 0 if all(math.isfinite(statistics.median(r["ratios"])) for r in rows) else 1
 

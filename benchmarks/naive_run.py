@@ -13,15 +13,28 @@ error. It imports nothing from gear_dyn: the model's numbers come from PARAMS.js
 from __future__ import annotations
 
 import json
+import os
 import sys
+import time
 from pathlib import Path
 
-import matplotlib
+_T0 = time.perf_counter()
+_LAPS: list[tuple[str, float]] = []
+
+
+def lap(name: str) -> None:
+    """Phase times for benchmarks/cli_phases.py (printed to stderr with NAIVE_PHASES=1)."""
+    _LAPS.append((name, time.perf_counter()))
+
+
+import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from scipy.integrate import solve_ivp  # noqa: E402
+
+lap("imports (numpy, scipy.integrate, matplotlib.pyplot)")
 
 
 def main(argv: list[str]) -> int:
@@ -43,6 +56,7 @@ def main(argv: list[str]) -> int:
     sol = solve_ivp(rhs, (0.0, t[-1]), p["y0"], method="RK45", t_eval=t, rtol=p["rtol"],
                     atol=np.asarray(p["atol"]))
     np.save(out / "y.npy", sol.y)
+    lap("solve (RK45)")
 
     fig, ax = plt.subplots(figsize=(8, 4))
     ax.plot(t * 1e3, sol.y[0] * 1e6)
@@ -50,6 +64,7 @@ def main(argv: list[str]) -> int:
     ax.set_ylabel("DTE (um)")
     fig.savefig(out / "time_history.png", dpi=100)
     plt.close(fig)
+    lap("time plot")
 
     steady = t >= t[-1] / 2
     x = sol.y[0][steady]
@@ -61,6 +76,12 @@ def main(argv: list[str]) -> int:
     ax.set_ylabel("amplitude (um)")
     fig.savefig(out / "spectrum.png", dpi=100)
     plt.close(fig)
+    lap("spectrum plot")
+    if os.environ.get("NAIVE_PHASES"):
+        prev = _T0
+        for name, t in _LAPS:
+            print(f"{name}\t{t - prev:.4f}", file=sys.stderr)
+            prev = t
     return 0
 
 

@@ -112,17 +112,21 @@ def write_json(path: str | Path, data: Any) -> Path:
     return write_text(path, json.dumps(_jsonable(data), indent=2) + "\n")
 
 
-def write_csv(path: str | Path, columns: Mapping[str, Sequence[float] | np.ndarray]) -> Path:
-    """Atomically write equal-length columns as CSV with a header row."""
+def write_csv(path: str | Path, columns: Mapping[str, Sequence[float] | np.ndarray],
+              comments: Sequence[str] = ()) -> Path:
+    """Atomically write equal-length columns as CSV with a header row, after ``comments``
+    (lines written as they are, e.g. ``# units ...``)."""
     names = list(columns)
     arrays = [np.asarray(columns[n]) for n in names]
     if len({a.shape for a in arrays}) > 1:
         raise InputError("write_csv: columns have different lengths")
     buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
-    w.writerow(names)
-    for row in zip(*arrays, strict=True):
-        w.writerow([repr(float(v)) for v in row])  # shortest text that reads back exactly
+    buf.writelines(f"{line}\n" for line in comments)
+    csv.writer(buf, lineterminator="\n").writerow(names)
+    # shortest text that reads back exactly (repr of each float), a column at a time: ~5x
+    # faster than a csv.writer row loop, the same text
+    texts = [map(repr, a.astype(float).ravel().tolist()) for a in arrays]
+    buf.write("".join(",".join(row) + "\n" for row in zip(*texts, strict=True)))
     return write_text(path, buf.getvalue())
 
 

@@ -34,11 +34,11 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.linalg import expm
 
 from gear_dyn.errors import InputError, SolverError, check_range
 from gear_dyn.models.base import MeshModel, Model
 from gear_dyn.solvers.events import solve_piece_with_events
+from gear_dyn.solvers.matexp import expm
 from gear_dyn.solvers.pieces import pieces
 
 FloatArray = NDArray[np.float64]

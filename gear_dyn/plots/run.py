@@ -21,6 +21,7 @@ from gear_dyn.analysis.report import DTE_DEFINITION, model_kind
 from gear_dyn.analysis.spectrum import amplitude_spectrum
 from gear_dyn.errors import InputError
 from gear_dyn.plots._axes import axes_of, tidy
+from gear_dyn.plots._fast import UnicodeLogFormatter, envelope, fixed_layout
 from gear_dyn.solvers import Result
 
 _BOX = {"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 0.5}
@@ -68,7 +69,8 @@ def noise_floor(result: Result) -> float | None:
     return rel * result.static_load / km
 
 
-def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = None) -> Any:
+def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = None,
+                      blocks: int | None = None) -> Any:
     """DTE and dynamic mesh force against time, the steady-state window shaded.
 
     In the eccentric torsional model the DTE holds the eccentricity's kinematic error (rigid
@@ -83,6 +85,10 @@ def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = No
     ax : sequence of Axes or None
         ``rows x cols`` Axes, row-major: rows DTE, [elastic part,] force (the middle row only
         for eccentric models); cols whole run[, zoom].
+    blocks : int or None
+        Draw the whole-run lines as the first, smallest, largest and last sample of this many
+        blocks (:func:`gear_dyn.plots._fast.envelope`): for a file, about 2 per pixel column
+        give the same picture from fewer points. None: every sample (a later zoom shows data).
     """
     split = "e_ecc" in result.outputs
     ncols = 2 if periods else 1
@@ -107,7 +113,10 @@ def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = No
         for r, series in enumerate(rows):
             a = axes[r, col]
             for y, label, color in series:
-                a.plot(t[sel] * 1e3, y[sel], lw=0.8, color=color, label=label)
+                xs, ys = t[sel] * 1e3, y[sel]
+                if col == 0 and blocks:
+                    xs, ys = envelope(xs, ys, blocks)
+                a.plot(xs, ys, lw=0.8, color=color, label=label)
             a.set_ylabel(ylabels[r])
             a.grid(alpha=0.3)
             if col == 0:
@@ -120,10 +129,16 @@ def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = No
         axes[r, 0].legend(loc="upper right", fontsize=7)
     if periods:
         span_ms = periods / result.mesh_frequency * 1e3
-        axes[0, 1].set_title(f"last {periods:g} mesh periods ({span_ms:.3g} ms)", fontsize=10)
-    axes[0, 0].set_title("whole run", fontsize=10)
+        axes[0, 1].set_title(f"last {periods:g} mesh periods ({span_ms:.3g} ms)", fontsize=10,
+                             y=1.0)
+    # y=1.0: short centred titles clear of any offset text; matplotlib's automatic title
+    # placement measures every y tick label once more to find that out
+    axes[0, 0].set_title("whole run", fontsize=10, y=1.0)
     fig.suptitle(DTE_DEFINITION[model_kind(result)], fontsize=8)
-    tidy(fig)
+    if ax is None:  # margins in inches: the look of tight_layout without measuring twice
+        fixed_layout(fig, left=0.72, right=0.15, top=0.62, bottom=0.55, wgap=0.75, hgap=0.25)
+    else:
+        tidy(fig)
     return fig
 
 
@@ -181,12 +196,16 @@ def plot_spectrum(result: Result, name: str = "dte", harmonics: int | None = Non
     df = 1.0 / (t[-1] - t[0] + (t[1] - t[0]))
     main.set_title(f"{name} spectrum, steady window {t[0] * 1e3:.4g}-{t[-1] * 1e3:.4g} ms "
                    f"({(t[-1] - t[0]) * marks.mesh:.0f} mesh periods), Hann window, "
-                   f"resolution {df:.3g} Hz", fontsize=9)
+                   f"resolution {df:.3g} Hz", fontsize=9,
+                   **({"y": 1.0} if scale == "log" else {}))  # log axis: no offset text
     if zoom:
         _sideband_zoom(axes[1, 0], f, amp, marks, scale, floor * factor if floor else None, unit)
         axes[1, 0].set_ylabel(f"amplitude ({unit})")
     axes[-1, 0].set_xlabel("frequency (Hz)")
-    tidy(fig)
+    if ax is None:  # margins in inches: the look of tight_layout without measuring twice
+        fixed_layout(fig, left=0.85, right=0.15, top=0.35, bottom=0.55, hgap=0.65)
+    else:
+        tidy(fig)
     return fig
 
 
@@ -196,6 +215,8 @@ def _draw_amplitude(ax: Any, f: Any, amp: Any, scale: str, floor: float | None,
     peak = float(np.max(amp[sel][1:])) if np.count_nonzero(sel) > 1 else 1.0
     if scale == "log":
         ax.set_yscale("log")
+        ax.yaxis.set_major_formatter(UnicodeLogFormatter())
+        ax.yaxis.set_minor_formatter(UnicodeLogFormatter(labelOnlyBase=False))
         low = peak * 1e-8
         if floor:
             low = max(min(low, floor / 10), peak * 1e-12)

@@ -16,8 +16,9 @@ How it is made fast (every step exact up to rounding):
 - for each distinct ``M`` the exponential is evaluated through its (balanced) eigendecomposition,
   ``expm(M s) = V diag(exp(lambda s)) V^-1``, vectorised over all the ``s`` it is needed at;
   when ``V`` is ill-conditioned (a defective ``M``: critical damping, a rigid-body mode) the
-  batched ``scipy.linalg.expm`` is used instead, on the distinct ``s`` values only (on a uniform
-  grid commensurate with the mesh period they recur every cycle, so there are few of them);
+  batched :func:`gear_dyn.solvers.matexp.expm` is used instead, on the distinct ``s`` values
+  only (on a uniform grid commensurate with the mesh period they recur every cycle, so there
+  are few of them);
 - the state at each piece start is carried by one (n+1) x (n+1) product per piece.
 """
 
@@ -27,10 +28,10 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.linalg import expm, matrix_balance
 
 from gear_dyn.errors import InputError, SolverError
 from gear_dyn.models.base import Model
+from gear_dyn.solvers.matexp import balance, expm
 
 FloatArray = NDArray[np.float64]
 
@@ -70,8 +71,7 @@ class _Exponential:
         self.n_expm = 0
         self.eigen = False
         # balance first: the states of a gear model differ by orders of magnitude (m vs m/s)
-        b, scale = matrix_balance(m, permute=False, separate=True)
-        d = scale[0]
+        b, d = balance(m)
         try:
             lam, v = np.linalg.eig(b)
             vi = np.linalg.inv(v)

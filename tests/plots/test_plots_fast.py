@@ -1,0 +1,102 @@
+"""The cheaper drawing of gear-dyn run's figures gives the same picture."""
+
+from __future__ import annotations
+
+import io
+import re
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+from matplotlib.ticker import LogFormatterSciNotation
+from PIL import Image
+
+from gear_dyn.plots._fast import UnicodeLogFormatter, envelope, fixed_layout
+from gear_dyn.plots.run import plot_time_history
+from gear_dyn.scene import load_scene, run_scene
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
+
+
+@pytest.fixture(scope="module")
+def result() -> Any:
+    return run_scene(load_scene(EXAMPLES / "helicopter_tail.toml"))
+
+
+def pixels(fig: Figure) -> np.ndarray:
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=110)  # as gear-dyn run saves it
+    return np.asarray(Image.open(buf)).astype(int)
+
+
+def test_envelope_keeps_extremes_ends_and_order() -> None:
+    rng = np.random.default_rng(1)
+    x = np.linspace(0.0, 1.0, 10_007)
+    y = np.sin(400 * x) + 0.1 * rng.normal(size=x.size)
+    xe, ye = envelope(x, y, 500)
+    assert xe.size < x.size / 4
+    assert np.all(np.diff(xe) > 0)  # in time order, no duplicates
+    assert xe[0] == x[0] and xe[-1] == x[-1]
+    assert ye.max() == y.max() and ye.min() == y.min()
+    k = x.size // 500  # every block's extremes are kept
+    for b in range(0, 500 * k, k):
+        seg = slice(b, b + k)
+        assert y[seg].max() in ye and y[seg].min() in ye
+    assert envelope(x[:100], y[:100], 500)[0].size == 100  # short series: whole
+
+
+def test_envelope_draws_the_same_pixels(result: Any) -> None:
+    """gear-dyn run's whole-run panels: the envelope at 1500 blocks against every sample, same
+    layout and dpi: no pixel differs by more than antialiasing shades (measured: max 27/255,
+    0.2 % of the pixels by more than 8/255)."""
+    full = pixels(plot_time_history(result))
+    reduced = pixels(plot_time_history(result, blocks=1500))
+    diff = np.abs(full - reduced).max(axis=2)
+    assert diff.max() <= 64
+    assert np.count_nonzero(diff > 8) < 0.02 * diff.size
+
+
+def plain(math: str) -> str:
+    """``$\\mathdefault{2\\times10^{-8}}$`` -> ``2×10⁻⁸`` (written out independently)."""
+    m = re.fullmatch(r"\$\\mathdefault\{(.*)\}\$", math)
+    if m is None:
+        return math
+    body = m.group(1).replace("\\times", "×")
+    sup = dict(zip("-−0123456789", "⁻⁻⁰¹²³⁴⁵⁶⁷⁸⁹", strict=True))
+    return re.sub(r"\^\{([^}]*)\}", lambda e: "".join(sup[c] for c in e.group(1)), body)
+
+
+@pytest.mark.parametrize("lim", [(1e-11, 3e2), (1e-3, 50.0), (2.0, 8.0), (3e-7, 2e-6)])
+@pytest.mark.parametrize("minor", [False, True])
+def test_unicode_log_labels_say_what_mathtext_says(lim: tuple[float, float], minor: bool) -> None:
+    fig = Figure()
+    ax = fig.subplots()
+    ax.set_yscale("log")
+    ax.set_ylim(*lim)
+    locs = ax.yaxis.get_minorticklocs() if minor else ax.yaxis.get_majorticklocs()
+    ours, ref = UnicodeLogFormatter(), LogFormatterSciNotation()
+    for f in (ours, ref):
+        f.set_axis(ax.yaxis)
+        f.set_locs(locs)
+    labels = [ours(v) for v in locs]
+    assert labels == [plain(ref(v)) for v in locs]
+    assert not any("$" in s for s in labels)
+    assert any(labels) or minor
+
+
+def test_fixed_layout_margins_in_inches() -> None:
+    fig = Figure(figsize=(13, 6))
+    axes = fig.subplots(2, 2)
+    fixed_layout(fig, left=0.72, right=0.15, top=0.62, bottom=0.55, wgap=0.75, hgap=0.25)
+    fig.canvas = FigureCanvasAgg(fig)
+    w, h = fig.get_size_inches()
+    b00, b01 = axes[0, 0].get_position(), axes[0, 1].get_position()
+    b10 = axes[1, 0].get_position()
+    assert b00.x0 * w == pytest.approx(0.72)
+    assert (1 - b01.x1) * w == pytest.approx(0.15)
+    assert (b01.x0 - b00.x1) * w == pytest.approx(0.75)
+    assert (b00.y0 - b10.y1) * h == pytest.approx(0.25)
+    assert (1 - b00.y1) * h == pytest.approx(0.62) and b10.y0 * h == pytest.approx(0.55)
