@@ -56,6 +56,7 @@ from gear_dyn.excitation import HarmonicSignal, SampledSignal
 from gear_dyn.geometry import GearPair
 from gear_dyn.models.sdof import dead_zone, effective_mass
 from gear_dyn.models.torsional_parts import ContactLineStiffness, _fast_periodic, _levels, _Place
+from gear_dyn.models.torsional_table import BLOCK_MESH_PERIODS, ExcitationTable
 from gear_dyn.stiffness.periodic import PeriodicStiffness
 
 FloatArray = NDArray[np.float64]
@@ -92,6 +93,11 @@ class TorsionalModel:
         Static transmission error e(p) in m at the nominal mesh phase.
     load_torque : float or None
         T2 in N m; None balances T1 (see the module docstring).
+    tabulate : bool
+        True (default): the right-hand side takes the state-independent coefficients from
+        piecewise polynomials between switching instants
+        (:mod:`~gear_dyn.models.torsional_table`, interpolation error stated in
+        ``coefficients.max_error``); False evaluates them directly at every call (reference).
 
     Raises
     ------
@@ -110,6 +116,7 @@ class TorsionalModel:
     backlash: float | None = None
     transmission_error: Signal | None = None
     load_torque: float | None = None
+    tabulate: bool = True
     state_labels: tuple[str, ...] = field(default=("q1", "q2", "q1_dot", "q2_dot"), init=False)
     mesh_frequency: float = field(init=False)
     static_load: float = field(init=False)
@@ -121,6 +128,7 @@ class TorsionalModel:
     _layout: LineLayout | None = field(init=False, repr=False)
     _place0: Kinematics = field(init=False, repr=False)
     _excite: Excite = field(init=False, repr=False)
+    _table: ExcitationTable | None = field(init=False, repr=False)
     _rhs: Callable[[float, FloatArray], FloatArray] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -165,6 +173,7 @@ class TorsionalModel:
         setf(self, "static_load", w)
         setf(self, "load", self.load_torque if self.load_torque is not None
              else w * (pair.rb2 + phi[1]))
+        setf(self, "_table", self._build_table() if self.tabulate else None)
         setf(self, "_rhs", self._build_rhs())
 
     # ---------------------------------------------------------------- properties
@@ -290,6 +299,28 @@ class TorsionalModel:
             return e, ed, k, p1, p2
         return excite
 
+    @property
+    def coefficients(self) -> Excite:
+        """``t -> (e_ecc, e_ecc', k, phi1, phi2)`` as the right-hand side uses it: the table of
+        :mod:`~gear_dyn.models.torsional_table` when built, else the direct evaluation."""
+        return self._table if self._table is not None else self._excite
+
+    def _build_table(self) -> ExcitationTable | None:
+        """The tabulated coefficients, or None where the direct evaluation is already cheap
+        (no eccentricity, friction or contact lines)."""
+        if self._layout is None and not self.eccentric:
+            return None
+        names = ("e_ecc", "e_ecc_rate", "stiffness", "phi1", "phi2")
+
+        def values(t: FloatArray) -> FloatArray:
+            ex = self.excitations(t)
+            return np.array([ex[n] for n in names])
+        x_s = self.static_load / self.mean_stiffness
+        scale = np.array([x_s, x_s * 2 * math.pi * self.natural_frequency, self.mean_stiffness,
+                          self.pair.rb1, self.pair.rb2])
+        return ExcitationTable(values, self.switching_times,
+                               BLOCK_MESH_PERIODS / self.mesh_frequency, scale)
+
     def excitations(self, t: FloatArray) -> dict[str, FloatArray]:
         """Explicit time functions on a grid: ``e_ecc``, ``e_ecc_rate`` (m, m/s), ``stiffness``
         (N/m), ``contact_length`` (m, when contact lines are modelled), ``phi1``, ``phi2``
@@ -350,7 +381,7 @@ class TorsionalModel:
         t1, t2 = self.torque, self.load
         c = self.damping
         fm = self.mesh_frequency
-        excite = self._excite
+        excite = self.coefficients
         bg = self.backlash
         te = self.transmission_error
         friction = self.friction is not None
@@ -382,7 +413,7 @@ class TorsionalModel:
         """Jacobian d rhs / d y (4 x 4)."""
         rb1, rb2 = self.pair.rb1, self.pair.rb2
         i1, i2 = self.inertias
-        e, ed, k, p1, p2 = self._excite(t)
+        e, ed, k, p1, p2 = self.coefficients(t)
         if self.backlash is not None or self.friction is not None:
             d = rb1 * y[0] - rb2 * y[1] + e
             dd = rb1 * y[2] - rb2 * y[3] + ed
@@ -481,7 +512,7 @@ class TorsionalModel:
             return []
         rb1, rb2 = self.pair.rb1, self.pair.rb2
         fm = self.mesh_frequency
-        excite = self._excite
+        excite = self.coefficients
         te = self.transmission_error
         ecc = self.eccentric
 
