@@ -61,7 +61,9 @@ Scalar = float | FloatArray
 _MATH = SimpleNamespace(cos=math.cos, sin=math.sin, sqrt=math.sqrt, arccos=math.acos,
                         arctan2=math.atan2)
 
-_FIXED_POINT_TOL = 1e-15  # of (e1 + e2) / r_b2, the scale of u; each step contracts by ~e2/r_b2
+_FIXED_POINT_TOL = 1e-12  # of (e1 + e2) / r_b2 (the scale of u; rounding moves u by ~1e-15 rad);
+# each step contracts by ~e2 / r_b2, so the last iterate is ~1e-3 of the tolerance from the fixed point
+_EPS = float(np.finfo(float).eps)
 _FIXED_POINT_MAX = 60
 
 
@@ -292,7 +294,9 @@ class EccentricMesh:
             # fixed point u = F(u), contracting by ~e2 / r_b2 per step: two plain steps, one
             # Aitken extrapolation, then plain steps until the change is below the tolerance
             scalar = xp is _MATH
-            tol = _FIXED_POINT_TOL * (c["e1"] + c["e2"]) / c["rb2"]
+            # rounding of the angle p2 - th2 moves u by ~eps |th2| e2 / r_b2: never ask for less
+            big = abs(nominal) if scalar else float(np.max(np.abs(nominal)))
+            tol = (_FIXED_POINT_TOL * (c["e1"] + c["e2"]) + 8 * _EPS * big * c["e2"]) / c["rb2"]
             x1 = _rigid_u(c, g)
             x2 = _rigid_u(c, _geometry(xp, c, th1, nominal + x1))
             d1, d2 = x1 - u, x2 - x1
@@ -306,10 +310,10 @@ class EccentricMesh:
             for _ in range(_FIXED_POINT_MAX):
                 u_new = _rigid_u(c, g)
                 change = abs(u_new - u) if scalar else float(np.max(np.abs(u_new - u)))
-                if change <= tol:
-                    break
                 u = u_new
                 g = _geometry(xp, c, th1, nominal + u)
+                if change <= tol:
+                    break
         else:
             u = _rigid_u(c, g)
         return _assemble(c, tt, th1, nominal, u, g)

@@ -56,7 +56,7 @@ from gear_dyn.excitation import HarmonicSignal, SampledSignal
 from gear_dyn.geometry import GearPair
 from gear_dyn.models.sdof import dead_zone, effective_mass
 from gear_dyn.models.torsional_parts import ContactLineStiffness, _fast_periodic, _levels, _Place
-from gear_dyn.models.torsional_table import BLOCK_MESH_PERIODS, ExcitationTable
+from gear_dyn.models.torsional_table import BLOCK_MESH_PERIODS, ExcitationTable, force_form
 from gear_dyn.stiffness.periodic import PeriodicStiffness
 
 FloatArray = NDArray[np.float64]
@@ -304,6 +304,18 @@ class TorsionalModel:
         """``t -> (e_ecc, e_ecc', k, phi1, phi2)`` as the right-hand side uses it: the table of
         :mod:`~gear_dyn.models.torsional_table` when built, else the direct evaluation."""
         return self._table if self._table is not None else self._excite
+
+    def force_form(self, t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray,
+                                                 FloatArray] | None:
+        """``(u, f, f0, g_v)`` at many times: ``q' = v``, ``v' = u F + g_v``,
+        ``F = f . y + f0`` while the mesh force is compressive
+        (:func:`~gear_dyn.models.torsional_table.force_form`), from the table; None without a
+        table or with backlash or transmission error (the gauss solver does not apply)."""
+        if self._table is None or self.backlash is not None or \
+                self.transmission_error is not None:
+            return None
+        return force_form(self._table.evaluate(t), (self.pair.rb1, self.pair.rb2),
+                          self.inertias, (self.torque, self.load), self.damping)
 
     def _build_table(self) -> ExcitationTable | None:
         """The tabulated coefficients, or None where the direct evaluation is already cheap

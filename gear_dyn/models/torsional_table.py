@@ -23,6 +23,7 @@ inside them, so the memory grows with the span actually integrated, never with a
 from __future__ import annotations
 
 import bisect
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -36,9 +37,10 @@ Values = tuple[float, float, float, float, float]
 #: degree of the polynomial on each smooth piece (pieces are <= ~1/2 mesh period long)
 DEGREE = 10
 #: mesh periods per block of the table
-BLOCK_MESH_PERIODS = 8
+BLOCK_MESH_PERIODS = 32
 
 
+@functools.lru_cache(maxsize=8)
 def _node_matrix(degree: int) -> tuple[FloatArray, FloatArray]:
     """Chebyshev points (first kind) on [-1, 1] and the matrix taking values there to monomial
     coefficients in s, highest power first (Horner order)."""
@@ -78,12 +80,15 @@ class ExcitationTable:
     max_error: FloatArray = field(init=False)
     _blocks: dict[int, tuple[list[float], list[float], list[float], list[list[Values]]]] = \
         field(init=False, repr=False)
+    _arrays: dict[int, tuple[FloatArray, FloatArray, FloatArray, FloatArray]] = \
+        field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         self._blocks = {}
+        self._arrays = {}
         self.max_error = np.zeros(5)
 
-    def _build(self, b: int) -> tuple[list[float], list[float], list[float], list[list[Values]]]:
+    def _build(self, b: int) -> None:
         """Fit block ``b`` (times ``b block .. (b + 1) block``)."""
         t0, t1 = b * self.block, (b + 1) * self.block
         edges = np.concatenate([[t0], self.cuts(t0, t1), [t1]])
@@ -100,18 +105,25 @@ class ExcitationTable:
             approx = approx * s_chk[None, None, :] + coefs[:, k, :].T[:, :, None]
         err = np.max(np.abs(approx - exact.reshape(approx.shape)), axis=(1, 2)) / self.scale
         self.max_error = np.maximum(self.max_error, err)
-        table = ([float(e) for e in edges[:-1]], [float(m) for m in mid],
-                 [float(1.0 / h) for h in half],
-                 [[tuple(float(v) for v in row) for row in piece] for piece in coefs])
-        self._blocks[b] = table  # type: ignore[assignment]
-        return table  # type: ignore[return-value]
+        self._arrays[b] = (edges[:-1], mid, 1.0 / half, coefs)
+
+    def _scalar_block(self, b: int) -> tuple[list[float], list[float], list[float],
+                                            list[list[Values]]]:
+        """Block ``b`` as Python lists (the scalar right-hand side is faster on floats)."""
+        if b not in self._arrays:
+            self._build(b)
+        starts, mid, inv_half, coefs = self._arrays[b]
+        table = (starts.tolist(), mid.tolist(), inv_half.tolist(),
+                 [[tuple(row) for row in piece] for piece in coefs.tolist()])
+        self._blocks[b] = table
+        return table
 
     def __call__(self, t: float) -> Values:
         """The five quantities at time ``t`` (s) from the table."""
         b = int(t // self.block)
         tab = self._blocks.get(b)
         if tab is None:
-            tab = self._build(b)
+            tab = self._scalar_block(b)
         starts, mids, inv_half, coefs = tab
         i = max(bisect.bisect_right(starts, t) - 1, 0)
         s = (t - mids[i]) * inv_half[i]
@@ -124,3 +136,60 @@ class ExcitationTable:
             p1 = p1 * s + r[3]
             p2 = p2 * s + r[4]
         return e, ed, k, p1, p2
+
+    def evaluate(self, t: FloatArray) -> FloatArray:
+        """The five quantities at many times ``t`` (s), vectorised: array (5, n)."""
+        t = np.asarray(t, dtype=float)
+        out = np.empty((5, t.size))
+        blocks = np.floor_divide(t, self.block).astype(np.int64)
+        for b in np.unique(blocks):
+            if int(b) not in self._arrays:
+                self._build(int(b))
+            starts, mids, inv_half, coefs = self._arrays[int(b)]
+            sel = np.nonzero(blocks == b)[0]
+            tb = t[sel]
+            i = np.maximum(np.searchsorted(starts, tb, side="right") - 1, 0)
+            s = (tb - mids[i]) * inv_half[i]
+            c = coefs[i]  # (n, DEGREE + 1, 5)
+            acc = c[:, 0, :].copy()
+            for k in range(1, DEGREE + 1):
+                acc = acc * s[:, None] + c[:, k, :]
+            out[:, sel] = acc.T
+        return out
+
+
+def force_form(coef: FloatArray, rb: tuple[float, float], inertias: tuple[float, float],
+               torques: tuple[float, float], damping: float
+               ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """The torsional right-hand side in the form ``q' = v``, ``v' = u F + g_v`` with the mesh
+    force ``F = f . y + f0``, valid while ``F > 0`` (the friction torques ``F phi`` act only
+    then); affine in ``y = [q1, q2, v1, v2]``.
+
+    Parameters
+    ----------
+    coef : ndarray (5, n)
+        ``e_ecc`` (m), ``e_ecc'`` (m/s), ``k`` (N/m), ``phi1``, ``phi2`` (m) at n instants.
+    rb, inertias, torques : (float, float)
+        Base radii (m), I1, I2 (kg m^2), T1, T2 (N m).
+    damping : float
+        c_m in N s/m.
+
+    Returns
+    -------
+    u : ndarray (n, 2)
+        ``((phi1 - r_b1) / I1, (r_b2 + phi2) / I2)``: angular accelerations per newton of F.
+    f : ndarray (n, 4)
+        ``(k r_b1, -k r_b2, c r_b1, -c r_b2)``: F per unit of each state.
+    f0 : ndarray (n,)
+        ``k e_ecc + c e_ecc'`` in N.
+    g_v : ndarray (2,)
+        ``(T1 / I1, -T2 / I2)`` in rad/s^2.
+    """
+    e, ed, k, p1, p2 = coef
+    rb1, rb2 = rb
+    i1, i2 = inertias
+    n = e.size
+    f = np.stack([k * rb1, -k * rb2, np.full(n, damping * rb1), np.full(n, -damping * rb2)],
+                 axis=1)
+    u = np.stack([(p1 - rb1) / i1, (rb2 + p2) / i2], axis=1)
+    return u, f, k * e + damping * ed, np.array([torques[0] / i1, -torques[1] / i2])
