@@ -10,10 +10,12 @@ measured in one run and interleaved (hand, ours, hand, ours, ...):
    Python right-hand side that evaluates the eccentric kinematics and the contact lines at every
    call (``EccentricMesh.kinematics(t)``, ``line_state_scalar``), at its loosest rtol (of
    1e-9..1e-12) reaching max error <= 1e-6 of the static deflection;
-2. the default path of ``gear-dyn run`` for the scene: ``simulate(model, t_end, settings)``
-   (DOP853 at the scene's rtol 1e-7, coefficients tabulated per smooth piece, restarted at every
-   switching instant, incl. outputs and the stated error, which costs a second run at rtol/100);
+2. the toolkit with ``method = "auto"`` (``gear-dyn run --method auto``): ``simulate`` picks
+   ``gauss`` (Gauss-Legendre step maps of every output interval at once, coefficients from the
+   table), incl. outputs and the stated error (a second run at rtol/100);
 3. the same integration without the stated error (``integrate``);
+4. the scene as written (``method = "DOP853"``, rtol 1e-7; coefficients tabulated, restarted at
+   every switching instant), incl. outputs and the stated error;
 
 and the ratios hand / ours pair by pair, as median (min..max). The reference is DOP853 at rtol
 1e-13 restarted at every switching instant (contact lines entering, leaving and crossing the
@@ -130,17 +132,22 @@ def main(argv: list[str] | None = None) -> int:
                                                                           rtol=r)))
         conv.append((r, err(y), int(st["nfev"]), dt))
         print(f"DOP853 + table rtol {r:g}: error {conv[-1][1]:.2e}", flush=True)
-    res = simulate(model, t_end, settings)
+    auto = dataclasses.replace(settings, method="auto")
+    res = simulate(model, t_end, auto)
     ours_err, stated = err(res.y), res.extra["estimated_error"]["max_rel"]
-    times: dict[str, list[float]] = {"hand": [], "ours": [], "solve": []}
+    res_d = simulate(model, t_end, settings)
+    dop_err, dop_stated = err(res_d.y), res_d.extra["estimated_error"]["max_rel"]
+    times: dict[str, list[float]] = {"hand": [], "ours": [], "solve": [], "dop": []}
     for _ in range(args.repeats):
         times["hand"].append(timed(lambda: hand_solve(model, t, hand_rtol))[0])
-        times["ours"].append(timed(lambda: simulate(model, t_end, settings))[0])
-        times["solve"].append(timed(lambda: integrate(model, t, settings))[0])
-    r_ours = [a / b for a, b in zip(times["hand"], times["ours"], strict=True)]
-    r_solve = [a / b for a, b in zip(times["hand"], times["solve"], strict=True)]
-    print(f"hand RK45 / simulate = {spread(r_ours)}x, hand RK45 / integrate = "
-          f"{spread(r_solve)}x (errors {hand_err:.1e} / {ours_err:.1e})")
+        times["ours"].append(timed(lambda: simulate(model, t_end, auto))[0])
+        times["solve"].append(timed(lambda: integrate(model, t, auto))[0])
+        times["dop"].append(timed(lambda: simulate(model, t_end, settings))[0])
+    ratio = {k: [a / b for a, b in zip(times["hand"], times[k], strict=True)]
+             for k in ("ours", "solve", "dop")}
+    print(f"hand RK45 / simulate auto = {spread(ratio['ours'])}x, / integrate auto = "
+          f"{spread(ratio['solve'])}x, / simulate DOP853 = {spread(ratio['dop'])}x "
+          f"(errors {hand_err:.1e} / {ours_err:.1e} / {dop_err:.1e})")
     cmd = "python benchmarks/bench_torsional.py" + "".join(f" {a}" for a in
                                                           (argv or sys.argv[1:]))
     tab = model.coefficients
@@ -156,12 +163,16 @@ def main(argv: list[str] | None = None) -> int:
         "| path | rtol | max error | time (s) |", "|---|---|---|---|",
         f"| hand-written: solve_ivp RK45 once, kinematics + contact lines per call | "
         f"{hand_rtol:.0e} | {hand_err:.1e} | {spread(times['hand'])} |",
-        f"| **default path** (`simulate`, DOP853, table, incl. outputs and the stated error "
-        f"{stated:.1e}) | {settings.rtol:.0e} | {ours_err:.1e} | {spread(times['ours'])} |",
-        f"| integration alone (`integrate`, DOP853, table) | {settings.rtol:.0e} | "
-        f"{ours_err:.1e} | {spread(times['solve'])} |", "",
-        f"- hand-written RK45 / default path: **{spread(r_ours)}x**",
-        f"- hand-written RK45 / integration alone: {spread(r_solve)}x",
+        f"| **method auto** (`simulate`, picks {res.stats.method}, incl. outputs and the stated "
+        f"error {stated:.1e}) | {settings.rtol:.0e} | {ours_err:.1e} | "
+        f"{spread(times['ours'])} |",
+        f"| integration alone (`integrate`, auto = {res.stats.method}) | {settings.rtol:.0e} | "
+        f"{ours_err:.1e} | {spread(times['solve'])} |",
+        f"| scene as written (`simulate`, DOP853 + table, stated error {dop_stated:.1e}) | "
+        f"{settings.rtol:.0e} | {dop_err:.1e} | {spread(times['dop'])} |", "",
+        f"- hand-written RK45 / method auto: **{spread(ratio['ours'])}x**",
+        f"- hand-written RK45 / integration alone (auto): {spread(ratio['solve'])}x",
+        f"- hand-written RK45 / scene as written (DOP853): {spread(ratio['dop'])}x",
         f"- interpolation error of the table (relative to x_s, x_s omega_n, k_m, r_b1, r_b2): "
         f"{', '.join(f'{v:.1e}' for v in tab.max_error)}", "",
         "## Error against rtol (DOP853 with the table, one run each)", "",

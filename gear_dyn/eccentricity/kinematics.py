@@ -61,8 +61,9 @@ Scalar = float | FloatArray
 _MATH = SimpleNamespace(cos=math.cos, sin=math.sin, sqrt=math.sqrt, arccos=math.acos,
                         arctan2=math.atan2)
 
-_FIXED_POINT_TOL = 1e-12  # of (e1 + e2) / r_b2 (the scale of u; rounding moves u by ~1e-15 rad);
-# each step contracts by ~e2 / r_b2, so the last iterate is ~1e-3 of the tolerance from the fixed point
+#: of (e1 + e2) / r_b2, the scale of u (rounding moves u by ~1e-15 rad); each step contracts by
+#: ~e2 / r_b2, so the last iterate is ~1e-3 of the tolerance from the fixed point
+_FIXED_POINT_TOL = 1e-12
 _EPS = float(np.finfo(float).eps)
 _FIXED_POINT_MAX = 60
 

@@ -23,10 +23,12 @@ Substeps: the local error of one Gauss step grows as ``(omega_n h)^(2 s + 1)`` (
 constant ``(s!)^4 / ((2 s + 1) ((2 s)!)^3)``, 5.6e-10 for s = 4); ``n`` is the smallest number
 with ``(omega_n h / 2)^(2 s) <= rtol`` (``omega_n`` the model's natural angular frequency, ``h``
 the longest substep), far on the safe side of that constant, and such that a run at rtol / 100
-takes about 1.8 times the substeps, so that the two runs differ. The error is not otherwise controlled; the stated error
-of a run (:mod:`gear_dyn.analysis.accuracy`) is its difference from a second run at rtol / 100,
-i.e. with more substeps, and tests/models/test_torsional_table.py checks both against an
-independent reference (DOP853 at rtol 1e-13 with the coefficients evaluated directly).
+takes about 1.8 times the substeps, so that the two runs differ. The error is not otherwise
+controlled; the stated error of a run (:mod:`gear_dyn.analysis.accuracy`) is its difference
+from a second run at rtol / 100, i.e. with more substeps; tests/models/test_torsional_table.py
+checks both against an independent reference (DOP853 at rtol 1e-13, coefficients evaluated
+directly). Where both runs take the same ``n``, ``(omega_n h / 2)^(2 s) <= rtol / 100`` holds
+and the error is below the rounding floor that the estimate states then.
 """
 
 from __future__ import annotations
