@@ -56,7 +56,7 @@ from gear_dyn.excitation import HarmonicSignal, SampledSignal
 from gear_dyn.geometry import GearPair
 from gear_dyn.models.sdof import dead_zone, effective_mass
 from gear_dyn.models.torsional_parts import ContactLineStiffness, _fast_periodic, _levels, _Place
-from gear_dyn.models.torsional_table import BLOCK_MESH_PERIODS, ExcitationTable, force_form
+from gear_dyn.models.torsional_table import ExcitationTable, force_form, table_of
 from gear_dyn.stiffness.periodic import PeriodicStiffness
 
 FloatArray = NDArray[np.float64]
@@ -173,7 +173,7 @@ class TorsionalModel:
         setf(self, "static_load", w)
         setf(self, "load", self.load_torque if self.load_torque is not None
              else w * (pair.rb2 + phi[1]))
-        setf(self, "_table", self._build_table() if self.tabulate else None)
+        setf(self, "_table", table_of(self) if self.tabulate else None)
         setf(self, "_rhs", self._build_rhs())
 
     # ---------------------------------------------------------------- properties
@@ -316,22 +316,6 @@ class TorsionalModel:
             return None
         return force_form(self._table.evaluate(t), (self.pair.rb1, self.pair.rb2),
                           self.inertias, (self.torque, self.load), self.damping)
-
-    def _build_table(self) -> ExcitationTable | None:
-        """The tabulated coefficients, or None where the direct evaluation is already cheap
-        (no eccentricity, friction or contact lines)."""
-        if self._layout is None and not self.eccentric:
-            return None
-        names = ("e_ecc", "e_ecc_rate", "stiffness", "phi1", "phi2")
-
-        def values(t: FloatArray) -> FloatArray:
-            ex = self.excitations(t)
-            return np.array([ex[n] for n in names])
-        x_s = self.static_load / self.mean_stiffness
-        scale = np.array([x_s, x_s * 2 * math.pi * self.natural_frequency, self.mean_stiffness,
-                          self.pair.rb1, self.pair.rb2])
-        return ExcitationTable(values, self.switching_times,
-                               BLOCK_MESH_PERIODS / self.mesh_frequency, scale)
 
     def excitations(self, t: FloatArray) -> dict[str, FloatArray]:
         """Explicit time functions on a grid: ``e_ecc``, ``e_ecc_rate`` (m, m/s), ``stiffness``

@@ -24,8 +24,10 @@ from __future__ import annotations
 
 import bisect
 import functools
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.polynomial import chebyshev as cheb
@@ -156,6 +158,23 @@ class ExcitationTable:
                 acc = acc * s[:, None] + c[:, k, :]
             out[:, sel] = acc.T
         return out
+
+
+def table_of(model: Any) -> ExcitationTable | None:
+    """The table of a :class:`~gear_dyn.models.torsional.TorsionalModel`, or None where the
+    direct evaluation is already cheap (no eccentricity, friction or contact lines)."""
+    if model._layout is None and not model.eccentric:
+        return None
+    names = ("e_ecc", "e_ecc_rate", "stiffness", "phi1", "phi2")
+
+    def values(t: FloatArray) -> FloatArray:
+        ex = model.excitations(t)
+        return np.array([ex[n] for n in names])
+    x_s = max(model.static_load / model.mean_stiffness, 1e-12)
+    scale = np.array([x_s, x_s * 2 * math.pi * model.natural_frequency, model.mean_stiffness,
+                      model.pair.rb1, model.pair.rb2])
+    return ExcitationTable(values, model.switching_times,
+                           BLOCK_MESH_PERIODS / model.mesh_frequency, scale)
 
 
 def force_form(coef: FloatArray, rb: tuple[float, float], inertias: tuple[float, float],
