@@ -33,8 +33,8 @@ from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, OdeSolver, Radau
 from gear_dyn.errors import InputError, SolverError
 from gear_dyn.models.base import Model
 from gear_dyn.solvers import DEFAULT_ODE_METHOD, IMPLICIT, SolverSettings, resolve_auto
-from gear_dyn.solvers.ode import step_limit
 from gear_dyn.solvers.exact import _Exponential  # the exact propagator's cached matrix exponential
+from gear_dyn.solvers.ode import step_limit
 
 FloatArray = NDArray[np.float64]
 EPS = float(np.finfo(float).eps)
