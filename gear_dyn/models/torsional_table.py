@@ -17,7 +17,9 @@ relative to each quantity's scale). tests/models/test_torsional_table.py checks 
 direct evaluation at random instants.
 
 Blocks of :data:`BLOCK_MESH_PERIODS` mesh periods are built when the solver first asks for a time
-inside them, so the memory grows with the span actually integrated, never with a guess of it.
+inside them, so the memory follows the span actually integrated, never a guess of it; at most
+:data:`MAX_BLOCKS` are kept (solvers move forward in time, so dropping the oldest costs a rebuild
+only when a second run starts again from the beginning of a very long span).
 """
 
 from __future__ import annotations
@@ -40,6 +42,8 @@ Values = tuple[float, float, float, float, float]
 DEGREE = 10
 #: mesh periods per block of the table
 BLOCK_MESH_PERIODS = 32
+#: blocks kept (oldest dropped first, rebuilt if asked again): bounds the memory of long runs
+MAX_BLOCKS = 64
 
 
 @functools.lru_cache(maxsize=8)
@@ -107,6 +111,10 @@ class ExcitationTable:
             approx = approx * s_chk[None, None, :] + coefs[:, k, :].T[:, :, None]
         err = np.max(np.abs(approx - exact.reshape(approx.shape)), axis=(1, 2)) / self.scale
         self.max_error = np.maximum(self.max_error, err)
+        if len(self._arrays) >= MAX_BLOCKS:
+            old = next(iter(self._arrays))
+            del self._arrays[old]
+            self._blocks.pop(old, None)
         self._arrays[b] = (edges[:-1], mid, 1.0 / half, coefs)
 
     def _scalar_block(self, b: int) -> tuple[list[float], list[float], list[float],

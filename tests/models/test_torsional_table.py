@@ -108,3 +108,21 @@ def test_gauss_falls_back_where_the_mesh_force_is_not_compressive(case):
     assert st["method"] == "LSODA" and st["gauss_fallback"]
     y_ode, _ = integrate(light, t, SolverSettings(method="LSODA", rtol=1e-7))
     assert np.array_equal(y, y_ode)
+
+
+def test_table_keeps_at_most_max_blocks_and_rebuilds(case, monkeypatch):
+    """The table drops its oldest blocks beyond MAX_BLOCKS and rebuilds them on demand with the
+    same values (long runs keep bounded memory)."""
+    import gear_dyn.models.torsional_table as tt
+
+    monkeypatch.setattr(tt, "MAX_BLOCKS", 2)
+    model = dataclasses.replace(case["model"])
+    table = model.coefficients
+    block = table.block
+    first = np.array(table(0.3 * block))
+    for b in range(1, 5):
+        table(float((b + 0.5) * block))
+        table.evaluate(np.array([(b + 0.25) * block]))
+    assert len(table._arrays) <= 2 and set(table._blocks) <= set(table._arrays)
+    assert 0 not in table._arrays
+    assert np.array_equal(np.array(table(0.3 * block)), first)
