@@ -305,6 +305,12 @@ class TorsionalModel:
         :mod:`~gear_dyn.models.torsional_table` when built, else the direct evaluation."""
         return self._table if self._table is not None else self._excite
 
+    @property
+    def force_form_needs_compression(self) -> bool:
+        """True with friction: the friction torques follow F only while F > 0, so the affine
+        form of :meth:`force_form` holds only there; without friction it holds everywhere."""
+        return self.friction is not None
+
     def force_form(self, t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray,
                                                  FloatArray] | None:
         """``(u, f, f0, g_v)`` at many times: ``q' = v``, ``v' = u F + g_v``,

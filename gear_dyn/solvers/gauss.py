@@ -15,7 +15,8 @@ steps, and only their application is sequential:
   ``G_il = h^2 (a a)_il f_q,i . u_l + h a_il f_v,i . u_l``, one batched s x s solve (5 right-hand
   sides: the map of y0 and the constant); then
   ``v1 = v0 + h sum b_l (u_l F_l + g_v)``, ``q1 = q0 + h v0 + h^2 sum (b a)_l (u_l F_l + g_v)``;
-- the maps are applied in order (one 4x4 product per substep), and the mesh force
+- the maps are applied in order (one 4x4 product per substep), and, where the model says the
+  form needs it (``model.force_form_needs_compression``: friction), the mesh force
   ``F = f_row . y + f0`` is checked at every substep end: where it is not compressive the affine
   form does not hold and the run falls back to the ODE path (:mod:`~gear_dyn.solvers.ode`).
 
@@ -148,6 +149,7 @@ def propagate_gauss(
     starts = (edges[:-1, None] + np.diff(edges)[:, None] * frac[None, :]).ravel()
     lengths = np.repeat(np.diff(edges) / n, n)
     ends = np.append(starts[1:], edges[-1])
+    needs_compression = bool(getattr(model, "force_form_needs_compression", True))
     y_start = np.array(model.initial_state() if y0 is None else y0, dtype=float)
     z = np.append(y_start, 1.0)
     states = np.empty((starts.size, 4))
@@ -155,6 +157,8 @@ def propagate_gauss(
         hi = min(lo + CHUNK, starts.size)
         states[lo:hi] = _apply(_maps(model, starts[lo:hi], lengths[lo:hi]), z)
         z = np.append(states[hi - 1], 1.0)
+        if not needs_compression:
+            continue
         _, f_row, f0, _ = model.force_form(ends[lo:hi])  # type: ignore[attr-defined]
         if not np.all(np.einsum("ij,ij->i", f_row, states[lo:hi]) + f0 > 0.0):
             return None
