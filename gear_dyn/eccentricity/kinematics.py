@@ -61,7 +61,10 @@ Scalar = float | FloatArray
 _MATH = SimpleNamespace(cos=math.cos, sin=math.sin, sqrt=math.sqrt, arccos=math.acos,
                         arctan2=math.atan2)
 
-_FIXED_POINT_TOL = 1e-14  # rad per rad of pinion angle; each step contracts by ~e2/r_b2
+#: of (e1 + e2) / r_b2, the scale of u (rounding moves u by ~1e-15 rad); each step contracts by
+#: ~e2 / r_b2, so the last iterate is ~1e-3 of the tolerance from the fixed point
+_FIXED_POINT_TOL = 1e-12
+_EPS = float(np.finfo(float).eps)
 _FIXED_POINT_MAX = 60
 
 
@@ -283,33 +286,38 @@ class EccentricMesh:
         else:
             xp, tt = np, np.asarray(t, dtype=float)
         th1 = c["w1"] * tt
-        th2 = th1 * c["rb1"] / c["rb2"]
-        g = _geometry(xp, c, th1, th2)
+        nominal = th1 * c["rb1"] / c["rb2"]
+        # the gear angle as nominal + u, u = e_ecc / r_b2 small: iterating on u keeps it free of
+        # the cancellation of r_b2 th2 - r_b1 th1 (th1 grows without bound, u does not)
+        u = 0.0 * th1
+        g = _geometry(xp, c, th1, nominal)
         if c["e2"] > 0.0:
-            # fixed point th2 = F(th2), contracting by ~e2 / r_b2 per step: two plain steps, one
+            # fixed point u = F(u), contracting by ~e2 / r_b2 per step: two plain steps, one
             # Aitken extrapolation, then plain steps until the change is below the tolerance
             scalar = xp is _MATH
-            tol = _FIXED_POINT_TOL * max(1.0, abs(th1) if scalar else float(np.max(np.abs(th1))))
-            x1 = _rigid_theta2(c, th1, g)
-            x2 = _rigid_theta2(c, th1, _geometry(xp, c, th1, x1))
-            d1, d2 = x1 - th2, x2 - x1
+            # rounding of the angle p2 - th2 moves u by ~eps |th2| e2 / r_b2: never ask for less
+            big = abs(nominal) if scalar else float(np.max(np.abs(nominal)))
+            tol = (_FIXED_POINT_TOL * (c["e1"] + c["e2"]) + 8 * _EPS * big * c["e2"]) / c["rb2"]
+            x1 = _rigid_u(c, g)
+            x2 = _rigid_u(c, _geometry(xp, c, th1, nominal + x1))
+            d1, d2 = x1 - u, x2 - x1
             den = d2 - d1
             if scalar:
-                th2 = x2 - d2 * d2 / den if den != 0.0 else x2
+                u = x2 - d2 * d2 / den if den != 0.0 else x2
             else:
                 safe = np.where(den != 0.0, den, 1.0)
-                th2 = np.where(den != 0.0, x2 - d2 * d2 / safe, x2)
-            g = _geometry(xp, c, th1, th2)
+                u = np.where(den != 0.0, x2 - d2 * d2 / safe, x2)
+            g = _geometry(xp, c, th1, nominal + u)
             for _ in range(_FIXED_POINT_MAX):
-                th2_new = _rigid_theta2(c, th1, g)
-                change = abs(th2_new - th2) if scalar else float(np.max(np.abs(th2_new - th2)))
+                u_new = _rigid_u(c, g)
+                change = abs(u_new - u) if scalar else float(np.max(np.abs(u_new - u)))
+                u = u_new
+                g = _geometry(xp, c, th1, nominal + u)
                 if change <= tol:
                     break
-                th2 = th2_new
-                g = _geometry(xp, c, th1, th2)
         else:
-            th2 = _rigid_theta2(c, th1, g)
-        return _assemble(c, tt, th1, th2, g)
+            u = _rigid_u(c, g)
+        return _assemble(c, tt, th1, nominal, u, g)
 
 
 def _geometry(xp: Any, c: dict[str, float], th1: Any, th2: Any) -> dict[str, Any]:
@@ -337,15 +345,16 @@ def _geometry(xp: Any, c: dict[str, float], th1: Any, th2: Any) -> dict[str, Any
                 xa=xa, ya=ya, xb=xb, yb=yb, ab=ab, xp=xpp, a_u=a_u)
 
 
-def _rigid_theta2(c: dict[str, float], th1: Any, g: dict[str, Any]) -> Any:
-    """Gear angle from the displacement relation of rigid involute teeth (rad)."""
-    return (c["rb1"] * th1 - (g["ab"] - c["ab0"]) + c["rbs"] * (g["alpha"] - c["alpha0"])) / c[
-        "rb2"
-    ]
+def _rigid_u(c: dict[str, float], g: dict[str, Any]) -> Any:
+    """Gear angle minus its nominal value r_b1 th1 / r_b2, from the displacement relation of
+    rigid involute teeth (rad)."""
+    return (c["rbs"] * (g["alpha"] - c["alpha0"]) - (g["ab"] - c["ab0"])) / c["rb2"]
 
 
-def _assemble(c: dict[str, float], t: Any, th1: Any, th2: Any, g: dict[str, Any]) -> Kinematics:
+def _assemble(c: dict[str, float], t: Any, th1: Any, nominal: Any, u: Any, g: dict[str, Any]
+              ) -> Kinematics:
     h, w1 = c["h"], c["w1"]
+    th2 = nominal + u
     xpp, ca = g["xp"], g["ca"]
     w2 = w1 * xpp / (h - xpp)
     a_u = g["a_u"]
@@ -355,6 +364,6 @@ def _assemble(c: dict[str, float], t: Any, th1: Any, th2: Any, g: dict[str, Any]
         yb=g["yb"], ab=g["ab"], xp=xpp, ratio=(h - xpp) / xpp, w1=w1, w2=w2, v=w1 * xpp * ca,
         arm1=xpp * ca, arm2=(h - xpp) * ca, travel=c["rb1"] * (th1 + g["alpha"] - c["alpha0"]),
         l_ac=g["ab"] - c["tip2"], l_ad=c["l_ad"], l_ap=-g["ya"] / ca, foot1=-a_u,
-        foot2=h * g["sa"] - a_u, e_ecc=c["rb2"] * th2 - c["rb1"] * th1,
+        foot2=h * g["sa"] - a_u, e_ecc=c["rb2"] * u,
         e_ecc_rate=c["rb2"] * w2 - c["rb1"] * w1,
     )

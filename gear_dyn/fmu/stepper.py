@@ -34,6 +34,7 @@ from gear_dyn.errors import InputError, SolverError
 from gear_dyn.models.base import Model
 from gear_dyn.solvers import DEFAULT_ODE_METHOD, IMPLICIT, SolverSettings, resolve_auto
 from gear_dyn.solvers.exact import _Exponential  # the exact propagator's cached matrix exponential
+from gear_dyn.solvers.ode import step_limit
 
 FloatArray = NDArray[np.float64]
 EPS = float(np.finfo(float).eps)
@@ -199,8 +200,10 @@ class Stepper:
         # neither the switching windows nor the solver's bound depend on the announced stop
         # time: an FMU's outputs at t must not depend on what the master plans after t
         t_bound = self._next_switch(t)
+        # explicit Runge-Kutta steps limited as in integrate (their dense output, which gives
+        # the communication points inside a step, stays within the tolerance)
         return cls(self.model.rhs, t, y, t_bound, rtol=self.settings.rtol, atol=self.atol,
-                   max_step=self.settings.max_step, **extra)
+                   max_step=step_limit(self.model, self.settings), **extra)
 
     def _count(self) -> int:
         return self.nfev + (self._solver.nfev if self._solver is not None else 0)

@@ -21,6 +21,10 @@ Capabilities
     solver restarts there); empty when there are none;
     ``at_mesh_frequency(f)``: the same model at another mesh frequency when nothing else depends
     on speed; None when it has to be rebuilt from its parameters.
+    Optional: ``force_form(t)``: for models ``q' = v``, ``v' = u(t) F + g_v`` with one scalar
+    force ``F = f(t) . y + f0(t)`` (affine while a condition on F holds), the arrays
+    ``(u, f, f0, g_v)`` at many times, or None; the ``gauss`` solver uses it
+    (:mod:`gear_dyn.solvers.gauss`; the torsional model offers it).
 Dynamics
     ``initial_state()``, ``rhs(t, y)``, ``jac(t, y)``, ``switching_times(t0, t1)`` (instants where
     the right-hand side jumps; the solver never steps across them), ``outputs(t, y)`` (derived

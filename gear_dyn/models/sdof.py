@@ -235,7 +235,7 @@ class SDOFModel:
 
     def _build_jac(self) -> Callable[[float, FloatArray], FloatArray]:
         m, c, fm, p0 = self.mass, self.damping, self.mesh_frequency, self.phase0
-        k = self.stiffness
+        k = scalar_stiffness(self.stiffness)  # same values, no array set-up per call
         b = self.backlash
         te = self.transmission_error
 

@@ -56,6 +56,7 @@ from gear_dyn.excitation import HarmonicSignal, SampledSignal
 from gear_dyn.geometry import GearPair
 from gear_dyn.models.sdof import dead_zone, effective_mass
 from gear_dyn.models.torsional_parts import ContactLineStiffness, _fast_periodic, _levels, _Place
+from gear_dyn.models.torsional_table import ExcitationTable, force_form, table_of
 from gear_dyn.stiffness.periodic import PeriodicStiffness
 
 FloatArray = NDArray[np.float64]
@@ -92,6 +93,11 @@ class TorsionalModel:
         Static transmission error e(p) in m at the nominal mesh phase.
     load_torque : float or None
         T2 in N m; None balances T1 (see the module docstring).
+    tabulate : bool
+        True (default): the right-hand side takes the state-independent coefficients from
+        piecewise polynomials between switching instants
+        (:mod:`~gear_dyn.models.torsional_table`, interpolation error stated in
+        ``coefficients.max_error``); False evaluates them directly at every call (reference).
 
     Raises
     ------
@@ -110,6 +116,7 @@ class TorsionalModel:
     backlash: float | None = None
     transmission_error: Signal | None = None
     load_torque: float | None = None
+    tabulate: bool = True
     state_labels: tuple[str, ...] = field(default=("q1", "q2", "q1_dot", "q2_dot"), init=False)
     mesh_frequency: float = field(init=False)
     static_load: float = field(init=False)
@@ -121,6 +128,7 @@ class TorsionalModel:
     _layout: LineLayout | None = field(init=False, repr=False)
     _place0: Kinematics = field(init=False, repr=False)
     _excite: Excite = field(init=False, repr=False)
+    _table: ExcitationTable | None = field(init=False, repr=False)
     _rhs: Callable[[float, FloatArray], FloatArray] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -165,6 +173,7 @@ class TorsionalModel:
         setf(self, "static_load", w)
         setf(self, "load", self.load_torque if self.load_torque is not None
              else w * (pair.rb2 + phi[1]))
+        setf(self, "_table", table_of(self) if self.tabulate else None)
         setf(self, "_rhs", self._build_rhs())
 
     # ---------------------------------------------------------------- properties
@@ -290,6 +299,30 @@ class TorsionalModel:
             return e, ed, k, p1, p2
         return excite
 
+    @property
+    def coefficients(self) -> Excite:
+        """``t -> (e_ecc, e_ecc', k, phi1, phi2)`` as the right-hand side uses it: the table of
+        :mod:`~gear_dyn.models.torsional_table` when built, else the direct evaluation."""
+        return self._table if self._table is not None else self._excite
+
+    @property
+    def force_form_needs_compression(self) -> bool:
+        """True with friction: the friction torques follow F only while F > 0, so the affine
+        form of :meth:`force_form` holds only there; without friction it holds everywhere."""
+        return self.friction is not None
+
+    def force_form(self, t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray,
+                                                 FloatArray] | None:
+        """``(u, f, f0, g_v)`` at many times: ``q' = v``, ``v' = u F + g_v``,
+        ``F = f . y + f0`` while the mesh force is compressive
+        (:func:`~gear_dyn.models.torsional_table.force_form`), from the table; None without a
+        table or with backlash or transmission error (the gauss solver does not apply)."""
+        if self._table is None or self.backlash is not None or \
+                self.transmission_error is not None:
+            return None
+        return force_form(self._table.evaluate(t), (self.pair.rb1, self.pair.rb2),
+                          self.inertias, (self.torque, self.load), self.damping)
+
     def excitations(self, t: FloatArray) -> dict[str, FloatArray]:
         """Explicit time functions on a grid: ``e_ecc``, ``e_ecc_rate`` (m, m/s), ``stiffness``
         (N/m), ``contact_length`` (m, when contact lines are modelled), ``phi1``, ``phi2``
@@ -350,7 +383,7 @@ class TorsionalModel:
         t1, t2 = self.torque, self.load
         c = self.damping
         fm = self.mesh_frequency
-        excite = self._excite
+        excite = self.coefficients
         bg = self.backlash
         te = self.transmission_error
         friction = self.friction is not None
@@ -382,7 +415,7 @@ class TorsionalModel:
         """Jacobian d rhs / d y (4 x 4)."""
         rb1, rb2 = self.pair.rb1, self.pair.rb2
         i1, i2 = self.inertias
-        e, ed, k, p1, p2 = self._excite(t)
+        e, ed, k, p1, p2 = self.coefficients(t)
         if self.backlash is not None or self.friction is not None:
             d = rb1 * y[0] - rb2 * y[1] + e
             dd = rb1 * y[2] - rb2 * y[3] + ed
@@ -481,7 +514,7 @@ class TorsionalModel:
             return []
         rb1, rb2 = self.pair.rb1, self.pair.rb2
         fm = self.mesh_frequency
-        excite = self._excite
+        excite = self.coefficients
         te = self.transmission_error
         ecc = self.eccentric
 

@@ -5,8 +5,12 @@
 single-DOF model with backlash and piecewise-constant stiffness
 (:mod:`~gear_dyn.solvers.contact_exact`), else ``periodic`` for a linear mesh-periodic model on a
 grid
-commensurate with the mesh period (:mod:`~gear_dyn.solvers.periodic`), else solve_ivp with
-:data:`~gear_dyn.solvers.settings.DEFAULT_ODE_METHOD` (:mod:`~gear_dyn.solvers.ode`).
+commensurate with the mesh period (:mod:`~gear_dyn.solvers.periodic`), else ``gauss`` for a model
+that is affine in the state while a condition holds (:mod:`~gear_dyn.solvers.gauss`: the
+eccentric torsional model), else solve_ivp with
+:data:`~gear_dyn.solvers.settings.DEFAULT_ODE_METHOD` (:mod:`~gear_dyn.solvers.ode`). ``gauss``
+falls back to that ODE path where its condition fails (the mesh force of the torsional model
+not compressive: the friction torques stop following it).
 """
 
 from __future__ import annotations
@@ -20,6 +24,7 @@ from numpy.typing import NDArray
 from gear_dyn.models.base import Model
 from gear_dyn.solvers.contact_exact import contact_exact_applies, propagate_contact_exact
 from gear_dyn.solvers.exact import exact_applies, propagate_exact
+from gear_dyn.solvers.gauss import gauss_applies, propagate_gauss
 from gear_dyn.solvers.ode import integrate_ode
 from gear_dyn.solvers.periodic import periodic_map_applies, propagate_periodic
 from gear_dyn.solvers.settings import DEFAULT_ODE_METHOD, SolverSettings
@@ -47,6 +52,8 @@ def resolve_method(model: Model, t_grid: FloatArray, method: str) -> str:
     t_arr = np.asarray(t_grid, dtype=float)
     if chosen == DEFAULT_ODE_METHOD and periodic_map_applies(model, t_arr):
         return "periodic"  # linear, mesh-periodic: one period of integration
+    if chosen == DEFAULT_ODE_METHOD and gauss_applies(model):
+        return "gauss"  # affine in the state: all step maps at once
     return chosen
 
 
@@ -75,6 +82,13 @@ def integrate(
         y, st = propagate_contact_exact(model, t_grid, run, y0)
     elif method == "periodic":
         y, st = propagate_periodic(model, t_grid, run, y0)
+    elif method == "gauss":
+        done = propagate_gauss(model, t_grid, run, y0) if gauss_applies(model) else None
+        if done is None:  # not affine here: the ODE path, as auto would without gauss
+            y, st = integrate_ode(model, t_grid, replace(run, method=DEFAULT_ODE_METHOD), y0)
+            st = {**st, "method": DEFAULT_ODE_METHOD, "gauss_fallback": True}
+        else:
+            y, st = done
     else:
         y, st = integrate_ode(model, t_grid, run, y0)
     return y, {**st, "method": st.get("method", method)}

@@ -6,6 +6,16 @@ own ``solve_ivp`` call, started from the end state of the previous one. A model 
 changes (``model.contact_events()`` non-empty: backlash) is also restarted at each of them
 (:mod:`gear_dyn.solvers.events`).
 
+Dense output: solve_ivp returns the states on the output grid inside a step from the method's
+interpolant, whose error is not controlled by the step-size control. When DOP853's error
+estimate happens to be small, a step grows to a good part of a natural period and the
+interpolated states inside it are wrong by far more than the tolerance (the eccentric torsional
+scene had 1e-6 spikes at rtol 1e-9..1e-11 this way, while the step ends were right). The
+explicit Runge-Kutta methods are therefore limited to steps with ``omega_n h <= (pi / 4)
+(rtol / 1e-8)^(1 / (q + 1))`` (:func:`step_limit`; ``q`` the order of the interpolant): at rtol
+1e-8 an eighth of the natural period, and the interpolation error, which grows as
+``(omega_n h)^(q + 1)``, then falls in proportion to rtol.
+
 Failures are never silent: a solver that reports failure or a non-finite state raises
 :class:`~gear_dyn.errors.SolverError` carrying scipy's own message and advice.
 """
@@ -35,6 +45,21 @@ def atol_of(model: Model, settings: SolverSettings) -> FloatArray:
     return settings.rtol * np.asarray(model.state_scale, dtype=float)
 
 
+#: order of the dense output (interpolant) of solve_ivp's explicit Runge-Kutta methods
+DENSE_ORDER = {"RK23": 3, "RK45": 4, "DOP853": 7}
+
+
+def step_limit(model: Model, settings: SolverSettings) -> float:
+    """Largest step in s: ``settings.max_step``, for explicit Runge-Kutta methods also the
+    limit that keeps their dense output within the tolerance (module docstring)."""
+    q = DENSE_ORDER.get(settings.method)
+    f_n = model.natural_frequency
+    if q is None or f_n is None or not (math.isfinite(float(f_n)) and float(f_n) > 0):
+        return settings.max_step
+    omega_h = 0.25 * math.pi * (settings.rtol / 1e-8) ** (1.0 / (q + 1))
+    return min(settings.max_step, omega_h / (2 * math.pi * float(f_n)))
+
+
 def integrate_ode(
     model: Model, t_grid: FloatArray, settings: SolverSettings, y0: FloatArray | None = None
 ) -> tuple[FloatArray, dict[str, Any]]:
@@ -61,15 +86,16 @@ def integrate_ode(
     out[:, 0] = y
     extra: dict[str, Any] = {"jac": model.jac} if settings.method in IMPLICIT else {}
     events = list(model.contact_events())
+    max_step = step_limit(model, settings)
     counts = {"nfev": 0, "njev": 0, "nlu": 0, "n_events": 0}
     for ta, tb, i0, i1, t_eval in pieces(t_grid, cuts):
         if events:
             ys, y, st = solve_piece_with_events(
                 model.rhs, ta, tb, y, t_eval, events, settings.method, settings.rtol, atol,
-                settings.max_step, extra,
+                max_step, extra,
             )
         else:
-            ys, st = _solve_piece(model, ta, tb, y, t_eval, settings, atol, extra)
+            ys, st = _solve_piece(model, ta, tb, y, t_eval, settings, atol, max_step, extra)
             y = ys[:, -1]
         for key in counts:
             counts[key] += st.get(key, 0)
@@ -83,14 +109,14 @@ def integrate_ode(
 
 
 def _solve_piece(model: Model, ta: float, tb: float, y: FloatArray, t_eval: FloatArray,
-                 settings: SolverSettings, atol: FloatArray, extra: dict[str, Any]
-                 ) -> tuple[FloatArray, dict[str, int]]:
+                 settings: SolverSettings, atol: FloatArray, max_step: float,
+                 extra: dict[str, Any]) -> tuple[FloatArray, dict[str, int]]:
     """One smooth piece ``[ta, tb]`` by one solve_ivp call; states at ``t_eval``."""
     from scipy.integrate import solve_ivp
 
     sol = solve_ivp(
         model.rhs, (ta, tb), y, method=settings.method, t_eval=t_eval, rtol=settings.rtol,
-        atol=atol, max_step=settings.max_step, **extra,
+        atol=atol, max_step=max_step, **extra,
     )
     if sol.status != 0:
         raise SolverError(

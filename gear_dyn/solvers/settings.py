@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from gear_dyn.errors import InputError, check_range
 
 METHODS = ("auto", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA", "exact", "periodic",
-           "exact_contact")
+           "exact_contact", "gauss")
 #: solve_ivp method of ``auto`` when the exact propagator does not apply. LSODA (restarted at
 #: each switching instant) was the fastest for every target error on the helicopter tail scene
 #: with rectangular and Fourier stiffness, heavy damping, a 1000x stiffer mesh and backlash
@@ -33,7 +33,9 @@ class SolverSettings:
         RK45, RK23, DOP853, Radau, BDF, LSODA (solve_ivp), ``exact`` (piecewise-exact
         propagator, linear models with piecewise-constant coefficients only) or ``periodic``
         (linear mesh-periodic models: one period of step maps integrated, then reused; see
-        :func:`gear_dyn.solvers.exact.propagate_periodic`).
+        :func:`gear_dyn.solvers.exact.propagate_periodic`) or ``gauss`` (models affine in the
+        state while a condition holds, the eccentric torsional model: Gauss-Legendre step maps
+        of every output interval at once; :mod:`gear_dyn.solvers.gauss`).
     rtol : float
         Relative tolerance, 1e-13..1e-2.
     atol : float or None
