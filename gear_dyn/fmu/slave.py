@@ -48,13 +48,13 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any, NoReturn
 
-import numpy as np
 from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real, String
 from pythonfmu.default_experiment import DefaultExperiment
 from pythonfmu.enums import Fmi2Status
 
 from gear_dyn.errors import GearDynError, InputError, SolverError
-from gear_dyn.fmu.inputs import driven_speed, input_changes
+from gear_dyn.fmu.inputs import input_changes
+from gear_dyn.fmu.outputs import Writer, all_finite, output_writer
 from gear_dyn.fmu.stepper import Stepper
 from gear_dyn.fmu.variables import SPEC_FILE, check_spec
 from gear_dyn.scene import SECTIONS, build_pair, build_plan, load_feature_sections, parse_scene
@@ -134,6 +134,7 @@ class GearDynSlave(Fmi2Slave):
         self._tables: dict[str, dict[str, Any]] = {k: dict(v) for k, v in spec["tables"].items()}
         self._outputs: dict[str, float] = {}
         self._input_names: list[str] = []
+        self._real_getters: dict[int, Callable[[], Any]] = {}  # by value reference
         self._phase = "instantiated"
         self._start_time = 0.0
         self._stop_time: float | None = None
@@ -144,6 +145,7 @@ class GearDynSlave(Fmi2Slave):
         self._changes: dict[str, float] = {}
         self._applied: tuple[float, float] | None = None
         self._built_tables: dict[str, dict[str, Any]] | None = None
+        self._write: Writer | None = None
         for v in spec["variables"]:
             self._register(v)
 
@@ -168,6 +170,18 @@ class GearDynSlave(Fmi2Slave):
             name, causality=_CAUSALITY[causality], variability=_VARIABILITY[v["variability"]],
             description=v["description"], getter=getter, setter=setter)
         self.register_variable(var, nested=False)
+        if kind is Real:
+            self._real_getters[var.value_reference] = getter
+
+    def get_real(self, vrs: list[int]) -> list[float]:
+        """Values of Real variables (pythonfmu's own lookup, without its per-variable type
+        check: the getters are collected at registration; any other reference is left to
+        pythonfmu, which names it)."""
+        getters = self._real_getters
+        try:
+            return [getters[vr]() for vr in vrs]
+        except KeyError:
+            return list(super().get_real(vrs))
 
     def _enum_access(self, v: dict[str, Any], getter: Callable[[], Any],
                      setter: Callable[[Any], None] | None
@@ -273,44 +287,45 @@ class GearDynSlave(Fmi2Slave):
         self._stepper = Stepper(plan.model, plan.settings, t0=self._start_time,
                                 stop_time=self._stop_time)
         self._built_tables = {k: dict(v) for k, v in tables.items()}
+        self._new_writer()
+
+    def _new_writer(self) -> None:
+        """The output writer of the model the stepper runs (after every model change)."""
+        assert self._stepper is not None and self._applied is not None
+        names = [v["name"] for v in self._spec["variables"] if v["causality"] == "output"]
+        self._write = output_writer(self._stepper.model, self._pair, self._applied[0], names)
 
     @_fmi_call
     def do_step(self, current_time: float, step_size: float) -> bool:
         """Advance from ``current_time`` by ``step_size`` (s)."""
-        if self._phase != "stepping" or self._stepper is None:
-            raise InputError(f"doStep in state {self._phase}: initialize the FMU first")
         st = self._stepper
-        if not abs(current_time - st.t) <= 1e-9 * max(1.0, abs(st.t)):
+        if self._phase != "stepping" or st is None:
+            raise InputError(f"doStep in state {self._phase}: initialize the FMU first")
+        t = st.t
+        if not abs(current_time - t) <= 1e-9 * max(1.0, abs(t)):
             raise InputError(f"doStep from t = {current_time:.12g} s but the FMU is at "
-                             f"t = {st.t:.12g} s; set an FMU state to go back")
-        if not (math.isfinite(step_size) and step_size > 0):
+                             f"t = {t:.12g} s; set an FMU state to go back")
+        if not (step_size > 0 and math.isfinite(step_size)):
             raise InputError(f"communication step = {step_size!r} s: valid range > 0 s")
         op = self._tables["operating"]
-        inputs = (float(op["speed"]), float(op["torque"]))
-        if inputs != self._applied:
+        if (op["speed"], op["torque"]) != self._applied:
+            inputs = (float(op["speed"]), float(op["torque"]))
             self._changes = input_changes(self._base_model, self._pair, inputs[0], inputs[1],
-                                          st.t)
+                                          t)
             st.replace_model(replace(self._base_model, **self._changes))
             self._applied = inputs
+            self._new_writer()
         st.advance(current_time + step_size)
         self._update_outputs()
         return True
 
     def _update_outputs(self) -> None:
         st = self._stepper
-        assert st is not None
-        y = st.y
-        t = np.array([st.t])
-        for label, value in zip(st.model.state_labels, y, strict=True):
-            self._outputs[f"state.{label}"] = float(value)
-        for name, arr in st.model.outputs(t, y[:, None]).items():
-            if name in self._outputs:
-                self._outputs[name] = float(np.asarray(arr).ravel()[0])
-        if "driven_speed" in self._outputs and self._applied is not None:
-            self._outputs["driven_speed"] = float(driven_speed(self._pair, self._applied[0],
-                                                               y[1]))
-        bad = [k for k, v in self._outputs.items() if not math.isfinite(v)]
-        if bad:
+        assert st is not None and self._write is not None
+        out = self._outputs
+        self._write(st.t, st.y, out)
+        if not all_finite(out):
+            bad = [k for k, v in out.items() if not math.isfinite(v)]
             raise SolverError(f"outputs {', '.join(bad)} are not finite at t = {st.t:.6g} s")
 
     @_fmi_call
@@ -350,12 +365,14 @@ class GearDynSlave(Fmi2Slave):
         self._phase = state["phase"]
         self._applied = tuple(state["applied"]) if state["applied"] is not None else None
         self._changes = dict(state["changes"])
-        self._outputs = dict(state["outputs"])
+        self._outputs.clear()
+        self._outputs.update(state["outputs"])
         if state["stepper"] is not None and self._stepper is not None:
             model = (replace(self._base_model, **self._changes) if self._changes
                      else self._base_model)
             self._stepper.model = model
             self._stepper.restore(state["stepper"])
+            self._new_writer()
         elif state["stepper"] is None:
             self._stepper = None
 

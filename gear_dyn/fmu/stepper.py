@@ -159,7 +159,7 @@ class _Propagator:
             w = [sum(map(operator.mul, r, z)) for r in self.rows]  # M z
             w2 = [sum(map(operator.mul, r, w)) for r in self.sq]  # M^2 z
             h2 = 0.5 * d * d
-            z = [zi + d * wi + h2 * vi for zi, wi, vi in zip(z, w, w2)] + [1.0]
+            z = [zi + d * wi + h2 * vi for zi, wi, vi in zip(z[:-1], w, w2, strict=True)] + [1.0]
         return [sum(map(operator.mul, r, z)) for r in phi] + [1.0]
 
 
