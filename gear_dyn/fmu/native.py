@@ -29,7 +29,10 @@ PYTHON_FILE = "gear_dyn_python.json"
 _SOURCE = Path(__file__).with_name("pyboot.c")
 #: FMI functions the boot library wraps (see pyboot.c: refusals as fmi2Error, one message)
 WRAPPED = ("fmi2Instantiate", "fmi2SetReal", "fmi2SetInteger", "fmi2SetBoolean",
-           "fmi2SetString", "fmi2ExitInitializationMode")
+           "fmi2SetString", "fmi2GetReal", "fmi2SetupExperiment",
+           "fmi2EnterInitializationMode", "fmi2ExitInitializationMode", "fmi2DoStep",
+           "fmi2Terminate", "fmi2GetFMUstate", "fmi2SetFMUstate", "fmi2SerializedFMUstateSize",
+           "fmi2SerializeFMUstate", "fmi2DeSerializeFMUstate")
 
 
 def _compiler() -> str | None:

@@ -27,8 +27,13 @@ and drops its references to the Python objects, although later calls (and fmi2Fr
 still use them. A refused call here therefore: logs the reason (status error, category
 logStatusError; pythonfmu forwards it when debug logging is on), gives the native wrapper the
 references it is about to drop (so the instance stays valid and freeing it is safe), and
-raises. The importer sees the call fail (``fmi2Fatal``); nothing crashes and no result is
-silently cut short. A refused parameter keeps its previous value.
+raises. The importer sees the call fail with ``fmi2Error`` and one message naming the FMI
+call and the reason; the instance stays usable (fmi2Reset, an FMU state, a corrected value).
+The boot library (``pyboot.c``) turns pythonfmu's ``fmi2Fatal`` into ``fmi2Error`` when the
+slave logged a status-error message during the call: only a refusal here logs one. Any other
+failure (e.g. inside pythonfmu) stays ``fmi2Fatal``, and so does every failure of an FMU
+without the boot library (where it cannot be built, e.g. on Windows). A refused parameter
+keeps its previous value.
 
 pythonfmu's loader also releases, at every instantiation, a reference to the slave script's
 module dict that it does not own; :meth:`GearDynSlave.__init__` hands it one back (a reset adds
@@ -70,8 +75,17 @@ class FmuCallError(GearDynError):
     """An FMI call refused by the slave (the message is also logged)."""
 
 
+#: FMI function of each slave entry point (named in the message of a refused call)
+_FMI_NAMES = {"setup_experiment": "fmi2SetupExperiment",
+              "enter_initialization_mode": "fmi2EnterInitializationMode",
+              "exit_initialization_mode": "fmi2ExitInitializationMode",
+              "do_step": "fmi2DoStep", "terminate": "fmi2Terminate",
+              "_get_fmu_state": "fmi2GetFMUstate", "_set_fmu_state": "fmi2SetFMUstate"}
+
+
 def _fmi_call(func: Callable[..., Any]) -> Callable[..., Any]:
     """Wrap an FMI entry point: a failure is logged and refused safely (see module doc)."""
+    fmi_name = _FMI_NAMES.get(func.__name__, func.__name__)
 
     def wrapper(self: GearDynSlave, *args: Any) -> Any:
         try:
@@ -79,7 +93,7 @@ def _fmi_call(func: Callable[..., Any]) -> Callable[..., Any]:
         except FmuCallError:
             raise
         except Exception as exc:  # every failure becomes a logged, refused call
-            self._refuse(f"{func.__name__.strip('_')}: {exc}")
+            self._refuse(f"{fmi_name} refused: {exc}")
 
     wrapper.__name__ = func.__name__
     wrapper.__doc__ = func.__doc__
@@ -175,13 +189,14 @@ class GearDynSlave(Fmi2Slave):
 
     def get_real(self, vrs: list[int]) -> list[float]:
         """Values of Real variables (pythonfmu's own lookup, without its per-variable type
-        check: the getters are collected at registration; any other reference is left to
-        pythonfmu, which names it)."""
+        check: the getters are collected at registration; another reference is refused)."""
         getters = self._real_getters
         try:
             return [getters[vr]() for vr in vrs]
         except KeyError:
-            return list(super().get_real(vrs))
+            bad = next(vr for vr in vrs if vr not in getters)
+            self._refuse(f"fmi2GetReal refused: value reference {bad} is not a Real variable "
+                         "of this FMU")
 
     def _enum_access(self, v: dict[str, Any], getter: Callable[[], Any],
                      setter: Callable[[Any], None] | None
@@ -232,7 +247,8 @@ class GearDynSlave(Fmi2Slave):
 
     # ------------------------------------------------------------------ refusal
     def _refuse(self, message: str) -> NoReturn:
-        """Log ``message`` (status error) and raise so the FMI call fails; see module doc."""
+        """Log ``message`` (status error: the boot library takes it as the sign of a refusal
+        that kept the instance valid) and raise so the FMI call fails; see module doc."""
         text = " ".join(str(message).split())
         self.log(text, Fmi2Status.error)
         if self._native:
@@ -354,7 +370,8 @@ class GearDynSlave(Fmi2Slave):
     def _set_fmu_state(self, state: dict[str, Any]) -> None:
         """Return to a state from :meth:`_get_fmu_state` (or its deserialised bytes)."""
         if not isinstance(state, dict) or "stepper" not in state:
-            raise InputError("not an FMU state of this FMU")
+            reason = state.get("invalid") if isinstance(state, dict) else None
+            raise InputError("not an FMU state of this FMU" + (f" ({reason})" if reason else ""))
         self._start_time = float(state["start_time"])
         self._stop_time = state["stop_time"]
         self._tolerance = state["tolerance"]
@@ -382,7 +399,13 @@ class GearDynSlave(Fmi2Slave):
 
     @staticmethod
     def _fmu_state_from_bytes(state: bytes) -> dict[str, Any]:
-        return dict(_StateUnpickler(io.BytesIO(bytes(state))).load())
+        # never raises: pythonfmu calls it on the class, so a failure could not keep the
+        # instance valid; fmi2SetFMUstate refuses the invalid state instead, naming the reason
+        try:
+            loaded = _StateUnpickler(io.BytesIO(bytes(state))).load()
+        except Exception as exc:  # any bytes may arrive: a state of another FMU, garbage
+            return {"invalid": f"cannot read the serialized state: {exc}"}
+        return dict(loaded) if isinstance(loaded, dict) else {"invalid": "not a state dict"}
 
 
 __all__ = ["FmuCallError", "GearDynSlave"]
