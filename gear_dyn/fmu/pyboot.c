@@ -27,6 +27,7 @@
 #include <dlfcn.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #ifndef GEAR_DYN_LIBPYTHON
@@ -70,22 +71,47 @@ typedef struct {
     void *allocate, *free_memory, *step_finished, *environment;
 } Callbacks;
 
-static void *original(const char *name) {
+/* the FMU binary next to this library (a reference kept: it is never unloaded before us) */
+static void *binary(void) {
     static void *self = NULL;
     if (!self) {
         Dl_info info;
         char path[4096];
-        if (!dladdr((void *)&original, &info) || !info.dli_fname) return NULL;
+        if (!dladdr((void *)&binary, &info) || !info.dli_fname) return NULL;
         snprintf(path, sizeof path, "%s", info.dli_fname);
         char *slash = strrchr(path, '/');
         snprintf(slash ? slash + 1 : path, sizeof path - (size_t)(slash ? slash + 1 - path : 0),
                  "%s.so", GEAR_DYN_MODEL);
         self = dlopen(path, RTLD_NOW | RTLD_NOLOAD);
-        if (!self) return NULL;
     }
+    return self;
+}
+
+static void *original(const char *name) {
+    void *self = binary();
+    if (!self) return NULL;
     char full[128];
     snprintf(full, sizeof full, "gear_dyn_orig_%s", name);
     return dlsym(self, full);
+}
+
+/* ------------------------------------------------------------------ clean exit
+ * pythonfmu 0.7 keeps its interpreter state in a static std::shared_ptr (pyState). At exit, the
+ * C++ exit handler of the binary destroys that shared_ptr (freeing the PyState block), and then
+ * the binary's ELF destructor calls finalizePythonInterpreter(), which assigns nullptr to the
+ * destroyed shared_ptr: it decrements the reference count inside the freed block (valgrind:
+ * "Invalid read of size 4 ... inside a block of size 128 free'd"). When glibc has put that block
+ * on a bin list, the write lands on the list's pointers, and a later free at exit (libgfortran's
+ * exit handler, from scipy) aborts with "corrupted double-linked list" - in about 1 of 20 fmpy
+ * processes. The handler below is registered at the first fmi2Instantiate, after the binary's
+ * own, so it runs before them (exit handlers run in reverse order): it calls
+ * finalizePythonInterpreter() while the shared_ptr is alive; the two later calls then find it
+ * empty. It never finalizes Python (pythonfmu does that only for an interpreter it started,
+ * and in both kinds of host the interpreter was running before the FMU: see gear_dyn_boot). */
+static void release_pystate(void) {
+    void *self = binary();
+    void (*fin)(void) = self ? (void (*)(void))dlsym(self, "finalizePythonInterpreter") : NULL;
+    if (fin) fin();
 }
 
 /* Set when the slave logs a status-error message during a call: the slave logs one only when
@@ -127,6 +153,8 @@ void *fmi2Instantiate(const char *name, int type, const char *guid, const char *
                         int);
     Fn fn = (Fn)original("fmi2Instantiate");
     if (!fn) return NULL;
+    static int exit_handler = 0;
+    if (!exit_handler) exit_handler = atexit(release_pystate) == 0;
     if (!cb || !cb->logger) return fn(name, type, guid, resources, cb, visible, logging);
     static Callbacks copies[MAX_LOGGERS];
     static int next = 0;
