@@ -16,7 +16,6 @@ every example scene with the single-DOF model (with transmission error and backl
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Collection
 from typing import Any
 
@@ -89,7 +88,3 @@ def _sdof_writer(model: SDOFModel, pair: GearPair, speed: float) -> Writer:
         out["driven_speed"] = (w1 - v) / rb2
     return write
 
-
-def all_finite(out: dict[str, float]) -> bool:
-    """True if every output value is finite."""
-    return all(map(math.isfinite, out.values()))

@@ -59,7 +59,7 @@ from pythonfmu.enums import Fmi2Status
 
 from gear_dyn.errors import GearDynError, InputError, SolverError
 from gear_dyn.fmu.inputs import input_changes
-from gear_dyn.fmu.outputs import Writer, all_finite, output_writer
+from gear_dyn.fmu.outputs import Writer, output_writer
 from gear_dyn.fmu.stepper import Stepper
 from gear_dyn.fmu.variables import SPEC_FILE, check_spec
 from gear_dyn.scene import SECTIONS, build_pair, build_plan, load_feature_sections, parse_scene
@@ -331,7 +331,7 @@ class GearDynSlave(Fmi2Slave):
             st.replace_model(replace(self._base_model, **self._changes))
             self._applied = inputs
             self._new_writer()
-        st.advance(current_time + step_size)
+        st.step_to(current_time + step_size)
         self._update_outputs()
         return True
 
@@ -340,7 +340,7 @@ class GearDynSlave(Fmi2Slave):
         assert st is not None and self._write is not None
         out = self._outputs
         self._write(st.t, st.y, out)
-        if not all_finite(out):
+        if not all(map(math.isfinite, out.values())):
             bad = [k for k, v in out.items() if not math.isfinite(v)]
             raise SolverError(f"outputs {', '.join(bad)} are not finite at t = {st.t:.6g} s")
 

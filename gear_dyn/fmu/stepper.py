@@ -277,22 +277,27 @@ class Stepper:
         SolverError
             The solver failed or produced non-finite states (with scipy's message).
         """
+        self.step_to(t1)
+        return self.y.copy()
+
+    def step_to(self, t1: float) -> None:
+        """:meth:`advance` without returning the state (read :attr:`y`; the FMU's per-step
+        path). Raises as :meth:`advance` does."""
         if not t1 >= self.t:
             raise InputError(f"communication point t = {t1:.9g} s is before the current time "
                              f"{self.t:.9g} s; restore an FMU state to go back")
         if t1 == self.t:
-            return self.y.copy()
+            return
         if self.method == "exact":
             self.y = self._advance_exact(t1)  # checks its states itself (plain floats)
             self.t = float(t1)
-            return self.y.copy()
-        self.y = self._advance_ode(t1)
-        self.t = float(t1)
-        if not np.all(np.isfinite(self.y)):
+            return
+        y = self._advance_ode(t1)
+        if not np.all(np.isfinite(y)):
             raise SolverError(f"{self.method} produced non-finite states near t = {t1:.6g} s; "
                               "the response diverges (parametric instability?) or the "
                               "tolerances are too loose")
-        return self.y.copy()
+        self.y, self.t = y, float(t1)
 
     def _advance_exact(self, t1: float) -> FloatArray:
         t = self.t
