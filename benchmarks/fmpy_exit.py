@@ -1,7 +1,8 @@
 """Does fmpy exit cleanly after running a gear_dyn FMU? Fresh processes, counted by variant.
 
 Usage: python benchmarks/fmpy_exit.py [--runs N] [--variants a,b,...] [--malloc-check]
-                                      [--no-pymalloc]
+                                      [--no-pymalloc] [--record]
+(--record writes the table to benchmarks/results/fmpy_exit.md)
 
 Each run is a fresh Python process that loads the FMU with fmpy, initializes it, does 20
 communication steps, terminates, then ends in one of these ways (the variants):
@@ -104,6 +105,8 @@ def main() -> None:
     ap.add_argument("--variants", default=",".join(VARIANTS))
     ap.add_argument("--malloc-check", action="store_true")
     ap.add_argument("--no-pymalloc", action="store_true")
+    ap.add_argument("--record", action="store_true",
+                    help="also write the table to benchmarks/results/fmpy_exit.md")
     args = ap.parse_args()
     from gear_dyn.fmu.build import build_fmu
 
@@ -113,14 +116,20 @@ def main() -> None:
         unzipped = Path(tmp) / "unzipped"
         with zipfile.ZipFile(fmu) as z:
             z.extractall(unzipped)
-        print(f"{args.runs} fresh processes per variant"
-              f"{' MALLOC_CHECK_=3' if args.malloc_check else ''}"
-              f"{' PYTHONMALLOC=malloc' if args.no_pymalloc else ''}\n")
-        print("| variant | unclean exits | first failure |\n|---|---:|---|")
+        flags = "".join(f" --{k.replace('_', '-')}" for k in ("malloc_check", "no_pymalloc")
+                        if getattr(args, k))
+        lines = ["# fmpy exits after running the FMU", "",
+                 f"Command: `python benchmarks/fmpy_exit.py --runs {args.runs} --variants "
+                 f"{args.variants}{flags}`", "",
+                 "| variant | unclean exits | first failure |", "|---|---:|---|"]
+        print("\n".join(lines), flush=True)
         for variant in args.variants.split(","):
             bad, first = run(variant, fmu, unzipped, step, args.runs, args.malloc_check,
                              args.no_pymalloc)
-            print(f"| {variant} | {bad}/{args.runs} | {first or '-'} |", flush=True)
+            lines.append(f"| {variant} | {bad}/{args.runs} | {first or '-'} |")
+            print(lines[-1], flush=True)
+    if args.record:
+        (ROOT / "benchmarks" / "results" / "fmpy_exit.md").write_text("\n".join(lines) + "\n")
 
 
 if __name__ == "__main__":

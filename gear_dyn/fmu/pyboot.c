@@ -102,7 +102,7 @@ static void *original(const char *name) {
  * destroyed shared_ptr: it decrements the reference count inside the freed block (valgrind:
  * "Invalid read of size 4 ... inside a block of size 128 free'd"). When glibc has put that block
  * on a bin list, the write lands on the list's pointers, and a later free at exit (libgfortran's
- * exit handler, from scipy) aborts with "corrupted double-linked list" - in about 1 of 20 fmpy
+ * exit handler, from scipy) aborts with "corrupted double-linked list" - in about 1 of 30 fmpy
  * processes. The handler below is registered at the first fmi2Instantiate, after the binary's
  * own, so it runs before them (exit handlers run in reverse order): it calls
  * finalizePythonInterpreter() while the shared_ptr is alive; the two later calls then find it
