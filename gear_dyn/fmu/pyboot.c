@@ -19,9 +19,9 @@
  * binary's functions listed in gear_dyn.fmu.native.WRAPPED to gear_dyn_orig_* (patchelf
  * --rename-dynamic-symbols); the functions below take their names and call the originals;
  * when the slave logged its refusal (status fmi2Error) during the call, pythonfmu's
- * fmi2Fatal becomes fmi2Error; any other failure stays fmi2Fatal. fmi2Instantiate is wrapped too, to
- * drop pythonfmu's second, technical message ("Fatal py exception encountered: ...") so the
- * host sees the slave's one message.
+ * fmi2Fatal becomes fmi2Error; any other failure stays fmi2Fatal. fmi2Instantiate is wrapped
+ * too, to drop pythonfmu's second, technical message ("Fatal py exception encountered: ...")
+ * so the host sees the slave's one message, and to register the exit handler below.
  */
 #include <Python.h>
 #include <dlfcn.h>
