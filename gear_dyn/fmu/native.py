@@ -38,7 +38,10 @@ _SOURCE = Path(__file__).with_name("pyboot.c")
 _SOURCE3 = Path(__file__).with_name("pyboot3.c")
 #: FMI functions the boot library wraps (see pyboot.c: refusals as fmi2Error, one message)
 WRAPPED = ("fmi2Instantiate", "fmi2SetReal", "fmi2SetInteger", "fmi2SetBoolean",
-           "fmi2SetString", "fmi2ExitInitializationMode")
+           "fmi2SetString", "fmi2GetReal", "fmi2SetupExperiment",
+           "fmi2EnterInitializationMode", "fmi2ExitInitializationMode", "fmi2DoStep",
+           "fmi2Terminate", "fmi2GetFMUstate", "fmi2SetFMUstate", "fmi2SerializedFMUstateSize",
+           "fmi2SerializeFMUstate", "fmi2DeSerializeFMUstate")
 #: the FMI 3 functions pyboot3.c wraps
 WRAPPED3 = ("fmi3InstantiateCoSimulation", "fmi3SetFloat64", "fmi3SetInt32", "fmi3SetInt64",
             "fmi3SetBoolean", "fmi3SetString", "fmi3ExitInitializationMode")

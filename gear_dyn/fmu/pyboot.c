@@ -13,18 +13,21 @@
  * an interpreter it started itself), which is what crashed C hosts at exit (numpy and scipy do
  * not survive Py_Finalize in an embedded interpreter). In a Python host (fmpy) it does nothing.
  *
- * Status semantics: pythonfmu answers every refused call with fmi2Fatal, although the gear_dyn
- * slave keeps the instance valid when it refuses (a bad parameter value, a pair that cannot
- * mesh). The build renames the binary's fmi2Set{Real,Integer,Boolean,String} and
- * fmi2ExitInitializationMode to gear_dyn_orig_* (patchelf --rename-dynamic-symbols); the
- * functions below take their names, call the originals and report such a refusal as
- * fmi2Error. fmi2Instantiate is wrapped too, to drop pythonfmu's second, technical message
- * ("Fatal py exception encountered: ...") so the host sees the slave's one message.
+ * Status semantics: pythonfmu answers every failed call with fmi2Fatal, although the gear_dyn
+ * slave keeps the instance valid when it refuses a call (a bad parameter value, a pair that
+ * cannot mesh, a doStep out of order, an FMU state of another FMU). The build renames the
+ * binary's functions listed in gear_dyn.fmu.native.WRAPPED to gear_dyn_orig_* (patchelf
+ * --rename-dynamic-symbols); the functions below take their names and call the originals;
+ * when the slave logged its refusal (status fmi2Error) during the call, pythonfmu's
+ * fmi2Fatal becomes fmi2Error; any other failure stays fmi2Fatal. fmi2Instantiate is wrapped
+ * too, to drop pythonfmu's second, technical message ("Fatal py exception encountered: ...")
+ * so the host sees the slave's one message, and to register the exit handler below.
  */
 #include <Python.h>
 #include <dlfcn.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #ifndef GEAR_DYN_LIBPYTHON
@@ -69,23 +72,54 @@ typedef struct {
     void *allocate, *free_memory, *step_finished, *environment;
 } Callbacks;
 
-static void *original(const char *name) {
+/* the FMU binary next to this library (a reference kept: it is never unloaded before us) */
+static void *binary(void) {
     static void *self = NULL;
     if (!self) {
         Dl_info info;
         char path[4096];
-        if (!dladdr((void *)&original, &info) || !info.dli_fname) return NULL;
+        if (!dladdr((void *)&binary, &info) || !info.dli_fname) return NULL;
         snprintf(path, sizeof path, "%s", info.dli_fname);
         char *slash = strrchr(path, '/');
         snprintf(slash ? slash + 1 : path, sizeof path - (size_t)(slash ? slash + 1 - path : 0),
                  "%s.so", GEAR_DYN_MODEL);
         self = dlopen(path, RTLD_NOW | RTLD_NOLOAD);
-        if (!self) return NULL;
     }
+    return self;
+}
+
+static void *original(const char *name) {
+    void *self = binary();
+    if (!self) return NULL;
     char full[128];
     snprintf(full, sizeof full, "gear_dyn_orig_%s", name);
     return dlsym(self, full);
 }
+
+/* ------------------------------------------------------------------ clean exit
+ * pythonfmu 0.7 keeps its interpreter state in a static std::shared_ptr (pyState). At exit, the
+ * C++ exit handler of the binary destroys that shared_ptr (freeing the PyState block), and then
+ * the binary's ELF destructor calls finalizePythonInterpreter(), which assigns nullptr to the
+ * destroyed shared_ptr: it decrements the reference count inside the freed block (valgrind:
+ * "Invalid read of size 4 ... inside a block of size 128 free'd"). When glibc has put that block
+ * on a bin list, the write lands on the list's pointers, and a later free at exit (libgfortran's
+ * exit handler, from scipy) aborts with "corrupted double-linked list" - in about 1 of 30 fmpy
+ * processes. The handler below is registered at the first fmi2Instantiate, after the binary's
+ * own, so it runs before them (exit handlers run in reverse order): it calls
+ * finalizePythonInterpreter() while the shared_ptr is alive; the two later calls then find it
+ * empty. It never finalizes Python (pythonfmu does that only for an interpreter it started,
+ * and in both kinds of host the interpreter was running before the FMU: see gear_dyn_boot). */
+static void release_pystate(void) {
+    void *self = binary();
+    void (*fin)(void) = self ? (void (*)(void))dlsym(self, "finalizePythonInterpreter") : NULL;
+    if (fin) fin();
+}
+
+/* Set when the slave logs a status-error message during a call: the slave logs one only when
+ * it refuses a call and keeps the instance valid (GearDynSlave._refuse). Per thread: the FMI
+ * call, its Python code and the logger run in one thread. A failure without such a message
+ * (the instance may be lost) stays fmi2Fatal. */
+static __thread int refused = 0;
 
 /* one slot per instantiation (recycled after MAX_LOGGERS instantiations): the wrapped
  * callbacks carry the slot as their environment, the slot the host's logger and environment */
@@ -101,6 +135,7 @@ static void filtered_logger(void *env, const char *instance, Status status, cons
     vsnprintf(text, sizeof text, message, ap);
     va_end(ap);
     if (strncmp(text, "Fatal py exception encountered", 30) == 0) return;
+    if (status == 3) refused = 1; /* the slave's refusal (see recoverable) */
     /* the message is passed as the format (hosts such as fmpy do not format it): % doubled */
     char escaped[16384];
     size_t k = 0;
@@ -119,6 +154,8 @@ void *fmi2Instantiate(const char *name, int type, const char *guid, const char *
                         int);
     Fn fn = (Fn)original("fmi2Instantiate");
     if (!fn) return NULL;
+    static int exit_handler = 0;
+    if (!exit_handler) exit_handler = atexit(release_pystate) == 0;
     if (!cb || !cb->logger) return fn(name, type, guid, resources, cb, visible, logging);
     static Callbacks copies[MAX_LOGGERS];
     static int next = 0;
@@ -131,22 +168,39 @@ void *fmi2Instantiate(const char *name, int type, const char *guid, const char *
     return fn(name, type, guid, resources, &copies[slot], visible, logging);
 }
 
-static Status recoverable(Status s) { return s == 4 ? 3 : s; }
-
-#define WRAP_SET(NAME, T)                                                              \
-    Status NAME(void *c, const unsigned *vr, size_t n, const T *values) {                \
-        typedef Status (*Fn)(void *, const unsigned *, size_t, const T *);               \
-        Fn fn = (Fn)original(#NAME);                                                     \
-        return fn ? recoverable(fn(c, vr, n, values)) : 4;                               \
-    }
-WRAP_SET(fmi2SetReal, double)
-WRAP_SET(fmi2SetInteger, int)
-WRAP_SET(fmi2SetBoolean, int)
-WRAP_SET(fmi2SetString, char *)
-
-Status fmi2ExitInitializationMode(void *c) {
-    typedef Status (*Fn)(void *);
-    Fn fn = (Fn)original("fmi2ExitInitializationMode");
-    return fn ? recoverable(fn(c)) : 4;
+static Status recoverable(Status s) {
+    int r = refused;
+    refused = 0;
+    return (s == 4 && r) ? 3 : s;
 }
+
+/* the original function of the binary (looked up once), called with the refusal flag clear */
+#define WRAP(NAME, PARAMS, ARGS)                                                        \
+    Status NAME PARAMS {                                                                \
+        typedef Status(*Fn) PARAMS;                                                     \
+        static Fn fn = NULL;                                                            \
+        if (!fn) fn = (Fn)original(#NAME);                                              \
+        if (!fn) return 4;                                                              \
+        refused = 0;                                                                    \
+        return recoverable(fn ARGS);                                                    \
+    }
+typedef unsigned VR;
+WRAP(fmi2SetReal, (void *c, const VR *vr, size_t n, const double *x), (c, vr, n, x))
+WRAP(fmi2SetInteger, (void *c, const VR *vr, size_t n, const int *x), (c, vr, n, x))
+WRAP(fmi2SetBoolean, (void *c, const VR *vr, size_t n, const int *x), (c, vr, n, x))
+WRAP(fmi2SetString, (void *c, const VR *vr, size_t n, char *const *x), (c, vr, n, x))
+WRAP(fmi2GetReal, (void *c, const VR *vr, size_t n, double *x), (c, vr, n, x))
+WRAP(fmi2SetupExperiment, (void *c, int tol_on, double tol, double t0, int stop_on, double t1),
+     (c, tol_on, tol, t0, stop_on, t1))
+WRAP(fmi2EnterInitializationMode, (void *c), (c))
+WRAP(fmi2ExitInitializationMode, (void *c), (c))
+WRAP(fmi2DoStep, (void *c, double t, double h, int no_prior), (c, t, h, no_prior))
+WRAP(fmi2Terminate, (void *c), (c))
+WRAP(fmi2GetFMUstate, (void *c, void **state), (c, state))
+WRAP(fmi2SetFMUstate, (void *c, void *state), (c, state))
+WRAP(fmi2SerializedFMUstateSize, (void *c, void *state, size_t *size), (c, state, size))
+WRAP(fmi2SerializeFMUstate, (void *c, void *state, char *bytes, size_t size),
+     (c, state, bytes, size))
+WRAP(fmi2DeSerializeFMUstate, (void *c, const char *bytes, size_t size, void **state),
+     (c, bytes, size, state))
 #endif /* GEAR_DYN_BOOT_ONLY */

@@ -27,8 +27,13 @@ and drops its references to the Python objects, although later calls (and fmi2Fr
 still use them. A refused call here therefore: logs the reason (status error, category
 logStatusError; pythonfmu forwards it when debug logging is on), gives the native wrapper the
 references it is about to drop (so the instance stays valid and freeing it is safe), and
-raises. The importer sees the call fail (``fmi2Fatal``); nothing crashes and no result is
-silently cut short. A refused parameter keeps its previous value.
+raises. The importer sees the call fail with ``fmi2Error`` and one message naming the FMI
+call and the reason; the instance stays usable (fmi2Reset, an FMU state, a corrected value).
+The boot library (``pyboot.c``) turns pythonfmu's ``fmi2Fatal`` into ``fmi2Error`` when the
+slave logged a status-error message during the call: only a refusal here logs one. Any other
+failure (e.g. inside pythonfmu) stays ``fmi2Fatal``, and so does every failure of an FMU
+without the boot library (where it cannot be built, e.g. on Windows). A refused parameter
+keeps its previous value.
 
 pythonfmu's loader also releases, at every instantiation, a reference to the slave script's
 module dict that it does not own; :meth:`GearDynSlave.__init__` hands it one back (a reset adds
@@ -48,13 +53,13 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any, NoReturn
 
-import numpy as np
 from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real, String
 from pythonfmu.default_experiment import DefaultExperiment
 from pythonfmu.enums import Fmi2Status
 
 from gear_dyn.errors import GearDynError, InputError, SolverError
-from gear_dyn.fmu.inputs import driven_speed, input_changes
+from gear_dyn.fmu.inputs import input_changes
+from gear_dyn.fmu.outputs import Writer, output_writer
 from gear_dyn.fmu.stepper import Stepper
 from gear_dyn.fmu.variables import SPEC_FILE, check_spec
 from gear_dyn.scene import SECTIONS, build_pair, build_plan, load_feature_sections, parse_scene
@@ -70,8 +75,17 @@ class FmuCallError(GearDynError):
     """An FMI call refused by the slave (the message is also logged)."""
 
 
+#: FMI function of each slave entry point (named in the message of a refused call)
+_FMI_NAMES = {"setup_experiment": "fmi2SetupExperiment",
+              "enter_initialization_mode": "fmi2EnterInitializationMode",
+              "exit_initialization_mode": "fmi2ExitInitializationMode",
+              "do_step": "fmi2DoStep", "terminate": "fmi2Terminate",
+              "_get_fmu_state": "fmi2GetFMUstate", "_set_fmu_state": "fmi2SetFMUstate"}
+
+
 def _fmi_call(func: Callable[..., Any]) -> Callable[..., Any]:
     """Wrap an FMI entry point: a failure is logged and refused safely (see module doc)."""
+    fmi_name = _FMI_NAMES.get(func.__name__, func.__name__)
 
     def wrapper(self: GearDynSlave, *args: Any) -> Any:
         try:
@@ -79,7 +93,7 @@ def _fmi_call(func: Callable[..., Any]) -> Callable[..., Any]:
         except FmuCallError:
             raise
         except Exception as exc:  # every failure becomes a logged, refused call
-            self._refuse(f"{func.__name__.strip('_')}: {exc}")
+            self._refuse(f"{fmi_name} refused: {exc}")
 
     wrapper.__name__ = func.__name__
     wrapper.__doc__ = func.__doc__
@@ -134,6 +148,7 @@ class GearDynSlave(Fmi2Slave):
         self._tables: dict[str, dict[str, Any]] = {k: dict(v) for k, v in spec["tables"].items()}
         self._outputs: dict[str, float] = {}
         self._input_names: list[str] = []
+        self._real_getters: dict[int, Callable[[], Any]] = {}  # by value reference
         self._phase = "instantiated"
         self._start_time = 0.0
         self._stop_time: float | None = None
@@ -144,6 +159,7 @@ class GearDynSlave(Fmi2Slave):
         self._changes: dict[str, float] = {}
         self._applied: tuple[float, float] | None = None
         self._built_tables: dict[str, dict[str, Any]] | None = None
+        self._write: Writer | None = None
         for v in spec["variables"]:
             self._register(v)
 
@@ -168,6 +184,19 @@ class GearDynSlave(Fmi2Slave):
             name, causality=_CAUSALITY[causality], variability=_VARIABILITY[v["variability"]],
             description=v["description"], getter=getter, setter=setter)
         self.register_variable(var, nested=False)
+        if kind is Real:
+            self._real_getters[var.value_reference] = getter
+
+    def get_real(self, vrs: list[int]) -> list[float]:
+        """Values of Real variables (pythonfmu's own lookup, without its per-variable type
+        check: the getters are collected at registration; another reference is refused)."""
+        getters = self._real_getters
+        try:
+            return [getters[vr]() for vr in vrs]
+        except KeyError:
+            bad = next(vr for vr in vrs if vr not in getters)
+            self._refuse(f"fmi2GetReal refused: value reference {bad} is not a Real variable "
+                         "of this FMU")
 
     def _enum_access(self, v: dict[str, Any], getter: Callable[[], Any],
                      setter: Callable[[Any], None] | None
@@ -218,7 +247,8 @@ class GearDynSlave(Fmi2Slave):
 
     # ------------------------------------------------------------------ refusal
     def _refuse(self, message: str) -> NoReturn:
-        """Log ``message`` (status error) and raise so the FMI call fails; see module doc."""
+        """Log ``message`` (status error: the boot library takes it as the sign of a refusal
+        that kept the instance valid) and raise so the FMI call fails; see module doc."""
         text = " ".join(str(message).split())
         self.log(text, Fmi2Status.error)
         if self._native:
@@ -273,44 +303,45 @@ class GearDynSlave(Fmi2Slave):
         self._stepper = Stepper(plan.model, plan.settings, t0=self._start_time,
                                 stop_time=self._stop_time)
         self._built_tables = {k: dict(v) for k, v in tables.items()}
+        self._new_writer()
+
+    def _new_writer(self) -> None:
+        """The output writer of the model the stepper runs (after every model change)."""
+        assert self._stepper is not None and self._applied is not None
+        names = [v["name"] for v in self._spec["variables"] if v["causality"] == "output"]
+        self._write = output_writer(self._stepper.model, self._pair, self._applied[0], names)
 
     @_fmi_call
     def do_step(self, current_time: float, step_size: float) -> bool:
         """Advance from ``current_time`` by ``step_size`` (s)."""
-        if self._phase != "stepping" or self._stepper is None:
-            raise InputError(f"doStep in state {self._phase}: initialize the FMU first")
         st = self._stepper
-        if not abs(current_time - st.t) <= 1e-9 * max(1.0, abs(st.t)):
+        if self._phase != "stepping" or st is None:
+            raise InputError(f"doStep in state {self._phase}: initialize the FMU first")
+        t = st.t
+        if not abs(current_time - t) <= 1e-9 * max(1.0, abs(t)):
             raise InputError(f"doStep from t = {current_time:.12g} s but the FMU is at "
-                             f"t = {st.t:.12g} s; set an FMU state to go back")
-        if not (math.isfinite(step_size) and step_size > 0):
+                             f"t = {t:.12g} s; set an FMU state to go back")
+        if not (step_size > 0 and math.isfinite(step_size)):
             raise InputError(f"communication step = {step_size!r} s: valid range > 0 s")
         op = self._tables["operating"]
-        inputs = (float(op["speed"]), float(op["torque"]))
-        if inputs != self._applied:
+        if (op["speed"], op["torque"]) != self._applied:
+            inputs = (float(op["speed"]), float(op["torque"]))
             self._changes = input_changes(self._base_model, self._pair, inputs[0], inputs[1],
-                                          st.t)
+                                          t)
             st.replace_model(replace(self._base_model, **self._changes))
             self._applied = inputs
-        st.advance(current_time + step_size)
+            self._new_writer()
+        st.step_to(current_time + step_size)
         self._update_outputs()
         return True
 
     def _update_outputs(self) -> None:
         st = self._stepper
-        assert st is not None
-        y = st.y
-        t = np.array([st.t])
-        for label, value in zip(st.model.state_labels, y, strict=True):
-            self._outputs[f"state.{label}"] = float(value)
-        for name, arr in st.model.outputs(t, y[:, None]).items():
-            if name in self._outputs:
-                self._outputs[name] = float(np.asarray(arr).ravel()[0])
-        if "driven_speed" in self._outputs and self._applied is not None:
-            self._outputs["driven_speed"] = float(driven_speed(self._pair, self._applied[0],
-                                                               y[1]))
-        bad = [k for k, v in self._outputs.items() if not math.isfinite(v)]
-        if bad:
+        assert st is not None and self._write is not None
+        out = self._outputs
+        self._write(st.t, st.y, out)
+        if not all(map(math.isfinite, out.values())):
+            bad = [k for k, v in out.items() if not math.isfinite(v)]
             raise SolverError(f"outputs {', '.join(bad)} are not finite at t = {st.t:.6g} s")
 
     @_fmi_call
@@ -339,7 +370,8 @@ class GearDynSlave(Fmi2Slave):
     def _set_fmu_state(self, state: dict[str, Any]) -> None:
         """Return to a state from :meth:`_get_fmu_state` (or its deserialised bytes)."""
         if not isinstance(state, dict) or "stepper" not in state:
-            raise InputError("not an FMU state of this FMU")
+            reason = state.get("invalid") if isinstance(state, dict) else None
+            raise InputError("not an FMU state of this FMU" + (f" ({reason})" if reason else ""))
         self._start_time = float(state["start_time"])
         self._stop_time = state["stop_time"]
         self._tolerance = state["tolerance"]
@@ -350,12 +382,14 @@ class GearDynSlave(Fmi2Slave):
         self._phase = state["phase"]
         self._applied = tuple(state["applied"]) if state["applied"] is not None else None
         self._changes = dict(state["changes"])
-        self._outputs = dict(state["outputs"])
+        self._outputs.clear()
+        self._outputs.update(state["outputs"])
         if state["stepper"] is not None and self._stepper is not None:
             model = (replace(self._base_model, **self._changes) if self._changes
                      else self._base_model)
             self._stepper.model = model
             self._stepper.restore(state["stepper"])
+            self._new_writer()
         elif state["stepper"] is None:
             self._stepper = None
 
@@ -365,7 +399,13 @@ class GearDynSlave(Fmi2Slave):
 
     @staticmethod
     def _fmu_state_from_bytes(state: bytes) -> dict[str, Any]:
-        return dict(_StateUnpickler(io.BytesIO(bytes(state))).load())
+        # never raises: pythonfmu calls it on the class, so a failure could not keep the
+        # instance valid; fmi2SetFMUstate refuses the invalid state instead, naming the reason
+        try:
+            loaded = _StateUnpickler(io.BytesIO(bytes(state))).load()
+        except Exception as exc:  # any bytes may arrive: a state of another FMU, garbage
+            return {"invalid": f"cannot read the serialized state: {exc}"}
+        return dict(loaded) if isinstance(loaded, dict) else {"invalid": "not a state dict"}
 
 
 __all__ = ["FmuCallError", "GearDynSlave"]

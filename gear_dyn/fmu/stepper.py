@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import copy
 import math
+import operator
 from dataclasses import replace
 from typing import Any
 
@@ -108,6 +109,60 @@ def _unplain(saved: Any) -> Any:
         return _Nested({k: _unplain(v) for k, v in saved["__nested__"].items()})
     return saved
 
+class _Propagator:
+    """``z -> expm(M s) z`` for one constant matrix ``M``, on plain Python floats.
+
+    A co-simulation master steps with a fixed communication step, and the stiffness is
+    periodic: the piece durations ``s`` repeat (up to rounding of the times). Their matrices
+    ``expm(M s)`` are computed once (:class:`gear_dyn.solvers.exact._Exponential`) for ``s``
+    rounded to a grid of width ``q`` (a power of two with ``rho q <= 1e-6``, ``rho`` the
+    spectral radius of ``M``), and the remainder ``d = s - s_grid`` (``|d| <= q / 2``) is
+    applied through ``expm(M d) = I + M d + (M d)^2 / 2 + O((rho d)^3)``: the neglected term
+    is below 1e-19 (times the eigenvector condition, < 1e3), far below rounding. Without a
+    usable eigendecomposition every call takes the exact propagator as before.
+    """
+
+    MAX_CACHED = 4096
+
+    def __init__(self, m: FloatArray, tol: float) -> None:
+        self.ex = _Exponential(m, tol)
+        n = m.shape[0]
+        self.rows = [tuple(r) for r in m[:-1].tolist()]  # M z (the last row of M is zero)
+        self.sq = [tuple(r[:-1]) for r in m[:-1, :].tolist()]  # M w for w with w[-1] = 0
+        self.n = n
+        rho = float(np.max(np.abs(self.ex.lam))) if self.ex.eigen else 0.0
+        self.q = 2.0 ** math.floor(math.log2(1e-6 / rho)) if rho > 0 else 0.0
+        self.cache: dict[int, list[tuple[float, ...]]] = {}
+
+    def apply(self, s: float, z: list[float]) -> list[float]:
+        """``expm(M s) z`` (``z`` augmented: its last entry is 1)."""
+        q = self.q
+        if not q:
+            return self.ex.apply(np.array([s]), np.array(z)[None, :])[0].tolist()
+        k = round(s / q)
+        phi = self.cache.get(k)
+        if phi is None:
+            if len(self.cache) >= self.MAX_CACHED:
+                self.cache.clear()
+            phi = self.cache[k] = [tuple(r) for r in self.ex(np.array([k * q]))[0][:-1].tolist()]
+        d = s - k * q
+        if self.n == 3:  # two states (the single-DOF model): the same sums, unrolled
+            x, v = z[0], z[1]
+            if d:
+                (a0, a1, a2), (b0, b1, b2) = self.rows
+                w0, w1 = a0 * x + a1 * v + a2, b0 * x + b1 * v + b2  # M z
+                h2 = 0.5 * d * d
+                x, v = (x + d * w0 + h2 * (a0 * w0 + a1 * w1),
+                        v + d * w1 + h2 * (b0 * w0 + b1 * w1))
+            (p0, p1, p2), (r0, r1, r2) = phi
+            return [p0 * x + p1 * v + p2, r0 * x + r1 * v + r2, 1.0]
+        if d:
+            w = [sum(map(operator.mul, r, z)) for r in self.rows]  # M z
+            w2 = [sum(map(operator.mul, r, w)) for r in self.sq]  # M^2 z
+            h2 = 0.5 * d * d
+            z = [zi + d * wi + h2 * vi for zi, wi, vi in zip(z[:-1], w, w2, strict=True)] + [1.0]
+        return [sum(map(operator.mul, r, z)) for r in phi] + [1.0]
+
 
 class Stepper:
     """Integrator state of one model, advanced by communication steps.
@@ -158,8 +213,9 @@ class Stepper:
         self._cut_event: int | None = None
         self.n_events = 0
         self._pieces: list[tuple[float, float, FloatArray, FloatArray]] = []
+        self._props: list[_Propagator] = []  # the propagator of each piece
         self._piece = 0
-        self._exps: dict[bytes, Any] = {}
+        self._exps: dict[bytes, _Propagator] = {}
         self.nfev = 0  # right-hand side evaluations of finished solver segments
         self.n_restarts = 0
 
@@ -224,43 +280,50 @@ class Stepper:
         SolverError
             The solver failed or produced non-finite states (with scipy's message).
         """
+        self.step_to(t1)
+        return self.y.copy()
+
+    def step_to(self, t1: float) -> None:
+        """:meth:`advance` without returning the state (read :attr:`y`; the FMU's per-step
+        path). Raises as :meth:`advance` does."""
         if not t1 >= self.t:
             raise InputError(f"communication point t = {t1:.9g} s is before the current time "
                              f"{self.t:.9g} s; restore an FMU state to go back")
         if t1 == self.t:
-            return self.y.copy()
+            return
         if self.method == "exact":
-            self.y = self._advance_exact(t1)
-        else:
-            self.y = self._advance_ode(t1)
-        self.t = float(t1)
-        if not np.all(np.isfinite(self.y)):
+            self.y = self._advance_exact(t1)  # checks its states itself (plain floats)
+            self.t = float(t1)
+            return
+        y = self._advance_ode(t1)
+        if not np.all(np.isfinite(y)):
             raise SolverError(f"{self.method} produced non-finite states near t = {t1:.6g} s; "
                               "the response diverges (parametric instability?) or the "
                               "tolerances are too loose")
-        return self.y.copy()
+        self.y, self.t = y, float(t1)
 
     def _advance_exact(self, t1: float) -> FloatArray:
         t = self.t
-        z = np.append(self.y, 1.0)
+        z = self.y.tolist()
+        z.append(1.0)
+        pieces, props = self._pieces, self._props
         while t < t1:
-            if self._piece >= len(self._pieces) or not (
-                    self._pieces[self._piece][0] <= t < self._pieces[self._piece][1]):
+            i = self._piece
+            if i >= len(pieces) or not pieces[i][0] <= t < pieces[i][1]:
                 self._load_pieces(t, t1)
-            ta, tb, a, g = self._pieces[self._piece]
-            te = min(tb, t1)
-            key = a.tobytes() + np.asarray(g, float).tobytes()
-            ex = self._exps.get(key)
-            if ex is None:
-                m = np.zeros((z.size, z.size))
-                m[:-1, :-1], m[:-1, -1] = a, g
-                ex = self._exps[key] = _Exponential(m, 4 * float(np.spacing(max(t1, 1.0))))
-            z = ex.apply(np.array([te - t]), z[None, :])[0]
+                pieces, props, i = self._pieces, self._props, 0
+            tb = pieces[i][1]
+            te = tb if tb < t1 else t1
+            z = props[i].apply(te - t, z)
             self.nfev += 1
             t = te
             if te == tb:
-                self._piece += 1
-        return np.ascontiguousarray(z[:-1])
+                self._piece = i + 1
+        z.pop()
+        if not all(map(math.isfinite, z)):
+            raise SolverError(f"exact produced non-finite states near t = {t1:.6g} s; the "
+                              "response diverges (parametric instability?)")
+        return np.array(z)
 
     def _load_pieces(self, t: float, t1: float) -> None:
         horizon = max(t1, t + 64.0 / self.model.mesh_frequency)
@@ -268,7 +331,17 @@ class Stepper:
         if not pieces:
             raise InputError("solver.method = 'exact' needs a linear model with "
                              "piecewise-constant coefficients; use DOP853 or LSODA")
-        self._pieces = pieces
+        tol = 4 * float(np.spacing(max(t1, 1.0)))
+        props = []
+        for _ta, _tb, a, g in pieces:  # one propagator per distinct piece matrix
+            key = a.tobytes() + np.asarray(g, float).tobytes()
+            prop = self._exps.get(key)
+            if prop is None:
+                m = np.zeros((a.shape[0] + 1, a.shape[0] + 1))
+                m[:-1, :-1], m[:-1, -1] = a, g
+                prop = self._exps[key] = _Propagator(m, tol)
+            props.append(prop)
+        self._pieces, self._props = pieces, props
         self._piece = 0
 
     def _advance_ode(self, t1: float) -> FloatArray:
@@ -348,7 +421,7 @@ class Stepper:
         self._solver = None
         self._events = list(model.contact_events())
         self._cut, self._cut_event = None, None
-        self._pieces, self._piece, self._exps = [], 0, {}
+        self._pieces, self._props, self._piece, self._exps = [], [], 0, {}
         self._switches, self._switch_end = np.empty(0), None
         self.n_restarts += 1
 
@@ -378,7 +451,7 @@ class Stepper:
         self.y = np.array(snap["y"], dtype=float)
         self.nfev = int(snap["nfev"])
         self.n_restarts = int(snap["n_restarts"])
-        self._pieces, self._piece = [], 0
+        self._pieces, self._props, self._piece = [], [], 0
         self._switches = np.array(snap["switches"], dtype=float)
         self._switch_end = snap["switch_end"]
         self._events = list(self.model.contact_events())
