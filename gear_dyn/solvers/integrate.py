@@ -37,7 +37,8 @@ def resolve_auto(model: Model) -> str:
     apply, else LSODA.
 
     (:func:`integrate` further replaces LSODA by ``periodic`` for a linear mesh-periodic model on
-    a grid commensurate with the mesh period; that choice needs the grid.)
+    a grid commensurate with the mesh period, or by ``gauss`` for a model affine in the state
+    with time-given coefficients; those choices need the grid or the model's table.)
     """
     if exact_applies(model):
         return "exact"

@@ -28,8 +28,9 @@ class SolverSettings:
     Parameters
     ----------
     method : str
-        ``auto`` (default: the exact propagator where it applies; else, for a linear
-        single-DOF model on the usual uniform grid, ``periodic``; else LSODA), or one of
+        ``auto`` (default: the exact propagator where it applies, ``exact_contact`` for the
+        single-DOF model with backlash; else, for a linear single-DOF model on the usual
+        uniform grid, ``periodic``; else ``gauss`` where it applies; else LSODA), or one of
         RK45, RK23, DOP853, Radau, BDF, LSODA (solve_ivp), ``exact`` (piecewise-exact
         propagator, linear models with piecewise-constant coefficients only) or ``periodic``
         (linear mesh-periodic models: one period of step maps integrated, then reused; see
