@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from gear_dyn.analysis.sweep.batch import linear_block
 from gear_dyn.analysis.sweep.points import steady_point, transient_point
 from gear_dyn.analysis.sweep.types import (
     DIRECTIONS,
@@ -56,6 +57,11 @@ def run_block(task: _Task) -> tuple[list[Point], FloatArray | None]:
     """
     y = task.y_start
     n_prev = task.orbit_periods
+    if task.options.method == "steady" and not task.continuation:
+        models = [task.factory(s) for s in task.speeds]
+        batch = linear_block(models, task.speeds, task.settings, task.options)
+        if batch is not None:
+            return batch, None
     points = []
     for s in task.speeds:
         model = task.factory(s)
