@@ -38,7 +38,12 @@ def register(sub: Any) -> None:
                    help="local processes (default: all cores; 1 = in this process)")
     p.add_argument("--dask", metavar="ADDRESS", default=None,
                    help="run on a Dask distributed scheduler at ADDRESS (e.g. tcp://host:8786)")
-    p.add_argument("--block", type=int, default=8, help="speeds per task (default 8)")
+    p.add_argument("--block", type=int, default=None,
+                   help="speeds per task (default: 8 with backlash; linear scenes about 20 "
+                   "blocks, 4 per worker in parallel, at least 32)")
+    p.add_argument("--min-parallel", type=float, default=None, metavar="SECONDS",
+                   help="the first block runs here and is timed; below this much estimated "
+                   "work left, --workers / --dask are not used (default 0.5; 0: always)")
     p.add_argument("--harmonics", type=int, default=5, help="mesh harmonics in the spectra")
     p.add_argument("--chart", choices=("stiffness", "damping", "both", "none"), default="both",
                    help="stability chart axes besides f_m/f_n (default both)")
@@ -69,6 +74,8 @@ def run(args: argparse.Namespace) -> int:
     speeds = parse_speed_range(args.speeds)
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers = {args.workers}: valid range >= 1")
+    if args.min_parallel is not None and not 0 <= args.min_parallel <= 1e6:
+        raise InputError(f"--min-parallel = {args.min_parallel} s: valid range 0..1e6 s")
     opts = SweepOptions(method=args.sweep_method, harmonics=args.harmonics)
     show = None
     if not args.no_progress and sys.stderr.isatty():
@@ -90,6 +97,8 @@ def run(args: argparse.Namespace) -> int:
         result = sweep_scene(scene, speeds, options=opts, direction=args.direction,
                              executor=executor,
                              workers=args.workers, block=args.block, progress=show,
+                             **({} if args.min_parallel is None else
+                                {"min_parallel_s": args.min_parallel}),
                              **overrides(args))
     finally:
         if client is not None:

@@ -35,6 +35,12 @@ from gear_dyn.solvers import SolverSettings
 FloatArray = NDArray[np.float64]
 ModelFactory = Callable[[float], Model]
 
+#: seconds of estimated serial work below which a sweep does not start a pool or use an
+#: executor: a fork pool of 2 starts in ~0.1 s and pickles the points back, a Dask task costs
+#: milliseconds plus each worker's first scene build; benchmarks/bench_sweep.py measures the
+#: break-even (workers 1 vs 2, Dask) and the README quotes it
+MIN_PARALLEL_S = 0.5
+
 
 @dataclass(frozen=True)
 class _Task:
@@ -111,6 +117,15 @@ def _checked_speeds(speeds: Sequence[float] | FloatArray, direction: str, block:
     return sp
 
 
+def _block_size(block: int | None, n: int, nonlinear: bool, n_par: int) -> int:
+    """Speeds per task (see :func:`sweep`, ``block``)."""
+    if block is not None:
+        return block
+    if nonlinear:
+        return 8
+    return max(32, -(-n // (20 if n_par == 1 else 4 * n_par)))
+
+
 def _directions(direction: str, nonlinear: bool) -> tuple[str, ...]:
     if direction == "auto":
         return ("up", "down") if nonlinear else ("up",)
@@ -121,13 +136,19 @@ def _directions(direction: str, nonlinear: bool) -> tuple[str, ...]:
 
 def _run_chains(ex: cf.Executor, template: dict[str, Any],
                 chains: dict[str, list[tuple[float, ...]]], nonlinear: bool,
-                progress: Callable[[int, int], None] | None) -> dict[str, list[list[Point]]]:
+                progress: Callable[[int, int], None] | None,
+                seed: tuple[str, list[Point], FloatArray | None] | None = None
+                ) -> dict[str, list[list[Point]]]:
     """Run every block: all at once (linear) or block after block per direction (continuation,
-    each block starting from the previous block's last state)."""
+    each block starting from the previous block's last state). ``seed``: the first block of
+    one direction, already run (direction, points, last state)."""
     results: dict[str, list[list[Point]]] = {d: [[] for _ in chains[d]] for d in chains}
     total = sum(len(blk) for c in chains.values() for blk in c)
     done = 0
     pending: dict[cf.Future[Any], tuple[str, int]] = {}
+    if seed is not None:
+        results[seed[0]][0] = seed[1]
+        done = len(seed[1])
 
     def submit(d: str, i: int, y0: FloatArray | None, n_per: int = 1) -> None:
         task = _Task(speeds=chains[d][i], y_start=y0, continuation=nonlinear,
@@ -136,6 +157,13 @@ def _run_chains(ex: cf.Executor, template: dict[str, Any],
 
     try:
         for d in chains:
+            if seed is not None and d == seed[0]:
+                if nonlinear and len(chains[d]) > 1:
+                    submit(d, 1, seed[2], seed[1][-1].orbit_periods or 1)
+                elif not nonlinear:
+                    for i in range(1, len(chains[d])):
+                        submit(d, i, None)
+                continue
             for i in range(1 if nonlinear else len(chains[d])):
                 submit(d, i, None)
         while pending:
@@ -167,8 +195,9 @@ def sweep(
     direction: str = "auto",
     executor: cf.Executor | None = None,
     workers: int | None = None,
-    block: int = 8,
+    block: int | None = None,
     progress: Callable[[int, int], None] | None = None,
+    min_parallel_s: float = MIN_PARALLEL_S,
 ) -> SweepResult:
     """Sweep a model over pinion speeds.
 
@@ -194,10 +223,17 @@ def sweep(
         down. None: a process pool over ``workers`` local cores, shut down at the end.
     workers : int or None
         Local processes when ``executor`` is None (default: all cores; 1 runs in-process).
-    block : int
-        Speeds per task (1..10000).
+    block : int or None
+        Speeds per task (1..10000). None: continuation sweeps 8; linear sweeps about 20 blocks
+        in one process, 4 per worker in parallel, at least 32 speeds (a linear block is one
+        vectorised evaluation, :func:`gear_dyn.analysis.sweep.batch.linear_block`).
     progress : callable or None
         ``progress(done, total)`` after each finished block.
+    min_parallel_s : float
+        The first block runs in this process and is timed; when the remaining work, estimated
+        from it, is below ``min_parallel_s`` seconds, the rest runs here too (no pool is
+        started, ``executor`` is not used) and ``SweepResult.executor`` says so. 0: always use
+        the executor / pool.
 
     Returns
     -------
@@ -212,23 +248,43 @@ def sweep(
     """
     opts = options or SweepOptions()
     settings = settings or SolverSettings()
-    sp = _checked_speeds(speeds, direction, block, workers)
+    sp = _checked_speeds(speeds, direction, 8 if block is None else block, workers)
     model = factory(float(sp[0]))
     nonlinear = not model.is_linear
     if opts.method == "steady" and not model.mesh_periodic:
         raise InputError(f"sweep method 'steady' covers the single-DOF model; this scene's model "
                          f"is {type(model).__name__}: use method 'transient'")
     dirs = _directions(direction, nonlinear)
-    chains = {d: [tuple(float(v) for v in order[i:i + block]) for i in range(0, order.size, block)]
+    n_par = 1 if (executor is None and workers == 1) else (workers or os.cpu_count() or 1)
+    size = _block_size(block, sp.size, nonlinear, n_par)
+    chains = {d: [tuple(float(v) for v in order[i:i + size]) for i in range(0, order.size, size)]
               for d in dirs for order in [sp if d == "up" else sp[::-1]]}
-    template = dict(factory=factory, settings=settings, options=opts, periods=int(periods),
-                    steady_periods=int(periods // 2 if steady_periods is None else steady_periods))
-    own = executor is None
-    ex: cf.Executor = executor if executor is not None else (
-        _Inline() if workers == 1 else _default_executor(workers))
+    n_steady = int(periods // 2 if steady_periods is None else steady_periods)
+    template: dict[str, Any] = dict(factory=factory, settings=settings, options=opts,
+                                    periods=int(periods), steady_periods=n_steady)
     start = time.perf_counter()
+    seed, label = None, "_Inline"
+    if n_par > 1:  # time the first block here, then decide whether a pool pays off
+        d0 = dirs[0]
+        points, y_end = run_block(_Task(speeds=chains[d0][0], y_start=None,
+                                        continuation=nonlinear, **template))
+        seed = (d0, points, y_end)
+        if progress is not None:
+            progress(len(points), sum(len(b) for c in chains.values() for b in c))
+        left = sum(len(b) for c in chains.values() for b in c) - len(points)
+        estimate = (time.perf_counter() - start) / len(points) * left
+        if estimate < min_parallel_s:
+            n_par = 1
+            name = type(executor).__name__ if executor is not None else "process pool"
+            label = (f"serial: {estimate:.2g} s of work left after the first block, below "
+                     f"the {min_parallel_s:g} s where {name} pays off")
+    own = executor is None or n_par == 1
+    ex: cf.Executor = _Inline() if n_par == 1 else (
+        executor if executor is not None else _default_executor(workers))
+    if n_par > 1:
+        label = type(ex).__name__
     try:
-        results = _run_chains(ex, template, chains, nonlinear, progress)
+        results = _run_chains(ex, template, chains, nonlinear, progress, seed)
     finally:
         if own:
             ex.shutdown(wait=True, cancel_futures=True)
@@ -240,5 +296,5 @@ def sweep(
         scene_name=name, curves=curves, orders=orders,
         natural_frequency=math.nan if fn is None else float(fn),
         static_load=float(model.static_load), nonlinear=nonlinear, options=opts,
-        settings=settings, run_time_s=time.perf_counter() - start, executor=type(ex).__name__,
+        settings=settings, run_time_s=time.perf_counter() - start, executor=label,
     )
