@@ -18,7 +18,7 @@ def register(sub: Any) -> None:
         description="Evaluate SCENE at N pinion speeds from START to STOP and write into DIR: "
         "response.png (dynamic factor, RMS and peak-to-peak DTE against speed and f_m/f_n; up "
         "and down sweeps for scenes with backlash; separation, back-side contact and "
-        "instability marked), waterfall.png (DTE spectra over speed), stability.png "
+        "instability marked), waterfall.png (DTE spectra over speed), with --chart stability.png "
         "(Floquet stability chart over f_m/f_n and stiffness variation or damping), "
         "sweep.csv, spectra.csv and sweep.json. DIR is replaced as a whole only on success.",
         epilog="examples: gear-dyn sweep scene.toml --speeds '500 rpm:12000 rpm:300' --out out; "
@@ -45,8 +45,10 @@ def register(sub: Any) -> None:
                    help="the first block runs here and is timed; below this much estimated "
                    "work left, --workers / --dask are not used (default 0.5; 0: always)")
     p.add_argument("--harmonics", type=int, default=5, help="mesh harmonics in the spectra")
-    p.add_argument("--chart", choices=("stiffness", "damping", "both", "none"), default="both",
-                   help="stability chart axes besides f_m/f_n (default both)")
+    p.add_argument("--chart", choices=("stiffness", "damping", "both", "none"), default="none",
+                   help="stability.png: Floquet stability charts over f_m/f_n and the stiffness "
+                   "variation, the damping or both (default none: the response plot marks the "
+                   "unstable speeds of the sweep itself)")
     p.add_argument("--no-progress", "--quiet", dest="no_progress", action="store_true",
                    help="no progress bar on stderr (there is none when stderr is not a terminal)")
     add_solver_flags(p)
@@ -128,6 +130,8 @@ def run(args: argparse.Namespace) -> int:
     if summary["hysteresis_ranges_rpm"]:
         rng = ", ".join(f"{a:.0f}-{b:.0f}" for a, b in summary["hysteresis_ranges_rpm"])
         print(f"  up and down sweeps differ (jumps, hysteresis): {rng} rpm")
+    if args.chart == "none" and "stability_chart" not in summary:
+        print("  Floquet stability charts around the scene: --chart both (stability.png)")
     print(f"wrote {args.out}/")
     return 0
 
@@ -145,7 +149,6 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
     from gear_dyn.scene import build_model
 
     summary = summarize_sweep(result)
-    model = build_model(scene)
     with staged_output(out) as tmp:
         write_csv(tmp / "sweep.csv", sweep_columns(result))
         spec_cols: dict[str, Any] = {}
@@ -162,7 +165,8 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
             fig = plot_waterfall(result, c.direction)
             name = "waterfall.png" if c is result.curves[0] else f"waterfall_{c.direction}.png"
             save_figure(fig, tmp / name, dpi=110)
-        if chart != "none" and model.mesh_periodic:
+        model = build_model(scene) if chart != "none" else None
+        if model is not None and model.mesh_periodic:
             ratio = result.curves[0].mesh_frequency / result.natural_frequency
             lo, hi = float(np.min(ratio)), float(np.max(ratio))
             charts = sweep_charts(cast(MeshModel, model), lo, hi, chart)

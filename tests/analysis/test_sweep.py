@@ -256,7 +256,7 @@ def test_sweep_bad_input() -> None:
 def test_cli_sweep(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "sw"
     code = main(["sweep", str(TAIL), "--speeds", "3000 rpm:16000 rpm:14", "--out", str(out),
-                 "--workers", "1", "--no-progress"])
+                 "--workers", "1", "--no-progress", "--chart", "both"])
     assert code == 0
     for name in ("response.png", "waterfall.png", "stability.png", "sweep.csv", "spectra.csv",
                  "sweep.json"):
