@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TextIO, cast
 
+from gear_dyn.cli.progress import counter
 from gear_dyn.cli.run import add_solver_flags, overrides
 from gear_dyn.errors import InputError
 
@@ -57,7 +57,10 @@ def register(sub: Any) -> None:
 
 def progress_bar(stream: TextIO, width: int = 40, unit: str = "speeds"
                  ) -> Callable[[int, int], None]:
-    """A text progress bar redrawn in place on ``stream`` (``[####....] 12/200 speeds``)."""
+    """A plain text progress bar redrawn in place on ``stream`` (``[####....] 12/200 speeds``).
+
+    The commands draw tqdm bars (:func:`gear_dyn.cli.progress.counter`); this one stays for
+    callers that want a dependency-free bar on any stream."""
     def show(done: int, total: int) -> None:
         n = int(width * done / max(total, 1))
         stream.write(f"\r[{'#' * n}{'.' * (width - n)}] {done}/{total} {unit}")
@@ -79,9 +82,7 @@ def run(args: argparse.Namespace) -> int:
     if args.min_parallel is not None and not 0 <= args.min_parallel <= 1e6:
         raise InputError(f"--min-parallel = {args.min_parallel} s: valid range 0..1e6 s")
     opts = SweepOptions(method=args.sweep_method, harmonics=args.harmonics)
-    show = None
-    if not args.no_progress and sys.stderr.isatty():
-        show = progress_bar(sys.stderr)
+    show = counter("speed", args.no_progress)
     executor = None
     client = None
     if args.dask:
