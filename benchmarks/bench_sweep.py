@@ -19,6 +19,9 @@ inside one repeat and then summarised the same way.
 4. The same through a Dask ``LocalCluster`` (2 worker processes, 1 thread each), its start-up
    and the first (cold) sweep reported apart.
 
+BLAS runs single-threaded (``OPENBLAS_NUM_THREADS=1``, as ``gear-dyn sweep`` sets it): with its
+default threads, on a loaded machine, scipy's ``expm`` of a 3x3 matrix took 10-30 ms.
+
 Writes ``sweep.md`` into ``--out`` (default ``benchmarks/out/``, git-ignored); ``--record``
 writes into ``benchmarks/results/``. ``--methods`` adds the slow comparison of the steady method
 with transient integration (``sweep_methods.md``, minutes).
@@ -26,8 +29,13 @@ with transient integration (``sweep_methods.md``, minutes).
 
 from __future__ import annotations
 
-import argparse
 import os
+
+# as `gear-dyn sweep` does (before numpy loads): BLAS single-threaded. With its default threads,
+# on a loaded machine scipy's expm of a 3x3 matrix (the kernel's) took 10-30 ms instead of 0.1
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import argparse  # noqa: E402
 import platform
 import statistics
 import subprocess

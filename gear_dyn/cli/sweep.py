@@ -71,6 +71,13 @@ def progress_bar(stream: TextIO, width: int = 40, unit: str = "speeds"
 
 
 def run(args: argparse.Namespace) -> int:
+    import os
+
+    # a sweep multiplies 2x2 and 3x3 matrices: BLAS threads never help there, and on a busy
+    # machine their spin-waits made scipy's expm of a 3x3 matrix 10-30 ms instead of 0.1 ms
+    # (measured, benchmarks/bench_sweep.py); the pool's workers inherit it. An explicit
+    # setting wins; it takes effect when numpy is first loaded, just below.
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     from gear_dyn.analysis.sweep import SweepOptions
     from gear_dyn.scene import load_scene
     from gear_dyn.scene.sweep import parse_speed_range, sweep_scene
