@@ -6,6 +6,7 @@ must be picklable (the scene layer's :class:`gear_dyn.scene.sweep.SceneModels` i
 
 from __future__ import annotations
 
+import collections
 import concurrent.futures as cf
 import math
 import multiprocessing
@@ -137,46 +138,69 @@ def _directions(direction: str, nonlinear: bool) -> tuple[str, ...]:
 def _run_chains(ex: cf.Executor, template: dict[str, Any],
                 chains: dict[str, list[tuple[float, ...]]], nonlinear: bool,
                 progress: Callable[[int, int], None] | None,
-                seed: tuple[str, list[Point], FloatArray | None] | None = None
-                ) -> dict[str, list[list[Point]]]:
+                seed: tuple[str, list[Point], FloatArray | None] | None = None,
+                share: bool = False, in_flight: int = 4) -> dict[str, list[list[Point]]]:
     """Run every block: all at once (linear) or block after block per direction (continuation,
-    each block starting from the previous block's last state). ``seed``: the first block of
-    one direction, already run (direction, points, last state)."""
+    each block starting from the previous block's last state).
+
+    ``seed``: the first block of one direction, already run (direction, points, last state).
+    ``share``: this process runs blocks too while the executor works (linear: it takes blocks
+    from the end of the queue, the executor from the front, at most ``in_flight`` at a time;
+    continuation: it runs the first direction's chain, the executor the others), so a pool
+    never leaves this process idle and the sweep is not slower than running it here alone.
+    """
     results: dict[str, list[list[Point]]] = {d: [[] for _ in chains[d]] for d in chains}
     total = sum(len(blk) for c in chains.values() for blk in c)
-    done = 0
+    state = {"done": 0}
     pending: dict[cf.Future[Any], tuple[str, int]] = {}
-    if seed is not None:
-        results[seed[0]][0] = seed[1]
-        done = len(seed[1])
+    local: list[tuple[str, int, FloatArray | None, int]] = []
+    own = next(iter(chains)) if (share and nonlinear) else None
+    queue: collections.deque[tuple[str, int]] = collections.deque()
 
-    def submit(d: str, i: int, y0: FloatArray | None, n_per: int = 1) -> None:
-        task = _Task(speeds=chains[d][i], y_start=y0, continuation=nonlinear,
+    def task(d: str, i: int, y0: FloatArray | None, n_per: int) -> _Task:
+        return _Task(speeds=chains[d][i], y_start=y0, continuation=nonlinear,
                      orbit_periods=n_per, **template)
-        pending[ex.submit(run_block, task)] = (d, i)
+
+    def start(d: str, i: int, y0: FloatArray | None = None, n_per: int = 1) -> None:
+        if d == own:
+            local.append((d, i, y0, n_per))
+        else:
+            pending[ex.submit(run_block, task(d, i, y0, n_per))] = (d, i)
+
+    def finish(d: str, i: int, points: list[Point], y_end: FloatArray | None) -> None:
+        results[d][i] = points
+        state["done"] += len(points)
+        if progress is not None:
+            progress(state["done"], total)
+        if nonlinear and i + 1 < len(chains[d]):
+            start(d, i + 1, y_end, points[-1].orbit_periods or 1)
+
+    def harvest(block: bool) -> None:
+        if block:
+            cf.wait(list(pending), return_when=cf.FIRST_COMPLETED)
+        for fut in [f for f in pending if f.done()]:
+            d, i = pending.pop(fut)
+            finish(d, i, *fut.result())
 
     try:
         for d in chains:
             if seed is not None and d == seed[0]:
-                if nonlinear and len(chains[d]) > 1:
-                    submit(d, 1, seed[2], seed[1][-1].orbit_periods or 1)
-                elif not nonlinear:
-                    for i in range(1, len(chains[d])):
-                        submit(d, i, None)
-                continue
-            for i in range(1 if nonlinear else len(chains[d])):
-                submit(d, i, None)
-        while pending:
-            finished, _ = cf.wait(list(pending), return_when=cf.FIRST_COMPLETED)
-            for fut in finished:
-                d, i = pending.pop(fut)
-                points, y_end = fut.result()
-                results[d][i] = points
-                done += len(points)
-                if progress is not None:
-                    progress(done, total)
-                if nonlinear and i + 1 < len(chains[d]):
-                    submit(d, i + 1, y_end, points[-1].orbit_periods or 1)
+                finish(d, 0, seed[1], seed[2])
+                queue.extend((d, i) for i in range(1, len(chains[d])) if not nonlinear)
+            elif nonlinear:
+                start(d, 0)
+            else:
+                queue.extend((d, i) for i in range(len(chains[d])))
+        while queue or pending or local:
+            while queue and len(pending) < in_flight:
+                start(*queue.popleft())
+            harvest(block=False)
+            job = local.pop(0) if local else (queue.pop() + (None, 1) if share and queue
+                                              else None)
+            if job is not None:
+                finish(job[0], job[1], *run_block(task(*job)))
+            elif pending:
+                harvest(block=True)
     finally:
         for fut in pending:  # after a failure or an interrupt: drop the queued blocks
             fut.cancel()
@@ -256,6 +280,8 @@ def sweep(
                          f"is {type(model).__name__}: use method 'transient'")
     dirs = _directions(direction, nonlinear)
     n_par = 1 if (executor is None and workers == 1) else (workers or os.cpu_count() or 1)
+    if nonlinear and len(dirs) == 1:
+        n_par = 1  # one continuation chain: its blocks run one after the other anyway
     size = _block_size(block, sp.size, nonlinear, n_par)
     chains = {d: [tuple(float(v) for v in order[i:i + size]) for i in range(0, order.size, size)]
               for d in dirs for order in [sp if d == "up" else sp[::-1]]}
@@ -268,9 +294,7 @@ def sweep(
         d0 = dirs[0]
         points, y_end = run_block(_Task(speeds=chains[d0][0], y_start=None,
                                         continuation=nonlinear, **template))
-        seed = (d0, points, y_end)
-        if progress is not None:
-            progress(len(points), sum(len(b) for c in chains.values() for b in c))
+        seed = (d0, points, y_end)  # reported to progress with the others
         left = sum(len(b) for c in chains.values() for b in c) - len(points)
         estimate = (time.perf_counter() - start) / len(points) * left
         if estimate < min_parallel_s:
@@ -284,7 +308,8 @@ def sweep(
     if n_par > 1:
         label = type(ex).__name__
     try:
-        results = _run_chains(ex, template, chains, nonlinear, progress, seed)
+        results = _run_chains(ex, template, chains, nonlinear, progress, seed,
+                              share=n_par > 1, in_flight=2 * n_par)
     finally:
         if own:
             ex.shutdown(wait=True, cancel_futures=True)
