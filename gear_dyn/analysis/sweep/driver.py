@@ -207,6 +207,36 @@ def _run_chains(ex: cf.Executor, template: dict[str, Any],
     return results
 
 
+def _probe(chains: dict[str, list[tuple[float, ...]]], dirs: tuple[str, ...],
+           template: dict[str, Any], nonlinear: bool, n_par: int, size: int,
+           min_parallel_s: float, executor: cf.Executor | None
+           ) -> tuple[tuple[str, list[Point], FloatArray | None], int, str]:
+    """Run the first block (backlash: the first speed) here, timed; keep ``n_par`` or fall
+    back to 1 when the work left is estimated below ``min_parallel_s``. Rearranges ``chains``
+    of a continuation sweep: the first direction in blocks here, each other direction one task
+    (its blocks would otherwise wait for this process between blocks)."""
+    d0 = dirs[0]
+    first = chains[d0][0][:1] if nonlinear else chains[d0][0]
+    t0 = time.perf_counter()
+    points, y_end = run_block(_Task(speeds=first, y_start=None, continuation=nonlinear,
+                                    **template))
+    left = sum(len(b) for c in chains.values() for b in c) - len(points)
+    estimate = (time.perf_counter() - t0) / len(points) * left
+    label = "_Inline"
+    if estimate < min_parallel_s:
+        n_par = 1
+        name = type(executor).__name__ if executor is not None else "process pool"
+        label = (f"serial: {estimate:.2g} s of work left after the first block, below "
+                 f"the {min_parallel_s:g} s where {name} pays off")
+    if nonlinear:
+        rest = [v for blk in chains[d0] for v in blk][1:]
+        chains[d0] = [first] + [tuple(rest[i:i + size]) for i in range(0, len(rest), size)]
+        if n_par > 1:
+            for d in dirs[1:]:
+                chains[d] = [tuple(v for blk in chains[d] for v in blk)]
+    return (d0, points, y_end), n_par, label
+
+
 def sweep(
     factory: ModelFactory,
     speeds: Sequence[float] | FloatArray,
@@ -291,17 +321,8 @@ def sweep(
     start = time.perf_counter()
     seed, label = None, "_Inline"
     if n_par > 1:  # time the first block here, then decide whether a pool pays off
-        d0 = dirs[0]
-        points, y_end = run_block(_Task(speeds=chains[d0][0], y_start=None,
-                                        continuation=nonlinear, **template))
-        seed = (d0, points, y_end)  # reported to progress with the others
-        left = sum(len(b) for c in chains.values() for b in c) - len(points)
-        estimate = (time.perf_counter() - start) / len(points) * left
-        if estimate < min_parallel_s:
-            n_par = 1
-            name = type(executor).__name__ if executor is not None else "process pool"
-            label = (f"serial: {estimate:.2g} s of work left after the first block, below "
-                     f"the {min_parallel_s:g} s where {name} pays off")
+        seed, n_par, label = _probe(chains, dirs, template, nonlinear, n_par, size,
+                                    min_parallel_s, executor)
     own = executor is None or n_par == 1
     ex: cf.Executor = _Inline() if n_par == 1 else (
         executor if executor is not None else _default_executor(workers))
