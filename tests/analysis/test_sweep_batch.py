@@ -59,3 +59,18 @@ def test_small_sweep_stays_serial_and_equal() -> None:
     for name in (*FIELDS, "spectrum"):
         assert np.array_equal(getattr(one.curves[0], name), getattr(two.curves[0], name),
                               equal_nan=True), name
+
+
+def test_backlash_parallel_equals_serial() -> None:
+    # the calling process runs the up chain, a worker the down chain as one task: the same
+    # continuation, so the same numbers as one process
+    scene = load_scene(BACKLASH)
+    speeds = np.array([5000.0, 5600.0, 6000.0, 6400.0]) * RPM
+    one = sweep_scene(scene, speeds, workers=1, block=2)
+    two = sweep_scene(scene, speeds, workers=2, block=2, min_parallel_s=0)
+    assert two.executor == "ProcessPoolExecutor"
+    for a, b in zip(one.curves, two.curves, strict=True):
+        assert a.direction == b.direction
+        for name in (*FIELDS, "spectrum"):
+            assert np.array_equal(getattr(a, name), getattr(b, name), equal_nan=True), name
+        assert a.status == b.status
