@@ -35,12 +35,13 @@ def register(sub: Any) -> None:
     p.add_argument("--direction", choices=("auto", "up", "down", "both"), default="auto",
                    help="auto (default): up and down with backlash, up otherwise")
     p.add_argument("--workers", type=int, default=None,
-                   help="local processes (default: all cores; 1 = in this process)")
+                   help="local processes, this one included (default: all cores; 1 = in "
+                   "this process only)")
     p.add_argument("--dask", metavar="ADDRESS", default=None,
                    help="run on a Dask distributed scheduler at ADDRESS (e.g. tcp://host:8786)")
     p.add_argument("--block", type=int, default=None,
                    help="speeds per task (default: 8 with backlash; linear scenes about 20 "
-                   "blocks, 4 per worker in parallel, at least 32)")
+                   "blocks, 8 per process in parallel, at least 32)")
     p.add_argument("--min-parallel", type=float, default=None, metavar="SECONDS",
                    help="the first block runs here and is timed; below this much estimated "
                    "work left, --workers / --dask are not used (default 0.5; 0: always)")

@@ -41,6 +41,8 @@ ModelFactory = Callable[[float], Model]
 #: milliseconds plus each worker's first scene build; benchmarks/bench_sweep.py measures the
 #: break-even (workers 1 vs 2, Dask) and the README quotes it
 MIN_PARALLEL_S = 0.5
+#: speeds of the timed first block of a linear sweep that may go parallel
+PROBE_SPEEDS = 64
 
 
 @dataclass(frozen=True)
@@ -124,7 +126,7 @@ def _block_size(block: int | None, n: int, nonlinear: bool, n_par: int) -> int:
         return block
     if nonlinear:
         return 8
-    return max(32, -(-n // (20 if n_par == 1 else 4 * n_par)))
+    return max(32, -(-n // (20 if n_par == 1 else 8 * (n_par + 1))))
 
 
 def _directions(direction: str, nonlinear: bool) -> tuple[str, ...]:
@@ -216,7 +218,7 @@ def _probe(chains: dict[str, list[tuple[float, ...]]], dirs: tuple[str, ...],
     of a continuation sweep: the first direction in blocks here, each other direction one task
     (its blocks would otherwise wait for this process between blocks)."""
     d0 = dirs[0]
-    first = chains[d0][0][:1] if nonlinear else chains[d0][0]
+    first = chains[d0][0][:1 if nonlinear else PROBE_SPEEDS]
     t0 = time.perf_counter()
     points, y_end = run_block(_Task(speeds=first, y_start=None, continuation=nonlinear,
                                     **template))
@@ -228,9 +230,9 @@ def _probe(chains: dict[str, list[tuple[float, ...]]], dirs: tuple[str, ...],
         name = type(executor).__name__ if executor is not None else "process pool"
         label = (f"serial: {estimate:.2g} s of work left after the first block, below "
                  f"the {min_parallel_s:g} s where {name} pays off")
+    rest = [v for blk in chains[d0] for v in blk][len(first):]
+    chains[d0] = [first] + [tuple(rest[i:i + size]) for i in range(0, len(rest), size)]
     if nonlinear:
-        rest = [v for blk in chains[d0] for v in blk][1:]
-        chains[d0] = [first] + [tuple(rest[i:i + size]) for i in range(0, len(rest), size)]
         if n_par > 1:
             for d in dirs[1:]:
                 chains[d] = [tuple(v for blk in chains[d] for v in blk)]
@@ -276,10 +278,11 @@ def sweep(
         Where blocks run (e.g. ``distributed.Client(...).get_executor()``); it is not shut
         down. None: a process pool over ``workers`` local cores, shut down at the end.
     workers : int or None
-        Local processes when ``executor`` is None (default: all cores; 1 runs in-process).
+        Local processes when ``executor`` is None, this one included (a pool of
+        ``workers - 1`` beside it; default: all cores; 1 runs in-process).
     block : int or None
         Speeds per task (1..10000). None: continuation sweeps 8; linear sweeps about 20 blocks
-        in one process, 4 per worker in parallel, at least 32 speeds (a linear block is one
+        in one process, 8 per process in parallel, at least 32 speeds (a linear block is one
         vectorised evaluation, :func:`gear_dyn.analysis.sweep.batch.linear_block`).
     progress : callable or None
         ``progress(done, total)`` after each finished block.
@@ -324,8 +327,9 @@ def sweep(
         seed, n_par, label = _probe(chains, dirs, template, nonlinear, n_par, size,
                                     min_parallel_s, executor)
     own = executor is None or n_par == 1
+    # this process works beside the pool: workers - 1 more processes make ``workers`` in all
     ex: cf.Executor = _Inline() if n_par == 1 else (
-        executor if executor is not None else _default_executor(workers))
+        executor if executor is not None else _default_executor(n_par - 1))
     if n_par > 1:
         label = type(ex).__name__
     try:
