@@ -23,8 +23,8 @@ BLAS runs single-threaded (``OPENBLAS_NUM_THREADS=1``, as ``gear-dyn sweep`` set
 default threads, on a loaded machine, scipy's ``expm`` of a 3x3 matrix took 10-30 ms.
 
 Writes ``sweep.md`` into ``--out`` (default ``benchmarks/out/``, git-ignored); ``--record``
-writes into ``benchmarks/results/``. ``--methods`` adds the slow comparison of the steady method
-with transient integration (``sweep_methods.md``, minutes).
+writes into ``benchmarks/results/``. ``--methods`` runs instead the slow comparison of the
+steady method with transient integration (``sweep_methods.md``, minutes).
 """
 
 from __future__ import annotations
@@ -365,11 +365,17 @@ def main() -> None:
                     help="write into benchmarks/results/ (the recorded figures)")
     ap.add_argument("--no-dask", action="store_true", help="skip the Dask cases")
     ap.add_argument("--methods", action="store_true",
-                    help="also the slow steady-vs-transient comparison (sweep_methods.md)")
+                    help="instead: the slow steady-vs-transient comparison (sweep_methods.md)")
     ap.add_argument("--speeds", type=int, default=500, help="speeds of --methods")
     args = ap.parse_args()
     out_dir = ROOT / "benchmarks" / "results" if args.record else args.out
     out_dir.mkdir(parents=True, exist_ok=True)
+    if args.methods:
+        text = methods_table(args)
+        print(text)
+        (out_dir / "sweep_methods.md").write_text(text)
+        print(f"wrote {out_dir / 'sweep_methods.md'}")
+        return
     with tempfile.TemporaryDirectory() as tmp:
         cli = cli_costs(args.repeats, Path(tmp))
     print(f"fixed cost beyond start-up {spread(cli['fixed'])} s", flush=True)
@@ -380,9 +386,6 @@ def main() -> None:
     print(text)
     (out_dir / "sweep.md").write_text(text)
     print(f"wrote {out_dir / 'sweep.md'}")
-    if args.methods:
-        (out_dir / "sweep_methods.md").write_text(methods_table(args))
-        print(f"wrote {out_dir / 'sweep_methods.md'}")
 
 
 if __name__ == "__main__":
