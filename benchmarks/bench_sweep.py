@@ -1,53 +1,85 @@
-"""500-speed sweep of the helicopter tail scene: steady state (monodromy) vs transient integration.
+"""Speed sweeps: fixed cost, per-speed cost against the steady-state kernel, workers, Dask.
 
-Usage: python benchmarks/bench_sweep.py [--speeds N] [--repeats R] [--out FILE]
-(defaults: 500 speeds from 500 to 12000 rpm, 3 repeats, benchmarks/results/sweep.md)
+Run:  python benchmarks/bench_sweep.py [--repeats 5] [--out DIR] [--record] [--methods]
 
-All runs are serial (one process) so the times compare the methods, not the executors; a last
-line gives the default parallel sweep (local process pool) for reference.
+Scene `helicopter_tail.toml` (linear, piecewise-constant stiffness) and, for the parallel cases,
+`helicopter_tail_backlash.toml` (shooting with continuation up and down). Every repeat runs all
+cases interleaved; each line gives the median of the repeats and (min..max); ratios are formed
+inside one repeat and then summarised the same way.
 
-Methods, each producing the dynamic factor and the RMS and peak-to-peak DTE at every speed:
+1. Fixed cost, whole processes: ``gear-dyn sweep SCENE --speeds ...:2`` minus the start-up
+   every scene command pays (a process importing the CLI and loading the scene); with and
+   without ``--chart both``; the command's per-speed cost from 2 and 2000 speeds.
+2. Per-speed cost in-process, 2000 speeds, one process: ``sweep_scene(workers=1)`` (the whole
+   sweep: models, orbit, metrics, spectra, curves) against the steady-state kernel alone, a loop
+   of ``periodic_steady_state(model)`` (monodromy matrix and fixed point) over the same speeds.
+3. ``--workers 2`` against ``--workers 1`` (process pool; the default rule runs small sweeps in
+   the calling process, "forced" is ``min_parallel_s=0``), small and large linear sweeps and the
+   backlash sweep.
+4. The same through a Dask ``LocalCluster`` (2 worker processes, 1 thread each), its start-up
+   and the first (cold) sweep reported apart.
 
-1. ``steady``: ``gear_dyn.analysis.sweep.sweep(method="steady")``: the monodromy matrix of one mesh
-   period (product of augmented matrix exponentials), one 2x2 solve for the periodic orbit,
-   the orbit sampled over one period (64 points), Floquet multipliers as a by-product.
-2. ``transient as run``: what ``gear-dyn run`` does at each speed: ``simulate`` over the scene's
-   200 mesh periods, metrics over the last 100 (method ``auto`` = the exact propagator).
-3. ``transient until converged``: the shortest transient that reaches the same accuracy without
-   knowing the Floquet multipliers: chunks of 10 periods until the state changes by less than
-   1e-9 of its scale over one period, then one period is measured (exact propagator). (An a
-   priori length from the damping, decay exp(-zeta w_n T) per period, fails where the
-   multipliers are real, near the parametric resonances f_m = 2 f_n / k.)
-4. ``transient until converged, DOP853``: method 3 with solve_ivp DOP853 (the integrator for
-   models the exact propagator does not cover) at rtol 1e-10, so that its own noise stays
-   below the convergence criterion, on every 25th speed; its total for all speeds is
-   extrapolated (marked).
+BLAS runs single-threaded (``OPENBLAS_NUM_THREADS=1``, as ``gear-dyn sweep`` sets it): with its
+default threads, on a loaded machine, scipy's ``expm`` of a 3x3 matrix took 10-30 ms.
 
-Accuracy: every method's dynamic factor and RMS DTE against the steady state at rtol 1e-12
-(the steady method is exact up to rounding for this piecewise-constant stiffness; the tests check
-it against long transients).
+Writes ``sweep.md`` into ``--out`` (default ``benchmarks/out/``, git-ignored); ``--record``
+writes into ``benchmarks/results/``. ``--methods`` runs instead the slow comparison of the
+steady method with transient integration (``sweep_methods.md``, minutes).
 """
 
 from __future__ import annotations
 
-import argparse
 import os
+
+# as `gear-dyn sweep` does (before numpy loads): BLAS single-threaded. With its default threads,
+# on a loaded machine scipy's expm of a 3x3 matrix (the kernel's) took 10-30 ms instead of 0.1
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import argparse  # noqa: E402
 import platform
 import statistics
+import subprocess
+import sys
+import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
+from gear_dyn.analysis.stability import periodic_steady_state
 from gear_dyn.analysis.study import simulate
 from gear_dyn.analysis.sweep import RPM
 from gear_dyn.scene import build_model, load_scene
-from gear_dyn.scene.sweep import model_at_speed, sweep_scene
+from gear_dyn.scene.sweep import SceneModels, model_at_speed, sweep_scene
 from gear_dyn.solvers import SolverSettings, integrate
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENE = ROOT / "gear_dyn" / "scenes" / "helicopter_tail.toml"
+BACKLASH = ROOT / "gear_dyn" / "scenes" / "helicopter_tail_backlash.toml"
+GEAR_DYN = str(Path(sys.executable).with_name("gear-dyn"))
+STARTUP = ("import sys; from gear_dyn.cli.app import build_parser; "
+           "from gear_dyn.scene import load_scene; load_scene(sys.argv[1])")
 CHUNK = 10  # mesh periods per transient chunk between convergence checks
+
+
+def spread(values: list[float], fmt: str = ".3g") -> str:
+    """``median (min..max)``."""
+    return (f"{statistics.median(values):{fmt}} ({min(values):{fmt}}.."
+            f"{max(values):{fmt}})")
+
+
+def timed(fn: Callable[[], Any]) -> tuple[float, Any]:
+    t0 = time.perf_counter()
+    out = fn()
+    return time.perf_counter() - t0, out
+
+
+def wall(cmd: list[str]) -> float:
+    t0 = time.perf_counter()
+    subprocess.run(cmd, check=True, capture_output=True)
+    return time.perf_counter() - t0
 
 
 def _timed(fn, repeats: int):  # type: ignore[no-untyped-def]
@@ -101,16 +133,8 @@ def transient(scene, speeds, mode: str, method: str = "auto"):  # type: ignore[n
     return np.array(df), np.array(rms), np.array(used)
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--speeds", type=int, default=500)
-    ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--out", type=Path,
-                    default=Path(__file__).resolve().parent / "out" / "sweep.md",
-                    help="report file (default benchmarks/out/, git-ignored)")
-    ap.add_argument("--record", action="store_true",
-                    help="write the recorded results, benchmarks/results/sweep.md")
-    args = ap.parse_args()
+def methods_table(args: argparse.Namespace) -> str:
+    """The method comparison (steady vs transient); slow: minutes."""
     scene = load_scene(SCENE)
     speeds = np.linspace(500, 12000, args.speeds) * RPM
     ref = sweep_scene(scene, speeds, workers=1, rtol=1e-12).curves[0]
@@ -148,8 +172,8 @@ def main() -> None:
     lines = [
         "# Speed sweep benchmark: steady state vs transient integration",
         "",
-        f"Command: `python benchmarks/bench_sweep.py --speeds {args.speeds} --repeats "
-        f"{args.repeats}`",
+        f"Command: `python benchmarks/bench_sweep.py --methods --speeds {args.speeds} "
+        f"--repeats {args.repeats}`",
         "",
         f"Scene `gear_dyn/scenes/helicopter_tail.toml` (seed 002, ISO 6336 rectangular stiffness, "
         f"zeta = {base.damping_ratio}), {args.speeds} speeds from 500 to 12000 rpm "
@@ -190,12 +214,178 @@ def main() -> None:
         f"**{rows[3][1] / t_st:.0f} x** (extrapolated).",
         "",
     ]
-    text = "\n".join(lines)
+    return "\n".join(lines)
+
+
+def cli_costs(repeats: int, work: Path) -> dict[str, list[float]]:
+    """Whole-process times (s) per repeat: start-up, sweeps of 2 and 2000 speeds."""
+    sweep = [GEAR_DYN, "sweep", str(SCENE), "--workers", "1", "--quiet"]
+    cases = {
+        "startup": [sys.executable, "-c", STARTUP, str(SCENE)],
+        "sweep_2": [*sweep, "--speeds", "500 rpm:12000 rpm:2", "--out", str(work / "a")],
+        "sweep_2_charts": [*sweep, "--speeds", "500 rpm:12000 rpm:2", "--out", str(work / "b"),
+                           "--chart", "both"],
+        "sweep_2000": [*sweep, "--speeds", "500 rpm:12000 rpm:2000", "--out", str(work / "c")],
+    }
+    wall(cases["sweep_2"])  # warm the file cache and the pint cache once
+    out: dict[str, list[float]] = {k: [] for k in cases}
+    for _ in range(repeats):
+        for k, cmd in cases.items():
+            out[k].append(wall(cmd))
+    out["fixed"] = [a - b for a, b in zip(out["sweep_2"], out["startup"], strict=True)]
+    out["fixed_charts"] = [a - b for a, b in zip(out["sweep_2_charts"], out["startup"],
+                                                 strict=True)]
+    out["cli_per_speed_ms"] = [1e3 * (a - b) / 1998 for a, b in
+                               zip(out["sweep_2000"], out["sweep_2"], strict=True)]
+    return out
+
+
+def kernel_costs(repeats: int, n: int = 2000) -> dict[str, list[float]]:
+    """Per-speed ms of the whole in-process sweep and of the kernel alone, interleaved."""
+    scene = load_scene(SCENE)
+    factory = SceneModels.of(scene)
+    rtol = factory.plan.settings.rtol
+    speeds = np.linspace(500, 12000, n) * RPM
+    sweep_scene(scene, speeds[:50], workers=1)
+
+    def kernel() -> None:
+        for s in speeds:
+            periodic_steady_state(factory(float(s)), rtol=rtol)
+
+    out: dict[str, list[float]] = {"sweep_ms": [], "kernel_ms": [], "ratio": []}
+    for _ in range(repeats):
+        t_s, _r = timed(lambda: sweep_scene(scene, speeds, workers=1))
+        t_k, _ = timed(kernel)
+        out["sweep_ms"].append(1e3 * t_s / n)
+        out["kernel_ms"].append(1e3 * t_k / n)
+        out["ratio"].append(t_s / t_k)
+    return out
+
+
+def _cases() -> list[tuple[str, Any, np.ndarray]]:
+    lin, bl = load_scene(SCENE), load_scene(BACKLASH)
+    return [("linear, 200 speeds", lin, np.linspace(500, 12000, 200) * RPM),
+            ("linear, 20000 speeds", lin, np.linspace(500, 12000, 20000) * RPM),
+            ("backlash, 24 speeds up and down", bl, np.linspace(3000, 9000, 24) * RPM)]
+
+
+def parallel_costs(repeats: int, dask: bool) -> tuple[dict[str, dict[str, list[float]]],
+                                                      dict[str, float | str]]:
+    """Seconds per case and variant: workers 1, workers 2 (default rule / forced), Dask."""
+    info: dict[str, float | str] = {}
+    ex = None
+    cluster = client = None
+    if dask:
+        from distributed import Client, LocalCluster
+
+        t0 = time.perf_counter()
+        cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                               dashboard_address=None)
+        client = Client(cluster)
+        ex = client.get_executor()
+        info["dask_start_s"] = time.perf_counter() - t0
+        lin = _cases()[0]
+        info["dask_cold_s"] = timed(lambda: sweep_scene(lin[1], lin[2], executor=ex,
+                                                        min_parallel_s=0))[0]
+    variants: dict[str, dict[str, Any]] = {
+        "workers 1": {"workers": 1}, "workers 2": {"workers": 2},
+        "workers 2, forced": {"workers": 2, "min_parallel_s": 0.0}}
+    if ex is not None:
+        variants["dask"] = {"executor": ex}
+        variants["dask, forced"] = {"executor": ex, "min_parallel_s": 0.0}
+    out: dict[str, dict[str, list[float]]] = {}
+    try:
+        for _ in range(repeats):
+            for name, scene, speeds in _cases():
+                row = out.setdefault(name, {})
+                for v, kw in variants.items():
+                    t, res = timed(lambda kw=kw, sc=scene, sp=speeds: sweep_scene(sc, sp, **kw))
+                    row.setdefault(v, []).append(t)
+                    info[f"{name} / {v}"] = res.executor
+    finally:
+        if client is not None:
+            client.close()
+        if cluster is not None:
+            cluster.close()
+    return out, info
+
+
+def report(args: argparse.Namespace, cli: dict[str, list[float]],
+           kern: dict[str, list[float]], par: dict[str, dict[str, list[float]]],
+           info: dict[str, float | str]) -> str:
+    lines = [
+        "# Speed sweep benchmark: fixed cost, per-speed cost, workers, Dask", "",
+        f"Command: `python benchmarks/bench_sweep.py --repeats {args.repeats}`. Median of "
+        f"{args.repeats} interleaved repeats (min..max); ratios formed within one repeat.", "",
+        f"Machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores shared "
+        f"with other jobs (load average at the end: "
+        f"{', '.join(f'{x:.1f}' for x in os.getloadavg())}), Python "
+        f"{platform.python_version()}.", "",
+        "## Fixed cost of `gear-dyn sweep` (whole processes, helicopter_tail, --workers 1)", "",
+        "| process | wall time (s) |", "|---|---|",
+        f"| start-up: import the CLI, load the scene | {spread(cli['startup'])} |",
+        f"| `gear-dyn sweep --speeds 500 rpm:12000 rpm:2` (response, waterfall, CSV, JSON) | "
+        f"{spread(cli['sweep_2'])} |",
+        f"| the same with `--chart both` (stability.png) | {spread(cli['sweep_2_charts'])} |",
+        f"| the same with 2000 speeds | {spread(cli['sweep_2000'])} |", "",
+        f"Fixed cost beyond start-up: **{spread(cli['fixed'])} s** (with the stability charts "
+        f"{spread(cli['fixed_charts'])} s); the command's cost per speed "
+        f"{spread(cli['cli_per_speed_ms'])} ms.", "",
+        "## Per-speed cost against the steady-state kernel (in-process, 2000 speeds)", "",
+        f"Whole sweep (`sweep_scene(workers=1)`): {spread(kern['sweep_ms'])} ms per speed; the "
+        f"kernel alone (`periodic_steady_state` per speed): {spread(kern['kernel_ms'])} ms; "
+        f"**sweep / kernel = {spread(kern['ratio'], '.2f')}**.", "",
+        "## Workers and Dask (in-process calls, seconds per sweep)", "",
+    ]
+    variants = list(next(iter(par.values())).keys())
+    lines += ["| case | " + " | ".join(variants) + " | workers 2 / workers 1 | "
+              "dask / workers 1 |", "|---" * (len(variants) + 3) + "|"]
+    for case, row in par.items():
+        r2 = [b / a for a, b in zip(row["workers 1"], row["workers 2"], strict=True)]
+        rd = ([b / a for a, b in zip(row["workers 1"], row["dask"], strict=True)]
+              if "dask" in row else [])
+        lines.append(f"| {case} | " + " | ".join(spread(row[v]) for v in variants)
+                     + f" | {spread(r2, '.2f')} | {spread(rd, '.2f') if rd else '-'} |")
+    lines += ["", "Where each default ran (`SweepResult.executor`):", ""]
+    lines += [f"- {k}: {v}" for k, v in info.items()
+              if isinstance(v, str) and "forced" not in k and "workers 1" not in k]
+    if "dask_start_s" in info:
+        lines += ["", f"Dask LocalCluster start {info['dask_start_s']:.2f} s and the first "
+                  f"(cold) forced sweep of 200 speeds {info['dask_cold_s']:.2f} s (each worker "
+                  "imports gear_dyn and builds the scene once), not in the table."]
+    return "\n".join(lines) + "\n"
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "out",
+                    help="output folder (default benchmarks/out/, git-ignored)")
+    ap.add_argument("--record", action="store_true",
+                    help="write into benchmarks/results/ (the recorded figures)")
+    ap.add_argument("--no-dask", action="store_true", help="skip the Dask cases")
+    ap.add_argument("--methods", action="store_true",
+                    help="instead: the slow steady-vs-transient comparison (sweep_methods.md)")
+    ap.add_argument("--speeds", type=int, default=500, help="speeds of --methods")
+    args = ap.parse_args()
+    out_dir = ROOT / "benchmarks" / "results" if args.record else args.out
+    out_dir.mkdir(parents=True, exist_ok=True)
+    if args.methods:
+        text = methods_table(args)
+        print(text)
+        (out_dir / "sweep_methods.md").write_text(text)
+        print(f"wrote {out_dir / 'sweep_methods.md'}")
+        return
+    with tempfile.TemporaryDirectory() as tmp:
+        cli = cli_costs(args.repeats, Path(tmp))
+    print(f"fixed cost beyond start-up {spread(cli['fixed'])} s", flush=True)
+    kern = kernel_costs(args.repeats)
+    print(f"sweep / kernel per speed {spread(kern['ratio'], '.2f')}", flush=True)
+    par, info = parallel_costs(args.repeats, not args.no_dask)
+    text = report(args, cli, kern, par, info)
     print(text)
-    if args.record:
-        args.out = Path(__file__).resolve().parent / "results" / "sweep.md"
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text(text)
+    (out_dir / "sweep.md").write_text(text)
+    print(f"wrote {out_dir / 'sweep.md'}")
 
 
 if __name__ == "__main__":

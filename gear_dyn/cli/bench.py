@@ -10,6 +10,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from gear_dyn.cli.progress import counter
 from gear_dyn.errors import InputError
 
 TARGETS = (1e-4, 1e-6, 1e-8)
@@ -84,11 +85,7 @@ def run(args: argparse.Namespace) -> int:
     scene = load_scene(args.scene)
     ov = {"periods": args.periods} if args.periods is not None else {}
     plan = build_plan(scene, **ov)
-    show = None
-    if not args.quiet and sys.stderr.isatty():
-        from gear_dyn.cli.sweep import progress_bar
-
-        show = progress_bar(sys.stderr, unit="cases")
+    show = counter("case", args.quiet)
     report = run_bench(plan.model, plan.t_end, name=scene.name, methods=methods, rtols=rtols,
                        repeats=args.repeats, samples_per_period=plan.settings.samples_per_period,
                        budget_s=args.budget, progress=show)

@@ -6,6 +6,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from gear_dyn.cli.progress import Stages, add_quiet_flag
+
 
 def register(sub: Any) -> None:
     p = sub.add_parser(
@@ -29,6 +31,7 @@ def register(sub: Any) -> None:
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="set an FMU parameter for this check, e.g. solver.method=DOP853 "
                    "(the reference uses the same value)")
+    add_quiet_flag(p)
     p.set_defaults(func=run)
 
 
@@ -52,6 +55,12 @@ def _parse_set(items: list[str]) -> dict[str, Any]:
 
 
 def run(args: argparse.Namespace) -> int:
+    with Stages(["read FMU and scene", "FMU (fmpy) and reference (solve_ivp)", "write"],
+                args.quiet) as st:
+        return _run(args, st)
+
+
+def _run(args: argparse.Namespace, st: Stages) -> int:
     from gear_dyn.errors import InputError
     from gear_dyn.fmu.build import read_spec
     from gear_dyn.fmu.cosim import compare
@@ -69,6 +78,7 @@ def run(args: argparse.Namespace) -> int:
             raise InputError(f"--periods = {args.periods}: valid range >= 1")
         stop = args.periods / spec["mesh_frequency"]
     outputs = tuple(args.output) if args.output else ("dte", "mesh_force")
+    st.next()
     report = compare(args.fmu, scene, steps=args.step, stop_time=stop, outputs=outputs,
                      fmu_values=_parse_set(args.set))
     rows: dict[str, list[float]] = {"step_s": [], "n_steps": [], "fmu_run_time_s": [],
@@ -87,6 +97,7 @@ def run(args: argparse.Namespace) -> int:
     for i, name in enumerate(report.outputs):
         series[f"{name}_fmu"] = report.fmu_y[i]
         series[f"{name}_solve_ivp"] = report.ref_y[i]
+    st.next()
     with staged_output(args.out) as tmp:
         write_json(tmp / "summary.json", report.as_dict())
         write_csv(tmp / "steps.csv", rows)

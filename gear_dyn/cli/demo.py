@@ -6,6 +6,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from gear_dyn.cli.progress import Stages, add_quiet_flag
+
 
 def register(sub: Any) -> None:
     p = sub.add_parser(
@@ -15,6 +17,7 @@ def register(sub: Any) -> None:
     )
     p.add_argument("--out", type=Path, default=Path("gear_dyn_demo"),
                    help="output folder (default: ./gear_dyn_demo)")
+    add_quiet_flag(p)
     p.set_defaults(func=run)
 
 
@@ -23,9 +26,12 @@ def run(args: argparse.Namespace) -> int:
     from gear_dyn.scene import load_scene, run_scene
     from gear_dyn.scene.packaged import scene_path
 
-    scene = load_scene(scene_path("helicopter_tail"))
-    result = run_scene(scene)
-    s = write_run_outputs(result, args.out)
+    with Stages(["load scene", "solve", "write plots and data"], args.quiet) as st:
+        scene = load_scene(scene_path("helicopter_tail"))
+        st.next()
+        result = run_scene(scene)
+        st.next()
+        s = write_run_outputs(result, args.out)
     out = args.out.resolve()
     print("gear_dyn demo: seed 002 helicopter tail drive (z 23/64, m 6 mm, 3319 rpm, 1474.4 N m)")
     print(f"  mesh frequency      {s['mesh_frequency_hz']:.1f} Hz")

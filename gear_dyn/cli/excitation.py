@@ -13,6 +13,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from gear_dyn.cli.progress import Stages, add_quiet_flag
+
 
 def register(sub: Any) -> None:
     p = sub.add_parser(
@@ -29,6 +31,7 @@ def register(sub: Any) -> None:
     p.add_argument("--samples-per-mesh", type=int, default=64,
                    help="samples per mesh period (default 64)")
     p.add_argument("--peaks", type=int, default=30, help="peaks listed per signal (default 30)")
+    add_quiet_flag(p)
     p.set_defaults(func=run)
 
 
@@ -51,22 +54,29 @@ def analyse(scene: Any, periods: int = 1, samples_per_mesh: int = 64,
 
 
 def run(args: argparse.Namespace) -> int:
-
-    from gear_dyn.io import save_figure, staged_output, write_csv, write_json
-    from gear_dyn.plots.excitation import plot_excitation_spectra, plot_excitation_time
     from gear_dyn.scene import load_scene
 
-    scene = load_scene(args.scene)
-    res = analyse(scene, args.periods, args.samples_per_mesh, args.peaks)
-    with staged_output(args.out) as tmp:
+    with Stages(["load scene", "excitation and spectra", "write"], args.quiet) as st:
+        scene = load_scene(args.scene)
+        st.next()
+        res = analyse(scene, args.periods, args.samples_per_mesh, args.peaks)
+        st.next()
+        _write(args.out, res)
+    for name, pk in res["peaks"].items():
+        top = ", ".join(f"{p['label'] or '?'} {p['frequency_hz']:.2f} Hz" for p in pk[:6])
+        print(f"{name}: {top or 'constant (no peaks)'}")
+    print(f"wrote {args.out}")
+    return 0
+
+
+def _write(out: Path, res: dict[str, Any]) -> None:
+    from gear_dyn.io import save_figure, staged_output, write_csv, write_json
+    from gear_dyn.plots.excitation import plot_excitation_spectra, plot_excitation_time
+
+    with staged_output(out) as tmp:
         write_csv(tmp / "excitation.csv", {"t_s": res["t"], **res["series"]})
         fig = plot_excitation_time(res["t"], res["series"], res["basis"])
         save_figure(fig, tmp / "excitation_time.png", dpi=110)
         fig = plot_excitation_spectra(res["spectra"], res["peaks"], res["basis"])
         save_figure(fig, tmp / "excitation_spectrum.png", dpi=110)
         write_json(tmp / "peaks.json", res["report"])
-    for name, pk in res["peaks"].items():
-        top = ", ".join(f"{p['label'] or '?'} {p['frequency_hz']:.2f} Hz" for p in pk[:6])
-        print(f"{name}: {top or 'constant (no peaks)'}")
-    print(f"wrote {args.out}")
-    return 0

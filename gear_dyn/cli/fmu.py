@@ -6,6 +6,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from gear_dyn.cli.progress import Stages, add_quiet_flag
+
 
 def register(sub: Any) -> None:
     p = sub.add_parser(
@@ -29,6 +31,7 @@ def register(sub: Any) -> None:
                    "'gear_dyn[fmi3]')")
     b.add_argument("--no-validate", action="store_true",
                    help="skip the fmpy validation of the built FMU")
+    add_quiet_flag(b)
     b.set_defaults(func=run_build)
     v = fsub.add_parser("validate", help="validate an FMU's modelDescription with fmpy",
                         description="Run fmpy's validation (schema, variable names, "
@@ -45,6 +48,7 @@ def register(sub: Any) -> None:
     c.add_argument("fmu", type=Path, help="FMU file built by gear-dyn fmu build")
     c.add_argument("--steps", type=int, default=64,
                    help="communication steps of the DefaultExperiment step size (default 64)")
+    add_quiet_flag(c)
     c.set_defaults(func=run_check)
 
 
@@ -69,7 +73,8 @@ def run_build(args: argparse.Namespace) -> int:
     from gear_dyn.errors import SolverError
     from gear_dyn.fmu.build import build_fmu
 
-    built = build_fmu(args.scene, args.out, fmi=args.fmi)
+    with Stages(["build FMU"], args.quiet):
+        built = build_fmu(args.scene, args.out, fmi=args.fmi)
     n_par = sum(v["causality"] == "parameter" for v in built.spec["variables"])
     n_in = sum(v["causality"] == "input" for v in built.spec["variables"])
     n_out = sum(v["causality"] == "output" for v in built.spec["variables"])
@@ -84,7 +89,8 @@ def run_build(args: argparse.Namespace) -> int:
         print(f"C hosts: not supported by this FMU ({built.c_host_missing}); it runs in "
               "Python hosts (fmpy) only")
     if not args.no_validate:
-        problems = _problems(built.path)
+        with Stages(["validate (fmpy)"], args.quiet):
+            problems = _problems(built.path)
         if problems:
             raise SolverError(f"{built.path}: fmpy validation found {len(problems)} problem(s): "
                               + "; ".join(problems))
@@ -113,7 +119,8 @@ def run_check(args: argparse.Namespace) -> int:
         raise InputError(f"{args.fmu}: FMU file not found")
     if not 1 <= args.steps <= 100000:
         raise InputError(f"--steps {args.steps}: valid range 1 <= steps <= 100000")
-    lines = check_fmu(args.fmu, n_steps=args.steps)
+    with Stages(["check FMU"], args.quiet):
+        lines = check_fmu(args.fmu, n_steps=args.steps)
     print(f"gear-dyn fmu check {args.fmu}")
     for line in lines:
         mark = {True: "PASS", False: "FAIL", None: "SKIP"}[line.ok]

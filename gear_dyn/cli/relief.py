@@ -12,6 +12,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from gear_dyn.cli.progress import Stages, add_quiet_flag
+
 
 def register(sub: Any) -> None:
     p = sub.add_parser(
@@ -22,6 +24,7 @@ def register(sub: Any) -> None:
     )
     p.add_argument("scene", type=Path, help="scene file (TOML)")
     p.add_argument("--json", type=Path, default=None, help="also write the table to this file")
+    add_quiet_flag(p)
     p.set_defaults(func=run)
 
 
@@ -60,8 +63,10 @@ def run(args: argparse.Namespace) -> int:
     from gear_dyn.io import write_json
     from gear_dyn.scene import load_scene
 
-    scene = load_scene(args.scene)
-    tab = table(scene)
+    with Stages(["load scene", "relief rules"], args.quiet) as st:
+        scene = load_scene(args.scene)
+        st.next()
+        tab = table(scene)
     out = sys.stdout
     print(f"{tab['scene']}: T1 = {tab['torque_n_m']:.6g} N m, F_t = {tab['tangential_force_n']:.6g}"
           f" N, w_t = F_t/B = {tab['load_per_width_n_per_mm']:.6g} N/mm, eps_a = "

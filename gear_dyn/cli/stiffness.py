@@ -14,6 +14,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from gear_dyn.cli.progress import Stages, add_quiet_flag
 from gear_dyn.errors import InputError
 
 #: stiffness methods of ``gear_dyn.stiffness.select.METHODS``, spelt out so that building the
@@ -36,6 +37,7 @@ def register(sub: Any) -> None:
     p.add_argument("--cycles", type=float, default=2.0, help="mesh cycles plotted (default 2)")
     p.add_argument("--samples", type=int, default=400,
                    help="phase samples per cycle in stiffness.csv (default 400)")
+    add_quiet_flag(p)
     p.set_defaults(func=run)
 
 
@@ -80,19 +82,38 @@ def compute(scene: Any, methods: list[str]) -> tuple[Any, dict[str, Any], dict[s
 
 
 def run(args: argparse.Namespace) -> int:
-    import numpy as np
-
-    from gear_dyn.io import save_figure, staged_output, write_csv, write_json
-    from gear_dyn.plots.stiffness import plot_components, plot_stiffness_curves
     from gear_dyn.scene import load_scene
 
     if not (args.cycles > 0 and args.cycles <= 1000):
         raise InputError(f"--cycles = {args.cycles}: valid range 0 < cycles <= 1000")
     if args.samples < 4:
         raise InputError(f"--samples = {args.samples}: valid range >= 4")
-    scene = load_scene(args.scene)
-    methods = _methods(args.methods, scene.get("stiffness")["method"])
-    pair, curves, report = compute(scene, methods)
+    with Stages(["load scene", "stiffness curves", "write"], args.quiet) as st:
+        scene = load_scene(args.scene)
+        methods = _methods(args.methods, scene.get("stiffness")["method"])
+        st.next()
+        pair, curves, report = compute(scene, methods)
+        st.next()
+        _write(args, pair, curves, report)
+    op = report["operating"]
+    print(f"{report['scene']}: eps_a = {op['contact_ratio']:.4f}, single-contact share "
+          f"{op['single_contact_share']:.3f}, backlash {_um(op['backlash_m'])} um",
+          file=sys.stdout)
+    for name, s in report["methods"].items():
+        print(f"  {name:17s} mean {s['mean_n_per_m']:.4g}  min {s['min_n_per_m']:.4g}  "
+              f"max {s['max_n_per_m']:.4g} N/m  ({s['build_time_s'] * 1e3:.3g} ms)",
+              file=sys.stdout)
+    print(f"wrote {args.out}/", file=sys.stdout)
+    return 0
+
+
+def _write(args: argparse.Namespace, pair: Any, curves: dict[str, Any],
+           report: dict[str, Any]) -> None:
+    import numpy as np
+
+    from gear_dyn.io import save_figure, staged_output, write_csv, write_json
+    from gear_dyn.plots.stiffness import plot_components, plot_stiffness_curves
+
     comp = report.pop("_components")
     with staged_output(args.out) as tmp:
         fig = plot_stiffness_curves(curves, pair.contact_ratio, cycles=args.cycles,
@@ -107,16 +128,6 @@ def run(args: argparse.Namespace) -> int:
             cols[f"k_{name.replace(' ', '_')}_n_per_m"] = k(p)
         write_csv(tmp / "stiffness.csv", cols)
         write_json(tmp / "stiffness.json", report)
-    op = report["operating"]
-    print(f"{report['scene']}: eps_a = {op['contact_ratio']:.4f}, single-contact share "
-          f"{op['single_contact_share']:.3f}, backlash {_um(op['backlash_m'])} um",
-          file=sys.stdout)
-    for name, s in report["methods"].items():
-        print(f"  {name:17s} mean {s['mean_n_per_m']:.4g}  min {s['min_n_per_m']:.4g}  "
-              f"max {s['max_n_per_m']:.4g} N/m  ({s['build_time_s'] * 1e3:.3g} ms)",
-              file=sys.stdout)
-    print(f"wrote {args.out}/", file=sys.stdout)
-    return 0
 
 
 def _um(x: float) -> str:

@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TextIO, cast
 
+from gear_dyn.cli.progress import counter
 from gear_dyn.cli.run import add_solver_flags, overrides
 from gear_dyn.errors import InputError
 
@@ -18,7 +18,7 @@ def register(sub: Any) -> None:
         description="Evaluate SCENE at N pinion speeds from START to STOP and write into DIR: "
         "response.png (dynamic factor, RMS and peak-to-peak DTE against speed and f_m/f_n; up "
         "and down sweeps for scenes with backlash; separation, back-side contact and "
-        "instability marked), waterfall.png (DTE spectra over speed), stability.png "
+        "instability marked), waterfall.png (DTE spectra over speed), with --chart stability.png "
         "(Floquet stability chart over f_m/f_n and stiffness variation or damping), "
         "sweep.csv, spectra.csv and sweep.json. DIR is replaced as a whole only on success.",
         epilog="examples: gear-dyn sweep scene.toml --speeds '500 rpm:12000 rpm:300' --out out; "
@@ -35,13 +35,21 @@ def register(sub: Any) -> None:
     p.add_argument("--direction", choices=("auto", "up", "down", "both"), default="auto",
                    help="auto (default): up and down with backlash, up otherwise")
     p.add_argument("--workers", type=int, default=None,
-                   help="local processes (default: all cores; 1 = in this process)")
+                   help="local processes, this one included (default: all cores; 1 = in "
+                   "this process only)")
     p.add_argument("--dask", metavar="ADDRESS", default=None,
                    help="run on a Dask distributed scheduler at ADDRESS (e.g. tcp://host:8786)")
-    p.add_argument("--block", type=int, default=8, help="speeds per task (default 8)")
+    p.add_argument("--block", type=int, default=None,
+                   help="speeds per task (default: 8 with backlash; linear scenes about 20 "
+                   "blocks, 8 per process in parallel, at least 32)")
+    p.add_argument("--min-parallel", type=float, default=None, metavar="SECONDS",
+                   help="the first block runs here and is timed; below this much estimated "
+                   "work left, --workers / --dask are not used (default 0.5; 0: always)")
     p.add_argument("--harmonics", type=int, default=5, help="mesh harmonics in the spectra")
-    p.add_argument("--chart", choices=("stiffness", "damping", "both", "none"), default="both",
-                   help="stability chart axes besides f_m/f_n (default both)")
+    p.add_argument("--chart", choices=("stiffness", "damping", "both", "none"), default="none",
+                   help="stability.png: Floquet stability charts over f_m/f_n and the stiffness "
+                   "variation, the damping or both (default none: the response plot marks the "
+                   "unstable speeds of the sweep itself)")
     p.add_argument("--no-progress", "--quiet", dest="no_progress", action="store_true",
                    help="no progress bar on stderr (there is none when stderr is not a terminal)")
     add_solver_flags(p)
@@ -50,7 +58,10 @@ def register(sub: Any) -> None:
 
 def progress_bar(stream: TextIO, width: int = 40, unit: str = "speeds"
                  ) -> Callable[[int, int], None]:
-    """A text progress bar redrawn in place on ``stream`` (``[####....] 12/200 speeds``)."""
+    """A plain text progress bar redrawn in place on ``stream`` (``[####....] 12/200 speeds``).
+
+    The commands draw tqdm bars (:func:`gear_dyn.cli.progress.counter`); this one stays for
+    callers that want a dependency-free bar on any stream."""
     def show(done: int, total: int) -> None:
         n = int(width * done / max(total, 1))
         stream.write(f"\r[{'#' * n}{'.' * (width - n)}] {done}/{total} {unit}")
@@ -61,6 +72,13 @@ def progress_bar(stream: TextIO, width: int = 40, unit: str = "speeds"
 
 
 def run(args: argparse.Namespace) -> int:
+    import os
+
+    # a sweep multiplies 2x2 and 3x3 matrices: BLAS threads never help there, and on a busy
+    # machine their spin-waits made scipy's expm of a 3x3 matrix 10-30 ms instead of 0.1 ms
+    # (measured, benchmarks/bench_sweep.py); the pool's workers inherit it. An explicit
+    # setting wins; it takes effect when numpy is first loaded, just below.
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     from gear_dyn.analysis.sweep import SweepOptions
     from gear_dyn.scene import load_scene
     from gear_dyn.scene.sweep import parse_speed_range, sweep_scene
@@ -69,10 +87,10 @@ def run(args: argparse.Namespace) -> int:
     speeds = parse_speed_range(args.speeds)
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers = {args.workers}: valid range >= 1")
+    if args.min_parallel is not None and not 0 <= args.min_parallel <= 1e6:
+        raise InputError(f"--min-parallel = {args.min_parallel} s: valid range 0..1e6 s")
     opts = SweepOptions(method=args.sweep_method, harmonics=args.harmonics)
-    show = None
-    if not args.no_progress and sys.stderr.isatty():
-        show = progress_bar(sys.stderr)
+    show = counter("speed", args.no_progress)
     executor = None
     client = None
     if args.dask:
@@ -90,6 +108,8 @@ def run(args: argparse.Namespace) -> int:
         result = sweep_scene(scene, speeds, options=opts, direction=args.direction,
                              executor=executor,
                              workers=args.workers, block=args.block, progress=show,
+                             **({} if args.min_parallel is None else
+                                {"min_parallel_s": args.min_parallel}),
                              **overrides(args))
     finally:
         if client is not None:
@@ -122,6 +142,8 @@ def run(args: argparse.Namespace) -> int:
     if summary["hysteresis_ranges_rpm"]:
         rng = ", ".join(f"{a:.0f}-{b:.0f}" for a, b in summary["hysteresis_ranges_rpm"])
         print(f"  up and down sweeps differ (jumps, hysteresis): {rng} rpm")
+    if args.chart == "none" and "stability_chart" not in summary:
+        print("  Floquet stability charts around the scene: --chart both (stability.png)")
     print(f"wrote {args.out}/")
     return 0
 
@@ -140,7 +162,6 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
     from gear_dyn.scene.iso import iso_kv_at
 
     summary = summarize_sweep(result)
-    model = build_model(scene)
     cols = sweep_columns(result)
     iso_curve = None
     if (kv := iso_kv_at(scene, cols["speed_rad_s"])) is not None:  # the standard per speed
@@ -165,7 +186,8 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
             fig = plot_waterfall(result, c.direction)
             name = "waterfall.png" if c is result.curves[0] else f"waterfall_{c.direction}.png"
             save_figure(fig, tmp / name, dpi=110)
-        if chart != "none" and model.mesh_periodic:
+        model = build_model(scene) if chart != "none" else None
+        if model is not None and model.mesh_periodic:
             ratio = result.curves[0].mesh_frequency / result.natural_frequency
             lo, hi = float(np.min(ratio)), float(np.max(ratio))
             charts = sweep_charts(cast(MeshModel, model), lo, hi, chart)

@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 from matplotlib.colors import LogNorm, TwoSlopeNorm
 from matplotlib.figure import Figure
+from matplotlib.ticker import LogFormatter
 
 from gear_dyn.analysis.chart import StabilityChart
 from gear_dyn.analysis.stability import UNIT_CIRCLE_TOL
@@ -18,6 +19,16 @@ from gear_dyn.analysis.sweep import RPM, SweepCurve, SweepResult
 from gear_dyn.plots._axes import axes_of, given_axes, tidy
 
 _STYLE = {"up": dict(color="tab:blue", ls="-"), "down": dict(color="tab:orange", ls="--")}
+
+
+def _layout(fig: Any, own: bool, **margins: float) -> None:
+    """Fixed margins (fractions of the figure) on a figure made here: tight_layout measures
+    every text by drawing it, which cost more than drawing the figure itself; the caller's
+    figure gets :func:`tidy` as before."""
+    if own:
+        fig.subplots_adjust(**margins)
+    else:
+        tidy(fig)
 
 
 def _resonance_marks(ax: Any, result: SweepResult, lo: float, hi: float) -> None:
@@ -62,6 +73,7 @@ def plot_sweep_response(result: SweepResult, ax: Any = None,
     ``ax``: 3 Axes (dynamic factor, RMS, peak-to-peak) or None. ``iso_kv``: (pinion speeds in
     rpm, ISO 6336-1 K_v) drawn beside the simulated dynamic factor.
     """
+    own = ax is None
     fig, axes = axes_of(ax, 3, 1, figsize=(9, 9), name="plot_sweep_response", sharex=True)
     quantities = (("dynamic_factor", 1.0, "dynamic factor"), ("rms_dte", 1e6, "RMS DTE (µm)"),
                   ("ptp_dte", 1e6, "peak-to-peak DTE (µm)"))
@@ -95,7 +107,7 @@ def plot_sweep_response(result: SweepResult, ax: Any = None,
     kind = "steady state (monodromy / shooting)" if result.options.method == "steady" else \
         "transient integration"
     fig.suptitle(f"{result.scene_name}: speed sweep, {kind}", fontsize=10)
-    tidy(fig)
+    _layout(fig, own, left=0.09, right=0.98, bottom=0.06, top=0.9, hspace=0.08)
     return fig
 
 
@@ -146,6 +158,7 @@ def plot_waterfall(result: SweepResult, direction: str | None = None, max_lines:
     amp = c.spectrum[order] * 1e6
     freq = fm[:, None] * result.orders[None, :]
     top = np.nanmax(amp) if np.any(np.isfinite(amp)) else 1.0
+    own = ax is None
     fig, ax3, ax = _waterfall_axes(ax)
     pick = np.unique(np.linspace(0, rpm.size - 1, min(max_lines, rpm.size)).astype(int))
     for i in pick:
@@ -163,7 +176,8 @@ def plot_waterfall(result: SweepResult, direction: str | None = None, max_lines:
     keep = np.isfinite(amp) & (amp > floor * top)
     sc = ax.scatter(freq[keep] / 1e3, np.broadcast_to(rpm[:, None], amp.shape)[keep],
                     c=amp[keep], s=8, cmap="viridis", norm=LogNorm(vmin=floor * top, vmax=top))
-    fig.colorbar(sc, ax=ax, label="DTE amplitude (µm)")
+    cb = fig.colorbar(sc, ax=ax, label="DTE amplitude (µm)")
+    cb.ax.yaxis.set_major_formatter(LogFormatter())  # plain "100", "0.1": no mathtext parser
     for k in range(1, result.options.harmonics + 1):
         ax.plot(k * fm / 1e3, rpm, color="0.6", lw=0.6, ls="--")
     fn = result.natural_frequency
@@ -176,7 +190,7 @@ def plot_waterfall(result: SweepResult, direction: str | None = None, max_lines:
     ax.grid(alpha=0.3)
     fig.suptitle(f"{result.scene_name}: DTE spectra over speed (sweep {c.direction})",
                  fontsize=10)
-    tidy(fig)
+    _layout(fig, own, left=0.02, right=0.97, bottom=0.11, top=0.9, wspace=0.12)
     return fig
 
 
@@ -193,7 +207,15 @@ def plot_stability_chart(chart: StabilityChart, ax: Any = None,
         f_m / f_n range of a sweep, drawn on the scene's own parameter line.
     title : str or None
     """
+    own = ax is None
     fig, ax = axes_of(ax, figsize=(7, 4.5), name="plot_stability_chart")
+    _draw_chart(fig, ax, chart, sweep_range, title)
+    _layout(fig, own, left=0.11, right=0.98, bottom=0.12, top=0.92)
+    return fig
+
+
+def _draw_chart(fig: Any, ax: Any, chart: StabilityChart,
+                sweep_range: tuple[float, float] | None, title: str | None) -> None:
     rho = chart.spectral_radius
     vmax = max(float(np.max(rho)), 1.2)
     pm = ax.pcolormesh(chart.frequency_ratio, chart.parameter, rho, shading="auto",
@@ -214,8 +236,6 @@ def plot_stability_chart(chart: StabilityChart, ax: Any = None,
     ax.set_ylabel(ylabel)
     ax.set_title(title or "parametric stability (black line: |mu| = 1; inside: unstable)",
                  fontsize=9)
-    tidy(fig)
-    return fig
 
 
 def plot_stability_charts(charts: Sequence[StabilityChart],
@@ -233,9 +253,13 @@ def plot_stability_charts(charts: Sequence[StabilityChart],
     ax : Axes, sequence of Axes or None
         One Axes per chart.
     """
-    fig, axes = axes_of(ax, len(charts), 1, figsize=(8, 4.2 * len(charts)),
-                        name="plot_stability_charts", squeeze=False)
+    own = ax is None
+    n = len(charts)
+    fig, axes = axes_of(ax, n, 1, figsize=(8, 4.2 * n), name="plot_stability_charts",
+                        squeeze=False)
     for a, ch in zip(axes[:, 0], charts, strict=True):
-        plot_stability_chart(ch, ax=a, sweep_range=sweep_range, title=title or None)
-    tidy(fig)
+        _draw_chart(fig, a, ch, sweep_range, title or None)
+    h = 4.2 * n  # inches: margins of 0.5 in at the bottom, 0.4 in at the top, 0.75 in between
+    _layout(fig, own, left=0.1, right=0.98, bottom=0.5 / h, top=1 - 0.4 / h,
+            hspace=0.75 / ((h - 0.9 - 0.75 * (n - 1)) / n) if n > 1 else 0.2)
     return fig

@@ -83,7 +83,7 @@ def sweep_scene(scene: Scene, speeds: Any, **kwargs: Any) -> SweepResult:
     scene's model factory, solver settings and span.
 
     ``kwargs``: the options of :func:`~gear_dyn.analysis.sweep.sweep` (options, direction,
-    executor, workers, block, progress) and ``[solver]`` overrides (rtol, method,
+    executor, workers, block, progress, min_parallel_s) and ``[solver]`` overrides (rtol, method,
     samples_per_period, periods, steady_periods).
 
     Raises
@@ -93,7 +93,8 @@ def sweep_scene(scene: Scene, speeds: Any, **kwargs: Any) -> SweepResult:
     SolverError
         An integration failed.
     """
-    names = ("options", "direction", "executor", "workers", "block", "progress")
+    names = ("options", "direction", "executor", "workers", "block", "progress",
+             "min_parallel_s")
     sweep_kw = {k: kwargs.pop(k) for k in names if k in kwargs}
     factory = SceneModels.of(scene, **kwargs)
     plan = factory.plan

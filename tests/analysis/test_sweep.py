@@ -189,17 +189,17 @@ def test_dask_and_local_executor_identical(tmp_path: Path) -> None:
     bl = load_scene(BACKLASH)
     sp_tail = np.linspace(2000, 16000, 12) * RPM
     sp_bl = np.array([5000.0, 6000.0, 6400.0]) * RPM
-    local = [sweep_scene(tail, sp_tail, workers=2, block=3),
-             sweep_scene(bl, sp_bl, workers=2, block=2)]
+    local = [sweep_scene(tail, sp_tail, workers=2, block=3, min_parallel_s=0),
+             sweep_scene(bl, sp_bl, workers=2, block=2, min_parallel_s=0)]
     with LocalCluster(n_workers=1, processes=False, threads_per_worker=2,
                       dashboard_address=":0") as cluster, Client(cluster) as client:
         ex = client.get_executor()
-        remote = [sweep_scene(tail, sp_tail, executor=ex, block=3),
-                  sweep_scene(bl, sp_bl, executor=ex, block=2)]
+        remote = [sweep_scene(tail, sp_tail, executor=ex, block=3, min_parallel_s=0),
+                  sweep_scene(bl, sp_bl, executor=ex, block=2, min_parallel_s=0)]
         # the command line reaches the same scheduler by its address
         code = main(["sweep", str(TAIL), "--speeds", "2000 rpm:4000 rpm:3", "--out",
                      str(tmp_path / "d"), "--dask", cluster.scheduler_address, "--chart", "none",
-                     "--no-progress"])
+                     "--no-progress", "--min-parallel", "0"])
         assert code == 0
         assert json.loads((tmp_path / "d" / "sweep.json").read_text())["executor"] == (
             "ClientExecutor")
@@ -219,7 +219,7 @@ def test_progress_and_thread_executor() -> None:
     seen: list[tuple[int, int]] = []
     with cf.ThreadPoolExecutor(2) as ex:
         res = sweep_scene(scene, np.linspace(1000, 3000, 10) * RPM, executor=ex, block=4,
-                    progress=lambda d, n: seen.append((d, n)))
+                          progress=lambda d, n: seen.append((d, n)), min_parallel_s=0)
     # one call per finished block (4, 4 and 2 speeds, in any order), counting up to 10
     assert [n for _d, n in seen] == [10, 10, 10]
     done = [d for d, _n in seen]
@@ -256,7 +256,7 @@ def test_sweep_bad_input() -> None:
 def test_cli_sweep(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "sw"
     code = main(["sweep", str(TAIL), "--speeds", "3000 rpm:16000 rpm:14", "--out", str(out),
-                 "--workers", "1", "--no-progress"])
+                 "--workers", "1", "--no-progress", "--chart", "both"])
     assert code == 0
     for name in ("response.png", "waterfall.png", "stability.png", "sweep.csv", "spectra.csv",
                  "sweep.json"):

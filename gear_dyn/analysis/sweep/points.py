@@ -46,9 +46,10 @@ def _order_spectrum(dte: FloatArray, window: int, spp: int, harmonics: int) -> F
     return np.abs(spec[1: window * harmonics + 1])
 
 
-def _metrics(model: Model, t: FloatArray, y: FloatArray, load: float
+def _metrics(model: Model, t: FloatArray, y: FloatArray, load: float,
+             out: dict[str, FloatArray] | None = None
              ) -> tuple[float, float, float, float, float, float]:
-    out = model.outputs(t, y)
+    out = model.outputs(t, y) if out is None else out
     dte, force = out["dte"], out["mesh_force"]
     if not (np.all(np.isfinite(dte)) and np.all(np.isfinite(force))):
         nan = math.nan
@@ -93,14 +94,22 @@ def _orbit_point(model: Model, speed: float, y0: FloatArray, settings: SolverSet
             t, y = t[: spp + 1], y[:, : spp + 1]
             rho = math.sqrt(rho)  # multipliers of the two-period map are squares
             status = "periodic" if status == "period-2" else status
-    t, y = t[:-1], y[:, :-1]
-    df, rms, ptp, mean, sep, back = _metrics(model, t, y, model.static_load)
-    dte = model.outputs(t, y)["dte"]
+    return _orbit_metrics(model, speed, t[:-1], y[:, :-1], opts, rho, stable, status,
+                          iterations, orbit_periods, spp)
+
+
+def _orbit_metrics(model: Model, speed: float, t: FloatArray, y: FloatArray, opts: SweepOptions,
+                   rho: float, stable: bool, status: str, iterations: int, orbit_periods: int,
+                   spp: int) -> Point:
+    """The point of a periodic orbit sampled at ``t`` (whole periods, the end excluded)."""
+    out = model.outputs(t, y)
+    df, rms, ptp, mean, sep, back = _metrics(model, t, y, model.static_load, out)
     reps = -(-opts.window_periods // orbit_periods)
-    dte_win = np.tile(dte, reps)[: opts.window_periods * spp]
+    dte_win = np.tile(out["dte"], reps)[: opts.window_periods * spp]
     spec = _order_spectrum(dte_win, opts.window_periods, spp, opts.harmonics)
-    return Point(speed, fm, df, rms, ptp, mean, rho, stable, orbit_periods == 1, status, sep,
-                 back, iterations, spec, np.array(y0, dtype=float), orbit_periods)
+    return Point(speed, model.mesh_frequency, df, rms, ptp, mean, rho, stable,
+                 orbit_periods == 1, status, sep, back, iterations, spec,
+                 np.array(y[:, 0], dtype=float), orbit_periods)
 
 
 def _window_point(model: Model, speed: float, t: FloatArray, y: FloatArray, n_window: int,

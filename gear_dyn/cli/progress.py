@@ -1,0 +1,105 @@
+"""Progress bars of the long commands (tqdm on stderr), silent off a terminal or with --quiet.
+
+Every command that can take more than ~2 s (sweep, bench, cosim, demo, excitation, stiffness,
+relief, fmu build) draws one: by items where it has them (speeds, cases, steps), else by
+stages. tqdm is imported only when a bar is drawn, so ``--quiet`` and redirected runs do not
+pay its import.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable, Sequence
+from typing import Any, TextIO
+
+
+def add_quiet_flag(p: Any) -> None:
+    """``--quiet``: no progress bar (there is none when stderr is not a terminal)."""
+    p.add_argument("--quiet", action="store_true",
+                   help="no progress bar on stderr (there is none when stderr is not a "
+                   "terminal)")
+
+
+def shown(quiet: bool, stream: TextIO | None = None) -> bool:
+    """Whether a bar is drawn: not ``quiet`` and ``stream`` (default stderr) is a terminal."""
+    s = sys.stderr if stream is None else stream
+    return not quiet and bool(getattr(s, "isatty", lambda: False)())
+
+
+def _tqdm() -> Any:
+    """tqdm's bar class, or None where tqdm is not installed (a dependency since the progress
+    bars came: an environment made before them runs on, without bars)."""
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        return None
+    return tqdm
+
+
+def _shape() -> dict[str, int]:
+    """tqdm's ``ncols`` and ``nrows`` from the terminal, 80 x 24 where it reports none (a
+    fresh pseudo-terminal says 0 x 0, and tqdm hides a bar below row 0)."""
+    import shutil
+
+    size = shutil.get_terminal_size()
+    return {"ncols": max(size.columns, 40), "nrows": max(size.lines, 2)}
+
+
+def counter(unit: str, quiet: bool = False, stream: TextIO | None = None
+            ) -> Callable[[int, int], None] | None:
+    """A ``progress(done, total)`` callback drawing a bar of ``unit`` items, or None (silent).
+
+    The bar closes itself when ``done`` reaches ``total``.
+    """
+    s = sys.stderr if stream is None else stream
+    tqdm = _tqdm() if shown(quiet, s) else None
+    if tqdm is None:
+        return None
+    state: dict[str, Any] = {}
+
+    def show(done: int, total: int) -> None:
+        bar = state.get("bar")
+        if bar is None:
+            bar = state["bar"] = tqdm(total=total, unit=unit, file=s, leave=False,
+                                      **_shape())
+        bar.update(done - bar.n)
+        if done >= total:
+            bar.close()
+    return show
+
+
+class Stages:
+    """A bar over named stages: ``with Stages(["load", "solve", "write"], quiet) as st:``
+    then ``st.next()`` as each stage starts (the bar shows the stage's name)."""
+
+    def __init__(self, names: Sequence[str], quiet: bool = False,
+                 stream: TextIO | None = None) -> None:
+        self.names = list(names)
+        self.i = -1
+        self.bar: Any = None
+        s = sys.stderr if stream is None else stream
+        tqdm = _tqdm() if shown(quiet, s) else None
+        if tqdm is not None:
+            self.bar = tqdm(total=len(self.names), unit="stage", file=s, leave=False,
+                            bar_format="{l_bar}{bar}| {n}/{total} stages", **_shape())
+
+    def next(self) -> None:
+        """Start the next stage (the previous one is counted done)."""
+        if self.i >= 0 and self.bar is not None:
+            self.bar.update(1)
+        self.i += 1
+        if self.bar is not None and self.i < len(self.names):
+            self.bar.set_description_str(self.names[self.i])
+
+    def __enter__(self) -> Stages:
+        self.next()
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        if self.bar is not None:
+            if exc[0] is None:
+                self.bar.update(len(self.names) - self.bar.n)
+            self.bar.close()
+
+
+__all__ = ["Stages", "add_quiet_flag", "counter", "shown"]

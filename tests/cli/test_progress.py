@@ -1,0 +1,95 @@
+"""Progress bars: drawn on a terminal only, silent off a terminal and with --quiet."""
+
+from __future__ import annotations
+
+import io
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from gear_dyn.cli.app import build_parser
+from gear_dyn.cli.progress import Stages, counter
+
+SCENE = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "helicopter_tail.toml"
+# every command that can run longer than ~2 s, with its required arguments
+LONG = {
+    "sweep": ["sweep", "s.toml", "--speeds", "1 rpm:2 rpm:2", "--out", "o"],
+    "bench": ["bench", "s.toml", "--out", "o"],
+    "cosim": ["cosim", "f.fmu", "--out", "o"],
+    "demo": ["demo"],
+    "excitation": ["excitation", "s.toml", "--out", "o"],
+    "stiffness": ["stiffness", "s.toml", "--out", "o"],
+    "relief": ["relief", "s.toml"],
+    "fmu build": ["fmu", "build", "s.toml", "--out", "f.fmu"],
+    "fmu check": ["fmu", "check", "f.fmu"],
+}
+
+
+class _Tty(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+@pytest.mark.parametrize("name", sorted(LONG))
+def test_quiet_accepted(name: str) -> None:
+    args = build_parser().parse_args([*LONG[name], "--quiet"])
+    assert getattr(args, "quiet", getattr(args, "no_progress", None)) is True
+
+
+def test_bar_on_a_terminal_only() -> None:
+    tty = _Tty()
+    show = counter("speed", stream=tty)
+    assert show is not None
+    show(3, 10)
+    show(10, 10)
+    # drawn in place (carriage returns) and cleared when done
+    assert "0/10" in tty.getvalue() and "speed" in tty.getvalue() and "\r" in tty.getvalue()
+    assert counter("speed", quiet=True, stream=_Tty()) is None
+    assert counter("speed", stream=io.StringIO()) is None
+    tty = _Tty()
+    with Stages(["load", "solve"], stream=tty) as st:
+        st.next()
+    assert "load" in tty.getvalue() and "/2 stages" in tty.getvalue()
+    plain = io.StringIO()
+    with Stages(["load", "solve"], stream=plain) as st:
+        st.next()
+    assert plain.getvalue() == ""
+
+
+@pytest.mark.parametrize("cmd", [
+    ["sweep", str(SCENE), "--speeds", "3000 rpm:4000 rpm:40", "--workers", "1"],
+    ["relief", str(SCENE)],
+])
+def test_no_bar_off_a_terminal(cmd: list[str], tmp_path: Path) -> None:
+    if cmd[0] == "sweep":
+        cmd = [*cmd, "--out", str(tmp_path / "o")]
+    run = subprocess.run([sys.executable, "-m", "gear_dyn.cli", *cmd], capture_output=True,
+                         text=True, check=True)
+    # tqdm draws with carriage returns and block characters; none of them off a terminal
+    for mark in ("\r", "█", "it/s", "stages"):
+        assert mark not in run.stderr and mark not in run.stdout
+
+
+@pytest.mark.skipif(not hasattr(__import__("os"), "fork") or sys.platform == "win32",
+                    reason="needs a POSIX pseudo-terminal")
+def test_bar_in_a_pseudo_terminal() -> None:
+    # a fresh pseudo-terminal reports 0 x 0: the bar must still be drawn
+    import os
+    import pty
+
+    pid, fd = pty.fork()
+    if pid == 0:  # the child: the command with stderr on the terminal
+        os.execv(sys.executable, [sys.executable, "-m", "gear_dyn.cli", "relief", str(SCENE)])
+    out = b""
+    while True:
+        try:
+            chunk = os.read(fd, 4096)
+        except OSError:
+            break
+        if not chunk:
+            break
+        out += chunk
+    os.waitpid(pid, 0)
+    assert b"/2 stages" in out and b"\r" in out
