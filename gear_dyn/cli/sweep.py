@@ -91,22 +91,10 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--min-parallel = {args.min_parallel} s: valid range 0..1e6 s")
     opts = SweepOptions(method=args.sweep_method, harmonics=args.harmonics)
     show = counter("speed", args.no_progress)
-    executor = None
-    client = None
-    if args.dask:
-        try:
-            from distributed import Client
-        except ImportError:
-            raise InputError("--dask needs the distributed package: pip install "
-                             "'dask[distributed]'") from None
-        try:
-            client = Client(args.dask, timeout="20s")
-        except (OSError, TimeoutError, ValueError) as exc:  # ValueError: a malformed address
-            raise InputError(f"--dask {args.dask}: cannot reach the scheduler ({exc})") from None
-        executor = client.get_executor()
+    client = _dask_client(args.dask) if args.dask else None
     try:
         result = sweep_scene(scene, speeds, options=opts, direction=args.direction,
-                             executor=executor,
+                             executor=None if client is None else client.get_executor(),
                              workers=args.workers, block=args.block, progress=show,
                              **({} if args.min_parallel is None else
                                 {"min_parallel_s": args.min_parallel}),
@@ -115,6 +103,27 @@ def run(args: argparse.Namespace) -> int:
         if client is not None:
             client.close()
     summary = write_sweep_outputs(result, scene, args.out, args.chart)
+    _print_summary(result, scene, summary, args.chart)
+    print(f"wrote {args.out}/")
+    return 0
+
+
+
+def _dask_client(address: str) -> Any:
+    """A Dask client of the scheduler at ``address`` (a user mistake is an InputError)."""
+    try:
+        from distributed import Client
+    except ImportError:
+        raise InputError("--dask needs the distributed package: pip install "
+                         "'dask[distributed]'") from None
+    try:
+        return Client(address, timeout="20s")
+    except (OSError, TimeoutError, ValueError) as exc:  # ValueError: a malformed address
+        raise InputError(f"--dask {address}: cannot reach the scheduler ({exc})") from None
+
+
+def _print_summary(result: Any, scene: Any, summary: dict[str, Any], chart: str) -> None:
+    """The sweep's terminal report: range, resonance, maximum dynamic factor, K_v, warnings."""
     up = summary["curves"][result.curves[0].direction]
     print(f"{scene.name}: {summary['n_speeds']} speeds {summary['speed_range_rpm'][0]:.0f}-"
           f"{summary['speed_range_rpm'][1]:.0f} rpm in {result.run_time_s:.3g} s "
@@ -142,10 +151,8 @@ def run(args: argparse.Namespace) -> int:
     if summary["hysteresis_ranges_rpm"]:
         rng = ", ".join(f"{a:.0f}-{b:.0f}" for a, b in summary["hysteresis_ranges_rpm"])
         print(f"  up and down sweeps differ (jumps, hysteresis): {rng} rpm")
-    if args.chart == "none" and "stability_chart" not in summary:
+    if chart == "none" and "stability_chart" not in summary:
         print("  Floquet stability charts around the scene: --chart both (stability.png)")
-    print(f"wrote {args.out}/")
-    return 0
 
 
 def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"

@@ -48,20 +48,25 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.eccentricity.contact_lines import LineLayout, contact_lines, total_length_scalar
-from gear_dyn.eccentricity.friction import friction_factors, line_state_scalar
+from gear_dyn.eccentricity.contact_lines import LineLayout, contact_lines
+from gear_dyn.eccentricity.friction import friction_factors
 from gear_dyn.eccentricity.kinematics import Eccentricity, EccentricMesh, Kinematics
 from gear_dyn.errors import InputError, check_range
 from gear_dyn.excitation import HarmonicSignal, SampledSignal
 from gear_dyn.geometry import GearPair
 from gear_dyn.models.sdof import dead_zone, effective_mass
-from gear_dyn.models.torsional_parts import ContactLineStiffness, _fast_periodic, _levels, _Place
+from gear_dyn.models.torsional_parts import (
+    ContactLineStiffness,
+    Excite,
+    _levels,
+    _Place,
+    excite_closure,
+)
 from gear_dyn.models.torsional_table import ExcitationTable, force_form, table_of
 from gear_dyn.stiffness.periodic import PeriodicStiffness
 
 FloatArray = NDArray[np.float64]
 Signal = HarmonicSignal | SampledSignal
-Excite = Callable[[float], tuple[float, float, float, float, float]]
 
 _MEAN_SAMPLES = 200_000  # cap on samples used for the mean friction factors
 
@@ -253,51 +258,9 @@ class TorsionalModel:
 
     def _build_excite(self) -> Excite:
         """Closure t -> (e_ecc, e_ecc', k, phi1, phi2), with only the enabled parts."""
-        fm = self.mesh_frequency
-        stiff = self.stiffness
-        lay = self._layout
-        mu = self.friction
-        ecc = self.eccentric
-        pitch = self.pair.base_pitch
-        l_ac0 = self._mesh.l_ac0
-        place = self._place_scalar
-
-        if isinstance(stiff, PeriodicStiffness) and mu is None and not ecc:
-            pst = _fast_periodic(stiff)
-
-            def excite_plain(t: float) -> tuple[float, float, float, float, float]:
-                return 0.0, 0.0, pst(fm * t), 0.0, 0.0
-            return excite_plain
-
-        fast_k = _fast_periodic(stiff) if isinstance(stiff, PeriodicStiffness) else None
-
-        def periodic_k(t: float, kin: Any) -> float:
-            assert fast_k is not None
-            if ecc:
-                return fast_k((kin.travel + l_ac0 - kin.l_ac) / pitch)
-            return fast_k(fm * t)
-
-        k_l = stiff.per_length if isinstance(stiff, ContactLineStiffness) else None
-        if mu is None:
-            def excite_frictionless(t: float) -> tuple[float, float, float, float, float]:
-                kin = place(t)
-                e, ed = (kin.e_ecc, kin.e_ecc_rate) if ecc else (0.0, 0.0)
-                if k_l is not None:
-                    assert lay is not None
-                    return e, ed, k_l * total_length_scalar(lay, kin), 0.0, 0.0
-                return e, ed, periodic_k(t, kin), 0.0, 0.0
-            return excite_frictionless
-
-        assert lay is not None
-        mu_f = float(mu)
-
-        def excite(t: float) -> tuple[float, float, float, float, float]:
-            kin = place(t)
-            e, ed = (kin.e_ecc, kin.e_ecc_rate) if ecc else (0.0, 0.0)
-            total, _, p1, p2 = line_state_scalar(lay, kin, mu_f)
-            k = k_l * total if k_l is not None else periodic_k(t, kin)
-            return e, ed, k, p1, p2
-        return excite
+        return excite_closure(self.stiffness, self._layout, self.friction, self.eccentric,
+                              self._place_scalar, self.mesh_frequency, self.pair.base_pitch,
+                              self._mesh.l_ac0)
 
     @property
     def coefficients(self) -> Excite:

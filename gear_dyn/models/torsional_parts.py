@@ -7,10 +7,13 @@ import bisect
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from gear_dyn.eccentricity.contact_lines import total_length_scalar
+from gear_dyn.eccentricity.friction import line_state_scalar
 from gear_dyn.errors import check_range
 from gear_dyn.stiffness.periodic import PeriodicStiffness
 
@@ -84,3 +87,55 @@ def _levels(h: Callable[[FloatArray], FloatArray], rate: float, t0: float, t1: f
         if np.max(np.abs(step)) <= 1e-15 * max(abs(t1), 1e-3):
             break
     return np.asarray(t[(t > t0) & (t < t1)], dtype=float)
+
+
+#: t -> (e_ecc, e_ecc', k, phi1, phi2): the state-free coefficients of the torsional model
+Excite = Callable[[float], tuple[float, float, float, float, float]]
+
+
+def excite_closure(stiff: Any, lay: Any, mu: float | None, ecc: bool,
+                   place: Callable[[float], Any], fm: float, pitch: float,
+                   l_ac0: float) -> Excite:
+    """Closure t -> (e_ecc, e_ecc', k, phi1, phi2) of the torsional model, with only the
+    enabled parts: ``stiff`` a PeriodicStiffness or ContactLineStiffness, ``lay`` the contact
+    line layout (None without contact lines), ``mu`` the friction coefficient (None: none),
+    ``ecc`` whether the pair is eccentric, ``place(t)`` the field of contact at t, ``fm`` the
+    mesh frequency (Hz), ``pitch`` the base pitch (m), ``l_ac0`` the nominal L_AC (m)."""
+
+    if isinstance(stiff, PeriodicStiffness) and mu is None and not ecc:
+        pst = _fast_periodic(stiff)
+
+        def excite_plain(t: float) -> tuple[float, float, float, float, float]:
+            return 0.0, 0.0, pst(fm * t), 0.0, 0.0
+        return excite_plain
+
+    fast_k = _fast_periodic(stiff) if isinstance(stiff, PeriodicStiffness) else None
+
+    def periodic_k(t: float, kin: Any) -> float:
+        assert fast_k is not None
+        if ecc:
+            return fast_k((kin.travel + l_ac0 - kin.l_ac) / pitch)
+        return fast_k(fm * t)
+
+    k_l = stiff.per_length if isinstance(stiff, ContactLineStiffness) else None
+    if mu is None:
+        def excite_frictionless(t: float) -> tuple[float, float, float, float, float]:
+            kin = place(t)
+            e, ed = (kin.e_ecc, kin.e_ecc_rate) if ecc else (0.0, 0.0)
+            if k_l is not None:
+                assert lay is not None
+                return e, ed, k_l * total_length_scalar(lay, kin), 0.0, 0.0
+            return e, ed, periodic_k(t, kin), 0.0, 0.0
+        return excite_frictionless
+
+    assert lay is not None
+    mu_f = float(mu)
+
+    def excite(t: float) -> tuple[float, float, float, float, float]:
+        kin = place(t)
+        e, ed = (kin.e_ecc, kin.e_ecc_rate) if ecc else (0.0, 0.0)
+        total, _, p1, p2 = line_state_scalar(lay, kin, mu_f)
+        k = k_l * total if k_l is not None else periodic_k(t, kin)
+        return e, ed, k, p1, p2
+    return excite
+

@@ -40,6 +40,31 @@ def _event(fn: EventFn, direction: float) -> Any:
     return ev
 
 
+
+def _take(sol: Any, method: str, t: float, tb: float, n: int, y_eval: FloatArray, done: int,
+          st: dict[str, int]) -> int:
+    """Add one solve_ivp call's statistics to ``st`` and its output points to ``y_eval`` (from
+    column ``done``); the new count of filled columns. Raises SolverError on a failed call or
+    non-finite states."""
+    st["nfev"] += sol.nfev
+    st["njev"] += sol.njev
+    st["nlu"] += sol.nlu
+    if sol.status == -1:
+        raise SolverError(
+            f"solve_ivp ({method}) failed at t = {t:.6g}..{tb:.6g} s: {sol.message}; "
+            "try a smaller rtol or an implicit method (Radau, BDF)"
+        )
+    # solve_ivp returns a plain [] when no t_eval point lies before the event
+    sy = np.asarray(sol.y, dtype=float).reshape(n, -1)
+    k = sy.shape[1]
+    y_eval[:, done:done + k] = sy
+    if not np.all(np.isfinite(sy)):
+        raise SolverError(
+            f"solve_ivp ({method}) produced non-finite states near t = {t:.6g} s; "
+            "the response diverges or the tolerances are too loose"
+        )
+    return done + k
+
 def solve_piece_with_events(
     rhs: Callable[[float, FloatArray], FloatArray],
     ta: float,
@@ -99,24 +124,7 @@ def solve_piece_with_events(
         te = t_eval[done:]
         sol = solve_ivp(rhs, (t, tb), y, method=method, t_eval=te, rtol=rtol, atol=atol,
                         max_step=max_step, events=evs, **extra)
-        st["nfev"] += sol.nfev
-        st["njev"] += sol.njev
-        st["nlu"] += sol.nlu
-        if sol.status == -1:
-            raise SolverError(
-                f"solve_ivp ({method}) failed at t = {t:.6g}..{tb:.6g} s: {sol.message}; "
-                "try a smaller rtol or an implicit method (Radau, BDF)"
-            )
-        # solve_ivp returns a plain [] when no t_eval point lies before the event
-        sy = np.asarray(sol.y, dtype=float).reshape(n, -1)
-        k = sy.shape[1]
-        y_eval[:, done:done + k] = sy
-        done += k
-        if not np.all(np.isfinite(sy)):
-            raise SolverError(
-                f"solve_ivp ({method}) produced non-finite states near t = {t:.6g} s; "
-                "the response diverges or the tolerances are too loose"
-            )
+        done = _take(sol, method, t, tb, n, y_eval, done, st)
         if sol.status == 0:
             return y_eval, np.asarray(sol.y[:, -1], dtype=float), st
         # a contact change: restart there, looking only for the opposite crossing of that g
