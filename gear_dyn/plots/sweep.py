@@ -46,22 +46,30 @@ def _resonance_marks(ax: Any, result: SweepResult, lo: float, hi: float) -> None
                     ha="left", va="top", color="0.35")
 
 
-def _markers(ax: Any, c: SweepCurve, y: np.ndarray, first: bool) -> None:
+def _markers(ax: Any, c: SweepCurve, y: np.ndarray, legend: bool) -> None:
+    """Marks of separation, back-side contact, no orbit and period 2 on one curve; with
+    ``legend``, each kind is labelled once on ``ax`` (by the first curve that shows it)."""
     rpm = c.speed / RPM
+    shown = set(ax.get_legend_handles_labels()[1])
+
+    def label(text: str) -> str | None:
+        return text if legend and text not in shown else None
     sep = np.nan_to_num(c.separation) > 0
     back = np.nan_to_num(c.backside) > 0
     aper = np.array([s == "aperiodic" for s in c.status])
-    ax.plot(rpm[sep], y[sep], "x", color="tab:red", ms=4,
-            label="teeth separate" if first else None)
-    ax.plot(rpm[back], y[back], "v", color="tab:purple", ms=4, mfc="none",
-            label="back-side contact" if first else None)
+    if np.any(sep):  # a legend entry only for what the sweep shows
+        ax.plot(rpm[sep], y[sep], "x", color="tab:red", ms=4,
+                label=label("teeth separate"))
+    if np.any(back):
+        ax.plot(rpm[back], y[back], "v", color="tab:purple", ms=4, mfc="none",
+                label=label("back-side contact"))
     if np.any(aper):
         ax.plot(rpm[aper], y[aper], "o", color="0.3", ms=3, mfc="none",
-                label="no periodic orbit" if first else None)
+                label=label("no periodic orbit"))
     p2 = c.orbit_periods == 2
     if np.any(p2):
         ax.plot(rpm[p2], y[p2], "D", color="tab:green", ms=3.5, mfc="none",
-                label="period-2 (f_m/2)" if first else None)
+                label=label("period-2 (f_m/2)"))
 
 
 def plot_sweep_response(result: SweepResult, ax: Any = None,
@@ -84,9 +92,10 @@ def plot_sweep_response(result: SweepResult, ax: Any = None,
         for c in result.curves:
             y = getattr(c, name) * scale
             style = _STYLE.get(c.direction, {})
-            lab = f"sweep {c.direction}" if len(result.curves) > 1 else None
+            lab = (f"sweep {c.direction}" if len(result.curves) > 1
+                   else "simulated (steady state)") if row == 0 else None
             ax.plot(c.speed / RPM, y, lw=1.1, marker=".", ms=2.5, label=lab, **style)
-            _markers(ax, c, y, first=(row == 0 and c is result.curves[0]))
+            _markers(ax, c, y, legend=row == 0)
             unstable = np.array([s == "unstable" for s in c.status])
             _shade(ax, c.speed / RPM, unstable, row == 0 and c is result.curves[0])
         ax.set_ylabel(label)
@@ -96,7 +105,7 @@ def plot_sweep_response(result: SweepResult, ax: Any = None,
             if iso_kv is not None:
                 ax.plot(*iso_kv, color="k", lw=1.0, ls="-.", label="ISO 6336-1 K_v (method B)")
     axes[-1].set_xlabel("pinion speed (rpm)")
-    axes[0].legend(loc="upper right", fontsize=8, ncol=2)
+    axes[0].legend(loc="best", fontsize=8, ncol=2)  # clear of the resonance peaks
     fn = result.natural_frequency
     if np.isfinite(fn):
         c = result.curves[0]
