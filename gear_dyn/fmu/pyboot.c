@@ -130,6 +130,18 @@ static int recoverable(int s) {
     return (s == 4 && r) ? 3 : s;
 }
 
+/* a wrapper NAME of the binary's renamed original (looked up once), called with the refusal
+ * flag clear; FMI 2 and FMI 3 statuses are ints (enums) */
+#define WRAP(NAME, PARAMS, ARGS)                                                        \
+    int NAME PARAMS {                                                                   \
+        typedef int(*Fn) PARAMS;                                                        \
+        static Fn fn = NULL;                                                            \
+        if (!fn) fn = (Fn)original(#NAME);                                              \
+        if (!fn) return 4;                                                              \
+        refused = 0;                                                                    \
+        return recoverable(fn ARGS);                                                    \
+    }
+
 /* ------------------------------------------------------------------ FMI 2 wrappers */
 #ifndef GEAR_DYN_BOOT_ONLY /* defined by pyboot3.c (FMI 3) */
 typedef int Status; /* fmi2OK 0, fmi2Warning 1, fmi2Discard 2, fmi2Error 3, fmi2Fatal 4 */
@@ -185,16 +197,6 @@ void *fmi2Instantiate(const char *name, int type, const char *guid, const char *
     return fn(name, type, guid, resources, &copies[slot], visible, logging);
 }
 
-/* the original function of the binary (looked up once), called with the refusal flag clear */
-#define WRAP(NAME, PARAMS, ARGS)                                                        \
-    Status NAME PARAMS {                                                                \
-        typedef Status(*Fn) PARAMS;                                                     \
-        static Fn fn = NULL;                                                            \
-        if (!fn) fn = (Fn)original(#NAME);                                              \
-        if (!fn) return 4;                                                              \
-        refused = 0;                                                                    \
-        return recoverable(fn ARGS);                                                    \
-    }
 typedef unsigned VR;
 WRAP(fmi2SetReal, (void *c, const VR *vr, size_t n, const double *x), (c, vr, n, x))
 WRAP(fmi2SetInteger, (void *c, const VR *vr, size_t n, const int *x), (c, vr, n, x))

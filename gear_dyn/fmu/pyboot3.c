@@ -60,39 +60,29 @@ void *fmi3InstantiateCoSimulation(const char *name, const char *token, const cha
               n_required, &loggers3[slot], filtered_logger3, intermediate);
 }
 
-/* the original function of the binary (looked up once), called with the refusal flag clear */
-#define WRAP3(NAME, PARAMS, ARGS)                                                       \
-    Status3 NAME PARAMS {                                                               \
-        typedef Status3(*Fn) PARAMS;                                                    \
-        static Fn fn = NULL;                                                            \
-        if (!fn) fn = (Fn)original(#NAME);                                              \
-        if (!fn) return 4;                                                              \
-        refused = 0;                                                                    \
-        return recoverable(fn ARGS);                                                    \
-    }
 typedef unsigned VR3;
 #define SET3(NAME, T) \
-    WRAP3(NAME, (void *c, const VR3 *vr, size_t n, const T *x, size_t nx), (c, vr, n, x, nx))
+    WRAP(NAME, (void *c, const VR3 *vr, size_t n, const T *x, size_t nx), (c, vr, n, x, nx))
 SET3(fmi3SetFloat64, double)
 SET3(fmi3SetInt32, int32_t)
 SET3(fmi3SetInt64, int64_t)
 SET3(fmi3SetBoolean, bool)
 SET3(fmi3SetString, char *)
-WRAP3(fmi3GetFloat64, (void *c, const VR3 *vr, size_t n, double *x, size_t nx),
+WRAP(fmi3GetFloat64, (void *c, const VR3 *vr, size_t n, double *x, size_t nx),
       (c, vr, n, x, nx))
-WRAP3(fmi3EnterInitializationMode,
+WRAP(fmi3EnterInitializationMode,
       (void *c, bool tol_on, double tol, double t0, bool stop_on, double t1),
       (c, tol_on, tol, t0, stop_on, t1))
-WRAP3(fmi3ExitInitializationMode, (void *c), (c))
-WRAP3(fmi3DoStep,
+WRAP(fmi3ExitInitializationMode, (void *c), (c))
+WRAP(fmi3DoStep,
       (void *c, double t, double h, bool no_prior, bool *event, bool *terminate, bool *early,
        double *last),
       (c, t, h, no_prior, event, terminate, early, last))
-WRAP3(fmi3Terminate, (void *c), (c))
-WRAP3(fmi3GetFMUState, (void *c, void **state), (c, state))
-WRAP3(fmi3SetFMUState, (void *c, void *state), (c, state))
-WRAP3(fmi3SerializedFMUStateSize, (void *c, void *state, size_t *size), (c, state, size))
-WRAP3(fmi3SerializeFMUState, (void *c, void *state, uint8_t *bytes, size_t size),
+WRAP(fmi3Terminate, (void *c), (c))
+WRAP(fmi3GetFMUState, (void *c, void **state), (c, state))
+WRAP(fmi3SetFMUState, (void *c, void *state), (c, state))
+WRAP(fmi3SerializedFMUStateSize, (void *c, void *state, size_t *size), (c, state, size))
+WRAP(fmi3SerializeFMUState, (void *c, void *state, uint8_t *bytes, size_t size),
       (c, state, bytes, size))
-WRAP3(fmi3DeserializeFMUState, (void *c, const uint8_t *bytes, size_t size, void **state),
+WRAP(fmi3DeserializeFMUState, (void *c, const uint8_t *bytes, size_t size, void **state),
       (c, bytes, size, state))
