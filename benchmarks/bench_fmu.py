@@ -3,8 +3,8 @@
 Usage: python benchmarks/bench_fmu.py [--repeats N] [--out FILE]
 (default FILE: benchmarks/results/fmu.md)
        python benchmarks/bench_fmu.py --per-step [--repeats N]
-(per-step cost against a trivial pythonfmu FMU, side by side in one run;
-default FILE: benchmarks/results/fmu_per_step.md)
+(per-step cost against a trivial pythonfmu FMU, and of the FMI 3 FMU against a trivial
+pythonfmu3 FMU, side by side in one run; default FILE: benchmarks/results/fmu_per_step.md)
 
 For the seed 002 scene (single-DOF, exact propagation, 40 mesh periods) and the seed 000 scene
 (torsional, eccentricity + friction, DOP853 rtol 1e-7, 12 mesh periods), at 4, 16 and 64
@@ -136,43 +136,95 @@ class TrivialBench(Fmi2Slave):
 '''
 
 
+TRIVIAL3 = '''
+from pythonfmu3 import Fmi3Causality, Fmi3Slave, Fmi3Variability, Float64
+
+
+class TrivialBench3(Fmi3Slave):
+    """One output, y = t: the floor of a pythonfmu3 FMU's per-step cost."""
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        self.y = 0.0
+        self.time = 0.0
+        self.register_variable(Float64("time", causality=Fmi3Causality.independent,
+                                       variability=Fmi3Variability.continuous))
+        self.register_variable(Float64("y", causality=Fmi3Causality.output))
+
+    def do_step(self, current_time, step_size):
+        self.y = self.time = current_time + step_size
+        return True
+'''
+
+
 def _per_step_us(fmu: Path, unzipdir: str, outputs: list[str], h: float, n: int,
                  values: dict[str, object] | None = None) -> float:
-    """Microseconds per doStep + getReal(outputs) through fmpy (one run of n steps)."""
+    """Microseconds per doStep + getReal(outputs) (FMI 3: getFloat64) through fmpy (one run
+    of n steps)."""
+    from fmpy import read_model_description
+
+    md = read_model_description(unzipdir)
+    vrs = [v.valueReference for name in outputs
+           for v in md.modelVariables if v.name == name]
+    if md.fmiVersion.startswith("3"):
+        from fmpy.fmi3 import FMU3Slave
+
+        fmu3 = FMU3Slave(guid=md.guid, unzipDirectory=unzipdir,
+                         modelIdentifier=md.coSimulation.modelIdentifier, instanceName="bench")
+        fmu3.instantiate()
+        fmu3.enterInitializationMode()
+        for name, value in (values or {}).items():
+            v = next(x for x in md.modelVariables if x.name == name)
+            items = {i.name: int(i.value) for i in v.declaredType.items}
+            fmu3.setInt64([v.valueReference], [items[str(value)]])
+        fmu3.exitInitializationMode()
+        us = _time_steps(fmu3.doStep, fmu3.getFloat64, vrs, h, n)
+        fmu3.terminate()
+        fmu3.freeInstance()
+        return us
     with FmuSession(fmu, unzipdir=unzipdir) as s:
         s.instantiate()
         s.initialize(0.0, None, None, values)
-        vrs = [s.vr(k) for k in outputs]
-        do_step, get_real = s.fmu.doStep, s.fmu.getReal
-        t0 = time.perf_counter()
-        for k in range(n):
-            do_step(k * h, h)
-            get_real(vrs)
-        us = (time.perf_counter() - t0) / n * 1e6
+        us = _time_steps(s.fmu.doStep, s.fmu.getReal, vrs, h, n)
         s.terminate()
     return us
 
 
+def _time_steps(do_step, get, vrs: list[int], h: float, n: int) -> float:  # type: ignore[no-untyped-def]
+    t0 = time.perf_counter()
+    for k in range(n):
+        do_step(k * h, h)
+        get(vrs)
+    return (time.perf_counter() - t0) / n * 1e6
+
+
 def per_step(repeats: int, out: Path) -> None:
     """Per-step cost of the seed 002 FMU (exact, LSODA, DOP853; 16 steps per mesh period)
-    and of the seed 000 FMU (DOP853) against a trivial pythonfmu FMU, in one run; the
-    repeats go round the FMUs (a change of the machine's load hits every row alike)."""
+    and of the seed 000 FMU (DOP853) against a trivial pythonfmu FMU, and of the seed 002 FMI 3
+    FMU (exact, LSODA) against a trivial pythonfmu3 FMU, in one run; the repeats go round the
+    FMUs (a change of the machine's load hits every row alike)."""
     from pythonfmu import FmuBuilder
+    from pythonfmu3 import FmuBuilder as FmuBuilder3
 
     n = 2000
     lines = ["# FMU per-step cost against a trivial pythonfmu FMU", "",
              f"Command: `python benchmarks/bench_fmu.py --per-step --repeats {repeats}`  ",
              f"Machine: {platform.machine()}, Python {platform.python_version()} (2 shared "
              f"cores). {n} x (doStep + getReal of the outputs) through fmpy, after "
-             "initialization; median and range of the repeats, which take turns over the "
-             "FMUs, all measured in this one run. The ratio is against the trivial FMU with "
-             "its one output read.",
+             "initialization (FMI 3: doStep + getFloat64); median and range of the repeats, "
+             "which take turns over the FMUs, all measured in this one run. The ratio is "
+             "against the trivial FMU of the same exporter (pythonfmu for FMI 2, pythonfmu3 "
+             "for FMI 3) with its one output read.",
              "", "| FMU | method | outputs read | per step (median) | range | / trivial |",
              "|---|---|---:|---:|---:|---:|"]
     with tempfile.TemporaryDirectory() as tmp:
         script = Path(tmp) / "trivial_bench.py"
         script.write_text(TRIVIAL)
         trivial = Path(FmuBuilder.build_FMU(script, dest=tmp))
+        script3 = Path(tmp) / "trivial_bench3.py"
+        script3.write_text(TRIVIAL3)
+        trivial3 = Path(FmuBuilder3.build_FMU(script3, dest=Path(tmp) / "t3"))
+        heli3 = build_fmu("helicopter_tail", Path(tmp) / "heli3.fmu", fmi=3)
         heli = build_fmu("helicopter_tail", Path(tmp) / "heli.fmu")
         ecc = build_fmu("eccentric_helical", Path(tmp) / "ecc.fmu")
         h_heli = 1 / (16 * heli.spec["mesh_frequency"])
@@ -189,6 +241,12 @@ def per_step(repeats: int, out: Path) -> None:
             cases.append(("helicopter_tail", method, heli.path, outs(heli.spec), h_heli,
                           {"solver.method": method}))
         cases.append(("eccentric_helical", "DOP853", ecc.path, outs(ecc.spec), h_ecc, None))
+        cases.append(("trivial pythonfmu3 (FMI 3)", "-", trivial3, ["y"], 1e-5, None))
+        cases.append(("trivial pythonfmu3 (y read 6 times)", "-", trivial3, ["y"] * 6, 1e-5,
+                      None))
+        for method in ("exact", "LSODA"):
+            cases.append(("helicopter_tail FMI 3", method, heli3.path, outs(heli3.spec), h_heli,
+                          {"solver.method": method}))
         dirs = {c[2]: extracted(c[2]) for c in cases}
         runs: list[list[float]] = [[] for _ in cases]
         for _ in range(repeats):
@@ -199,6 +257,8 @@ def per_step(repeats: int, out: Path) -> None:
             d.cleanup()
     floor = statistics.median(runs[0])
     for (name, method, _, names, _, _), got in zip(cases, runs, strict=True):
+        if name == "trivial pythonfmu3 (FMI 3)":
+            floor = statistics.median(got)  # the FMI 3 rows against the pythonfmu3 floor
         med = statistics.median(got)
         lines.append(f"| {name} | {method} | {len(names)} | {med:.1f} us | {min(got):.1f}-"
                      f"{max(got):.1f} us | {med / floor:.1f}x |")

@@ -1,15 +1,15 @@
 """Does fmpy exit cleanly after running a gear_dyn FMU? Fresh processes, counted by variant.
 
-Usage: python benchmarks/fmpy_exit.py [--runs N] [--variants a,b,...] [--malloc-check]
-                                      [--no-pymalloc] [--record]
+Usage: python benchmarks/fmpy_exit.py [--runs N] [--variants a,b,...] [--fmi 2,3]
+                                      [--fmu FILE] [--malloc-check] [--no-pymalloc] [--record]
 (--record writes the table to benchmarks/results/fmpy_exit.md)
 
 Each run is a fresh Python process that loads the FMU with fmpy, initializes it, does 20
 communication steps, terminates, then ends in one of these ways (the variants):
 
-- ``full``: fmi2FreeInstance and fmpy's unloading of the binary (``FMU2Slave.freeInstance``,
-  which dlcloses the library) - what ``fmpy.simulate_fmu`` does;
-- ``no-dlclose``: fmi2FreeInstance only (the binary stays loaded until exit);
+- ``full``: fmi2FreeInstance (fmi3FreeInstance) and fmpy's unloading of the binary
+  (``FMU2Slave.freeInstance``, which dlcloses the library) - what ``fmpy.simulate_fmu`` does;
+- ``no-dlclose``: fmi2FreeInstance (fmi3FreeInstance) only (the binary stays loaded until exit);
 - ``no-free``: neither (the instance is still alive when the interpreter shuts down);
 - ``plain-exit``: ``full``, then ``os._exit(0)`` after flushing (no interpreter shutdown, no C
   exit handlers): tells whether the crash is in the shutdown;
@@ -17,6 +17,10 @@ communication steps, terminates, then ends in one of these ways (the variants):
   removes the extracted copy), as a user runs it;
 - ``scipy-only``: no FMU at all, only numpy and scipy imported and used as the FMU does
   (the baseline of the interpreter's own shutdown).
+
+``--fmi`` picks the FMUs: the seed 002 scene built as FMI 2 (pythonfmu) and/or FMI 3
+(pythonfmu3), one table row per FMI version and variant; ``--fmu FILE`` runs a given FMU
+instead (e.g. one built by an older gear_dyn, to measure a fix against what it fixed).
 
 A run is clean when the process exits with code 0 and prints nothing on stderr. The table
 gives the number of unclean runs per variant and the first lines of one failure.
@@ -52,24 +56,30 @@ if variant == "scipy-only":
     expm(np.eye(3)); matrix_balance(np.eye(3))
     sys.exit(0)
 from fmpy import read_model_description
-from fmpy.fmi2 import FMU2Slave
 md = read_model_description(unzipped)
-fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipped,
-                modelIdentifier=md.coSimulation.modelIdentifier, instanceName="exit")
+fmi3 = md.fmiVersion.startswith("3")
+if fmi3:
+    from fmpy.fmi3 import FMU3Slave as Slave
+else:
+    from fmpy.fmi2 import FMU2Slave as Slave
+fmu = Slave(guid=md.guid, unzipDirectory=unzipped,
+            modelIdentifier=md.coSimulation.modelIdentifier, instanceName="exit")
 fmu.instantiate()
-fmu.setupExperiment(startTime=0.0)
+if not fmi3:
+    fmu.setupExperiment(startTime=0.0)
 fmu.enterInitializationMode()
 fmu.exitInitializationMode()
 vrs = [v.valueReference for v in md.modelVariables if v.causality == "output"]
 h = float(md.defaultExperiment.stepSize)
+get = fmu.getFloat64 if fmi3 else fmu.getReal
 for k in range(20):
     fmu.doStep(k * h, h)
-    fmu.getReal(vrs)
+    get(vrs)
 fmu.terminate()
 if variant in ("full", "plain-exit"):
     fmu.freeInstance()
 elif variant == "no-dlclose":
-    fmu.fmi2FreeInstance(fmu.component)
+    (fmu.fmi3FreeInstance if fmi3 else fmu.fmi2FreeInstance)(fmu.component)
 if variant == "plain-exit":
     sys.stdout.flush(); sys.stderr.flush()
     os._exit(0)
@@ -103,31 +113,42 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--runs", type=int, default=40)
     ap.add_argument("--variants", default=",".join(VARIANTS))
+    ap.add_argument("--fmi", default="2,3", help="FMI versions of the FMUs built (2, 3 or 2,3)")
+    ap.add_argument("--fmu", type=Path, default=None,
+                    help="run this FMU instead of building them")
     ap.add_argument("--malloc-check", action="store_true")
     ap.add_argument("--no-pymalloc", action="store_true")
     ap.add_argument("--record", action="store_true",
                     help="also write the table to benchmarks/results/fmpy_exit.md")
     args = ap.parse_args()
-    from gear_dyn.fmu.build import build_fmu
+    from gear_dyn.fmu.build import build_fmu, read_spec
 
     with tempfile.TemporaryDirectory() as tmp:
-        built = build_fmu("helicopter_tail", Path(tmp) / "heli.fmu")
-        fmu, step = built.path, float(built.spec["experiment"]["step_size"])
-        unzipped = Path(tmp) / "unzipped"
-        with zipfile.ZipFile(fmu) as z:
-            z.extractall(unzipped)
+        fmus: list[tuple[str, Path]] = []
+        if args.fmu is not None:
+            fmus.append((str(args.fmu), args.fmu.resolve()))
+        else:
+            for fmi in (int(v) for v in args.fmi.split(",")):
+                built = build_fmu("helicopter_tail", Path(tmp) / f"heli{fmi}.fmu", fmi=fmi)
+                fmus.append((f"FMI {fmi}", built.path))
         flags = "".join(f" --{k.replace('_', '-')}" for k in ("malloc_check", "no_pymalloc")
                         if getattr(args, k))
+        which = f" --fmu {args.fmu}" if args.fmu is not None else f" --fmi {args.fmi}"
         lines = ["# fmpy exits after running the FMU", "",
                  f"Command: `python benchmarks/fmpy_exit.py --runs {args.runs} --variants "
-                 f"{args.variants}{flags}`", "",
-                 "| variant | unclean exits | first failure |", "|---|---:|---|"]
+                 f"{args.variants}{which}{flags}`", "",
+                 "| FMU | variant | unclean exits | first failure |", "|---|---|---:|---|"]
         print("\n".join(lines), flush=True)
-        for variant in args.variants.split(","):
-            bad, first = run(variant, fmu, unzipped, step, args.runs, args.malloc_check,
-                             args.no_pymalloc)
-            lines.append(f"| {variant} | {bad}/{args.runs} | {first or '-'} |")
-            print(lines[-1], flush=True)
+        for label, fmu in fmus:
+            step = float(read_spec(fmu)["experiment"]["step_size"])
+            unzipped = Path(tmp) / f"unzipped_{len(lines)}"
+            with zipfile.ZipFile(fmu) as z:
+                z.extractall(unzipped)
+            for variant in args.variants.split(","):
+                bad, first = run(variant, fmu, unzipped, step, args.runs, args.malloc_check,
+                                 args.no_pymalloc)
+                lines.append(f"| {label} | {variant} | {bad}/{args.runs} | {first or '-'} |")
+                print(lines[-1], flush=True)
     if args.record:
         (ROOT / "benchmarks" / "results" / "fmpy_exit.md").write_text("\n".join(lines) + "\n")
 

@@ -34,7 +34,7 @@ def boot_lib_name(model_identifier: str) -> str:
 
 PYTHON_FILE = "gear_dyn_python.json"
 _SOURCE = Path(__file__).with_name("pyboot.c")
-#: the FMI 3 boot library: pyboot.c's constructor plus the FMI 3 status wrappers
+#: the FMI 3 boot library: pyboot.c's constructor and exit handler plus the FMI 3 wrappers
 _SOURCE3 = Path(__file__).with_name("pyboot3.c")
 #: FMI functions the boot library wraps (see pyboot.c: refusals as fmi2Error, one message)
 WRAPPED = ("fmi2Instantiate", "fmi2SetReal", "fmi2SetInteger", "fmi2SetBoolean",
@@ -42,9 +42,12 @@ WRAPPED = ("fmi2Instantiate", "fmi2SetReal", "fmi2SetInteger", "fmi2SetBoolean",
            "fmi2EnterInitializationMode", "fmi2ExitInitializationMode", "fmi2DoStep",
            "fmi2Terminate", "fmi2GetFMUstate", "fmi2SetFMUstate", "fmi2SerializedFMUstateSize",
            "fmi2SerializeFMUstate", "fmi2DeSerializeFMUstate")
-#: the FMI 3 functions pyboot3.c wraps
+#: the FMI 3 functions pyboot3.c wraps (refusals as fmi3Error, one message, clean exit)
 WRAPPED3 = ("fmi3InstantiateCoSimulation", "fmi3SetFloat64", "fmi3SetInt32", "fmi3SetInt64",
-            "fmi3SetBoolean", "fmi3SetString", "fmi3ExitInitializationMode")
+            "fmi3SetBoolean", "fmi3SetString", "fmi3GetFloat64", "fmi3EnterInitializationMode",
+            "fmi3ExitInitializationMode", "fmi3DoStep", "fmi3Terminate", "fmi3GetFMUState",
+            "fmi3SetFMUState", "fmi3SerializedFMUStateSize", "fmi3SerializeFMUState",
+            "fmi3DeserializeFMUState")
 
 
 def _compiler() -> str | None:

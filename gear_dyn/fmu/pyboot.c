@@ -63,15 +63,9 @@ __attribute__((constructor)) static void gear_dyn_boot(void) {
     PyEval_SaveThread(); /* pythonfmu takes the GIL per call (PyGILState_Ensure) */
 }
 
-/* ------------------------------------------------------------------ FMI wrappers */
-#ifndef GEAR_DYN_BOOT_ONLY /* defined by pyboot3.c (FMI 3): the constructor only */
-typedef int Status; /* fmi2OK 0, fmi2Warning 1, fmi2Discard 2, fmi2Error 3, fmi2Fatal 4 */
-typedef void (*Logger)(void *, const char *, Status, const char *, const char *, ...);
-typedef struct {
-    Logger logger;
-    void *allocate, *free_memory, *step_finished, *environment;
-} Callbacks;
-
+/* ------------------------------------------------------------------ shared by FMI 2 and 3
+ * (pyboot3.c includes this file with GEAR_DYN_BOOT_ONLY: the parts below, not the FMI 2
+ * wrappers) */
 /* the FMU binary next to this library (a reference kept: it is never unloaded before us) */
 static void *binary(void) {
     static void *self = NULL;
@@ -104,7 +98,8 @@ static void *original(const char *name) {
  * "Invalid read of size 4 ... inside a block of size 128 free'd"). When glibc has put that block
  * on a bin list, the write lands on the list's pointers, and a later free at exit (libgfortran's
  * exit handler, from scipy) aborts with "corrupted double-linked list" - in about 1 of 30 fmpy
- * processes. The handler below is registered at the first fmi2Instantiate, after the binary's
+ * processes. pythonfmu3 (FMI 3) has the same code and the same fault. The handler below is
+ * registered at the first fmi2Instantiate (fmi3InstantiateCoSimulation), after the binary's
  * own, so it runs before them (exit handlers run in reverse order): it calls
  * finalizePythonInterpreter() while the shared_ptr is alive; the two later calls then find it
  * empty. It never finalizes Python (pythonfmu does that only for an interpreter it started,
@@ -115,11 +110,46 @@ static void release_pystate(void) {
     if (fin) fin();
 }
 
+/* called by the instantiate wrappers, after the binary has registered its own exit handlers */
+static void register_exit_handler(void) {
+    static int done = 0;
+    if (!done) done = atexit(release_pystate) == 0;
+}
+
 /* Set when the slave logs a status-error message during a call: the slave logs one only when
  * it refuses a call and keeps the instance valid (GearDynSlave._refuse). Per thread: the FMI
  * call, its Python code and the logger run in one thread. A failure without such a message
- * (the instance may be lost) stays fmi2Fatal. */
+ * (the instance may be lost) stays fmi2Fatal (fmi3Fatal). */
 static __thread int refused = 0;
+
+/* the status of a call: Fatal (4) becomes Error (3) when the slave refused it (FMI 2 and FMI 3
+ * number these two alike); the flag is cleared for the next call */
+static int recoverable(int s) {
+    int r = refused;
+    refused = 0;
+    return (s == 4 && r) ? 3 : s;
+}
+
+/* a wrapper NAME of the binary's renamed original (looked up once), called with the refusal
+ * flag clear; FMI 2 and FMI 3 statuses are ints (enums) */
+#define WRAP(NAME, PARAMS, ARGS)                                                        \
+    int NAME PARAMS {                                                                   \
+        typedef int(*Fn) PARAMS;                                                        \
+        static Fn fn = NULL;                                                            \
+        if (!fn) fn = (Fn)original(#NAME);                                              \
+        if (!fn) return 4;                                                              \
+        refused = 0;                                                                    \
+        return recoverable(fn ARGS);                                                    \
+    }
+
+/* ------------------------------------------------------------------ FMI 2 wrappers */
+#ifndef GEAR_DYN_BOOT_ONLY /* defined by pyboot3.c (FMI 3) */
+typedef int Status; /* fmi2OK 0, fmi2Warning 1, fmi2Discard 2, fmi2Error 3, fmi2Fatal 4 */
+typedef void (*Logger)(void *, const char *, Status, const char *, const char *, ...);
+typedef struct {
+    Logger logger;
+    void *allocate, *free_memory, *step_finished, *environment;
+} Callbacks;
 
 /* one slot per instantiation (recycled after MAX_LOGGERS instantiations): the wrapped
  * callbacks carry the slot as their environment, the slot the host's logger and environment */
@@ -154,8 +184,7 @@ void *fmi2Instantiate(const char *name, int type, const char *guid, const char *
                         int);
     Fn fn = (Fn)original("fmi2Instantiate");
     if (!fn) return NULL;
-    static int exit_handler = 0;
-    if (!exit_handler) exit_handler = atexit(release_pystate) == 0;
+    register_exit_handler();
     if (!cb || !cb->logger) return fn(name, type, guid, resources, cb, visible, logging);
     static Callbacks copies[MAX_LOGGERS];
     static int next = 0;
@@ -168,22 +197,6 @@ void *fmi2Instantiate(const char *name, int type, const char *guid, const char *
     return fn(name, type, guid, resources, &copies[slot], visible, logging);
 }
 
-static Status recoverable(Status s) {
-    int r = refused;
-    refused = 0;
-    return (s == 4 && r) ? 3 : s;
-}
-
-/* the original function of the binary (looked up once), called with the refusal flag clear */
-#define WRAP(NAME, PARAMS, ARGS)                                                        \
-    Status NAME PARAMS {                                                                \
-        typedef Status(*Fn) PARAMS;                                                     \
-        static Fn fn = NULL;                                                            \
-        if (!fn) fn = (Fn)original(#NAME);                                              \
-        if (!fn) return 4;                                                              \
-        refused = 0;                                                                    \
-        return recoverable(fn ARGS);                                                    \
-    }
 typedef unsigned VR;
 WRAP(fmi2SetReal, (void *c, const VR *vr, size_t n, const double *x), (c, vr, n, x))
 WRAP(fmi2SetInteger, (void *c, const VR *vr, size_t n, const int *x), (c, vr, n, x))

@@ -1,6 +1,7 @@
-"""Status semantics of refused FMI calls, through fmpy: a call the FMU refuses while keeping
-the instance usable returns fmi2Error (3), not fmi2Fatal (4), with one message naming the FMI
-call and the reason, and the instance then runs on as if the call had not been made."""
+"""Status semantics of refused FMI calls, through fmpy, for the FMI 2 and the FMI 3 FMU: a call
+the FMU refuses while keeping the instance usable returns Error (3; fmi2Error, fmi3Error), not
+Fatal (4), with one message naming the FMI call and the reason, and the instance then runs on
+as if the call had not been made."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ import numpy as np
 import pytest
 
 from gear_dyn.fmu.build import build_fmu
-from gear_dyn.fmu.cosim import FmuSession
+from gear_dyn.fmu.session3 import open_session
 
 pytestmark = pytest.mark.fmu
 
@@ -20,18 +21,30 @@ SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
 H = 1 / (16 * 23 * 3319 / 60)  # 16 steps per seed 002 mesh period
 OUT = ["dte", "mesh_force", "state.x", "state.v"]
 
-
-@pytest.fixture(scope="module")
-def fmu(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    built = build_fmu(SCENES / "helicopter_tail.toml", tmp_path_factory.mktemp("st") / "h.fmu")
-    if built.c_host_missing is not None:  # fmi2Error needs the boot library (see pyboot.c)
-        pytest.skip(f"no boot library in the FMU, refusals stay fmi2Fatal: "
-                    f"{built.c_host_missing}")
-    return built.path
+#: fmpy's method names per FMI version: get Real/Float64, deserialize, set and free a state
+CALLS = {2: ("getReal", "deSerializeFMUstate", "setFMUstate", "freeFMUstate"),
+         3: ("getFloat64", "deserializeFMUState", "setFMUState", "freeFMUState")}
+#: the FMI function names in the refusal messages
+NAMES = {2: ("fmi2DoStep", "fmi2GetReal", "fmi2SetFMUstate"),
+         3: ("fmi3DoStep", "fmi3GetFloat64", "fmi3SetFMUState")}
 
 
-def _refused(s: FmuSession, call: Callable[..., Any], *args: Any) -> str:
-    """Make the call, expect fmi2Error and exactly one new message; return its text."""
+@pytest.fixture(scope="module", params=[2, 3])
+def fmu(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory
+        ) -> tuple[int, Path]:
+    fmi = request.param
+    if fmi == 3:
+        pytest.importorskip("pythonfmu3", reason="FMI 3 export needs pythonfmu3 (extra fmi3)")
+    built = build_fmu(SCENES / "helicopter_tail.toml", tmp_path_factory.mktemp("st") / "h.fmu",
+                      fmi=fmi)
+    if built.c_host_missing is not None:  # Error needs the boot library (pyboot.c, pyboot3.c)
+        pytest.skip(f"no boot library in the FMU, refusals stay Fatal: {built.c_host_missing}")
+    return fmi, built.path
+
+
+def _refused(s: Any, call: Callable[..., Any], *args: Any) -> str:
+    """Make the call, expect status Error (3) and exactly one new message; return its text
+    (``s``: an FMI 2 or FMI 3 session)."""
     from fmpy.fmi1 import FMICallException
 
     before = len(s.messages)
@@ -44,7 +57,7 @@ def _refused(s: FmuSession, call: Callable[..., Any], *args: Any) -> str:
     return new[0][1]
 
 
-def _steps(s: FmuSession, k0: int, n: int) -> list[list[float]]:
+def _steps(s: Any, k0: int, n: int) -> list[list[float]]:
     rows = []
     for k in range(k0, k0 + n):
         s.fmu.doStep(k * H, H)
@@ -52,31 +65,35 @@ def _steps(s: FmuSession, k0: int, n: int) -> list[list[float]]:
     return rows
 
 
-def test_refused_calls_are_fmi2_error_and_the_run_goes_on(fmu: Path) -> None:
-    """doStep before initialization, from the wrong time and with a bad step; getReal of an
-    Integer; setting a state that is not one: each refused with fmi2Error and one message
-    naming the call; the run then gives exactly the undisturbed run's outputs. After
-    terminate, doStep is refused the same way and fmi2Reset gives the run again."""
-    with FmuSession(fmu) as ref:
+def test_refused_calls_are_error_and_the_run_goes_on(fmu: tuple[int, Path]) -> None:
+    """doStep before initialization, from the wrong time and with a bad step; getReal
+    (getFloat64) of an Integer; setting a state that is not one: each refused with Error and
+    one message naming the call; the run then gives exactly the undisturbed run's outputs.
+    After terminate, doStep is refused the same way and reset gives the run again."""
+    fmi, path = fmu
+    get_real, deserialize, set_state, free_state = CALLS[fmi]
+    do_step, get_name, set_name = NAMES[fmi]
+    with open_session(path) as ref:
         ref.instantiate()
         ref.initialize()
         normal = _steps(ref, 0, 8)
-    with FmuSession(fmu) as s:
+    with open_session(path) as s:
         s.instantiate()
         text = _refused(s, s.fmu.doStep, 0.0, H)
-        assert text.startswith("fmi2DoStep refused:") and "initialize the FMU first" in text
+        assert text.startswith(f"{do_step} refused:") and "initialize the FMU first" in text
         s.initialize()
         got = _steps(s, 0, 3)
         text = _refused(s, s.fmu.doStep, 7 * H, H)
-        assert text.startswith("fmi2DoStep refused:") and "the FMU is at" in text, text
+        assert text.startswith(f"{do_step} refused:") and "the FMU is at" in text, text
         text = _refused(s, s.fmu.doStep, 3 * H, -H)
         assert "communication step" in text and "valid range > 0 s" in text, text
-        text = _refused(s, s.fmu.getReal, [s.vr("gear.teeth_pinion")])
-        assert text.startswith("fmi2GetReal refused:") and "not a Real" in text, text
-        state = s.fmu.deSerializeFMUstate(b"not a state")  # read lazily: refused when set
-        text = _refused(s, s.fmu.setFMUstate, state)
-        assert text.startswith("fmi2SetFMUstate refused:") and "not an FMU state" in text
-        s.fmu.freeFMUstate(state)
+        vr = s.vars["gear.teeth_pinion"].valueReference
+        text = _refused(s, getattr(s.fmu, get_real), [vr])
+        assert text.startswith(f"{get_name} refused:") and "not a Real" in text, text
+        state = getattr(s.fmu, deserialize)(b"not a state")  # read lazily: refused when set
+        text = _refused(s, getattr(s.fmu, set_state), state)
+        assert text.startswith(f"{set_name} refused:") and "not an FMU state" in text
+        getattr(s.fmu, free_state)(state)
         got += _steps(s, 3, 5)
         np.testing.assert_array_equal(np.array(got), np.array(normal))
         s.fmu.terminate()
