@@ -161,6 +161,16 @@ def one_period_map(model: MeshModel, rtol: float = 1e-10) -> tuple[FloatArray, F
     return (*_variational_linear(model, period, rtol), "variational")
 
 
+def period_map(f: FloatArray, h: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """The one-period map ``(Phi, q)`` composed of the step maps ``y_{j+1} = f[j] y_j + h[j]``
+    of one mesh period (e.g. ``Result.step_maps`` of a ``periodic`` run)."""
+    n = f.shape[1]
+    phi, q = np.eye(n), np.zeros(n)
+    for fj, hj in zip(f, h, strict=True):
+        phi, q = fj @ phi, fj @ q + hj
+    return phi, q
+
+
 def _variational_linear(model: MeshModel, period: float, rtol: float
                         ) -> tuple[FloatArray, FloatArray]:
     n = len(model.state_labels)
