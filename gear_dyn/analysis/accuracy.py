@@ -45,7 +45,6 @@ from numpy.typing import NDArray
 
 from gear_dyn.analysis.stability import (
     UNIT_CIRCLE_TOL,
-    floquet_multipliers,
     is_linear_periodic,
     one_period_map,
     period_map,

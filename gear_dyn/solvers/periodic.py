@@ -55,6 +55,9 @@ def coefficients(model: Any, t: FloatArray) -> tuple[FloatArray, FloatArray]:
 def _step_cuts(model: Any, starts: FloatArray, dt: float) -> list[FloatArray]:
     """Each step ``[ta, ta + dt]`` cut at its switching instants: offsets from its start,
     ``[0, cuts..., dt]``."""
+    cuts = np.asarray(model.switching_times(float(starts[0]), float(starts[-1] + dt)))
+    if cuts.size == 0:  # smooth coefficients: one piece per step
+        return [np.array([0.0, dt])] * starts.size
     offs: list[FloatArray] = []
     for ta in starts:
         cuts = model.switching_times(float(ta), float(ta + dt)) - ta
@@ -71,7 +74,7 @@ def _step_maps(model: Any, t0: float, dt: float, n_steps: int, rtol: float
 
     n = 2
     m, c = model.mass, model.damping
-    starts = t0 + dt * np.arange(n_steps)
+    starts = t0 + dt * np.arange(n_steps, dtype=np.float64)
     offs = _step_cuts(model, starts, dt)
     scale = np.asarray(model.state_scale, dtype=float)
     col = np.append(1.0 / scale, 1.0)
@@ -136,7 +139,7 @@ def gauss_step_maps(model: Any, t0: float, dt: float, n_steps: int, substeps: in
 
     c, a, b = tableau(GAUSS_STAGES)
     s = c.size
-    grid = t0 + dt * np.arange(n_steps + 1)
+    grid = t0 + dt * np.arange(n_steps + 1, dtype=np.float64)
     edges = _edges(model, grid)  # the grid with the switching instants inserted
     owner_piece = np.clip(np.searchsorted(grid, edges[:-1], side="right") - 1, 0, n_steps - 1)
     pos_piece = np.arange(edges.size - 1) - np.searchsorted(owner_piece, owner_piece)
@@ -197,25 +200,53 @@ def fill_periodic(f: FloatArray, h: FloatArray, y0: FloatArray, n_samples: int, 
     product from its period start (one batched product for the whole span)."""
     n = y0.size
     s_used = f.shape[0]
-    q = np.empty((s_used + 1, n, n))
-    r = np.empty((s_used + 1, n))
-    q[0], r[0] = np.eye(n), np.zeros(n)
-    _chain(f, h, q, r)
+    q, r = step_products(f, h)
     if s_used < s_per:  # shorter than one period: the partial products are the states
         return (np.einsum("kij,j->ki", q[:n_samples], y0) + r[:n_samples]).T.copy()
     n_per = -(-(n_samples - 1) // s_per)
-    starts = np.empty((n_per + 1, n))
-    starts[0] = y0
-    _chain(np.broadcast_to(q[s_per], (n_per, n, n)), np.broadcast_to(r[s_per], (n_per, n)),
-           None, starts)
-    # sample cnum * s_per + j = q[j] @ starts[cnum] + r[j]: one batched product
-    blk = q[:s_per] @ starts[:n_per].T + r[:s_per, :, None]  # (s_per, n, n_per)
+    starts = _period_starts(q[s_per], r[s_per], y0, n_per)
+    # sample cnum * s_per + j = q[j] @ starts[cnum] + r[j]: one matrix product
+    blk = (q[:s_per].reshape(s_per * n, n) @ starts[:n_per].T).reshape(s_per, n, n_per)
+    blk += r[:s_per, :, None]
     out = np.empty((n, n_samples))
     full = blk.transpose(1, 2, 0).reshape(n, n_per * s_per)
     m = min(n_samples, n_per * s_per)
     out[:, :m] = full[:, :m]
     if n_samples > m:  # the grid ends on a period boundary
         out[:, m] = starts[n_per]
+    return out
+
+
+def step_products(f: FloatArray, h: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Partial products of the step maps ``(f[j], h[j])``: ``y_j = q[j] y_0 + r[j]``,
+    j = 0..len(f); ``(q[-1], r[-1])`` is the map over all the steps (over one mesh period: the
+    one-period map, ``q[-1]`` the monodromy matrix)."""
+    n = f.shape[1]
+    q = np.empty((f.shape[0] + 1, n, n))
+    r = np.empty((f.shape[0] + 1, n))
+    q[0], r[0] = np.eye(n), np.zeros(n)
+    _chain(f, h, q, r)
+    return q, r
+
+
+def _period_starts(phi: FloatArray, c: FloatArray, y0: FloatArray, n_per: int) -> FloatArray:
+    """``z[0] = y0``, ``z[k+1] = phi z[k] + c``, k < n_per: the states at the period starts
+    (sequential products; plain floats for two states)."""
+    n = y0.size
+    out = np.empty((n_per + 1, n))
+    out[0] = y0
+    if n != 2:
+        for k in range(n_per):
+            out[k + 1] = phi @ out[k] + c
+        return out
+    (a, b), (cc, d) = phi.tolist()
+    c0, c1 = c.tolist()
+    x, v = y0.tolist()
+    zs = []
+    for _ in range(n_per):
+        x, v = a * x + b * v + c0, cc * x + d * v + c1
+        zs.append((x, v))
+    out[1:] = zs
     return out
 
 
