@@ -52,7 +52,7 @@ from gear_dyn.analysis.stability import (
 from gear_dyn.errors import GearDynError
 from gear_dyn.models.base import MeshModel, Model
 from gear_dyn.solvers import integrate
-from gear_dyn.solvers.periodic import fill_periodic, gauss_step_maps
+from gear_dyn.solvers.periodic import fill_periodic, gauss_step_maps, step_products
 
 FloatArray = NDArray[np.float64]
 
@@ -72,6 +72,8 @@ GAUSS_SUBSTEPS = (1, 2, 4, 8)
 REFERENCE_SHARE = 1e-2
 
 StepMaps = tuple[FloatArray, FloatArray]
+#: monodromy matrices of the Gauss-Legendre reference of a periodic run: (finer, coarser)
+Monodromies = tuple[FloatArray, FloatArray]
 
 
 def error_scale(model: Model) -> float:
@@ -139,9 +141,10 @@ def estimate_error(
 def estimate_with_reference(
     model: Model, t_grid: FloatArray, y: FloatArray, settings: Any, stats: dict[str, Any],
     steady_start: float | None = None, series: FloatArray | None = None,
-) -> tuple[dict[str, Any], tuple[StepMaps, StepMaps] | None]:
-    """:func:`estimate_error`, and for a periodic run the Gauss-Legendre reference step maps
-    it used, ``(maps, coarse)`` (None otherwise), for :func:`floquet_check`."""
+) -> tuple[dict[str, Any], Monodromies | None]:
+    """:func:`estimate_error`, and for a periodic run the monodromy matrices of the
+    Gauss-Legendre reference it used, ``(finer, coarser)`` (None otherwise), for
+    :func:`floquet_check`."""
     x = error_series(model, t_grid, y) if series is None else series
     if settings.method == "exact":
         return {
@@ -171,20 +174,22 @@ def estimate_with_reference(
 
 def _periodic_estimate(model: Model, t_grid: FloatArray, y: FloatArray, x: FloatArray,
                        run_maps: StepMaps, floor: float, steady_start: float | None
-                       ) -> tuple[dict[str, Any], tuple[StepMaps, StepMaps]] | None:
+                       ) -> tuple[dict[str, Any], Monodromies] | None:
     """The periodic run against the same fill with Gauss-Legendre step maps (module
     docstring), or None where no reference passes its own check."""
     start = time.perf_counter()
     s_per = run_maps[0].shape[0]
     t0, dt = float(t_grid[0]), float(t_grid[1] - t_grid[0])
-    scale = np.asarray(model.state_scale, dtype=float)[:, None]
-    coarse = gauss_step_maps(model, t0, dt, s_per, GAUSS_SUBSTEPS[0])
-    y_c = fill_periodic(*coarse, y[:, 0], t_grid.size, s_per)
+    scale = np.asarray(model.state_scale, dtype=float)
+    maps = gauss_step_maps(model, t0, dt, s_per, GAUSS_SUBSTEPS[0])
+    coarse = step_products(*maps)
+    y_c = fill_periodic(*maps, y[:, 0], t_grid.size, s_per, coarse)
     for n in GAUSS_SUBSTEPS[1:]:
-        fine = gauss_step_maps(model, t0, dt, s_per, n)
-        y_f = fill_periodic(*fine, y[:, 0], t_grid.size, s_per)
-        own = np.max(np.abs(y_c - y_f) / scale, axis=1)  # per state, relative to its scale
-        diff = np.max(np.abs(y - y_f) / scale, axis=1)
+        maps = gauss_step_maps(model, t0, dt, s_per, n)
+        fine = step_products(*maps)
+        y_f = fill_periodic(*maps, y[:, 0], t_grid.size, s_per, fine)
+        own = np.max(np.abs(y_c - y_f), axis=1) / scale  # per state, relative to its scale
+        diff = np.max(np.abs(y - y_f), axis=1) / scale
         if np.all(own <= REFERENCE_SHARE * np.maximum(diff, floor)):
             cost = time.perf_counter() - start
             x_f = _series_like(model, t_grid, y_f, y, x)
@@ -192,7 +197,7 @@ def _periodic_estimate(model: Model, t_grid: FloatArray, y: FloatArray, x: Float
                             f"second run with Gauss-Legendre step maps ({n} substeps, checked "
                             f"against {n // 2}) over the whole span", cost, steady_start,
                             (x, x_f))
-            return est, (fine, coarse)
+            return est, (fine[0][-1], coarse[0][-1])
         coarse, y_c = fine, y_f
     return None
 
@@ -377,14 +382,15 @@ def stiffness_check(model: Model, method: str, samples: int = 16) -> dict[str, A
 
 
 def floquet_check(model: Model, step_maps: StepMaps | None = None,
-                  reference: tuple[StepMaps, StepMaps] | None = None) -> dict[str, Any] | None:
+                  reference: Monodromies | None = None) -> dict[str, Any] | None:
     """Parametric stability of a linear single-DOF model: its largest Floquet multiplier.
 
     Where the run computed the step maps of one mesh period (method ``periodic``,
     ``Result.step_maps``), their product is the monodromy matrix: reused, no integration. Its
-    error is measured against the product of Gauss-Legendre collocation maps (``reference``:
-    ``(maps, coarse)`` as the error estimate made them, else made here at 2 and 1 substeps per
-    step): ``modulus_error`` = ``2 max(|rho - rho_ref|, |rho_ref - rho_coarse|)``, never below
+    error is measured against the products of Gauss-Legendre collocation maps (``reference``:
+    their monodromy matrices ``(finer, coarser)`` as the error estimate made them, else made
+    here at 2 and 1 substeps per step): ``modulus_error`` =
+    ``2 max(|rho - rho_ref|, |rho_ref - rho_coarse|)``, never below
     the rounding level of the products. Otherwise the monodromy matrix of
     :func:`gear_dyn.analysis.stability.one_period_map` (expm for piecewise-constant stiffness,
     exact up to rounding; else the variational equations at rtol 1e-10), as before.
@@ -427,17 +433,17 @@ def _spectral_radius(phi: FloatArray) -> float:
 
 
 def _floquet_reused(model: MeshModel, step_maps: StepMaps,
-                    reference: tuple[StepMaps, StepMaps] | None) -> tuple[float, float, str]:
+                    reference: Monodromies | None) -> tuple[float, float, str]:
     """Spectral radius of the run's own period map, its error against the Gauss-Legendre
     maps' and the basis (see :func:`floquet_check`)."""
     s_per = step_maps[0].shape[0]
     if reference is None:
         dt = 1.0 / (model.mesh_frequency * s_per)
-        reference = (gauss_step_maps(model, 0.0, dt, s_per, 2),
-                     gauss_step_maps(model, 0.0, dt, s_per, 1))
+        reference = (period_map(*gauss_step_maps(model, 0.0, dt, s_per, 2))[0],
+                     period_map(*gauss_step_maps(model, 0.0, dt, s_per, 1))[0])
     rho = _spectral_radius(period_map(*step_maps)[0])
-    rho_ref = _spectral_radius(period_map(*reference[0])[0])
-    rho_coarse = _spectral_radius(period_map(*reference[1])[0])
+    rho_ref = _spectral_radius(reference[0])
+    rho_coarse = _spectral_radius(reference[1])
     floor = 100 * np.finfo(float).eps * (s_per + 1) * max(rho, 1.0)
     err = float(max(SAFETY * max(abs(rho - rho_ref), abs(rho_ref - rho_coarse)), floor))
     return rho, err, ("monodromy matrix: product of the run's step maps (no integration), "

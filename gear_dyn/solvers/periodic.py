@@ -191,16 +191,17 @@ def _collocation_maps(model: Any, h: FloatArray, kt: FloatArray, force: FloatArr
     return out
 
 
-def fill_periodic(f: FloatArray, h: FloatArray, y0: FloatArray, n_samples: int, s_per: int
-                  ) -> FloatArray:
+def fill_periodic(f: FloatArray, h: FloatArray, y0: FloatArray, n_samples: int, s_per: int,
+                  products: tuple[FloatArray, FloatArray] | None = None) -> FloatArray:
     """States on a uniform grid of ``n_samples`` points (``s_per`` per mesh period) from
     ``y0`` and the step maps ``(f[j], h[j])`` of one period (or of all the steps where the span
     is shorter): the period map and the partial products are composed once, then each period
     start follows from the previous one (sequential products) and every sample is one matrix
-    product from its period start (one batched product for the whole span)."""
+    product from its period start (one batched product for the whole span). ``products``:
+    :func:`step_products` of the maps, if already computed."""
     n = y0.size
     s_used = f.shape[0]
-    q, r = step_products(f, h)
+    q, r = step_products(f, h) if products is None else products
     if s_used < s_per:  # shorter than one period: the partial products are the states
         return (np.einsum("kij,j->ki", q[:n_samples], y0) + r[:n_samples]).T.copy()
     n_per = -(-(n_samples - 1) // s_per)
