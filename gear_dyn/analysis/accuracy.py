@@ -35,6 +35,7 @@ the estimate bounds the error measured against independent converged references.
 
 from __future__ import annotations
 
+import itertools
 import math
 import time
 from dataclasses import replace
@@ -71,6 +72,7 @@ GAUSS_SUBSTEPS = (1, 2, 4, 8)
 #: run's difference from it (or of the rounding level)
 REFERENCE_SHARE = 1e-2
 
+ComplexArray = NDArray[np.complex128]
 StepMaps = tuple[FloatArray, FloatArray]
 #: monodromy matrices of the Gauss-Legendre reference of a periodic run: (finer, coarser)
 Monodromies = tuple[FloatArray, FloatArray]
@@ -389,8 +391,9 @@ def floquet_check(model: Model, step_maps: StepMaps | None = None,
     ``Result.step_maps``), their product is the monodromy matrix: reused, no integration. Its
     error is measured against the products of Gauss-Legendre collocation maps (``reference``:
     their monodromy matrices ``(finer, coarser)`` as the error estimate made them, else made
-    here at 2 and 1 substeps per step): ``modulus_error`` =
-    ``2 max(|rho - rho_ref|, |rho_ref - rho_coarse|)``, never below
+    here at 2 and 1 substeps per step): ``multiplier_error`` =
+    ``2 max(|mu - mu_ref|, |mu_ref - mu_coarse|)`` over the multipliers paired the closest way
+    (:func:`multiplier_distance`; it bounds the error of the largest modulus too), never below
     the rounding level of the products. Otherwise the monodromy matrix of
     :func:`gear_dyn.analysis.stability.one_period_map` (expm for piecewise-constant stiffness,
     exact up to rounding; else the variational equations at rtol 1e-10), as before.
@@ -400,7 +403,7 @@ def floquet_check(model: Model, step_maps: StepMaps | None = None,
     -------
     dict or None
         ``max_multiplier_modulus`` (growth factor per mesh period of the free response),
-        ``modulus_error`` (None where not measured), ``basis``, ``unstable`` (bool) and
+        ``multiplier_error`` (None where not measured), ``basis``, ``unstable`` (bool) and
         ``advice``.
     """
     if not is_linear_periodic(model):
@@ -424,7 +427,7 @@ def floquet_check(model: Model, step_maps: StepMaps | None = None,
                   "period (Floquet multiplier); the time history diverges and its peak "
                   "figures mean nothing - change speed, stiffness variation or damping "
                   "(see gear-dyn sweep)")
-    return {"max_multiplier_modulus": rho, "modulus_error": err, "basis": basis,
+    return {"max_multiplier_modulus": rho, "multiplier_error": err, "basis": basis,
             "unstable": unstable, "advice": advice}
 
 
@@ -432,19 +435,28 @@ def _spectral_radius(phi: FloatArray) -> float:
     return float(np.max(np.abs(np.linalg.eigvals(phi))))
 
 
+def multiplier_distance(mu: ComplexArray, nu: ComplexArray) -> float:
+    """Largest distance between two sets of Floquet multipliers, paired the closest way (the
+    minimum over pairings of the largest pair distance); it bounds the difference of their
+    spectral radii too."""
+    return min(float(np.max(np.abs(mu - nu[list(perm)])))
+               for perm in itertools.permutations(range(nu.size)))
+
+
 def _floquet_reused(model: MeshModel, step_maps: StepMaps,
                     reference: Monodromies | None) -> tuple[float, float, str]:
-    """Spectral radius of the run's own period map, its error against the Gauss-Legendre
-    maps' and the basis (see :func:`floquet_check`)."""
+    """Spectral radius of the run's own period map, the error of its multipliers against the
+    Gauss-Legendre maps' and the basis (see :func:`floquet_check`)."""
     s_per = step_maps[0].shape[0]
     if reference is None:
         dt = 1.0 / (model.mesh_frequency * s_per)
         reference = (period_map(*gauss_step_maps(model, 0.0, dt, s_per, 2))[0],
                      period_map(*gauss_step_maps(model, 0.0, dt, s_per, 1))[0])
-    rho = _spectral_radius(period_map(*step_maps)[0])
-    rho_ref = _spectral_radius(reference[0])
-    rho_coarse = _spectral_radius(reference[1])
+    mu, mu_ref, mu_coarse = (np.linalg.eigvals(phi).astype(np.complex128) for phi in
+                             (period_map(*step_maps)[0], reference[0], reference[1]))
+    rho = float(np.max(np.abs(mu)))
     floor = 100 * np.finfo(float).eps * (s_per + 1) * max(rho, 1.0)
-    err = float(max(SAFETY * max(abs(rho - rho_ref), abs(rho_ref - rho_coarse)), floor))
-    return rho, err, ("monodromy matrix: product of the run's step maps (no integration), "
-                      "checked against Gauss-Legendre collocation maps")
+    err = max(SAFETY * max(multiplier_distance(mu, mu_ref),
+                           multiplier_distance(mu_ref, mu_coarse)), floor)
+    return rho, float(err), ("monodromy matrix: product of the run's step maps (no "
+                             "integration), checked against Gauss-Legendre collocation maps")
