@@ -384,12 +384,16 @@ def stiffness_check(model: Model, method: str, samples: int = 16) -> dict[str, A
 
 
 def floquet_check(model: Model, step_maps: StepMaps | None = None,
-                  reference: Monodromies | None = None) -> dict[str, Any] | None:
+                  reference: Monodromies | None = None, exact: bool = False
+                  ) -> dict[str, Any] | None:
     """Parametric stability of a linear single-DOF model: its largest Floquet multiplier.
 
-    Where the run computed the step maps of one mesh period (method ``periodic``,
-    ``Result.step_maps``), their product is the monodromy matrix: reused, no integration. Its
-    error is measured against the products of Gauss-Legendre collocation maps (``reference``:
+    Where the run computed the maps of one mesh period (``Result.step_maps``), their product is
+    the monodromy matrix: reused, no integration. From the exact propagator (``exact``: its
+    pieces' matrix exponentials, exact up to rounding) the error is the rounding bound
+    ``kappa(V) 100 eps (pieces + 1) prod_j |P_j|`` (Bauer-Fike: ``V`` the eigenvectors, the
+    piece maps ``P_j`` and the norms in state-scaled coordinates). From periodic step maps it
+    is measured against the products of Gauss-Legendre collocation maps (``reference``:
     their monodromy matrices ``(finer, coarser)`` as the error estimate made them, else made
     here at 2 and 1 substeps per step): ``multiplier_error`` =
     ``2 max(|mu - mu_ref|, |mu_ref - mu_coarse|)`` over the multipliers paired the closest way
@@ -410,7 +414,9 @@ def floquet_check(model: Model, step_maps: StepMaps | None = None,
         return None
     mesh = cast(MeshModel, model)
     try:
-        if step_maps is not None:
+        if step_maps is not None and exact:
+            rho, err, basis = _floquet_exact(mesh, step_maps)
+        elif step_maps is not None:
             rho, err, basis = _floquet_reused(mesh, step_maps, reference)
         else:
             phi, _q, how = one_period_map(mesh)
@@ -460,3 +466,18 @@ def _floquet_reused(model: MeshModel, step_maps: StepMaps,
                            multiplier_distance(mu_ref, mu_coarse)), floor)
     return rho, float(err), ("monodromy matrix: product of the run's step maps (no "
                              "integration), checked against Gauss-Legendre collocation maps")
+
+
+def _floquet_exact(model: MeshModel, piece_maps: StepMaps) -> tuple[float, float, str]:
+    """Spectral radius of the product of the exact propagator's piece maps over one mesh
+    period and its rounding bound (see :func:`floquet_check`)."""
+    d = np.asarray(model.state_scale, dtype=float)
+    scaled = piece_maps[0] * (d[None, None, :] / d[None, :, None])  # D^-1 P D
+    phi = period_map(*piece_maps)[0] * (d[None, :] / d[:, None])
+    mu, vec = np.linalg.eig(phi)
+    norms = float(np.prod(np.linalg.norm(scaled, 2, axis=(1, 2))))
+    kappa = float(np.linalg.cond(vec))
+    err = kappa * 100 * np.finfo(float).eps * (scaled.shape[0] + 1) * max(norms, 1.0)
+    return float(np.max(np.abs(mu))), float(err), (
+        "monodromy matrix: product of the exact propagator's piece maps (no integration), "
+        "rounding bound")

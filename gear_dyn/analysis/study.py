@@ -51,7 +51,8 @@ def checks(model: Model, result: Result) -> dict[str, Any]:
         out["estimated_error"] = est
         if not est.get("reproducible", True):
             warnings.append(est["basis"].split("; ", 1)[-1])
-    floquet = floquet_check(model, result.step_maps, reference)
+    floquet = floquet_check(model, result.step_maps, reference,
+                            exact=result.stats.method == "exact")
     if floquet is not None:
         out["floquet"] = floquet
         if floquet["advice"]:

@@ -117,9 +117,11 @@ class Result:
     extra : dict
         Checks and model facts for the summary (JSON-ready).
     step_maps : tuple of ndarray or None
-        Where the solver computed them (method ``periodic``): the affine maps ``(F, h)``,
-        ``y(t_{j+1}) = F[j] y(t_j) + h[j]``, of the grid steps of the first mesh period; their
-        product is the one-period (monodromy) map, reused by the Floquet check. Else None.
+        Where the solver computed them (methods ``periodic``: the grid steps; ``exact``: its
+        pieces, where one ends on the period): the affine maps ``(F, h)``,
+        ``y(t_{j+1}) = F[j] y(t_j) + h[j]``, of consecutive intervals covering the first mesh
+        period; their product is the one-period (monodromy) map, reused by the Floquet check.
+        Else None.
     """
 
     t: FloatArray

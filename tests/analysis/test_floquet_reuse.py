@@ -111,13 +111,27 @@ def test_loose_maps_state_their_larger_error(heli: Any) -> None:
     assert 1e3 * own < dist <= flo["multiplier_error"] <= 20 * dist
 
 
-def test_exact_path_keeps_the_expm_route(heli: Any) -> None:
-    """Piecewise-constant stiffness (exact propagator, no step maps): the monodromy matrix by
-    expm, as before; no measured error is claimed."""
-    flo = simulate(heli, 4 / heli.mesh_frequency, SolverSettings()).extra["floquet"]
-    assert "expm" in flo["basis"] and flo["multiplier_error"] is None
-    mu = floquet_multipliers(heli)
-    assert flo["max_multiplier_modulus"] == float(np.max(np.abs(mu)))
+@pytest.mark.parametrize("ratio", [None, 1.0])
+def test_exact_pieces_reused_within_rounding_bound(heli: Any, ratio: float | None) -> None:
+    """Piecewise-constant stiffness (exact propagator): the product of its piece maps, against
+    an independent product of scipy.linalg.expm over the same period (own error at rounding,
+    far below the stated bound), for the scene as built and at parametric resonance
+    (2 f_n / f_m = 1, xi = 0.01: unstable)."""
+    from scipy.linalg import expm
+
+    model = heli
+    if ratio is not None:
+        r = 2 * heli.natural_frequency / heli.mesh_frequency
+        model = replace(heli, mass=heli.mass * r**2, damping_ratio=0.01)
+    flo = simulate(model, 4 / model.mesh_frequency, SolverSettings()).extra["floquet"]
+    assert "exact propagator" in flo["basis"]
+    phi = np.eye(2)
+    for ta, tb, a, _g in model.linear_segments(0.0, 1.0 / model.mesh_frequency):
+        phi = expm(a * (tb - ta)) @ phi
+    rho = float(np.max(np.abs(np.linalg.eigvals(phi))))
+    assert abs(flo["max_multiplier_modulus"] - rho) <= flo["multiplier_error"]
+    assert flo["multiplier_error"] < 1e-10
+    assert flo["unstable"] == (ratio is not None)
 
 
 @pytest.mark.parametrize("rtol", [1e-5, 1e-7])
