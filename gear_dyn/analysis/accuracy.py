@@ -395,10 +395,12 @@ def floquet_check(model: Model, step_maps: StepMaps | None = None,
     piece maps ``P_j`` and the norms in state-scaled coordinates). From periodic step maps it
     is measured against the products of Gauss-Legendre collocation maps (``reference``:
     their monodromy matrices ``(finer, coarser)`` as the error estimate made them, else made
-    here at 2 and 1 substeps per step): ``multiplier_error`` =
-    ``2 max(|mu - mu_ref|, |mu_ref - mu_coarse|)`` over the multipliers paired the closest way
-    (:func:`multiplier_distance`; it bounds the error of the largest modulus too), never below
-    the rounding level of the products. Otherwise the monodromy matrix of
+    here at 2 and 1 substeps per step): ``multiplier_error`` = ``2 |mu - mu_ref|`` over the
+    multipliers paired the closest way (:func:`multiplier_distance`; it bounds the error of the
+    largest modulus too), never below the rounding level of the products, provided the
+    reference's own difference ``|mu_ref - mu_coarse|`` is below :data:`REFERENCE_SHARE` of
+    that; else (collocation across a kink of the stiffness) against the variational route
+    below. Otherwise the monodromy matrix of
     :func:`gear_dyn.analysis.stability.one_period_map` (expm for piecewise-constant stiffness,
     exact up to rounding; else the variational equations at rtol 1e-10), as before.
     Returns None for models it does not cover (not linear or not mesh-periodic).
@@ -462,10 +464,15 @@ def _floquet_reused(model: MeshModel, step_maps: StepMaps,
                              (period_map(*step_maps)[0], reference[0], reference[1]))
     rho = float(np.max(np.abs(mu)))
     floor = 100 * np.finfo(float).eps * (s_per + 1) * max(rho, 1.0)
-    err = max(SAFETY * max(multiplier_distance(mu, mu_ref),
-                           multiplier_distance(mu_ref, mu_coarse)), floor)
-    return rho, float(err), ("monodromy matrix: product of the run's step maps (no "
-                             "integration), checked against Gauss-Legendre collocation maps")
+    basis = "monodromy matrix: product of the run's step maps (no integration), checked "
+    diff = multiplier_distance(mu, mu_ref)
+    if multiplier_distance(mu_ref, mu_coarse) <= REFERENCE_SHARE * max(diff, floor):
+        return rho, float(max(SAFETY * diff, floor)), basis + (
+            "against Gauss-Legendre collocation maps")
+    # the collocation maps do not converge (a kink inside a step): the variational route
+    mu_var = np.linalg.eigvals(one_period_map(model)[0]).astype(np.complex128)
+    return rho, float(max(SAFETY * multiplier_distance(mu, mu_var), floor)), basis + (
+        "against the variational equations (DOP853, rtol 1e-10)")
 
 
 def _floquet_exact(model: MeshModel, piece_maps: StepMaps) -> tuple[float, float, str]:
