@@ -160,7 +160,7 @@ def estimate_with_reference(
     n_seq = int(stats.get("n_segments", 1)) + int(round((t_grid[-1] - t_grid[0])
                                                         * model.mesh_frequency))
     floor = _rounding(model, x, n_seq)
-    if stats.get("step_maps") is not None:
+    if settings.method == "periodic" and stats.get("step_maps") is not None:
         done = _periodic_estimate(model, t_grid, y, x, stats["step_maps"], floor, steady_start)
         if done is not None:
             return done

@@ -41,7 +41,7 @@ def checks(model: Model, result: Result) -> dict[str, Any]:
     """The error estimate and stability checks of ``result`` (a run of ``model``)."""
     out: dict[str, Any] = {}
     warnings: list[str] = []
-    reference = None  # a periodic run's Gauss-Legendre step maps, shared with the Floquet check
+    reference = None  # a periodic run's Gauss-Legendre monodromy matrices, for the Floquet check
     if result.settings.estimate_error:
         used = replace(result.settings, method=result.stats.method)
         stats = {"n_segments": result.stats.n_segments, "step_maps": result.step_maps}
