@@ -7,11 +7,20 @@ of 1e-6 means one millionth of the static deflection.
 The estimate of a run (:func:`estimate_error`):
 
 - exact propagator: rounding level, ``100 eps (pieces + 1) max(1, max|x| / x_s)``;
-- solve_ivp and periodic methods: a second run with the same method at a 100 times tighter
-  ``rtol`` (floor 1e-13) over the whole span; the estimate is ``2 max |x - x_tight| / x_s``
-  (the factor 2 covers the tighter run's own error, about 1/60 of the checked run's for
-  DOP853), never below the rounding level of the span's sequential products. No
-  extrapolation: the difference is measured where it is stated.
+- solve_ivp methods: a second run with the same method at a 100 times tighter ``rtol``
+  (floor 1e-13) over the whole span; the estimate is ``2 max |x - x_tight| / x_s`` (the factor
+  2 covers the tighter run's own error, about 1/60 of the checked run's for DOP853), never
+  below the rounding level of the span's sequential products. No extrapolation: the
+  difference is measured where it is stated.
+- periodic step maps (DOP853 over one mesh period, reused): the second run is the same fill
+  with the step maps by Gauss-Legendre collocation (order 12, a second method,
+  :func:`~gear_dyn.solvers.periodic.gauss_step_maps`), at 2 substeps per grid step, whose own
+  error is checked by the same at 1 substep: their trajectories (each state relative to its
+  scale) differ by at most :data:`REFERENCE_SHARE` of the larger of the run's difference from
+  the reference and the rounding level, else the substeps double (up to 8); where that never
+  holds, the tighter DOP853 run above. The estimate is then ``2 max |x - x_ref| / x_s`` as
+  above. The reference maps are also the Floquet check's second method
+  (:func:`floquet_check`).
 - reproducibility: when the estimate exceeds :data:`REPRODUCIBLE` of the static deflection, the
   run does not pin its pointwise trajectory (``reproducible`` False) and states the error of the
   figures it prints instead (``figures``: RMS, peak-to-peak and mean DTE and the dynamic factor
@@ -26,6 +35,7 @@ the estimate bounds the error measured against independent converged references.
 
 from __future__ import annotations
 
+import itertools
 import math
 import time
 from dataclasses import replace
@@ -34,10 +44,16 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.analysis.stability import UNIT_CIRCLE_TOL, floquet_multipliers, is_linear_periodic
+from gear_dyn.analysis.stability import (
+    UNIT_CIRCLE_TOL,
+    is_linear_periodic,
+    one_period_map,
+    period_map,
+)
 from gear_dyn.errors import GearDynError
 from gear_dyn.models.base import MeshModel, Model
 from gear_dyn.solvers import integrate
+from gear_dyn.solvers.periodic import fill_periodic, gauss_step_maps, step_products
 
 FloatArray = NDArray[np.float64]
 
@@ -49,6 +65,17 @@ GROWTH_LIMIT = 1.02
 #: pointwise difference (of the static deflection) beyond which an exponentially growing
 #: trajectory is called not reproducible
 REPRODUCIBLE = 1e-2
+#: substeps per grid step of the Gauss-Legendre reference of a periodic run, tried in turn
+#: (each checked against the previous one)
+GAUSS_SUBSTEPS = (1, 2, 4, 8)
+#: the reference's own difference (from half its substeps) must stay below this share of the
+#: run's difference from it (or of the rounding level)
+REFERENCE_SHARE = 1e-2
+
+ComplexArray = NDArray[np.complex128]
+StepMaps = tuple[FloatArray, FloatArray]
+#: monodromy matrices of the Gauss-Legendre reference of a periodic run: (finer, coarser)
+Monodromies = tuple[FloatArray, FloatArray]
 
 
 def error_scale(model: Model) -> float:
@@ -77,13 +104,12 @@ def relative_errors(model: Model, t: FloatArray, y: FloatArray, y_ref: FloatArra
 
 def rounding_estimate(model: Model, t: FloatArray, y: FloatArray, n_segments: int) -> float:
     """Rounding-level error of the exact propagator, relative to the static deflection."""
-    amp = float(np.max(np.abs(error_series(model, t, y)))) / error_scale(model)
-    return float(100 * np.finfo(float).eps * (n_segments + 1) * max(amp, 1.0))
+    return _rounding(model, error_series(model, t, y), n_segments)
 
 
 def estimate_error(
     model: Model, t_grid: FloatArray, y: FloatArray, settings: Any, stats: dict[str, Any],
-    steady_start: float | None = None,
+    steady_start: float | None = None, series: FloatArray | None = None,
 ) -> dict[str, Any]:
     """Estimated error of a run, relative to the static deflection (module docstring).
 
@@ -97,9 +123,11 @@ def estimate_error(
     settings : SolverSettings
         The run's settings (method already resolved from ``auto``).
     stats : dict
-        The integrator's statistics (``n_segments``).
+        The integrator's statistics (``n_segments``; ``step_maps`` for method ``periodic``).
     steady_start : float or None
         Start of the steady window in s (for the figures' errors; None: the second half).
+    series : ndarray or None
+        The run's error series (:func:`error_series` of ``y``) if already computed.
 
     Returns
     -------
@@ -109,34 +137,101 @@ def estimate_error(
         ``check_run_time_s`` and, where not reproducible, ``figures`` (relative errors of the
         summary figures).
     """
+    return estimate_with_reference(model, t_grid, y, settings, stats, steady_start, series)[0]
+
+
+def estimate_with_reference(
+    model: Model, t_grid: FloatArray, y: FloatArray, settings: Any, stats: dict[str, Any],
+    steady_start: float | None = None, series: FloatArray | None = None,
+) -> tuple[dict[str, Any], Monodromies | None]:
+    """:func:`estimate_error`, and for a periodic run the monodromy matrices of the
+    Gauss-Legendre reference it used, ``(finer, coarser)`` (None otherwise), for
+    :func:`floquet_check`."""
+    x = error_series(model, t_grid, y) if series is None else series
     if settings.method == "exact":
         return {
-            "max_rel": rounding_estimate(model, t_grid, y, int(stats.get("n_segments", 1))),
+            "max_rel": _rounding(model, x, int(stats.get("n_segments", 1))),
             "basis": "rounding level of the exact propagator",
             "relative_to": "static deflection W/k_m",
             "reproducible": True,
-        }
+        }, None
     if settings.method == "exact_contact":  # closed form between located contact changes
-        return _exact_contact_estimate(model, t_grid, y, settings, stats, steady_start)
+        return _exact_contact_estimate(model, t_grid, y, settings, stats, steady_start), None
+    n_seq = int(stats.get("n_segments", 1)) + int(round((t_grid[-1] - t_grid[0])
+                                                        * model.mesh_frequency))
+    floor = _rounding(model, x, n_seq)
+    if settings.method == "periodic" and stats.get("step_maps") is not None:
+        done = _periodic_estimate(model, t_grid, y, x, stats["step_maps"], floor, steady_start)
+        if done is not None:
+            return done
     tight = replace(settings, rtol=max(settings.rtol / TIGHTEN, 1e-13),
                     atol=None if settings.atol is None else settings.atol / TIGHTEN)
     start = time.perf_counter()
     y_t, _ = integrate(model, t_grid, tight, y[:, 0])
     cost = time.perf_counter() - start
-    n_seq = int(stats.get("n_segments", 1)) + int(round((t_grid[-1] - t_grid[0])
-                                                        * model.mesh_frequency))
-    return _two_runs(model, t_grid, y, y_t, rounding_estimate(model, t_grid, y, n_seq),
-                     f"second run at rtol/{TIGHTEN:g} over the whole span", cost, steady_start)
+    return _two_runs(model, t_grid, y, y_t, floor,
+                     f"second run at rtol/{TIGHTEN:g} over the whole span", cost, steady_start,
+                     (x, None)), None
+
+
+def _periodic_estimate(model: Model, t_grid: FloatArray, y: FloatArray, x: FloatArray,
+                       run_maps: StepMaps, floor: float, steady_start: float | None
+                       ) -> tuple[dict[str, Any], Monodromies] | None:
+    """The periodic run against the same fill with Gauss-Legendre step maps (module
+    docstring), or None where no reference passes its own check."""
+    start = time.perf_counter()
+    s_per = run_maps[0].shape[0]
+    t0, dt = float(t_grid[0]), float(t_grid[1] - t_grid[0])
+    scale = np.asarray(model.state_scale, dtype=float)
+    maps = gauss_step_maps(model, t0, dt, s_per, GAUSS_SUBSTEPS[0])
+    coarse = step_products(*maps)
+    y_c = fill_periodic(*maps, y[:, 0], t_grid.size, s_per, coarse)
+    for n in GAUSS_SUBSTEPS[1:]:
+        maps = gauss_step_maps(model, t0, dt, s_per, n)
+        fine = step_products(*maps)
+        y_f = fill_periodic(*maps, y[:, 0], t_grid.size, s_per, fine)
+        own = np.max(np.abs(y_c - y_f), axis=1) / scale  # per state, relative to its scale
+        diff = np.max(np.abs(y - y_f), axis=1) / scale
+        if np.all(own <= REFERENCE_SHARE * np.maximum(diff, floor)):
+            cost = time.perf_counter() - start
+            x_f = _series_like(model, t_grid, y_f, y, x)
+            est = _two_runs(model, t_grid, y, y_f, floor,
+                            f"second run with Gauss-Legendre step maps ({n} substeps, checked "
+                            f"against {n // 2}) over the whole span", cost, steady_start,
+                            (x, x_f))
+            return est, (fine[0][-1], coarse[0][-1])
+        coarse, y_c = fine, y_f
+    return None
+
+
+def _series_like(model: Model, t_grid: FloatArray, y_other: FloatArray, y: FloatArray,
+                 x: FloatArray) -> FloatArray:
+    """The error series of ``y_other``: its first state where the run's series ``x`` is the
+    run's first state sample for sample (the mesh model's DTE is its state x), else the
+    model's outputs."""
+    if np.array_equal(x, y[0]):
+        return np.asarray(y_other[0], dtype=float)
+    return error_series(model, t_grid, y_other)
+
+
+def _rounding(model: Model, x: FloatArray, n_segments: int) -> float:
+    """:func:`rounding_estimate` from the run's error series ``x``."""
+    amp = float(np.max(np.abs(x))) / error_scale(model)
+    return float(100 * np.finfo(float).eps * (n_segments + 1) * max(amp, 1.0))
 
 
 def _two_runs(model: Model, t_grid: FloatArray, y: FloatArray, y_other: FloatArray,
-              floor: float, basis: str, cost: float, steady_start: float | None
+              floor: float, basis: str, cost: float, steady_start: float | None,
+              series: tuple[FloatArray | None, FloatArray | None] = (None, None)
               ) -> dict[str, Any]:
     """The estimate from a run and a second one: ``2 max |x - x_other| / x_s`` (never below
     ``floor``), the growth rate of the difference, and where it exceeds :data:`REPRODUCIBLE`
-    the figures' errors instead of a pointwise promise."""
-    d = np.abs(error_series(model, t_grid, y) - error_series(model, t_grid, y_other))
-    d /= error_scale(model)
+    the figures' errors instead of a pointwise promise. ``series``: the two runs' error series
+    where already known."""
+    x, x_other = series
+    x = error_series(model, t_grid, y) if x is None else x
+    x_other = error_series(model, t_grid, y_other) if x_other is None else x_other
+    d = np.abs(x - x_other) / error_scale(model)
     growth = growth_per_period(t_grid, d, model.mesh_frequency)
     est = max(SAFETY * float(np.max(d)), floor)
     out: dict[str, Any] = {
@@ -288,22 +383,49 @@ def stiffness_check(model: Model, method: str, samples: int = 16) -> dict[str, A
             "advice": advice}
 
 
-def floquet_check(model: Model) -> dict[str, Any] | None:
-    """Parametric stability of a linear single-DOF model before integrating it.
+def floquet_check(model: Model, step_maps: StepMaps | None = None,
+                  reference: Monodromies | None = None, exact: bool = False
+                  ) -> dict[str, Any] | None:
+    """Parametric stability of a linear single-DOF model: its largest Floquet multiplier.
 
-    Uses :func:`gear_dyn.analysis.stability.floquet_multipliers` (the monodromy matrix over one
-    mesh period). Returns None for models it does not cover (not linear or not mesh-periodic).
+    Where the run computed the maps of one mesh period (``Result.step_maps``), their product is
+    the monodromy matrix: reused, no integration. From the exact propagator (``exact``: its
+    pieces' matrix exponentials, exact up to rounding) the error is the rounding bound
+    ``kappa(V) 100 eps (pieces + 1) prod_j |P_j|`` (Bauer-Fike: ``V`` the eigenvectors, the
+    piece maps ``P_j`` and the norms in state-scaled coordinates). From periodic step maps it
+    is measured against the products of Gauss-Legendre collocation maps (``reference``:
+    their monodromy matrices ``(finer, coarser)`` as the error estimate made them, else made
+    here at 2 and 1 substeps per step): ``multiplier_error`` = ``2 |mu - mu_ref|`` over the
+    multipliers paired the closest way (:func:`multiplier_distance`; it bounds the error of the
+    largest modulus too), never below the rounding level of the products, provided the
+    reference's own difference ``|mu_ref - mu_coarse|`` is below :data:`REFERENCE_SHARE` of
+    that; else (collocation across a kink of the stiffness) against the variational route
+    below. Otherwise the monodromy matrix of
+    :func:`gear_dyn.analysis.stability.one_period_map` (expm for piecewise-constant stiffness,
+    exact up to rounding; else the variational equations at rtol 1e-10), as before.
+    Returns None for models it does not cover (not linear or not mesh-periodic).
 
     Returns
     -------
     dict or None
         ``max_multiplier_modulus`` (growth factor per mesh period of the free response),
-        ``unstable`` (bool) and ``advice``.
+        ``multiplier_error`` (None where not measured), ``basis``, ``unstable`` (bool) and
+        ``advice``.
     """
     if not is_linear_periodic(model):
         return None
+    mesh = cast(MeshModel, model)
     try:
-        rho = float(np.max(np.abs(floquet_multipliers(cast(MeshModel, model)))))
+        if step_maps is not None and exact:
+            rho, err, basis = _floquet_exact(mesh, step_maps)
+        elif step_maps is not None:
+            rho, err, basis = _floquet_reused(mesh, step_maps, reference)
+        else:
+            phi, _q, how = one_period_map(mesh)
+            rho, err = _spectral_radius(phi), None
+            basis = ("monodromy matrix by expm of the pieces (exact up to rounding)"
+                     if how == "expm" else "monodromy matrix by the variational equations "
+                     "(DOP853, rtol 1e-10)")
     except GearDynError:
         return None
     unstable = rho > 1.0 + UNIT_CIRCLE_TOL
@@ -313,4 +435,56 @@ def floquet_check(model: Model) -> dict[str, Any] | None:
                   "period (Floquet multiplier); the time history diverges and its peak "
                   "figures mean nothing - change speed, stiffness variation or damping "
                   "(see gear-dyn sweep)")
-    return {"max_multiplier_modulus": rho, "unstable": unstable, "advice": advice}
+    return {"max_multiplier_modulus": rho, "multiplier_error": err, "basis": basis,
+            "unstable": unstable, "advice": advice}
+
+
+def _spectral_radius(phi: FloatArray) -> float:
+    return float(np.max(np.abs(np.linalg.eigvals(phi))))
+
+
+def multiplier_distance(mu: ComplexArray, nu: ComplexArray) -> float:
+    """Largest distance between two sets of Floquet multipliers, paired the closest way (the
+    minimum over pairings of the largest pair distance); it bounds the difference of their
+    spectral radii too."""
+    return min(float(np.max(np.abs(mu - nu[list(perm)])))
+               for perm in itertools.permutations(range(nu.size)))
+
+
+def _floquet_reused(model: MeshModel, step_maps: StepMaps,
+                    reference: Monodromies | None) -> tuple[float, float, str]:
+    """Spectral radius of the run's own period map, the error of its multipliers against the
+    Gauss-Legendre maps' and the basis (see :func:`floquet_check`)."""
+    s_per = step_maps[0].shape[0]
+    if reference is None:
+        dt = 1.0 / (model.mesh_frequency * s_per)
+        reference = (period_map(*gauss_step_maps(model, 0.0, dt, s_per, 2))[0],
+                     period_map(*gauss_step_maps(model, 0.0, dt, s_per, 1))[0])
+    mu, mu_ref, mu_coarse = (np.linalg.eigvals(phi).astype(np.complex128) for phi in
+                             (period_map(*step_maps)[0], reference[0], reference[1]))
+    rho = float(np.max(np.abs(mu)))
+    floor = 100 * np.finfo(float).eps * (s_per + 1) * max(rho, 1.0)
+    basis = "monodromy matrix: product of the run's step maps (no integration), checked "
+    diff = multiplier_distance(mu, mu_ref)
+    if multiplier_distance(mu_ref, mu_coarse) <= REFERENCE_SHARE * max(diff, floor):
+        return rho, float(max(SAFETY * diff, floor)), basis + (
+            "against Gauss-Legendre collocation maps")
+    # the collocation maps do not converge (a kink inside a step): the variational route
+    mu_var = np.linalg.eigvals(one_period_map(model)[0]).astype(np.complex128)
+    return rho, float(max(SAFETY * multiplier_distance(mu, mu_var), floor)), basis + (
+        "against the variational equations (DOP853, rtol 1e-10)")
+
+
+def _floquet_exact(model: MeshModel, piece_maps: StepMaps) -> tuple[float, float, str]:
+    """Spectral radius of the product of the exact propagator's piece maps over one mesh
+    period and its rounding bound (see :func:`floquet_check`)."""
+    d = np.asarray(model.state_scale, dtype=float)
+    scaled = piece_maps[0] * (d[None, None, :] / d[None, :, None])  # D^-1 P D
+    phi = period_map(*piece_maps)[0] * (d[None, :] / d[:, None])
+    mu, vec = np.linalg.eig(phi)
+    norms = float(np.prod(np.linalg.norm(scaled, 2, axis=(1, 2))))
+    kappa = float(np.linalg.cond(vec))
+    err = kappa * 100 * np.finfo(float).eps * (scaled.shape[0] + 1) * max(norms, 1.0)
+    return float(np.max(np.abs(mu))), float(err), (
+        "monodromy matrix: product of the exact propagator's piece maps (no integration), "
+        "rounding bound")

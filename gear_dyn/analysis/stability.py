@@ -39,6 +39,7 @@ from gear_dyn.errors import InputError, SolverError, check_range
 from gear_dyn.models.base import MeshModel, Model
 from gear_dyn.solvers.events import solve_piece_with_events
 from gear_dyn.solvers.matexp import expm
+from gear_dyn.solvers.periodic import step_products
 from gear_dyn.solvers.pieces import pieces
 
 FloatArray = NDArray[np.float64]
@@ -159,6 +160,13 @@ def one_period_map(model: MeshModel, rtol: float = 1e-10) -> tuple[FloatArray, F
             total = p @ total
         return total[:n, :n], total[:n, n], "expm"
     return (*_variational_linear(model, period, rtol), "variational")
+
+
+def period_map(f: FloatArray, h: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """The one-period map ``(Phi, q)`` composed of the step maps ``y_{j+1} = f[j] y_j + h[j]``
+    of one mesh period (e.g. ``Result.step_maps`` of a ``periodic`` run)."""
+    q, r = step_products(f, h)
+    return q[-1], r[-1]
 
 
 def _variational_linear(model: MeshModel, period: float, rtol: float

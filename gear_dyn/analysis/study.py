@@ -4,8 +4,8 @@
 ``gear_dyn.simulate``, and what ``run_scene`` calls) adds to ``Result.extra``:
 
 - ``estimated_error`` when ``settings.estimate_error`` (:func:`~.accuracy.estimate_error`);
-- ``floquet``: the Floquet multipliers of a linear mesh-periodic model
-  (:func:`~.accuracy.floquet_check`);
+- ``floquet``: the largest Floquet multiplier of a linear mesh-periodic model
+  (:func:`~.accuracy.floquet_check`; a periodic run's own step maps are reused);
 - ``stiffness_check`` for explicit Runge-Kutta methods (:func:`~.accuracy.stiffness_check`);
 - ``contact``: for models with backlash, the share of the steady window with the teeth apart
   and in back-side contact; for linear models, whether the mesh force goes negative (the teeth
@@ -24,7 +24,12 @@ from typing import Any, cast
 
 import numpy as np
 
-from gear_dyn.analysis.accuracy import EXPLICIT, estimate_error, floquet_check, stiffness_check
+from gear_dyn.analysis.accuracy import (
+    EXPLICIT,
+    estimate_with_reference,
+    floquet_check,
+    stiffness_check,
+)
 from gear_dyn.analysis.stability import shoot
 from gear_dyn.errors import GearDynError
 from gear_dyn.models.base import MeshModel, Model
@@ -36,14 +41,18 @@ def checks(model: Model, result: Result) -> dict[str, Any]:
     """The error estimate and stability checks of ``result`` (a run of ``model``)."""
     out: dict[str, Any] = {}
     warnings: list[str] = []
+    reference = None  # a periodic run's Gauss-Legendre monodromy matrices, for the Floquet check
     if result.settings.estimate_error:
         used = replace(result.settings, method=result.stats.method)
-        stats = {"n_segments": result.stats.n_segments}
-        est = estimate_error(model, result.t, result.y, used, stats, result.steady_start)
+        stats = {"n_segments": result.stats.n_segments, "step_maps": result.step_maps}
+        series = result.outputs.get("dte", result.y[0])
+        est, reference = estimate_with_reference(model, result.t, result.y, used, stats,
+                                                 result.steady_start, series)
         out["estimated_error"] = est
         if not est.get("reproducible", True):
             warnings.append(est["basis"].split("; ", 1)[-1])
-    floquet = floquet_check(model)
+    floquet = floquet_check(model, result.step_maps, reference,
+                            exact=result.stats.method == "exact")
     if floquet is not None:
         out["floquet"] = floquet
         if floquet["advice"]:

@@ -173,6 +173,7 @@ def propagate_pieces(
     stats = {
         "nfev": int(sum(e.n_expm for e in exps)), "njev": 0, "nlu": 0, "n_segments": n_p,
         "n_distinct": len(mats), "eigen": all(e.eigen for e in exps),
+        "piece_maps": (phi[:, :n, :n], phi[:, :n, n], ends),
     }
     return out, stats
 
@@ -219,6 +220,14 @@ def propagate_exact(
     out, stats = propagate_pieces(pieces, np.asarray(t_grid, dtype=float), y)
     if not np.all(np.isfinite(out)):
         raise SolverError("exact propagation produced non-finite states: the response diverges")
+    f, h, ends = stats.pop("piece_maps")
+    if getattr(model, "mesh_periodic", False):
+        # the pieces of the first mesh period, where one of them ends on it: their product is
+        # the one-period map (reused by the Floquet check)
+        t_per = t0 + 1.0 / model.mesh_frequency
+        k = int(np.searchsorted(ends, t_per - 1e-9 * (t_per - t0)))
+        if k < ends.size and abs(ends[k] - t_per) <= 1e-9 * (t_per - t0):
+            stats["step_maps"] = (f[: k + 1].copy(), h[: k + 1].copy())
     return out, stats
 
 

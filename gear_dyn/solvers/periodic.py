@@ -21,6 +21,9 @@ from gear_dyn.solvers.settings import SolverSettings
 
 FloatArray = NDArray[np.float64]
 
+#: Gauss-Legendre stages of :func:`gauss_step_maps` (order 2 GAUSS_STAGES)
+GAUSS_STAGES = 6
+
 
 def periodic_map_applies(model: Model, t_grid: FloatArray) -> bool:
     """True for a linear single-DOF model (no backlash) on a uniform grid commensurate with the
@@ -35,6 +38,33 @@ def periodic_map_applies(model: Model, t_grid: FloatArray) -> bool:
     return abs(s - round(s)) < 1e-6 and round(s) >= 1
 
 
+def coefficients(model: Any, t: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Stiffness ``k(t)`` (N/m) and excitation force (N) of the linear single-DOF model at the
+    times ``t`` (s), vectorised: ``m x'' = force - c x' - k x`` with
+    ``force = W + k e + c f_m e'`` (``e`` the transmission error, if any)."""
+    p = model.mesh_frequency * t + model.phase0
+    kt = np.asarray(model.stiffness(p), dtype=float)
+    force = np.full(np.shape(t), float(model.static_load))
+    te = model.transmission_error
+    if te is not None:
+        force = force + kt * np.asarray(te.value(p)) + model.damping * model.mesh_frequency \
+            * np.asarray(te.slope(p))
+    return kt, force
+
+
+def _step_cuts(model: Any, starts: FloatArray, dt: float) -> list[FloatArray]:
+    """Each step ``[ta, ta + dt]`` cut at its switching instants: offsets from its start,
+    ``[0, cuts..., dt]``."""
+    cuts = np.asarray(model.switching_times(float(starts[0]), float(starts[-1] + dt)))
+    if cuts.size == 0:  # smooth coefficients: one piece per step
+        return [np.array([0.0, dt])] * starts.size
+    offs: list[FloatArray] = []
+    for ta in starts:
+        cuts = model.switching_times(float(ta), float(ta + dt)) - ta
+        offs.append(np.concatenate([[0.0], cuts, [dt]]))
+    return offs
+
+
 def _step_maps(model: Any, t0: float, dt: float, n_steps: int, rtol: float
                ) -> tuple[FloatArray, FloatArray, int]:
     """Affine maps ``y(t0 + (j+1) dt) = F_j y(t0 + j dt) + h_j``, j = 0..n_steps-1, of a linear
@@ -43,16 +73,9 @@ def _step_maps(model: Any, t0: float, dt: float, n_steps: int, rtol: float
     from scipy.integrate import solve_ivp
 
     n = 2
-    m, c, w, fm, p0 = model.mass, model.damping, model.static_load, model.mesh_frequency, \
-        model.phase0
-    k = model.stiffness
-    te = model.transmission_error
-    starts = t0 + dt * np.arange(n_steps)
-    # cut each step at its switching instants (offsets from the step start)
-    offs: list[FloatArray] = []
-    for ta in starts:
-        cuts = model.switching_times(float(ta), float(ta + dt)) - ta
-        offs.append(np.concatenate([[0.0], cuts, [dt]]))
+    m, c = model.mass, model.damping
+    starts = t0 + dt * np.arange(n_steps, dtype=np.float64)
+    offs = _step_cuts(model, starts, dt)
     scale = np.asarray(model.state_scale, dtype=float)
     col = np.append(1.0 / scale, 1.0)
     atol_one = rtol * (scale[:, None] * col[None, :]).ravel()
@@ -76,16 +99,11 @@ def _step_maps(model: Any, t0: float, dt: float, n_steps: int, rtol: float
                     length: FloatArray = length) -> FloatArray:
                 # evaluate just inside the piece: at its ends k may jump (a switching instant)
                 t = a_off + min(max(s, 1e-12), 1.0 - 1e-12) * length
-                p = fm * t + p0
-                kt = np.asarray(k(p), dtype=float)
+                kt, force = coefficients(model, t)
                 zr = zz.reshape(-1, n, n + 1)
                 out = np.empty_like(zr)
                 out[:, 0, :] = zr[:, 1, :]
                 out[:, 1, :] = (-kt[:, None] * zr[:, 0, :] - c * zr[:, 1, :]) / m
-                force = np.full(t.shape, w)
-                if te is not None:
-                    force = force + kt * np.asarray(te.value(p)) + c * fm * np.asarray(
-                        te.slope(p))
                 out[:, 1, n] += force / m
                 return (out * length[:, None, None]).ravel()
 
@@ -99,6 +117,166 @@ def _step_maps(model: Any, t0: float, dt: float, n_steps: int, rtol: float
     return maps[:, :, :n], maps[:, :, n], nfev
 
 
+def gauss_step_maps(model: Any, t0: float, dt: float, n_steps: int, substeps: int = 1
+                    ) -> tuple[FloatArray, FloatArray]:
+    """The step maps of :func:`_step_maps` by ``GAUSS_STAGES``-stage Gauss-Legendre
+    collocation instead of DOP853: a second method, without error control of its own.
+
+    Each step is cut at its switching instants and every piece divided into ``substeps`` equal
+    parts; on each part the collocation equations of ``y' = A(t) y + g(t)`` are linear (one
+    batched ``2 s x 2 s`` solve for all parts at once, three right-hand sides: the map of the
+    two states and the constant). Order ``2 s`` (12) where the coefficients are smooth within
+    the parts; the error is checked by comparing two ``substeps`` (the caller's business,
+    :mod:`gear_dyn.analysis.accuracy`).
+
+    Returns
+    -------
+    f : ndarray (n_steps, 2, 2)
+    h : ndarray (n_steps, 2)
+        ``y(t0 + (j+1) dt) = f[j] y(t0 + j dt) + h[j]`` ([m, m/s]).
+    """
+    from gear_dyn.solvers.gauss import _edges, tableau
+
+    c, a, b = tableau(GAUSS_STAGES)
+    s = c.size
+    grid = t0 + dt * np.arange(n_steps + 1, dtype=np.float64)
+    edges = _edges(model, grid)  # the grid with the switching instants inserted
+    owner_piece = np.clip(np.searchsorted(grid, edges[:-1], side="right") - 1, 0, n_steps - 1)
+    pos_piece = np.arange(edges.size - 1) - np.searchsorted(owner_piece, owner_piece)
+    # every piece in `substeps` equal parts: start, length, step and position within the step
+    frac = np.arange(substeps) / substeps
+    ta = (edges[:-1, None] + np.diff(edges)[:, None] * frac[None, :]).ravel()
+    hh = np.repeat(np.diff(edges) / substeps, substeps)
+    owner = np.repeat(owner_piece, substeps)
+    pos = (pos_piece[:, None] * substeps + np.arange(substeps)[None, :]).ravel()
+    kt, force = coefficients(model, (ta[:, None] + hh[:, None] * c[None, :]).ravel())
+    parts = _collocation_maps(model, hh, kt.reshape(-1, s), force.reshape(-1, s), a, b)
+    # compose the parts of each step in order (identity where a step has fewer parts)
+    total = np.tile(np.eye(3), (n_steps, 1, 1))
+    for q in range(int(pos.max()) + 1):
+        sel = pos == q
+        total[owner[sel]] = parts[sel] @ total[owner[sel]]
+    return total[:, :2, :2].copy(), total[:, :2, 2].copy()
+
+
+def _collocation_maps(model: Any, h: FloatArray, kt: FloatArray, force: FloatArray,
+                      a: FloatArray, b: FloatArray) -> FloatArray:
+    """Augmented 3x3 maps of one Gauss-Legendre step of lengths ``h`` (s), with the stiffness
+    ``kt`` (N/m) and force (N) at the ``s`` nodes of each step: ``(m, s)`` arrays.
+
+    With ``x' = v`` the stage positions ``X = x0 + h a V`` are eliminated: the stage velocities
+    solve ``(I + h (c/m) a + h^2 a diag(k/m) a) V = v0 - h a (k/m) x0 + h a (F/m)``, one
+    batched ``s x s`` solve with three right-hand sides (the maps of x0, v0 and the constant).
+    """
+    kk, ff = kt / model.mass, force / model.mass
+    zeta = model.damping / model.mass
+    s = a.shape[0]
+    h1 = h[:, None, None]
+    lhs = np.eye(s) + h1 * zeta * a + h1 * h1 * (a[None, :, :] * kk[:, None, :]) @ a
+    rhs = np.empty((h.size, s, 3))
+    rhs[:, :, 0] = -h[:, None] * (kk @ a.T)
+    rhs[:, :, 1] = 1.0
+    rhs[:, :, 2] = h[:, None] * (ff @ a.T)
+    vel = np.linalg.solve(lhs, rhs)  # stage velocities as maps of [x0, v0, 1]
+    pos = h1 * (a @ vel)
+    pos[:, :, 0] += 1.0
+    acc = -kk[:, :, None] * pos - zeta * vel
+    acc[:, :, 2] += ff
+    out = np.zeros((h.size, 3, 3))
+    out[:, 0, :] = h[:, None] * np.einsum("l,klj->kj", b, vel)
+    out[:, 1, :] = h[:, None] * np.einsum("l,klj->kj", b, acc)
+    out[:, 0, 0] += 1.0
+    out[:, 1, 1] += 1.0
+    out[:, 2, 2] = 1.0
+    return out
+
+
+def fill_periodic(f: FloatArray, h: FloatArray, y0: FloatArray, n_samples: int, s_per: int,
+                  products: tuple[FloatArray, FloatArray] | None = None) -> FloatArray:
+    """States on a uniform grid of ``n_samples`` points (``s_per`` per mesh period) from
+    ``y0`` and the step maps ``(f[j], h[j])`` of one period (or of all the steps where the span
+    is shorter): the period map and the partial products are composed once, then each period
+    start follows from the previous one (sequential products) and every sample is one matrix
+    product from its period start (one batched product for the whole span). ``products``:
+    :func:`step_products` of the maps, if already computed."""
+    n = y0.size
+    s_used = f.shape[0]
+    q, r = step_products(f, h) if products is None else products
+    if s_used < s_per:  # shorter than one period: the partial products are the states
+        return (np.einsum("kij,j->ki", q[:n_samples], y0) + r[:n_samples]).T.copy()
+    n_per = -(-(n_samples - 1) // s_per)
+    starts = _period_starts(q[s_per], r[s_per], y0, n_per)
+    # sample cnum * s_per + j = q[j] @ starts[cnum] + r[j]: one matrix product
+    blk = (q[:s_per].reshape(s_per * n, n) @ starts[:n_per].T).reshape(s_per, n, n_per)
+    blk += r[:s_per, :, None]
+    out = np.empty((n, n_samples))
+    full = blk.transpose(1, 2, 0).reshape(n, n_per * s_per)
+    m = min(n_samples, n_per * s_per)
+    out[:, :m] = full[:, :m]
+    if n_samples > m:  # the grid ends on a period boundary
+        out[:, m] = starts[n_per]
+    return out
+
+
+def step_products(f: FloatArray, h: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Partial products of the step maps ``(f[j], h[j])``: ``y_j = q[j] y_0 + r[j]``,
+    j = 0..len(f); ``(q[-1], r[-1])`` is the map over all the steps (over one mesh period: the
+    one-period map, ``q[-1]`` the monodromy matrix)."""
+    n = f.shape[1]
+    q = np.empty((f.shape[0] + 1, n, n))
+    r = np.empty((f.shape[0] + 1, n))
+    q[0], r[0] = np.eye(n), np.zeros(n)
+    _chain(f, h, q, r)
+    return q, r
+
+
+def _period_starts(phi: FloatArray, c: FloatArray, y0: FloatArray, n_per: int) -> FloatArray:
+    """``z[0] = y0``, ``z[k+1] = phi z[k] + c``, k < n_per: the states at the period starts
+    (sequential products; plain floats for two states)."""
+    n = y0.size
+    out = np.empty((n_per + 1, n))
+    out[0] = y0
+    if n != 2:
+        for k in range(n_per):
+            out[k + 1] = phi @ out[k] + c
+        return out
+    (a, b), (cc, d) = phi.tolist()
+    c0, c1 = c.tolist()
+    x, v = y0.tolist()
+    zs = []
+    for _ in range(n_per):
+        x, v = a * x + b * v + c0, cc * x + d * v + c1
+        zs.append((x, v))
+    out[1:] = zs
+    return out
+
+
+def _chain(f: FloatArray, h: FloatArray, q: FloatArray | None, r: FloatArray) -> None:
+    """Sequential affine products in place: ``r[j+1] = f[j] r[j] + h[j]`` and, if ``q`` is
+    given, ``q[j+1] = f[j] q[j]`` (plain floats for two states: no array call per step)."""
+    if r.shape[1] != 2:
+        for j in range(f.shape[0]):
+            if q is not None:
+                q[j + 1] = f[j] @ q[j]
+            r[j + 1] = f[j] @ r[j] + h[j]
+        return
+    fl, hl = f.tolist(), h.tolist()
+    x, v = r[0].tolist()
+    rs = []
+    for (f0, f1), (h0, h1) in zip(fl, hl, strict=True):
+        x, v = f0[0] * x + f0[1] * v + h0, f1[0] * x + f1[1] * v + h1
+        rs.append((x, v))
+    r[1:] = rs
+    if q is not None:
+        a, b, cc, d = q[0].ravel().tolist()
+        qs = []
+        for (f00, f01), (f10, f11) in fl:
+            a, b, cc, d = f00 * a + f01 * cc, f00 * b + f01 * d, f10 * a + f11 * cc, \
+                f10 * b + f11 * d
+            qs.append(((a, b), (cc, d)))
+        q[1:] = qs
+
+
 def propagate_periodic(
     model: Model, t_grid: FloatArray, settings: SolverSettings | None = None,
     y0: FloatArray | None = None
@@ -110,8 +288,12 @@ def propagate_periodic(
     ``j = i mod S``, the same in every period. The ``S`` maps are integrated once (DOP853 at
     ``settings.rtol``, one stacked system, restarted at the switching instants), composed into
     the one-period map and its partial products, and the whole span is then filled by matrix
-    products: one period of integration instead of all of them. Falls back to LSODA
-    (restarted) where it does not apply (:func:`periodic_map_applies`).
+    products (:func:`fill_periodic`): one period of integration instead of all of them. Falls
+    back to LSODA (restarted) where it does not apply (:func:`periodic_map_applies`).
+
+    The statistics carry the maps, ``step_maps`` = ``(F, h)``, where they cover a whole mesh
+    period from the grid start (the period map, whose eigenvalues are the Floquet multipliers,
+    is their product).
 
     Raises
     ------
@@ -120,38 +302,20 @@ def propagate_periodic(
     """
     t_grid = np.asarray(t_grid, dtype=float)
     settings = settings if settings is not None else SolverSettings()
-    rtol = settings.rtol
     if not periodic_map_applies(model, t_grid):
         y, st = integrate_ode(model, t_grid, replace(settings, method="LSODA"), y0)
         return y, {**st, "method": "LSODA"}
     y = np.array(model.initial_state() if y0 is None else y0, dtype=float)
-    n = y.size
     dt = float(t_grid[1] - t_grid[0])
     s_per = int(round(1.0 / (model.mesh_frequency * dt)))
-    n_steps = t_grid.size - 1
-    s_used = min(s_per, n_steps)
-    f, h, nfev = _step_maps(model, float(t_grid[0]), dt, s_used, rtol)
-    # partial products within a period: state at offset j from the period start y_c:
-    # y = Q_j y_c + r_j
-    q = np.empty((s_used + 1, n, n))
-    r = np.empty((s_used + 1, n))
-    q[0], r[0] = np.eye(n), np.zeros(n)
-    for j in range(s_used):
-        q[j + 1] = f[j] @ q[j]
-        r[j + 1] = f[j] @ r[j] + h[j]
-    n_per = -(-n_steps // s_per) if s_used == s_per else 1
-    starts = np.empty((n_per, n))
-    z = y
-    for cnum in range(n_per):
-        starts[cnum] = z
-        z = q[s_used] @ z + r[s_used]
-    out = np.empty((n, t_grid.size))
-    i = np.arange(t_grid.size)
-    cyc = np.minimum(i // s_per, n_per - 1)
-    off = i - cyc * s_per
-    out[:] = (np.einsum("kij,kj->ki", q[off], starts[cyc]) + r[off]).T
+    s_used = min(s_per, t_grid.size - 1)
+    f, h, nfev = _step_maps(model, float(t_grid[0]), dt, s_used, settings.rtol)
+    out = fill_periodic(f, h, y, t_grid.size, s_per)
     if not np.all(np.isfinite(out)):
         raise SolverError("periodic-map propagation produced non-finite states: the response "
                           "diverges (parametric instability?)")
-    return out, {"nfev": int(nfev), "njev": 0, "nlu": 0, "n_segments": s_used,
-                 "method": "periodic"}
+    stats: dict[str, Any] = {"nfev": int(nfev), "njev": 0, "nlu": 0, "n_segments": s_used,
+                             "method": "periodic"}
+    if s_used == s_per:
+        stats["step_maps"] = (f, h)
+    return out, stats

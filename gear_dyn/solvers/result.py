@@ -114,6 +114,14 @@ class Result:
     settings : SolverSettings
     scene : object or None
         The scene that produced the run (if any).
+    extra : dict
+        Checks and model facts for the summary (JSON-ready).
+    step_maps : tuple of ndarray or None
+        Where the solver computed them (methods ``periodic``: the grid steps; ``exact``: its
+        pieces, where one ends on the period): the affine maps ``(F, h)``,
+        ``y(t_{j+1}) = F[j] y(t_j) + h[j]``, of consecutive intervals covering the first mesh
+        period; their product is the one-period (monodromy) map, reused by the Floquet check.
+        Else None.
     """
 
     t: FloatArray
@@ -127,6 +135,7 @@ class Result:
     settings: SolverSettings
     scene: Any = None
     extra: dict[str, Any] = field(default_factory=dict)
+    step_maps: tuple[FloatArray, FloatArray] | None = field(default=None, repr=False)
 
     @property
     def plot(self) -> ResultPlots:

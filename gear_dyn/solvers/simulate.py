@@ -99,9 +99,11 @@ def simulate(
         njev=int(st.get("njev", 0)), nlu=int(st.get("nlu", 0)),
         n_segments=int(st.get("n_segments", 0)), run_time_s=run_time,
     )
+    step_maps = st.pop("step_maps", None)  # arrays: on the Result, not in the summary
     extra = {**model.summary_info(), **{k: v for k, v in st.items() if k not in COUNTED}}
     return Result(
         t=t_grid, y=y, state_labels=tuple(model.state_labels), outputs=outputs,
         steady_start=float(steady_start), mesh_frequency=model.mesh_frequency,
         static_load=model.static_load, stats=stats, settings=settings, scene=scene, extra=extra,
+        step_maps=step_maps,
     )
