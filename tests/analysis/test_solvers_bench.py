@@ -24,8 +24,11 @@ from gear_dyn.solvers import SolverSettings, integrate, time_grid
 SCENE = "examples/scenes/helicopter_tail.toml"
 
 
-def test_cli_bench_writes_plot_tables_and_recommends_exact(tmp_path: Path,
-                                                          capsys: pytest.CaptureFixture) -> None:
+def test_cli_bench_writes_plot_tables_and_recommends_the_fastest(
+        tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    """The recommendation is the fastest case of this run that meets the target, by the run
+    times the table records (which method wins is a timing, not asserted: on a loaded
+    machine a 0.4 ms exact run can lose a single timed repeat)."""
     out = tmp_path / "b"
     code = main(["bench", SCENE, "--out", str(out), "--periods", "4", "--repeats", "1",
                  "--rtols", "1e-5,1e-8", "--methods", "DOP853,LSODA"])
@@ -37,10 +40,15 @@ def test_cli_bench_writes_plot_tables_and_recommends_exact(tmp_path: Path,
     assert len(rows) == 1 + 4 + 2
     summary = json.loads((out / "bench.json").read_text(encoding="utf-8"))
     assert summary["reference"] == "exact propagator"
-    assert summary["recommendation"]["1e-06"]["method"] == "exact"
+    ok = [r for r in rows if r["status"] == "ok" and float(r["err_max"]) <= 1e-6]
+    fastest = min(ok, key=lambda r: float(r["run_time_s"]))
+    rec = summary["recommendation"]["1e-06"]
+    assert (rec["method"], rec["mode"], rec["rtol"]) == (
+        fastest["method"], fastest["mode"], float(fastest["rtol"]))
+    assert any(r["method"] == "exact" for r in ok)  # the exact propagator meets 1e-6
     md = (out / "bench.md").read_text(encoding="utf-8")
     assert "## Recommendation" in md and "gear-dyn bench" in md
-    assert "use exact" in capsys.readouterr().out
+    assert f"use {rec['method']}" in capsys.readouterr().out
     # every ODE case's error shrinks with the tolerance (independent reference: exact)
     for method in ("DOP853", "LSODA"):
         errs = [float(r["err_max"]) for r in rows if r["method"] == method]

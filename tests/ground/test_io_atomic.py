@@ -197,7 +197,7 @@ def test_killed_inside_the_swap_the_previous_output_comes_back(tmp_path: Path) -
 def _start_run(out: Path, cwd: Path) -> subprocess.Popen[str]:
     return subprocess.Popen(
         [sys.executable, "-m", "gear_dyn.cli", "run", str(HELI), "--out", str(out),
-         "--periods", "4"],
+         "--periods", "6000"],
         cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
         env={**os.environ, "MPLBACKEND": "Agg"},
     )
@@ -241,7 +241,8 @@ def test_signal_while_writing_keeps_previous_output_whole(
     before = _snapshot(out)
     proc = _start_run(out, tmp_path)
     # the staging folder appears after the simulation, when the files (plots, CSV) are being
-    # written, which takes about a second: the signal lands in the middle of writing
+    # written: 6000 mesh periods make a 47 MB CSV, ~1.5 s of writing (4 periods took 0.2 s,
+    # and on a loaded machine the run sometimes finished before the signal)
     assert _wait_for_partial(proc, tmp_path)
     proc.send_signal(sig)
     _, err = proc.communicate(timeout=300)
