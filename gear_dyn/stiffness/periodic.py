@@ -285,18 +285,25 @@ class FourierStiffness(PeriodicStiffness):
     def switching_phases(self) -> FloatArray:
         return np.empty(0)
 
-    def __call__(self, phase: ArrayLike) -> FloatArray:
+    def _powers(self, phase: ArrayLike) -> FloatArray:
+        """``exp(2 pi i n p)`` for n = 1..N, shape ``phase.shape + (N,)``: one complex
+        exponential per phase (of the phase reduced to [0, 1)) and its powers by a cumulative
+        product, N times cheaper than N cosines and sines; the product's rounding grows like
+        n ulps (5e-15 relative at N = 50), far below any solver tolerance."""
         p = np.asarray(phase, dtype=float)
-        n = np.arange(1, self.a.size + 1)
-        ang = 2 * np.pi * p[..., None] * n
-        return self.k0 + np.cos(ang) @ self.a + np.sin(ang) @ self.b
+        z = np.exp(2j * np.pi * (p - np.floor(p)))
+        shape = (*p.shape, self.a.size)
+        return np.cumprod(np.broadcast_to(z[..., None], shape), axis=-1)
+
+    def __call__(self, phase: ArrayLike) -> FloatArray:
+        # k0 + sum a_n cos + b_n sin = k0 + Re(sum z^n (a_n - i b_n))
+        return self.k0 + (self._powers(phase) @ (self.a - 1j * self.b)).real
 
     def derivative(self, phase: ArrayLike) -> FloatArray:
         """dk/dp in N/m per cycle."""
-        p = np.asarray(phase, dtype=float)
-        n = np.arange(1, self.a.size + 1)
-        ang = 2 * np.pi * p[..., None] * n
-        return (-np.sin(ang) @ (self.a * 2 * np.pi * n)) + np.cos(ang) @ (self.b * 2 * np.pi * n)
+        w = 2 * np.pi * np.arange(1, self.a.size + 1)
+        # sum n w (-a_n sin + b_n cos) = Re(sum z^n w_n (b_n + i a_n))
+        return (self._powers(phase) @ (w * (self.b + 1j * self.a))).real
 
     def fourier_coefficients(self, n: int) -> tuple[float, FloatArray, FloatArray]:
         a = np.zeros(max(n, 0))
