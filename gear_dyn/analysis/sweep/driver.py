@@ -43,6 +43,11 @@ ModelFactory = Callable[[float], Model]
 MIN_PARALLEL_S = 0.5
 #: speeds of the timed first block of a linear sweep that may go parallel
 PROBE_SPEEDS = 64
+#: a continuation (backlash) sweep is probed with its first speed, solved from the static
+#: state far below resonance: its later speeds cost more. On the backlash scene (24 speeds up
+#: and down, benchmarks/bench_sweep.py) the first speed predicted 0.43-0.48 s of serial work
+#: for 2.1 s measured; the estimate is scaled by this (conservative) factor
+NONLINEAR_COST_FACTOR = 4.0
 
 
 @dataclass(frozen=True)
@@ -224,6 +229,8 @@ def _probe(chains: dict[str, list[tuple[float, ...]]], dirs: tuple[str, ...],
                                     **template))
     left = sum(len(b) for c in chains.values() for b in c) - len(points)
     estimate = (time.perf_counter() - t0) / len(points) * left
+    if nonlinear:
+        estimate *= NONLINEAR_COST_FACTOR
     label = "_Inline"
     if estimate < min_parallel_s:
         n_par = 1
