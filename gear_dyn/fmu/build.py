@@ -19,6 +19,7 @@ completed afterwards: UnitDefinitions (SI base units, display units such as rpm,
 
 from __future__ import annotations
 
+import contextlib
 import importlib
 import io
 import json
@@ -28,6 +29,7 @@ import shutil
 import sys
 import tempfile
 import zipfile
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -150,6 +152,43 @@ def _script(package: str, class_name: str, spec: dict[str, Any]) -> str:
     )
 
 
+def fmu_target(out: str | Path) -> Path:
+    """``out`` as the FMU file to write: a ``.fmu`` name that is not a folder (InputError)."""
+    out = Path(out)
+    if out.suffix != ".fmu":
+        raise InputError(f"--out {out}: an FMU file name must end in .fmu")
+    if out.exists() and out.is_dir():
+        raise InputError(f"--out {out}: is a folder, expected an .fmu file name")
+    return out
+
+
+@contextlib.contextmanager
+def staged_build(spec: dict[str, Any], package: str, module: str, script: str,
+                 skip: tuple[str, ...]) -> Iterator[tuple[Path, Path, list[Path]]]:
+    """A staging folder for an exporter: the private copy of the package (``_vendor``), the
+    FMU spec and build-interpreter files and the slave script ``module.py``. Yields (temporary
+    folder, script path, project files). The exporter imports the script (and so the private
+    copy) from the staging folder: on exit those modules are forgotten and sys.path restored,
+    so the FMU loads its own copy when it is instantiated."""
+    with tempfile.TemporaryDirectory(prefix="gear_dyn_fmu_") as tmp:
+        stage = Path(tmp) / "stage"
+        stage.mkdir()
+        _vendor(stage, package, skip=skip)
+        (stage / SPEC_FILE).write_text(json.dumps(spec, indent=1), "utf-8")
+        (stage / PYTHON_FILE).write_text(json.dumps(python_info(), indent=1), "utf-8")
+        path = stage / f"{module}.py"
+        path.write_text(script, "utf-8")
+        saved_path = list(sys.path)
+        try:
+            yield Path(tmp), path, [stage / package, stage / SPEC_FILE, stage / PYTHON_FILE]
+        finally:
+            sys.path[:] = saved_path
+            for name in [m for m in sys.modules
+                         if m == module or m == package or m.startswith(package + ".")]:
+                del sys.modules[name]
+            importlib.invalidate_caches()
+
+
 def build_fmu(target: str | Path | Scene, out: str | Path, fmi: int = 2) -> BuiltFmu:
     """Build the FMU of a scene into ``out`` (a ``.fmu`` file, written whole or not at all).
 
@@ -176,11 +215,7 @@ def build_fmu(target: str | Path | Scene, out: str | Path, fmi: int = 2) -> Buil
         return build_fmu3(target, out)
     from pythonfmu import FmuBuilder
 
-    out = Path(out)
-    if out.suffix != ".fmu":
-        raise InputError(f"--out {out}: an FMU file name must end in .fmu")
-    if out.exists() and out.is_dir():
-        raise InputError(f"--out {out}: is a folder, expected an .fmu file name")
+    out = fmu_target(out)
     if not FmuBuilder.has_binary():
         raise InputError("pythonfmu has no binary for this platform; install a pythonfmu wheel "
                          "that ships one")
@@ -192,29 +227,11 @@ def build_fmu(target: str | Path | Scene, out: str | Path, fmi: int = 2) -> Buil
     module = f"gear_dyn_slave_{kind}_{token}"
     class_name = f"GearDyn_{kind}_{token}"
     out.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(prefix="gear_dyn_fmu_") as tmp:
-        stage = Path(tmp) / "stage"
-        stage.mkdir()
-        _vendor(stage, package)
-        (stage / SPEC_FILE).write_text(json.dumps(spec, indent=1), "utf-8")
-        (stage / PYTHON_FILE).write_text(json.dumps(python_info(), indent=1), "utf-8")
-        script = stage / f"{module}.py"
-        script.write_text(_script(package, class_name, spec), "utf-8")
-        raw = Path(tmp) / "raw.fmu"
-        saved_path = list(sys.path)
-        try:
-            FmuBuilder.build_FMU(script, dest=raw, project_files=[stage / package,
-                                                                   stage / SPEC_FILE,
-                                                                   stage / PYTHON_FILE],
-                                 canGetAndSetFMUstate=True, canSerializeFMUstate=True)
-        finally:
-            # pythonfmu imports the script (and so the private copy) from the staging folder:
-            # forget those modules, so the FMU loads its own copy when it is instantiated
-            sys.path[:] = saved_path
-            for name in [m for m in sys.modules
-                         if m == module or m == package or m.startswith(package + ".")]:
-                del sys.modules[name]
-            importlib.invalidate_caches()
+    with staged_build(spec, package, module, _script(package, class_name, spec),
+                      skip=("fmu/slave3.py",)) as (tmp, script, files):
+        raw = tmp / "raw.fmu"
+        FmuBuilder.build_FMU(script, dest=raw, project_files=files,
+                             canGetAndSetFMUstate=True, canSerializeFMUstate=True)
         missing = unsupported_reason()
         data = _finish(raw.read_bytes(), spec, None if missing else class_name)
     write_bytes(out, data)

@@ -13,21 +13,17 @@ EnumerationTypes, and ``dependencies=""`` on every Output (no direct feedthrough
 
 from __future__ import annotations
 
-import importlib
 import io
-import json
 import secrets
-import sys
-import tempfile
 import zipfile
 from pathlib import Path
 from typing import Any
 from xml.etree import ElementTree as ET
 
 from gear_dyn.errors import InputError
-from gear_dyn.fmu.build import _PATH_SETUP, BuiltFmu, _vendor, resolve_scene
-from gear_dyn.fmu.native import PYTHON_FILE, boot_binaries, python_info, unsupported_reason
-from gear_dyn.fmu.variables import SPEC_FILE, UNITS, fmu_spec
+from gear_dyn.fmu.build import _PATH_SETUP, BuiltFmu, fmu_target, resolve_scene, staged_build
+from gear_dyn.fmu.native import boot_binaries, unsupported_reason
+from gear_dyn.fmu.variables import UNITS, fmu_spec
 from gear_dyn.io import write_bytes
 from gear_dyn.scene import Scene
 
@@ -71,11 +67,7 @@ def build_fmu3(target: str | Path | Scene, out: str | Path) -> BuiltFmu:
     except ImportError:
         raise InputError("--fmi 3 needs pythonfmu3 (pip install 'gear_dyn[fmi3]' or "
                          "pip install pythonfmu3)") from None
-    out = Path(out)
-    if out.suffix != ".fmu":
-        raise InputError(f"--out {out}: an FMU file name must end in .fmu")
-    if out.exists() and out.is_dir():
-        raise InputError(f"--out {out}: is a folder, expected an .fmu file name")
+    out = fmu_target(out)
     if not FmuBuilder.has_binary():
         raise InputError("pythonfmu3 has no binary for this platform")
     scene = target if isinstance(target, Scene) else resolve_scene(target)
@@ -86,28 +78,10 @@ def build_fmu3(target: str | Path | Scene, out: str | Path) -> BuiltFmu:
     module = f"gear_dyn_slave3_{kind}_{token}"
     class_name = f"GearDyn3_{kind}_{token}"
     out.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(prefix="gear_dyn_fmu3_") as tmp:
-        stage = Path(tmp) / "stage"
-        stage.mkdir()
-        _vendor(stage, package, skip=("fmu/slave.py",))
-        (stage / SPEC_FILE).write_text(json.dumps(spec, indent=1), "utf-8")
-        (stage / PYTHON_FILE).write_text(json.dumps(python_info(), indent=1), "utf-8")
-        script = stage / f"{module}.py"
-        script.write_text(_script3(package, class_name, spec), "utf-8")
-        raw_dir = Path(tmp) / "raw"
-        saved_path = list(sys.path)
-        try:
-            raw = FmuBuilder.build_FMU(script, dest=raw_dir,
-                                       project_files=[stage / package, stage / SPEC_FILE,
-                                                      stage / PYTHON_FILE],
-                                       canGetAndSetFMUState=True, canSerializeFMUState=True)
-        finally:
-            # forget the staged modules, so the FMU loads its own copy when instantiated
-            sys.path[:] = saved_path
-            for name in [m for m in sys.modules
-                         if m == module or m == package or m.startswith(package + ".")]:
-                del sys.modules[name]
-            importlib.invalidate_caches()
+    with staged_build(spec, package, module, _script3(package, class_name, spec),
+                      skip=("fmu/slave.py",)) as (tmp, script, files):
+        raw = FmuBuilder.build_FMU(script, dest=tmp / "raw", project_files=files,
+                                   canGetAndSetFMUState=True, canSerializeFMUState=True)
         missing = unsupported_reason()
         data = _finish3(Path(raw).read_bytes(), spec, None if missing else class_name)
     write_bytes(out, data)
