@@ -24,6 +24,7 @@ from numpy.typing import NDArray
 from gear_dyn.errors import InputError, SolverError
 from gear_dyn.fmu.build import read_spec
 from gear_dyn.fmu.inputs import driven_speed
+from gear_dyn.fmu.session3 import host_value
 from gear_dyn.fmu.stepper import stepper_method
 from gear_dyn.scene import Scene, build_pair, build_plan, parse_scene
 from gear_dyn.solvers import (
@@ -140,16 +141,7 @@ class FmuSession:
             setter = {"Real": self.fmu.setReal, "Integer": self.fmu.setInteger,
                       "Enumeration": self.fmu.setInteger, "Boolean": self.fmu.setBoolean,
                       "String": self.fmu.setString}[v.type]
-            if v.type == "Enumeration" and isinstance(value, str):
-                items = {i.name: int(i.value) for i in v.declaredType.items}
-                if value not in items:
-                    raise InputError(f"{name} = {value!r}: valid choices are "
-                                     f"{', '.join(items)}")
-                value = items[value]
-            if v.type == "Integer":
-                if isinstance(value, float) and not value.is_integer():
-                    raise InputError(f"{name} = {value!r}: expected a whole number")
-                value = int(value)
+            value = host_value(name, v, value)
             self._call(f"set {name}", setter, [v.valueReference], [value], error=InputError)
 
     def get(self, names: Sequence[str]) -> list[float]:

@@ -101,12 +101,7 @@ class Fmu3Session:
             setter = {"Float64": self.fmu.setFloat64, "Int32": self.fmu.setInt32,
                       "Int64": self.fmu.setInt64, "Enumeration": self.fmu.setInt64,
                       "Boolean": self.fmu.setBoolean, "String": self.fmu.setString}[v.type]
-            if v.type == "Enumeration" and isinstance(value, str):
-                items = {i.name: int(i.value) for i in v.declaredType.items}
-                if value not in items:
-                    raise InputError(f"{name} = {value!r}: valid choices are "
-                                     f"{', '.join(items)}")
-                value = items[value]
+            value = host_value(name, v, value)
             self._call(f"set {name}", setter, [v.valueReference], [value], error=InputError)
 
     def get(self, names: Sequence[str]) -> list[float]:
@@ -147,6 +142,26 @@ class Fmu3Session:
 
     def __exit__(self, *exc: Any) -> None:
         self.close()
+
+
+#: fmpy's names of the integer-valued variable types (FMI 2 and FMI 3)
+INTEGER_TYPES = ("Integer", "Int32", "Int64", "Enumeration")
+
+
+def host_value(name: str, variable: Any, value: Any) -> Any:
+    """``value`` as the FMU takes it for ``variable`` (an fmpy model variable), FMI 2 and 3: an
+    enumeration item by name becomes its number; an integer type takes whole numbers only
+    (InputError naming the variable and the valid choices otherwise)."""
+    if variable.type == "Enumeration" and isinstance(value, str):
+        items = {i.name: int(i.value) for i in variable.declaredType.items}
+        if value not in items:
+            raise InputError(f"{name} = {value!r}: valid choices are {', '.join(items)}")
+        return items[value]
+    if variable.type in INTEGER_TYPES:
+        if isinstance(value, float) and not value.is_integer():
+            raise InputError(f"{name} = {value!r}: expected a whole number")
+        return int(value)
+    return value
 
 
 def open_session(fmu: str | Path) -> Any:
