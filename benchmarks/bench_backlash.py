@@ -25,13 +25,12 @@ from __future__ import annotations
 
 import argparse
 import platform
-import statistics
-import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+from _timing import spread, timed  # noqa: E402  (benchmarks/ is on sys.path)
 from scipy.integrate import solve_ivp
 
 from gear_dyn.analysis.accuracy import relative_errors
@@ -47,15 +46,8 @@ TARGET = 1e-6
 RTOLS = (1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11)
 
 
-def spread(values: list[float]) -> str:
-    """``median (min..max)``."""
-    return f"{statistics.median(values):.3g} ({min(values):.3g}..{max(values):.3g})"
 
 
-def timed(fn: Callable[[], Any]) -> tuple[float, Any]:
-    t0 = time.perf_counter()
-    out = fn()
-    return time.perf_counter() - t0, out
 
 
 def hand_solve(model: Any, t: np.ndarray, rtol: float) -> np.ndarray:

@@ -41,6 +41,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from _timing import spread  # noqa: E402  (benchmarks/ is on sys.path)
 
 from gear_dyn.analysis.accuracy import relative_errors
 from gear_dyn.analysis.bench import reference_solution
@@ -55,9 +56,6 @@ RTOLS = (1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11)
 GEAR_DYN = str(Path(sys.executable).with_name("gear-dyn"))
 
 
-def spread(values: list[float]) -> str:
-    """``median (min..max)`` of ``values``."""
-    return f"{statistics.median(values):.3g} ({min(values):.3g}..{max(values):.3g})"
 
 
 def timed(cmd: list[str]) -> float:

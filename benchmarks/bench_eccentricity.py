@@ -16,11 +16,10 @@ from __future__ import annotations
 
 import argparse
 import platform
-import statistics
-import time
 from pathlib import Path
 
 import numpy as np
+from _timing import median_time  # noqa: E402  (benchmarks/ is on sys.path)
 
 from gear_dyn.analysis.study import simulate
 from gear_dyn.cli.excitation import analyse
@@ -29,23 +28,20 @@ from gear_dyn.models.torsional import ContactLineStiffness, TorsionalModel
 from gear_dyn.scene import build_plan, load_scene
 from gear_dyn.solvers import SolverSettings
 
+
+def median_s(fn, repeats: int) -> float:  # type: ignore[no-untyped-def]
+    """Median wall time of ``repeats`` calls in s."""
+    return float(median_time(fn, repeats)[0])
+
+
 ROOT = Path(__file__).resolve().parents[1]
 SEED = ROOT / "examples" / "scenes" / "eccentric_helical.toml"
 IDEAL = ROOT / "examples" / "scenes" / "eccentric_helical_ideal.toml"
 
 
-def _median(fn, repeats: int) -> float:  # type: ignore[no-untyped-def]
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
-
-
 def costs(repeats: int) -> list[str]:
     scene = load_scene(SEED)
-    t_an = _median(lambda: analyse(scene), repeats)
+    t_an = median_s(lambda: analyse(scene), repeats)
     plan = build_plan(scene, periods=45)
     model = plan.model
     y0 = model.initial_state()
@@ -54,13 +50,13 @@ def costs(repeats: int) -> list[str]:
     def rhs_loop() -> None:
         for t in ts:
             model.rhs(float(t), y0)
-    t_rhs = _median(rhs_loop, repeats) / ts.size
+    t_rhs = median_s(rhs_loop, repeats) / ts.size
     stats: list[int] = []
 
     def run() -> None:
         r = simulate(model, plan.t_end, SolverSettings(method="DOP853", rtol=1e-7))
         stats.append(r.stats.nfev)
-    t_run = _median(run, repeats)
+    t_run = median_s(run, repeats)
     return [
         "| task | median time |",
         "|---|---:|",

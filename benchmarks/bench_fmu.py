@@ -36,12 +36,19 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
+from _timing import median_time  # noqa: E402  (benchmarks/ is on sys.path)
 
 from gear_dyn.fmu.build import build_fmu
 from gear_dyn.fmu.cosim import FmuSession, compare, extracted
 from gear_dyn.fmu.stepper import Stepper
 from gear_dyn.scene import build_plan, load_scene
 from gear_dyn.solvers import integrate
+
+
+def median_s(fn, repeats: int) -> float:  # type: ignore[no-untyped-def]
+    """Median wall time of ``repeats`` calls in s."""
+    return float(median_time(fn, repeats)[0])
+
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = (("helicopter_tail", 40), ("eccentric_helical", 12))
@@ -63,21 +70,12 @@ def scene_file(name: str) -> Path:
     return out
 
 
-def _median(fn, repeats: int) -> float:  # type: ignore[no-untyped-def]
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
-
-
 def _row(name: str, model, settings, fmu: Path, unzipdir: str, per: int, periods: int,  # type: ignore[no-untyped-def]
          repeats: int) -> str:
     h = 1 / (model.mesh_frequency * per)
     n = periods * per
     grid = np.arange(n + 1) * h
-    t_direct = _median(lambda: integrate(model, grid, settings), repeats)
+    t_direct = median_s(lambda: integrate(model, grid, settings), repeats)
 
     def stepper() -> None:
         st = Stepper(model, settings, stop_time=float(grid[-1]))
@@ -89,8 +87,8 @@ def _row(name: str, model, settings, fmu: Path, unzipdir: str, per: int, periods
         with FmuSession(fmu, unzipdir=unzipdir) as s:
             s.run(h, float(grid[-1]) + 0.5 * h, ["dte", "mesh_force"], stop_time=float(grid[-1]))
 
-    t_step = _median(stepper, repeats)
-    t_fmu = _median(fmu_run, repeats)
+    t_step = median_s(stepper, repeats)
+    t_fmu = median_s(fmu_run, repeats)
     restart = "-"
     method = Stepper(model, settings).method
     if method != "exact":
@@ -100,7 +98,7 @@ def _row(name: str, model, settings, fmu: Path, unzipdir: str, per: int, periods
             y = model.initial_state()
             for k in range(n):
                 y = integrate(model, grid[k:k + 2], ode, y)[0][:, -1]
-        restart = f"{_median(naive, 1):.3g} s"
+        restart = f"{median_s(naive, 1):.3g} s"
     return (f"| {name} | {method} | {per} | {n} | {t_direct:.3g} s | {t_step:.3g} s | "
             f"{t_fmu:.3g} s | {restart} | {(t_fmu - t_direct) / n * 1e6:.0f} us | "
             f"{(t_fmu - t_step) / n * 1e6:.0f} us |")

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import statistics
 import time
 from pathlib import Path
 
@@ -35,12 +34,11 @@ PAIR = GearPair(23, 64, 6e-3, math.radians(22.5), 50e-3, youngs_modulus1=207e9,
 SPEED = 3319 * 2 * math.pi / 60
 TORQUE = 1474.4
 SETTINGS = SolverSettings(method="DOP853", rtol=1e-7, samples_per_period=64)
+from _timing import spread  # noqa: E402  (benchmarks/ is on sys.path)
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def spread(values: list[float]) -> str:
-    """``median (min..max)``."""
-    return f"{statistics.median(values):.3g} ({min(values):.3g}..{max(values):.3g})"
 
 
 def timed(func, repeats: int):  # type: ignore[no-untyped-def]

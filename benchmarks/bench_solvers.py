@@ -27,7 +27,6 @@ import io
 import math
 import platform
 import pstats
-import statistics
 import sys
 import time
 from collections.abc import Callable
@@ -37,6 +36,7 @@ from typing import Any
 
 import numpy as np
 import scipy
+from _timing import median_time, spread  # noqa: E402  (benchmarks/ is on sys.path)
 from scipy.integrate import solve_ivp
 
 from gear_dyn.analysis.accuracy import relative_errors
@@ -52,13 +52,6 @@ TARGET = 1e-6
 RTOLS = (1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11)
 
 
-def median_time(fn: Callable[[], Any], repeats: int) -> tuple[float, Any]:
-    times, out = [], None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        out = fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times), out
 
 
 def paired_ratios(slow: Callable[[], Any], fast: Callable[[], Any], repeats: int
@@ -75,9 +68,6 @@ def paired_ratios(slow: Callable[[], Any], fast: Callable[[], Any], repeats: int
     return out
 
 
-def spread(values: list[float]) -> str:
-    """``median (min..max)`` of ratios."""
-    return f"{statistics.median(values):.1f}x ({min(values):.1f}..{max(values):.1f})"
 
 
 def hand_rhs_rectangular(model: Any) -> Callable[[float, np.ndarray], list[float]]:
@@ -234,7 +224,8 @@ def main(argv: list[str] | None = None) -> int:
                               lambda: run_scene(scene), rep)
     pair_four = paired_ratios(lambda: hand_once(fmodel, frhs, t, fhand["rtol"]),
                               lambda: simulate(fmodel, plan.t_end, plan.settings), rep)
-    print(f"paired: rectangular {spread(pair_rect)}, Fourier {spread(pair_four)}", flush=True)
+    s_rect, s_four = spread(pair_rect, ".1f", "x"), spread(pair_four, ".1f", "x")
+    print(f"paired: rectangular {s_rect}, Fourier {s_four}", flush=True)
     n_per = t[-1] * model.mesh_frequency
     cmd = "python benchmarks/bench_solvers.py" + "".join(f" {a}" for a in (argv or sys.argv[1:]))
     lines = [
@@ -264,7 +255,7 @@ def main(argv: list[str] | None = None) -> int:
         f"{ode['time']:.4g} | {ode['err']:.2g} | {ode['nfev']} |",
         "",
         f"- default path vs hand-written RK45: **{hand['time'] / t_default:.1f}x faster** "
-        f"(requirement: >= 20x); in {rep} interleaved pairs: {spread(pair_rect)}",
+        f"(requirement: >= 20x); in {rep} interleaved pairs: {s_rect}",
         f"- default path vs the exact propagator alone: **{t_default / t_exact:.2f}x** its time "
         "(requirement: within 3x; the default path *is* the exact propagator plus model "
         "building, outputs and the estimate)",
@@ -289,7 +280,7 @@ def main(argv: list[str] | None = None) -> int:
         f"{flsoda['time']:.4g} | {flsoda['err']:.2g} | {flsoda['nfev']} |",
         "",
         f"- default path vs hand-written RK45: **{fhand['time'] / fsim['time']:.1f}x faster** "
-        f"(requirement: >= 100x; in {rep} interleaved pairs: {spread(pair_four)}); the "
+        f"(requirement: >= 100x; in {rep} interleaved pairs: {s_four}); the "
         "integration alone: "
         f"{fhand['time'] / fdef['time']:.1f}x. No exact propagator applies; the model is "
         "linear and mesh-periodic, so the integration takes the 64 step maps of one mesh "

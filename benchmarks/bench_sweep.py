@@ -42,11 +42,11 @@ import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+from _timing import spread, timed  # noqa: E402  (benchmarks/ is on sys.path)
 
 from gear_dyn.analysis.stability import periodic_steady_state
 from gear_dyn.analysis.study import simulate
@@ -64,16 +64,8 @@ STARTUP = ("import sys; from gear_dyn.cli.app import build_parser; "
 CHUNK = 10  # mesh periods per transient chunk between convergence checks
 
 
-def spread(values: list[float], fmt: str = ".3g") -> str:
-    """``median (min..max)``."""
-    return (f"{statistics.median(values):{fmt}} ({min(values):{fmt}}.."
-            f"{max(values):{fmt}})")
 
 
-def timed(fn: Callable[[], Any]) -> tuple[float, Any]:
-    t0 = time.perf_counter()
-    out = fn()
-    return time.perf_counter() - t0, out
 
 
 def wall(cmd: list[str]) -> float:

@@ -1,0 +1,31 @@
+"""Timing helpers shared by the benchmarks (run as scripts: ``benchmarks/`` is on sys.path)."""
+
+from __future__ import annotations
+
+import statistics
+import time
+from collections.abc import Callable
+from typing import Any
+
+
+def spread(values: list[float], fmt: str = ".3g", unit: str = "") -> str:
+    """``median (min..max)`` of repeated figures, e.g. ``1.23 (1.2..1.3)`` or with
+    ``unit="x"`` ``117.2x (114.7..142.9)``."""
+    return (f"{statistics.median(values):{fmt}}{unit} ({min(values):{fmt}}.."
+            f"{max(values):{fmt}})")
+
+
+def timed(fn: Callable[[], Any]) -> tuple[float, Any]:
+    """Wall time of one call in s, and its result."""
+    t0 = time.perf_counter()
+    out = fn()
+    return time.perf_counter() - t0, out
+
+
+def median_time(fn: Callable[[], Any], repeats: int) -> tuple[float, Any]:
+    """Median wall time of ``repeats`` calls in s, and the last result."""
+    times, out = [], None
+    for _ in range(repeats):
+        dt, out = timed(fn)
+        times.append(dt)
+    return statistics.median(times), out
