@@ -122,6 +122,12 @@ def _dask_client(address: str) -> Any:
         raise InputError(f"--dask {address}: cannot reach the scheduler ({exc})") from None
 
 
+def _ranges(ranges: list[tuple[float, float]]) -> str:
+    """Speed ranges in rpm, ``a-b`` (one speed alone as ``a``)."""
+    return ", ".join(f"{a:.0f}" if round(a) == round(b) else f"{a:.0f}-{b:.0f}"
+                     for a, b in ranges)
+
+
 def _print_summary(result: Any, scene: Any, summary: dict[str, Any], chart: str) -> None:
     """The sweep's terminal report: range, resonance, maximum dynamic factor, K_v, warnings."""
     up = summary["curves"][result.curves[0].direction]
@@ -142,14 +148,14 @@ def _print_summary(result: Any, scene: Any, summary: dict[str, Any], chart: str)
               "(column iso_6336_kv in sweep.csv, dash-dot line in response.png)")
     for d, info in summary["curves"].items():
         if info["separation_ranges_rpm"]:
-            rng = ", ".join(f"{a:.0f}-{b:.0f}" for a, b in info["separation_ranges_rpm"])
+            rng = _ranges(info["separation_ranges_rpm"])
             print(f"  contact loss, teeth separate ({d}): {rng} rpm (column separation_share "
                   "in sweep.csv)")
         if info["unstable_ranges_rpm"]:
-            rng = ", ".join(f"{a:.0f}-{b:.0f}" for a, b in info["unstable_ranges_rpm"])
+            rng = _ranges(info["unstable_ranges_rpm"])
             print(f"  parametric instability ({d}): {rng} rpm")
     if summary["hysteresis_ranges_rpm"]:
-        rng = ", ".join(f"{a:.0f}-{b:.0f}" for a, b in summary["hysteresis_ranges_rpm"])
+        rng = _ranges(summary["hysteresis_ranges_rpm"])
         print(f"  up and down sweeps differ (jumps, hysteresis): {rng} rpm")
     if chart == "none" and "stability_chart" not in summary:
         print("  Floquet stability charts around the scene: --chart both (stability.png)")
