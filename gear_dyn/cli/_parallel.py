@@ -1,50 +1,208 @@
-"""One task in a forked child while the command goes on (two figures drawn at once).
+"""Work in forked children while the command goes on: the two cores of a run used at once.
 
-matplotlib draws in one thread; a run's two PNGs are independent, so ``gear-dyn run`` draws the
-time history in a forked child while it draws the spectrum itself, when a core is free for it
-(:func:`spare_core`). The child only writes its file; the parent waits for it. Without a child
-(no ``fork`` on this platform, other threads running, no spare core, the fork failed) or when the
-child failed, the parent does the task itself, so errors surface in the parent with the
-command's usual handling and exit codes.
+matplotlib imports and draws in one thread. ``gear-dyn run`` therefore forks twice
+(gear_dyn/cli/output.py):
+
+- at its start, a :class:`Forerunner` that imports the plotting stack while the command reads
+  the scene and solves, then draws the figures from the result the command sends it;
+- while drawing, :func:`child_tasks`: a child that draws half of the figures (one column of the
+  time history, the spectrum) while its parent draws the other half.
+
+A child only writes files (or fills memory shared with its parent); the parent waits for it.
+Without a child (no ``fork`` on this platform, other threads running, a single usable core or
+all cores busy (:func:`spare_core`), the fork failed) or when the child failed, the parent does
+the work itself, so errors surface in the parent with the command's usual handling and exit
+codes.
 """
 
 from __future__ import annotations
 
 import contextlib
 import os
+import pickle
 import signal
 import sys
 import threading
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 
 #: signals the command turns into exceptions (app.py): held back while forking, so that none
 #: lands inside fork's own at-fork hooks (where Python ignores the exception it raises)
 _HELD = (signal.SIGINT, signal.SIGTERM)
 
+Task = Callable[[], object]
+
+
+class ChildTasks:
+    """Tasks done in order by a forked child while the parent goes on.
+
+    The parent can wait for any one of them (:meth:`wait`); whatever the child did not report
+    done, because it failed or was never forked, the parent does itself, once.
+    """
+
+    def __init__(self, tasks: Sequence[Task]) -> None:
+        self._tasks = list(tasks)
+        self._done = 0  # tasks done, by the child or here, in order
+        self._pid = 0
+        self._progress = -1  # read end of the child's progress pipe (one byte per task)
+
+    def start(self) -> None:
+        """Fork the child (or not: then :meth:`wait` does the tasks here)."""
+        r, w = os.pipe()
+        self._progress = r
+
+        def child() -> None:
+            os.close(r)
+            for task in self._tasks:
+                task()
+                os.write(w, b".")
+
+        try:
+            with _held_signals() as mask:
+                self._pid = fork_child(child, mask)
+            # a signal that came during the fork is raised here, with the pid known
+        finally:
+            os.close(w)
+        if not self._pid:
+            os.close(r)
+            self._progress = -1
+
+    def wait(self, index: int) -> None:
+        """Return when task ``index`` is done (by the child, or else here)."""
+        while self._done <= index and self._progress >= 0:
+            got = os.read(self._progress, index + 1 - self._done)
+            if not got:  # the child is gone: what it did not report, this process does
+                self._reap()
+                break
+            self._done += len(got)
+        while self._done <= index:
+            self._tasks[self._done]()
+            self._done += 1
+
+    def finish(self) -> None:
+        """Every task done; the child reaped."""
+        self.wait(len(self._tasks) - 1)
+        self._reap()
+
+    def kill(self) -> None:
+        """Stop the child (the command failed or was interrupted)."""
+        if self._pid:
+            with contextlib.suppress(OSError):
+                os.kill(self._pid, signal.SIGKILL)
+        self._reap()
+
+    def _reap(self) -> None:
+        if self._progress >= 0:
+            os.close(self._progress)
+            self._progress = -1
+        if self._pid:
+            with contextlib.suppress(OSError):
+                os.waitpid(self._pid, 0)
+            self._pid = 0
+
 
 @contextlib.contextmanager
-def task_in_child(task: Callable[[], object]) -> Iterator[None]:
-    """Run ``task`` in a forked child during the ``with`` block; done (by the child or, if that
-    failed, in this process) when the block exits normally. If the block raises (also by a
-    signal), the child is killed and the exception propagates."""
-    pid = 0
+def child_tasks(*tasks: Task) -> Iterator[ChildTasks]:
+    """Run ``tasks`` in order in a forked child during the ``with`` block; all done (by the
+    child or, where it failed, here) when the block exits normally. If the block raises (also
+    by a signal), the child is killed and the exception propagates."""
+    work = ChildTasks(tasks)
     try:
-        with _held_signals() as mask:
-            pid = _fork_for(task, mask)
-        yield  # a signal that came during the fork is raised here, with pid known
-        if pid:
-            _, status = os.waitpid(pid, 0)
-            pid, done = 0, os.waitstatus_to_exitcode(status) == 0
-        else:
-            done = False
+        work.start()
+        yield work
     except BaseException:
-        if pid:
-            with contextlib.suppress(OSError):
-                os.kill(pid, signal.SIGKILL)
-                os.waitpid(pid, 0)
+        work.kill()
         raise
-    if not done:
-        task()  # no child, or it failed: do it here (its error, if any, is the command's)
+    work.finish()
+
+
+@contextlib.contextmanager
+def task_in_child(task: Task) -> Iterator[None]:
+    """One task in a forked child during the ``with`` block (see :func:`child_tasks`)."""
+    with child_tasks(task):
+        yield
+
+
+class Forerunner:
+    """A child forked at a command's start that gets ready (``warm``: imports) while the
+    command computes, then does the one job the command sends it (:meth:`run`).
+
+    The job is pickled to the child, so it must be a module-level function or a
+    ``functools.partial`` of one with picklable arguments. If the child could not be forked,
+    failed to get ready or failed at the job, :meth:`run` does the job here.
+    """
+
+    def __init__(self, warm: Task) -> None:
+        self._warm = warm
+        self._pid = 0
+        self._jobs = -1  # write end of the pipe the job travels through
+
+    def start(self) -> None:
+        """Fork the child (or not: then :meth:`run` does the job here)."""
+        r, w = os.pipe()
+        warm = self._warm
+
+        def child() -> None:
+            os.close(w)
+            warm()
+            with os.fdopen(r, "rb") as jobs:
+                job = pickle.load(jobs)
+            job()
+
+        self._jobs = w
+        try:
+            with _held_signals() as mask:
+                self._pid = fork_child(child, mask)
+            # a signal that came during the fork is raised here, with the pid known
+        finally:
+            os.close(r)
+        if not self._pid:
+            os.close(w)
+            self._jobs = -1
+
+    def run(self, job: Task) -> None:
+        """Do ``job``: send it to the child and wait for it (or do it here)."""
+        done = False
+        if self._pid:
+            try:
+                payload = pickle.dumps(job, protocol=pickle.HIGHEST_PROTOCOL)
+            except (pickle.PicklingError, AttributeError, TypeError):
+                payload = b""  # the job does not travel: the child is stopped, done here
+            if payload:
+                try:
+                    with os.fdopen(self._jobs, "wb") as pipe:
+                        self._jobs = -1
+                        pipe.write(payload)
+                except OSError:
+                    pass  # the child is gone: done here
+                _, status = os.waitpid(self._pid, 0)
+                self._pid, done = 0, os.waitstatus_to_exitcode(status) == 0
+            else:
+                self.kill()
+        if not done:
+            job()
+
+    def kill(self) -> None:
+        """Stop the child (the command failed or was interrupted before sending its job)."""
+        if self._jobs >= 0:
+            os.close(self._jobs)
+            self._jobs = -1
+        if self._pid:
+            with contextlib.suppress(OSError):
+                os.kill(self._pid, signal.SIGKILL)
+                os.waitpid(self._pid, 0)
+            self._pid = 0
+
+
+@contextlib.contextmanager
+def forerunner(warm: Task) -> Iterator[Forerunner]:
+    """A :class:`Forerunner` for the ``with`` block; killed when the block raises or ends
+    without having sent it a job."""
+    runner = Forerunner(warm)
+    try:
+        runner.start()
+        yield runner
+    finally:
+        runner.kill()
 
 
 @contextlib.contextmanager
@@ -61,9 +219,9 @@ def _held_signals() -> Iterator[set[int | signal.Signals] | None]:
 
 
 def spare_core() -> bool:
-    """Whether a core is free for a child: the 1-minute load average (this process included)
-    is at most the usable cores minus one. On a busy machine a child would only compete with
-    its parent for the same cores, and forking costs time of its own.
+    """Whether another core can work beside this process: two or more usable cores and a
+    1-minute load average below their number. On a machine whose cores are all busy a child
+    would only compete with its parent for them, and forking costs time of its own.
     """
     try:
         cores = len(os.sched_getaffinity(0))
@@ -73,13 +231,21 @@ def spare_core() -> bool:
         load = os.getloadavg()[0]
     except (AttributeError, OSError):
         return cores > 1
-    return cores > 1 and load <= cores - 1
+    return cores > 1 and load < cores
 
 
-def _fork_for(task: Callable[[], object], mask: set[int | signal.Signals] | None) -> int:
-    """The child's pid (0: not forked: no fork here, other threads running, no spare core, the
-    fork failed)."""
-    if not hasattr(os, "fork") or threading.active_count() > 1 or not spare_core():
+def can_fork() -> bool:
+    """Whether :func:`fork_child` would fork: ``fork`` here, no other threads, a spare core."""
+    return hasattr(os, "fork") and threading.active_count() == 1 and spare_core()
+
+
+def fork_child(main: Task, mask: set[int | signal.Signals] | None) -> int:
+    """Fork a child that runs ``main`` and exits (0 if it returned, 1 if it raised), without
+    the parent's clean-up (staged output, exit handlers). The child's pid, or 0 when not
+    forked: no fork here, other threads running, no spare core, the fork failed.
+
+    Called with SIGINT/SIGTERM held (:func:`_held_signals`); the child sets ``mask``."""
+    if not can_fork():
         return 0
     for stream in (sys.stdout, sys.stderr):
         with contextlib.suppress(Exception):
@@ -91,15 +257,16 @@ def _fork_for(task: Callable[[], object], mask: set[int | signal.Signals] | None
     if pid:
         return pid
     code = 1
-    try:  # the child: the task, then out without the parent's cleanup (staged output...)
+    try:  # the child
         if mask is not None:
             signal.pthread_sigmask(signal.SIG_SETMASK, mask)
-        task()
+        main()
         code = 0
-    except BaseException:  # noqa: S110 - the parent redoes the task and reports the error
+    except BaseException:  # noqa: S110 - the parent redoes the work and reports the error
         pass
     finally:
         os._exit(code)
 
 
-__all__ = ["task_in_child"]
+__all__ = ["ChildTasks", "Forerunner", "can_fork", "child_tasks", "forerunner", "fork_child",
+           "spare_core", "task_in_child"]

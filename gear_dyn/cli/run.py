@@ -54,17 +54,23 @@ def overrides(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from gear_dyn.cli.output import write_run_outputs
-    from gear_dyn.scene import load_scene, run_scene
-
     # one result and two figures: a bounded heap, so no cyclic collections while it is built
     # (matplotlib's many small objects make them scan the whole heap again and again)
     was_enabled = gc.isenabled()
     gc.disable()
     try:
-        scene = load_scene(args.scene)
-        result = run_scene(scene, **overrides(args))
-        summary = write_run_outputs(result, args.out, spectrum_scale=args.spectrum_scale)
+        from gear_dyn.cli._parallel import forerunner
+        from gear_dyn.plots._warm import import_for_files
+
+        # matplotlib imports in a forked child while this process reads the scene and solves
+        with forerunner(import_for_files) as plotter:
+            from gear_dyn.cli.output import write_run_outputs
+            from gear_dyn.scene import load_scene, run_scene
+
+            scene = load_scene(args.scene)
+            result = run_scene(scene, **overrides(args))
+            summary = write_run_outputs(result, args.out, spectrum_scale=args.spectrum_scale,
+                                        plotter=plotter)
     finally:
         if was_enabled:
             gc.enable()
