@@ -20,6 +20,10 @@ carried exactly to the event and the next piece starts there. No step-size contr
 truncation error: what is left is rounding and the event times' own rounding (stated by
 :func:`rounding_bound`). Method ``exact_contact``; ``auto`` takes it where it applies
 (:func:`contact_exact_applies`).
+
+The same pieces give the flow's sensitivity ``d y(t1) / d y0`` exactly
+(:func:`flow_with_sensitivity`: the pieces' matrix exponentials times the :func:`saltation`
+matrix of each contact change), which shooting for the periodic orbit uses.
 """
 
 from __future__ import annotations
