@@ -329,8 +329,8 @@ def saltation(f_minus: FloatArray, f_plus: FloatArray, normal: FloatArray) -> Fl
     """Saltation matrix ``S = I + (f+ - f-) n^T / (n^T f-)`` of a crossing of a state surface.
 
     Maps a state perturbation just before the crossing to one just after it, the crossing
-    time moving with the perturbation (Aizerman & Gantmacher 1958; Leine & Nijmeijer 2004,
-    Dynamics and Bifurcations of Non-Smooth Mechanical Systems, eq. 3.53).
+    time moving with the perturbation (Aizerman & Gantmacher 1958, J. Appl. Math. Mech. 22;
+    Leine & Nijmeijer 2004, Dynamics and Bifurcations of Non-Smooth Mechanical Systems).
 
     Parameters
     ----------
