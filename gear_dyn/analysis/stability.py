@@ -16,12 +16,16 @@ instability (the response grows without bound and there is no steady state to re
   error): ``Z = [Phi q]`` obeys ``Z' = A(t) Z + [0 g(t)]``, ``Z(0) = [I 0]``, integrated over one
   period with ``solve_ivp`` (DOP853), cut at the switching instants.
 
-Nonlinear models (backlash). Shooting: Newton's method on ``P(y0) - y0 = 0``, ``P`` the one-period
-map, its Jacobian ``Phi = dP/dy0`` from the variational equations ``Phi' = J(t, y) Phi`` integrated
-with the state. The dead zone makes ``J`` jump where the teeth separate, but the vector field is
-continuous there, so the saltation matrix is the identity and no correction is needed. The
-eigenvalues of ``Phi`` at the converged orbit are its Floquet multipliers: they tell a stable
-orbit (seen in a slow sweep) from an unstable one (the middle branch of a fold).
+Nonlinear models (backlash). Shooting: Newton's method on ``P(y0) - y0 = 0``, ``P`` the
+one-period map, its Jacobian ``Phi = dP/dy0`` with it. Where the backlash propagator applies
+(piecewise-constant stiffness, no transmission error) both are exact: the product of the
+closed-form pieces' matrix exponentials and the saltation matrices of the located contact
+changes (:func:`gear_dyn.solvers.contact_exact.flow_with_sensitivity`; no scipy). Otherwise the
+variational equations ``Phi' = J(t, y) Phi`` are integrated with the state (DOP853). The dead
+zone makes ``J`` jump where the teeth separate, but the vector field is continuous there, so the
+saltation matrix is the identity and no correction is needed. The eigenvalues of ``Phi`` at the
+converged orbit are its Floquet multipliers: they tell a stable orbit (seen in a slow sweep)
+from an unstable one (the middle branch of a fold).
 
 Stability charts over speed and stiffness variation are in :mod:`gear_dyn.analysis.chart`.
 """
@@ -37,6 +41,8 @@ from numpy.typing import NDArray
 
 from gear_dyn.errors import InputError, SolverError, check_range
 from gear_dyn.models.base import MeshModel, Model
+from gear_dyn.solvers.contact_exact import contact_exact_applies
+from gear_dyn.solvers.contact_exact import flow_with_sensitivity as contact_flow_with_sensitivity
 from gear_dyn.solvers.events import solve_piece_with_events
 from gear_dyn.solvers.matexp import expm
 from gear_dyn.solvers.periodic import step_products
@@ -394,15 +400,41 @@ def periodic_steady_state(
     return shoot(model, model.initial_state() if y_guess is None else y_guess, rtol, max_iter)
 
 
-def flow_with_sensitivity(model: MeshModel, y0: FloatArray, t1: float, rtol: float = 1e-10
-                          ) -> tuple[FloatArray, FloatArray]:
+#: routes of :func:`flow_with_sensitivity`
+SENSITIVITY_ROUTES = ("auto", "exact", "variational")
+
+
+def flow_with_sensitivity(model: MeshModel, y0: FloatArray, t1: float, rtol: float = 1e-10,
+                          route: str = "auto") -> tuple[FloatArray, FloatArray]:
     """State ``y(t1)`` from ``y(0) = y0`` and its sensitivity ``d y(t1) / d y0``.
+
+    Parameters
+    ----------
+    model : MeshModel
+    y0 : ndarray
+        Start state [m, m/s].
+    t1 : float
+        End time in s.
+    rtol : float
+        Relative tolerance of the variational integration (unused by the exact route).
+    route : str
+        ``exact``: the closed-form pieces and saltation matrices of the backlash propagator
+        (:func:`gear_dyn.solvers.contact_exact.flow_with_sensitivity`; single-DOF model with
+        backlash and piecewise-constant stiffness, no transmission error), exact up to
+        rounding; ``variational``: the variational equations with DOP853 (any single-DOF
+        model; imports scipy.integrate); ``auto``: ``exact`` where it applies.
 
     Raises
     ------
+    InputError
+        An unknown route, or ``exact`` for a model it does not cover.
     SolverError
         Integration failure or a diverging response.
     """
+    if route not in SENSITIVITY_ROUTES:
+        raise InputError(f"route = {route!r}: valid choices are {', '.join(SENSITIVITY_ROUTES)}")
+    if route == "exact" or (route == "auto" and contact_exact_applies(model)):
+        return contact_flow_with_sensitivity(model, y0, t1)
     n = len(model.state_labels)
 
     def rhs_on(ta: float, tb: float) -> Any:
@@ -421,7 +453,7 @@ def flow_with_sensitivity(model: MeshModel, y0: FloatArray, t1: float, rtol: flo
 
 
 def shoot(model: MeshModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: int = 15,
-          periods: int = 1) -> PeriodicSolution:
+          periods: int = 1, route: str = "auto") -> PeriodicSolution:
     """Periodic orbit by Newton's method on the one-period map (shooting).
 
     With ``periods = 2`` the map over two mesh periods: a period-2 (subharmonic) orbit, as
@@ -443,6 +475,9 @@ def shoot(model: MeshModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: 
         Newton iterations (>= 1).
     periods : int
         Mesh periods of the orbit (1..16).
+    route : str
+        How the one-period map and its Jacobian are computed (:func:`flow_with_sensitivity`):
+        ``auto`` (exact where it applies, else variational), ``exact`` or ``variational``.
 
     Returns
     -------
@@ -465,7 +500,7 @@ def shoot(model: MeshModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: 
     res = math.inf
     it = 0
     for it in range(1, max_iter + 1):
-        yt, phi = flow_with_sensitivity(model, y, period, rtol)
+        yt, phi = flow_with_sensitivity(model, y, period, rtol, route)
         r = yt - y
         ref = np.maximum(scale, np.abs(y))
         res_prev, res = res, float(np.max(np.abs(r) / ref))

@@ -20,13 +20,17 @@ carried exactly to the event and the next piece starts there. No step-size contr
 truncation error: what is left is rounding and the event times' own rounding (stated by
 :func:`rounding_bound`). Method ``exact_contact``; ``auto`` takes it where it applies
 (:func:`contact_exact_applies`).
+
+The same pieces give the flow's sensitivity ``d y(t1) / d y0`` exactly
+(:func:`flow_with_sensitivity`: the pieces' matrix exponentials times the :func:`saltation`
+matrix of each contact change), which shooting for the periodic orbit uses.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -144,6 +148,19 @@ class _Piece:
         """The contact boundaries this state can leave through."""
         return (self.b, -self.b) if self.state == GAP else (self.state * self.b,)
 
+    def field(self, x: float, v: float) -> FloatArray:
+        """The vector field ``[x', v']`` of this contact state at ``(x, v)`` (m/s, m/s^2)."""
+        spring = 0.0 if self.state == GAP else self.k * (x - self.state * self.b)
+        return np.array([v, (self.w - self.c * v - spring) / self.m])
+
+    def transition(self, s: FloatArray) -> FloatArray:
+        """``exp(A s)`` of this contact state's homogeneous part, shape ``(len(s), 2, 2)``:
+        the closed form of :func:`flow` with unit start states, no load and no gap."""
+        s = np.asarray(s, dtype=float)
+        xx, vx = flow(self.state, self.k, self.m, self.c, 0.0, 0.0, 1.0, 0.0, s)
+        xv, vv = flow(self.state, self.k, self.m, self.c, 0.0, 0.0, 0.0, 1.0, s)
+        return np.stack([np.stack([xx, xv], axis=-1), np.stack([vx, vv], axis=-1)], axis=-2)
+
 
 def _first_crossing(pc: _Piece, x0: float, v0: float, length: float, xtol: float
                     ) -> float | None:
@@ -203,6 +220,60 @@ def _next_state(state: int, x: float, v: float, b: float) -> int:
     return GAP
 
 
+class _Segment(NamedTuple):
+    """One closed-form piece of a trajectory: a contact state between two changes."""
+
+    t: float  #: start time (s)
+    piece: _Piece
+    x: float  #: state at the start (m, m/s)
+    v: float
+    s: float  #: duration (s)
+    event: bool  #: ends at a contact change (else at a stiffness switch or the end time)
+
+
+def _walk(mm: Any, t0: float, t1: float, x: float, v: float
+          ) -> tuple[list[_Segment], tuple[float, float]]:
+    """The closed-form pieces from ``(x, v)`` at ``t0`` to ``t1`` and the end state.
+
+    Cut at the stiffness switches; within a stiffness piece, each located contact change ends a
+    segment, its state is put exactly on the boundary it crossed and the next contact state
+    starts there.
+
+    Raises
+    ------
+    SolverError
+        A chattering contact (too many events in one stiffness piece).
+    """
+    cuts = np.concatenate([[t0], mm.switching_times(t0, t1), [t1]])
+    kts = mm.stiffness(mm.phase(0.5 * (cuts[:-1] + cuts[1:])))
+    b = float(mm.backlash)
+    xtol = 4 * float(np.spacing(max(abs(t0), abs(t1), 1e-300)))
+    cache: dict[tuple[float, int], _Piece] = {}
+    segs: list[_Segment] = []
+    state = _state_at(x, v, b)
+    for ta, tb, kt in zip(cuts[:-1].tolist(), cuts[1:].tolist(), kts.tolist(), strict=True):
+        t, n_ev = ta, 0
+        while t < tb:
+            pc = cache.get((kt, state)) or cache.setdefault((kt, state), _Piece(mm, kt, state))
+            hit = _first_crossing(pc, x, v, tb - t, xtol)
+            if hit is None or t + hit >= tb:
+                segs.append(_Segment(t, pc, x, v, tb - t, False))
+                xs, vs = pc.at(x, v, np.array([tb - t]))
+                x, v, t = float(xs[0]), float(vs[0]), tb
+                break
+            segs.append(_Segment(t, pc, x, v, hit, True))
+            xs, vs = pc.at(x, v, np.array([hit]))
+            x, v, t = float(xs[0]), float(vs[0]), t + hit
+            x = b if abs(x - b) < abs(x + b) else -b  # exactly on the boundary it crossed
+            state = _next_state(state, x, v, b)
+            n_ev += 1
+            if n_ev > MAX_EVENTS_PER_PIECE:
+                raise SolverError(
+                    f"exact_contact: more than {MAX_EVENTS_PER_PIECE} contact changes in one "
+                    f"stiffness piece at t = {t:.6g} s (a chattering graze); use LSODA")
+    return segs, (x, v)
+
+
 def propagate_contact_exact(
     model: Model, t_grid: FloatArray, settings: Any = None, y0: FloatArray | None = None
 ) -> tuple[FloatArray, dict[str, Any]]:
@@ -241,44 +312,118 @@ def propagate_contact_exact(
             "piecewise-constant stiffness and no transmission error; use DOP853 or LSODA")
     mm: Any = model
     t_grid = np.asarray(t_grid, dtype=float)
-    t0, t1 = float(t_grid[0]), float(t_grid[-1])
-    cuts = np.concatenate([[t0], model.switching_times(t0, t1), [t1]])
-    kts = mm.stiffness(mm.phase(0.5 * (cuts[:-1] + cuts[1:])))
     x, v = (float(u) for u in (model.initial_state() if y0 is None else y0))
-    b = float(mm.backlash)
-    xtol = 4 * float(np.spacing(max(abs(t0), abs(t1), 1e-300)))
-    cache: dict[tuple[float, int], _Piece] = {}
-    starts: list[float] = []
-    rows: list[tuple[_Piece, float, float]] = []
-    events: list[float] = []
-    state = _state_at(x, v, b)
-    for ta, tb, kt in zip(cuts[:-1].tolist(), cuts[1:].tolist(), kts.tolist(), strict=True):
-        t, n_ev = ta, 0
-        while t < tb:
-            pc = cache.get((kt, state)) or cache.setdefault((kt, state), _Piece(mm, kt, state))
-            starts.append(t)
-            rows.append((pc, x, v))
-            hit = _first_crossing(pc, x, v, tb - t, xtol)
-            if hit is None or t + hit >= tb:
-                xs, vs = pc.at(x, v, np.array([tb - t]))
-                x, v, t = float(xs[0]), float(vs[0]), tb
-                break
-            xs, vs = pc.at(x, v, np.array([hit]))
-            x, v, t = float(xs[0]), float(vs[0]), t + hit
-            x = b if abs(x - b) < abs(x + b) else -b  # exactly on the boundary it crossed
-            state = _next_state(state, x, v, b)
-            events.append(t)
-            n_ev += 1
-            if n_ev > MAX_EVENTS_PER_PIECE:
-                raise SolverError(
-                    f"exact_contact: more than {MAX_EVENTS_PER_PIECE} contact changes in one "
-                    f"stiffness piece at t = {t:.6g} s (a chattering graze); use LSODA")
-    out = _on_grid(t_grid, np.array(starts), rows)
+    segs, _end = _walk(mm, float(t_grid[0]), float(t_grid[-1]), x, v)
+    starts = np.array([sg.t for sg in segs])
+    rows = [(sg.piece, sg.x, sg.v) for sg in segs]
+    events = [sg.t + sg.s for sg in segs if sg.event]
+    out = _on_grid(t_grid, starts, rows)
     if not np.all(np.isfinite(out)):
         raise SolverError("exact_contact produced non-finite states: the response diverges")
     stats = {"nfev": 0, "njev": 0, "nlu": 0, "n_segments": len(rows),
              "n_contact_events": len(events), "event_times": np.array(events)}
     return out, stats
+
+
+def saltation(f_minus: FloatArray, f_plus: FloatArray, normal: FloatArray) -> FloatArray:
+    """Saltation matrix ``S = I + (f+ - f-) n^T / (n^T f-)`` of a crossing of a state surface.
+
+    Maps a state perturbation just before the crossing to one just after it, the crossing
+    time moving with the perturbation (Aizerman & Gantmacher 1958, J. Appl. Math. Mech. 22;
+    Leine & Nijmeijer 2004, Dynamics and Bifurcations of Non-Smooth Mechanical Systems).
+
+    Parameters
+    ----------
+    f_minus, f_plus : ndarray (n,)
+        Vector field before and after the crossing, at the crossing point.
+    normal : ndarray (n,)
+        Gradient of the switching function ``h(y)`` (the surface ``h = 0``).
+
+    Returns
+    -------
+    ndarray (n, n)
+        The identity where the field is continuous (``f+ = f-``, as at the dead zone's ends).
+
+    Raises
+    ------
+    SolverError
+        A discontinuous field crossed tangentially (``n^T f- = 0``, grazing): no derivative.
+    """
+    jump = np.asarray(f_plus, dtype=float) - np.asarray(f_minus, dtype=float)
+    eye = np.eye(jump.size)
+    if not np.any(jump):
+        return eye
+    rate = float(np.dot(normal, f_minus))
+    if rate == 0.0:
+        raise SolverError("a discontinuous vector field is crossed tangentially (grazing): "
+                          "the flow has no derivative there")
+    return eye + np.outer(jump, normal) / rate
+
+
+#: gradient of the contact switching functions ``x -+ b`` with respect to ``[x, v]``
+_CONTACT_NORMAL = np.array([1.0, 0.0])
+
+
+def flow_with_sensitivity(model: Model, y0: FloatArray, t1: float, t0: float = 0.0
+                          ) -> tuple[FloatArray, FloatArray]:
+    """State ``y(t1)`` from ``y(t0) = y0`` and its exact sensitivity ``d y(t1) / d y0``.
+
+    The product, in time order, of each closed-form piece's ``exp(A_j s_j)``
+    (:meth:`_Piece.transition`, the pieces of :func:`propagate_contact_exact`) and, at each
+    located contact change, the :func:`saltation` matrix of the switching surface ``x = +-b``.
+    The dead zone is continuous and the damping acts in every contact state, so the field is
+    continuous there and ``S = I``; the general formula is applied all the same. A stiffness
+    switch is a fixed instant, not a state surface: the state and its sensitivity carry over
+    unchanged (its saltation matrix, of the surface ``t = t_s`` in ``(y, t)``, has the identity
+    as its state block). No truncation error: rounding and the event times' rounding
+    (4 ulps, :func:`rounding_bound`).
+
+    Parameters
+    ----------
+    model : Model
+        Where :func:`contact_exact_applies`.
+    y0 : ndarray
+        Start state [m, m/s].
+    t1 : float
+        End time in s (> t0).
+    t0 : float
+        Start time in s.
+
+    Returns
+    -------
+    y : ndarray (2,)
+    phi : ndarray (2, 2)
+        ``d y(t1) / d y0`` (entries dimensionless, s and 1/s).
+
+    Raises
+    ------
+    InputError
+        The model is not of that kind.
+    SolverError
+        A chattering contact or non-finite states.
+    """
+    if not contact_exact_applies(model):
+        raise InputError("flow_with_sensitivity (exact_contact) needs the single-DOF model with "
+                         "backlash, piecewise-constant stiffness and no transmission error")
+    x0, v0 = (float(u) for u in y0)
+    segs, (x, v) = _walk(model, float(t0), float(t1), x0, v0)
+    mats = np.empty((len(segs), 2, 2))
+    by_piece: dict[int, list[int]] = {}
+    for i, sg in enumerate(segs):
+        by_piece.setdefault(id(sg.piece), []).append(i)
+    for idx in by_piece.values():
+        mats[idx] = segs[idx[0]].piece.transition(np.array([segs[i].s for i in idx]))
+    phi = np.eye(2)
+    for i, sg in enumerate(segs):
+        phi = mats[i] @ phi
+        if sg.event:  # the next segment starts on the boundary, in the new contact state
+            nxt = segs[i + 1]
+            phi = saltation(sg.piece.field(nxt.x, nxt.v), nxt.piece.field(nxt.x, nxt.v),
+                            _CONTACT_NORMAL) @ phi
+    y = np.array([x, v])
+    if not (np.all(np.isfinite(y)) and np.all(np.isfinite(phi))):
+        raise SolverError("exact_contact produced non-finite states: the response diverges")
+    return y, phi
 
 
 def _on_grid(t_grid: FloatArray, starts: FloatArray, rows: list[tuple[_Piece, float, float]]
