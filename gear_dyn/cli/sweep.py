@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import argparse
+import functools
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TextIO, cast
 
+from gear_dyn.cli._parallel import Forerunner, forerunner, task_in_child
 from gear_dyn.cli.progress import counter
 from gear_dyn.cli.run import add_solver_flags, overrides
 from gear_dyn.errors import InputError
@@ -79,6 +81,19 @@ def run(args: argparse.Namespace) -> int:
     # (measured, benchmarks/bench_sweep.py); the pool's workers inherit it. An explicit
     # setting wins; it takes effect when numpy is first loaded, just below.
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+    from gear_dyn.plots._warm import import_for_files
+
+    # matplotlib imports in a forked child while this process sweeps
+    with forerunner(functools.partial(import_for_files, "gear_dyn.plots.sweep")) as plotter:
+        result, scene = _sweep(args)
+        summary = write_sweep_outputs(result, scene, args.out, args.chart, plotter=plotter)
+    _print_summary(result, scene, summary, args.chart)
+    print(f"wrote {args.out}/")
+    return 0
+
+
+def _sweep(args: argparse.Namespace) -> tuple[Any, Any]:
+    """The sweep the arguments ask for: (SweepResult, Scene)."""
     from gear_dyn.analysis.sweep import SweepOptions
     from gear_dyn.scene import load_scene
     from gear_dyn.scene.sweep import parse_speed_range, sweep_scene
@@ -102,10 +117,7 @@ def run(args: argparse.Namespace) -> int:
     finally:
         if client is not None:
             client.close()
-    summary = write_sweep_outputs(result, scene, args.out, args.chart)
-    _print_summary(result, scene, summary, args.chart)
-    print(f"wrote {args.out}/")
-    return 0
+    return result, scene
 
 
 
@@ -161,16 +173,19 @@ def _print_summary(result: Any, scene: Any, summary: dict[str, Any], chart: str)
         print("  Floquet stability charts around the scene: --chart both (stability.png)")
 
 
-def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
-                        ) -> dict[str, Any]:
-    """Write plots, CSV and sweep.json of a sweep into ``out`` (whole or not at all)."""
+def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both",
+                        plotter: Forerunner | None = None) -> dict[str, Any]:
+    """Write plots, CSV and sweep.json of a sweep into ``out`` (whole or not at all).
+
+    ``plotter``: a forerunner that imported the plotting stack while the sweep ran: it draws
+    the figures; else this process does.
+    """
     import numpy as np
 
     from gear_dyn.analysis.chart import chart_summary, sweep_charts
     from gear_dyn.analysis.sweep import RPM, summarize_sweep, sweep_columns
-    from gear_dyn.io import save_figure, staged_output, write_csv, write_json
+    from gear_dyn.io import staged_output, write_csv, write_json
     from gear_dyn.models.base import MeshModel
-    from gear_dyn.plots.sweep import plot_stability_charts, plot_sweep_response, plot_waterfall
     from gear_dyn.scene import build_model
     from gear_dyn.scene.iso import iso_kv_at
 
@@ -183,35 +198,63 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
         dense = np.asarray(iso_kv_at(scene, rpm * RPM))
         iso_curve = (rpm, dense)
         summary["iso_6336_kv_max"] = float(np.max(dense))
+    charts: tuple[Any, ...] = ()
+    model = build_model(scene) if chart != "none" else None
+    if model is not None and model.mesh_periodic:
+        ratio = result.curves[0].mesh_frequency / result.natural_frequency
+        lo, hi = float(np.min(ratio)), float(np.max(ratio))
+        if found := sweep_charts(cast(MeshModel, model), lo, hi, chart):
+            note = " (backlash ignored: full contact)" if model.backlash is not None else ""
+            charts = (found, (lo, hi), f"{result.scene_name}: Floquet stability{note}; black "
+                      "line |mu| = 1")
+            summary["stability_chart"] = chart_summary(found)
     with staged_output(out) as tmp:
         write_csv(tmp / "sweep.csv", cols)
-        spec_cols: dict[str, Any] = {}
-        for c in result.curves:
-            spec_cols.setdefault("direction_down", []).extend([float(c.direction == "down")]
-                                                              * c.speed.size)
-            spec_cols.setdefault("speed_rpm", []).extend(list(c.speed / RPM))
-            for j, o in enumerate(result.orders):
-                spec_cols.setdefault(f"dte_amp_m_order_{o:g}", []).extend(list(c.spectrum[:, j]))
-        write_csv(tmp / "spectra.csv", {k: np.asarray(v) for k, v in spec_cols.items()})
-        fig = plot_sweep_response(result, iso_kv=iso_curve)
-        save_figure(fig, tmp / "response.png", dpi=110)
-        for c in result.curves:
-            fig = plot_waterfall(result, c.direction)
-            name = "waterfall.png" if c is result.curves[0] else f"waterfall_{c.direction}.png"
-            save_figure(fig, tmp / name, dpi=110)
-        model = build_model(scene) if chart != "none" else None
-        if model is not None and model.mesh_periodic:
-            ratio = result.curves[0].mesh_frequency / result.natural_frequency
-            lo, hi = float(np.min(ratio)), float(np.max(ratio))
-            charts = sweep_charts(cast(MeshModel, model), lo, hi, chart)
-            if charts:
-                note = " (backlash ignored: full contact)" if model.backlash is not None else ""
-                fig = plot_stability_charts(charts, sweep_range=(lo, hi), title=(
-                    f"{result.scene_name}: Floquet stability{note}; black line |mu| = 1"))
-                save_figure(fig, tmp / "stability.png", dpi=110)
-                summary["stability_chart"] = chart_summary(charts)
+        write_csv(tmp / "spectra.csv", _spectra_columns(result))
         write_json(tmp / "sweep.json", summary)
+        job = functools.partial(draw_sweep_figures, result, tmp, iso_curve, charts)
+        if plotter is not None:
+            plotter.run(job)
+        else:
+            job()
     return summary
 
 
-__all__ = ["progress_bar", "register", "run", "write_sweep_outputs"]
+def _spectra_columns(result: Any) -> dict[str, Any]:
+    """spectra.csv: direction, speed and the DTE amplitude of each order, per speed."""
+    import numpy as np
+
+    from gear_dyn.analysis.sweep import RPM
+
+    cols: dict[str, Any] = {}
+    for c in result.curves:
+        cols.setdefault("direction_down", []).extend([float(c.direction == "down")]
+                                                     * c.speed.size)
+        cols.setdefault("speed_rpm", []).extend(list(c.speed / RPM))
+        for j, o in enumerate(result.orders):
+            cols.setdefault(f"dte_amp_m_order_{o:g}", []).extend(list(c.spectrum[:, j]))
+    return {k: np.asarray(v) for k, v in cols.items()}
+
+
+def draw_sweep_figures(result: Any, tmp: Path, iso_curve: Any, charts: tuple[Any, ...]
+                       ) -> None:
+    """response.png, the waterfall(s) and (``charts``: charts, range, title) stability.png in
+    ``tmp``; the waterfalls in a forked child when a core is free for it."""
+    from gear_dyn.io import save_figure
+    from gear_dyn.plots.sweep import plot_stability_charts, plot_sweep_response, plot_waterfall
+
+    def waterfalls() -> None:
+        for c in result.curves:
+            name = "waterfall.png" if c is result.curves[0] else f"waterfall_{c.direction}.png"
+            save_figure(plot_waterfall(result, c.direction), tmp / name, dpi=110)
+
+    with task_in_child(waterfalls):
+        save_figure(plot_sweep_response(result, iso_kv=iso_curve), tmp / "response.png",
+                    dpi=110)
+        if charts:
+            found, sweep_range, title = charts
+            save_figure(plot_stability_charts(found, sweep_range=sweep_range, title=title),
+                        tmp / "stability.png", dpi=110)
+
+
+__all__ = ["draw_sweep_figures", "progress_bar", "register", "run", "write_sweep_outputs"]
