@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import compileall
+import os
 import statistics
 import time
 from collections.abc import Callable
@@ -29,3 +31,14 @@ def median_time(fn: Callable[[], Any], repeats: int) -> tuple[float, Any]:
         dt, out = timed(fn)
         times.append(dt)
     return statistics.median(times), out
+
+
+def as_installed(package_dir: Any) -> dict[str, str]:
+    """The environment for timing whole processes as a user runs them after ``pip install``:
+    the package's bytecode compiled beforehand (pip does so at install; an editable install
+    with ``PYTHONDONTWRITEBYTECODE`` set would compile every module in every process), and
+    that variable left out of the children's environment."""
+    compileall.compile_dir(str(package_dir), quiet=1)
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    env["MPLBACKEND"] = "Agg"
+    return env

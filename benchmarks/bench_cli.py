@@ -41,7 +41,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from _timing import spread  # noqa: E402  (benchmarks/ is on sys.path)
+from _timing import as_installed, spread  # noqa: E402  (benchmarks/ is on sys.path)
 
 from gear_dyn.analysis.accuracy import relative_errors
 from gear_dyn.analysis.bench import reference_solution
@@ -54,6 +54,8 @@ SCENES = ("helicopter_tail", "helicopter_tail_backlash")
 TARGET = 1e-6
 RTOLS = (1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11)
 GEAR_DYN = str(Path(sys.executable).with_name("gear-dyn"))
+#: the children's environment (bytecode compiled as after pip install), set by main()
+ENV: dict[str, str] = {}
 
 
 
@@ -62,7 +64,7 @@ def timed(cmd: list[str]) -> float:
     """Wall time of one whole process in s (its output discarded; a failure raises)."""
     t0 = time.perf_counter()
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                   env={**os.environ, "MPLBACKEND": "Agg"})
+                   env=ENV)
     return time.perf_counter() - t0
 
 
@@ -121,7 +123,7 @@ def phase_times(cmd: list[str], stream: str, env: dict[str, str]) -> dict[str, f
     """``phase<TAB>seconds`` lines a process prints (stdout or stderr) as a dict."""
     t0 = time.perf_counter()
     out = subprocess.run(cmd, check=True, capture_output=True, text=True,
-                         env={**os.environ, "MPLBACKEND": "Agg", **env})
+                         env={**ENV, **env})
     wall = time.perf_counter() - t0
     lines = (out.stdout if stream == "stdout" else out.stderr).splitlines()
     res = {ln.split("\t")[0]: float(ln.split("\t")[1]) for ln in lines if "\t" in ln}
@@ -170,7 +172,10 @@ def report(rows: list[dict[str, Any]], start: dict[str, list[float]], repeats: i
         "Naive script: `benchmarks/naive_run.py` (one `solve_ivp(RK45)` call, plain Python "
         "right-hand side, pyplot time history + spectrum PNGs) at its loosest rtol reaching "
         f"max error <= {TARGET:g} of the static deflection. `gear-dyn run SCENE --out DIR`: the "
-        "scene's own settings (also writes the CSV and summary.json).", "",
+        "scene's own settings (also writes the CSV and summary.json). gear_dyn's bytecode is "
+        "compiled before timing, as `pip install` leaves it, and `PYTHONDONTWRITEBYTECODE` is "
+        "not passed on (with it set, an editable install compiles every gear_dyn module in "
+        "every process).", "",
         "| scene | naive rtol | naive error | gear-dyn error | naive (s) | gear-dyn run (s) "
         "| ratio naive / gear-dyn |",
         "|---|---|---|---|---|---|---|",
@@ -187,9 +192,12 @@ def report(rows: list[dict[str, Any]], start: dict[str, list[float]], repeats: i
         lines += ["", f"Where the time goes ({rows[0]['scene']}; fresh processes, phases timed "
                   "serially inside them, the rest is the process's wall time minus the phases; "
                   "`python benchmarks/cli_phases.py` and "
-                  "`NAIVE_PHASES=1 python benchmarks/naive_run.py`). When a core is free (1-minute "
-                  "load average <= cores - 1), `gear-dyn run` itself draws the time history in "
-                  "a forked child while it draws the spectrum and writes the CSV:", "",
+                  "`NAIVE_PHASES=1 python benchmarks/naive_run.py`). With a second core free "
+                  "(1-minute load average below the number of cores), `gear-dyn run` does them "
+                  "on two cores: a forerunner child forked before the arguments are parsed "
+                  "imports matplotlib while the command solves and writes the CSV and JSON, then "
+                  "draws the time history's whole-run column while a second child draws its "
+                  "zoom column and the spectrum (gear_dyn/cli/_parallel.py):", "",
                   "| process | phase | wall time (s) |", "|---|---|---|"]
         for who, table in phase.items():
             for name, vals in table.items():
@@ -207,6 +215,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--record", action="store_true",
                     help="write into benchmarks/results/ (the recorded figures)")
     args = ap.parse_args(argv)
+    ENV.update(as_installed(ROOT / "gear_dyn"))
     out_dir = ROOT / "benchmarks" / "results" if args.record else args.out
     rows = []
     with tempfile.TemporaryDirectory() as tmp:

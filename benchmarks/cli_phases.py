@@ -2,10 +2,13 @@
 
 Run:  python benchmarks/cli_phases.py [SCENE]      (prints ``phase<TAB>seconds`` lines)
 
-The same steps as ``gear-dyn run SCENE --out DIR`` in their order, in a fresh interpreter, each
-timed by wall clock, but serially: the command itself, when a core is free, draws the time
-history in a forked child while it draws the spectrum and writes the CSV
-(gear_dyn/cli/_parallel.py). Python's own
+The same steps as ``gear-dyn run SCENE --out DIR``, in a fresh interpreter, each timed by wall
+clock, but serially. The command itself, with a second core free, runs them on two cores
+(gear_dyn/cli/_parallel.py): at its start it forks a forerunner that imports matplotlib (the
+quick import of gear_dyn/plots/_warm.py, timed here) while the command imports gear_dyn, reads
+the scene, solves and writes the CSV and JSON; the forerunner then builds the time history and
+forks once more, so that one process draws its whole-run column and the other its zoom column
+and the spectrum. Python's own
 start-up is not included (``python -c pass`` in benchmarks/bench_cli.py). Used by
 benchmarks/bench_cli.py for the phase table of its report.
 """
@@ -47,11 +50,12 @@ def main(scene_path: str) -> None:
         _write_timeseries(result, summary, Path(tmp) / "timeseries.csv")
         write_json(Path(tmp) / "summary.json", summary)
         lap("summary, timeseries.csv, summary.json")
-        import matplotlib.backends.backend_agg  # noqa: F401
+        from gear_dyn.plots._warm import import_for_files
 
+        import_for_files()
         from gear_dyn.plots.run import plot_spectrum, plot_time_history
 
-        lap("import matplotlib (Figure, Agg)")
+        lap("import matplotlib (Figure, Agg; the forerunner's quick import)")
         fig = plot_time_history(result, blocks=1500)
         save_figure(fig, Path(tmp) / "t.png", dpi=110, pil_kwargs={"compress_level": 1})
         lap("time_history.png (build, draw, PNG)")

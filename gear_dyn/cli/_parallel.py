@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import contextlib
 import os
-import pickle
 import signal
 import sys
 import threading
@@ -79,9 +78,14 @@ class ChildTasks:
             self._done += 1
 
     def finish(self) -> None:
-        """Every task done; the child reaped."""
+        """Every task done (the child, exiting, is reaped later: :func:`_reap_soon`)."""
         self.wait(len(self._tasks) - 1)
-        self._reap()
+        if self._progress >= 0:
+            os.close(self._progress)
+            self._progress = -1
+        if self._pid:
+            _reap_soon(self._pid)
+            self._pid = 0
 
     def kill(self) -> None:
         """Stop the child (the command failed or was interrupted)."""
@@ -135,32 +139,44 @@ class Forerunner:
         self._warm = warm
         self._pid = 0
         self._jobs = -1  # write end of the pipe the job travels through
+        self._done = -1  # read end of the pipe the child reports the job done through
 
     def start(self) -> None:
         """Fork the child (or not: then :meth:`run` does the job here)."""
-        r, w = os.pipe()
+        r, w = os.pipe()  # the job, to the child
+        done_r, done_w = os.pipe()  # one byte back when the job is done
         warm = self._warm
 
         def child() -> None:
+            import gc
+            import pickle
+
             os.close(w)
+            os.close(done_r)
+            # a short life ended by os._exit: no cyclic collections (importing matplotlib
+            # makes many objects, each collection scans them all again)
+            gc.disable()
             warm()
             with os.fdopen(r, "rb") as jobs:
                 job = pickle.load(jobs)
             job()
+            os.write(done_w, b".")
 
-        self._jobs = w
+        self._jobs, self._done = w, done_r
         try:
             with _held_signals() as mask:
                 self._pid = fork_child(child, mask)
             # a signal that came during the fork is raised here, with the pid known
         finally:
             os.close(r)
+            os.close(done_w)
         if not self._pid:
-            os.close(w)
-            self._jobs = -1
+            self._close()
 
     def run(self, job: Task) -> None:
-        """Do ``job``: send it to the child and wait for it (or do it here)."""
+        """Do ``job``: send it to the child and wait until it is done (or do it here)."""
+        import pickle
+
         done = False
         if self._pid:
             try:
@@ -174,18 +190,25 @@ class Forerunner:
                         pipe.write(payload)
                 except OSError:
                     pass  # the child is gone: done here
-                _, status = os.waitpid(self._pid, 0)
-                self._pid, done = 0, os.waitstatus_to_exitcode(status) == 0
-            else:
-                self.kill()
+                done = os.read(self._done, 1) == b"."  # empty: the child failed
+                if done:  # its exit is not waited for: it tears down while this goes on
+                    _reap_soon(self._pid)
+                else:
+                    os.waitpid(self._pid, 0)
+                self._pid = 0
+        self.kill()
         if not done:
             job()
 
+    def _close(self) -> None:
+        for fd in (self._jobs, self._done):
+            if fd >= 0:
+                os.close(fd)
+        self._jobs = self._done = -1
+
     def kill(self) -> None:
         """Stop the child (the command failed or was interrupted before sending its job)."""
-        if self._jobs >= 0:
-            os.close(self._jobs)
-            self._jobs = -1
+        self._close()
         if self._pid:
             with contextlib.suppress(OSError):
                 os.kill(self._pid, signal.SIGKILL)
@@ -203,6 +226,15 @@ def forerunner(warm: Task) -> Iterator[Forerunner]:
         yield runner
     finally:
         runner.kill()
+
+
+def forerunner_of(args: object, warm: Task) -> contextlib.AbstractContextManager[Forerunner]:
+    """The forerunner ``gear-dyn`` started for this command before parsing its arguments
+    (``args.plotter``, see cli/app.py), or a new one (a command called without ``main``)."""
+    runner = getattr(args, "plotter", None)
+    if isinstance(runner, Forerunner):
+        return contextlib.nullcontext(runner)
+    return forerunner(warm)
 
 
 @contextlib.contextmanager
@@ -234,6 +266,27 @@ def spare_core() -> bool:
     return cores > 1 and load < cores
 
 
+#: children that reported their work done and were left to exit on their own
+_EXITING: list[int] = []
+
+
+def _reap_soon(pid: int) -> None:
+    """Reap ``pid`` now if it has exited, else at a later fork (its exit - tearing down a
+    process that imported matplotlib takes milliseconds - overlaps the parent's work)."""
+    _EXITING.append(pid)
+    _reap_exited()
+
+
+def _reap_exited() -> None:
+    for pid in list(_EXITING):
+        try:
+            gone = os.waitpid(pid, os.WNOHANG)[0] != 0
+        except ChildProcessError:
+            gone = True
+        if gone:
+            _EXITING.remove(pid)
+
+
 def can_fork() -> bool:
     """Whether :func:`fork_child` would fork: ``fork`` here, no other threads, a spare core."""
     return hasattr(os, "fork") and threading.active_count() == 1 and spare_core()
@@ -245,6 +298,7 @@ def fork_child(main: Task, mask: set[int | signal.Signals] | None) -> int:
     forked: no fork here, other threads running, no spare core, the fork failed.
 
     Called with SIGINT/SIGTERM held (:func:`_held_signals`); the child sets ``mask``."""
+    _reap_exited()
     if not can_fork():
         return 0
     for stream in (sys.stdout, sys.stderr):
@@ -268,5 +322,5 @@ def fork_child(main: Task, mask: set[int | signal.Signals] | None) -> int:
         os._exit(code)
 
 
-__all__ = ["ChildTasks", "Forerunner", "can_fork", "child_tasks", "forerunner", "fork_child",
-           "spare_core", "task_in_child"]
+__all__ = ["ChildTasks", "Forerunner", "can_fork", "child_tasks", "forerunner", "forerunner_of",
+           "fork_child", "spare_core", "task_in_child"]

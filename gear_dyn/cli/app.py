@@ -8,6 +8,8 @@ Exit codes: 0 success; 2 user mistake (bad scene, flag or value: one line on std
 from __future__ import annotations
 
 import argparse
+import contextlib
+import functools
 import gc
 import importlib
 import os
@@ -16,6 +18,7 @@ import sys
 import threading
 import traceback
 from collections.abc import Sequence
+from typing import Any
 
 from gear_dyn.errors import InputError, SolverError
 
@@ -122,11 +125,31 @@ def main(argv: Sequence[str] | None = None) -> int:
             gc.freeze()
 
 
+#: commands that draw figures -> the figure modules their forerunner imports
+PLOTTING: dict[str, tuple[str, ...]] = {"run": ("gear_dyn.plots.run",),
+                                        "demo": ("gear_dyn.plots.run",),
+                                        "sweep": ("gear_dyn.plots.sweep",)}
+
+
+def _plotting(args_list: list[str]) -> contextlib.AbstractContextManager[Any]:
+    """For a command that draws figures: a forerunner child (cli/_parallel.py) forked before
+    the parser is even built (~30 ms), importing matplotlib while the command computes;
+    killed if the command line is refused. Otherwise no child."""
+    command = next((a for a in args_list if not a.startswith("-")), None)
+    if command not in PLOTTING or {"-h", "--help"} & set(args_list):
+        return contextlib.nullcontext(None)
+    from gear_dyn.cli._parallel import forerunner
+    from gear_dyn.plots._warm import import_for_files
+
+    return forerunner(functools.partial(import_for_files, *PLOTTING[command]))
+
+
 def _main(args_list: list[str], debug: bool) -> int:
     try:
-        parser = build_parser()
-        args = parser.parse_args(args_list)
-        code = args.func(args)
+        with _plotting(args_list) as plotter:
+            parser = build_parser()
+            args = parser.parse_args(args_list, namespace=argparse.Namespace(plotter=plotter))
+            code = args.func(args)
         return int(code or 0)
     except Terminated:
         sys.stderr.write("gear-dyn: terminated (SIGTERM); no partial output was kept\n")

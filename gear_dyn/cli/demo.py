@@ -22,16 +22,21 @@ def register(sub: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from gear_dyn.cli.output import write_run_outputs
-    from gear_dyn.scene import load_scene, run_scene
-    from gear_dyn.scene.packaged import scene_path
+    from gear_dyn.cli._parallel import forerunner_of
+    from gear_dyn.plots._warm import import_for_files
 
-    with Stages(["load scene", "solve", "write plots and data"], args.quiet) as st:
+    # matplotlib imports in a forked child while this process solves (as in `gear-dyn run`)
+    with forerunner_of(args, import_for_files) as plotter, \
+            Stages(["load scene", "solve", "write plots and data"], args.quiet) as st:
+        from gear_dyn.cli.output import write_run_outputs
+        from gear_dyn.scene import load_scene, run_scene
+        from gear_dyn.scene.packaged import scene_path
+
         scene = load_scene(scene_path("helicopter_tail"))
         st.next()
         result = run_scene(scene)
         st.next()
-        s = write_run_outputs(result, args.out)
+        s = write_run_outputs(result, args.out, plotter=plotter)
     out = args.out.resolve()
     print("gear_dyn demo: seed 002 helicopter tail drive (z 23/64, m 6 mm, 3319 rpm, 1474.4 N m)")
     print(f"  mesh frequency      {s['mesh_frequency_hz']:.1f} Hz")

@@ -59,11 +59,11 @@ def run(args: argparse.Namespace) -> int:
     was_enabled = gc.isenabled()
     gc.disable()
     try:
-        from gear_dyn.cli._parallel import forerunner
+        from gear_dyn.cli._parallel import forerunner_of
         from gear_dyn.plots._warm import import_for_files
 
         # matplotlib imports in a forked child while this process reads the scene and solves
-        with forerunner(import_for_files) as plotter:
+        with forerunner_of(args, import_for_files) as plotter:
             from gear_dyn.cli.output import write_run_outputs
             from gear_dyn.scene import load_scene, run_scene
 

@@ -8,7 +8,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TextIO, cast
 
-from gear_dyn.cli._parallel import Forerunner, forerunner, task_in_child
+from gear_dyn.cli._parallel import Forerunner, forerunner_of, task_in_child
 from gear_dyn.cli.progress import counter
 from gear_dyn.cli.run import add_solver_flags, overrides
 from gear_dyn.errors import InputError
@@ -84,7 +84,8 @@ def run(args: argparse.Namespace) -> int:
     from gear_dyn.plots._warm import import_for_files
 
     # matplotlib imports in a forked child while this process sweeps
-    with forerunner(functools.partial(import_for_files, "gear_dyn.plots.sweep")) as plotter:
+    with forerunner_of(args, functools.partial(import_for_files, "gear_dyn.plots.sweep")
+                       ) as plotter:
         result, scene = _sweep(args)
         summary = write_sweep_outputs(result, scene, args.out, args.chart, plotter=plotter)
     _print_summary(result, scene, summary, args.chart)

@@ -62,11 +62,22 @@ def render_part(fig: Any, dpi: float, keep: Callable[[Any], bool], base: bool) -
 
 
 def lay_over(base: Image, top: Image) -> Image:
-    """``top`` laid over the opaque ``base`` (straight alpha), rounded to 8 bits."""
-    a = top[..., 3:4].astype(np.float32) / 255.0
+    """``top`` laid over the opaque ``base`` (straight alpha), rounded to 8 bits.
+
+    Only the box around the top's non-transparent pixels is mixed, in integers:
+    ``(t a + b (255 - a) + 127) // 255`` is ``t a / 255 + b (1 - a / 255)`` rounded (the
+    fraction is k / 255, never one half).
+    """
     out = base.copy()
-    mixed = top[..., :3] * a + base[..., :3] * (1.0 - a)
-    out[..., :3] = np.clip(np.rint(mixed), 0, 255).astype(np.uint8)
+    alpha = top[..., 3]
+    rows = np.flatnonzero(alpha.any(axis=1))
+    cols = np.flatnonzero(alpha.any(axis=0))
+    if rows.size == 0:
+        return out
+    box = np.s_[rows[0]:rows[-1] + 1, cols[0]:cols[-1] + 1]
+    a = alpha[box][..., None].astype(np.uint16)  # t a + b (255 - a) + 127 <= 65152
+    mixed = top[box][..., :3] * a + base[box][..., :3] * (255 - a) + 127
+    out[box][..., :3] = mixed // 255
     return out
 
 
