@@ -46,7 +46,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from _timing import spread, timed  # noqa: E402  (benchmarks/ is on sys.path)
+from _timing import as_installed, spread, timed  # noqa: E402  (benchmarks/ is on sys.path)
 
 from gear_dyn.analysis.stability import periodic_steady_state
 from gear_dyn.analysis.study import simulate
@@ -68,9 +68,13 @@ CHUNK = 10  # mesh periods per transient chunk between convergence checks
 
 
 
+#: the children's environment (bytecode compiled as after pip install), set by main()
+ENV: dict[str, str] = {}
+
+
 def wall(cmd: list[str]) -> float:
     t0 = time.perf_counter()
-    subprocess.run(cmd, check=True, capture_output=True)
+    subprocess.run(cmd, check=True, capture_output=True, env=ENV or None)
     return time.perf_counter() - t0
 
 
@@ -360,6 +364,7 @@ def main() -> None:
                     help="instead: the slow steady-vs-transient comparison (sweep_methods.md)")
     ap.add_argument("--speeds", type=int, default=500, help="speeds of --methods")
     args = ap.parse_args()
+    ENV.update(as_installed(ROOT / "gear_dyn"))
     out_dir = ROOT / "benchmarks" / "results" if args.record else args.out
     out_dir.mkdir(parents=True, exist_ok=True)
     if args.methods:

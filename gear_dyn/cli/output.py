@@ -50,10 +50,11 @@ def draw_run_figures(result: Result, tmp: Path, spectrum_scale: str) -> None:
 
     With a core to spare, a forked child draws the zoom column of the time history (into
     memory shared with this process) and then the spectrum, while this process draws the
-    whole-run column and lays the child's column over it (gear_dyn/plots/_compose.py).
+    whole-run column and lays the child's column over it (gear_dyn/plots/_compose.py). The
+    figure is built once, before the fork (building it in both, at once, measured no faster).
     """
     from gear_dyn.plots._compose import canvas_shape, column_of, lay_over, render_part, write_png
-    from gear_dyn.plots.run import plot_spectrum, plot_time_history
+    from gear_dyn.plots.run import plot_spectrum, plot_time_history, time_history_size
 
     fig = plot_time_history(result, blocks=1500)  # ~2 per pixel column at dpi 110
 
@@ -61,12 +62,12 @@ def draw_run_figures(result: Result, tmp: Path, spectrum_scale: str) -> None:
         save_figure(plot_spectrum(result, scale=spectrum_scale), tmp / "spectrum.png",
                     dpi=_DPI, pil_kwargs=_PNG)
 
-    if not can_fork() or len({column_of(a) for a in fig.axes}) < 2:
+    if not can_fork():
         save_figure(fig, tmp / "time_history.png", dpi=_DPI, pil_kwargs=_PNG)
         spectrum()
         return
-    shared = mmap.mmap(-1, math.prod(canvas_shape(fig, _DPI)))
-    zoom = np.frombuffer(shared, dtype=np.uint8).reshape(canvas_shape(fig, _DPI))
+    shape = canvas_shape(time_history_size(result), _DPI)
+    zoom = np.frombuffer(mmap.mmap(-1, math.prod(shape)), dtype=np.uint8).reshape(shape)
 
     def zoom_column() -> None:
         zoom[...] = render_part(fig, _DPI, lambda a: column_of(a) > 0, base=False)

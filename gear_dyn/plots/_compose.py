@@ -30,10 +30,11 @@ def column_of(ax: Any) -> int:
     return 0 if spec is None else int(spec.colspan.start)
 
 
-def canvas_shape(fig: Any, dpi: float) -> tuple[int, int, int]:
-    """``(height, width, 4)`` of the RGBA image of ``fig`` rendered at ``dpi``."""
-    w, h = fig.get_size_inches() * dpi
-    return int(round(h)), int(round(w)), 4
+def canvas_shape(size: tuple[float, float], dpi: float) -> tuple[int, int, int]:
+    """``(height, width, 4)`` of the RGBA image of a figure of ``size`` (width, height) inches
+    rendered at ``dpi`` (Agg truncates the size in pixels, so does this)."""
+    w, h = size
+    return int(h * dpi), int(w * dpi), 4
 
 
 def render_part(fig: Any, dpi: float, keep: Callable[[Any], bool], base: bool) -> Image:

@@ -69,6 +69,12 @@ def noise_floor(result: Result) -> float | None:
     return rel * result.static_load / km
 
 
+def time_history_size(result: Result, periods: float | None = 10.0) -> tuple[float, float]:
+    """Size (width, height) in inches of a new :func:`plot_time_history` figure: 6.5 x 3 per
+    panel, rows DTE[, elastic part], force; columns whole run[, zoom]."""
+    return 6.5 * (2 if periods else 1), 3.0 * (3 if "e_ecc" in result.outputs else 2)
+
+
 def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = None,
                       blocks: int | None = None) -> Any:
     """DTE and dynamic mesh force against time, the steady-state window shaded.
@@ -93,7 +99,7 @@ def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = No
     split = "e_ecc" in result.outputs
     ncols = 2 if periods else 1
     nrows = 3 if split else 2
-    fig, axes = axes_of(ax, nrows, ncols, figsize=(6.5 * ncols, 3 * nrows),
+    fig, axes = axes_of(ax, nrows, ncols, figsize=time_history_size(result, periods),
                         name="plot_time_history", squeeze=False, sharex="col")
     t = result.t
     rows: list[list[tuple[Any, str, str]]] = [[(result.outputs["dte"] * 1e6, "DTE", "tab:blue")]]

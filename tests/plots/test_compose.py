@@ -12,7 +12,7 @@ from matplotlib.image import imread
 import gear_dyn as gd
 from gear_dyn.io import save_figure
 from gear_dyn.plots._compose import canvas_shape, column_of, lay_over, render_part, write_png
-from gear_dyn.plots.run import plot_time_history
+from gear_dyn.plots.run import plot_time_history, time_history_size
 
 DPI = 110
 
@@ -33,7 +33,8 @@ def test_parts_laid_over_are_the_whole_figure(result: gd.Result, tmp_path: Path)
                 pil_kwargs={"compress_level": 1})
     base = render_part(fig, DPI, lambda a: column_of(a) == 0, base=True)
     top = render_part(fig, DPI, lambda a: column_of(a) > 0, base=False)
-    assert base.shape == top.shape == canvas_shape(fig, DPI)
+    assert base.shape == top.shape == canvas_shape(time_history_size(result), DPI)
+    assert tuple(fig.get_size_inches()) == time_history_size(result)
     assert top[0, 0, 3] == 0 and base[0, 0, 3] == 255  # the top is transparent around its axes
     write_png(lay_over(base, top), tmp_path / "parts.png", dpi=DPI, compress_level=1)
     whole, parts = _png(tmp_path / "whole.png"), _png(tmp_path / "parts.png")
