@@ -51,7 +51,7 @@ def draw_run_figures(result: Result, tmp: Path, spectrum_scale: str) -> None:
     With a core to spare, a forked child draws the zoom column of the time history (into
     memory shared with this process) and then the spectrum, while this process draws the
     whole-run column and lays the child's column over it (gear_dyn/plots/_compose.py). The
-    figure is built once, before the fork (building it in both, at once, measured no faster).
+    figure is built once, before the fork, and shared by both.
     """
     from gear_dyn.plots._compose import canvas_shape, column_of, lay_over, render_part, write_png
     from gear_dyn.plots.run import plot_spectrum, plot_time_history, time_history_size
