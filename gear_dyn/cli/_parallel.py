@@ -165,7 +165,7 @@ class Forerunner:
         self._jobs, self._done = w, done_r
         try:
             with _held_signals() as mask:
-                self._pid = fork_child(child, mask)
+                self._pid = fork_child(child, mask, own_group=True)
             # a signal that came during the fork is raised here, with the pid known
         finally:
             os.close(r)
@@ -185,12 +185,10 @@ class Forerunner:
                 payload = b""  # the job does not travel: the child is stopped, done here
             if payload:
                 try:
-                    with os.fdopen(self._jobs, "wb") as pipe:
-                        self._jobs = -1
-                        pipe.write(payload)
-                except OSError:
-                    pass  # the child is gone: done here
-                done = os.read(self._done, 1) == b"."  # empty: the child failed
+                    done = self._send(payload)
+                except BaseException:  # interrupted: the child (and its own children) stop
+                    self.kill()  # before the caller cleans up what they might still write
+                    raise
                 if done:  # its exit is not waited for: it tears down while this goes on
                     _reap_soon(self._pid)
                 else:
@@ -200,6 +198,16 @@ class Forerunner:
         if not done:
             job()
 
+    def _send(self, payload: bytes) -> bool:
+        """Send the pickled job; whether the child reported it done (else it failed)."""
+        try:
+            with os.fdopen(self._jobs, "wb") as pipe:
+                self._jobs = -1
+                pipe.write(payload)
+        except OSError:
+            pass  # the child is gone: its end of the done pipe is closed, read gives b""
+        return os.read(self._done, 1) == b"."
+
     def _close(self) -> None:
         for fd in (self._jobs, self._done):
             if fd >= 0:
@@ -207,11 +215,15 @@ class Forerunner:
         self._jobs = self._done = -1
 
     def kill(self) -> None:
-        """Stop the child (the command failed or was interrupted before sending its job)."""
+        """Stop the child and the children it forked (its process group), e.g. when the
+        command failed or was interrupted."""
         self._close()
         if self._pid:
             with contextlib.suppress(OSError):
-                os.kill(self._pid, signal.SIGKILL)
+                os.killpg(self._pid, signal.SIGKILL)
+            with contextlib.suppress(OSError):
+                os.kill(self._pid, signal.SIGKILL)  # not its group leader yet
+            with contextlib.suppress(OSError):
                 os.waitpid(self._pid, 0)
             self._pid = 0
 
@@ -292,12 +304,16 @@ def can_fork() -> bool:
     return hasattr(os, "fork") and threading.active_count() == 1 and spare_core()
 
 
-def fork_child(main: Task, mask: set[int | signal.Signals] | None) -> int:
+def fork_child(main: Task, mask: set[int | signal.Signals] | None, own_group: bool = False
+               ) -> int:
     """Fork a child that runs ``main`` and exits (0 if it returned, 1 if it raised), without
     the parent's clean-up (staged output, exit handlers). The child's pid, or 0 when not
     forked: no fork here, other threads running, no spare core, the fork failed.
 
-    Called with SIGINT/SIGTERM held (:func:`_held_signals`); the child sets ``mask``."""
+    Called with SIGINT/SIGTERM held (:func:`_held_signals`); the child sets ``mask``.
+    ``own_group``: the child leads a process group of its own, so that it can be stopped
+    together with the children it forks (``os.killpg``); it ignores SIGTTOU, so that writing
+    to the terminal from outside the foreground group never stops it."""
     _reap_exited()
     if not can_fork():
         return 0
@@ -309,9 +325,15 @@ def fork_child(main: Task, mask: set[int | signal.Signals] | None) -> int:
     except OSError:
         return 0
     if pid:
+        if own_group:
+            with contextlib.suppress(OSError):  # also in the child: whichever runs first
+                os.setpgid(pid, pid)
         return pid
     code = 1
     try:  # the child
+        if own_group:
+            os.setpgid(0, 0)
+            signal.signal(signal.SIGTTOU, signal.SIG_IGN)
         if mask is not None:
             signal.pthread_sigmask(signal.SIG_SETMASK, mask)
         main()

@@ -219,3 +219,39 @@ def test_an_error_before_the_job_kills_the_forerunner(tmp_path: Path,
     assert pids[0] > 0
     with pytest.raises(ChildProcessError):
         os.waitpid(pids[0], os.WNOHANG)  # reaped: no zombie left behind
+
+
+def _late_write(path: str, name: str) -> None:
+    time.sleep(1.0)
+    _append_job(path, name)
+
+
+def _job_with_a_grandchild(path: str) -> None:
+    import functools
+
+    with child_tasks(functools.partial(_late_write, path, "grandchild")):
+        _late_write(path, "child")
+
+
+def test_an_interrupted_job_stops_the_child_and_its_children(tmp_path: Path,
+                                                             single_threaded: None) -> None:
+    """Interrupted while the forerunner works (e.g. SIGTERM while it draws), the command stops
+    it and the child it forked before cleaning up: nothing writes into the output after."""
+    import functools
+    import signal
+
+    out = tmp_path / "log.txt"
+
+    def interrupt(signum: int, frame: object) -> None:
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGALRM, interrupt)
+    try:
+        signal.setitimer(signal.ITIMER_REAL, 0.4)
+        with pytest.raises(KeyboardInterrupt), forerunner(lambda: None) as runner:
+            runner.run(functools.partial(_job_with_a_grandchild, str(out)))
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+    time.sleep(1.5)  # past the moment both would have written
+    assert not out.exists()

@@ -24,8 +24,8 @@ def _run(out: Path, scene: str, forked: bool, monkeypatch: pytest.MonkeyPatch) -
     forks: list[int] = []
     real = _parallel.fork_child
 
-    def counting(main_: _parallel.Task, mask: object) -> int:
-        pid = real(main_, mask)  # type: ignore[arg-type]
+    def counting(main_: _parallel.Task, mask: object, own_group: bool = False) -> int:
+        pid = real(main_, mask, own_group)  # type: ignore[arg-type]
         if pid:
             forks.append(pid)
         return pid
