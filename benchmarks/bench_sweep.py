@@ -16,7 +16,8 @@ inside one repeat and then summarised the same way.
    of ``periodic_steady_state(model)`` (monodromy matrix and fixed point) over the same speeds.
 3. ``--workers 2`` against ``--workers 1`` (process pool; the default rule runs small sweeps in
    the calling process, "forced" is ``min_parallel_s=0``), small and large linear sweeps and the
-   backlash sweep.
+   backlash sweep, also with ``method = "DOP853"`` pinned (its orbits sampled by DOP853, not by
+   the exact contact propagator ``auto`` picks: the route before).
 4. The same through a Dask ``LocalCluster`` (2 worker processes, 1 thread each), its start-up
    and the first (cold) sweep reported apart.
 
@@ -263,11 +264,17 @@ def kernel_costs(repeats: int, n: int = 2000) -> dict[str, list[float]]:
     return out
 
 
-def _cases() -> list[tuple[str, Any, np.ndarray]]:
+def _cases() -> list[tuple[str, Any, np.ndarray, dict[str, Any]]]:
+    """(name, scene, speeds, [solver] overrides). The backlash sweep twice: as the scene says
+    (``auto``: orbits sampled by the exact contact propagator) and with DOP853 pinned (the
+    orbits sampled by DOP853 at the scene's rtol, as every backlash sweep was before)."""
     lin, bl = load_scene(SCENE), load_scene(BACKLASH)
-    return [("linear, 200 speeds", lin, np.linspace(500, 12000, 200) * RPM),
-            ("linear, 20000 speeds", lin, np.linspace(500, 12000, 20000) * RPM),
-            ("backlash, 24 speeds up and down", bl, np.linspace(3000, 9000, 24) * RPM)]
+    bl_speeds = np.linspace(3000, 9000, 24) * RPM
+    return [("linear, 200 speeds", lin, np.linspace(500, 12000, 200) * RPM, {}),
+            ("linear, 20000 speeds", lin, np.linspace(500, 12000, 20000) * RPM, {}),
+            ("backlash, 24 speeds up and down", bl, bl_speeds, {}),
+            ("backlash, 24 speeds up and down, DOP853 pinned", bl, bl_speeds,
+             {"method": "DOP853"})]
 
 
 def parallel_costs(repeats: int, dask: bool) -> tuple[dict[str, dict[str, list[float]]],
@@ -297,10 +304,11 @@ def parallel_costs(repeats: int, dask: bool) -> tuple[dict[str, dict[str, list[f
     out: dict[str, dict[str, list[float]]] = {}
     try:
         for _ in range(repeats):
-            for name, scene, speeds in _cases():
+            for name, scene, speeds, over in _cases():
                 row = out.setdefault(name, {})
                 for v, kw in variants.items():
-                    t, res = timed(lambda kw=kw, sc=scene, sp=speeds: sweep_scene(sc, sp, **kw))
+                    t, res = timed(lambda kw={**kw, **over}, sc=scene, sp=speeds:
+                                   sweep_scene(sc, sp, **kw))
                     row.setdefault(v, []).append(t)
                     info[f"{name} / {v}"] = res.executor
     finally:
