@@ -9,13 +9,15 @@ inside one repeat and then summarised the same way.
 
 1. Fixed cost, whole processes: ``gear-dyn sweep SCENE --speeds ...:2`` minus the start-up
    every scene command pays (a process importing the CLI and loading the scene); with and
-   without ``--chart both``; the command's per-speed cost from 2 and 2000 speeds.
+   without ``--chart both``; the command's per-speed cost from 2 and 2000 speeds; and the whole
+   backlash example sweep of docs/sweep.md (71 speeds up and down).
 2. Per-speed cost in-process, 2000 speeds, one process: ``sweep_scene(workers=1)`` (the whole
    sweep: models, orbit, metrics, spectra, curves) against the steady-state kernel alone, a loop
    of ``periodic_steady_state(model)`` (monodromy matrix and fixed point) over the same speeds.
 3. ``--workers 2`` against ``--workers 1`` (process pool; the default rule runs small sweeps in
    the calling process, "forced" is ``min_parallel_s=0``), small and large linear sweeps and the
-   backlash sweep.
+   backlash sweep, also with ``method = "DOP853"`` pinned (its orbits sampled by DOP853, not by
+   the exact contact propagator ``auto`` picks: the route before).
 4. The same through a Dask ``LocalCluster`` (2 worker processes, 1 thread each), its start-up
    and the first (cold) sweep reported apart.
 
@@ -214,7 +216,8 @@ def methods_table(args: argparse.Namespace) -> str:
 
 
 def cli_costs(repeats: int, work: Path) -> dict[str, list[float]]:
-    """Whole-process times (s) per repeat: start-up, sweeps of 2 and 2000 speeds."""
+    """Whole-process times (s) per repeat: start-up, sweeps of 2 and 2000 speeds, the backlash
+    example sweep (71 speeds up and down)."""
     sweep = [GEAR_DYN, "sweep", str(SCENE), "--workers", "1", "--quiet"]
     cases = {
         "startup": [sys.executable, "-c", STARTUP, str(SCENE)],
@@ -222,6 +225,9 @@ def cli_costs(repeats: int, work: Path) -> dict[str, list[float]]:
         "sweep_2_charts": [*sweep, "--speeds", "500 rpm:12000 rpm:2", "--out", str(work / "b"),
                            "--chart", "both"],
         "sweep_2000": [*sweep, "--speeds", "500 rpm:12000 rpm:2000", "--out", str(work / "c")],
+        # the documented backlash example (docs/sweep.md), as a user runs it (default workers)
+        "backlash_71": [GEAR_DYN, "sweep", str(BACKLASH), "--quiet", "--speeds",
+                        "3000 rpm:10000 rpm:71", "--out", str(work / "d")],
     }
     wall(cases["sweep_2"])  # warm the file cache and the pint cache once
     out: dict[str, list[float]] = {k: [] for k in cases}
@@ -258,11 +264,17 @@ def kernel_costs(repeats: int, n: int = 2000) -> dict[str, list[float]]:
     return out
 
 
-def _cases() -> list[tuple[str, Any, np.ndarray]]:
+def _cases() -> list[tuple[str, Any, np.ndarray, dict[str, Any]]]:
+    """(name, scene, speeds, [solver] overrides). The backlash sweep twice: as the scene says
+    (``auto``: orbits sampled by the exact contact propagator) and with DOP853 pinned (the
+    orbits sampled by DOP853 at the scene's rtol, as every backlash sweep was before)."""
     lin, bl = load_scene(SCENE), load_scene(BACKLASH)
-    return [("linear, 200 speeds", lin, np.linspace(500, 12000, 200) * RPM),
-            ("linear, 20000 speeds", lin, np.linspace(500, 12000, 20000) * RPM),
-            ("backlash, 24 speeds up and down", bl, np.linspace(3000, 9000, 24) * RPM)]
+    bl_speeds = np.linspace(3000, 9000, 24) * RPM
+    return [("linear, 200 speeds", lin, np.linspace(500, 12000, 200) * RPM, {}),
+            ("linear, 20000 speeds", lin, np.linspace(500, 12000, 20000) * RPM, {}),
+            ("backlash, 24 speeds up and down", bl, bl_speeds, {}),
+            ("backlash, 24 speeds up and down, DOP853 pinned", bl, bl_speeds,
+             {"method": "DOP853"})]
 
 
 def parallel_costs(repeats: int, dask: bool) -> tuple[dict[str, dict[str, list[float]]],
@@ -292,10 +304,11 @@ def parallel_costs(repeats: int, dask: bool) -> tuple[dict[str, dict[str, list[f
     out: dict[str, dict[str, list[float]]] = {}
     try:
         for _ in range(repeats):
-            for name, scene, speeds in _cases():
+            for name, scene, speeds, over in _cases():
                 row = out.setdefault(name, {})
                 for v, kw in variants.items():
-                    t, res = timed(lambda kw=kw, sc=scene, sp=speeds: sweep_scene(sc, sp, **kw))
+                    t, res = timed(lambda kw={**kw, **over}, sc=scene, sp=speeds:
+                                   sweep_scene(sc, sp, **kw))
                     row.setdefault(v, []).append(t)
                     info[f"{name} / {v}"] = res.executor
     finally:
@@ -317,13 +330,15 @@ def report(args: argparse.Namespace, cli: dict[str, list[float]],
         f"with other jobs (load average at the end: "
         f"{', '.join(f'{x:.1f}' for x in os.getloadavg())}), Python "
         f"{platform.python_version()}.", "",
-        "## Fixed cost of `gear-dyn sweep` (whole processes, helicopter_tail, --workers 1)", "",
+        "## Fixed cost of `gear-dyn sweep` (whole processes; helicopter_tail with --workers 1)", "",
         "| process | wall time (s) |", "|---|---|",
         f"| start-up: import the CLI, load the scene | {spread(cli['startup'])} |",
         f"| `gear-dyn sweep --speeds 500 rpm:12000 rpm:2` (response, waterfall, CSV, JSON) | "
         f"{spread(cli['sweep_2'])} |",
         f"| the same with `--chart both` (stability.png) | {spread(cli['sweep_2_charts'])} |",
-        f"| the same with 2000 speeds | {spread(cli['sweep_2000'])} |", "",
+        f"| the same with 2000 speeds | {spread(cli['sweep_2000'])} |",
+        f"| `gear-dyn sweep helicopter_tail_backlash.toml --speeds 3000 rpm:10000 rpm:71` "
+        f"(default workers) | {spread(cli['backlash_71'])} |", "",
         f"Fixed cost beyond start-up: **{spread(cli['fixed'])} s** (with the stability charts "
         f"{spread(cli['fixed_charts'])} s); the command's cost per speed "
         f"{spread(cli['cli_per_speed_ms'])} ms.", "",

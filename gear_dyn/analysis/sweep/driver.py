@@ -31,7 +31,7 @@ from gear_dyn.analysis.sweep.types import (
 )
 from gear_dyn.errors import InputError, check_range
 from gear_dyn.models.base import Model
-from gear_dyn.solvers import SolverSettings
+from gear_dyn.solvers import SolverSettings, resolve_method
 
 FloatArray = NDArray[np.float64]
 ModelFactory = Callable[[float], Model]
@@ -45,9 +45,14 @@ MIN_PARALLEL_S = 0.5
 PROBE_SPEEDS = 64
 #: a continuation (backlash) sweep is probed with its first speed, solved from the static
 #: state far below resonance: its later speeds cost more. On the backlash scene (24 speeds up
-#: and down, benchmarks/bench_sweep.py) the first speed predicted 0.43-0.48 s of serial work
-#: for 2.1 s measured; the estimate is scaled by this (conservative) factor
+#: and down, benchmarks/bench_sweep.py) with DOP853 sampling the orbits the first speed
+#: predicted 0.43-0.48 s of serial work for 2.1 s measured; the estimate is scaled by this
+#: (conservative) factor
 NONLINEAR_COST_FACTOR = 4.0
+#: the same where the orbits are sampled by the exact contact propagator
+#: (``exact_contact``): the first speed predicted 0.084-0.094 s (in a fresh process, first
+#: calls included: 0.16-0.19 s) for 0.18 s measured
+EXACT_CONTACT_COST_FACTOR = 2.0
 
 
 @dataclass(frozen=True)
@@ -230,7 +235,9 @@ def _probe(chains: dict[str, list[tuple[float, ...]]], dirs: tuple[str, ...],
     left = sum(len(b) for c in chains.values() for b in c) - len(points)
     estimate = (time.perf_counter() - t0) / len(points) * left
     if nonlinear:
-        estimate *= NONLINEAR_COST_FACTOR
+        model = template["factory"](first[0])
+        exact = resolve_method(model, np.zeros(2), template["settings"].method) == "exact_contact"
+        estimate *= EXACT_CONTACT_COST_FACTOR if exact else NONLINEAR_COST_FACTOR
     label = "_Inline"
     if estimate < min_parallel_s:
         n_par = 1

@@ -18,7 +18,13 @@ from gear_dyn.analysis.stability import (
 )
 from gear_dyn.analysis.sweep.types import Point, SweepOptions
 from gear_dyn.models.base import MeshModel, Model
-from gear_dyn.solvers import SolverSettings, integrate, time_grid
+from gear_dyn.solvers import (
+    DEFAULT_ODE_METHOD,
+    SolverSettings,
+    integrate,
+    resolve_auto,
+    time_grid,
+)
 
 FloatArray = NDArray[np.float64]
 
@@ -66,11 +72,18 @@ def _nan_point(model: Model, speed: float, rho: float, status: str, n_orders: in
 
 
 def _flow(model: Model, t: FloatArray, settings: SolverSettings, y0: FloatArray) -> FloatArray:
-    """States on ``t`` from ``y0``: the exact propagator for linear piecewise-constant models,
-    else DOP853 with the stiffness fixed per piece
-    (:func:`gear_dyn.analysis.stability.flow_on_grid`)."""
+    """States on ``t`` from ``y0``.
+
+    :func:`gear_dyn.solvers.integrate` with the method ``settings.method`` means for ``model``
+    (``auto``: the exact propagator for linear piecewise-constant models, ``exact_contact``
+    for the single-DOF model with backlash, piecewise-constant stiffness and no transmission
+    error: closed form between located contact changes), except for a nonlinear mesh model
+    that ``auto`` would give to a general ODE solver, or with ``DOP853`` pinned: there DOP853
+    with the stiffness fixed per piece (:func:`gear_dyn.analysis.stability.flow_on_grid`).
+    """
     if (model.mesh_periodic and model.linear_segments(0.0, float(t[-1])) is None
-            and settings.method in ("auto", "DOP853")):
+            and (settings.method == "DOP853"
+                 or (settings.method == "auto" and resolve_auto(model) == DEFAULT_ODE_METHOD))):
         return flow_on_grid(cast(MeshModel, model), y0, t, settings.rtol, settings.atol)
     y, _ = integrate(model, t, settings, y0)
     return y
