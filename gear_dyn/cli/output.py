@@ -54,7 +54,7 @@ def draw_run_figures(result: Result, tmp: Path, spectrum_scale: str) -> None:
     figure is built once, before the fork, and shared by both.
     """
     from gear_dyn.plots._compose import canvas_shape, column_of, lay_over, render_part, write_png
-    from gear_dyn.plots.run import plot_spectrum, plot_time_history, time_history_size
+    from gear_dyn.plots.run import plot_spectrum, plot_time_history
 
     fig = plot_time_history(result, blocks=1500)  # ~2 per pixel column at dpi 110
 
@@ -62,11 +62,11 @@ def draw_run_figures(result: Result, tmp: Path, spectrum_scale: str) -> None:
         save_figure(plot_spectrum(result, scale=spectrum_scale), tmp / "spectrum.png",
                     dpi=_DPI, pil_kwargs=_PNG)
 
-    if not can_fork():
+    if not can_fork() or len({column_of(a) for a in fig.axes}) < 2:
         save_figure(fig, tmp / "time_history.png", dpi=_DPI, pil_kwargs=_PNG)
         spectrum()
         return
-    shape = canvas_shape(time_history_size(result), _DPI)
+    shape = canvas_shape(tuple(fig.get_size_inches()), _DPI)
     zoom = np.frombuffer(mmap.mmap(-1, math.prod(shape)), dtype=np.uint8).reshape(shape)
 
     def zoom_column() -> None:
