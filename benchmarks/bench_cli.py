@@ -54,6 +54,9 @@ SCENES = ("helicopter_tail", "helicopter_tail_backlash")
 TARGET = 1e-6
 RTOLS = (1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11)
 GEAR_DYN = str(Path(sys.executable).with_name("gear-dyn"))
+MPL_USUAL = "import numpy, matplotlib.figure, matplotlib.backends.backend_agg"
+MPL_QUICK = ("import numpy; from gear_dyn.plots._warm import _quick_figure; _quick_figure(); "
+             "import matplotlib.backends.backend_agg")
 #: the children's environment (bytecode compiled as after pip install), set by main()
 ENV: dict[str, str] = {}
 
@@ -146,12 +149,15 @@ def phases(row: dict[str, Any], repeats: int) -> dict[str, dict[str, list[float]
 
 
 def startup(repeats: int) -> dict[str, list[float]]:
-    """Whole-process times of ``gear-dyn --help`` and ``import gear_dyn``."""
-    out: dict[str, list[float]] = {"gear-dyn --help": [], "python -c 'import gear_dyn'": [],
-                                   "python -c 'pass'": []}
+    """Whole-process times of ``gear-dyn --help``, ``import gear_dyn`` and of importing
+    matplotlib as usual and as the forerunner does."""
     cmds = {"gear-dyn --help": [GEAR_DYN, "--help"],
             "python -c 'import gear_dyn'": [sys.executable, "-c", "import gear_dyn"],
-            "python -c 'pass'": [sys.executable, "-c", "pass"]}
+            "python -c 'pass'": [sys.executable, "-c", "pass"],
+            "import numpy, matplotlib.figure, Agg (as usual)": [sys.executable, "-c", MPL_USUAL],
+            "the same, the forerunner's quick import (plots/_warm.py)": [
+                sys.executable, "-c", MPL_QUICK]}
+    out: dict[str, list[float]] = {k: [] for k in cmds}
     for cmd in cmds.values():
         timed(cmd)
     for _ in range(repeats):

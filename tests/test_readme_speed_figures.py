@@ -24,6 +24,15 @@ def test_whole_command_ratios_are_the_recorded_ones() -> None:
         assert f"{ratio[0]}x" in readme, (scene, ratio[0])
 
 
+def test_matplotlib_import_times_are_the_recorded_ones() -> None:
+    recorded = (ROOT / "benchmarks" / "results" / "cli.md").read_text(encoding="utf-8")
+    readme = _readme()
+    for label in ("(as usual)", "quick import"):
+        row = next(ln for ln in recorded.splitlines() if label in ln)
+        value = re.findall(rf"\| ({SPREAD}) \|", row)
+        assert value and f"{value[0]} s" in readme, (label, row)
+
+
 def test_sweep_fixed_cost_is_the_recorded_one() -> None:
     recorded = (ROOT / "benchmarks" / "results" / "sweep.md").read_text(encoding="utf-8")
     fixed = re.search(rf"Fixed cost beyond start-up: \*\*({SPREAD}) s\*\*", recorded)

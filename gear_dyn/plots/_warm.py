@@ -3,9 +3,9 @@
 :func:`import_for_files` imports matplotlib's Agg stack and the run figures, and loads the
 default font, so that the first figure draws at full speed. It skips what matplotlib does
 at import that no file shows: the signature of each Artist class's ``set()`` and the list of
-every settable property written into docstrings (``matplotlib.artist.kwdoc``): about half of
-importing matplotlib.figure (``python benchmarks/cli_phases.py``). Only signatures and
-docstrings in that process differ; the figures are the same (tests/plots/test_warm.py).
+every settable property written into docstrings (``matplotlib.artist.kwdoc``); the saving is
+in the start-up table of ``python benchmarks/bench_cli.py``. Only signatures and docstrings in
+that process differ; the figures are the same (tests/plots/test_warm.py).
 """
 
 from __future__ import annotations
