@@ -162,6 +162,18 @@ def fmu_target(out: str | Path) -> Path:
     return out
 
 
+def build_names(target: str | Path | Scene, tag: str) -> tuple[dict[str, Any], str, str, str]:
+    """The FMU spec of ``target`` and the names of one build: (spec, package, slave module,
+    slave class), each with a fresh token (every FMU loads its own private copy) and ``tag``
+    for the FMI version ("" for 2, "3" for 3)."""
+    scene = target if isinstance(target, Scene) else resolve_scene(target)
+    spec = fmu_spec(scene)
+    token = secrets.token_hex(5)
+    kind = spec["model"]
+    return (spec, f"gear_dyn_fmu_{token}", f"gear_dyn_slave{tag}_{kind}_{token}",
+            f"GearDyn{tag}_{kind}_{token}")
+
+
 @contextlib.contextmanager
 def staged_build(spec: dict[str, Any], package: str, module: str, script: str,
                  skip: tuple[str, ...]) -> Iterator[tuple[Path, Path, list[Path]]]:
@@ -219,13 +231,7 @@ def build_fmu(target: str | Path | Scene, out: str | Path, fmi: int = 2) -> Buil
     if not FmuBuilder.has_binary():
         raise InputError("pythonfmu has no binary for this platform; install a pythonfmu wheel "
                          "that ships one")
-    scene = target if isinstance(target, Scene) else resolve_scene(target)
-    spec = fmu_spec(scene)
-    token = secrets.token_hex(5)
-    kind = spec["model"]
-    package = f"gear_dyn_fmu_{token}"
-    module = f"gear_dyn_slave_{kind}_{token}"
-    class_name = f"GearDyn_{kind}_{token}"
+    spec, package, module, class_name = build_names(target, "")
     out.parent.mkdir(parents=True, exist_ok=True)
     with staged_build(spec, package, module, _script(package, class_name, spec),
                       skip=("fmu/slave3.py",)) as (tmp, script, files):

@@ -14,16 +14,15 @@ EnumerationTypes, and ``dependencies=""`` on every Output (no direct feedthrough
 from __future__ import annotations
 
 import io
-import secrets
 import zipfile
 from pathlib import Path
 from typing import Any
 from xml.etree import ElementTree as ET
 
 from gear_dyn.errors import InputError
-from gear_dyn.fmu.build import _PATH_SETUP, BuiltFmu, fmu_target, resolve_scene, staged_build
+from gear_dyn.fmu.build import _PATH_SETUP, BuiltFmu, build_names, fmu_target, staged_build
 from gear_dyn.fmu.native import boot_binaries, unsupported_reason
-from gear_dyn.fmu.variables import UNITS, fmu_spec
+from gear_dyn.fmu.variables import UNITS
 from gear_dyn.io import write_bytes
 from gear_dyn.scene import Scene
 
@@ -70,13 +69,7 @@ def build_fmu3(target: str | Path | Scene, out: str | Path) -> BuiltFmu:
     out = fmu_target(out)
     if not FmuBuilder.has_binary():
         raise InputError("pythonfmu3 has no binary for this platform")
-    scene = target if isinstance(target, Scene) else resolve_scene(target)
-    spec = fmu_spec(scene)
-    token = secrets.token_hex(5)
-    kind = spec["model"]
-    package = f"gear_dyn_fmu_{token}"
-    module = f"gear_dyn_slave3_{kind}_{token}"
-    class_name = f"GearDyn3_{kind}_{token}"
+    spec, package, module, class_name = build_names(target, "3")
     out.parent.mkdir(parents=True, exist_ok=True)
     with staged_build(spec, package, module, _script3(package, class_name, spec),
                       skip=("fmu/slave.py",)) as (tmp, script, files):

@@ -10,10 +10,9 @@ the differences and run times (:class:`CosimReport`).
 from __future__ import annotations
 
 import math
-import shutil
 import tempfile
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -21,10 +20,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.errors import InputError, SolverError
+from gear_dyn.errors import InputError
 from gear_dyn.fmu.build import read_spec
 from gear_dyn.fmu.inputs import driven_speed
-from gear_dyn.fmu.session3 import host_value
+from gear_dyn.fmu.session import FmpySession
 from gear_dyn.fmu.stepper import stepper_method
 from gear_dyn.scene import Scene, build_pair, build_plan, parse_scene
 from gear_dyn.solvers import (
@@ -38,73 +37,30 @@ FloatArray = NDArray[np.float64]
 ODE_METHODS = tuple(m for m in METHODS if m not in ("auto", "exact"))
 
 
-class FmuSession:
-    """One FMU instance driven through fmpy, with its log messages collected.
-
-    Parameters
-    ----------
-    fmu : str or Path
-        The .fmu file.
-    instance_name : str
-        FMI instance name.
-    unzipdir : Path or None
-        An already extracted copy to use (None: extract into a temporary folder, removed by
-        :meth:`close`).
+class FmuSession(FmpySession):
+    """One FMI 2.0 co-simulation instance driven through fmpy, with its log messages collected
+    (the parameters and the common methods: :class:`~gear_dyn.fmu.session.FmpySession`).
 
     Raises
     ------
     InputError
-        Not a readable co-simulation FMU.
+        Not a readable FMI 2.0 co-simulation FMU.
     """
 
     def __init__(self, fmu: str | Path, instance_name: str = "gear_dyn",
                  unzipdir: str | Path | None = None) -> None:
-        from fmpy import extract, read_model_description
-
-        self.path = Path(fmu)
-        self._own_dir = unzipdir is None
-        try:
-            self.dir = Path(extract(str(self.path)) if unzipdir is None else unzipdir)
-            self.md = read_model_description(str(self.dir))
-        except Exception as exc:  # fmpy raises plain exceptions for unreadable FMUs
-            raise InputError(f"{self.path}: not a readable FMU ({exc})") from None
-        if self.md.coSimulation is None:
-            raise InputError(f"{self.path}: not a co-simulation FMU")
-        if self.md.fmiVersion != "2.0":
-            raise InputError(f"{self.path}: an FMI {self.md.fmiVersion} FMU; co-simulation "
-                             "against solve_ivp runs FMI 2.0 FMUs (build one with --fmi 2; "
-                             "gear-dyn fmu check runs FMI 3 FMUs)")
-        self.vars = {v.name: v for v in self.md.modelVariables}
-        self.instance_name = instance_name
-        self.messages: list[tuple[int, str]] = []
-        self._fmu: Any = None
+        super().__init__(fmu, instance_name, unzipdir)
         self._callbacks: Any = None
 
-    # ------------------------------------------------------------------ plumbing
+    def _check_version(self, version: str) -> None:
+        if version != "2.0":
+            raise InputError(f"{self.path}: an FMI {version} FMU; co-simulation "
+                             "against solve_ivp runs FMI 2.0 FMUs (build one with --fmi 2; "
+                             "gear-dyn fmu check runs FMI 3 FMUs)")
+
     def _logger(self, env: Any, name: Any, status: int, category: Any, message: Any) -> None:
-        self.messages.append((int(status), message.decode("utf-8", "replace")))
+        self._record(status, message)
 
-    def _call(self, what: str, func: Any, *args: Any, error: type[Exception] = SolverError) -> Any:
-        from fmpy.fmi1 import FMICallException
-
-        n = len(self.messages)
-        try:
-            return func(*args)
-        except FMICallException as exc:
-            new = self.messages[n:]
-            # the FMU's own reason (status error) first; pythonfmu's generic fatal note else
-            logged = ("; ".join(m for s, m in new if s == 3)
-                      or "; ".join(m for s, m in new if s >= 2) or "no message logged")
-            raise error(f"FMU {what} failed ({exc}): {logged}") from None
-
-    def vr(self, name: str) -> int:
-        """Value reference of a variable (InputError naming the variable if unknown)."""
-        v = self.vars.get(name)
-        if v is None:
-            raise InputError(f"{self.path.name}: no variable {name!r}")
-        return int(v.valueReference)
-
-    # ------------------------------------------------------------------ lifecycle
     def instantiate(self, logging_on: bool = True) -> None:
         """Load the binary and create the instance (debug logging on: messages are kept)."""
         from fmpy.fmi2 import FMU2Slave, defaultCallbacks, fmi2CallbackFunctions
@@ -118,35 +74,15 @@ class FmuSession:
         self._fmu = FMU2Slave(guid=self.md.guid, unzipDirectory=str(self.dir),
                               modelIdentifier=self.md.coSimulation.modelIdentifier,
                               instanceName=self.instance_name)
-        try:
-            self._fmu.instantiate(callbacks=cb, loggingOn=logging_on)
-        except Exception as exc:
-            logged = "; ".join(m for _, m in self.messages) or "no message logged"
-            raise SolverError(f"{self.path.name}: instantiation failed ({exc}): {logged}") from None
+        self._instantiated(lambda: self._fmu.instantiate(callbacks=cb, loggingOn=logging_on))
 
-    @property
-    def fmu(self) -> Any:
-        """The fmpy FMU2Slave (after :meth:`instantiate`)."""
-        if self._fmu is None:
-            raise InputError("the FMU is not instantiated")
-        return self._fmu
+    def _setters(self) -> dict[str, Callable[..., Any]]:
+        f = self.fmu
+        return {"Real": f.setReal, "Integer": f.setInteger, "Enumeration": f.setInteger,
+                "Boolean": f.setBoolean, "String": f.setString}
 
-    def set(self, values: dict[str, Any]) -> None:
-        """Set variables by name (Real, Integer, Boolean or String); refused values raise
-        InputError with the FMU's message."""
-        for name, value in values.items():
-            v = self.vars.get(name)
-            if v is None:
-                raise InputError(f"{self.path.name}: no variable {name!r}")
-            setter = {"Real": self.fmu.setReal, "Integer": self.fmu.setInteger,
-                      "Enumeration": self.fmu.setInteger, "Boolean": self.fmu.setBoolean,
-                      "String": self.fmu.setString}[v.type]
-            value = host_value(name, v, value)
-            self._call(f"set {name}", setter, [v.valueReference], [value], error=InputError)
-
-    def get(self, names: Sequence[str]) -> list[float]:
-        """Real values by name."""
-        return list(self.fmu.getReal([self.vr(n) for n in names]))
+    def _get_floats(self, vrs: list[int]) -> list[float]:
+        return list(self.fmu.getReal(vrs))
 
     def initialize(self, start: float = 0.0, stop: float | None = None,
                    tolerance: float | None = None, values: dict[str, Any] | None = None) -> None:
@@ -167,33 +103,8 @@ class FmuSession:
         """exitInitializationMode: the FMU builds its model (InputError if it refuses)."""
         self._call("exitInitializationMode", self.fmu.exitInitializationMode, error=InputError)
 
-    def step(self, t: float, h: float) -> None:
-        """One communication step from ``t`` (s) by ``h`` (s)."""
-        self._call(f"doStep at t = {t:.6g} s", self.fmu.doStep, t, h)
-
-    def terminate(self) -> None:
-        self._call("terminate", self.fmu.terminate)
-
     def reset(self) -> None:
         self._call("reset", self.fmu.reset)
-
-    def free(self) -> None:
-        """Free the instance and unload the binary."""
-        if self._fmu is not None:
-            self._fmu.freeInstance()
-            self._fmu = None
-
-    def close(self) -> None:
-        """Free the instance and remove the extracted copy (if this session made it)."""
-        self.free()
-        if self._own_dir:
-            shutil.rmtree(self.dir, ignore_errors=True)
-
-    def __enter__(self) -> FmuSession:
-        return self
-
-    def __exit__(self, *exc: Any) -> None:
-        self.close()
 
     # ------------------------------------------------------------------ a run
     def run(self, step: float, stop: float, outputs: Sequence[str],

@@ -6,14 +6,14 @@ does for FMI 2 (same method names, so checks and tests run either).
 
 from __future__ import annotations
 
-import shutil
 import zipfile
-from collections.abc import Sequence
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 from xml.etree import ElementTree as ET
 
-from gear_dyn.errors import InputError, SolverError
+from gear_dyn.errors import InputError
+from gear_dyn.fmu.session import FmpySession
 
 
 def fmi_version(fmu: str | Path) -> str:
@@ -32,7 +32,7 @@ def fmi_version(fmu: str | Path) -> str:
     return str(root.get("fmiVersion", ""))
 
 
-class Fmu3Session:
+class Fmu3Session(FmpySession):
     """One FMI 3 co-simulation instance driven through fmpy, its log messages collected.
 
     Raises
@@ -41,37 +41,12 @@ class Fmu3Session:
         Not a readable FMI 3 co-simulation FMU.
     """
 
-    def __init__(self, fmu: str | Path, instance_name: str = "gear_dyn") -> None:
-        from fmpy import extract, read_model_description
-
-        self.path = Path(fmu)
-        try:
-            self.dir = Path(extract(str(self.path)))
-            self.md = read_model_description(str(self.dir))
-        except Exception as exc:  # fmpy raises plain exceptions for unreadable FMUs
-            raise InputError(f"{self.path}: not a readable FMU ({exc})") from None
-        if self.md.coSimulation is None or not self.md.fmiVersion.startswith("3"):
+    def _check_version(self, version: str) -> None:
+        if not version.startswith("3"):
             raise InputError(f"{self.path}: not an FMI 3 co-simulation FMU")
-        self.vars = {v.name: v for v in self.md.modelVariables}
-        self.instance_name = instance_name
-        self.messages: list[tuple[int, str]] = []
-        self._fmu: Any = None
 
     def _log(self, env: Any, status: int, category: Any, message: Any) -> None:
-        text = message.decode("utf-8", "replace") if isinstance(message, bytes) else str(message)
-        self.messages.append((int(status), text))
-
-    def _call(self, what: str, func: Any, *args: Any, error: type[Exception] = SolverError) -> Any:
-        from fmpy.fmi1 import FMICallException
-
-        n = len(self.messages)
-        try:
-            return func(*args)
-        except FMICallException as exc:
-            new = self.messages[n:]
-            logged = ("; ".join(m for s, m in new if s == 3)
-                      or "; ".join(m for s, m in new if s >= 2) or "no message logged")
-            raise error(f"FMU {what} failed ({exc}): {logged}") from None
+        self._record(status, message)
 
     def instantiate(self, logging_on: bool = True) -> None:
         """Load the binary and create the instance."""
@@ -80,37 +55,15 @@ class Fmu3Session:
         self._fmu = FMU3Slave(guid=self.md.guid, unzipDirectory=str(self.dir),
                               modelIdentifier=self.md.coSimulation.modelIdentifier,
                               instanceName=self.instance_name)
-        try:
-            self._fmu.instantiate(loggingOn=logging_on, logMessage=self._log)
-        except Exception as exc:
-            logged = "; ".join(m for _, m in self.messages) or "no message logged"
-            raise SolverError(f"{self.path.name}: instantiation failed ({exc}): {logged}") from None
+        self._instantiated(lambda: self._fmu.instantiate(loggingOn=logging_on,
+                                                         logMessage=self._log))
 
-    @property
-    def fmu(self) -> Any:
-        if self._fmu is None:
-            raise InputError("the FMU is not instantiated")
-        return self._fmu
+    def _setters(self) -> dict[str, Callable[..., Any]]:
+        f = self.fmu
+        return {"Float64": f.setFloat64, "Int32": f.setInt32, "Int64": f.setInt64,
+                "Enumeration": f.setInt64, "Boolean": f.setBoolean, "String": f.setString}
 
-    def set(self, values: dict[str, Any]) -> None:
-        """Set variables by name; refused values raise InputError with the FMU's message."""
-        for name, value in values.items():
-            v = self.vars.get(name)
-            if v is None:
-                raise InputError(f"{self.path.name}: no variable {name!r}")
-            setter = {"Float64": self.fmu.setFloat64, "Int32": self.fmu.setInt32,
-                      "Int64": self.fmu.setInt64, "Enumeration": self.fmu.setInt64,
-                      "Boolean": self.fmu.setBoolean, "String": self.fmu.setString}[v.type]
-            value = host_value(name, v, value)
-            self._call(f"set {name}", setter, [v.valueReference], [value], error=InputError)
-
-    def get(self, names: Sequence[str]) -> list[float]:
-        """Float64 values by name."""
-        vrs = []
-        for n in names:
-            if n not in self.vars:
-                raise InputError(f"{self.path.name}: no variable {n!r}")
-            vrs.append(int(self.vars[n].valueReference))
+    def _get_floats(self, vrs: list[int]) -> list[float]:
         return list(self.fmu.getFloat64(vrs))
 
     def initialize(self, start: float = 0.0, stop: float | None = None,
@@ -122,46 +75,6 @@ class Fmu3Session:
         if values:
             self.set(values)
         self._call("exitInitializationMode", self.fmu.exitInitializationMode, error=InputError)
-
-    def step(self, t: float, h: float) -> None:
-        """One communication step from ``t`` (s) by ``h`` (s)."""
-        self._call(f"doStep at t = {t:.6g} s", self.fmu.doStep, t, h)
-
-    def terminate(self) -> None:
-        self._call("terminate", self.fmu.terminate)
-
-    def close(self) -> None:
-        """Free the instance and remove the extracted copy."""
-        if self._fmu is not None:
-            self._fmu.freeInstance()
-            self._fmu = None
-        shutil.rmtree(self.dir, ignore_errors=True)
-
-    def __enter__(self) -> Fmu3Session:
-        return self
-
-    def __exit__(self, *exc: Any) -> None:
-        self.close()
-
-
-#: fmpy's names of the integer-valued variable types (FMI 2 and FMI 3)
-INTEGER_TYPES = ("Integer", "Int32", "Int64", "Enumeration")
-
-
-def host_value(name: str, variable: Any, value: Any) -> Any:
-    """``value`` as the FMU takes it for ``variable`` (an fmpy model variable), FMI 2 and 3: an
-    enumeration item by name becomes its number; an integer type takes whole numbers only
-    (InputError naming the variable and the valid choices otherwise)."""
-    if variable.type == "Enumeration" and isinstance(value, str):
-        items = {i.name: int(i.value) for i in variable.declaredType.items}
-        if value not in items:
-            raise InputError(f"{name} = {value!r}: valid choices are {', '.join(items)}")
-        return items[value]
-    if variable.type in INTEGER_TYPES:
-        if isinstance(value, float) and not value.is_integer():
-            raise InputError(f"{name} = {value!r}: expected a whole number")
-        return int(value)
-    return value
 
 
 def open_session(fmu: str | Path) -> Any:

@@ -7,7 +7,7 @@ from types import SimpleNamespace
 import pytest
 
 from gear_dyn.errors import InputError
-from gear_dyn.fmu.session3 import host_value
+from gear_dyn.fmu.session import host_value
 
 ENUM = SimpleNamespace(type="Enumeration", declaredType=SimpleNamespace(items=[
     SimpleNamespace(name="auto", value="1"), SimpleNamespace(name="exact", value="2")]))
