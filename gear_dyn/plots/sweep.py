@@ -38,12 +38,16 @@ def _resonance_marks(ax: Any, result: SweepResult, lo: float, hi: float) -> None
         return
     c = result.curves[0]
     per_rpm = c.mesh_frequency[0] / (c.speed[0] / RPM)  # Hz per rpm
+    drawn = 0
     for ratio, label in ((1 / 3, "f_n/3"), (0.5, "f_n/2"), (1.0, "f_n"), (2.0, "2f_n")):
         s = ratio * fn / per_rpm
         if lo <= s <= hi:
             ax.axvline(s, color="0.5", ls=":", lw=0.8)
-            ax.text(s, 0.98, f" f_m={label}", transform=ax.get_xaxis_transform(), fontsize=7,
-                    ha="left", va="top", color="0.35")
+            # every other label a line lower: f_n/3 and f_n/2 are close on a wide range
+            ax.text(s, 0.98 - 0.07 * (drawn % 2), f" f_m={label}",
+                    transform=ax.get_xaxis_transform(), fontsize=7, ha="left", va="top",
+                    color="0.35")
+            drawn += 1
 
 
 def _markers(ax: Any, c: SweepCurve, y: np.ndarray, legend: bool) -> None:
