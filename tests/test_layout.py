@@ -78,9 +78,8 @@ def test_no_caller_tests_a_concrete_model_class() -> None:
 
 def test_every_model_offers_the_whole_protocol(heli_pair) -> None:  # type: ignore[no-untyped-def]
     from gear_dyn.models.base import Model
-    from gear_dyn.scene import build_model, load_feature_sections, load_scene
+    from gear_dyn.scene import build_model, load_scene
 
-    load_feature_sections()
     for scene in sorted((PACKAGE / "scenes").glob("*.toml")):
         model = build_model(load_scene(scene))
         assert isinstance(model, Model), scene.name

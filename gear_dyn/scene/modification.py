@@ -43,8 +43,9 @@ from gear_dyn.modification.relief import (
 )
 from gear_dyn.scene.build import build_pair, build_sdof
 from gear_dyn.scene.fields import Field, Section
-from gear_dyn.scene.loader import Scene
 from gear_dyn.scene.registry import register_model, register_section
+from gear_dyn.scene.validated import Scene, scene_error
+from gear_dyn.stiffness.select import stiffness_options_from_table
 
 TIP_RELIEF = register_section(Section("tip_relief", (
     Field("rule", kind="str", default="custom", choices=("custom", *RULES),
@@ -168,8 +169,6 @@ def scene_pair_function(scene: Scene, pair: GearPair, method: str | None = None)
     SceneError
         Unknown method or options.
     """
-    from gear_dyn.stiffness.select import stiffness_options_from_table
-
     t = scene.tables.get("tip_relief")
     method = method or (t["pair_stiffness"] if t is not None else "potential_energy")
     options: dict[str, Any] = {}
@@ -203,8 +202,6 @@ def build_relief_sdof(scene: Scene) -> Model:
         model, _ = relief_sdof(pair, op["speed"], op["torque"], mod, fn, xi, inertias,
                                t["linearisation"], t["samples_per_segment"])
     except InputError as exc:
-        from gear_dyn.scene.loader import scene_error
-
         raise scene_error(scene.source, exc) from None  # Python names -> scene key paths
     return model
 

@@ -440,8 +440,8 @@ def test_fmu_is_slim(heli_fmu: Path) -> None:
     names = zipfile.ZipFile(heli_fmu).namelist()
     copy = [n for n in names if n.startswith("resources/gear_dyn_fmu_") and n.endswith(".py")]
     assert copy
-    for part in ("/cli/", "/plots/", "/fmu/build.py", "/fmu/cosim.py", "/analysis/sweep/",
-                 "/analysis/chart.py", "/scenes/"):
+    for part in ("/cli/", "/plots/", "/fmu/build.py", "/fmu/staging.py", "/fmu/cosim.py",
+                 "/analysis/sweep/", "/analysis/chart.py", "/scenes/"):
         assert not any(part in n for n in names), part
     with zipfile.ZipFile(heli_fmu) as z:
         for n in copy:
