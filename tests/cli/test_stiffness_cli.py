@@ -51,7 +51,7 @@ def test_scene_options_reach_the_method() -> None:
     # [stiffness] keys for the geometric methods are passed through (here: a bore radius and
     # Weber's foundation option); a key the method does not take is a scene error.
     from gear_dyn.errors import SceneError
-    from gear_dyn.scene import build_stiffness as scene_stiffness
+    from gear_dyn.scene import scene_stiffness
 
     scene = _scene({"method": "weber", "weber_foundation": True, "bore_radius_pinion": "20 mm"})
     pair = build_pair(scene)
