@@ -17,6 +17,7 @@ import signal
 import sys
 import threading
 import traceback
+import warnings
 from collections.abc import Sequence
 from typing import Any
 
@@ -116,7 +117,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         previous = signal.signal(signal.SIGTERM, _on_sigterm)
         _MAIN_PID.append(os.getpid())
     try:
-        return _main(args_list, debug)
+        with warnings.catch_warnings():  # a warning is one line on stderr, as an error is
+            warnings.showwarning = _show_warning
+            return _main(args_list, debug)
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
@@ -182,7 +185,12 @@ def _main(args_list: list[str], debug: bool) -> int:
         return 1
 
 
-def _one_line(exc: BaseException) -> str:
+def _show_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int,
+                  file: Any = None, line: str | None = None) -> None:
+    sys.stderr.write(f"gear-dyn: warning: {_one_line(message)}\n")
+
+
+def _one_line(exc: BaseException | str) -> str:
     return " ".join(str(exc).split())
 
 

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gear_dyn.errors import InputError, check_range
+from gear_dyn.errors import InputError, check_range, warn_old_name
 from gear_dyn.geometry import GearPair
 
 FloatArray = NDArray[np.float64]
@@ -48,7 +48,20 @@ CURVE_EXPONENTS: dict[str, float] = {
 CURVES: tuple[str, ...] = (*CURVE_EXPONENTS, "sine")
 
 #: Relief rules of :func:`recommended_relief`.
-RULES: tuple[str, ...] = ("handbook", "dudley", "niemann", "seed001")
+RULES: tuple[str, ...] = ("handbook", "dudley", "niemann", "wang2024")
+#: Old rule names -> their names now: still accepted, with a FutureWarning.
+RENAMED_RULES: dict[str, str] = {"seed001": "wang2024"}
+
+
+def current_rule(rule: str, where: str = "relief rule") -> str:
+    """``rule``, or the name an old rule name (:data:`RENAMED_RULES`) now has, with a
+    :class:`FutureWarning` that names ``where`` (e.g. a scene's key path)."""
+    new = RENAMED_RULES.get(rule)
+    if new is None:
+        return rule
+    warn_old_name(f"{where} = {rule!r} is the old name of the rule {new!r} (Wang et al. "
+                  f"2024); write {new!r}: the old name will be removed")
+    return new
 
 
 def _check_curve(curve: str) -> str:
@@ -352,10 +365,11 @@ def recommended_relief(
       point) is used, an assumption.
     - ``"niemann"`` (Niemann, Maschinenelemente, seed 003): ``C_a = 0.009 m_n`` mm on both gears,
       height 0.493 m_n.
-    - ``"seed001"`` (seed 001 eq. 1): ``C_a,i = c_i + 0.04 F_t / B`` um with c1 = 9, c2 = 4 (the
-      handbook rule with a = 9, b = 4), long relief ``(eps_a - 1) p_bt`` along the line of action
-      (seed 001: the relief region maps onto the segment from the single-contact point to the
-      start of contact).
+    - ``"wang2024"`` (Wang et al. 2024, eq. 1): ``C_a,i = c_i + 0.04 F_t / B`` um with c1 = 9,
+      c2 = 4 (the handbook rule with a = 9, b = 4), long relief ``(eps_a - 1) p_bt`` along the
+      line of action (Wang et al. 2024: the relief region maps onto the segment from the
+      single-contact point to the start of contact). Its old name ``"seed001"`` still works,
+      with a FutureWarning.
 
     Parameters
     ----------
@@ -363,7 +377,7 @@ def recommended_relief(
     torque : float
         Pinion torque T1 in N m (> 0).
     rule : str
-        One of :data:`RULES`.
+        One of :data:`RULES` (or an old name of one, :data:`RENAMED_RULES`: FutureWarning).
     handbook_a, handbook_b : float
         Constants a (5..13) and b (0..8) of the handbook rule, micrometres.
     face_load_factor : float
@@ -388,13 +402,14 @@ def recommended_relief(
     >>> round(r.amount_pinion * 1e6, 3), round(r.height_pinion * 1e3, 3)
     (54.0, 2.958)
     """
+    rule = current_rule(rule)
     check_range("handbook_a", handbook_a, "um", low=5.0, high=13.0)
     check_range("handbook_b", handbook_b, "um", low=0.0, high=8.0)
     check_range("face_load_factor", face_load_factor, "", low=1.0, high=3.0)
     w_t = tangential_load_per_width(pair, torque)
     mn_mm = pair.module * 1e3
     um = 1e-6
-    if rule in ("handbook", "seed001"):
+    if rule in ("handbook", "wang2024"):
         a, b = (handbook_a, handbook_b) if rule == "handbook" else (9.0, 4.0)
         c1, c2 = (a + 0.04 * w_t) * um, (b + 0.04 * w_t) * um
         if rule == "handbook":
@@ -403,7 +418,8 @@ def recommended_relief(
             h1 = h2 = 0.4 * pair.module
             l1, l2 = length_from_height(pair, 1, h1), length_from_height(pair, 2, h2)
         else:
-            source = "seed 001 eq. 1: C_a,i = c_i + 0.04 F_t/B um (c1 = 9, c2 = 4), long relief"
+            source = ("Wang et al. (2024) eq. 1: C_a,i = c_i + 0.04 F_t/B um (c1 = 9, c2 = 4), "
+                      "long relief")
             l1 = l2 = long_relief_length(pair)
             h1, h2 = height_from_length(pair, 1, l1), height_from_length(pair, 2, l2)
     elif rule == "dudley":

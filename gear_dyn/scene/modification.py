@@ -5,8 +5,9 @@ relieved pair (:func:`~gear_dyn.models.relief.relief_sdof`); without the table n
 this module runs. Keys (SI values or strings with units)::
 
     [tip_relief]
-    rule = "custom"            # or handbook, dudley, niemann, seed001 (amounts and lengths
-                               # from the rule at the scene's torque)
+    rule = "custom"            # or handbook, dudley, niemann, wang2024 (amounts and lengths
+                               # from the rule at the scene's torque; "seed001", the old name
+                               # of wang2024, still works with a FutureWarning)
     curve = "linear"           # linear, yoshio, walker, parabolic, sine
     amount_pinion = "20 um"    # custom only; leave out for an unmodified pinion
     amount_gear = "15 um"
@@ -38,6 +39,7 @@ from gear_dyn.modification.relief import (
     RULES,
     ProfileModification,
     TipRelief,
+    current_rule,
     length_from_height,
     recommended_relief,
 )
@@ -49,7 +51,9 @@ from gear_dyn.stiffness.select import stiffness_options_from_table
 
 TIP_RELIEF = register_section(Section("tip_relief", (
     Field("rule", kind="str", default="custom", choices=("custom", *RULES),
-          doc="custom amounts and lengths, or a recommended rule at the scene's torque"),
+          doc="custom amounts and lengths, or a recommended rule at the scene's torque "
+              "(wang2024: Wang et al. 2024; its old name seed001 still works, with a warning)",
+          renamed=current_rule),
     Field("curve", kind="str", default="linear", choices=CURVES, doc="relief curve"),
     Field("amount_pinion", "m", default=None, low=0.0, high=1e-3,
           doc="pinion relief amount C_a1 (custom)"),

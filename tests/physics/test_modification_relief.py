@@ -96,7 +96,7 @@ def test_recommended_amounts_worked_case(tail: GearPair) -> None:
     ni = recommended_relief(tail, torque, "niemann")
     assert ni.amount_pinion * 1e6 == pytest.approx(54.0, abs=1e-9)  # 0.009 * 6 mm
     assert ni.height_gear * 1e3 == pytest.approx(2.958, abs=1e-12)  # 0.493 * 6 mm
-    s1 = recommended_relief(tail, torque, "seed001")
+    s1 = recommended_relief(tail, torque, "wang2024")
     assert s1.amount_pinion == pytest.approx(hb.amount_pinion, rel=1e-15)
     # long relief: (eps - 1) p_bt; eps = 1.58495 and p_bt = pi 6 mm cos 22.5 deg = 17.4147 mm
     assert s1.length_pinion * 1e3 == pytest.approx(0.58495 * 17.4147, rel=1e-4)
