@@ -163,7 +163,7 @@ def test_relief_table_of_the_readme() -> None:
     hand = {"gear handbook": (9 + 0.04 * w_t, 4 + 0.04 * w_t), "Niemann": (54.0, 54.0),
             "seed 001": (9 + 0.04 * w_t, 4 + 0.04 * w_t), "unmodified": (0.0, 0.0)}
     rules = {"gear handbook": "handbook", "Dudley": "dudley", "Niemann": "niemann",
-             "seed 001": "seed001", "unmodified": None}
+             "seed 001": "wang2024", "unmodified": None}
     rows = _readme_relief_rows()
     assert set(rows) == set(rules)
     fn = pair_stiffness_function(pair)
