@@ -81,7 +81,7 @@ def pair_stiffness_function(pair: GearPair, method: str = "potential_energy",
     if method == "potential_energy":
         return partial(potential_energy_pair_stiffness, pair, options=tooth)
     return partial(weber_pair_stiffness, pair, slices=int(opts.get("weber_slices", 20)),
-                   options=tooth, modulus=str(opts.get("weber_modulus", "seed")),
+                   options=tooth, modulus=str(opts.get("weber_modulus") or "jiang2018"),
                    foundation=bool(opts.get("weber_foundation", False)))
 
 

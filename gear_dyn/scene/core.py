@@ -7,6 +7,7 @@ import math
 
 from gear_dyn.scene.fields import REQUIRED, Field, Section
 from gear_dyn.scene.registry import register_section
+from gear_dyn.stiffness.weber import MODULI, current_modulus
 
 DEG = math.pi / 180
 
@@ -77,11 +78,12 @@ STIFFNESS = register_section(Section("stiffness", (
           doc="potential_energy/weber: E/(1-nu^2) in the tooth terms (default false)"),
     Field("weber_slices", kind="int", default=None, low=1, high=10_000,
           doc="weber: slices per tooth (default 20)"),
-    Field("weber_modulus", kind="str", default=None,
-          choices=("seed", "plane_stress", "plane_strain"),
-          doc="weber: modulus of seed 002 eq. 11 (default 'seed')"),
+    Field("weber_modulus", kind="str", default=None, choices=MODULI,
+          doc="weber: modulus in the tooth terms (default jiang2018: Jiang et al. 2018, eq. 11; "
+              "its old name seed still works, with a warning)", renamed=current_modulus),
     Field("weber_foundation", kind="bool", default=None,
-          doc="weber: add the Sainsot fillet-foundation term (default false, as the seed)"),
+          doc="weber: add the Sainsot et al. (2004) fillet-foundation term (default false, as "
+              "Jiang et al. 2018)"),
     Field("per_length", "N/m**2", default=None, low=0.0, low_open=True,
           doc="contact_line: stiffness per unit contact-line length (default from ISO)"),
 ), doc="mesh stiffness; default ISO 6336 rectangular wave"))

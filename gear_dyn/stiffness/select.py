@@ -42,7 +42,7 @@ from gear_dyn.stiffness.periodic import (
 )
 from gear_dyn.stiffness.potential_energy import potential_energy_pair_stiffness
 from gear_dyn.stiffness.tooth import ToothOptions
-from gear_dyn.stiffness.weber import MODULI, weber_pair_stiffness
+from gear_dyn.stiffness.weber import MODULI, current_modulus, weber_pair_stiffness
 
 METHODS = ("rectangular", "iso6336", "potential_energy", "weber", "contact_line")
 
@@ -174,7 +174,7 @@ def _build_cached(key: _Key) -> PeriodicStiffness:
     if method == "potential_energy":
         fn = partial(_pem_fn, options=tooth)
     else:
-        modulus = opts.get("weber_modulus", "seed") or "seed"
+        modulus = current_modulus(opts.get("weber_modulus") or "jiang2018", "weber_modulus")
         if modulus not in MODULI:
             raise InputError(f"weber_modulus = {modulus!r}: valid values are {', '.join(MODULI)}")
         fn = partial(_weber_fn, options=tooth, slices=_int_opt(opts, "weber_slices", 20, 1),
@@ -212,7 +212,7 @@ def build_stiffness(pair: GearPair, method: str = "iso6336", *,
           None = continuous face slicing, or a number of discrete slices),
           ``fillet_radius_coef``, ``bore_radius1``, ``bore_radius2`` (m),
           ``plane_strain`` (bool), ``grid_points``; weber also ``weber_slices`` (20) and
-          ``weber_modulus`` ("seed", "plane_stress", "plane_strain"), ``weber_foundation``
+          ``weber_modulus`` ("jiang2018", "plane_stress", "plane_strain"), ``weber_foundation``
           (bool, add the Sainsot fillet-foundation term);
         - contact_line: ``stiffness_per_length`` (N/m^2), ``line_load``.
 

@@ -1,5 +1,7 @@
-"""The tip-relief rule of Wang et al. (2024) is ``wang2024``; its old name ``seed001`` still works
-in the API, in a scene and on the command line, with a FutureWarning that says what to write."""
+"""Choices named after their paper: the tip-relief rule ``wang2024`` (Wang et al. 2024) and the
+Weber modulus ``jiang2018`` (Jiang et al. 2018, eq. 11). Their old names ``seed001`` and ``seed``
+still work in the API, in a scene and on the command line, with a FutureWarning that says what
+to write."""
 
 from __future__ import annotations
 
@@ -11,9 +13,11 @@ import pytest
 from gear_dyn.cli import main
 from gear_dyn.geometry import GearPair
 from gear_dyn.modification.relief import RULES, recommended_relief
-from gear_dyn.scene import parse_scene
+from gear_dyn.scene import build_pair, parse_scene, scene_stiffness
 from gear_dyn.scene.modification import relief_from_scene
 from gear_dyn.scene.packaged import SCENES_DIR
+from gear_dyn.stiffness import build_stiffness
+from gear_dyn.stiffness.weber import MODULI, weber_pair_stiffness
 
 OLD_NAME = r"'seed001' is the old name of the rule 'wang2024' \(Wang et al. 2024\)"
 PAIR = GearPair(23, 64, 6e-3, math.radians(22.5), 50e-3)
@@ -63,3 +67,32 @@ def test_cli_shows_the_warning_as_one_line(tmp_path: Path,
     warned = [line for line in lines if line.startswith("gear-dyn: warning: ")]
     assert len(warned) == 1, out_old.err
     assert "old.toml: tip_relief.rule = 'seed001'" in warned[0] and "'wang2024'" in warned[0]
+
+
+OLD_MODULUS = r"'seed' is the old name of the modulus 'jiang2018' \(Jiang et al. 2018, eq. 11\)"
+
+
+def test_old_weber_modulus_in_the_api_warns_and_gives_the_same_stiffness() -> None:
+    assert "jiang2018" in MODULI and "seed" not in MODULI
+    s = PAIR.start_of_contact + 0.3 * PAIR.path_of_contact
+    new = weber_pair_stiffness(PAIR, s, modulus="jiang2018")
+    with pytest.warns(FutureWarning, match=OLD_MODULUS) as record:
+        old = weber_pair_stiffness(PAIR, s, modulus="seed")
+    assert record[0].filename == __file__
+    assert old == new and new > 0
+    # the default is that modulus: the same number, and unlike the plane-stress one
+    assert weber_pair_stiffness(PAIR, s) == new
+    assert weber_pair_stiffness(PAIR, s, modulus="plane_stress") < new
+    with pytest.warns(FutureWarning, match="weber_modulus = " + OLD_MODULUS):
+        k_old = build_stiffness(PAIR, "weber", weber_modulus="seed")
+    assert k_old.mean == build_stiffness(PAIR, "weber").mean
+
+
+def test_old_weber_modulus_in_a_scene_warns_with_the_key_path() -> None:
+    table = {"method": "weber", "samples_per_cycle": 40}
+    new = parse_scene({**SCENE, "stiffness": {**table, "weber_modulus": "jiang2018"}}, "n.toml")
+    with pytest.warns(FutureWarning, match=r"o\.toml: stiffness\.weber_modulus = " + OLD_MODULUS):
+        old = parse_scene({**SCENE, "stiffness": {**table, "weber_modulus": "seed"}}, "o.toml")
+    assert old.tables["stiffness"] == new.tables["stiffness"]
+    assert (scene_stiffness(old, build_pair(old)).mean
+            == scene_stiffness(new, build_pair(new)).mean)
