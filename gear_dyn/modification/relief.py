@@ -1,4 +1,5 @@
-"""Tip relief: curves, amounts and lengths (PHYSICS.md section 3; seed 001 eqs. 1-3, seed 003).
+"""Tip relief: curves, amounts and lengths (Wang et al. 2024, eqs. 1-3; Han n.d.;
+docs/modification.md).
 
 A tip relief removes material from the tip of a tooth along the profile normal, i.e. along the
 line of action. It is described by its amount ``C_a`` (the depth removed at the tip, m), its
@@ -7,20 +8,21 @@ tip (m), and its curve. At distance ``x`` from the start of the modification the
 
     D(x) = C_a f(x / L),   f(0) = 0,   f(1) = 1
 
-with the power curves of seed 001 eq. 2, ``f(u) = u^k``: linear (k = 1.0), Yoshio (1.2),
-Walker (1.5), parabolic (2.0).
+with the power curves of Wang et al. (2024), eq. 2, ``f(u) = u^k``: linear (k = 1.0), Yoshio
+(1.2), Walker (1.5), parabolic (2.0).
 
-Sine curve, decision: seed 001 eq. 3 prints ``D = C_a sin(pi x / L)``, which is zero again at the
-tip (x = L) and peaks halfway along the relief: that removes no material at the tip, the opposite
-of a tip relief. The intended curve is the quarter wave ``f(u) = sin(pi u / 2)`` (zero at the start,
-the full amount at the tip, as every other relief curve); the printed argument lacks the factor 1/2.
+Sine curve, decision: eq. 3 of Wang et al. (2024) prints ``D = C_a sin(pi x / L)``, which is zero
+again at the tip (x = L) and peaks halfway along the relief: that removes no material at the tip,
+the opposite of a tip relief. The intended curve is the quarter wave ``f(u) = sin(pi u / 2)`` (zero
+at the start, the full amount at the tip, as every other relief curve); the printed argument lacks
+the factor 1/2.
 
 A relief length can also be given as a *height* on the tooth: the radial distance ``h`` from the
-tip circle down to the start of the modification (seed 003 Fig. 2, ``L_ca``). On the line of action
-a point of gear ``i`` at radius ``r`` lies at roll distance ``sqrt(r^2 - r_b^2)`` from its
+tip circle down to the start of the modification (Han n.d., Fig. 2, ``L_ca``). On the line of
+action a point of gear ``i`` at radius ``r`` lies at roll distance ``sqrt(r^2 - r_b^2)`` from its
 base-circle tangent point, so ``L = sqrt(r_a^2 - r_b^2) - sqrt((r_a - h)^2 - r_b^2)``.
 
-Recommended amounts (seed 003; ``w_t = F_t / B`` with ``F_t = T1 / r1`` the tangential force at
+Recommended amounts (Han n.d.; ``w_t = F_t / B`` with ``F_t = T1 / r1`` the tangential force at
 the reference circle in N and ``B`` in mm, amounts in micrometres): see :func:`recommended_relief`.
 """
 
@@ -37,7 +39,7 @@ from gear_dyn.geometry import GearPair
 
 FloatArray = NDArray[np.float64]
 
-#: Exponent k of the power relief curves of seed 001 eq. 2.
+#: Exponent k of the power relief curves of Wang et al. (2024), eq. 2.
 CURVE_EXPONENTS: dict[str, float] = {
     "linear": 1.0,
     "yoshio": 1.2,
@@ -311,7 +313,7 @@ class ReliefRecommendation:
 
 
 def tangential_load_per_width(pair: GearPair, torque: float) -> float:
-    """``w_t = F_t / B`` in N/mm with ``F_t = T1 / r1`` at the pinion reference circle (seed 003).
+    """``w_t = F_t / B`` in N/mm with ``F_t = T1 / r1`` at the pinion reference circle (Han n.d.).
 
     Parameters
     ----------
@@ -353,17 +355,17 @@ def recommended_relief(
 
     With ``w_t = F_t / B`` in N/mm (:func:`tangential_load_per_width`) and ``m_n`` in mm:
 
-    - ``"handbook"`` (Gear Handbook 1993, seed 003): ``C_a1 = a + 0.04 w_t``,
+    - ``"handbook"`` (Gear Handbook 1993, Han n.d.): ``C_a1 = a + 0.04 w_t``,
       ``C_a2 = b + 0.04 w_t`` micrometres, a = 5..13 (default 9), b = 0..8 (default 4); relief
       height 0.4 m_n on both gears.
-    - ``"dudley"`` (Dudley, Handbook of Practical Gear Design, seed 003):
+    - ``"dudley"`` (Dudley, Handbook of Practical Gear Design, Han n.d.):
       ``C_a1 = 4.1 C_m F_t / (1e5 B)``, ``C_a2 = 6.5 C_m F_t / (1e5 B)`` with F_t in N, B in mm and
       the result in mm (units pinned down: with these units the rule gives 0.041 and 0.065 um per
       N/mm, the same magnitude as the handbook's 0.04 um per N/mm; any other reading is off by
       orders of magnitude). C_m is the face load distribution factor (default 1). Dudley's relief
-      height table (seed 003 Table 1) is not in the seed text: long relief (tip to single-contact
+      height table (Han n.d., Table 1) is not in the text read: long relief (tip to single-contact
       point) is used, an assumption.
-    - ``"niemann"`` (Niemann, Maschinenelemente, seed 003): ``C_a = 0.009 m_n`` mm on both gears,
+    - ``"niemann"`` (Niemann, Maschinenelemente, Han n.d.): ``C_a = 0.009 m_n`` mm on both gears,
       height 0.493 m_n.
     - ``"wang2024"`` (Wang et al. 2024, eq. 1): ``C_a,i = c_i + 0.04 F_t / B`` um with c1 = 9,
       c2 = 4 (the handbook rule with a = 9, b = 4), long relief ``(eps_a - 1) p_bt`` along the

@@ -3,7 +3,7 @@
 Tables (each optional; a table left out builds none of its machinery):
 
 - ``[eccentricity]``: ``pinion``, ``gear`` (eccentricities, m), ``phase_pinion``, ``phase_gear``
-  (initial position angles of the geometric centres, rad; seed 000 eq. 1)
+  (initial position angles of the geometric centres, rad; Liu et al. 2017, eq. 1)
 - ``[friction]``: ``coefficient`` (mean friction coefficient mu)
 - ``[torsional]``: ``load_torque`` (N m; default balances the input torque including the mean
   friction loss), ``stiffness_per_length`` (k_l in N/m^2 for ``[stiffness] method =
@@ -37,13 +37,13 @@ ECCENTRICITY = register_section(Section("eccentricity", (
           doc="initial angle of the pinion's geometric centre"),
     Field("phase_gear", "rad", default=0.0, low=-1e3, high=1e3,
           doc="initial angle of the gear's geometric centre"),
-), doc="geometric eccentricity of pinion and gear (seed 000; present = enabled)",
+), doc="geometric eccentricity of pinion and gear (Liu et al. 2017; present = enabled)",
    models=("torsional",)))
 
 FRICTION = register_section(Section("friction", (
     Field("coefficient", default=REQUIRED, low=0.0, high=1.0,
           doc="mean tooth friction coefficient mu"),
-), doc="sliding friction on the contact lines (seed 000; present = enabled)",
+), doc="sliding friction on the contact lines (Liu et al. 2017; present = enabled)",
    models=("torsional",)))
 
 TORSIONAL = register_section(Section("torsional", (

@@ -1,4 +1,5 @@
-"""Potential-energy (PEM) stiffness of a spur tooth pair (seed 001 eqs. 5-6; PHYSICS.md section 2).
+"""Potential-energy (PEM) stiffness of a spur tooth pair (Wang et al. 2024, eqs. 5-6;
+docs/stiffness.md).
 
 The tooth is a cantilever of variable section clamped at the root chord (see
 :mod:`gear_dyn.stiffness.tooth`), loaded at the contact point by the normal force F along the line

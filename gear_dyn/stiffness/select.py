@@ -7,7 +7,7 @@ Methods (all return a :class:`~gear_dyn.stiffness.periodic.PeriodicStiffness`):
   ``1 <= eps_a < 2``; for ``eps_a >= 2`` n pairs give ``c' b (0.75 n + 0.25)``, same mean);
 - ``"iso6336"``: the same wave from ISO 6336 (``single``/``double`` not allowed);
 - ``"potential_energy"``: potential-energy method (Hertz, bending, shear, axial, fillet foundation);
-- ``"weber"``: seed 002 Weber sliced cantilever + Hertz;
+- ``"weber"``: Weber sliced cantilever + Hertz, as Jiang et al. (2018) give it;
 - ``"contact_line"``: ``k = k_l L(p)`` with ``L`` the total contact-line length and ``k_l`` chosen
   so the mean equals ISO ``c_gamma b`` (or ``stiffness_per_length`` in N/m^2 if given).
 
