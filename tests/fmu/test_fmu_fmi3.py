@@ -22,7 +22,7 @@ pytest.importorskip("pythonfmu3", reason="FMI 3 export needs pythonfmu3 (extra f
 pytestmark = pytest.mark.fmu
 
 SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
-#: seed 002 demo scene and the backlash scene
+#: the helicopter tail scene (the demo) and its backlash variant
 NAMES = ("helicopter_tail", "helicopter_tail_backlash")
 AGREEMENT = 1e-12
 

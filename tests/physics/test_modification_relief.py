@@ -1,4 +1,5 @@
-"""Tip relief curves, height/length conversion and recommended amounts (PHYSICS.md section 3)."""
+"""Tip relief curves, height/length conversion and recommended amounts (Wang et al. 2024;
+Han n.d.)."""
 
 from __future__ import annotations
 
@@ -23,7 +24,8 @@ from gear_dyn.modification import (
 
 @pytest.fixture
 def tail() -> GearPair:
-    """Seed 002/003 helicopter tail pair treated as spur: z 23/64, m 6 mm, 22.5 deg, B 50 mm."""
+    """The helicopter tail pair (Jiang et al. 2018) treated as spur: z 23/64, m 6 mm, 22.5 deg,
+    B 50 mm."""
     return GearPair(23, 64, 6e-3, math.radians(22.5), 50e-3, youngs_modulus1=207e9,
                     youngs_modulus2=207e9)
 
@@ -52,7 +54,7 @@ def test_curve_slope_matches_finite_difference(curve: str) -> None:
     np.testing.assert_allclose(df, (f_hi - f_lo) / (2 * h), rtol=1e-7)
 
 
-def test_power_curve_exponents_of_seed_001() -> None:
+def test_power_curve_exponents() -> None:
     u = 0.5
     expected = {"linear": 0.5, "yoshio": 0.5**1.2, "walker": 0.5**1.5, "parabolic": 0.25}
     for curve, value in expected.items():

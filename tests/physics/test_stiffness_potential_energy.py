@@ -72,9 +72,10 @@ def test_tapered_beam_against_quadrature() -> None:
 
 
 # ---------------------------------------------------------------- Hertz and fillet terms
-def test_hertz_term_is_seed_002_eq_12_and_scales_with_width() -> None:
-    # Line contact of a long face (Yang & Sun 1985; seed 002 eq. 12): 1/k_h = 4 (1-nu^2)/(pi E B),
-    # independent of the contact position. Same closed form: tolerance 1e-12.
+def test_hertz_term_is_the_line_contact_compliance_and_scales_with_width() -> None:
+    # Line contact of a long face (Yang & Sun 1985; Jiang et al. 2018, eq. 12):
+    # 1/k_h = 4 (1-nu^2)/(pi E B), independent of the contact position. Same closed form: tolerance
+    # 1e-12.
     expected = 4 * (1 - NU**2) / (math.pi * E * CLASSIC.face_width)
     assert hertz_compliance(CLASSIC) == pytest.approx(expected, rel=1e-12)
     s = np.linspace(CLASSIC.start_of_contact, CLASSIC.end_of_contact, 5)
@@ -179,9 +180,10 @@ def test_weber_with_foundation_converges_to_pem() -> None:
     np.testing.assert_allclose(web, pem, rtol=3e-3)
 
 
-def test_weber_as_seed_gives_it() -> None:
-    # Seed 002 eq. 11 modulus E (1-nu)/((1+nu)(1-2nu)) = 1.3462 E at nu = 0.3 (hand value), and
-    # eq. 9: k = F / (d_a1 + d_a2 + d_h) with eq. 12 Hertz. Tolerance: 1e-4 on the hand value.
+def test_weber_as_jiang_et_al_give_it() -> None:
+    # Jiang et al. (2018), eq. 11: modulus E (1-nu)/((1+nu)(1-2nu)) = 1.3462 E at nu = 0.3 (hand
+    # value), and eq. 9: k = F / (d_a1 + d_a2 + d_h) with eq. 12 Hertz. Tolerance: 1e-4 on the hand
+    # value.
     assert weber_modulus(E, 0.3) / E == pytest.approx(0.7 / (1.3 * 0.4), rel=1e-12)
     assert weber_modulus(E, 0.3) / E == pytest.approx(1.3462, rel=1e-4)
     s = np.array([CLASSIC.pitch_point])
