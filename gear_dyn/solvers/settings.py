@@ -49,8 +49,7 @@ class SolverSettings:
     estimate_error : bool
         Attach an error estimate to the result (``extra["estimated_error"]``, see
         :mod:`gear_dyn.analysis.accuracy`); for solve_ivp methods it costs a second, tighter run
-        over a
-        short window. Default True.
+        over the whole span. Default True.
     """
 
     method: str = "auto"
