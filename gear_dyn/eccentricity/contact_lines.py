@@ -38,7 +38,7 @@ a line in contact has length ``B``. ``L(t) = sum_i L_i`` (eq. 17).
 Mean length (e1 = e2 = 0): every line sweeps the field once per passage; integrating its length
 over one passage gives ``L_CD w / sin b_b`` in m^2 of transverse travel, and a new line arrives
 each ``p_bt``, so ``mean L = L_CD B tan b_b / (p_bt sin b_b) = B eps_a / cos b_b``
-(Maatar & Velex 1996, Mech. Mach. Theory 31(8) 1077-1086; ISO 6336-2's contact-ratio factor
+(Maatar & Velex 1996; ISO 6336-2's contact-ratio factor
 ``Z_eps = sqrt(1/eps_a)`` for ``eps_b >= 1`` rests on the same mean length).
 """
 

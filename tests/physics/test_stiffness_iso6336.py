@@ -27,7 +27,7 @@ def _eps_standard(z1: int, z2: int, m: float, alpha: float) -> float:
 
 
 def test_classic_19_48_pair() -> None:
-    # Classic pair (Tian 2004; Wu, Zuo & Parey 2008): z 19/48, m 3.2 mm, 20 deg, b 16 mm,
+    # Classic pair (Tian 2004; Wu et al. 2008): z 19/48, m 3.2 mm, 20 deg, b 16 mm,
     # E 206.8 GPa, nu 0.3. By hand:
     #   q' = 0.04723 + 0.15551/19 + 0.25791/48 = 0.060787862 mm um/N, c'_th = 16.45065 N/(mm um)
     #   C_B = (1 + 0.5 (1.2 - 1.25)) * 1 = 0.975
