@@ -15,7 +15,10 @@ sampled at a spacing of at most a quarter of the contact state's damped period (
 interval holds at most one extremum of x), a sign change of ``x -+ b`` brackets a crossing, a
 sign change of the velocity brackets an extremum that is checked too (a crossing and return
 inside one interval), and each bracket is closed by a safeguarded root finder (Illinois false
-position, bisection fallback, :func:`find_root`) to a few ulps of the time. The state is then
+position, bisection fallback, :func:`find_root`) to a few ulps of the time. A piece whose
+oscillation provably stays inside its contact state (its amplitude below the distance from its
+equilibrium to the boundary, :meth:`_Piece.stays_inside`) is not searched at all: a settled
+response, as at very low speed, costs one evaluation per stiffness piece. The state is then
 carried exactly to the event and the next piece starts there. No step-size control, no
 truncation error: what is left is rounding and the event times' own rounding (stated by
 :func:`rounding_bound`). Method ``exact_contact``; ``auto`` takes it where it applies
