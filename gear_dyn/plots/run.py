@@ -20,8 +20,8 @@ import numpy as np
 from gear_dyn.analysis.report import DTE_DEFINITION, model_kind
 from gear_dyn.analysis.spectrum import amplitude_spectrum
 from gear_dyn.errors import InputError
-from gear_dyn.plots._axes import axes_of, tidy
-from gear_dyn.plots._fast import UnicodeLogFormatter, envelope, fixed_layout
+from gear_dyn.plots._axes import axes_of, fixed_layout, tidy
+from gear_dyn.plots._decimate import envelope
 from gear_dyn.solvers import Result
 
 _BOX = {"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 0.5}
@@ -93,7 +93,7 @@ def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = No
         for eccentric models); cols whole run[, zoom].
     blocks : int or None
         Draw the whole-run lines as the first, smallest, largest and last sample of this many
-        blocks (:func:`gear_dyn.plots._fast.envelope`): for a file, about 2 per pixel column
+        blocks (:func:`gear_dyn.plots._decimate.envelope`): for a file, about 2 per pixel column
         give the same picture from fewer points. None: every sample (a later zoom shows data).
     """
     split = "e_ecc" in result.outputs
@@ -221,8 +221,6 @@ def _draw_amplitude(ax: Any, f: Any, amp: Any, scale: str, floor: float | None,
     peak = float(np.max(amp[sel][1:])) if np.count_nonzero(sel) > 1 else 1.0
     if scale == "log":
         ax.set_yscale("log")
-        ax.yaxis.set_major_formatter(UnicodeLogFormatter())
-        ax.yaxis.set_minor_formatter(UnicodeLogFormatter(labelOnlyBase=False))
         low = peak * 1e-8
         if floor:
             low = max(min(low, floor / 10), peak * 1e-12)
