@@ -21,9 +21,10 @@ _STYLE = {"up": dict(color="tab:blue", ls="-"), "down": dict(color="tab:orange",
 
 
 def _layout(fig: Any, own: bool, **margins: float) -> None:
-    """Fixed margins (fractions of the figure) on a figure made here: tight_layout measures
-    every text by drawing it, which cost more than drawing the figure itself; the caller's
-    figure gets :func:`tidy` as before."""
+    """Fixed margins (fractions of the figure) on a figure made here, the caller's figure gets
+    :func:`tidy` (``tight_layout``). Fixed margins spare drawing every text once more to
+    measure it (for the run figures ``tight_layout`` costs about half again the time of
+    drawing them: benchmarks/results/cli.md)."""
     if own:
         fig.subplots_adjust(**margins)
     else:
