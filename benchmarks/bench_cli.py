@@ -20,7 +20,8 @@ every switching instant and contact change at rtol 1e-13 for backlash).
 It also times, ``repeats`` fresh processes each:
 
 - ``gear-dyn --help``, ``python -c "import gear_dyn"`` and importing numpy and matplotlib;
-- ``gear-dyn run`` of the first scene with two BLAS threads against the command's default of one
+- ``gear-dyn run`` of the first scene and a serial ``gear-dyn sweep`` of the backlash scene with
+  two BLAS threads against the command's default of one
   (``gear_dyn.cli.app.limit_blas_threads``), pair by pair;
 - the phases of both (``benchmarks/cli_phases.py``; ``NAIVE_PHASES=1 benchmarks/naive_run.py``):
   where the time goes;
@@ -68,6 +69,9 @@ GEAR_DYN = str(Path(sys.executable).with_name("gear-dyn"))
 MPL_USUAL = "import numpy, matplotlib.figure, matplotlib.backends.backend_agg"
 #: BLAS threads for the comparison with the command's default of one
 BLAS_TWO = {var: "2" for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")}
+#: the sweep timed with two BLAS threads and with one: scene, speeds (up and down), serial
+BLAS_SWEEP_SCENE = "helicopter_tail_backlash"
+BLAS_SWEEP_SPEEDS = "2000 rpm:6000 rpm:24"
 #: the children's environment (bytecode compiled as after pip install), set by main()
 ENV: dict[str, str] = {}
 
@@ -174,16 +178,27 @@ def startup(repeats: int) -> dict[str, list[float]]:
     return out
 
 
-def blas(row: dict[str, Any], repeats: int, work: Path) -> dict[str, list[float]]:
-    """``gear-dyn run`` of a scene with two BLAS threads and with the command's default (one),
+def blas(row: dict[str, Any], repeats: int, work: Path) -> dict[str, dict[str, list[float]]]:
+    """``gear-dyn run`` of a scene and ``gear-dyn sweep`` of the backlash scene in its own
+    process (24 speeds up and down) with two BLAS threads and with the command's default (one),
     interleaved; the ratio two / one pair by pair."""
-    cmd = [GEAR_DYN, "run", str(row["path"]), "--out", str(work / "blas")]
-    timed(cmd)
-    two, one = [], []
-    for _ in range(repeats):
-        two.append(timed(cmd, BLAS_TWO))
-        one.append(timed(cmd))
-    return {"two": two, "one": one, "ratios": [a / b for a, b in zip(two, one, strict=True)]}
+    sweep = [GEAR_DYN, "sweep", str(ROOT / "examples" / "scenes" / f"{BLAS_SWEEP_SCENE}.toml"),
+             "--speeds", BLAS_SWEEP_SPEEDS, "--workers", "1", "--quiet", "--out",
+             str(work / "blas_sweep")]
+    cmds = {f"gear-dyn run {row['scene']}": [GEAR_DYN, "run", str(row["path"]), "--out",
+                                              str(work / "blas")],
+            f"gear-dyn sweep {BLAS_SWEEP_SCENE} --speeds '{BLAS_SWEEP_SPEEDS}' --workers 1":
+                sweep}
+    out = {}
+    for name, cmd in cmds.items():
+        timed(cmd)
+        two, one = [], []
+        for _ in range(repeats):
+            two.append(timed(cmd, BLAS_TWO))
+            one.append(timed(cmd))
+        out[name] = {"two": two, "one": one,
+                     "ratios": [a / b for a, b in zip(two, one, strict=True)]}
+    return out
 
 
 def choices(scene: Path) -> dict[str, float]:
@@ -219,7 +234,8 @@ def _choice_rows(scene: str, saved: dict[str, float]) -> list[str]:
 
 
 def report(rows: list[dict[str, Any]], start: dict[str, list[float]], repeats: int,
-           phase: dict[str, dict[str, list[float]]], blas_row: dict[str, list[float]],
+           phase: dict[str, dict[str, list[float]]],
+           blas_row: dict[str, dict[str, list[float]]],
            saved: dict[str, dict[str, float]], command: str) -> str:
     ratios = [statistics.median(r["ratios"]) for r in rows]
     met = all(x >= TARGET_RATIO for x in ratios)
@@ -254,11 +270,15 @@ def report(rows: list[dict[str, Any]], start: dict[str, list[float]], repeats: i
     lines += ["Start-up, whole processes:", "", "| command | wall time (s) |", "|---|---|"]
     for key, vals in start.items():
         lines.append(f"| `{key}` | {spread(vals)} |")
-    lines += ["", f"BLAS threads (`gear_dyn.cli.app.limit_blas_threads`: one per process unless "
-              f"the user sets OPENBLAS_NUM_THREADS / OMP_NUM_THREADS / MKL_NUM_THREADS): "
-              f"`gear-dyn run {rows[0]['scene']}` with two BLAS threads "
-              f"{spread(blas_row['two'])} s, with the default of one {spread(blas_row['one'])} "
-              f"s, ratio two / one **{spread(blas_row['ratios'])}x** (pair by pair).", ""]
+    lines += ["", "BLAS threads (`gear_dyn.cli.app.limit_blas_threads`: one per process unless "
+              "the user sets OPENBLAS_NUM_THREADS / OMP_NUM_THREADS / MKL_NUM_THREADS), whole "
+              "processes, interleaved pairs:", "",
+              "| command | two BLAS threads (s) | one, the default (s) | ratio two / one |",
+              "|---|---|---|---|"]
+    for name, b in blas_row.items():
+        lines.append(f"| `{name}` | {spread(b['two'])} | {spread(b['one'])} | "
+                     f"**{spread(b['ratios'])}x** |")
+    lines += [""]
     lines += [f"Where the time goes ({rows[0]['scene']}; fresh processes, phases timed inside "
               "them, the rest is the process's wall time minus the phases; "
               "`python benchmarks/cli_phases.py` and "
@@ -303,7 +323,8 @@ def main(argv: list[str] | None = None) -> int:
             rows.append(r)
         phase = phases(rows[0], args.repeats)
         blas_row = blas(rows[0], args.repeats, Path(tmp))
-        print(f"BLAS two / one thread: {spread(blas_row['ratios'])}x", flush=True)
+        for name, b in blas_row.items():
+            print(f"BLAS two / one thread, {name}: {spread(b['ratios'])}x", flush=True)
     start = startup(args.repeats)
     for key, vals in start.items():
         print(f"{key}: {spread(vals)} s")
