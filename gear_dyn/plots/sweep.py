@@ -209,7 +209,7 @@ def plot_waterfall(result: SweepResult, direction: str | None = None, max_lines:
 def plot_stability_chart(chart: StabilityChart, ax: Any = None,
                          sweep_range: tuple[float, float] | None = None,
                          title: str | None = None) -> Any:
-    """Map of the largest Floquet multiplier modulus; the |mu| = 1 contour bounds instability.
+    """Map of the largest Floquet multiplier modulus; the ``|mu| = 1`` contour bounds instability.
 
     Parameters
     ----------
