@@ -77,7 +77,7 @@ class PeriodicSolution:
     how : str
         ``expm`` (exact product), ``variational`` (solve_ivp over one period) or ``shooting``.
     residual : float
-        Final relative closing error max_i |P(y0)_i - y0_i| / scale_i (0 for linear models).
+        Final relative closing error ``max_i |P(y0)_i - y0_i| / scale_i`` (0 for linear models).
     """
 
     y0: FloatArray

@@ -72,7 +72,7 @@ def checks(model: Model, result: Result) -> dict[str, Any]:
 def contact_check(model: Model, result: Result) -> dict[str, Any]:
     """Contact over the steady window: teeth apart / back-side shares, or a negative force.
 
-    With backlash (mesh-periodic model): ``separation_share`` (|x - e| <= b_g) and
+    With backlash (mesh-periodic model): ``separation_share`` (``|x - e| <= b_g``) and
     ``backside_share`` (x - e < -b_g) of the steady samples. Without it: ``min_force_n`` and,
     when it is negative, a ``warning``: a linear model cannot represent teeth that separate.
     """

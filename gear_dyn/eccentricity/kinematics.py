@@ -118,7 +118,7 @@ class Kinematics:
     l : actual centre distance in m (eq. 2)
     psi, gamma, alpha : eq. 3, eq. 4 and dynamic transverse pressure angle (eq. 5) in rad
     xa, ya, xb, yb : tangent points A, B in m (eq. 9)
-    ab : tangent length |AB| in m
+    ab : tangent length ``|AB|`` in m
     xp : abscissa of the pitch point P in m (eq. 11); also the instantaneous pitch radius r1
     ratio : instantaneous ratio i12 = w1 / w2 (eq. 12)
     w1, w2 : pinion and gear speeds in rad/s

@@ -46,7 +46,7 @@ def effective_mass(i1: float, i2: float, rb1: float, rb2: float) -> float:
 
 
 def dead_zone(u: FloatArray | float, half_gap: float) -> FloatArray:
-    """Backlash function f(u): u - b for u > b, 0 for |u| <= b, u + b for u < -b (m)."""
+    """Backlash function f(u): u - b for u > b, 0 for ``|u| <= b``, u + b for u < -b (m)."""
     u = np.asarray(u, dtype=float)
     return np.where(u > half_gap, u - half_gap, np.where(u < -half_gap, u + half_gap, 0.0))
 

@@ -20,6 +20,7 @@ from gear_dyn.errors import SceneError, range_text
 from gear_dyn.units import dimension_text as _dim_text
 from gear_dyn.units import is_dimensional, needs_unit_message, parse_quantity
 
+#: the default of a field the scene must give (a required key)
 REQUIRED: Any = object()
 
 #: no scene quantity is meaningful below this magnitude in SI units (1e-30 m, N m, kg m^2, ...);

@@ -13,7 +13,9 @@ from typing import Any
 from gear_dyn.errors import InputError
 from gear_dyn.scene.fields import Section
 
+#: scene tables by name, as :func:`register_section` added them
 SECTIONS: dict[str, Section] = {}
+#: model builders by ``[scene] model`` name, as :func:`register_model` added them
 MODEL_BUILDERS: dict[str, Callable[[Any], Any]] = {}
 
 

@@ -5,7 +5,7 @@ and a contact change the equation is linear with constant coefficients, in one o
 states,
 
 - drive flank (x > b):  ``m x'' + c x' + k (x - b) = W``
-- gap (|x| <= b):       ``m x'' + c x' = W``
+- gap (``|x| <= b``):       ``m x'' + c x' = W``
 - back flank (x < -b):  ``m x'' + c x' + k (x + b) = W``
 
 so the solution is closed-form on each piece (:func:`flow`: the Cayley-Hamilton form of the 2x2

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 from gear_dyn.errors import InputError, check_range
 
+#: the names ``SolverSettings.method`` (``[solver] method``) accepts
 METHODS = ("auto", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA", "exact", "periodic",
            "exact_contact", "gauss")
 #: solve_ivp method of ``auto`` when the exact propagator does not apply. LSODA (restarted at
@@ -14,6 +15,7 @@ METHODS = ("auto", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA", "exact", "
 #: with rectangular and Fourier stiffness, heavy damping, a 1000x stiffer mesh and backlash
 #: (docs/solvers.md, ``gear-dyn bench``), and it switches to BDF by itself when stiff.
 DEFAULT_ODE_METHOD = "LSODA"
+#: the implicit solve_ivp methods: they are given the model's Jacobian
 IMPLICIT = ("Radau", "BDF", "LSODA")
 
 #: work limits, so that an absurd input ends in a clear error instead of a hang or a memory blow-up

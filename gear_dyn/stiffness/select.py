@@ -44,6 +44,7 @@ from gear_dyn.stiffness.potential_energy import potential_energy_pair_stiffness
 from gear_dyn.stiffness.tooth import ToothOptions
 from gear_dyn.stiffness.weber import MODULI, current_modulus, weber_pair_stiffness
 
+#: the methods of :func:`build_stiffness` (``[stiffness] method``)
 METHODS = ("rectangular", "iso6336", "potential_energy", "weber", "contact_line")
 
 #: ISO 6336: c_gamma = c' (0.75 eps_a + 0.25). A rectangular wave with k_double = 1.75 k_single
