@@ -27,8 +27,10 @@ def registry() -> Any:
     Built with pint's own option ``cache_folder=":auto:"``: pint keeps its parsed definition
     files in the user's cache folder, so a new process builds the registry from that cache
     instead of parsing the definition files again. Measured in new processes
-    (``python benchmarks/bench_units.py``, benchmarks/results/units.md): CACHE_FIGURE. The
-    definitions, hence every conversion and message, are the same. Where the cache folder
+    (``python benchmarks/bench_units.py``, benchmarks/results/units.md; 2 shared cores, pint
+    0.25): importing pint and building the registry took 1.77 s without the cache and 1.29 s
+    with it (medians; it saved 0.38 s per process, ratio 1.34). The definitions, hence every
+    conversion and message, are the same. Where the cache folder
     cannot be created (pint raises an ``OSError``), the registry is built without it.
     """
     import pint
