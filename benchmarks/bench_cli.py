@@ -27,7 +27,7 @@ It also times, ``repeats`` fresh processes each:
   where the time goes;
 
 and what each drawing choice of the run's figures saves (``benchmarks/cli_phases.py
---choices``, for the first scene and for ``eccentric_helical``, the longest packaged run).
+--choices``, on the runs of :data:`CHOICE_RUNS`).
 
 Writes ``cli.md`` into ``--out`` (default ``benchmarks/out/``, git-ignored); ``--record`` writes
 it into ``benchmarks/results/`` instead (the recorded figures).
@@ -62,8 +62,12 @@ SCENES = ("helicopter_tail", "helicopter_tail_backlash")
 TARGET = 1e-6
 #: the whole command's target: at least this many times faster than the naive script
 TARGET_RATIO = 2.5
-#: the longest packaged run, for the drawing choices (its 40 321 samples per line)
-LONG_SCENE = "eccentric_helical"
+#: the drawing choices are timed on these runs: (scene, mesh periods or None for the scene's
+#: own); eccentric_helical is the longest packaged run (40 321 samples per line), the last a
+#: long run of the first scene as ``gear-dyn run --periods 2000`` makes it
+CHOICE_RUNS: tuple[tuple[str, int | None], ...] = (("helicopter_tail", None),
+                                                   ("eccentric_helical", None),
+                                                   ("helicopter_tail", 2000))
 RTOLS = (1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11)
 GEAR_DYN = str(Path(sys.executable).with_name("gear-dyn"))
 MPL_USUAL = "import numpy, matplotlib.figure, matplotlib.backends.backend_agg"
@@ -201,11 +205,13 @@ def blas(row: dict[str, Any], repeats: int, work: Path) -> dict[str, dict[str, l
     return out
 
 
-def choices(scene: Path) -> dict[str, float]:
-    """``benchmarks/cli_phases.py --choices SCENE``: seconds each drawing choice saves."""
+def choices(scene: Path, periods: int | None) -> dict[str, float]:
+    """``benchmarks/cli_phases.py --choices SCENE [--periods N]``: seconds each drawing choice
+    saves."""
+    extra = [] if periods is None else ["--periods", str(periods)]
     out = subprocess.run([sys.executable, str(ROOT / "benchmarks" / "cli_phases.py"),
-                          "--choices", str(scene)], check=True, capture_output=True, text=True,
-                         env=ENV)
+                          "--choices", str(scene), *extra], check=True, capture_output=True,
+                         text=True, env=ENV)
     return {ln.split("\t")[0]: float(ln.split("\t")[1]) for ln in out.stdout.splitlines()
             if "\t" in ln}
 
@@ -228,7 +234,8 @@ def _choice_rows(scene: str, saved: dict[str, float]) -> list[str]:
         if key == "png_zlib_6":
             extra = (f"; both files {saved['png_zlib_6 (bytes)'] / 1e3:.0f} kB instead of "
                      f"{size / 1e3:.0f} kB")
-        rows.append(f"| {scene} | {text} | {saved[key] * 1e3:+.0f} ms "
+        rows.append(f"| {scene} ({saved['samples per line']:.0f} samples per line) | {text} | "
+                    f"{saved[key] * 1e3:+.0f} ms "
                     f"({100 * saved[key] / both:+.0f} %){extra} |")
     return rows
 
@@ -329,9 +336,10 @@ def main(argv: list[str] | None = None) -> int:
     for key, vals in start.items():
         print(f"{key}: {spread(vals)} s")
     saved = {}
-    for scene in dict.fromkeys((rows[0]["scene"], LONG_SCENE)):
-        saved[scene] = choices(ROOT / "examples" / "scenes" / f"{scene}.toml")
-        print(f"drawing choices, {scene}: {saved[scene]}", flush=True)
+    for scene, periods in CHOICE_RUNS:
+        label = scene if periods is None else f"{scene} --periods {periods}"
+        saved[label] = choices(ROOT / "examples" / "scenes" / f"{scene}.toml", periods)
+        print(f"drawing choices, {label}: {saved[label]}", flush=True)
     out_dir.mkdir(parents=True, exist_ok=True)
     (out_dir / "cli.md").write_text(report(rows, start, args.repeats, phase, blas_row, saved,
                                            command.strip()))
