@@ -40,6 +40,7 @@ import json
 import math
 import os
 import platform
+import resource
 import statistics
 import subprocess
 import sys
@@ -83,10 +84,21 @@ ENV: dict[str, str] = {}
 def timed(cmd: list[str], env: dict[str, str] | None = None) -> float:
     """Wall time of one whole process in s (its output discarded; a failure raises);
     ``env``: variables set on top of :data:`ENV`."""
+    return timed_cpu(cmd, env)[0]
+
+
+def timed_cpu(cmd: list[str], env: dict[str, str] | None = None) -> tuple[float, float]:
+    """Wall time and CPU time (user + system, of the process and its children) of one whole
+    process in s. On a machine busy with other work the wall time grows with the load; the CPU
+    time much less."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                    env={**ENV, **(env or {})})
-    return time.perf_counter() - t0
+    wall = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return wall, cpu
 
 
 def naive_params(model: Any, t: np.ndarray, rtol: float) -> dict[str, Any]:
@@ -125,18 +137,22 @@ def bench_scene(name: str, repeats: int, work: Path) -> dict[str, Any]:
     if chosen is None:
         raise SystemExit(f"{name}: the naive script does not reach {TARGET:g} at rtol 1e-11")
     ours = [GEAR_DYN, "run", str(path), "--out", str(work / "gd")]
-    t_naive, t_ours = [], []
+    t_naive, t_ours, cpu_naive, cpu_ours = [], [], [], []
     timed(ours)  # warm-up (pint's definition cache, file-system caches)
     for _ in range(repeats):
-        t_naive.append(timed(chosen["cmd"]))
-        t_ours.append(timed(ours))
+        for times, cpus, cmd in ((t_naive, cpu_naive, chosen["cmd"]), (t_ours, cpu_ours, ours)):
+            wall, cpu = timed_cpu(cmd)
+            times.append(wall)
+            cpus.append(cpu)
     lines = (work / "gd" / "timeseries.csv").read_text().splitlines()
     body = [ln for ln in lines if not ln.startswith("#")][1:]  # comments, then the header
     data = np.loadtxt(body, delimiter=",")
     err_ours = relative_errors(model, t, data[:, 1:3].T, ref.y)[0]
     ratios = [a / b for a, b in zip(t_naive, t_ours, strict=True)]
+    cpu_ratios = [a / b for a, b in zip(cpu_naive, cpu_ours, strict=True)]
     return {"scene": name, "naive_rtol": chosen["rtol"], "naive_err": chosen["err"],
             "ours_err": err_ours, "t_naive": t_naive, "t_ours": t_ours, "ratios": ratios,
+            "cpu_naive": cpu_naive, "cpu_ours": cpu_ours, "cpu_ratios": cpu_ratios,
             "ref": ref.kind, "naive_cmd": chosen["cmd"], "path": path}
 
 
@@ -271,6 +287,13 @@ def report(rows: list[dict[str, Any]], start: dict[str, list[float]], repeats: i
             f"| {r['scene']} | {r['naive_rtol']:.0e} | {r['naive_err']:.1e} | "
             f"{r['ours_err']:.1e} | {spread(r['t_naive'])} | {spread(r['t_ours'])} | "
             f"**{spread(r['ratios'])}x** |")
+    lines += ["", "The same pairs in CPU time (user + system of each process; on a machine busy "
+              "with other work it grows much less than the wall time):", "",
+              "| scene | naive CPU (s) | gear-dyn run CPU (s) | ratio naive / gear-dyn |",
+              "|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['scene']} | {spread(r['cpu_naive'])} | {spread(r['cpu_ours'])} | "
+                     f"{spread(r['cpu_ratios'])}x |")
     lines += ["", f"Target: the whole command at least {TARGET_RATIO:g}x faster than the naive "
               f"script (median ratio): **{'met' if met else 'NOT met'}** "
               f"({', '.join(f'{x:.2f}x' for x in ratios)}).", ""]
@@ -325,8 +348,9 @@ def main(argv: list[str] | None = None) -> int:
     with tempfile.TemporaryDirectory() as tmp:
         for name in args.scenes.split(","):
             r = bench_scene(name.strip(), args.repeats, Path(tmp))
-            print(f"{r['scene']}: naive / gear-dyn run = {spread(r['ratios'])}x "
-                  f"(errors {r['naive_err']:.1e} / {r['ours_err']:.1e})", flush=True)
+            print(f"{r['scene']}: naive / gear-dyn run = {spread(r['ratios'])}x, CPU time "
+                  f"{spread(r['cpu_ratios'])}x (errors {r['naive_err']:.1e} / "
+                  f"{r['ours_err']:.1e})", flush=True)
             rows.append(r)
         phase = phases(rows[0], args.repeats)
         blas_row = blas(rows[0], args.repeats, Path(tmp))
