@@ -211,7 +211,9 @@ def sweep(
     workers : int or None
         Local processes (1..4096): ``None`` or 1 runs in the calling process; N >= 2 runs the
         blocks on a process pool of N processes (started with ``spawn``, shut down at the
-        end). Not together with ``executor``.
+        end; each process imports gear_dyn, so a script that asks for it guards its top level
+        with ``if __name__ == "__main__":``, as for any such pool). Not together with
+        ``executor``.
     executor : concurrent.futures.Executor or None
         Runs the blocks through its ``map`` (e.g. ``distributed.Client(...).get_executor()``
         for a Dask cluster); it is not shut down.
