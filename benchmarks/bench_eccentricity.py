@@ -1,9 +1,10 @@
-"""Seed 000 figures quoted in docs/eccentricity.md: costs, rigid limit, mesh loss.
+"""Figures of the eccentric pair (Liu et al. 2017) quoted in docs/eccentricity.md: costs, rigid
+limit, mesh loss.
 
 Usage: python benchmarks/bench_eccentricity.py [--repeats N] [--out FILE]
 (default FILE: benchmarks/results/eccentricity.md)
 
-1. Cost (median of --repeats runs): the excitation analysis of the seed scene (one hunting
+1. Cost (median of --repeats runs): the excitation analysis of the eccentric scene (one hunting
    period, 64 samples per mesh period: kinematics, contact lines, friction, five spectra, peak
    labels), one scalar right-hand-side call of the torsional model (eccentricity + contact-line
    stiffness + friction), and a torsional run of 45 mesh periods (DOP853, rtol 1e-7).
@@ -92,7 +93,8 @@ def mesh_loss() -> list[str]:
     m = build_plan(load_scene(IDEAL), periods=2).model
     assert isinstance(m, TorsionalModel)
     eff = m.load * m.speed * m.pair.z1 / m.pair.z2 / (m.torque * m.speed)
-    return [f"mesh loss of the seed pair, mu = {m.friction}: {100 * (1 - eff):.3f} % "
+    return [f"mesh loss of the eccentric_helical_ideal pair, mu = {m.friction}: "
+            f"{100 * (1 - eff):.3f} % "
             f"(W = {m.static_load:.2f} N, T2 = {m.load:.4f} N m vs T1 z2/z1 = "
             f"{m.torque * m.pair.z2 / m.pair.z1:.4f} N m)"]
 
@@ -107,7 +109,7 @@ def main() -> None:
                     help="write the recorded results, benchmarks/results/eccentricity.md")
     args = ap.parse_args()
     text = "\n".join([
-        "# Seed 000 / torsional model figures",
+        "# Eccentric pair (Liu et al. 2017) / torsional model figures",
         "",
         f"Command: `python benchmarks/bench_eccentricity.py --repeats {args.repeats}`  ",
         f"Machine: {platform.machine()}, Python {platform.python_version()} (2 shared cores; "

@@ -6,9 +6,9 @@ Usage: python benchmarks/bench_fmu.py [--repeats N] [--out FILE]
 (per-step cost against a trivial pythonfmu FMU, and of the FMI 3 FMU against a trivial
 pythonfmu3 FMU, side by side in one run; default FILE: benchmarks/results/fmu_per_step.md)
 
-For the seed 002 scene (single-DOF, exact propagation, 40 mesh periods) and the seed 000 scene
-(torsional, eccentricity + friction, DOP853 rtol 1e-7, 12 mesh periods), at 4, 16 and 64
-communication steps per mesh period:
+For the helicopter tail scene (single-DOF, exact propagation, 40 mesh periods) and the eccentric
+helical scene (torsional, eccentricity + friction, DOP853 rtol 1e-7, 12 mesh periods), at 4, 16
+and 64 communication steps per mesh period:
 
 - ``direct``: one :func:`gear_dyn.solvers.integrate` call on the communication grid with the
   scene's own method (what the FMU runs inside);
@@ -213,10 +213,10 @@ def _time_steps(do_step, get, vrs: list[int], h: float, n: int) -> float:  # typ
 
 
 def per_step(repeats: int, out: Path) -> None:
-    """Per-step cost of the seed 002 FMU (exact, LSODA, DOP853; 16 steps per mesh period)
-    and of the seed 000 FMU (DOP853) against a trivial pythonfmu FMU, and of the seed 002 FMI 3
-    FMU (exact, LSODA) against a trivial pythonfmu3 FMU, in one run; the repeats go round the
-    FMUs (a change of the machine's load hits every row alike)."""
+    """Per-step cost of the helicopter tail FMU (exact, LSODA, DOP853; 16 steps per mesh period)
+    and of the eccentric helical FMU (DOP853) against a trivial pythonfmu FMU, and of the
+    helicopter tail FMI 3 FMU (exact, LSODA) against a trivial pythonfmu3 FMU, in one run; the
+    repeats go round the FMUs (a change of the machine's load hits every row alike)."""
     from pythonfmu import FmuBuilder
     from pythonfmu3 import FmuBuilder as FmuBuilder3
 

@@ -1,10 +1,10 @@
 """Tip relief: accuracy of the linearised single-DOF forms against the nonlinear contact model,
 and run times of the loaded-contact analysis and of the dynamic runs.
 
-Helicopter tail pair (seed 002 as spur), 3319 rpm, 1474.4 N m, potential-energy pair stiffness,
-damping 0.06, 40 mesh periods (20 steady), DOP853 rtol 1e-7. Dynamic factor by:
+Helicopter tail pair (Jiang et al. 2018, as spur), 3319 rpm, 1474.4 N m, potential-energy pair
+stiffness, damping 0.06, 40 mesh periods (20 steady), DOP853 rtol 1e-7. Dynamic factor by:
 - tangent: tangent stiffness k_t + the relief's transmission error e (the default);
-- secant: K_TPM = F / delta (seed 001), no e;
+- secant: K_TPM = F / delta (Wang et al. 2024), no e;
 - contact: the nonlinear force sum K_j max(0, x - g_j) (reference).
 Run times (wall clock, 2 shared cores): loaded contact, median of ``REPEATS`` runs; a dynamic
 run, median over the 5 reliefs (one run each); (min..max) in brackets.

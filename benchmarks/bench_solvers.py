@@ -2,7 +2,7 @@
 
 Run:  python benchmarks/bench_solvers.py [--repeats 3] [--out FILE] [--record]
 
-One run measures, on the helicopter tail scene (seed 002, 200 mesh periods, 64 samples per
+One run measures, on the helicopter tail scene (Jiang et al. 2018, 200 mesh periods, 64 samples per
 period), each at its loosest setting that reaches max error <= 1e-6 of the static deflection
 against the exact propagator (median of repeats):
 
@@ -13,7 +13,7 @@ against the exact propagator (median of repeats):
 3. the exact propagator alone (``integrate(method="exact")``);
 4. the toolkit's ODE path (LSODA restarted at the switching instants), i.e. what auto does
    for nonlinear models, on the same problem;
-and the same comparison on the seed's 5-term Fourier stiffness (smooth: no exact propagator,
+and the same comparison on the paper's 5-term Fourier stiffness (smooth: no exact propagator,
 auto takes the periodic step maps; the reference is DOP853 at rtol 1e-13). A profile of the
 hand-written RK45 run shows where its time goes. Writes the markdown report (default
 benchmarks/results/solvers.md).
@@ -193,7 +193,7 @@ def main(argv: list[str] | None = None) -> int:
     ode = loosest(toolkit_ode, model, t, y_ref, rep)
     prof = profile_summary(lambda: hand_once(model, rhs, t, hand["rtol"]), ("rhs",))
 
-    # smooth Fourier stiffness (seed 002's 5-term fit): no exact propagator
+    # smooth Fourier stiffness (the 5-term fit of Jiang et al. 2018): no exact propagator
     fmodel = replace(model, stiffness=model.stiffness.truncated(5))
     fref = reference_solution(fmodel, t)
     frhs = hand_rhs_fourier(fmodel)
@@ -236,8 +236,8 @@ def main(argv: list[str] | None = None) -> int:
         "The machine is shared (2 cores, other jobs running): absolute times vary run to run; "
         "the ratios, measured side by side, are the figures to quote.",
         "",
-        f"## Helicopter tail scene (seed 002), rectangular ISO stiffness, {n_per:.0f} mesh "
-        f"periods, {t.size} output samples",
+        f"## Helicopter tail scene (Jiang et al. 2018), rectangular ISO stiffness, {n_per:.0f} "
+        f"mesh periods, {t.size} output samples",
         "",
         f"Target: max |x - x_exact| <= {TARGET:.0e} of the static deflection. Each row at its "
         "loosest rtol (of 1e-6..1e-11) that reaches it.",
@@ -263,7 +263,8 @@ def main(argv: list[str] | None = None) -> int:
         f"{hand['time'] / ode['time']:.1f}x faster",
         "",
         "Profile of the hand-written RK45 run: " + prof,
-        "## Same pair, seed 002's 5-term Fourier stiffness (smooth: no exact propagator)",
+        "## Same pair, the 5-term Fourier stiffness of Jiang et al. (2018) (smooth: no exact "
+        "propagator)",
         "",
         f"Reference: {fref.kind} (own error {fref.own_error:.1g}).",
         "",

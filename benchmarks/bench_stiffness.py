@@ -1,8 +1,8 @@
 """Time to build each mesh-stiffness curve (cold: caches cleared; median of repeated runs).
 
-Also records two accuracy tables quoted in docs/stiffness.md: the seed 002 shaft offset (contact
-ratio, single-contact share, backlash, mean stiffness per method) and the helical thin-slice mean
-against ISO over the helix angle.
+Also records two accuracy tables quoted in docs/stiffness.md: the shaft offset of Jiang et al. 2018
+(contact ratio, single-contact share, backlash, mean stiffness per method) and the helical
+thin-slice mean against ISO over the helix angle.
 
 Usage: python benchmarks/bench_stiffness.py [--repeats N] [--out benchmarks/results/stiffness.md]
 
@@ -70,7 +70,8 @@ def bench(repeats: int) -> str:
 
 
 def offset_table() -> str:
-    """Seed 002 shaft offset: operating geometry and means of every method (helicopter tail)."""
+    """The shaft offset of Jiang et al. (2018): operating geometry and means of every method
+    (helicopter tail)."""
     from gear_dyn.stiffness.summary import operating_summary
 
     def tail(a_w: float | None = None) -> GearPair:

@@ -2,9 +2,9 @@
 
 Run:  python benchmarks/bench_torsional.py [--repeats 3] [--periods 630] [--out DIR] [--record]
 
-On ``examples/scenes/eccentric_helical.toml`` (seed 000: eccentric helical pair, contact lines,
-friction, two-DOF torsional model; 630 mesh periods = one hunting period, 64 samples per period),
-measured in one run and interleaved (hand, ours, hand, ours, ...):
+On ``examples/scenes/eccentric_helical.toml`` (Liu et al. 2017: eccentric helical pair, contact
+lines, friction, two-DOF torsional model; 630 mesh periods = one hunting period, 64 samples per
+period), measured in one run and interleaved (hand, ours, hand, ours, ...):
 
 1. what a user writes by hand: one ``solve_ivp(RK45)`` call over the whole span with a plain
    Python right-hand side that evaluates the eccentric kinematics and the contact lines at every

@@ -18,7 +18,7 @@ communication steps, terminates, then ends in one of these ways (the variants):
 - ``scipy-only``: no FMU at all, only numpy and scipy imported and used as the FMU does
   (the baseline of the interpreter's own shutdown).
 
-``--fmi`` picks the FMUs: the seed 002 scene built as FMI 2 (pythonfmu) and/or FMI 3
+``--fmi`` picks the FMUs: the helicopter_tail scene built as FMI 2 (pythonfmu) and/or FMI 3
 (pythonfmu3), one table row per FMI version and variant; ``--fmu FILE`` runs a given FMU
 instead (e.g. one built by an older gear_dyn, to measure a fix against what it fixed).
 

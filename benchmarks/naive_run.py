@@ -23,7 +23,7 @@ _LAPS: list[tuple[str, float]] = []
 
 
 def lap(name: str) -> None:
-    """Phase times for benchmarks/cli_phases.py (printed to stderr with NAIVE_PHASES=1)."""
+    """Phase times for benchmarks/bench_cli.py (printed to stderr with NAIVE_PHASES=1)."""
     _LAPS.append((name, time.perf_counter()))
 
 

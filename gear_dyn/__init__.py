@@ -4,6 +4,15 @@ The public API in one place::
 
     from gear_dyn import GearPair, load_scene, run_scene, simulate, SolverSettings
 
+What two of these names mean, beside their relatives deeper in the package:
+
+- ``gear_dyn.simulate`` is :func:`gear_dyn.analysis.study.simulate`: the run with its error
+  estimate and stability checks (what ``run_scene`` calls). The bare run without them is
+  :func:`gear_dyn.solvers.simulate_bare`.
+- ``gear_dyn.build_stiffness`` is :func:`gear_dyn.stiffness.build_stiffness`: the mesh stiffness
+  of a pair by a method's name and options. A scene's ``[stiffness]`` table gives
+  :func:`gear_dyn.scene.scene_stiffness`.
+
 Importing ``gear_dyn`` is cheap: each public name loads its module on first use (a module
 ``__getattr__``, Scientific Python SPEC 1), so ``import gear_dyn`` loads neither scipy, matplotlib
 nor pint, and changes no environment variable. The layers of the package are described in

@@ -11,6 +11,12 @@
 from __future__ import annotations
 
 import math
+import sys
+import warnings
+from pathlib import Path
+
+#: folder of the package: a warning names the first caller outside it
+_PACKAGE_DIR = str(Path(__file__).resolve().parent)
 
 
 class GearDynError(Exception):
@@ -90,6 +96,23 @@ def check_range(
             f"valid range {range_text(low, high, low_open, high_open, unit)}"
         )
     return v
+
+
+def warn_old_name(message: str) -> None:
+    """A :class:`FutureWarning` that an old name was used (it still works, for now).
+
+    The warning points at the first caller outside gear_dyn (a user's script, or the CLI's
+    caller), not at the library line that noticed the old name.
+
+    Parameters
+    ----------
+    message : str
+        What was renamed, and the name to write instead.
+    """
+    level, frame = 2, sys._getframe(1)
+    while frame.f_back is not None and frame.f_code.co_filename.startswith(_PACKAGE_DIR):
+        frame, level = frame.f_back, level + 1
+    warnings.warn(message, FutureWarning, stacklevel=level)
 
 
 def _unit_txt(unit: str) -> str:

@@ -1,12 +1,12 @@
-"""Involute gear pair geometry (PHYSICS.md section 0).
+"""Involute gear pair geometry.
 
 All quantities are SI: metres, radians, pascals, kilograms. Subscript 1 is the pinion (driver),
 2 the gear (driven). Helical pairs are described in the transverse plane with the normal module
 ``m_n`` and helix angle ``beta``.
 
-Formulas (ISO 21771 / any gear text; seed 000 eqs. 14, 28, 29 with its typo corrected):
+Formulas (ISO 21771 / any gear text; Liu et al. 2017, eqs. 14, 28, 29, with its typo corrected):
 
-- ``tan a_t = tan a_n / cos b``; ``tan b_b = tan b cos a_t`` (seed 000 eq. 29 prints
+- ``tan a_t = tan a_n / cos b``; ``tan b_b = tan b cos a_t`` (Liu et al. 2017, eq. 29 prints
   ``sin b_b = tan b cos a_t``: a typo, not implemented)
 - ``r = m_n z / (2 cos b)``, ``r_b = r cos a_t``, ``r_a = r + m_n (ha* + x)``,
   ``r_f = r - m_n (ha* + c* - x)``

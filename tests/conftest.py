@@ -1,4 +1,4 @@
-"""Shared fixtures (the seed 002 helicopter tail pair) and the hypothesis profiles.
+"""Shared fixtures (the helicopter tail pair of Jiang et al. 2018) and the hypothesis profiles.
 
 Property tests are derandomized by default (profile ``ci``): the same examples on every run
 and machine, so a verdict never depends on the draw; a bug a property test once found is kept
@@ -27,7 +27,8 @@ SCENES = ROOT / "examples" / "scenes"
 
 @pytest.fixture
 def heli_pair() -> GearPair:
-    """Seed 002 equivalent spur pair: z 23/64, m 6 mm, 22.5 deg, B 50 mm, E 207 GPa."""
+    """The helicopter tail pair as an equivalent spur pair: z 23/64, m 6 mm, 22.5 deg, B 50 mm,
+    E 207 GPa."""
     return GearPair(23, 64, 6e-3, math.radians(22.5), 0.05,
                     youngs_modulus1=2.07e11, youngs_modulus2=2.07e11)
 

@@ -329,7 +329,7 @@ def figure_errors(result_figures: dict[str, float], tight_figures: dict[str, flo
 
 #: explicit solve_ivp methods (stability-limited on stiff or very fast problems)
 EXPLICIT = ("RK45", "RK23", "DOP853")
-#: a problem is called stiff when max|Re lambda| / min|Re lambda| exceeds this and stability
+#: a problem is called stiff when ``max|Re lambda| / min|Re lambda|`` exceeds this and stability
 #: alone forces an explicit method to more than STIFF_STEPS steps per mesh period ...
 STIFF_RATIO = 50.0
 STIFF_STEPS = 20.0
@@ -343,11 +343,11 @@ def stiffness_check(model: Model, method: str, samples: int = 16) -> dict[str, A
     """Is the problem stiff (or very fast) for an explicit method? With advice.
 
     The Jacobian is evaluated at the initial state at ``samples`` instants over one mesh period.
-    ``stiffness_ratio`` = max |Re lambda| / min |Re lambda| over the real parts that are not
-    zero (below ZERO_EIG of the largest |lambda|: rigid-body modes and rounding are left out;
+    ``stiffness_ratio = max |Re lambda| / min |Re lambda|`` over the real parts that are not
+    zero (below ZERO_EIG of the largest ``|lambda|``: rigid-body modes and rounding are left out;
     a heavily over-damped mesh, xi = 5, gives about 100); ``explicit_steps_per_period`` =
-    max |lambda| T_m / 3, the fewest steps per mesh period an explicit Runge-Kutta method
-    (stability bound |h lambda| <~ 3) can take, whatever the tolerance. Stiff: ratio > 50 with
+    ``max |lambda| T_m / 3``, the fewest steps per mesh period an explicit Runge-Kutta method
+    (stability bound ``|h lambda| <~ 3``) can take, whatever the tolerance. Stiff: ratio > 50 with
     > 20 such steps, or > 500 steps (a very fast mesh).
 
     Returns

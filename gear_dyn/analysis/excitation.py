@@ -1,4 +1,4 @@
-"""Seed 000's excitations of an eccentric pair and their labelled spectra (the API behind
+"""The excitations of an eccentric pair (Liu et al. 2017) and their labelled spectra (the API behind
 ``gear-dyn excitation``): driven speed w2(t), contact-line length L(t) and, with friction, the
 friction force and torques, at constant input speed and normal load ``W = T1 / r_b1``."""
 

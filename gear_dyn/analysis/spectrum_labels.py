@@ -92,7 +92,7 @@ def label_frequency(freq: float, basis: Basis, tol: float, max_mesh: int = 10000
     max_mesh : int
         Highest mesh harmonic n considered.
     max_order : int
-        Largest |a| and |b| considered.
+        Largest ``|a|`` and ``|b|`` considered.
     """
     best: tuple[int, int, float, Label] | None = None
     n_hi = min(max_mesh, int(freq / basis.mesh + 1.5))

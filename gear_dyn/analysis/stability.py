@@ -41,8 +41,7 @@ from numpy.typing import NDArray
 
 from gear_dyn.errors import InputError, SolverError, check_range
 from gear_dyn.models.base import MeshModel, Model
-from gear_dyn.solvers.contact_exact import contact_exact_applies
-from gear_dyn.solvers.contact_exact import flow_with_sensitivity as contact_flow_with_sensitivity
+from gear_dyn.solvers.contact_exact import contact_exact_applies, flow_with_sensitivity
 from gear_dyn.solvers.events import solve_piece_with_events
 from gear_dyn.solvers.matexp import expm
 from gear_dyn.solvers.periodic import step_products
@@ -78,7 +77,7 @@ class PeriodicSolution:
     how : str
         ``expm`` (exact product), ``variational`` (solve_ivp over one period) or ``shooting``.
     residual : float
-        Final relative closing error max_i |P(y0)_i - y0_i| / scale_i (0 for linear models).
+        Final relative closing error ``max_i |P(y0)_i - y0_i| / scale_i`` (0 for linear models).
     """
 
     y0: FloatArray
@@ -400,17 +399,19 @@ def periodic_steady_state(
     return shoot(model, model.initial_state() if y_guess is None else y_guess, rtol, max_iter)
 
 
-#: routes of :func:`flow_with_sensitivity`
+#: routes of :func:`integrate_with_sensitivity`
 SENSITIVITY_ROUTES = ("auto", "exact", "variational")
 
 
-def flow_with_sensitivity(model: MeshModel, y0: FloatArray, t1: float, rtol: float = 1e-10,
-                          route: str = "auto") -> tuple[FloatArray, FloatArray]:
-    """State ``y(t1)`` from ``y(0) = y0`` and its sensitivity ``d y(t1) / d y0``.
+def integrate_with_sensitivity(model: MeshModel, y0: FloatArray, t1: float, rtol: float = 1e-10,
+                               route: str = "auto") -> tuple[FloatArray, FloatArray]:
+    """State ``y(t1)`` from ``y(0) = y0`` and its sensitivity ``d y(t1) / d y0``, by the route
+    asked for: the backlash propagator's closed form or the variational equations.
 
     Parameters
     ----------
     model : MeshModel
+        Single-DOF mesh model.
     y0 : ndarray
         Start state [m, m/s].
     t1 : float
@@ -424,6 +425,13 @@ def flow_with_sensitivity(model: MeshModel, y0: FloatArray, t1: float, rtol: flo
         rounding; ``variational``: the variational equations with DOP853 (any single-DOF
         model; imports scipy.integrate); ``auto``: ``exact`` where it applies.
 
+    Returns
+    -------
+    y : ndarray (n,)
+        State at ``t1``.
+    phi : ndarray (n, n)
+        ``d y(t1) / d y0``.
+
     Raises
     ------
     InputError
@@ -434,7 +442,7 @@ def flow_with_sensitivity(model: MeshModel, y0: FloatArray, t1: float, rtol: flo
     if route not in SENSITIVITY_ROUTES:
         raise InputError(f"route = {route!r}: valid choices are {', '.join(SENSITIVITY_ROUTES)}")
     if route == "exact" or (route == "auto" and contact_exact_applies(model)):
-        return contact_flow_with_sensitivity(model, y0, t1)
+        return flow_with_sensitivity(model, y0, t1)
     n = len(model.state_labels)
 
     def rhs_on(ta: float, tb: float) -> Any:
@@ -476,7 +484,8 @@ def shoot(model: MeshModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: 
     periods : int
         Mesh periods of the orbit (1..16).
     route : str
-        How the one-period map and its Jacobian are computed (:func:`flow_with_sensitivity`):
+        How the one-period map and its Jacobian are computed
+        (:func:`integrate_with_sensitivity`):
         ``auto`` (exact where it applies, else variational), ``exact`` or ``variational``.
 
     Returns
@@ -500,7 +509,7 @@ def shoot(model: MeshModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: 
     res = math.inf
     it = 0
     for it in range(1, max_iter + 1):
-        yt, phi = flow_with_sensitivity(model, y, period, rtol, route)
+        yt, phi = integrate_with_sensitivity(model, y, period, rtol, route)
         r = yt - y
         ref = np.maximum(scale, np.abs(y))
         res_prev, res = res, float(np.max(np.abs(r) / ref))

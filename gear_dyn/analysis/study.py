@@ -1,7 +1,7 @@
 """A run with its honesty figures: simulation, error estimate and stability checks composed.
 
-:func:`gear_dyn.solvers.simulate` returns the bare trajectory; :func:`simulate` here (the public
-``gear_dyn.simulate``, and what ``run_scene`` calls) adds to ``Result.extra``:
+:func:`gear_dyn.solvers.simulate_bare` returns the bare trajectory; :func:`simulate` here (the
+public ``gear_dyn.simulate``, and what ``run_scene`` calls) adds to ``Result.extra``:
 
 - ``estimated_error`` when ``settings.estimate_error`` (:func:`~.accuracy.estimate_error`);
 - ``floquet``: the largest Floquet multiplier of a linear mesh-periodic model
@@ -33,8 +33,7 @@ from gear_dyn.analysis.accuracy import (
 from gear_dyn.analysis.stability import shoot
 from gear_dyn.errors import GearDynError
 from gear_dyn.models.base import MeshModel, Model
-from gear_dyn.solvers import Result, SolverSettings
-from gear_dyn.solvers import simulate as simulate_bare
+from gear_dyn.solvers import Result, SolverSettings, simulate_bare
 
 
 def checks(model: Model, result: Result) -> dict[str, Any]:
@@ -73,7 +72,7 @@ def checks(model: Model, result: Result) -> dict[str, Any]:
 def contact_check(model: Model, result: Result) -> dict[str, Any]:
     """Contact over the steady window: teeth apart / back-side shares, or a negative force.
 
-    With backlash (mesh-periodic model): ``separation_share`` (|x - e| <= b_g) and
+    With backlash (mesh-periodic model): ``separation_share`` (``|x - e| <= b_g``) and
     ``backside_share`` (x - e < -b_g) of the steady samples. Without it: ``min_force_n`` and,
     when it is negative, a ``warning``: a linear model cannot represent teeth that separate.
     """
@@ -135,7 +134,25 @@ def simulate(
 ) -> Result:
     """Integrate ``model`` from 0 to ``t_end`` and attach the error estimate and checks.
 
-    Parameters are those of :func:`gear_dyn.solvers.simulate`.
+    This is ``gear_dyn.simulate``: the run of :func:`gear_dyn.solvers.simulate_bare` (the same
+    parameters) plus what :func:`checks` adds to ``Result.extra`` (see the module docstring).
+
+    Parameters
+    ----------
+    model : Model
+        Any model offering the face of :mod:`gear_dyn.models.base`.
+    t_end : float
+        End time in s (> 0, at least eight output samples).
+    settings : SolverSettings or None
+        Method and tolerances; None uses the defaults.
+    steady_start : float or None
+        Start of the steady-state window in s; None takes the second half of the run.
+    scene : object
+        Provenance stored in the result.
+
+    Returns
+    -------
+    Result
 
     Raises
     ------

@@ -8,17 +8,14 @@ Exit codes: 0 success; 2 user mistake (bad scene, flag or value: one line on std
 from __future__ import annotations
 
 import argparse
-import contextlib
-import functools
-import gc
 import importlib
 import os
 import signal
 import sys
 import threading
 import traceback
+import warnings
 from collections.abc import Sequence
-from typing import Any
 
 from gear_dyn.errors import InputError, SolverError
 
@@ -67,12 +64,15 @@ class Terminated(BaseException):
     """SIGTERM received: unwinds like Ctrl-C so staged outputs are cleaned up."""
 
 
+#: the pid of the process whose ``main`` installed the SIGTERM handler (a stack: ``main`` may be
+#: called again inside a command, as tests do)
 _MAIN_PID: list[int] = []
 
 
 def _on_sigterm(signum: int, frame: object) -> None:
     if _MAIN_PID and os.getpid() != _MAIN_PID[-1]:
-        # a forked worker (e.g. of a sweep's process pool) inherited this handler: die as usual
+        # a worker of a sweep's process pool, forked by multiprocessing, inherited this
+        # handler: it dies by the signal as it would without gear_dyn
         signal.signal(signal.SIGTERM, signal.SIG_DFL)
         os.kill(os.getpid(), signal.SIGTERM)
         return
@@ -87,9 +87,10 @@ def limit_blas_threads() -> None:
     """One BLAS thread per process, unless the user chose otherwise (the command's decision).
 
     gear_dyn works with 2x2..8x8 matrices: BLAS worker threads only add overhead, and on a busy
-    machine they oversubscribe the cores (measured with ``gear-dyn demo`` under load: the exact
-    propagator 15x slower with OpenBLAS threads). Only the ``gear-dyn`` process does this, and
-    only takes effect when numpy is not loaded yet; importing the library changes nothing.
+    machine they oversubscribe the cores. Measured on a shared two-core machine
+    (``benchmarks/results/cli.md``): BLAS_EFFECT. Only the ``gear-dyn``
+    process does this, and only takes effect when numpy is not loaded yet; importing the
+    library changes nothing.
     """
     for var in BLAS_THREAD_VARS:
         os.environ.setdefault(var, "1")
@@ -100,10 +101,6 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     SIGTERM is turned into a clean exit (code 143) while the command runs, so that the output
     folder being staged is removed and the previous output stays whole.
-
-    Run as the program (``argv`` None), it leaves the objects it made to the operating system:
-    ``gc.freeze()`` spares the interpreter's exit a full collection of matplotlib's reference
-    cycles, a large part of a short command's time (``benchmarks/cli_phases.py``).
     """
     if "numpy" not in sys.modules:
         limit_blas_threads()
@@ -116,41 +113,19 @@ def main(argv: Sequence[str] | None = None) -> int:
         previous = signal.signal(signal.SIGTERM, _on_sigterm)
         _MAIN_PID.append(os.getpid())
     try:
-        return _main(args_list, debug)
+        with warnings.catch_warnings():  # a warning is one line on stderr, as an error is
+            warnings.showwarning = _show_warning
+            return _main(args_list, debug)
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
             _MAIN_PID.pop()
-        if argv is None:  # the process's own command line: it ends now
-            gc.freeze()
-
-
-#: commands that draw figures -> the figure modules their forerunner imports
-PLOTTING: dict[str, tuple[str, ...]] = {"run": ("gear_dyn.plots.run",),
-                                        "demo": ("gear_dyn.plots.run",),
-                                        "sweep": ("gear_dyn.plots.sweep",)}
-
-
-def _plotting(args_list: list[str]) -> contextlib.AbstractContextManager[Any]:
-    """For a command that draws figures: a forerunner child (cli/_parallel.py) forked before
-    the parser is even built (~30 ms), importing matplotlib while the command computes;
-    killed if the command line is refused. Otherwise no child."""
-    command = next((a for a in args_list if not a.startswith("-")), None)
-    if command not in PLOTTING or {"-h", "--help"} & set(args_list):
-        return contextlib.nullcontext(None)
-    from gear_dyn.cli._parallel import forerunner
-    from gear_dyn.plots._warm import import_for_files
-
-    return forerunner(functools.partial(import_for_files, *PLOTTING[command]))
 
 
 def _main(args_list: list[str], debug: bool) -> int:
     try:
-        with _plotting(args_list) as plotter:
-            parser = build_parser()
-            args = parser.parse_args(args_list, namespace=argparse.Namespace(plotter=plotter))
-            code = args.func(args)
-        return int(code or 0)
+        args = build_parser().parse_args(args_list)
+        return int(args.func(args) or 0)
     except Terminated:
         sys.stderr.write("gear-dyn: terminated (SIGTERM); no partial output was kept\n")
         return 143
@@ -182,7 +157,12 @@ def _main(args_list: list[str], debug: bool) -> int:
         return 1
 
 
-def _one_line(exc: BaseException) -> str:
+def _show_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int,
+                  file: object = None, line: str | None = None) -> None:
+    sys.stderr.write(f"gear-dyn: warning: {_one_line(message)}\n")
+
+
+def _one_line(exc: BaseException | str) -> str:
     return " ".join(str(exc).split())
 
 

@@ -8,8 +8,8 @@ Writes into DIR (whole or not at all):
   mesh cycle;
 - ``path.csv``: roll distance, load-sharing factor and contact stress of every case;
 - ``contact.json``: one row per case (the unmodified pair, the scene's ``[tip_relief]`` if any,
-  then the handbook, Dudley, Niemann and seed 001 rules): amounts, lengths, heights, peak stress,
-  peak-to-peak static transmission error, single-contact zone start and end;
+  then the handbook, Dudley, Niemann and Wang et al. (2024) rules): amounts, lengths, heights,
+  peak stress, peak-to-peak static transmission error, single-contact zone start and end;
 - with ``--dynamics``: ``dynamics.png`` (DTE and spectrum) and ``dynamics.json`` (dynamic factor,
   RMS and peak-to-peak DTE) from the single-DOF model of each case (scene's [solver] settings).
 """

@@ -1,4 +1,5 @@
-"""``gear-dyn excitation SCENE --out DIR``: seed 000's excitations and their labelled spectra.
+"""``gear-dyn excitation SCENE --out DIR``: the excitations of Liu et al. (2017) (eccentricity,
+friction, contact lines) and their labelled spectra.
 
 Computes, for the scene's pair at constant input speed and constant normal load
 ``W = T1 / r_b1``, the driven speed w2(t), the contact-line length L(t) and (with a
@@ -19,10 +20,10 @@ from gear_dyn.cli.progress import Stages, add_quiet_flag
 def register(sub: Any) -> None:
     p = sub.add_parser(
         "excitation", help="eccentricity and friction excitations with labelled spectra",
-        description="Seed 000 excitations of SCENE (tables [eccentricity], [friction]): driven "
-        "speed, contact-line length, friction force and torque over whole hunting periods; "
-        "writes excitation_time.png, excitation_spectrum.png, excitation.csv and peaks.json "
-        "into DIR (replaced as a whole only when everything succeeded).",
+        description="Excitations of SCENE after Liu et al. (2017) (tables [eccentricity], "
+        "[friction]): driven speed, contact-line length, friction force and torque over whole "
+        "hunting periods; writes excitation_time.png, excitation_spectrum.png, excitation.csv "
+        "and peaks.json into DIR (replaced as a whole only when everything succeeded).",
     )
     p.add_argument("scene", type=Path, help="scene file (TOML)")
     p.add_argument("--out", type=Path, required=True, help="output folder")

@@ -2,22 +2,21 @@
 
 from __future__ import annotations
 
-import functools
-import math
-import mmap
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from gear_dyn.analysis.report import summarize
-from gear_dyn.cli._parallel import Forerunner, can_fork, child_tasks
 from gear_dyn.io import save_figure, staged_output, write_csv, write_json
+from gear_dyn.plots.run import plot_spectrum, plot_time_history
 from gear_dyn.solvers import Result
 
-#: zlib level 1: the same pixels, ~20 % larger files, the encoder ~2x faster (~40 ms a run)
-_PNG = {"compress_level": 1}
-_DPI = 110
+#: PNG zlib level 1 (PNG_LEVEL_EFFECT)
+PNG_OPTIONS = {"compress_level": 1}
+#: resolution of the run's figures (pixels per inch)
+DPI = 110
+#: blocks of the time history's whole-run lines (:func:`gear_dyn.plots.run.plot_time_history`):
+#: about 2 per pixel column of its 6.5 in panel at :data:`DPI`
+ENVELOPE_BLOCKS = 1500
 
 
 def result_name(result: Result) -> str:
@@ -25,57 +24,21 @@ def result_name(result: Result) -> str:
     return str(getattr(result.scene, "name", None) or "run")
 
 
-def write_run_outputs(result: Result, out: Path, spectrum_scale: str = "log",
-                      plotter: Forerunner | None = None) -> dict[str, Any]:
+def write_run_outputs(result: Result, out: Path, spectrum_scale: str = "log") -> dict[str, Any]:
     """Write plots, CSV and summary.json of ``result`` into ``out`` (whole or not at all).
 
     ``spectrum_scale``: amplitude axis of spectrum.png, ``"log"`` or ``"linear"``.
-    ``plotter``: a forerunner that imported the plotting stack while the result was computed
-    (gear_dyn/cli/_parallel.py): it draws the figures; else this process does.
+    Returns the summary (:func:`gear_dyn.analysis.report.summarize`).
     """
     summary = summarize(result)
     with staged_output(out) as tmp:
         _write_timeseries(result, summary, tmp / "timeseries.csv")
         write_json(tmp / "summary.json", summary)
-        job = functools.partial(draw_run_figures, result, tmp, spectrum_scale)
-        if plotter is not None:
-            plotter.run(job)
-        else:
-            job()
+        save_figure(plot_time_history(result, blocks=ENVELOPE_BLOCKS), tmp / "time_history.png",
+                    dpi=DPI, pil_kwargs=PNG_OPTIONS)
+        save_figure(plot_spectrum(result, scale=spectrum_scale), tmp / "spectrum.png", dpi=DPI,
+                    pil_kwargs=PNG_OPTIONS)
     return summary
-
-
-def draw_run_figures(result: Result, tmp: Path, spectrum_scale: str) -> None:
-    """time_history.png and spectrum.png of ``result`` in ``tmp``.
-
-    With a core to spare, a forked child draws the zoom column of the time history (into
-    memory shared with this process) and then the spectrum, while this process draws the
-    whole-run column and lays the child's column over it (gear_dyn/plots/_compose.py). The
-    figure is built once, before the fork, and shared by both.
-    """
-    from gear_dyn.plots._compose import canvas_shape, column_of, lay_over, render_part, write_png
-    from gear_dyn.plots.run import plot_spectrum, plot_time_history
-
-    fig = plot_time_history(result, blocks=1500)  # ~2 per pixel column at dpi 110
-
-    def spectrum() -> None:
-        save_figure(plot_spectrum(result, scale=spectrum_scale), tmp / "spectrum.png",
-                    dpi=_DPI, pil_kwargs=_PNG)
-
-    if not can_fork() or len({column_of(a) for a in fig.axes}) < 2:
-        save_figure(fig, tmp / "time_history.png", dpi=_DPI, pil_kwargs=_PNG)
-        spectrum()
-        return
-    shape = canvas_shape(tuple(fig.get_size_inches()), _DPI)
-    zoom = np.frombuffer(mmap.mmap(-1, math.prod(shape)), dtype=np.uint8).reshape(shape)
-
-    def zoom_column() -> None:
-        zoom[...] = render_part(fig, _DPI, lambda a: column_of(a) > 0, base=False)
-
-    with child_tasks(zoom_column, spectrum) as work:
-        whole = render_part(fig, _DPI, lambda a: column_of(a) == 0, base=True)
-        work.wait(0)
-        write_png(lay_over(whole, zoom), tmp / "time_history.png", dpi=_DPI, **_PNG)
 
 
 def _write_timeseries(result: Result, summary: dict[str, Any], path: Path) -> None:

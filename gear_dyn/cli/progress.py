@@ -26,16 +26,6 @@ def shown(quiet: bool, stream: TextIO | None = None) -> bool:
     return not quiet and bool(getattr(s, "isatty", lambda: False)())
 
 
-def _tqdm() -> Any:
-    """tqdm's bar class, or None where tqdm is not installed (a dependency since the progress
-    bars came: an environment made before them runs on, without bars)."""
-    try:
-        from tqdm import tqdm
-    except ImportError:
-        return None
-    return tqdm
-
-
 def _shape() -> dict[str, int]:
     """tqdm's ``ncols`` and ``nrows`` from the terminal, 80 x 24 where it reports none (a
     fresh pseudo-terminal says 0 x 0, and tqdm hides a bar below row 0)."""
@@ -52,9 +42,10 @@ def counter(unit: str, quiet: bool = False, stream: TextIO | None = None
     The bar closes itself when ``done`` reaches ``total``.
     """
     s = sys.stderr if stream is None else stream
-    tqdm = _tqdm() if shown(quiet, s) else None
-    if tqdm is None:
+    if not shown(quiet, s):
         return None
+    from tqdm import tqdm
+
     state: dict[str, Any] = {}
 
     def show(done: int, total: int) -> None:
@@ -78,8 +69,9 @@ class Stages:
         self.i = -1
         self.bar: Any = None
         s = sys.stderr if stream is None else stream
-        tqdm = _tqdm() if shown(quiet, s) else None
-        if tqdm is not None:
+        if shown(quiet, s):
+            from tqdm import tqdm
+
             self.bar = tqdm(total=len(self.names), unit="stage", file=s, leave=False,
                             bar_format="{l_bar}{bar}| {n}/{total} stages", **_shape())
 

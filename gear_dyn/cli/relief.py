@@ -1,8 +1,8 @@
 """``gear-dyn relief SCENE``: recommended tip relief of a scene's pair by every rule, side by side.
 
-Rules (PHYSICS.md section 3, docs/modification.md): gear handbook, Dudley, Niemann (seed 003) and
-seed 001 eq. 1, at the scene's torque. The scene's ``[tip_relief]`` table, if present, supplies the
-handbook constants and Dudley's C_m. ``--json PATH`` also writes the table as JSON.
+Rules (docs/modification.md): gear handbook, Dudley and Niemann (as collected by Han, n.d.) and
+Wang et al. (2024), eq. 1, at the scene's torque. The scene's ``[tip_relief]`` table, if present,
+supplies the handbook constants and Dudley's C_m. ``--json PATH`` also writes the table as JSON.
 """
 
 from __future__ import annotations
@@ -17,7 +17,8 @@ from gear_dyn.cli.progress import Stages, add_quiet_flag
 
 def register(sub: Any) -> None:
     p = sub.add_parser(
-        "relief", help="recommended tip relief by the handbook, Dudley, Niemann and seed 001 rules",
+        "relief", help="recommended tip relief by the handbook, Dudley, Niemann and Wang et al. "
+        "(2024) rules",
         description="Print the tip relief (amount, radial height, length along the line of "
         "action, for pinion and gear) that each published rule recommends for SCENE's pair at "
         "its torque.",

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import gc
 import sys
 from pathlib import Path
 from typing import Any
@@ -54,26 +53,12 @@ def overrides(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def run(args: argparse.Namespace) -> int:
-    # one result and two figures: a bounded heap, so no cyclic collections while it is built
-    # (matplotlib's many small objects make them scan the whole heap again and again)
-    was_enabled = gc.isenabled()
-    gc.disable()
-    try:
-        from gear_dyn.cli._parallel import forerunner_of
-        from gear_dyn.plots._warm import import_for_files
+    from gear_dyn.cli.output import write_run_outputs
+    from gear_dyn.scene import load_scene, run_scene
 
-        # matplotlib imports in a forked child while this process reads the scene and solves
-        with forerunner_of(args, import_for_files) as plotter:
-            from gear_dyn.cli.output import write_run_outputs
-            from gear_dyn.scene import load_scene, run_scene
-
-            scene = load_scene(args.scene)
-            result = run_scene(scene, **overrides(args))
-            summary = write_run_outputs(result, args.out, spectrum_scale=args.spectrum_scale,
-                                        plotter=plotter)
-    finally:
-        if was_enabled:
-            gc.enable()
+    scene = load_scene(args.scene)
+    result = run_scene(scene, **overrides(args))
+    summary = write_run_outputs(result, args.out, spectrum_scale=args.spectrum_scale)
     print(
         f"{scene.name}: f_m = {summary['mesh_frequency_hz']:.1f} Hz, dynamic factor "
         f"{summary['dynamic_factor']:.4f}, RMS DTE {summary['rms_dte_m'] * 1e6:.4g} um "
@@ -87,13 +72,13 @@ def run(args: argparse.Namespace) -> int:
         for line in iso_kv_lines(summary["iso_6336_kv"]):
             print(f"  {line}", file=sys.stdout)
     print(f"  {summary['dte_definition']}", file=sys.stdout)
-    for line in honesty_lines(summary):
+    for line in self_assessment_lines(summary):
         print(line, file=sys.stdout)
     print(f"wrote {args.out}/", file=sys.stdout)
     return 0
 
 
-def honesty_lines(summary: dict[str, Any]) -> list[str]:
+def self_assessment_lines(summary: dict[str, Any]) -> list[str]:
     """What the run states about itself: its error (pointwise, or of its figures where the
     trajectory is not reproducible), contact loss, the orbit's stability, and its warnings."""
     lines = []

@@ -3,12 +3,10 @@
 from __future__ import annotations
 
 import argparse
-import functools
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TextIO, cast
 
-from gear_dyn.cli._parallel import Forerunner, forerunner_of, task_in_child
 from gear_dyn.cli.progress import counter
 from gear_dyn.cli.run import add_solver_flags, overrides
 from gear_dyn.errors import InputError
@@ -80,13 +78,8 @@ def run(args: argparse.Namespace) -> int:
     # (measured, benchmarks/bench_sweep.py); the pool's workers inherit it. An explicit
     # setting wins; it takes effect when numpy is first loaded, just below.
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-    from gear_dyn.plots._warm import import_for_files
-
-    # matplotlib imports in a forked child while this process sweeps
-    with forerunner_of(args, functools.partial(import_for_files, "gear_dyn.plots.sweep")
-                       ) as plotter:
-        result, scene = _sweep(args)
-        summary = write_sweep_outputs(result, scene, args.out, args.chart, plotter=plotter)
+    result, scene = _sweep(args)
+    summary = write_sweep_outputs(result, scene, args.out, args.chart)
     _print_summary(result, scene, summary, args.chart)
     print(f"wrote {args.out}/")
     return 0
@@ -173,13 +166,9 @@ def _print_summary(result: Any, scene: Any, summary: dict[str, Any], chart: str)
         print("  Floquet stability charts around the scene: --chart both (stability.png)")
 
 
-def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both",
-                        plotter: Forerunner | None = None) -> dict[str, Any]:
-    """Write plots, CSV and sweep.json of a sweep into ``out`` (whole or not at all).
-
-    ``plotter``: a forerunner that imported the plotting stack while the sweep ran: it draws
-    the figures; else this process does.
-    """
+def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
+                        ) -> dict[str, Any]:
+    """Write plots, CSV and sweep.json of a sweep into ``out`` (whole or not at all)."""
     import numpy as np
 
     from gear_dyn.analysis.chart import chart_summary, sweep_charts
@@ -212,11 +201,7 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both",
         write_csv(tmp / "sweep.csv", cols)
         write_csv(tmp / "spectra.csv", _spectra_columns(result))
         write_json(tmp / "sweep.json", summary)
-        job = functools.partial(draw_sweep_figures, result, tmp, iso_curve, charts)
-        if plotter is not None:
-            plotter.run(job)
-        else:
-            job()
+        draw_sweep_figures(result, tmp, iso_curve, charts)
     return summary
 
 
@@ -239,22 +224,18 @@ def _spectra_columns(result: Any) -> dict[str, Any]:
 def draw_sweep_figures(result: Any, tmp: Path, iso_curve: Any, charts: tuple[Any, ...]
                        ) -> None:
     """response.png, the waterfall(s) and (``charts``: charts, range, title) stability.png in
-    ``tmp``; the waterfalls in a forked child when a core is free for it."""
+    ``tmp``."""
     from gear_dyn.io import save_figure
     from gear_dyn.plots.sweep import plot_stability_charts, plot_sweep_response, plot_waterfall
 
-    def waterfalls() -> None:
-        for c in result.curves:
-            name = "waterfall.png" if c is result.curves[0] else f"waterfall_{c.direction}.png"
-            save_figure(plot_waterfall(result, c.direction), tmp / name, dpi=110)
-
-    with task_in_child(waterfalls):
-        save_figure(plot_sweep_response(result, iso_kv=iso_curve), tmp / "response.png",
-                    dpi=110)
-        if charts:
-            found, sweep_range, title = charts
-            save_figure(plot_stability_charts(found, sweep_range=sweep_range, title=title),
-                        tmp / "stability.png", dpi=110)
+    save_figure(plot_sweep_response(result, iso_kv=iso_curve), tmp / "response.png", dpi=110)
+    for c in result.curves:
+        name = "waterfall.png" if c is result.curves[0] else f"waterfall_{c.direction}.png"
+        save_figure(plot_waterfall(result, c.direction), tmp / name, dpi=110)
+    if charts:
+        found, sweep_range, title = charts
+        save_figure(plot_stability_charts(found, sweep_range=sweep_range, title=title),
+                    tmp / "stability.png", dpi=110)
 
 
 __all__ = ["draw_sweep_figures", "progress_bar", "register", "run", "write_sweep_outputs"]

@@ -1,4 +1,4 @@
-"""Seed 000: geometric eccentricity of a helical pair (PHYSICS.md section 4).
+"""Geometric eccentricity of a helical pair (Liu et al. 2017; docs/eccentricity.md).
 
 - :mod:`.kinematics`: centres, centre distance, dynamic pressure angle, pitch point, ratio, speeds
 - :mod:`.contact_lines`: time-varying contact lines and their total length L(t)

@@ -1,25 +1,26 @@
-"""Sliding friction on the contact lines of an eccentric helical pair (seed 000 eqs. 18-27).
+"""Sliding friction on the contact lines of an eccentric helical pair (Liu et al. 2017,
+eqs. 18-27).
 
-Assumptions of the seed, kept here: the normal load ``F`` is spread uniformly over the total
+Assumptions of the paper, kept here: the normal load ``F`` is spread uniformly over the total
 contact-line length ``L(t)`` (eq. 18); the friction coefficient ``mu`` is constant (the mean of the
 time-varying one); each contact line is split at the instantaneous pitch line (the line through P
 parallel to the axis) because the sliding velocity reverses there; each segment's friction force
 acts at its midpoint.
 
-Segments, in transverse distances from the start of contact C (``L_CP`` = C..P, seed eq. 20):
+Segments, in transverse distances from the start of contact C (``L_CP`` = C..P, eq. 20):
 the part of line i beyond P (towards D, the pinion tip) covers ``[max(D_i - w, L_CP),
 min(D_i, L_CD)]`` and has length ``L_i1``; the part before P covers ``[max(D_i - w, 0),
-min(D_i, L_CP)]`` and has length ``L_i2`` (both divided by ``sin b_b``). This is the seed's eq. 22
+min(D_i, L_CP)]`` and has length ``L_i2`` (both divided by ``sin b_b``). This is the paper's eq. 22
 in one formula; it also covers lines longer than ``L_CD - L_CP`` that eq. 22 gets wrong, and
 reads eq. 22's last condition ``D_i <= ...`` as the intended ``D_i >= L_CD + w`` (zero).
 
-Signs (seed: positive beyond the pitch line):
+Signs (as in the paper: positive beyond the pitch line):
 
 - friction force ``F_f = mu F / L sum_i (L_i1 - L_i2)``                         (eqs. 21, 23)
 - friction torque on the pinion, positive in its sense of rotation,
   ``T_f1 = mu F / L sum_i (L_i2 S_i2 - L_i1 S_i1)``                            (eqs. 25, 27)
   with the arms ``S_ij`` = distance along the line of action from the foot of the perpendicular
-  from O1 to the segment's midpoint (eqs. 24, 26: ``S = x_P sin alpha`` at P; the seed writes
+  from O1 to the segment's midpoint (eqs. 24, 26: ``S = x_P sin alpha`` at P; the paper writes
   ``sin psi`` and, in eq. 26, ``S + L_i2 sin b_b / 2`` where ``S - ...`` is meant: the midpoint
   of the segment before P lies before P);
 - friction torque on the gear, positive in its sense of rotation,
@@ -86,7 +87,8 @@ class FrictionFactors:
 
 
 def split_segments(layout: LineLayout, kin: Kinematics) -> Segments:
-    """Split every contact line at the instantaneous pitch line (seed eq. 22, general form)."""
+    """Split every contact line at the instantaneous pitch line (Liu et al. 2017,
+    eq. 22, general form)."""
     pos = line_positions(layout, kin)
     l_cd = np.asarray(kin.l_cd, dtype=float)
     l_cp = np.asarray(kin.l_cp, dtype=float)
@@ -111,7 +113,7 @@ def split_segments(layout: LineLayout, kin: Kinematics) -> Segments:
 
 def friction_factors(layout: LineLayout, kin: Kinematics, mu: float,
                      segments: Segments | None = None) -> FrictionFactors:
-    """Friction force and torques per newton of normal load (seed eqs. 18-27).
+    """Friction force and torques per newton of normal load (Liu et al. 2017, eqs. 18-27).
 
     Parameters
     ----------

@@ -1,6 +1,7 @@
-"""Kinematics of a gear pair with geometric eccentricity (seed 000 eqs. 1-13; PHYSICS.md 4).
+"""Kinematics of a gear pair with geometric eccentricity (Liu et al. 2017, eqs. 1-13;
+docs/eccentricity.md).
 
-Frame and symbols (seed 000 Fig. 1): the rotation centres are fixed at O1 = (0, 0) and
+Frame and symbols (Liu et al. 2017, Fig. 1): the rotation centres are fixed at O1 = (0, 0) and
 O2 = (H, 0), H the mounting centre distance (``GearPair.a_w``). The geometric centres (centres of
 base and tip circles) orbit them::
 
@@ -11,17 +12,17 @@ with th1 the pinion rotation (counter-clockwise, driver) and th2 the gear rotati
 Then (eqs. 2-13, all exact for rigid involute teeth):
 
 - actual centre distance ``l = |O1'O2'|``                                           (eq. 2)
-- ``psi = arccos((r_b1 + r_b2) / l)`` (the seed writes ``a cos a_t``, the same number)   (eq. 3)
+- ``psi = arccos((r_b1 + r_b2) / l)`` (the paper writes ``a cos a_t``, the same number)   (eq. 3)
 - azimuth of the geometric centre line ``gamma = atan2(y2 - y1, x2 - x1)``            (eq. 4)
 - dynamic transverse pressure angle ``alpha = psi - gamma``, measured from the +Y axis (eq. 5)
 - the line of action has direction ``u = (sin alpha, cos alpha)`` and touches the base circles at
   ``A = O1' + r_b1 (cos alpha, -sin alpha)`` and ``B = O2' - r_b2 (cos alpha, -sin alpha)``
-  (eqs. 6-9; the seed's slope is ``k = cot alpha``)
+  (eqs. 6-9; the paper's slope is ``k = cot alpha``)
 - it crosses the line of centres O1O2 at ``P = (x_P, 0)``, ``x_P = x_A - y_A tan alpha`` (eq. 11)
 - instantaneous ratio ``i12 = (H - x_P) / x_P`` (law of gearing, eq. 12) and driven speed
   ``w2 = w1 / i12``
 - normal speed of the pinion flank on the line of action ``v = w1 x_P cos alpha`` (eq. 13;
-  the seed prints ``cos psi``, which drops the small azimuth ``gamma``: ``x_P cos alpha`` is the
+  the paper prints ``cos psi``, which drops the small azimuth ``gamma``: ``x_P cos alpha`` is the
   distance from O1 to the line of action, the exact moment arm).
 
 Displacement form (used by the contact lines and by the torsional model). Unwinding the involutes
@@ -34,7 +35,7 @@ from their base circles gives, for rigid teeth in contact,
 - the eccentricity's displacement along the line of action
   ``e_ecc = r_b2 th2 - r_b1 th1`` (m), with rate ``r_b2 w2 - r_b1 w1`` (w2 from eq. 12);
 - the travel of the contact on the line of action, measured from the moving tangent point A,
-  ``tau = r_b1 (th1 + alpha - alpha_0)`` (m); the seed integrates ``v`` instead, which ignores
+  ``tau = r_b1 (th1 + alpha - alpha_0)`` (m); the paper integrates ``v`` instead, which ignores
   that A itself moves along the line by O(e).
 
 With ``e1 = e2 = 0`` everything reduces to the error-free pair: ``l = H``, ``alpha = a_wt``,
@@ -77,7 +78,8 @@ class Eccentricity:
     e1, e2 : float
         Eccentricities of pinion and gear in m (>= 0, <= 0.01 m).
     phase1, phase2 : float
-        Initial position angles ph1, ph2 of the geometric centres in rad (seed 000 eq. 1).
+        Initial position angles ph1, ph2 of the geometric centres in rad (Liu et al. 2017,
+        eq. 1).
 
     Raises
     ------
@@ -116,7 +118,7 @@ class Kinematics:
     l : actual centre distance in m (eq. 2)
     psi, gamma, alpha : eq. 3, eq. 4 and dynamic transverse pressure angle (eq. 5) in rad
     xa, ya, xb, yb : tangent points A, B in m (eq. 9)
-    ab : tangent length |AB| in m
+    ab : tangent length ``|AB|`` in m
     xp : abscissa of the pitch point P in m (eq. 11); also the instantaneous pitch radius r1
     ratio : instantaneous ratio i12 = w1 / w2 (eq. 12)
     w1, w2 : pinion and gear speeds in rad/s
@@ -168,7 +170,8 @@ class Kinematics:
 
     @property
     def l_cp(self) -> Scalar:
-        """Distance from the start of contact C to the pitch point P in m (seed eq. 20)."""
+        """Distance from the start of contact C to the pitch point P in m (Liu et al. 2017,
+        eq. 20)."""
         return self.l_ap - self.l_ac
 
 
@@ -247,7 +250,7 @@ class EccentricMesh:
     # ------------------------------------------------------------------ constants
     @property
     def l_ac0(self) -> float:
-        """Distance A..C at t = 0 (the seed's L_AC0) in m."""
+        """Distance A..C at t = 0 (``L_AC0`` of Liu et al. 2017) in m."""
         return self._c["l_ac0"]
 
     @property
@@ -321,7 +324,8 @@ class EccentricMesh:
 
 
 def _geometry(xp: Any, c: dict[str, float], th1: Any, th2: Any) -> dict[str, Any]:
-    """Seed 000 eqs. 1-11 for rotation angles th1 (CCW) and th2 (CW); xp = numpy or math."""
+    """Liu et al. (2017), eqs. 1-11, for rotation angles th1 (CCW) and th2 (CW); xp = numpy or
+    math."""
     e1, e2, h, rb1, rbs = c["e1"], c["e2"], c["h"], c["rb1"], c["rbs"]
     x1 = e1 * xp.cos(c["p1"] + th1)
     y1 = e1 * xp.sin(c["p1"] + th1)

@@ -1,4 +1,5 @@
-"""Excitation signals of seed 000 on a uniform grid: driven speed, contact-line length, friction.
+"""Excitation signals of an eccentric pair (Liu et al. 2017) on a uniform grid: driven speed,
+contact-line length, friction.
 
 The grid spans whole hunting periods (``z2 / gcd(z1, z2)`` pinion turns, after which both gears
 are back where they started), so every shaft, mesh and sideband line of the signals falls exactly
@@ -22,7 +23,7 @@ FloatArray = NDArray[np.float64]
 
 @dataclass(frozen=True)
 class ExcitationSignals:
-    """Seed 000 excitations of a pair at constant input speed and constant normal load.
+    """The excitations of a pair at constant input speed and constant normal load.
 
     Attributes
     ----------
@@ -49,7 +50,7 @@ class ExcitationSignals:
 
 def excitation_signals(mesh: EccentricMesh, normal_load: float, friction: float | None = None,
                        periods: int = 1, samples_per_mesh: int = 64) -> ExcitationSignals:
-    """Seed 000's excitations over ``periods`` hunting periods.
+    """The excitations of an eccentric pair over ``periods`` hunting periods.
 
     Parameters
     ----------

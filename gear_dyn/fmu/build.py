@@ -6,9 +6,8 @@ scipy (no gear_dyn, pint, matplotlib or pythonfmu install):
 - ``resources/<script>.py``: the generated slave script, one class deriving from
   :class:`gear_dyn.fmu.slave.GearDynSlave`;
 - ``resources/<package>/``: a private copy of the gear_dyn sources under a name unique to this
-  build (its absolute imports and module-name strings are rewritten to that name). Two FMUs in
-  one process - or an FMU next to an installed gear_dyn - therefore never share modules;
-  pythonfmu finds the slave by the script's module name, which is unique as well;
+  build (:mod:`.staging`); pythonfmu finds the slave by the script's module name, which is
+  unique as well;
 - ``resources/gear_dyn_fmu.json``: the scene in SI values, the variables and the experiment;
 - ``resources/pythonfmu/`` and ``binaries/<platform>/<id>.so|.dll``: pythonfmu's loader.
 
@@ -19,122 +18,27 @@ completed afterwards: UnitDefinitions (SI base units, display units such as rpm,
 
 from __future__ import annotations
 
-import contextlib
-import importlib
 import io
 import json
-import re
-import secrets
-import shutil
-import sys
-import tempfile
 import zipfile
-from collections.abc import Iterator
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 from xml.etree import ElementTree as ET
 
 from gear_dyn.errors import InputError
-from gear_dyn.fmu.native import PYTHON_FILE, boot_binaries, python_info, unsupported_reason
-from gear_dyn.fmu.variables import SPEC_FILE, UNITS, fmu_spec
+from gear_dyn.fmu.build3 import build_fmu3
+from gear_dyn.fmu.native import boot_binaries, unsupported_reason
+from gear_dyn.fmu.staging import PATH_SETUP, BuiltFmu, build_names, fmu_target, staged_build
+from gear_dyn.fmu.variables import SPEC_FILE, UNITS, check_spec
 from gear_dyn.io import write_bytes
-from gear_dyn.scene import Scene, load_scene
-
-PACKAGE_ROOT = Path(__file__).resolve().parent.parent
-#: ``gear-dyn fmu build MODEL``: the packaged scene each model name stands for
-MODEL_SCENES = {"sdof": "helicopter_tail", "torsional": "eccentric_helical"}
-
-_IMPORT_RE = re.compile(r"^([ \t]*)(from|import)([ \t]+)gear_dyn\b", re.MULTILINE)
-_STRING_RE = re.compile(r"""(["'])gear_dyn\.""")
-
-
-@dataclass(frozen=True)
-class BuiltFmu:
-    """What :func:`build_fmu` made."""
-
-    path: Path
-    model_identifier: str
-    package: str
-    spec: dict[str, Any]
-    #: why the FMU runs only in Python hosts (None: it runs in C hosts too, see .native)
-    c_host_missing: str | None = None
-
-
-def resolve_scene(target: str | Path) -> Scene:
-    """A scene from a file, a packaged scene name or a model name (``sdof``, ``torsional``).
-
-    Raises
-    ------
-    SceneError / InputError
-        No such file, scene or model; or an invalid scene.
-    """
-    p = Path(target)
-    if p.suffix == ".toml" or p.exists():
-        return load_scene(p)
-    from gear_dyn.scene.packaged import scene_path
-
-    name = MODEL_SCENES.get(str(target), str(target))
-    candidate = scene_path(name)
-    if candidate.exists():
-        return load_scene(candidate)
-    raise InputError(f"{target}: not a scene file, packaged scene or model name "
-                     f"(models: {', '.join(MODEL_SCENES)})")
-
-
-#: gear_dyn sources the FMU never runs (the slim FMU leaves them out): the CLI, plots, the FMU
-#: build and co-simulation side, file output, and the studies beyond a run's own checks
-NOT_IN_FMU = ("cli/", "plots/", "fmu/build.py", "fmu/build3.py", "fmu/check.py",
-              "fmu/cosim.py", "fmu/native.py", "io.py",
-              "scene/packaged.py", "scene/sweep.py", "scenes/", "analysis/sweep/",
-              "analysis/bench.py", "analysis/chart.py", "analysis/excitation.py",
-              "analysis/report.py", "analysis/spectrum.py", "analysis/spectrum_labels.py",
-              "analysis/stiffness.py")
-
-
-def _vendor(dest: Path, package: str, skip: tuple[str, ...] = ("fmu/slave3.py",)) -> None:
-    """Copy the gear_dyn sources the FMU runs (all but :data:`NOT_IN_FMU` and ``skip``, the
-    other FMI version's slave) to ``dest/package`` with imports renamed to ``package``."""
-    target = dest / package
-    for src in PACKAGE_ROOT.rglob("*"):
-        rel = src.relative_to(PACKAGE_ROOT)
-        if "__pycache__" in rel.parts or src.is_dir():
-            continue
-        if rel.as_posix().startswith(NOT_IN_FMU + skip):
-            continue
-        if src.suffix not in (".py", ".toml", ".typed"):
-            continue
-        out = target / rel
-        out.parent.mkdir(parents=True, exist_ok=True)
-        if src.suffix == ".py":
-            text = src.read_text("utf-8")
-            text = _IMPORT_RE.sub(lambda m: f"{m[1]}{m[2]}{m[3]}{package}", text)
-            text = _STRING_RE.sub(lambda m: f"{m[1]}{package}.", text)
-            out.write_text(text, "utf-8")
-        else:
-            shutil.copy2(src, out)
-
-
-_PATH_SETUP = f"""import sys
-
-if getattr(sys, "gear_dyn_embedded", False):  # started by the boot library (a C host)
-    import json as _json
-    import os as _os
-
-    _here = _os.path.dirname(_os.path.abspath(__file__))
-    with open(_os.path.join(_here, "{PYTHON_FILE}"), encoding="utf-8") as _f:
-        for _p in _json.load(_f)["path"]:  # the build interpreter's import path, as fallback
-            if _p not in sys.path and _os.path.isdir(_p):
-                sys.path.append(_p)
-
-"""
+from gear_dyn.scene import Scene
 
 
 def _script(package: str, class_name: str, spec: dict[str, Any]) -> str:
     return (
         f'"""gear_dyn FMU slave of scene {spec["scene_name"]!r} ({spec["model"]} model).\n\n'
         "Generated by `gear-dyn fmu build`; the physics is in the private gear_dyn copy "
-        f"{package!r}.\n" + '"""\n\n' + _PATH_SETUP +
+        f"{package!r}.\n" + '"""\n\n' + PATH_SETUP +
         "try:\n"
         "    import numpy  # noqa: F401\n"
         "    import scipy.integrate  # noqa: F401\n"
@@ -150,55 +54,6 @@ def _script(package: str, class_name: str, spec: dict[str, Any]) -> str:
         f"class {class_name}(GearDynSlave):\n"
         f'    """gear_dyn {spec["model"]} model as an FMI 2.0 co-simulation slave."""\n'
     )
-
-
-def fmu_target(out: str | Path) -> Path:
-    """``out`` as the FMU file to write: a ``.fmu`` name that is not a folder (InputError)."""
-    out = Path(out)
-    if out.suffix != ".fmu":
-        raise InputError(f"--out {out}: an FMU file name must end in .fmu")
-    if out.exists() and out.is_dir():
-        raise InputError(f"--out {out}: is a folder, expected an .fmu file name")
-    return out
-
-
-def build_names(target: str | Path | Scene, tag: str) -> tuple[dict[str, Any], str, str, str]:
-    """The FMU spec of ``target`` and the names of one build: (spec, package, slave module,
-    slave class), each with a fresh token (every FMU loads its own private copy) and ``tag``
-    for the FMI version ("" for 2, "3" for 3)."""
-    scene = target if isinstance(target, Scene) else resolve_scene(target)
-    spec = fmu_spec(scene)
-    token = secrets.token_hex(5)
-    kind = spec["model"]
-    return (spec, f"gear_dyn_fmu_{token}", f"gear_dyn_slave{tag}_{kind}_{token}",
-            f"GearDyn{tag}_{kind}_{token}")
-
-
-@contextlib.contextmanager
-def staged_build(spec: dict[str, Any], package: str, module: str, script: str,
-                 skip: tuple[str, ...]) -> Iterator[tuple[Path, Path, list[Path]]]:
-    """A staging folder for an exporter: the private copy of the package (``_vendor``), the
-    FMU spec and build-interpreter files and the slave script ``module.py``. Yields (temporary
-    folder, script path, project files). The exporter imports the script (and so the private
-    copy) from the staging folder: on exit those modules are forgotten and sys.path restored,
-    so the FMU loads its own copy when it is instantiated."""
-    with tempfile.TemporaryDirectory(prefix="gear_dyn_fmu_") as tmp:
-        stage = Path(tmp) / "stage"
-        stage.mkdir()
-        _vendor(stage, package, skip=skip)
-        (stage / SPEC_FILE).write_text(json.dumps(spec, indent=1), "utf-8")
-        (stage / PYTHON_FILE).write_text(json.dumps(python_info(), indent=1), "utf-8")
-        path = stage / f"{module}.py"
-        path.write_text(script, "utf-8")
-        saved_path = list(sys.path)
-        try:
-            yield Path(tmp), path, [stage / package, stage / SPEC_FILE, stage / PYTHON_FILE]
-        finally:
-            sys.path[:] = saved_path
-            for name in [m for m in sys.modules
-                         if m == module or m == package or m.startswith(package + ".")]:
-                del sys.modules[name]
-            importlib.invalidate_caches()
 
 
 def build_fmu(target: str | Path | Scene, out: str | Path, fmi: int = 2) -> BuiltFmu:
@@ -222,8 +77,6 @@ def build_fmu(target: str | Path | Scene, out: str | Path, fmi: int = 2) -> Buil
     if fmi not in (2, 3):
         raise InputError(f"--fmi {fmi}: valid FMI versions are 2 and 3")
     if fmi == 3:
-        from gear_dyn.fmu.build3 import build_fmu3
-
         return build_fmu3(target, out)
     from pythonfmu import FmuBuilder
 
@@ -351,8 +204,6 @@ def read_spec(fmu: str | Path) -> dict[str, Any]:
     InputError
         Not a readable FMU, or not one built by gear_dyn.
     """
-    from gear_dyn.fmu.variables import check_spec
-
     p = Path(fmu)
     try:
         with zipfile.ZipFile(p) as z:

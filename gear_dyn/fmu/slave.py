@@ -39,7 +39,6 @@ from pythonfmu.enums import Fmi2Status
 from gear_dyn.errors import InputError
 from gear_dyn.fmu.slave_core import FmuCallError, SlaveCore, fmi_call
 from gear_dyn.fmu.variables import SPEC_FILE, check_spec
-from gear_dyn.scene import load_feature_sections
 
 _TYPES = {"Real": Real, "Integer": Integer, "String": String, "Boolean": Boolean}
 _CAUSALITY = {"parameter": Fmi2Causality.parameter, "input": Fmi2Causality.input,
@@ -75,7 +74,6 @@ class GearDynSlave(SlaveCore, Fmi2Slave):
                 ctypes.pythonapi.Py_IncRef(ctypes.py_object(vars(module)))
         super().__init__(**kwargs)
         spec = check_spec(json.loads(Path(str(self.resources), SPEC_FILE).read_text("utf-8")))
-        load_feature_sections()
         self._init_core(spec, native)
         self.description = (f"gear_dyn {spec['model']} model of scene '{spec['scene_name']}' "
                             "(FMI 2.0 co-simulation)")

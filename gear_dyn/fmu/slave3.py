@@ -41,7 +41,6 @@ from pythonfmu3.enums import Fmi3Status
 
 from gear_dyn.fmu.slave_core import FmuCallError, SlaveCore
 from gear_dyn.fmu.variables import SPEC_FILE, check_spec
-from gear_dyn.scene import load_feature_sections
 
 #: FMI 2 type name in the spec -> pythonfmu3 variable class (Enumeration: Int64, see above)
 _TYPES = {"Real": Float64, "Integer": Int32, "String": String3, "Boolean": Boolean,
@@ -72,7 +71,6 @@ class GearDynSlave3(SlaveCore, Fmi3Slave):
     def __init__(self, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         spec = check_spec(json.loads(Path(str(self.resources), SPEC_FILE).read_text("utf-8")))
-        load_feature_sections()
         self._init_core(spec, "logger" in kwargs)  # the native wrapper passes its logger
         self.author = "gear_dyn"
         self.license = "MIT"

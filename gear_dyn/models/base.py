@@ -1,4 +1,5 @@
-"""The one face every dynamic model offers (STYLE.md rule 5): callers ask, never test a class.
+"""The one face every dynamic model offers (docs/architecture.md, "The Model protocol"): callers
+ask, never test a class.
 
 A model is an object with:
 

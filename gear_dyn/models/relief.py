@@ -4,8 +4,9 @@ The loaded-contact analysis (:mod:`.contact`) at the operating load gives, over 
 the tangent stiffness ``k_t(p)`` (sum of the loaded pairs) and the transmission error the relief
 adds, ``e(p)``; the single-DOF model ``m x'' + c (x' - e') + k_t(p) (x - e) = W`` then has the
 loaded static transmission error ``delta(p)`` as its quasi-static solution. Alternatively
-(``linearisation="secant"``) the model gets the seed's ``K_TPM = F / delta`` and no ``e``: the same
-static solution, with the secant instead of the incremental stiffness (for comparison only).
+(``linearisation="secant"``) the model gets the ``K_TPM = F / delta`` of Wang et al. (2024) and
+no ``e``: the same static solution, with the secant instead of the incremental stiffness (for
+comparison only).
 """
 
 from __future__ import annotations
@@ -51,8 +52,8 @@ def pair_stiffness_function(pair: GearPair, method: str = "potential_energy",
     ----------
     pair : GearPair
     method : str
-        ``"potential_energy"`` (Hertz, bending, shear, axial, fillet foundation; seed 001 eq. 5)
-        or ``"weber"`` (seed 002).
+        ``"potential_energy"`` (Hertz, bending, shear, axial, fillet foundation; Wang et al.
+        2024, eq. 5) or ``"weber"`` (Jiang et al. 2018).
     options : mapping or None
         Tooth options as for ``build_stiffness``: ``fillet_radius_coef``, ``bore_radius1``,
         ``bore_radius2`` (m), ``plane_strain``, ``grid_points``; Weber also ``weber_slices``,
@@ -81,7 +82,7 @@ def pair_stiffness_function(pair: GearPair, method: str = "potential_energy",
     if method == "potential_energy":
         return partial(potential_energy_pair_stiffness, pair, options=tooth)
     return partial(weber_pair_stiffness, pair, slices=int(opts.get("weber_slices", 20)),
-                   options=tooth, modulus=str(opts.get("weber_modulus", "seed")),
+                   options=tooth, modulus=str(opts.get("weber_modulus") or "jiang2018"),
                    foundation=bool(opts.get("weber_foundation", False)))
 
 

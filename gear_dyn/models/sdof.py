@@ -1,4 +1,4 @@
-"""Single-DOF mesh model of seed 002 (eqs. 13-16; PHYSICS.md section 1).
+"""Single-DOF mesh model (Jiang et al. 2018, eqs. 13-16).
 
     m_e x'' + c_m (x' - e') + k(t) f(x - e) = W
 
@@ -9,7 +9,7 @@ Options, each off by default and then absent from the right-hand side (no zero t
 - backlash with half gap b_g: f(u) = u - b_g for u > b_g, 0 inside the gap, u + b_g below -b_g
 - static transmission error e(t) = e(p(t)), p = f_m t + p0 the mesh phase
 
-With both off the equation is exactly the seed's.
+With both off the equation is exactly that of Jiang et al. (2018).
 """
 
 from __future__ import annotations
@@ -46,7 +46,7 @@ def effective_mass(i1: float, i2: float, rb1: float, rb2: float) -> float:
 
 
 def dead_zone(u: FloatArray | float, half_gap: float) -> FloatArray:
-    """Backlash function f(u): u - b for u > b, 0 for |u| <= b, u + b for u < -b (m)."""
+    """Backlash function f(u): u - b for u > b, 0 for ``|u| <= b``, u + b for u < -b (m)."""
     u = np.asarray(u, dtype=float)
     return np.where(u > half_gap, u - half_gap, np.where(u < -half_gap, u + half_gap, 0.0))
 
@@ -330,7 +330,7 @@ def sdof_from_pair(
     stiffness : PeriodicStiffness
         Mesh stiffness.
     damping_ratio : float
-        xi, default 0.06 (seed 002 range 0.03-0.17).
+        xi, default 0.06 (Jiang et al. 2018 give the range 0.03-0.17).
     inertias : (float, float) or None
         (I1, I2) in kg m^2; None uses solid blanks at the pitch radii (GearPair.blank_inertias).
     backlash : float or None

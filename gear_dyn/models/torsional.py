@@ -1,4 +1,4 @@
-"""Two-DOF torsional model of a gear pair with eccentricity and friction (PHYSICS.md section 5).
+"""Two-DOF torsional model of a gear pair with eccentricity and friction (docs/eccentricity.md).
 
 States (decision): vibration angles about the nominal rotation and their rates,
 ``y = [q1, q2, q1', q2']`` with ``q1 = th1 - w1 t`` (pinion, counter-clockwise) and
@@ -12,15 +12,16 @@ integrated, so a long run keeps full precision. Equations::
 
 - ``e_ecc(t)`` is the eccentricity's displacement along the line of action of the rigid pair
   driven at constant ``w1`` (:mod:`gear_dyn.eccentricity.kinematics`): rigid teeth give
-  ``delta = 0``, so as ``k`` grows the driven speed tends to the kinematic ``w2(t)`` of seed 000
-  eq. 12. Its rate uses eq. 12 exactly: ``e_ecc' = r_b2 w2 - r_b1 w1``.
-- ``k(t)``: either ``k_l L(t)`` with ``L(t)`` the eccentric contact-line length (seed 000 eqs.
-  14-17) and ``k_l`` the stiffness per unit line length, or any :class:`PeriodicStiffness`
+  ``delta = 0``, so as ``k`` grows the driven speed tends to the kinematic ``w2(t)`` of Liu et al.
+  (2017), eq. 12. Its rate uses eq. 12 exactly: ``e_ecc' = r_b2 w2 - r_b1 w1``.
+- ``k(t)``: either ``k_l L(t)`` with ``L(t)`` the eccentric contact-line length (Liu et al. 2017,
+  eqs. 14-17) and ``k_l`` the stiffness per unit line length, or any :class:`PeriodicStiffness`
   evaluated at the mesh phase ``p = (tau + L_AC0 - L_AC) / p_bt`` (phase 0 = a pair enters at the
   moving start of contact; ``p = f_m t`` without eccentricity).
-- ``T_f1 = N phi_1(t)``, ``T_f2 = N phi_2(t)``: the friction torques of seed 000 eqs. 18-27 per
-  unit normal load, driven by the dynamic normal load ``N = max(F_m, 0)`` (friction needs
-  compression; back-flank contact through the backlash carries no friction model).
+- ``T_f1 = N phi_1(t)``, ``T_f2 = N phi_2(t)``: the friction torques of Liu et al. (2017),
+  eqs. 18-27, per unit normal load, driven by the dynamic normal load ``N = max(F_m, 0)``
+  (friction needs compression; back-flank contact through the backlash carries no friction
+  model).
 - ``f``: identity, or the dead zone of half gap ``b_g`` with backlash; ``e(t)``: optional static
   transmission error at the nominal mesh phase ``f_m t``.
 - ``c_m = 2 xi sqrt(m_e k_m)``, ``m_e = I1 I2 / (r_b1^2 I2 + r_b2^2 I1)``.

@@ -189,7 +189,7 @@ def force_form(coef: FloatArray, rb: tuple[float, float], inertias: tuple[float,
                torques: tuple[float, float], damping: float
                ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """The torsional right-hand side in the form ``q' = v``, ``v' = u F + g_v`` with the mesh
-    force ``F = f . y + f0``, valid while ``F > 0`` (the friction torques ``F phi`` act only
+    force ``F = f^T y + f0``, valid while ``F > 0`` (the friction torques ``F phi`` act only
     then); affine in ``y = [q1, q2, v1, v2]``.
 
     Parameters

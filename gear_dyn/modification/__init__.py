@@ -1,6 +1,6 @@
 """Profile modification: tip relief, loaded contact with load sharing, Hertz contact stress.
 
-PHYSICS.md section 3 (seeds 001 and 003). Public names:
+After Wang et al. (2024) and Han (n.d.); docs/modification.md. Public names:
 
 - :mod:`.relief`: relief curves, :class:`TipRelief`, :class:`ProfileModification`, height/length
   conversion, recommended amounts (:func:`recommended_relief`)

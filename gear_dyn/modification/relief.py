@@ -1,4 +1,5 @@
-"""Tip relief: curves, amounts and lengths (PHYSICS.md section 3; seed 001 eqs. 1-3, seed 003).
+"""Tip relief: curves, amounts and lengths (Wang et al. 2024, eqs. 1-3; Han n.d.;
+docs/modification.md).
 
 A tip relief removes material from the tip of a tooth along the profile normal, i.e. along the
 line of action. It is described by its amount ``C_a`` (the depth removed at the tip, m), its
@@ -7,20 +8,21 @@ tip (m), and its curve. At distance ``x`` from the start of the modification the
 
     D(x) = C_a f(x / L),   f(0) = 0,   f(1) = 1
 
-with the power curves of seed 001 eq. 2, ``f(u) = u^k``: linear (k = 1.0), Yoshio (1.2),
-Walker (1.5), parabolic (2.0).
+with the power curves of Wang et al. (2024), eq. 2, ``f(u) = u^k``: linear (k = 1.0), Yoshio
+(1.2), Walker (1.5), parabolic (2.0).
 
-Sine curve, decision: seed 001 eq. 3 prints ``D = C_a sin(pi x / L)``, which is zero again at the
-tip (x = L) and peaks halfway along the relief: that removes no material at the tip, the opposite
-of a tip relief. The intended curve is the quarter wave ``f(u) = sin(pi u / 2)`` (zero at the start,
-the full amount at the tip, as every other relief curve); the printed argument lacks the factor 1/2.
+Sine curve, decision: eq. 3 of Wang et al. (2024) prints ``D = C_a sin(pi x / L)``, which is zero
+again at the tip (x = L) and peaks halfway along the relief: that removes no material at the tip,
+the opposite of a tip relief. The intended curve is the quarter wave ``f(u) = sin(pi u / 2)`` (zero
+at the start, the full amount at the tip, as every other relief curve); the printed argument lacks
+the factor 1/2.
 
 A relief length can also be given as a *height* on the tooth: the radial distance ``h`` from the
-tip circle down to the start of the modification (seed 003 Fig. 2, ``L_ca``). On the line of action
-a point of gear ``i`` at radius ``r`` lies at roll distance ``sqrt(r^2 - r_b^2)`` from its
+tip circle down to the start of the modification (Han n.d., Fig. 2, ``L_ca``). On the line of
+action a point of gear ``i`` at radius ``r`` lies at roll distance ``sqrt(r^2 - r_b^2)`` from its
 base-circle tangent point, so ``L = sqrt(r_a^2 - r_b^2) - sqrt((r_a - h)^2 - r_b^2)``.
 
-Recommended amounts (seed 003; ``w_t = F_t / B`` with ``F_t = T1 / r1`` the tangential force at
+Recommended amounts (Han n.d.; ``w_t = F_t / B`` with ``F_t = T1 / r1`` the tangential force at
 the reference circle in N and ``B`` in mm, amounts in micrometres): see :func:`recommended_relief`.
 """
 
@@ -32,12 +34,12 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gear_dyn.errors import InputError, check_range
+from gear_dyn.errors import InputError, check_range, warn_old_name
 from gear_dyn.geometry import GearPair
 
 FloatArray = NDArray[np.float64]
 
-#: Exponent k of the power relief curves of seed 001 eq. 2.
+#: Exponent k of the power relief curves of Wang et al. (2024), eq. 2.
 CURVE_EXPONENTS: dict[str, float] = {
     "linear": 1.0,
     "yoshio": 1.2,
@@ -48,7 +50,20 @@ CURVE_EXPONENTS: dict[str, float] = {
 CURVES: tuple[str, ...] = (*CURVE_EXPONENTS, "sine")
 
 #: Relief rules of :func:`recommended_relief`.
-RULES: tuple[str, ...] = ("handbook", "dudley", "niemann", "seed001")
+RULES: tuple[str, ...] = ("handbook", "dudley", "niemann", "wang2024")
+#: Old rule names -> their names now: still accepted, with a FutureWarning.
+RENAMED_RULES: dict[str, str] = {"seed001": "wang2024"}
+
+
+def current_rule(rule: str, where: str = "relief rule") -> str:
+    """``rule``, or the name an old rule name (:data:`RENAMED_RULES`) now has, with a
+    :class:`FutureWarning` that names ``where`` (e.g. a scene's key path)."""
+    new = RENAMED_RULES.get(rule)
+    if new is None:
+        return rule
+    warn_old_name(f"{where} = {rule!r} is the old name of the rule {new!r} (Wang et al. "
+                  f"2024); write {new!r}: the old name will be removed")
+    return new
 
 
 def _check_curve(curve: str) -> str:
@@ -298,7 +313,7 @@ class ReliefRecommendation:
 
 
 def tangential_load_per_width(pair: GearPair, torque: float) -> float:
-    """``w_t = F_t / B`` in N/mm with ``F_t = T1 / r1`` at the pinion reference circle (seed 003).
+    """``w_t = F_t / B`` in N/mm with ``F_t = T1 / r1`` at the pinion reference circle (Han n.d.).
 
     Parameters
     ----------
@@ -340,22 +355,23 @@ def recommended_relief(
 
     With ``w_t = F_t / B`` in N/mm (:func:`tangential_load_per_width`) and ``m_n`` in mm:
 
-    - ``"handbook"`` (Gear Handbook 1993, seed 003): ``C_a1 = a + 0.04 w_t``,
+    - ``"handbook"`` (the gear handbook of 1993, as Han n.d. quotes it): ``C_a1 = a + 0.04 w_t``,
       ``C_a2 = b + 0.04 w_t`` micrometres, a = 5..13 (default 9), b = 0..8 (default 4); relief
       height 0.4 m_n on both gears.
-    - ``"dudley"`` (Dudley, Handbook of Practical Gear Design, seed 003):
+    - ``"dudley"`` (Dudley 1984, as Han n.d. quotes it):
       ``C_a1 = 4.1 C_m F_t / (1e5 B)``, ``C_a2 = 6.5 C_m F_t / (1e5 B)`` with F_t in N, B in mm and
       the result in mm (units pinned down: with these units the rule gives 0.041 and 0.065 um per
       N/mm, the same magnitude as the handbook's 0.04 um per N/mm; any other reading is off by
       orders of magnitude). C_m is the face load distribution factor (default 1). Dudley's relief
-      height table (seed 003 Table 1) is not in the seed text: long relief (tip to single-contact
+      height table (Han n.d., Table 1) is not in the text read: long relief (tip to single-contact
       point) is used, an assumption.
-    - ``"niemann"`` (Niemann, Maschinenelemente, seed 003): ``C_a = 0.009 m_n`` mm on both gears,
-      height 0.493 m_n.
-    - ``"seed001"`` (seed 001 eq. 1): ``C_a,i = c_i + 0.04 F_t / B`` um with c1 = 9, c2 = 4 (the
-      handbook rule with a = 9, b = 4), long relief ``(eps_a - 1) p_bt`` along the line of action
-      (seed 001: the relief region maps onto the segment from the single-contact point to the
-      start of contact).
+    - ``"niemann"`` (Niemann & Winter 1983, as Han n.d. quotes it): ``C_a = 0.009 m_n`` mm on both
+      gears, height 0.493 m_n.
+    - ``"wang2024"`` (Wang et al. 2024, eq. 1): ``C_a,i = c_i + 0.04 F_t / B`` um with c1 = 9,
+      c2 = 4 (the handbook rule with a = 9, b = 4), long relief ``(eps_a - 1) p_bt`` along the
+      line of action (Wang et al. 2024: the relief region maps onto the segment from the
+      single-contact point to the start of contact). Its old name ``"seed001"`` still works,
+      with a FutureWarning.
 
     Parameters
     ----------
@@ -363,7 +379,7 @@ def recommended_relief(
     torque : float
         Pinion torque T1 in N m (> 0).
     rule : str
-        One of :data:`RULES`.
+        One of :data:`RULES` (or an old name of one, :data:`RENAMED_RULES`: FutureWarning).
     handbook_a, handbook_b : float
         Constants a (5..13) and b (0..8) of the handbook rule, micrometres.
     face_load_factor : float
@@ -388,13 +404,14 @@ def recommended_relief(
     >>> round(r.amount_pinion * 1e6, 3), round(r.height_pinion * 1e3, 3)
     (54.0, 2.958)
     """
+    rule = current_rule(rule)
     check_range("handbook_a", handbook_a, "um", low=5.0, high=13.0)
     check_range("handbook_b", handbook_b, "um", low=0.0, high=8.0)
     check_range("face_load_factor", face_load_factor, "", low=1.0, high=3.0)
     w_t = tangential_load_per_width(pair, torque)
     mn_mm = pair.module * 1e3
     um = 1e-6
-    if rule in ("handbook", "seed001"):
+    if rule in ("handbook", "wang2024"):
         a, b = (handbook_a, handbook_b) if rule == "handbook" else (9.0, 4.0)
         c1, c2 = (a + 0.04 * w_t) * um, (b + 0.04 * w_t) * um
         if rule == "handbook":
@@ -403,7 +420,8 @@ def recommended_relief(
             h1 = h2 = 0.4 * pair.module
             l1, l2 = length_from_height(pair, 1, h1), length_from_height(pair, 2, h2)
         else:
-            source = "seed 001 eq. 1: C_a,i = c_i + 0.04 F_t/B um (c1 = 9, c2 = 4), long relief"
+            source = ("Wang et al. (2024) eq. 1: C_a,i = c_i + 0.04 F_t/B um (c1 = 9, c2 = 4), "
+                      "long relief")
             l1 = l2 = long_relief_length(pair)
             h1, h2 = height_from_length(pair, 1, l1), height_from_length(pair, 2, l2)
     elif rule == "dudley":

@@ -1,4 +1,5 @@
-"""Hertz line-contact stress along the path of contact (seed 001 eqs. 27-31; PHYSICS.md section 3).
+"""Hertz line-contact stress along the path of contact (Wang et al. 2024, eqs. 27-31;
+docs/modification.md).
 
 Two cylinders of radii ``rho1``, ``rho2`` pressed together by a force ``F`` over a length ``B``:
 
@@ -7,11 +8,11 @@ Two cylinders of radii ``rho1``, ``rho2`` pressed together by a force ``F`` over
     sigma_H = 2 F / (pi b B) = sqrt(F E* / (pi B R))      (peak contact pressure).
 
 On an involute the radius of curvature at the contact point is the roll distance from the base
-circle tangent point: ``rho1 = s``, ``rho2 = T1T2 - s`` (Euler-Savary, seed 001).
+circle tangent point: ``rho1 = s``, ``rho2 = T1T2 - s`` (Euler-Savary, Wang et al. 2024).
 
-Relieved flanks (seed 001 eqs. 27-28 derive the curvature of the modified profile): removing a
-depth ``w(sigma)`` along the normal of a curve of curvature ``kappa(sigma)`` (sigma the arc length)
-gives the offset curve ``c + w N`` whose curvature is, exactly,
+Relieved flanks (Wang et al. 2024, eqs. 27-28, derive the curvature of the modified profile):
+removing a depth ``w(sigma)`` along the normal of a curve of curvature ``kappa(sigma)`` (sigma the
+arc length) gives the offset curve ``c + w N`` whose curvature is, exactly,
 
     kappa' = [(1 - kappa w)((1 - kappa w) kappa + w'') + w' (kappa_s w + 2 kappa w')]
              / ((1 - kappa w)^2 + w'^2)^(3/2)

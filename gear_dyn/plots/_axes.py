@@ -78,6 +78,31 @@ def axes_of(ax: Any, nrows: int = 1, ncols: int = 1, figsize: tuple[float, float
     return fig, np.array(flat, dtype=object).reshape(nrows, ncols)
 
 
+def fixed_layout(fig: Any, left: float, right: float, top: float, bottom: float,
+                 wgap: float = 0.0, hgap: float = 0.0) -> None:
+    """Place the figure's subplot grid with margins and gaps in inches.
+
+    The look of ``tight_layout`` for a figure whose labels are known in advance, without
+    measuring every text (FIXED_LAYOUT_EFFECT).
+
+    Parameters
+    ----------
+    fig : Figure
+        Its subplots form one regular grid (``fig.subplots``).
+    left, right, top, bottom : float
+        Margins in inches (room for tick labels, axis labels, titles).
+    wgap, hgap : float
+        Space between columns / rows in inches.
+    """
+    w, h = fig.get_size_inches()
+    gs = fig.axes[0].get_subplotspec().get_gridspec()
+    nrows, ncols = gs.get_geometry()
+    aw = (w - left - right - (ncols - 1) * wgap) / ncols
+    ah = (h - top - bottom - (nrows - 1) * hgap) / nrows
+    fig.subplots_adjust(left=left / w, right=1 - right / w, top=1 - top / h, bottom=bottom / h,
+                        wspace=wgap / aw, hspace=hgap / ah)
+
+
 def tidy(fig: Any) -> None:
     """``fig.tight_layout()``, unless the caller's figure has a layout engine of its own
     (constrained layout...), which tight_layout would replace with a warning."""
@@ -86,4 +111,4 @@ def tidy(fig: Any) -> None:
         fig.tight_layout()
 
 
-__all__ = ["axes_of", "given_axes", "tidy"]
+__all__ = ["axes_of", "fixed_layout", "given_axes", "tidy"]

@@ -20,8 +20,8 @@ import numpy as np
 from gear_dyn.analysis.report import DTE_DEFINITION, model_kind
 from gear_dyn.analysis.spectrum import amplitude_spectrum
 from gear_dyn.errors import InputError
-from gear_dyn.plots._axes import axes_of, tidy
-from gear_dyn.plots._fast import UnicodeLogFormatter, envelope, fixed_layout
+from gear_dyn.plots._axes import axes_of, fixed_layout, tidy
+from gear_dyn.plots._decimate import envelope
 from gear_dyn.solvers import Result
 
 _BOX = {"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 0.5}
@@ -93,7 +93,7 @@ def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = No
         for eccentric models); cols whole run[, zoom].
     blocks : int or None
         Draw the whole-run lines as the first, smallest, largest and last sample of this many
-        blocks (:func:`gear_dyn.plots._fast.envelope`): for a file, about 2 per pixel column
+        blocks (:func:`gear_dyn.plots._decimate.envelope`): for a file, about 2 per pixel column
         give the same picture from fewer points. None: every sample (a later zoom shows data).
     """
     split = "e_ecc" in result.outputs
@@ -135,11 +135,8 @@ def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = No
         axes[r, 0].legend(loc="upper right", fontsize=7)
     if periods:
         span_ms = periods / result.mesh_frequency * 1e3
-        axes[0, 1].set_title(f"last {periods:g} mesh periods ({span_ms:.3g} ms)", fontsize=10,
-                             y=1.0)
-    # y=1.0: short centred titles clear of any offset text; matplotlib's automatic title
-    # placement measures every y tick label once more to find that out
-    axes[0, 0].set_title("whole run", fontsize=10, y=1.0)
+        axes[0, 1].set_title(f"last {periods:g} mesh periods ({span_ms:.3g} ms)", fontsize=10)
+    axes[0, 0].set_title("whole run", fontsize=10)
     fig.suptitle(DTE_DEFINITION[model_kind(result)], fontsize=8)
     if ax is None:  # margins in inches: the look of tight_layout without measuring twice
         fixed_layout(fig, left=0.72, right=0.15, top=0.62, bottom=0.55, wgap=0.75, hgap=0.25)
@@ -202,8 +199,7 @@ def plot_spectrum(result: Result, name: str = "dte", harmonics: int | None = Non
     df = 1.0 / (t[-1] - t[0] + (t[1] - t[0]))
     main.set_title(f"{name} spectrum, steady window {t[0] * 1e3:.4g}-{t[-1] * 1e3:.4g} ms "
                    f"({(t[-1] - t[0]) * marks.mesh:.0f} mesh periods), Hann window, "
-                   f"resolution {df:.3g} Hz", fontsize=9,
-                   **({"y": 1.0} if scale == "log" else {}))  # log axis: no offset text
+                   f"resolution {df:.3g} Hz", fontsize=9)
     if zoom:
         _sideband_zoom(axes[1, 0], f, amp, marks, scale, floor * factor if floor else None, unit)
         axes[1, 0].set_ylabel(f"amplitude ({unit})")
@@ -221,8 +217,6 @@ def _draw_amplitude(ax: Any, f: Any, amp: Any, scale: str, floor: float | None,
     peak = float(np.max(amp[sel][1:])) if np.count_nonzero(sel) > 1 else 1.0
     if scale == "log":
         ax.set_yscale("log")
-        ax.yaxis.set_major_formatter(UnicodeLogFormatter())
-        ax.yaxis.set_minor_formatter(UnicodeLogFormatter(labelOnlyBase=False))
         low = peak * 1e-8
         if floor:
             low = max(min(low, floor / 10), peak * 1e-12)

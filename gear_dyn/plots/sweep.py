@@ -16,15 +16,15 @@ from gear_dyn.analysis.chart import StabilityChart
 from gear_dyn.analysis.stability import UNIT_CIRCLE_TOL
 from gear_dyn.analysis.sweep import RPM, SweepCurve, SweepResult
 from gear_dyn.plots._axes import axes_of, given_axes, tidy
-from gear_dyn.plots._fast import UnicodeLogFormatter
 
 _STYLE = {"up": dict(color="tab:blue", ls="-"), "down": dict(color="tab:orange", ls="--")}
 
 
 def _layout(fig: Any, own: bool, **margins: float) -> None:
-    """Fixed margins (fractions of the figure) on a figure made here: tight_layout measures
-    every text by drawing it, which cost more than drawing the figure itself; the caller's
-    figure gets :func:`tidy` as before."""
+    """Fixed margins (fractions of the figure) on a figure made here, the caller's figure gets
+    :func:`tidy` (``tight_layout``). Fixed margins spare drawing every text once more to
+    measure it (for the run figures ``tight_layout`` costs about half again the time of
+    drawing them: benchmarks/results/cli.md)."""
     if own:
         fig.subplots_adjust(**margins)
     else:
@@ -189,8 +189,7 @@ def plot_waterfall(result: SweepResult, direction: str | None = None, max_lines:
     keep = np.isfinite(amp) & (amp > floor * top)
     sc = ax.scatter(freq[keep] / 1e3, np.broadcast_to(rpm[:, None], amp.shape)[keep],
                     c=amp[keep], s=8, cmap="viridis", norm=LogNorm(vmin=floor * top, vmax=top))
-    cb = fig.colorbar(sc, ax=ax, label="DTE amplitude (µm)")
-    cb.ax.yaxis.set_major_formatter(UnicodeLogFormatter())  # 10⁻¹ as in the run's spectrum
+    fig.colorbar(sc, ax=ax, label="DTE amplitude (µm)")
     for k in range(1, result.options.harmonics + 1):
         ax.plot(k * fm / 1e3, rpm, color="0.6", lw=0.6, ls="--")
     fn = result.natural_frequency
@@ -210,7 +209,7 @@ def plot_waterfall(result: SweepResult, direction: str | None = None, max_lines:
 def plot_stability_chart(chart: StabilityChart, ax: Any = None,
                          sweep_range: tuple[float, float] | None = None,
                          title: str | None = None) -> Any:
-    """Map of the largest Floquet multiplier modulus; the |mu| = 1 contour bounds instability.
+    """Map of the largest Floquet multiplier modulus; the ``|mu| = 1`` contour bounds instability.
 
     Parameters
     ----------

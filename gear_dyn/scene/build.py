@@ -1,4 +1,7 @@
-"""Scene -> objects: gear pair, stiffness, model, solver settings. Builds only what is enabled."""
+"""Scene -> objects: gear pair, stiffness, model, solver settings. Builds only what is enabled.
+
+:func:`gear_dyn.scene.run.run_scene` runs what :func:`build_plan` builds.
+"""
 
 from __future__ import annotations
 
@@ -8,16 +11,16 @@ from typing import Any
 
 import numpy as np
 
-from gear_dyn.analysis.study import simulate
 from gear_dyn.errors import InputError, SceneError
 from gear_dyn.excitation import HarmonicSignal
 from gear_dyn.geometry import GearPair
 from gear_dyn.models.base import Model
 from gear_dyn.models.sdof import sdof_from_pair
-from gear_dyn.scene.loader import Scene, scene_error
 from gear_dyn.scene.registry import MODEL_BUILDERS, register_model
-from gear_dyn.solvers import Result, SolverSettings
+from gear_dyn.scene.validated import Scene, scene_error
+from gear_dyn.solvers import SolverSettings
 from gear_dyn.stiffness.periodic import PeriodicStiffness
+from gear_dyn.stiffness.select import build_stiffness, stiffness_options_from_table
 
 #: ISO 6336 gives c_gamma = c' (0.75 eps_a + 0.25); a rectangular wave with k_single = c' b and
 #: k_double = 1.75 c' b has exactly the mean c_gamma b, so that is the wave built from ISO values.
@@ -52,7 +55,8 @@ def build_pair(scene: Scene) -> GearPair:
 
 
 def scene_facts(scene: Scene) -> dict[str, Any]:
-    """The scene's facts for run summaries (see :meth:`Scene.facts`)."""
+    """What the scene says about the case, for run summaries: speeds (rpm), contact and overlap
+    ratios, centre distance and geometric backlash (m), stiffness method."""
     pair = build_pair(scene)
     op = scene.get("operating")
     rpm = op["speed"] * 60 / (2 * math.pi)
@@ -70,18 +74,21 @@ def scene_facts(scene: Scene) -> dict[str, Any]:
     }
 
 
-def build_stiffness(scene: Scene, pair: GearPair) -> PeriodicStiffness:
-    """The mesh stiffness the scene's ``[stiffness]`` table asks for.
+def scene_stiffness(scene: Scene, pair: GearPair) -> PeriodicStiffness:
+    """The mesh stiffness of ``pair`` that the scene's ``[stiffness]`` table asks for.
 
-    Delegates to :func:`gear_dyn.stiffness.build_stiffness` (one selector for every method).
+    Reads the table's method and options and calls :func:`gear_dyn.stiffness.build_stiffness`
+    (the one selector for every method, which takes them as arguments).
+
+    Raises
+    ------
+    SceneError
+        Unknown method or options, or values the method cannot take (named by key path).
     """
-    from gear_dyn.stiffness.select import build_stiffness as select_stiffness
-    from gear_dyn.stiffness.select import stiffness_options_from_table
-
     s = scene.get("stiffness")
     try:
         method, options = stiffness_options_from_table(s)
-        return select_stiffness(pair, method, fourier_terms=s["fourier_terms"], **options)
+        return build_stiffness(pair, method, fourier_terms=s["fourier_terms"], **options)
     except InputError as exc:
         raise _wrap(scene, exc) from None
 
@@ -90,7 +97,7 @@ def build_sdof(scene: Scene) -> Model:
     """Single-DOF model of the scene (backlash and transmission error only when present)."""
     pair = build_pair(scene)
     op = scene.get("operating")
-    k = build_stiffness(scene, pair)
+    k = scene_stiffness(scene, pair)
     inertias = None
     if scene.has("inertia"):
         inertias = (scene.tables["inertia"]["pinion"], scene.tables["inertia"]["gear"])
@@ -162,21 +169,3 @@ def build_plan(scene: Scene, **overrides: Any) -> RunPlan:
         )
     t_end = periods / model.mesh_frequency
     return RunPlan(model, settings, t_end, (periods - steady) / model.mesh_frequency)
-
-
-def run_scene(scene: Scene, **overrides: Any) -> Result:
-    """Build and simulate a scene; the Result carries the scene and, in ``extra``, what the
-    scene says about the case (:func:`scene_facts`: speeds, contact ratio, backlash, ...) and
-    ``iso_6336_kv``, the ISO 6336-1 method B K_v at the same speed (:mod:`gear_dyn.scene.iso`)."""
-    from gear_dyn.scene.iso import iso_kv_summary  # the standard's K_v beside the simulated one
-
-    plan = build_plan(scene, **overrides)
-    iso_kv = iso_kv_summary(scene)  # before the run: a bad [iso] table fails fast
-    try:
-        result = simulate(plan.model, plan.t_end, plan.settings, plan.steady_start, scene=scene)
-    except InputError as exc:  # e.g. a run too long for the solver: name the file
-        raise _wrap(scene, exc) from None
-    for key, value in scene_facts(scene).items():
-        result.extra.setdefault(key, value)  # the model's own figures take precedence
-    result.extra.setdefault("iso_6336_kv", iso_kv)
-    return result

@@ -7,6 +7,7 @@ import math
 
 from gear_dyn.scene.fields import REQUIRED, Field, Section
 from gear_dyn.scene.registry import register_section
+from gear_dyn.stiffness.weber import MODULI, current_modulus
 
 DEG = math.pi / 180
 
@@ -33,7 +34,7 @@ GEAR = register_section(Section("gear", (
     Field("center_distance", "m", default=None, low=0.0, low_open=True,
           doc="operating centre distance a_w (default: zero-backlash)"),
     Field("center_distance_offset", "m", default=0.0, low=-1.0, high=1.0,
-          doc="shaft offset added to the centre distance (seed 002)"),
+          doc="shaft offset added to the centre distance (as in Jiang et al. 2018)"),
     Field("youngs_modulus", "Pa", default=206e9, low=1e6, high=1e13, doc="E (both gears)"),
     Field("poisson", default=0.3, low=0.0, high=0.5, high_open=True, doc="nu (both gears)"),
     Field("density", "kg/m**3", default=7850.0, low=0.0, high=1e5, low_open=True,
@@ -60,7 +61,7 @@ STIFFNESS = register_section(Section("stiffness", (
     Field("double", "N/m", default=None, low=0.0, high=1e13, low_open=True,
           doc="double-pair stiffness (rectangular method)"),
     Field("fourier_terms", kind="int", default=None, low=1, high=200,
-          doc="truncate k(t) to this many Fourier harmonics (seed 002 uses 5)"),
+          doc="truncate k(t) to this many Fourier harmonics (Jiang et al. 2018 use 5)"),
     # options of the geometric methods (gear_dyn.stiffness.build_stiffness; docs/stiffness.md)
     Field("samples_per_cycle", kind="int", default=None, low=4, high=100_000,
           doc="potential_energy/weber: samples per mesh cycle (default 200)"),
@@ -77,11 +78,12 @@ STIFFNESS = register_section(Section("stiffness", (
           doc="potential_energy/weber: E/(1-nu^2) in the tooth terms (default false)"),
     Field("weber_slices", kind="int", default=None, low=1, high=10_000,
           doc="weber: slices per tooth (default 20)"),
-    Field("weber_modulus", kind="str", default=None,
-          choices=("seed", "plane_stress", "plane_strain"),
-          doc="weber: modulus of seed 002 eq. 11 (default 'seed')"),
+    Field("weber_modulus", kind="str", default=None, choices=MODULI,
+          doc="weber: modulus in the tooth terms (default jiang2018: Jiang et al. 2018, eq. 11; "
+              "its old name seed still works, with a warning)", renamed=current_modulus),
     Field("weber_foundation", kind="bool", default=None,
-          doc="weber: add the Sainsot fillet-foundation term (default false, as the seed)"),
+          doc="weber: add the Sainsot et al. (2004) fillet-foundation term (default false, as "
+              "Jiang et al. 2018)"),
     Field("per_length", "N/m**2", default=None, low=0.0, low_open=True,
           doc="contact_line: stiffness per unit contact-line length (default from ISO)"),
 ), doc="mesh stiffness; default ISO 6336 rectangular wave"))

@@ -3,7 +3,7 @@
 Tables (each optional; a table left out builds none of its machinery):
 
 - ``[eccentricity]``: ``pinion``, ``gear`` (eccentricities, m), ``phase_pinion``, ``phase_gear``
-  (initial position angles of the geometric centres, rad; seed 000 eq. 1)
+  (initial position angles of the geometric centres, rad; Liu et al. 2017, eq. 1)
 - ``[friction]``: ``coefficient`` (mean friction coefficient mu)
 - ``[torsional]``: ``load_torque`` (N m; default balances the input torque including the mean
   friction loss), ``stiffness_per_length`` (k_l in N/m^2 for ``[stiffness] method =
@@ -24,10 +24,10 @@ from gear_dyn.errors import InputError, SceneError
 from gear_dyn.excitation import HarmonicSignal
 from gear_dyn.models.base import Model
 from gear_dyn.models.torsional import ContactLineStiffness, TorsionalModel
-from gear_dyn.scene.build import build_pair, build_stiffness
+from gear_dyn.scene.build import build_pair, scene_stiffness
 from gear_dyn.scene.fields import REQUIRED, Field, Section
-from gear_dyn.scene.loader import Scene
 from gear_dyn.scene.registry import register_model, register_section
+from gear_dyn.scene.validated import Scene, scene_error
 from gear_dyn.stiffness.periodic import PeriodicStiffness
 
 ECCENTRICITY = register_section(Section("eccentricity", (
@@ -37,13 +37,13 @@ ECCENTRICITY = register_section(Section("eccentricity", (
           doc="initial angle of the pinion's geometric centre"),
     Field("phase_gear", "rad", default=0.0, low=-1e3, high=1e3,
           doc="initial angle of the gear's geometric centre"),
-), doc="geometric eccentricity of pinion and gear (seed 000; present = enabled)",
+), doc="geometric eccentricity of pinion and gear (Liu et al. 2017; present = enabled)",
    models=("torsional",)))
 
 FRICTION = register_section(Section("friction", (
     Field("coefficient", default=REQUIRED, low=0.0, high=1.0,
           doc="mean tooth friction coefficient mu"),
-), doc="sliding friction on the contact lines (seed 000; present = enabled)",
+), doc="sliding friction on the contact lines (Liu et al. 2017; present = enabled)",
    models=("torsional",)))
 
 TORSIONAL = register_section(Section("torsional", (
@@ -55,8 +55,6 @@ TORSIONAL = register_section(Section("torsional", (
 
 
 def _wrap(scene: Scene, exc: InputError) -> SceneError:
-    from gear_dyn.scene.loader import scene_error
-
     return scene_error(scene.source, exc)  # file name in front, Python names -> key paths
 
 
@@ -86,10 +84,10 @@ def build_torsional(scene: Scene) -> Model:
         k_l = tors["stiffness_per_length"]
         if k_l is None:
             mean_len = pair.face_width * pair.contact_ratio / math.cos(pair.beta_b)
-            k_l = build_stiffness(scene, pair).mean / mean_len
+            k_l = scene_stiffness(scene, pair).mean / mean_len
         stiff = ContactLineStiffness(k_l)
     else:
-        stiff = build_stiffness(scene, pair)
+        stiff = scene_stiffness(scene, pair)
     inertias = pair.blank_inertias()
     if scene.has("inertia"):
         inertias = (scene.tables["inertia"]["pinion"], scene.tables["inertia"]["gear"])

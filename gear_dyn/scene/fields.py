@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import difflib
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -20,6 +20,7 @@ from gear_dyn.errors import SceneError, range_text
 from gear_dyn.units import dimension_text as _dim_text
 from gear_dyn.units import is_dimensional, needs_unit_message, parse_quantity
 
+#: the default of a field the scene must give (a required key)
 REQUIRED: Any = object()
 
 #: no scene quantity is meaningful below this magnitude in SI units (1e-30 m, N m, kg m^2, ...);
@@ -54,6 +55,9 @@ class Field:
         Exclude the bound.
     choices : tuple of str or None
         Allowed strings for kind ``"str"``.
+    renamed : callable or None
+        For kind ``"str"``: ``renamed(value, where)`` gives the current name of an old choice
+        (with a FutureWarning naming ``where``) and returns any other value unchanged.
     doc : str
         One-line description (for the README and error messages).
     """
@@ -68,6 +72,7 @@ class Field:
     high_open: bool = False
     choices: tuple[str, ...] | None = None
     doc: str = ""
+    renamed: Callable[[str, str], str] | None = None
 
     def parse(self, raw: Any, where: str, si: bool = False) -> Any:
         """Convert a raw TOML value to SI and check it; ``where`` is 'file: section.key'.
@@ -77,6 +82,8 @@ class Field:
         if self.kind == "str":
             if not isinstance(raw, str):
                 raise SceneError(f"{where} = {raw!r}: expected a string")
+            if self.renamed is not None:
+                raw = self.renamed(raw, where)
             if self.choices is not None and raw not in self.choices:
                 hint = _did_you_mean(raw, self.choices)
                 mean = f" (did you mean {hint!r}?)" if hint else ""

@@ -29,8 +29,9 @@ from numpy.typing import ArrayLike
 from gear_dyn.errors import InputError, SceneError
 from gear_dyn.scene.build import build_pair
 from gear_dyn.scene.fields import Field, Section
-from gear_dyn.scene.loader import Scene
+from gear_dyn.scene.modification import relief_from_scene
 from gear_dyn.scene.registry import register_section
+from gear_dyn.scene.validated import Scene
 from gear_dyn.stiffness.iso_kv import (
     FORMULAS,
     RUNNING_IN,
@@ -65,8 +66,6 @@ ISO = register_section(Section("iso", (
 
 def _tip_relief(scene: Scene, t: dict[str, Any]) -> tuple[float, str]:
     if scene.has("tip_relief"):
-        from gear_dyn.scene.modification import relief_from_scene
-
         mod = relief_from_scene(scene)
         amounts = [r.amount for r in (mod.pinion, mod.gear) if r is not None]
         return max(amounts), "larger amount of [tip_relief]"

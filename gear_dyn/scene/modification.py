@@ -5,8 +5,9 @@ relieved pair (:func:`~gear_dyn.models.relief.relief_sdof`); without the table n
 this module runs. Keys (SI values or strings with units)::
 
     [tip_relief]
-    rule = "custom"            # or handbook, dudley, niemann, seed001 (amounts and lengths
-                               # from the rule at the scene's torque)
+    rule = "custom"            # or handbook, dudley, niemann, wang2024 (amounts and lengths
+                               # from the rule at the scene's torque; "seed001", the old name
+                               # of wang2024, still works with a FutureWarning)
     curve = "linear"           # linear, yoshio, walker, parabolic, sine
     amount_pinion = "20 um"    # custom only; leave out for an unmodified pinion
     amount_gear = "15 um"
@@ -38,17 +39,21 @@ from gear_dyn.modification.relief import (
     RULES,
     ProfileModification,
     TipRelief,
+    current_rule,
     length_from_height,
     recommended_relief,
 )
 from gear_dyn.scene.build import build_pair, build_sdof
 from gear_dyn.scene.fields import Field, Section
-from gear_dyn.scene.loader import Scene
 from gear_dyn.scene.registry import register_model, register_section
+from gear_dyn.scene.validated import Scene, scene_error
+from gear_dyn.stiffness.select import stiffness_options_from_table
 
 TIP_RELIEF = register_section(Section("tip_relief", (
     Field("rule", kind="str", default="custom", choices=("custom", *RULES),
-          doc="custom amounts and lengths, or a recommended rule at the scene's torque"),
+          doc="custom amounts and lengths, or a recommended rule at the scene's torque "
+              "(wang2024: Wang et al. 2024; its old name seed001 still works, with a warning)",
+          renamed=current_rule),
     Field("curve", kind="str", default="linear", choices=CURVES, doc="relief curve"),
     Field("amount_pinion", "m", default=None, low=0.0, high=1e-3,
           doc="pinion relief amount C_a1 (custom)"),
@@ -168,8 +173,6 @@ def scene_pair_function(scene: Scene, pair: GearPair, method: str | None = None)
     SceneError
         Unknown method or options.
     """
-    from gear_dyn.stiffness.select import stiffness_options_from_table
-
     t = scene.tables.get("tip_relief")
     method = method or (t["pair_stiffness"] if t is not None else "potential_energy")
     options: dict[str, Any] = {}
@@ -203,8 +206,6 @@ def build_relief_sdof(scene: Scene) -> Model:
         model, _ = relief_sdof(pair, op["speed"], op["torque"], mod, fn, xi, inertias,
                                t["linearisation"], t["samples_per_segment"])
     except InputError as exc:
-        from gear_dyn.scene.loader import scene_error
-
         raise scene_error(scene.source, exc) from None  # Python names -> scene key paths
     return model
 

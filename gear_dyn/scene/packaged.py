@@ -1,4 +1,4 @@
-"""The example scenes shipped inside the package (gear_dyn/scenes/*.toml), found by name.
+"""The example scenes shipped inside the package (``gear_dyn/scenes/*.toml``), found by name.
 
 ``load_scene("helicopter_tail")`` and ``gear-dyn run helicopter_tail`` work from any folder: a
 name that is not an existing file is looked up here. :data:`STARTER_SCENE` is the commented

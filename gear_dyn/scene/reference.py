@@ -11,7 +11,9 @@ import math
 from typing import Any
 
 from gear_dyn.errors import SceneError, range_text
+from gear_dyn.scene import loader  # noqa: F401  (its import registers every table)
 from gear_dyn.scene.fields import REQUIRED, Field, Section
+from gear_dyn.scene.registry import SECTIONS
 from gear_dyn.units import SUGGESTED_UNITS, is_dimensional, registry
 
 HEADER = """\
@@ -103,10 +105,6 @@ CORE_ORDER = ("scene", "gear", "operating", "inertia", "stiffness", "damping", "
 
 
 def _sections() -> dict[str, Section]:
-    from gear_dyn.scene import load_feature_sections
-    from gear_dyn.scene.registry import SECTIONS
-
-    load_feature_sections()
     names = [n for n in CORE_ORDER if n in SECTIONS]
     names += sorted(n for n in SECTIONS if n not in CORE_ORDER)
     return {n: SECTIONS[n] for n in names}

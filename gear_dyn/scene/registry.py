@@ -2,7 +2,7 @@
 
 A feature module (eccentricity, tip relief, ...) declares its own :class:`Section` and calls
 :func:`register_section`; a model kind registers a builder with :func:`register_model`. The
-scene loader imports the feature modules listed in ``gear_dyn.scene.FEATURE_MODULES``.
+scene loader (:mod:`gear_dyn.scene.loader`) imports every module that declares a table.
 """
 
 from __future__ import annotations
@@ -13,7 +13,9 @@ from typing import Any
 from gear_dyn.errors import InputError
 from gear_dyn.scene.fields import Section
 
+#: scene tables by name, as :func:`register_section` added them
 SECTIONS: dict[str, Section] = {}
+#: model builders by ``[scene] model`` name, as :func:`register_model` added them
 MODEL_BUILDERS: dict[str, Callable[[Any], Any]] = {}
 
 

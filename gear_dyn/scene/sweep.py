@@ -34,9 +34,6 @@ SOLVER_OVERRIDES = ("method", "rtol", "atol", "samples_per_period", "periods", "
 @lru_cache(maxsize=4)
 def _base(source: str, tables_json: str, overrides_json: str) -> tuple[Scene, RunPlan, GearPair]:
     """(scene, plan, pair) rebuilt from JSON (cached per worker process)."""
-    from gear_dyn.scene import load_feature_sections
-
-    load_feature_sections()
     scene = Scene(source=source, tables=json.loads(tables_json))
     plan = build_plan(scene, **json.loads(overrides_json))
     return scene, plan, build_pair(scene)

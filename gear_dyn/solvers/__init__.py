@@ -5,7 +5,8 @@
 - :mod:`.ode`: solve_ivp piece by piece; :mod:`.events`: restarts at contact changes;
 - :mod:`.exact`: exact propagation of piecewise-constant linear models;
 - :mod:`.periodic`: step maps of linear mesh-periodic models;
-- :mod:`.simulate`: one run -> :class:`Result` (:mod:`.result`).
+- :mod:`.simulate_bare`: one run -> :class:`Result` (:mod:`.result`), without the checks that
+  :func:`gear_dyn.simulate` adds.
 """
 
 from gear_dyn.solvers.exact import exact_applies, propagate_exact, propagate_pieces
@@ -23,12 +24,12 @@ from gear_dyn.solvers.settings import (
     METHODS,
     SolverSettings,
 )
-from gear_dyn.solvers.simulate import output_grid, simulate
+from gear_dyn.solvers.simulate_bare import output_grid, simulate_bare
 
 __all__ = [
     "DEFAULT_ODE_METHOD", "IMPLICIT", "MAX_NATURAL_PERIODS", "MAX_NFEV", "MAX_SAMPLES",
     "METHODS", "Result", "SolverSettings", "SolverStats", "atol_of", "check_work",
     "exact_applies", "integrate", "integrate_ode", "output_grid", "periodic_map_applies",
     "pieces", "propagate_exact", "propagate_periodic", "propagate_pieces", "resolve_auto",
-    "resolve_method", "simulate", "time_grid",
+    "resolve_method", "simulate_bare", "time_grid",
 ]

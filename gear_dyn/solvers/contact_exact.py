@@ -5,7 +5,7 @@ and a contact change the equation is linear with constant coefficients, in one o
 states,
 
 - drive flank (x > b):  ``m x'' + c x' + k (x - b) = W``
-- gap (|x| <= b):       ``m x'' + c x' = W``
+- gap (``|x| <= b``):       ``m x'' + c x' = W``
 - back flank (x < -b):  ``m x'' + c x' + k (x + b) = W``
 
 so the solution is closed-form on each piece (:func:`flow`: the Cayley-Hamilton form of the 2x2
@@ -15,7 +15,10 @@ sampled at a spacing of at most a quarter of the contact state's damped period (
 interval holds at most one extremum of x), a sign change of ``x -+ b`` brackets a crossing, a
 sign change of the velocity brackets an extremum that is checked too (a crossing and return
 inside one interval), and each bracket is closed by a safeguarded root finder (Illinois false
-position, bisection fallback, :func:`find_root`) to a few ulps of the time. The state is then
+position, bisection fallback, :func:`find_root`) to a few ulps of the time. A piece whose
+oscillation provably stays inside its contact state (its amplitude below the distance from its
+equilibrium to the boundary, :meth:`_Piece.stays_inside`) is not searched at all: a settled
+response, as at very low speed, costs one evaluation per stiffness piece. The state is then
 carried exactly to the event and the next piece starts there. No step-size control, no
 truncation error: what is left is rounding and the event times' own rounding (stated by
 :func:`rounding_bound`). Method ``exact_contact``; ``auto`` takes it where it applies
@@ -100,23 +103,46 @@ def find_root(f: Callable[[float], float], lo: float, hi: float, f_lo: float, f_
               xtol: float) -> float:
     """A root of ``f`` in ``[lo, hi]`` (``f_lo``, ``f_hi`` of opposite signs), to ``xtol``.
 
-    Illinois false position, safeguarded: a step that does not halve the bracket every other
-    iteration is replaced by bisection, so the bracket always shrinks (at most ~2 log2 of
-    ``(hi - lo) / xtol`` evaluations).
+    Illinois false position, safeguarded by bisection: the midpoint is taken instead of the
+    secant point when the secant is degenerate (equal end values, e.g. values near the smallest
+    float, which the Illinois halving can underflow to zero), when it falls outside the open
+    bracket, or when the bracket has not halved within two steps. The sign of ``f`` at ``hi``
+    is read once from ``f_hi``, so the halved end values never decide which side is kept. The
+    bracket always shrinks: at most ~2 log2((hi - lo) / xtol) evaluations.
+
+    Parameters
+    ----------
+    f : callable
+        ``f(t)``, continuous on the bracket.
+    lo, hi : float
+        Bracket (``lo < hi``).
+    f_lo, f_hi : float
+        ``f(lo)`` and ``f(hi)``, of opposite signs. A zero end value is not returned as the
+        root: the bracket closes on the sign change inside it (a piece that starts on a
+        contact boundary looks for where it leaves it).
+    xtol : float
+        Width of the final bracket, same unit as ``lo`` and ``hi``.
+
+    Returns
+    -------
+    float
+        A point of the final bracket (an exact zero of ``f`` if one is met).
     """
+    hi_positive = f_hi > 0.0 or (f_hi == 0.0 and f_lo < 0.0)
     side = 0
     width = hi - lo
     for it in range(200):
         if hi - lo <= xtol:
             break
-        t = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
+        den = f_hi - f_lo
+        t = (lo * f_hi - hi * f_lo) / den if den != 0.0 else math.nan
         if not (lo < t < hi) or (it % 2 == 1 and hi - lo > 0.5 * width):
-            t = 0.5 * (lo + hi)
+            t = 0.5 * (lo + hi)  # also when t is nan (degenerate secant)
         width = hi - lo
         ft = f(t)
         if ft == 0.0:
             return t
-        if (ft > 0) == (f_hi > 0):
+        if (ft > 0.0) == hi_positive:
             hi, f_hi = t, ft
             if side == -1:
                 f_lo *= 0.5
@@ -140,9 +166,29 @@ class _Piece:
         wd2 = w2 - 0.25 * a * a
         # sampling step: a quarter of the damped period (one extremum per interval at most)
         self.h = 0.25 * 2 * math.pi / math.sqrt(wd2) if wd2 > 0 else math.inf
+        self.q = math.sqrt(wd2) if state != GAP and wd2 > 0 else 0.0  # damped rad/s; 0: none
 
     def at(self, x0: float, v0: float, s: FloatArray) -> tuple[FloatArray, FloatArray]:
         return flow(self.state, self.k, self.m, self.c, self.w, self.b, x0, v0, s)
+
+    def stays_inside(self, x0: float, v0: float) -> bool:
+        """True when the oscillation from ``(x0, v0)`` provably never reaches the boundary.
+
+        In a contact state with damped frequency ``q`` the closed form of :func:`flow` is
+        ``u(s) = e^(-a s / 2) (cos(q s) u0 + sin(q s) (v0 + a u0 / 2) / q)`` about the
+        equilibrium ``x_eq``, so ``|u(s)| <= A = hypot(u0, (v0 + a u0 / 2) / q)`` for all
+        ``s >= 0`` (Cauchy-Schwarz). When ``x_eq`` lies inside the state at a distance above
+        ``A`` from the boundary, no contact change can occur in this piece. The margin
+        ``1e-6 A`` covers rounding. This spares the search where the response has settled, e.g.
+        at very low speed, where a stiffness piece spans thousands of natural periods and the
+        velocity is rounding noise whose every sign change would otherwise be checked.
+        """
+        if self.q == 0.0:
+            return False
+        x_eq = self.state * self.b + self.w / self.k
+        u0 = x0 - x_eq
+        amp = math.hypot(u0, (v0 + 0.5 * (self.c / self.m) * u0) / self.q)
+        return self.state * (x_eq - self.state * self.b) > amp * (1.0 + 1e-6)
 
     def levels(self) -> tuple[float, ...]:
         """The contact boundaries this state can leave through."""
@@ -165,6 +211,8 @@ class _Piece:
 def _first_crossing(pc: _Piece, x0: float, v0: float, length: float, xtol: float
                     ) -> float | None:
     """Time of the first contact change after the piece start within ``length``, or None."""
+    if pc.stays_inside(x0, v0):
+        return None
     n = max(2, math.ceil(length / pc.h)) if math.isfinite(pc.h) else 4
     s = np.linspace(0.0, length, n + 1)
     x, v = pc.at(x0, v0, s)

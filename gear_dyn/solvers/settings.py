@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 from gear_dyn.errors import InputError, check_range
 
+#: the names ``SolverSettings.method`` (``[solver] method``) accepts
 METHODS = ("auto", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA", "exact", "periodic",
            "exact_contact", "gauss")
 #: solve_ivp method of ``auto`` when the exact propagator does not apply. LSODA (restarted at
@@ -14,6 +15,7 @@ METHODS = ("auto", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA", "exact", "
 #: with rectangular and Fourier stiffness, heavy damping, a 1000x stiffer mesh and backlash
 #: (docs/solvers.md, ``gear-dyn bench``), and it switches to BDF by itself when stiff.
 DEFAULT_ODE_METHOD = "LSODA"
+#: the implicit solve_ivp methods: they are given the model's Jacobian
 IMPLICIT = ("Radau", "BDF", "LSODA")
 
 #: work limits, so that an absurd input ends in a clear error instead of a hang or a memory blow-up
@@ -34,7 +36,7 @@ class SolverSettings:
         RK45, RK23, DOP853, Radau, BDF, LSODA (solve_ivp), ``exact`` (piecewise-exact
         propagator, linear models with piecewise-constant coefficients only) or ``periodic``
         (linear mesh-periodic models: one period of step maps integrated, then reused; see
-        :func:`gear_dyn.solvers.exact.propagate_periodic`) or ``gauss`` (models affine in the
+        :func:`gear_dyn.solvers.periodic.propagate_periodic`) or ``gauss`` (models affine in the
         state while a condition holds, the eccentric torsional model: Gauss-Legendre step maps
         of every output interval at once; :mod:`gear_dyn.solvers.gauss`).
     rtol : float
@@ -49,8 +51,7 @@ class SolverSettings:
     estimate_error : bool
         Attach an error estimate to the result (``extra["estimated_error"]``, see
         :mod:`gear_dyn.analysis.accuracy`); for solve_ivp methods it costs a second, tighter run
-        over a
-        short window. Default True.
+        over the whole span. Default True.
     """
 
     method: str = "auto"

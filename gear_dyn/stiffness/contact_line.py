@@ -1,4 +1,5 @@
-"""Total contact-line length of an error-free involute pair (PHYSICS.md sections 2 and 4).
+"""Total contact-line length of an error-free involute pair (docs/stiffness.md,
+docs/eccentricity.md).
 
 In the plane of action the field of contact is a rectangle: ``g_a`` (the transverse path of
 contact, from A to E) wide and ``B`` (face width) high. Contact lines are straight, inclined at the

@@ -1,6 +1,6 @@
 """ISO 6336-1 method B dynamic factor K_v (the standard's figure beside a simulated one).
 
-Clause 6.5 of ISO 6336-1 (equation numbers of the 2006 edition), for a single external pair:
+Clause 6.5 of ISO 6336-1 (equation numbers of the 2006 edition), for a single external pair::
 
     m_red = m1* m2* / (m1* + m2*),  m_i* = J_i* / r_bi^2       (6.5.9, eq. 30 ff.; J* per unit
                                                                 face width: kg/m)
@@ -14,7 +14,7 @@ Clause 6.5 of ISO 6336-1 (equation numbers of the 2006 edition), for a single ex
     B_k   = |1 - c' C_a / (K_A F_t / b)|                       (eq. 17)
     f_pb,eff = f_pb - y_p,  f_f,eff = f_falpha - y_f           (eqs. 18, 19)
 
-and, by the speed range of N (Table 8 gives C_v1..C_v7 from eps_gamma = eps_a + eps_b):
+and, by the speed range of N (Table 8 gives C_v1..C_v7 from eps_gamma = eps_a + eps_b)::
 
     subcritical     N <= N_S          K_v = N (C_v1 B_p + C_v2 B_f + C_v3 B_k) + 1   (eqs. 13, 14)
     main resonance  N_S < N <= 1.15   K_v = C_v1 B_p + C_v2 B_f + C_v4 B_k + 1       (eq. 20)

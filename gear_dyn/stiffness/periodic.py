@@ -10,8 +10,8 @@ Two concrete forms:
   switching phases (teeth entering or leaving contact). The rectangular wave is the special case of
   constant pieces. Fourier coefficients are integrated exactly over the linear pieces.
 - :class:`FourierStiffness`: a truncated Fourier series ``k0 + sum a_n cos(2 pi n p) +
-  b_n sin(2 pi n p)`` (seed 002 eq. 13, with its printed second ``cos`` read as ``sin``). Smooth,
-  so it has no switching phases.
+  b_n sin(2 pi n p)`` (Jiang et al. 2018, eq. 13, with its printed second ``cos`` read as
+  ``sin``). Smooth, so it has no switching phases.
 """
 
 from __future__ import annotations

@@ -1,4 +1,5 @@
-"""Potential-energy (PEM) stiffness of a spur tooth pair (seed 001 eqs. 5-6; PHYSICS.md section 2).
+"""Potential-energy (PEM) stiffness of a spur tooth pair (Wang et al. 2024, eqs. 5-6;
+docs/stiffness.md).
 
 The tooth is a cantilever of variable section clamped at the root chord (see
 :mod:`gear_dyn.stiffness.tooth`), loaded at the contact point by the normal force F along the line
@@ -10,7 +11,8 @@ half tooth angle there), the strain energies give (Yang & Lin 1987, Tian 2004, C
     1/k_b = int_0^eta_P [(eta_P - eta) cos a1 - x_P sin a1]^2 / (E I(eta)) d eta,  I = 2 x^3 B / 3
     1/k_s = int_0^eta_P 1.2 cos^2 a1 / (G A(eta)) d eta,                           A = 2 x B
     1/k_a = int_0^eta_P sin^2 a1 / (E A(eta)) d eta
-    1/k_f = cos^2 a1 / (E B) [L* (u_f/S_f)^2 + M* (u_f/S_f) + P* (1 + Q* tan^2 a1)]  (Sainsot 2004)
+    1/k_f = cos^2 a1 / (E B) [L* (u_f/S_f)^2 + M* (u_f/S_f) + P* (1 + Q* tan^2 a1)]  (Sainsot
+            et al. 2004)
     1/k_h = 4 (1 - nu^2) / (pi E B)   (Yang & Sun 1985; 2 / (pi B E*) for unlike materials)
 
 with ``u_f`` the radial distance from the root circle to the point where the force line crosses the

@@ -7,7 +7,7 @@ Methods (all return a :class:`~gear_dyn.stiffness.periodic.PeriodicStiffness`):
   ``1 <= eps_a < 2``; for ``eps_a >= 2`` n pairs give ``c' b (0.75 n + 0.25)``, same mean);
 - ``"iso6336"``: the same wave from ISO 6336 (``single``/``double`` not allowed);
 - ``"potential_energy"``: potential-energy method (Hertz, bending, shear, axial, fillet foundation);
-- ``"weber"``: seed 002 Weber sliced cantilever + Hertz;
+- ``"weber"``: Weber sliced cantilever + Hertz, as Jiang et al. (2018) give it;
 - ``"contact_line"``: ``k = k_l L(p)`` with ``L`` the total contact-line length and ``k_l`` chosen
   so the mean equals ISO ``c_gamma b`` (or ``stiffness_per_length`` in N/m^2 if given).
 
@@ -42,8 +42,9 @@ from gear_dyn.stiffness.periodic import (
 )
 from gear_dyn.stiffness.potential_energy import potential_energy_pair_stiffness
 from gear_dyn.stiffness.tooth import ToothOptions
-from gear_dyn.stiffness.weber import MODULI, weber_pair_stiffness
+from gear_dyn.stiffness.weber import MODULI, current_modulus, weber_pair_stiffness
 
+#: the methods of :func:`build_stiffness` (``[stiffness] method``)
 METHODS = ("rectangular", "iso6336", "potential_energy", "weber", "contact_line")
 
 #: ISO 6336: c_gamma = c' (0.75 eps_a + 0.25). A rectangular wave with k_double = 1.75 k_single
@@ -174,7 +175,7 @@ def _build_cached(key: _Key) -> PeriodicStiffness:
     if method == "potential_energy":
         fn = partial(_pem_fn, options=tooth)
     else:
-        modulus = opts.get("weber_modulus", "seed") or "seed"
+        modulus = current_modulus(opts.get("weber_modulus") or "jiang2018", "weber_modulus")
         if modulus not in MODULI:
             raise InputError(f"weber_modulus = {modulus!r}: valid values are {', '.join(MODULI)}")
         fn = partial(_weber_fn, options=tooth, slices=_int_opt(opts, "weber_slices", 20, 1),
@@ -212,7 +213,7 @@ def build_stiffness(pair: GearPair, method: str = "iso6336", *,
           None = continuous face slicing, or a number of discrete slices),
           ``fillet_radius_coef``, ``bore_radius1``, ``bore_radius2`` (m),
           ``plane_strain`` (bool), ``grid_points``; weber also ``weber_slices`` (20) and
-          ``weber_modulus`` ("seed", "plane_stress", "plane_strain"), ``weber_foundation``
+          ``weber_modulus`` ("jiang2018", "plane_stress", "plane_strain"), ``weber_foundation``
           (bool, add the Sainsot fillet-foundation term);
         - contact_line: ``stiffness_per_length`` (N/m^2), ``line_load``.
 

@@ -1,8 +1,8 @@
 """Plain-dict summaries of a stiffness curve and of the operating geometry (for JSON and tables).
 
-The operating centre distance (seed 002's shaft offset, ``a_w = a + d_a``) moves the start and end
-of contact, so the contact ratio, the share of the cycle with one pair in contact, the backlash and
-every stiffness curve follow it; :func:`operating_summary` reports those figures.
+The operating centre distance (the shaft offset of Jiang et al. 2018, ``a_w = a + d_a``) moves the
+start and end of contact, so the contact ratio, the share of the cycle with one pair in contact,
+the backlash and every stiffness curve follow it; :func:`operating_summary` reports those figures.
 """
 
 from __future__ import annotations

@@ -50,7 +50,7 @@ class ToothOptions:
         (``h_fi = r_f / r_int``). None: half the root radius.
     plane_strain : bool
         Use ``E / (1 - nu^2)`` in the tooth bending, shear and axial terms (wide faces). Default
-        False: plane stress, the convention of Yang & Lin 1987, Tian 2004 and Sainsot 2004.
+        False: plane stress, the convention of Yang & Lin 1987, Tian 2004 and Sainsot et al. 2004.
     grid_points : int
         Points of the integration grid along the tooth centre line (>= 200).
 

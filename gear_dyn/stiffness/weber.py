@@ -1,8 +1,8 @@
-"""Weber sliced-cantilever tooth stiffness with Hertz contact (seed 002 eqs. 9-12).
+"""Weber sliced-cantilever tooth stiffness with Hertz contact (Jiang et al. 2018, eqs. 9-12).
 
-Seed 002 gives the pair stiffness ``k = F / (d_a1 + d_a2 + d_h)`` (eq. 9): the bending deflections
-of both teeth along the load plus the Hertzian approach. Each tooth is a cantilever cut into n
-slices between the root chord and the contact point (eq. 10):
+Jiang et al. (2018) give the pair stiffness ``k = F / (d_a1 + d_a2 + d_h)`` (eq. 9): the bending
+deflections of both teeth along the load plus the Hertzian approach. Each tooth is a cantilever
+cut into n slices between the root chord and the contact point (eq. 10):
 
     d_a = F cos^2 a_m sum_i x_i [ (d_i^2 + x_i d_i + x_i^2/3) / (E' Jbar_i)
                                   + 1 / (s_h G Abar_i) + tan^2 a_m / (Abar_i E') ]
@@ -22,9 +22,9 @@ Printed typos read here as intended (documented in docs/stiffness.md):
 - the shear factor ``s_h`` is not given: ``s_h = 5/6`` (rectangular section), i.e. the same 1.2
   energy factor as the potential-energy method.
 
-Unlike the potential-energy method there is no fillet-foundation term (the seed has none), which
-makes the seed's method about 2.5 times stiffer than ISO 6336 c_gamma b (docs/stiffness.md); the
-option ``foundation=True`` adds the Sainsot et al. (2004) term.
+Unlike the potential-energy method there is no fillet-foundation term (Jiang et al. 2018 have
+none), which makes the method as printed about 2.5 times stiffer than ISO 6336 c_gamma b
+(docs/stiffness.md); the option ``foundation=True`` adds the Sainsot et al. (2004) term.
 """
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 
-from gear_dyn.errors import InputError
+from gear_dyn.errors import InputError, warn_old_name
 from gear_dyn.geometry import GearPair
 from gear_dyn.stiffness.periodic import FloatArray
 from gear_dyn.stiffness.potential_energy import (
@@ -49,16 +49,31 @@ SHEAR_COEF = 5.0 / 6.0  # s_h for a rectangular section
 
 
 def weber_modulus(youngs_modulus: float, poisson: float) -> float:
-    """Seed 002 eq. 11 modulus ``E (1 - nu) / ((1 + nu)(1 - 2 nu))`` in Pa."""
+    """The modulus of Jiang et al. (2018), eq. 11: ``E (1 - nu) / ((1 + nu)(1 - 2 nu))`` in Pa."""
     return youngs_modulus * (1 - poisson) / ((1 + poisson) * (1 - 2 * poisson))
 
 
-MODULI = ("seed", "plane_stress", "plane_strain")
+#: moduli in the tooth terms: ``jiang2018`` (eq. 11 of Jiang et al. 2018, :func:`weber_modulus`),
+#: ``plane_stress`` (E), ``plane_strain`` (E / (1 - nu^2))
+MODULI = ("jiang2018", "plane_stress", "plane_strain")
+#: old modulus names -> their names now: still accepted, with a FutureWarning
+RENAMED_MODULI = {"seed": "jiang2018"}
+
+
+def current_modulus(modulus: str, where: str = "weber modulus") -> str:
+    """``modulus``, or the name an old modulus name (:data:`RENAMED_MODULI`) now has, with a
+    :class:`FutureWarning` that names ``where`` (e.g. a scene's key path)."""
+    new = RENAMED_MODULI.get(modulus)
+    if new is None:
+        return modulus
+    warn_old_name(f"{where} = {modulus!r} is the old name of the modulus {new!r} (Jiang et al. "
+                  f"2018, eq. 11); write {new!r}: the old name will be removed")
+    return new
 
 
 def weber_tooth_compliance(pair: GearPair, gear: int, radius: ArrayLike, slices: int = 20,
                            options: ToothOptions = DEFAULT_OPTIONS,
-                           modulus: str = "seed", foundation: bool = False) -> FloatArray:
+                           modulus: str = "jiang2018", foundation: bool = False) -> FloatArray:
     """Weber bending + shear + axial compliance d_a / F (m/N) of one tooth loaded at ``radius``.
 
     Parameters
@@ -73,11 +88,12 @@ def weber_tooth_compliance(pair: GearPair, gear: int, radius: ArrayLike, slices:
     options : ToothOptions
         Tooth geometry options (fillet radius, grid).
     modulus : str
-        Modulus in the tooth terms: "seed" (eq. 11, ``E (1-nu)/((1+nu)(1-2nu))``, default),
-        "plane_stress" (E) or "plane_strain" (``E / (1 - nu^2)``).
+        Modulus in the tooth terms: "jiang2018" (Jiang et al. 2018, eq. 11,
+        ``E (1-nu)/((1+nu)(1-2nu))``, default), "plane_stress" (E) or "plane_strain"
+        (``E / (1 - nu^2)``). The old name "seed" of "jiang2018" works, with a FutureWarning.
     foundation : bool
-        Add the Sainsot et al. (2004) fillet-foundation compliance (not in the seed; default
-        False, as the seed gives the method).
+        Add the Sainsot et al. (2004) fillet-foundation compliance (default False: Jiang et al.
+        2018 give the method without it).
 
     Returns
     -------
@@ -91,11 +107,12 @@ def weber_tooth_compliance(pair: GearPair, gear: int, radius: ArrayLike, slices:
     """
     if not isinstance(slices, int) or slices < 1:
         raise InputError(f"slices = {slices!r}: valid range >= 1 (integer)")
+    modulus = current_modulus(modulus)
     if modulus not in MODULI:
         raise InputError(f"modulus = {modulus!r}: valid values are {', '.join(MODULI)}")
     e = pair.youngs_modulus1 if gear == 1 else pair.youngs_modulus2
     nu = pair.poisson1 if gear == 1 else pair.poisson2
-    e_w = {"seed": weber_modulus(e, nu), "plane_stress": e,
+    e_w = {"jiang2018": weber_modulus(e, nu), "plane_stress": e,
            "plane_strain": e / (1 - nu**2)}[modulus]
     g = e / (2 * (1 + nu))
     b = pair.face_width
@@ -122,12 +139,13 @@ def weber_tooth_compliance(pair: GearPair, gear: int, radius: ArrayLike, slices:
 
 
 def weber_hertz_compliance(pair: GearPair) -> float:
-    """Seed 002 eq. 12 Hertz compliance ``4 (1 - nu^2) / (pi E B)`` in m/N (pinion E, nu)."""
+    """Hertz compliance ``4 (1 - nu^2) / (pi E B)`` in m/N (pinion E, nu; Jiang et al. 2018,
+    eq. 12)."""
     return 4 * (1 - pair.poisson1**2) / (math.pi * pair.youngs_modulus1 * pair.face_width)
 
 
 def weber_compliances(pair: GearPair, s: ArrayLike, slices: int = 20,
-                      options: ToothOptions = DEFAULT_OPTIONS, modulus: str = "seed",
+                      options: ToothOptions = DEFAULT_OPTIONS, modulus: str = "jiang2018",
                       foundation: bool = False) -> tuple[FloatArray, FloatArray, FloatArray]:
     """``(d_a1/F, d_a2/F, d_h/F)`` in m/N at contact positions ``s`` (m from T1)."""
     sv = _check_positions(pair, s)
@@ -139,8 +157,8 @@ def weber_compliances(pair: GearPair, s: ArrayLike, slices: int = 20,
 
 def weber_pair_stiffness(pair: GearPair, s: ArrayLike, slices: int = 20,
                          options: ToothOptions = DEFAULT_OPTIONS,
-                         modulus: str = "seed", foundation: bool = False) -> FloatArray:
-    """Single-pair stiffness ``F / (d_a1 + d_a2 + d_h)`` in N/m (seed 002 eq. 9).
+                         modulus: str = "jiang2018", foundation: bool = False) -> FloatArray:
+    """Single-pair stiffness ``F / (d_a1 + d_a2 + d_h)`` in N/m (Jiang et al. 2018, eq. 9).
 
     Parameters
     ----------
@@ -151,9 +169,10 @@ def weber_pair_stiffness(pair: GearPair, s: ArrayLike, slices: int = 20,
         Slices per tooth (>= 1).
     options : ToothOptions
     modulus : str
-        "seed" (eq. 11, default), "plane_stress" or "plane_strain".
+        "jiang2018" (eq. 11, default), "plane_stress" or "plane_strain" (see
+        :func:`weber_tooth_compliance`).
     foundation : bool
-        Add the Sainsot fillet-foundation compliance (default False: the seed has none).
+        Add the Sainsot fillet-foundation compliance (default False, as Jiang et al. 2018).
 
     Returns
     -------

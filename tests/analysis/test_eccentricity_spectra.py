@@ -1,4 +1,5 @@
-"""Spectra of seed 000's excitations: the peaks the seed reports, found in computed spectra."""
+"""Spectra of the eccentric pair's excitations: the peaks Liu et al. (2017) report, found in
+computed spectra."""
 
 from __future__ import annotations
 
@@ -20,7 +21,7 @@ FM = 450.0
 
 
 @pytest.fixture(scope="module")
-def seed_case() -> dict:
+def eccentric_case() -> dict:
     return analyse(load_scene(SCENES / "eccentric_helical.toml"))
 
 
@@ -29,11 +30,11 @@ def ideal_case() -> dict:
     return analyse(load_scene(SCENES / "eccentric_helical_ideal.toml"))
 
 
-def test_driven_speed_peaks_at_both_shaft_frequencies(seed_case: dict) -> None:
+def test_driven_speed_peaks_at_both_shaft_frequencies(eccentric_case: dict) -> None:
     """Seed Fig. 7: the driven-speed spectrum peaks at 25 Hz (input shaft) and ~6.4 Hz (output
     shaft). Every line falls on a bin (whole hunting period), and the peak frequency is refined by
     parabolic interpolation: 1e-6 Hz."""
-    peaks = seed_case["peaks"]["w2"]
+    peaks = eccentric_case["peaks"]["w2"]
     assert {p["label"] for p in peaks[:2]} == {"f1", "f2"}
     found = sorted(p["frequency_hz"] for p in peaks[:2])
     assert found == pytest.approx([F2, F1], abs=1e-6)
@@ -43,15 +44,16 @@ def test_driven_speed_peaks_at_both_shaft_frequencies(seed_case: dict) -> None:
 
 @pytest.mark.parametrize("name", ["contact_length", "friction_force", "friction_torque_pinion",
                                   "friction_torque_gear"])
-def test_mesh_harmonics_shaft_lines_and_sidebands_are_present(seed_case: dict, name: str) -> None:
-    """Seed Figs. 8, 12, 13: 450 Hz and harmonics, both shaft frequencies, and sidebands
-    450 +- 25 and 450 +- 6.43 Hz, among the 40 largest peaks of the computed spectrum. Lines sit
-    on bins; the parabolic refinement is pulled by neighbouring sidebands by < 1e-4 Hz, so
+def test_mesh_harmonics_shaft_lines_and_sidebands_are_present(eccentric_case: dict,
+                                                               name: str) -> None:
+    """Liu et al. (2017), Figs. 8, 12, 13: 450 Hz and harmonics, both shaft frequencies, and
+    sidebands 450 +- 25 and 450 +- 6.43 Hz, among the 40 largest peaks of the computed spectrum.
+    Lines sit on bins; the parabolic refinement is pulled by neighbouring sidebands by < 1e-4 Hz, so
     1e-2 of the resolution (0.714 Hz) is asserted."""
     from gear_dyn.analysis.spectrum_labels import labelled_peaks
 
-    f, a = seed_case["spectra"][name]
-    peaks = labelled_peaks(f, a, seed_case["basis"], n=40)
+    f, a = eccentric_case["spectra"][name]
+    peaks = labelled_peaks(f, a, eccentric_case["basis"], n=40)
     by_label = {p["label"]: p["frequency_hz"] for p in peaks}
     expect = {"fm": FM, "2fm": 2 * FM, "f1": F1, "f2": F2, "fm-f1": FM - F1, "fm+f1": FM + F1,
               "fm-f2": FM - F2, "fm+f2": FM + F2}

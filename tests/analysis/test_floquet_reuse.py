@@ -35,7 +35,8 @@ def heli() -> Any:
 
 
 def fourier(heli: Any) -> Any:
-    """Seed 002's 5-term Fourier stiffness (smooth: auto takes the periodic step maps)."""
+    """The 5-term Fourier stiffness of Jiang et al. (2018) (smooth: auto takes the periodic step
+    maps)."""
     return replace(heli, stiffness=heli.stiffness.truncated(5))
 
 

@@ -1,5 +1,5 @@
 """Exact one-period map and sensitivity of the backlash model, and shooting on it
-(gear_dyn.analysis.stability.flow_with_sensitivity / shoot, route ``exact``).
+(gear_dyn.analysis.stability.integrate_with_sensitivity / shoot, route ``exact``).
 
 Second methods: the variational equations integrated with DOP853 (route ``variational``, the
 route shooting used before), and central differences of the exact flow. The cases are the
@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from gear_dyn.analysis.stability import flow_with_sensitivity, shoot
+from gear_dyn.analysis.stability import integrate_with_sensitivity, shoot
 from gear_dyn.errors import InputError
 from gear_dyn.models.sdof import SDOFModel
 from gear_dyn.scene import build_plan, load_scene
@@ -99,13 +99,13 @@ def test_exact_map_equals_variational(cases, case: str) -> None:
         assert x_min < -1.0, "the case must reach the back flank"
     period = 1 / model.mesh_frequency
     scale = np.asarray(model.state_scale, dtype=float)
-    y_ex, phi_ex = flow_with_sensitivity(model, y0, period, route="exact")
+    y_ex, phi_ex = integrate_with_sensitivity(model, y0, period, route="exact")
 
     def diff(rtol_a: float, rtol_b: float | None = None) -> float:
         """Largest scaled difference of state and sensitivity: V(rtol_a) against V(rtol_b),
         or against the exact route."""
-        ya, pa = flow_with_sensitivity(model, y0, period, rtol_a, route="variational")
-        yb, pb = (y_ex, phi_ex) if rtol_b is None else flow_with_sensitivity(
+        ya, pa = integrate_with_sensitivity(model, y0, period, rtol_a, route="variational")
+        yb, pb = (y_ex, phi_ex) if rtol_b is None else integrate_with_sensitivity(
             model, y0, period, rtol_b, route="variational")
         return max(float(np.max(np.abs(ya - yb) / scale)),
                    float(np.max(np.abs(scaled(model, pa - pb)))))
@@ -115,7 +115,7 @@ def test_exact_map_equals_variational(cases, case: str) -> None:
     assert err <= 10 * own + rounding
     assert err < diff(100 * RTOL_VAR) / 10  # converges to the exact map as rtol falls
     # 'auto' takes the exact route for this model
-    y_auto, phi_auto = flow_with_sensitivity(model, y0, period)
+    y_auto, phi_auto = integrate_with_sensitivity(model, y0, period)
     assert np.array_equal(y_auto, y_ex) and np.array_equal(phi_auto, phi_ex)
 
 
@@ -124,7 +124,7 @@ def test_exact_sensitivity_equals_central_differences(cases, case: str) -> None:
     model, y0 = cases[case]
     period = 1 / model.mesh_frequency
     scale = np.asarray(model.state_scale, dtype=float)
-    _y, phi = flow_with_sensitivity(model, y0, period, route="exact")
+    _y, phi = integrate_with_sensitivity(model, y0, period, route="exact")
     n_ev, _x, rounding = contact_facts(model, y0)
     h_rel = 1e-4
 
@@ -133,8 +133,8 @@ def test_exact_sensitivity_equals_central_differences(cases, case: str) -> None:
         for j in range(2):
             e = np.zeros(2)
             e[j] = h * scale[j]
-            yp, _ = flow_with_sensitivity(model, y0 + e, period, route="exact")
-            ym, _ = flow_with_sensitivity(model, y0 - e, period, route="exact")
+            yp, _ = integrate_with_sensitivity(model, y0 + e, period, route="exact")
+            ym, _ = integrate_with_sensitivity(model, y0 - e, period, route="exact")
             d[:, j] = (yp - ym) / (2 * e[j])
         return d
 
@@ -157,8 +157,8 @@ def test_orbit_equal_between_routes(cases, case: str) -> None:
     scale = np.asarray(model.state_scale, dtype=float)
     ref = np.maximum(scale, np.abs(ex.y0))
     # the routes' difference of the map at one state (the variational one's error at rtol)
-    y_v, phi_v = flow_with_sensitivity(model, var.y0, var.period, rtol, route="variational")
-    y_e, phi_e = flow_with_sensitivity(model, var.y0, ex.period, route="exact")
+    y_v, phi_v = integrate_with_sensitivity(model, var.y0, var.period, rtol, route="variational")
+    y_e, phi_e = integrate_with_sensitivity(model, var.y0, ex.period, route="exact")
     delta_y = float(np.max(np.abs(y_v - y_e) / ref))
     phi = ex.monodromy / ref[:, None] * ref[None, :]
     kappa = float(np.linalg.norm(np.linalg.inv(np.eye(2) - phi), np.inf))
@@ -181,10 +181,10 @@ def test_fallback_and_errors(base: SDOFModel) -> None:
     fourier = dataclasses.replace(base, stiffness=base.stiffness.truncated(5))
     y0 = fourier.initial_state()
     period = 1 / fourier.mesh_frequency
-    y_auto, phi_auto = flow_with_sensitivity(fourier, y0, period, 1e-10)
-    y_var, phi_var = flow_with_sensitivity(fourier, y0, period, 1e-10, route="variational")
+    y_auto, phi_auto = integrate_with_sensitivity(fourier, y0, period, 1e-10)
+    y_var, phi_var = integrate_with_sensitivity(fourier, y0, period, 1e-10, route="variational")
     assert np.array_equal(y_auto, y_var) and np.array_equal(phi_auto, phi_var)
     with pytest.raises(InputError, match="exact_contact"):
-        flow_with_sensitivity(fourier, y0, period, route="exact")
+        integrate_with_sensitivity(fourier, y0, period, route="exact")
     with pytest.raises(InputError, match="route"):
-        flow_with_sensitivity(base, y0, period, route="euler")
+        integrate_with_sensitivity(base, y0, period, route="euler")

@@ -62,8 +62,9 @@ def test_zero_damping_growing_error_is_bounded(heli: Any) -> None:
 
 
 def test_smooth_fourier_stiffness(heli: Any) -> None:
-    """Seed 002's 5-term Fourier stiffness (no exact propagator), LSODA at rtol 1e-7, against
-    the DOP853 rtol-1e-13 reference whose own error is 1e-3 of the tested one or less."""
+    """The 5-term Fourier stiffness of Jiang et al. (2018) (no exact propagator), LSODA at rtol
+    1e-7, against the DOP853 rtol-1e-13 reference whose own error is 1e-3 of the tested one or
+    less."""
     model = replace(heli, stiffness=heli.stiffness.truncated(5))
     t_end = 25 / model.mesh_frequency
     res = simulate(model, t_end, SolverSettings(method="LSODA", rtol=1e-7))

@@ -1,8 +1,8 @@
 """Stiff and extreme cases: each test states what must happen and checks it.
 
-All on the helicopter-tail single-DOF pair (seed 002; f_n = 2.9 kHz, f_m = 1272 Hz) with one
-thing pushed to an extreme. The table in docs/solvers.md summarises what each method does here
-and what the toolkit does about it. Spans are a few mesh periods to keep CI short; the long
+All on the helicopter-tail single-DOF pair (Jiang et al. 2018; f_n = 2.9 kHz, f_m = 1272 Hz) with
+one thing pushed to an extreme. The table in docs/solvers.md summarises what each method does
+here and what the toolkit does about it. Spans are a few mesh periods to keep CI short; the long
 measurements are in benchmarks/bench_solvers.py.
 """
 
@@ -212,12 +212,12 @@ def test_backlash_light_load_events_no_chattering(heli: Any,
 
 # ------------------------------------------------------------------ eccentricity ~ backlash
 def test_eccentricity_comparable_to_backlash(tmp_path: Any) -> None:
-    """Seed 000 scene (torsional model, e1 = e2 = 0.2 mm: eccentric displacement along the line
-    of action -0.07..+0.26 mm) with a 0.1 mm half gap and a light 0.2 N m load, one pinion turn
-    (18 mesh periods). Must happen: the teeth separate (the deflection falls to ~0.34 b_g) and
-    every contact change is located by the model's contact events (>= 2; measured 5); no
-    chattering (LSODA's evaluations stay under 3x those without backlash); the run's estimated
-    error bounds its error against a DOP853 rtol-1e-11 reference."""
+    """The eccentric helical scene (Liu et al. 2017; torsional model, e1 = e2 = 0.2 mm: eccentric
+    displacement along the line of action -0.07..+0.26 mm) with a 0.1 mm half gap and a light
+    0.2 N m load, one pinion turn (18 mesh periods). Must happen: the teeth separate (the deflection
+    falls to ~0.34 b_g) and every contact change is located by the model's contact events (>= 2;
+    measured 5); no chattering (LSODA's evaluations stay under 3x those without backlash); the run's
+    estimated error bounds its error against a DOP853 rtol-1e-11 reference."""
     text = Path("examples/scenes/eccentric_helical.toml").read_text(encoding="utf-8")
     text = text.replace('torque = "63.662 N*m"', 'torque = "0.2 N*m"')
     text = text.replace("[friction]", '[backlash]\nhalf_gap = "0.1 mm"\n\n[friction]')

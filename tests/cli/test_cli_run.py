@@ -37,7 +37,7 @@ def test_demo_writes_plots_csv_and_summary(tmp_path: Path, capsys: pytest.Captur
         assert isinstance(s[key], float)
     for key in ("method", "rtol", "atol", "nfev", "run_time_s"):
         assert key in s["solver"]
-    # seed 002 Table 1 kinematics (exact fractions)
+    # Jiang et al. (2018), Table 1 kinematics (exact fractions)
     assert s["mesh_frequency_hz"] == pytest.approx(23 * 3319 / 60, rel=1e-12)
     assert s["output_speed_rpm"] == pytest.approx(3319 * 23 / 64, rel=1e-12)
     # W / k_m is the static transmission error

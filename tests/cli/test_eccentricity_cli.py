@@ -13,14 +13,14 @@ from gear_dyn.models.torsional import TorsionalModel
 from gear_dyn.scene import build_model, load_scene, parse_scene
 
 SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
-SEED = SCENES / "eccentric_helical.toml"
+ECCENTRIC = SCENES / "eccentric_helical.toml"
 IDEAL = SCENES / "eccentric_helical_ideal.toml"
 
 
 def test_excitation_command_writes_plots_csv_and_peak_table(tmp_path: Path,
                                                             capsys: pytest.CaptureFixture) -> None:
     out = tmp_path / "exc"
-    assert main(["excitation", str(SEED), "--out", str(out), "--samples-per-mesh", "16"]) == 0
+    assert main(["excitation", str(ECCENTRIC), "--out", str(out), "--samples-per-mesh", "16"]) == 0
     assert sorted(p.name for p in out.iterdir()) == [
         "excitation.csv", "excitation_spectrum.png", "excitation_time.png", "peaks.json"]
     rep = json.loads((out / "peaks.json").read_text())
@@ -36,7 +36,7 @@ def test_excitation_command_writes_plots_csv_and_peak_table(tmp_path: Path,
 
 def test_run_handles_the_torsional_model(tmp_path: Path) -> None:
     out = tmp_path / "run"
-    assert main(["run", str(SEED), "--out", str(out), "--periods", "12"]) == 0
+    assert main(["run", str(ECCENTRIC), "--out", str(out), "--periods", "12"]) == 0
     summary = json.loads((out / "summary.json").read_text())
     assert summary["mesh_frequency_hz"] == pytest.approx(450.0, rel=1e-12)
     assert math.isfinite(summary["dynamic_factor"])
@@ -51,10 +51,10 @@ def test_scene_without_eccentricity_or_friction_builds_no_machinery() -> None:
     assert model.eccentricity is None
     ideal = build_model(load_scene(IDEAL))
     assert isinstance(ideal, TorsionalModel) and not ideal.eccentric and ideal.friction == 0.05
-    seed = build_model(load_scene(SEED))
-    assert isinstance(seed, TorsionalModel) and seed.eccentric
+    eccentric = build_model(load_scene(ECCENTRIC))
+    assert isinstance(eccentric, TorsionalModel) and eccentric.eccentric
     # k_l from the contact_line method: mean k equals that method's mean (ISO c_gamma B)
-    assert seed.mean_stiffness == pytest.approx(ideal.mean_stiffness, rel=1e-14)
+    assert eccentric.mean_stiffness == pytest.approx(ideal.mean_stiffness, rel=1e-14)
 
 
 @pytest.mark.parametrize(("table", "match"), [
@@ -66,7 +66,7 @@ def test_scene_without_eccentricity_or_friction_builds_no_machinery() -> None:
 ])
 def test_bad_tables_exit_2_with_one_line(tmp_path: Path, capsys: pytest.CaptureFixture,
                                          table: dict, match: str) -> None:
-    text = SEED.read_text()
+    text = ECCENTRIC.read_text()
     for name in table:  # drop the scene's own table of that name, append the bad one
         start = text.index(f"[{name}]")
         end = text.find("\n[", start + 1)

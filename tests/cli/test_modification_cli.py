@@ -90,7 +90,7 @@ def test_relief_command_table(tmp_path: Path, capsys: pytest.CaptureFixture[str]
     out = tmp_path / "relief.json"
     assert main(["relief", str(SCENE), "--json", str(out)]) == 0
     text = capsys.readouterr().out
-    for rule in ("handbook", "dudley", "niemann", "seed001"):
+    for rule in ("handbook", "dudley", "niemann", "wang2024"):
         assert rule in text
     tab = json.loads(out.read_text())
     pair = build_pair(load_scene(SCENE))
@@ -108,7 +108,7 @@ def test_contact_command_outputs(tmp_path: Path, capsys: pytest.CaptureFixture[s
                                                "stiffness.png", "path.csv"}
     rep = json.loads((out / "contact.json").read_text())
     names = [r["case"] for r in rep["cases"]]
-    assert names == ["unmodified", "scene relief", "handbook", "dudley", "niemann", "seed001"]
+    assert names == ["unmodified", "scene relief", "handbook", "dudley", "niemann", "wang2024"]
     pair = build_pair(load_scene(SCENE))
     unmod = rep["cases"][0]
     # unmodified single-contact zone B..D: E - p_b and A + p_b (1e-9 m: one-sided sampling)
@@ -160,7 +160,7 @@ def test_contact_command_dynamics(tmp_path: Path, capsys: pytest.CaptureFixture[
     out = tmp_path / "dyn"
     assert main(["contact", str(scene), "--out", str(out), "--dynamics"]) == 0
     dyn = json.loads((out / "dynamics.json").read_text())
-    assert list(dyn) == ["unmodified", "handbook", "dudley", "niemann", "seed001"]
+    assert list(dyn) == ["unmodified", "handbook", "dudley", "niemann", "wang2024"]
     assert (out / "dynamics.png").stat().st_size > 0
     # every dynamic factor is at least 1 (the peak force is at least the mean) and finite
     for row in dyn.values():

@@ -29,10 +29,10 @@ def _scene(stiffness: dict[str, object], gear: dict[str, object] | None = None) 
                                     "contact_line"])
 @pytest.mark.parametrize("fourier", [None, 5])
 def test_helicopter_tail_runs_with_each_method(method: str, fourier: int | None) -> None:
-    # The seed 002 scene simulates with every method (and its 5-term Fourier fit, as the seed
-    # does); the run summary names the method, and the model's mean stiffness is the method's
-    # mean (the Fourier fit keeps the mean exactly; the simulated mean over whole periods matches
-    # to the sampling of the steady window, rel 1e-2).
+    # The helicopter tail scene of Jiang et al. (2018) simulates with every method (and its
+    # 5-term Fourier fit, as the paper does); the run summary names the method, and the model's
+    # mean stiffness is the method's mean (the Fourier fit keeps the mean exactly; the simulated
+    # mean over whole periods matches to the sampling of the steady window, rel 1e-2).
     from gear_dyn.analysis.report import summarize
 
     st: dict[str, object] = {"method": method}
@@ -51,7 +51,7 @@ def test_scene_options_reach_the_method() -> None:
     # [stiffness] keys for the geometric methods are passed through (here: a bore radius and
     # Weber's foundation option); a key the method does not take is a scene error.
     from gear_dyn.errors import SceneError
-    from gear_dyn.scene import build_stiffness as scene_stiffness
+    from gear_dyn.scene import scene_stiffness
 
     scene = _scene({"method": "weber", "weber_foundation": True, "bore_radius_pinion": "20 mm"})
     pair = build_pair(scene)
@@ -64,8 +64,8 @@ def test_scene_options_reach_the_method() -> None:
 
 def test_cli_writes_files_and_json(tmp_path: Path) -> None:
     # The JSON numbers are those of the API (same code path), the ISO block equals the hand-checked
-    # iso6336_stiffness, and the seed 002 shaft offset of 0.3 mm shows up as backlash and a lower
-    # contact ratio.
+    # iso6336_stiffness, and the shaft offset of 0.3 mm of Jiang et al. (2018) shows up as
+    # backlash and a lower contact ratio.
     scene_file = tmp_path / "tail_offset.toml"
     text = SCENE.read_text().replace('face_width = "50 mm"',
                                      'face_width = "50 mm"\ncenter_distance_offset = "0.3 mm"')

@@ -1,4 +1,8 @@
-"""Every API example in examples/ runs with fast settings and gives figures that could fail."""
+"""Every API example in examples/ runs with fast settings and gives figures that could fail.
+
+The docs build runs the same scripts in full (the sphinx-gallery pages of docs/gallery/);
+test_every_example_is_tested keeps this file and the folder in step.
+"""
 
 from __future__ import annotations
 
@@ -14,7 +18,8 @@ EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 
 def _load(name: str) -> ModuleType:
-    spec = importlib.util.spec_from_file_location(f"example_{name}", EXAMPLES / f"{name}.py")
+    """The example ``examples/plot_NAME.py`` (the gallery's file names) as a module."""
+    spec = importlib.util.spec_from_file_location(f"example_{name}", EXAMPLES / f"plot_{name}.py")
     assert spec is not None and spec.loader is not None
     mod = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = mod
@@ -68,3 +73,23 @@ def test_fmu_cosim(tmp_path: Path) -> None:
     # exact propagator on both sides: agreement far below the DTE scale
     assert out["max_diff"] < 1e-6 * out["scale"]
     assert (tmp_path / "helicopter_tail.fmu").exists() and (tmp_path / "cosim.png").exists()
+
+
+def test_relief_trends(tmp_path: Path) -> None:
+    table = _load("relief_trends").main(tmp_path)
+    # Wang et al. (2024): a longer relief lengthens the load transition and lowers the entry load
+    lengths = list(table["length"].values())
+    for short, long in zip(lengths, lengths[1:], strict=False):
+        assert long["transition_mm"] > short["transition_mm"]
+        assert long["entry_load_share"] < short["entry_load_share"]
+    assert (tmp_path / "relief_trends.png").exists()
+
+
+def test_every_example_is_tested() -> None:
+    """Each gallery script has a test here, except plot_relief_rules.py (22 s): its cases are
+    checked in tests/test_docs_figures.py (amounts by hand, tangent against contact model)."""
+    scripts = sorted(EXAMPLES.glob("*.py"))
+    assert all(p.name.startswith("plot_") for p in scripts), "sphinx-gallery runs plot_*.py"
+    names = {p.stem.removeprefix("plot_") for p in scripts} - {"relief_rules"}
+    untested = {n for n in names if not any(t.startswith(f"test_{n}") for t in globals())}
+    assert not untested, f"examples without a test: {sorted(untested)}"

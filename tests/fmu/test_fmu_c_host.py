@@ -17,7 +17,7 @@ from gear_dyn.fmu.native import unsupported_reason
 pytestmark = pytest.mark.fmu
 
 SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
-F_M = 23 * 3319 / 60  # seed 002 mesh frequency, Hz
+F_M = 23 * 3319 / 60  # helicopter_tail mesh frequency, Hz
 H = 1 / (16 * F_M)
 NAMES = ["dte", "mesh_force", "state.x", "state.v"]
 

@@ -20,7 +20,7 @@ from gear_dyn.fmu.build import build_fmu
 pytestmark = pytest.mark.fmu
 
 SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
-H = 1 / (16 * 23 * 3319 / 60)  # 16 steps per seed 002 mesh period
+H = 1 / (16 * 23 * 3319 / 60)  # 16 steps per mesh period of helicopter_tail
 
 CHILD = """
 import sys

@@ -18,7 +18,7 @@ from gear_dyn.fmu.session3 import open_session
 pytestmark = pytest.mark.fmu
 
 SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
-H = 1 / (16 * 23 * 3319 / 60)  # 16 steps per seed 002 mesh period
+H = 1 / (16 * 23 * 3319 / 60)  # 16 steps per mesh period of helicopter_tail
 OUT = ["dte", "mesh_force", "state.x", "state.v"]
 
 #: fmpy's method names per FMI version: get Real/Float64, deserialize, set and free a state

@@ -1,5 +1,5 @@
-"""The torsional eccentric FMU (seed 000 scene): validated, co-simulated through fmpy against
-solve_ivp, and its integrator state restored exactly."""
+"""The torsional eccentric FMU (the eccentric helical scene, Liu et al. 2017): validated,
+co-simulated through fmpy against solve_ivp, and its integrator state restored exactly."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ from gear_dyn.fmu.cosim import FmuSession, compare
 pytestmark = pytest.mark.fmu
 
 SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
-F_M = 18 * 1500 / 60  # seed 000: z1 n1 / 60 = 450 Hz
+F_M = 18 * 1500 / 60  # eccentric_helical: z1 n1 / 60 = 450 Hz
 OUTPUTS = ("dte", "mesh_force", "w2", "friction_torque_pinion", "contact_length")
 
 
@@ -47,7 +47,7 @@ def test_torsional_fmu_valid_with_eccentricity_and_friction(ecc_fmu: Path) -> No
     assert float(md.defaultExperiment.stepSize) == pytest.approx(1 / (64 * F_M), rel=1e-12)
 
 
-def test_cosim_seed000_matches_solve_ivp(ecc_fmu: Path) -> None:
+def test_cosim_of_the_eccentric_pair_matches_solve_ivp(ecc_fmu: Path) -> None:
     """FMU (DOP853, its solver kept across communication points) against solve_ivp DOP853 at
     the scene's rtol = 1e-7, at two communication steps. The bound any two runs at this rtol
     must meet is 100 rtol of each output's RMS (the mesh force is a small deflection times a

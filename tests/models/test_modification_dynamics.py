@@ -36,9 +36,9 @@ def test_static_states_agree_with_loaded_contact() -> None:
 
 
 def test_tangent_linearisation_matches_nonlinear_contact() -> None:
-    """At the seed 002 speed the tangent model's dynamic factor is within 1 % of the nonlinear
-    contact model's (measured 0.3 %, benchmarks/results/relief.md); the secant
-    K_TPM model misses by ~10 %."""
+    """At the speed of Jiang et al. (2018) the tangent model's dynamic factor is within 1 % of the
+    nonlinear contact model's (measured 0.3 %, benchmarks/results/relief.md); the secant K_TPM
+    model misses by ~10 %."""
     mod = recommended_relief(PAIR, TORQUE, "dudley").modification("linear")
     speed = 3319 * 2 * math.pi / 60
     settings = SolverSettings(method="DOP853", rtol=1e-6, samples_per_period=64)

@@ -1,4 +1,4 @@
-"""Single-DOF model and its integration against closed forms (PHYSICS.md section 1)."""
+"""Single-DOF model and its integration against closed forms (Jiang et al. 2018)."""
 
 from __future__ import annotations
 

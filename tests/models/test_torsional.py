@@ -123,7 +123,8 @@ def test_static_state_is_an_equilibrium() -> None:
 
 
 def test_rigid_limit_driven_speed_converges_to_the_kinematic_speed() -> None:
-    """As k grows the torsional w2(t) tends to seed 000's kinematic w2(t) (eq. 12) like 1/k.
+    """As k grows the torsional w2(t) tends to the kinematic w2(t) of Liu et al. (2017), eq. 12,
+    like 1/k.
 
     A heavy input (I1 = 50 kg m^2, a motor) holds w1 nearly constant, as the kinematics assume.
     Measured (the same run, DOP853 rtol 1e-8): max error 0.0178 rad/s at k_l = 1.13e10 N/m^2,

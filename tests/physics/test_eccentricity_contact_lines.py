@@ -1,4 +1,4 @@
-"""Contact lines of the eccentric helical pair (seed 000 eqs. 14-17)."""
+"""Contact lines of the eccentric helical pair (Liu et al. 2017, eqs. 14-17)."""
 
 from __future__ import annotations
 
@@ -25,8 +25,8 @@ def pair_of(beta_deg: float, width: float = 0.04) -> GearPair:
     return GearPair(18, 70, 3e-3, math.radians(20), width, math.radians(beta_deg))
 
 
-def seed_eq15(d: np.ndarray, w: float, l_cd: float, sin_bb: float) -> np.ndarray:
-    """Seed 000 eqs. 15-16 literally, four pieces, plus zero before entry (D < 0)."""
+def printed_eq15(d: np.ndarray, w: float, l_cd: float, sin_bb: float) -> np.ndarray:
+    """Liu et al. (2017), eqs. 15-16, literally: four pieces, plus zero before entry (D < 0)."""
     lo, hi = min(w, l_cd), max(w, l_cd)
     out = np.zeros_like(d)
     a = (d >= 0) & (d < lo)
@@ -39,14 +39,14 @@ def seed_eq15(d: np.ndarray, w: float, l_cd: float, sin_bb: float) -> np.ndarray
 
 
 @pytest.mark.parametrize("width", [0.02, 0.04, 0.08])  # eps_b < eps_a, ~, > eps_a
-def test_overlap_form_equals_the_seeds_piecewise_function(width: float) -> None:
+def test_overlap_form_equals_the_printed_piecewise_function(width: float) -> None:
     pair = pair_of(15.0, width)
     mesh = EccentricMesh(pair, Eccentricity(), W1)
     lay = LineLayout.of(mesh)
     d = np.linspace(-0.01, 0.06, 7001)
     l_cd = pair.path_of_contact
     # same arithmetic up to rounding of (min - max) vs direct sums: 1e-15 m
-    np.testing.assert_allclose(line_lengths(lay, d, l_cd), seed_eq15(d, lay.width, l_cd,
+    np.testing.assert_allclose(line_lengths(lay, d, l_cd), printed_eq15(d, lay.width, l_cd,
                                                                       lay.sin_bb), atol=1e-14)
 
 

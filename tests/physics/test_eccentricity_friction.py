@@ -1,4 +1,4 @@
-"""Friction force and torques of the eccentric helical pair (seed 000 eqs. 18-27)."""
+"""Friction force and torques of the eccentric helical pair (Liu et al. 2017, eqs. 18-27)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,5 @@
-"""Eccentric kinematics (seed 000 eqs. 1-13) against closed forms and a second derivation."""
+"""Eccentric kinematics (Liu et al. 2017, eqs. 1-13) against closed forms and a second
+derivation."""
 
 from __future__ import annotations
 
@@ -11,15 +12,15 @@ from gear_dyn.eccentricity import Eccentricity, EccentricMesh
 from gear_dyn.errors import InputError
 from gear_dyn.geometry import GearPair
 
-W1 = 1500 * 2 * math.pi / 60  # seed 000: 1500 rpm
+W1 = 1500 * 2 * math.pi / 60  # the input speed of Liu et al. (2017): 1500 rpm
 
 
-def seed_pair(beta_deg: float = 15.0) -> GearPair:
+def eccentric_pair(beta_deg: float = 15.0) -> GearPair:
     return GearPair(18, 70, 3e-3, math.radians(20), 0.04, math.radians(beta_deg))
 
 
 def test_error_free_pair_reduces_to_involute_kinematics() -> None:
-    pair = seed_pair()
+    pair = eccentric_pair()
     mesh = EccentricMesh(pair, Eccentricity(), W1)
     t = np.linspace(0.0, 0.2, 1001)
     k = mesh.kinematics(t)
@@ -44,7 +45,7 @@ def test_law_of_gearing_matches_the_displacement_relation() -> None:
     theta2 is sampled finely and differentiated with central differences (error O(dt^2)
     ~ (w1 dt)^2 e/r ~ 1e-9 relative here); 1e-7 leaves a margin for the fixed-point tolerance.
     """
-    mesh = EccentricMesh(seed_pair(), Eccentricity(2e-4, 2e-4, 0.4, 1.3), W1)
+    mesh = EccentricMesh(eccentric_pair(), Eccentricity(2e-4, 2e-4, 0.4, 1.3), W1)
     t = np.linspace(0.0, 0.16, 80001)
     k = mesh.kinematics(t)
     dth2 = np.gradient(k.theta2, t)
@@ -56,7 +57,7 @@ def test_law_of_gearing_matches_the_displacement_relation() -> None:
 
 def test_tangent_points_and_pitch_point_geometry() -> None:
     """A, B lie on the base circles with radii normal to AB; eq. 11's literal form gives x_P."""
-    pair = seed_pair()
+    pair = eccentric_pair()
     mesh = EccentricMesh(pair, Eccentricity(2e-4, 1e-4, 0.0, 2.0), W1)
     k = mesh.kinematics(np.linspace(0, 0.3, 301))
     np.testing.assert_allclose(np.hypot(k.xa - k.x1, k.ya - k.y1), pair.rb1, rtol=1e-13)
@@ -77,14 +78,14 @@ def test_first_order_amplitude_of_the_line_of_action_error() -> None:
     the peak-to-peak of e_ecc is 2 e1 for a pinion-only eccentricity (second-order terms are
     O(e / r_b) ~ 1e-2 relative, hence the 2 % tolerance)."""
     e1 = 2e-4
-    mesh = EccentricMesh(seed_pair(), Eccentricity(e1, 0.0), W1)
+    mesh = EccentricMesh(eccentric_pair(), Eccentricity(e1, 0.0), W1)
     t = np.linspace(0.0, 1 / 25, 4001)
     k = mesh.kinematics(t)
     assert np.ptp(k.e_ecc) == pytest.approx(2 * e1, rel=2e-2)
 
 
 def test_scalar_path_equals_array_path() -> None:
-    mesh = EccentricMesh(seed_pair(), Eccentricity(2e-4, 2e-4, 0.3, 1.0), W1)
+    mesh = EccentricMesh(eccentric_pair(), Eccentricity(2e-4, 2e-4, 0.3, 1.0), W1)
     ts = np.random.default_rng(3).uniform(0, 1.4, 40)
     ka = mesh.kinematics(ts)
     for i, t in enumerate(ts):
@@ -100,7 +101,7 @@ def test_scalar_path_equals_array_path() -> None:
 
 def test_mean_ratio_over_the_hunting_period_is_nominal() -> None:
     """Teeth cannot slip: over the hunting period theta2 advances exactly theta1 z1 / z2."""
-    mesh = EccentricMesh(seed_pair(), Eccentricity(2e-4, 2e-4), W1)
+    mesh = EccentricMesh(eccentric_pair(), Eccentricity(2e-4, 2e-4), W1)
     assert mesh.hunting_period == pytest.approx(1.4, rel=1e-14)
     k = mesh.kinematics(np.array([0.0, mesh.hunting_period]))
     assert k.theta2[1] == pytest.approx(k.theta1[1] * 18 / 70, rel=1e-12)

@@ -1,4 +1,5 @@
-"""Involute pair geometry against hand calculations (PHYSICS.md section 0)."""
+"""Involute pair geometry against hand calculations (ISO 21771; the pairs of Liu et al. 2017 and
+Jiang et al. 2018)."""
 
 from __future__ import annotations
 
@@ -39,8 +40,8 @@ def test_helical_ratios_by_hand() -> None:
 
     tan a_t = tan 20 / cos 15 = 0.376808 -> a_t = 20.6469 deg; overlap ratio
     eps_b = B sin b / (pi m_n) = 30 * 0.258819 / (pi 3) = 0.823847 (same as B tan b_b / p_bt);
-    base helix: sin b_b = sin b cos a_n = 0.243210 -> b_b = 14.0761 deg (seed 000 eq. 29's
-    'sin b_b = tan b cos a_t' would give 14.5 deg: the typo is not implemented).
+    base helix: sin b_b = sin b cos a_n = 0.243210 -> b_b = 14.0761 deg (eq. 29 of Liu et al. 2017,
+    'sin b_b = tan b cos a_t', would give 14.5 deg: the typo is not implemented).
     """
     p = GearPair(18, 70, 3e-3, math.radians(20), 0.03, helix_angle=math.radians(15))
     assert math.degrees(p.alpha_t) == pytest.approx(20.6469, abs=1e-4)
@@ -50,10 +51,11 @@ def test_helical_ratios_by_hand() -> None:
     assert math.degrees(p.beta_b) == pytest.approx(14.0761, abs=1e-4)
 
 
-def test_seed002_table1_kinematics(heli_pair: GearPair) -> None:
-    """Seed 002 Table 1: mesh frequency 1272 Hz, output speed 1192.7 rpm at 3319 rpm input.
+def test_helicopter_tail_kinematics(heli_pair: GearPair) -> None:
+    """Table 1 of Jiang et al. (2018): mesh frequency 1272 Hz, output speed 1192.7 rpm at 3319 rpm
+    input.
 
-    f_m = 23 * 3319 / 60 = 1272.283 Hz; n2 = 3319 * 23 / 64 = 1192.77 rpm (the seed truncates to
+    f_m = 23 * 3319 / 60 = 1272.283 Hz; n2 = 3319 * 23 / 64 = 1192.77 rpm (the paper truncates to
     1192.7). Exact kinematics: compared to 1e-12 against the same fractions.
     """
     w1 = 3319 * 2 * math.pi / 60

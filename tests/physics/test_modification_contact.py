@@ -1,4 +1,4 @@
-"""Loaded contact with tip relief: load sharing, K_TPM, relief TE (seed 001 eqs. 7-26)."""
+"""Loaded contact with tip relief: load sharing, K_TPM, relief TE (Wang et al. 2024, eqs. 7-26)."""
 
 from __future__ import annotations
 
@@ -39,7 +39,7 @@ def test_zero_relief_reproduces_unmodified_sharing_and_stiffness() -> None:
         lc = loaded_contact(TAIL, parabola, TORQUE, mod)
         c = lc.cycle
         k_sum = c.stiffness.sum(axis=1)
-        # seed 001 eq. 17: S_i = K_i / sum K (rounding only)
+        # Wang et al. (2024), eq. 17: S_i = K_i / sum K (rounding only)
         np.testing.assert_allclose(c.sharing, c.stiffness / k_sum[:, None], rtol=1e-12)
         np.testing.assert_allclose(c.secant_stiffness, k_sum, rtol=1e-12)
         ph = np.linspace(0, 1, 333, endpoint=False)
@@ -82,7 +82,7 @@ def test_huge_relief_runs_in_single_contact_throughout() -> None:
     assert np.all((np.abs(view.sharing) < 1e-12) | (np.abs(view.sharing - 1) < 1e-12))
 
 
-def test_two_pair_closed_form_of_seed_001() -> None:
+def test_two_pair_load_sharing_closed_form() -> None:
     """Only the gear is relieved: in double contact delta = (F + K0 g0) / (K0 + K1) (eq. 10) and
     K_TPM = K0 + K1 - K0 g0 / delta (eq. 11)."""
     mod = ProfileModification(gear=TipRelief(150e-6, 6e-3, "linear"))

@@ -1,4 +1,5 @@
-"""Tip relief curves, height/length conversion and recommended amounts (PHYSICS.md section 3)."""
+"""Tip relief curves, height/length conversion and recommended amounts (Wang et al. 2024;
+Han n.d.)."""
 
 from __future__ import annotations
 
@@ -23,7 +24,8 @@ from gear_dyn.modification import (
 
 @pytest.fixture
 def tail() -> GearPair:
-    """Seed 002/003 helicopter tail pair treated as spur: z 23/64, m 6 mm, 22.5 deg, B 50 mm."""
+    """The helicopter tail pair (Jiang et al. 2018) treated as spur: z 23/64, m 6 mm, 22.5 deg,
+    B 50 mm."""
     return GearPair(23, 64, 6e-3, math.radians(22.5), 50e-3, youngs_modulus1=207e9,
                     youngs_modulus2=207e9)
 
@@ -52,7 +54,7 @@ def test_curve_slope_matches_finite_difference(curve: str) -> None:
     np.testing.assert_allclose(df, (f_hi - f_lo) / (2 * h), rtol=1e-7)
 
 
-def test_power_curve_exponents_of_seed_001() -> None:
+def test_power_curve_exponents() -> None:
     u = 0.5
     expected = {"linear": 0.5, "yoshio": 0.5**1.2, "walker": 0.5**1.5, "parabolic": 0.25}
     for curve, value in expected.items():
@@ -96,7 +98,7 @@ def test_recommended_amounts_worked_case(tail: GearPair) -> None:
     ni = recommended_relief(tail, torque, "niemann")
     assert ni.amount_pinion * 1e6 == pytest.approx(54.0, abs=1e-9)  # 0.009 * 6 mm
     assert ni.height_gear * 1e3 == pytest.approx(2.958, abs=1e-12)  # 0.493 * 6 mm
-    s1 = recommended_relief(tail, torque, "seed001")
+    s1 = recommended_relief(tail, torque, "wang2024")
     assert s1.amount_pinion == pytest.approx(hb.amount_pinion, rel=1e-15)
     # long relief: (eps - 1) p_bt; eps = 1.58495 and p_bt = pi 6 mm cos 22.5 deg = 17.4147 mm
     assert s1.length_pinion * 1e3 == pytest.approx(0.58495 * 17.4147, rel=1e-4)

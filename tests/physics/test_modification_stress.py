@@ -1,4 +1,4 @@
-"""Hertz contact stress along the path of contact (seed 001 eqs. 27-31)."""
+"""Hertz contact stress along the path of contact (Wang et al. 2024, eqs. 27-31)."""
 
 from __future__ import annotations
 

@@ -21,7 +21,7 @@ WIDE = GearPair(23, 64, 6e-3, math.radians(22.5), 50e-3, helix_angle=math.radian
 
 @pytest.mark.parametrize("pair", [SPUR, HELICAL, WIDE])
 def test_mean_equals_b_eps_over_cos_beta_b(pair: GearPair) -> None:
-    # Identity (PHYSICS.md section 4): the mean over a mesh cycle equals B eps_a / cos b_b.
+    # Identity (docs/stiffness.md): the mean over a mesh cycle equals B eps_a / cos b_b.
     # The mean is taken numerically with the midpoint rule on 200 001 phases; L(p) is piecewise
     # linear, so the rule's error is below (jump or kink size) / n ~ 1e-5 relative.
     n = 200_001

@@ -27,7 +27,7 @@ def _eps_standard(z1: int, z2: int, m: float, alpha: float) -> float:
 
 
 def test_classic_19_48_pair() -> None:
-    # Classic pair (Tian 2004; Wu, Zuo & Parey 2008): z 19/48, m 3.2 mm, 20 deg, b 16 mm,
+    # Classic pair (Tian 2004; Wu et al. 2008): z 19/48, m 3.2 mm, 20 deg, b 16 mm,
     # E 206.8 GPa, nu 0.3. By hand:
     #   q' = 0.04723 + 0.15551/19 + 0.25791/48 = 0.060787862 mm um/N, c'_th = 16.45065 N/(mm um)
     #   C_B = (1 + 0.5 (1.2 - 1.25)) * 1 = 0.975
@@ -52,9 +52,9 @@ def test_classic_19_48_pair() -> None:
 
 
 def test_helicopter_tail_pair() -> None:
-    # Seed 002 tail pair as an equivalent spur pair: z 23/64, m 6 mm, 22.5 deg, b 50 mm,
-    # E 207 GPa. By hand: q' = 0.04723 + 0.15551/23 + 0.25791/64; C_B = 0.975 * (1 + 0.02*2.5)
-    # = 1.02375; c' = (1/q') 0.8 C_B (207/206). Tolerance 1e-9: same closed form.
+    # The helicopter tail pair of Jiang et al. (2018) as an equivalent spur pair: z 23/64, m 6 mm,
+    # 22.5 deg, b 50 mm, E 207 GPa. By hand: q' = 0.04723 + 0.15551/23 + 0.25791/64; C_B = 0.975 *
+    # (1 + 0.02*2.5) = 1.02375; c' = (1/q') 0.8 C_B (207/206). Tolerance 1e-9: same closed form.
     pair = GearPair(23, 64, 6e-3, math.radians(22.5), 50e-3,
                     youngs_modulus1=207e9, youngs_modulus2=207e9)
     iso = iso6336_stiffness(pair)

@@ -161,7 +161,8 @@ def test_continuous_face_slicing_is_the_limit_of_discrete_slices() -> None:
 
 
 def test_centre_distance_offset_follows_everywhere() -> None:
-    # Seed 002: a shaft offset d_a = 0.3 mm widens the centre distance. Independent closed forms:
+    # As in Jiang et al. (2018): a shaft offset d_a = 0.3 mm widens the centre distance.
+    # Independent closed forms:
     #   cos a_wt = a cos a / a_w;   backlash along the line of action for nominal-thickness
     #   standard teeth j = (z1 + z2) m cos a (inv a_wt - inv a) (involute tooth-space arithmetic),
     #   approximately 2 d_a sin a for small d_a (within 2 %).

@@ -72,9 +72,10 @@ def test_tapered_beam_against_quadrature() -> None:
 
 
 # ---------------------------------------------------------------- Hertz and fillet terms
-def test_hertz_term_is_seed_002_eq_12_and_scales_with_width() -> None:
-    # Line contact of a long face (Yang & Sun 1985; seed 002 eq. 12): 1/k_h = 4 (1-nu^2)/(pi E B),
-    # independent of the contact position. Same closed form: tolerance 1e-12.
+def test_hertz_term_is_the_line_contact_compliance_and_scales_with_width() -> None:
+    # Line contact of a long face (Yang & Sun 1985; Jiang et al. 2018, eq. 12):
+    # 1/k_h = 4 (1-nu^2)/(pi E B), independent of the contact position. Same closed form: tolerance
+    # 1e-12.
     expected = 4 * (1 - NU**2) / (math.pi * E * CLASSIC.face_width)
     assert hertz_compliance(CLASSIC) == pytest.approx(expected, rel=1e-12)
     s = np.linspace(CLASSIC.start_of_contact, CLASSIC.end_of_contact, 5)
@@ -159,8 +160,8 @@ def test_doubling_face_width_doubles_stiffness() -> None:
 
 
 def test_pair_stiffness_shape_over_the_path() -> None:
-    # Known shape (Tian 2004, Chaari 2009): single-pair stiffness is lowest at the ends of the path
-    # (tip loading of one of the teeth) and peaks inside it, near the pitch point.
+    # Known shape (Tian 2004, Chaari et al. 2009): single-pair stiffness is lowest at the ends of
+    # the path (tip loading of one of the teeth) and peaks inside it, near the pitch point.
     s = np.linspace(CLASSIC.start_of_contact, CLASSIC.end_of_contact, 201)
     k = potential_energy_pair_stiffness(CLASSIC, s)
     i = int(np.argmax(k))
@@ -179,9 +180,10 @@ def test_weber_with_foundation_converges_to_pem() -> None:
     np.testing.assert_allclose(web, pem, rtol=3e-3)
 
 
-def test_weber_as_seed_gives_it() -> None:
-    # Seed 002 eq. 11 modulus E (1-nu)/((1+nu)(1-2nu)) = 1.3462 E at nu = 0.3 (hand value), and
-    # eq. 9: k = F / (d_a1 + d_a2 + d_h) with eq. 12 Hertz. Tolerance: 1e-4 on the hand value.
+def test_weber_as_jiang_et_al_give_it() -> None:
+    # Jiang et al. (2018), eq. 11: modulus E (1-nu)/((1+nu)(1-2nu)) = 1.3462 E at nu = 0.3 (hand
+    # value), and eq. 9: k = F / (d_a1 + d_a2 + d_h) with eq. 12 Hertz. Tolerance: 1e-4 on the hand
+    # value.
     assert weber_modulus(E, 0.3) / E == pytest.approx(0.7 / (1.3 * 0.4), rel=1e-12)
     assert weber_modulus(E, 0.3) / E == pytest.approx(1.3462, rel=1e-4)
     s = np.array([CLASSIC.pitch_point])
@@ -205,11 +207,12 @@ def test_weber_as_seed_gives_it() -> None:
 def test_pem_mean_within_band_of_iso(case: tuple[float, ...]) -> None:
     # ISO 6336-1 c_gamma is a fit to measured and FE stiffnesses of steel spur pairs (the standard
     # quotes no error band; published comparisons show +-10-15 %), and potential-energy models are
-    # known to be 5-15 % stiffer than FE (Chaari 2009; Ma 2015). Band: PEM mean / (c_gamma b) in
-    # [0.85, 1.25]. Measured ratios for these pairs: 0.98 .. 1.18 (docs/stiffness.md).
-    # This is a plausibility check against the standard, not the test of the terms: a factor
-    # error in one energy term is caught by the closed forms above (uniform beam, tapered beam
-    # against quadrature, Hertz line contact, Sainsot fillet by hand) and by Weber -> PEM.
+    # known to be 5-15 % stiffer than FE (Chaari et al. 2009; Ma et al. 2015). Band: PEM mean /
+    # (c_gamma b) in [0.85, 1.25]. Measured ratios for these pairs: 0.98 .. 1.18
+    # (docs/stiffness.md). This is a plausibility check against the standard, not the test of the
+    # terms: a factor error in one energy term is caught by the closed forms above (uniform beam,
+    # tapered beam against quadrature, Hertz line contact, Sainsot fillet by hand) and by Weber ->
+    # PEM.
     z1, z2, m, a, b, x1, x2 = case
     pair = GearPair(int(z1), int(z2), m, math.radians(a), b, x1=x1, x2=x2)
     ratio = build_stiffness(pair, "potential_energy").mean / iso6336_stiffness(pair).k_mesh

@@ -19,9 +19,10 @@ from gear_dyn.stiffness.potential_energy import PairCompliance
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENE = ROOT / "gear_dyn" / "scenes" / "helicopter_tail.toml"
-MODULES = ["gear_dyn.plots", "gear_dyn.plots._axes", "gear_dyn.plots.run",
-           "gear_dyn.plots.bench", "gear_dyn.plots.contact", "gear_dyn.plots.excitation",
-           "gear_dyn.plots.stiffness", "gear_dyn.plots.sweep", "gear_dyn.plots.cosim"]
+MODULES = ["gear_dyn.plots", "gear_dyn.plots._axes", "gear_dyn.plots._decimate",
+           "gear_dyn.plots.run", "gear_dyn.plots.bench", "gear_dyn.plots.contact",
+           "gear_dyn.plots.excitation", "gear_dyn.plots.stiffness", "gear_dyn.plots.sweep",
+           "gear_dyn.plots.cosim"]
 
 # Run in a fresh interpreter: records matplotlib.use calls and the backend setting before and
 # after importing the module given as argv[1], and whether pyplot got loaded.

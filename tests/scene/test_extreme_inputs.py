@@ -147,10 +147,10 @@ def test_contact_ratio_below_1_is_refused_with_the_key() -> None:
 
 
 def test_eccentricity_comparable_to_backlash() -> None:
-    """Seed 000 pair with 0.2 mm eccentricities and a 0.2 mm half gap: the teeth separate and
-    could separate. The run ends in a result with finite outputs (or a clear error); where
-    the load keeps the teeth in contact (no contact events), it must equal the run without
-    backlash, the DTE shifted by exactly the half gap (f(u) = u - b in contact)."""
+    """The eccentric pair of Liu et al. (2017) with 0.2 mm eccentricities and a 0.2 mm half gap: the
+    teeth separate and could separate. The run ends in a result with finite outputs (or a clear
+    error); where the load keeps the teeth in contact (no contact events), it must equal the run
+    without backlash, the DTE shifted by exactly the half gap (f(u) = u - b in contact)."""
     base = load(SCENES_DIR / "eccentric_helical.toml")
     sc = _scene(base, backlash__half_gap="0.2 mm", solver__periods=20, solver__steady_periods=10)
     try:

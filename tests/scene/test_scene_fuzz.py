@@ -46,9 +46,6 @@ DOCUMENTED = (InputError, SolverError)
 
 
 def _known_keys() -> dict[str, list[str]]:
-    from gear_dyn.scene import load_feature_sections
-
-    load_feature_sections()
     return {name: [f.name for f in sec.fields] for name, sec in SECTIONS.items()}
 
 

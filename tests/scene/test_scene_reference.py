@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from gear_dyn.cli import main
-from gear_dyn.scene import SECTIONS, load_feature_sections
+from gear_dyn.scene import SECTIONS
 from gear_dyn.scene.reference import scene_reference
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "scenes.md"
@@ -19,7 +19,6 @@ def test_docs_scenes_md_is_in_sync() -> None:
 
 
 def test_every_table_and_key_is_documented() -> None:
-    load_feature_sections()
     text = scene_reference()
     for name, sec in SECTIONS.items():
         assert f"## [{name}]" in text

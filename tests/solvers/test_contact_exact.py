@@ -20,7 +20,13 @@ from scipy.linalg import expm
 from gear_dyn.analysis.accuracy import error_scale, estimate_error, relative_errors
 from gear_dyn.models.sdof import SDOFModel
 from gear_dyn.solvers import SolverSettings, integrate, resolve_auto, time_grid
-from gear_dyn.solvers.contact_exact import find_root, flow, propagate_contact_exact
+from gear_dyn.solvers.contact_exact import (
+    DRIVE,
+    _Piece,
+    find_root,
+    flow,
+    propagate_contact_exact,
+)
 from gear_dyn.stiffness.periodic import rectangular_stiffness
 
 M_E, K1, FM0 = 3.0, 1.0e9, 1272.0  # helicopter-tail magnitudes (kg, N/m, Hz)
@@ -96,6 +102,65 @@ def test_find_root_is_safeguarded() -> None:
         return x**9 - 1e-9
     root = find_root(f, 0.0, 1.0, f(0.0), f(1.0), 1e-15)
     assert abs(root - 1e-1) < 1e-14
+
+
+@pytest.mark.parametrize("root", [0.1, 0.3, 0.123456789, 0.7])
+def test_find_root_survives_values_at_the_smallest_float(root: float) -> None:
+    """End values of the smallest subnormal (5e-324): the Illinois halving underflows them to
+    zero, which once made the secant divide by zero (the backlash scene at 1 rpm, where the
+    settled velocity is rounding noise of that size) and, with zero read as negative, kept the
+    wrong side of the bracket. The bracket must still close on the sign change."""
+    def f(t: float) -> float:
+        return math.copysign(5e-324, t - root)
+    xtol = 1e-15
+    assert abs(find_root(f, 0.0, 1.0, f(0.0), f(1.0), xtol) - root) <= 2 * xtol
+
+
+def test_find_root_starting_on_zero_finds_the_sign_change() -> None:
+    """A bracket whose low end is an exact zero (a piece that starts on the contact boundary)
+    closes on the interior sign change, not on the start."""
+    def f(t: float) -> float:
+        return t * (0.25 - t)
+    assert find_root(f, 0.0, 1.0, 0.0, f(1.0), 1e-15) == pytest.approx(0.25, abs=1e-14)
+
+
+@pytest.mark.parametrize("xi", [0.01, 0.06, 0.5])
+def test_amplitude_bound_never_skips_a_crossing(xi: float) -> None:
+    """Where :meth:`_Piece.stays_inside` says the drive-flank oscillation never reaches the
+    boundary, the closed form sampled at 200 points per damped period over 20 periods stays
+    above it; just beyond the bound (amplitude 1.001 of the distance) the check declines."""
+    model = backlash_model(1.0, 2000.0, xi)
+    pc = _Piece(model, K1, DRIVE)
+    b, dist = float(model.backlash or 0.0), model.static_load / K1
+    x_eq = b + dist
+    s = np.linspace(0.0, 20 * 4 * pc.h, 16001)
+    rng = np.random.default_rng(1)
+    for ratio in (*rng.uniform(0.5, 0.999, 20), 0.999998):
+        angle = rng.uniform(0.0, 2 * math.pi)
+        # a start (u0, v0) with hypot(u0, (v0 + a u0 / 2) / q) = ratio * dist
+        u0 = ratio * dist * math.cos(angle)
+        v0 = ratio * dist * math.sin(angle) * pc.q - 0.5 * (pc.c / pc.m) * u0
+        assert pc.stays_inside(x_eq + u0, v0)
+        x, _v = pc.at(x_eq + u0, v0, s)
+        assert np.min(x) > b
+    assert not pc.stays_inside(x_eq - 1.001 * dist, 0.0)
+
+
+def test_quasi_static_speed_equals_the_linear_model_shifted_by_the_gap() -> None:
+    """At f_m = 1e-4 f_n (a mesh period spans 10 000 natural periods; the scene at 1 rpm) the
+    teeth stay in contact: the backlash propagator's trajectory is the linear model's (the
+    matrix-exponential propagator, method exact) shifted by the half gap, to rounding."""
+    model = backlash_model(1e-4, 2000.0)
+    linear = SDOFModel(mass=model.mass, stiffness=model.stiffness, damping_ratio=0.06,
+                       static_load=model.static_load, mesh_frequency=model.mesh_frequency)
+    t = time_grid(model.mesh_frequency, 3 / model.mesh_frequency, 64)
+    y0_lin = linear.initial_state()
+    b = float(model.backlash or 0.0)
+    y, st = propagate_contact_exact(model, t, y0=y0_lin + np.array([b, 0.0]))
+    y_lin, _ = integrate(linear, t, SolverSettings(method="exact"), y0=y0_lin)
+    assert st["n_contact_events"] == 0
+    scale = float(np.max(np.abs(y_lin[0])))
+    assert np.max(np.abs(y[0] - b - y_lin[0])) <= 1e-12 * scale
 
 
 @pytest.mark.parametrize(("f_ratio", "load", "kick"),

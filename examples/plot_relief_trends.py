@@ -1,20 +1,24 @@
-"""Seed 001 trends of tip relief on the load sharing, shown on the seed 002 helicopter tail pair.
+"""
+Tip relief: length, curve and the load sharing
+==============================================
 
-Relief on the gear tip only (it governs the *entry* of each new pair at A; a pinion relief does
-the same at the exit E), potential-energy single-pair stiffness, T1 = 1474.4 N m
-(deflection in single contact ~ 29 um).
+The trends of Wang et al. (2024) for tip relief and the load sharing, shown on the helicopter
+tail pair of Jiang et al. (2018). Relief on the gear tip only (it governs the *entry* of each new
+pair at A; a pinion relief does the same at the exit E), potential-energy single-pair stiffness,
+T1 = 1474.4 N m (deflection in single contact ~ 29 um).
 
 1. Relief length (linear curve, amount 40 um): 0.25, 0.5, 0.75 and 1.0 times the long relief
    ``(eps_a - 1) p_bt``. A longer relief lengthens the load transition and lowers the entry load.
 2. Relief curve (amount 40 um, long relief): linear, Yoshio, Walker, parabolic, sine.
 
 Measured per case (positions along the line of action, from A, mm):
+
 - pick-up: first position where the entering pair carries more than 1 % of the load;
 - transition: from pick-up to where the load share first reaches 95 % of the unmodified one;
 - entry load: mean load share over the first half of the double-contact zone.
 
-Usage: ``python examples/relief_trends.py [OUT_DIR]`` (default ``relief_trends_out``); writes
-``relief_trends.png`` and ``relief_trends.json`` and prints the table.
+Usage: ``python examples/plot_relief_trends.py [OUT_DIR]`` (default ``relief_trends_out``);
+writes ``relief_trends.png`` and ``relief_trends.json`` and prints the table.
 """
 
 from __future__ import annotations

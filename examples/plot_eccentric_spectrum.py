@@ -1,8 +1,14 @@
-"""Seed 000: the eccentric helical pair's DTE spectrum, its shaft frequencies and sidebands.
+"""
+Eccentric helical pair: shaft frequencies and sidebands
+=======================================================
 
-Usage: ``python examples/eccentric_spectrum.py [OUT_DIR]``; writes ``eccentric_spectrum.png``
-and prints the amplitudes at f_m and the sidebands f_m +- f1, f_m +- f2 (f1 = 25 Hz pinion shaft,
-f2 = 6.43 Hz gear shaft). The error-free twin (``eccentric_helical_ideal``) has no sidebands.
+The eccentric helical pair of Liu et al. (2017) in the torsional model: the spectrum of the mesh
+deflection shows the mesh frequency f_m = 450 Hz, the shaft frequencies f1 = 25 Hz (pinion) and
+f2 = 6.43 Hz (gear), and the sidebands f_m +- f1, f_m +- f2. The error-free twin
+(``eccentric_helical_ideal``) has no sidebands.
+
+Usage: ``python examples/plot_eccentric_spectrum.py [OUT_DIR]``; writes
+``eccentric_spectrum.png`` and prints the amplitudes at f_m and at the sidebands.
 """
 
 from __future__ import annotations

@@ -1,9 +1,9 @@
-"""The cheaper drawing of gear-dyn run's figures gives the same picture."""
+"""Decimating a long line to its per-pixel envelope draws the same picture, and the run figures'
+fixed margins are where they are asked to be."""
 
 from __future__ import annotations
 
 import io
-import re
 from pathlib import Path
 from typing import Any
 
@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
-from matplotlib.ticker import LogFormatterSciNotation
 from PIL import Image
 
-from gear_dyn.plots._fast import UnicodeLogFormatter, envelope, fixed_layout
+from gear_dyn.plots._axes import fixed_layout
+from gear_dyn.plots._decimate import envelope
 from gear_dyn.plots.run import plot_time_history
 from gear_dyn.scene import load_scene, run_scene
 
@@ -57,34 +57,6 @@ def test_envelope_draws_the_same_pixels(result: Any) -> None:
     diff = np.abs(full - reduced).max(axis=2)
     assert diff.max() <= 64
     assert np.count_nonzero(diff > 8) < 0.02 * diff.size
-
-
-def plain(math: str) -> str:
-    """``$\\mathdefault{2\\times10^{-8}}$`` -> ``2×10⁻⁸`` (written out independently)."""
-    m = re.fullmatch(r"\$\\mathdefault\{(.*)\}\$", math)
-    if m is None:
-        return math
-    body = m.group(1).replace("\\times", "×")
-    sup = dict(zip("-−0123456789", "⁻⁻⁰¹²³⁴⁵⁶⁷⁸⁹", strict=True))
-    return re.sub(r"\^\{([^}]*)\}", lambda e: "".join(sup[c] for c in e.group(1)), body)
-
-
-@pytest.mark.parametrize("lim", [(1e-11, 3e2), (1e-3, 50.0), (2.0, 8.0), (3e-7, 2e-6)])
-@pytest.mark.parametrize("minor", [False, True])
-def test_unicode_log_labels_say_what_mathtext_says(lim: tuple[float, float], minor: bool) -> None:
-    fig = Figure()
-    ax = fig.subplots()
-    ax.set_yscale("log")
-    ax.set_ylim(*lim)
-    locs = ax.yaxis.get_minorticklocs() if minor else ax.yaxis.get_majorticklocs()
-    ours, ref = UnicodeLogFormatter(), LogFormatterSciNotation()
-    for f in (ours, ref):
-        f.set_axis(ax.yaxis)
-        f.set_locs(locs)
-    labels = [ours(v) for v in locs]
-    assert labels == [plain(ref(v)) for v in locs]
-    assert not any("$" in s for s in labels)
-    assert any(labels) or minor
 
 
 def test_fixed_layout_margins_in_inches() -> None:

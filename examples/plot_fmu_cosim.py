@@ -1,6 +1,11 @@
-"""Build an FMU of a scene, co-simulate it with fmpy, and compare with the direct solution.
+"""
+Build an FMU and co-simulate it
+===============================
 
-Usage: ``python examples/fmu_cosim.py [OUT_DIR]``; writes ``helicopter_tail.fmu`` and
+Build an FMI 2.0 co-simulation FMU of a scene, run it through fmpy at two communication steps,
+and compare its output with the direct solution of the same scene.
+
+Usage: ``python examples/plot_fmu_cosim.py [OUT_DIR]``; writes ``helicopter_tail.fmu`` and
 ``cosim.png`` (FMU output against solve_ivp, and the difference).
 """
 

@@ -1,8 +1,14 @@
-"""A speed sweep of a scene, locally and on a Dask cluster (same numbers, bit for bit).
+"""
+Speed sweep, locally and on a Dask cluster
+==========================================
 
-Usage: ``python examples/speed_sweep.py [OUT_DIR]``; writes ``sweep.png``. For a real cluster
-replace the LocalCluster by ``Client("tcp://scheduler:8786")`` (or use
-``gear-dyn sweep SCENE --speeds "500 rpm:12000 rpm:300" --out DIR --dask tcp://scheduler:8786``).
+A speed sweep of the helicopter tail scene in this process and on a Dask cluster (a
+``LocalCluster`` here): the same numbers, bit for bit. Needs the ``dask`` extra
+(``pip install "gear_dyn[dask]"``; the docs build installs it). For a real cluster replace the
+LocalCluster by ``Client("tcp://scheduler:8786")``, or run
+``gear-dyn sweep SCENE --speeds "500 rpm:12000 rpm:300" --out DIR --dask tcp://scheduler:8786``.
+
+Usage: ``python examples/plot_speed_sweep.py [OUT_DIR]``; writes ``sweep.png``.
 """
 
 from __future__ import annotations

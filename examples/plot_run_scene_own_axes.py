@@ -1,7 +1,12 @@
-"""Run a packaged scene and draw its plots on your own matplotlib axes.
+"""
+Run a packaged scene into your own axes
+=======================================
 
-Usage: ``python examples/run_scene_own_axes.py [OUT_DIR]``; writes ``own_axes.png``.
-Every gear_dyn plot function takes ``ax=None`` (a new figure) or your axes.
+Load the packaged helicopter tail scene by name, run it, and draw its time history and spectrum
+on axes of your own figure: every gear_dyn plot function takes ``ax=None`` (a new figure) or
+your axes, and returns the Figure.
+
+Usage: ``python examples/plot_run_scene_own_axes.py [OUT_DIR]``; writes ``own_axes.png``.
 """
 
 from __future__ import annotations

@@ -1,8 +1,14 @@
-"""Mesh stiffness of one pair by every method, side by side over one mesh cycle.
+"""
+Mesh stiffness by every method
+==============================
 
-Usage: ``python examples/stiffness_methods.py [OUT_DIR]``; writes ``stiffness_methods.png`` and
-prints each method's mean stiffness. Methods: ISO 6336-1 rectangular wave (``iso6336``),
-potential energy (``potential_energy``, Sainsot fillet foundation), Weber slicing (``weber``).
+The mesh stiffness of one pair by each method, side by side over one mesh cycle: the ISO 6336-1
+rectangular wave (``iso6336``), the potential-energy method with the Sainsot fillet foundation
+(``potential_energy``) and Weber's sliced cantilever with Hertz contact (``weber``), on the
+helicopter tail pair of Jiang et al. (2018).
+
+Usage: ``python examples/plot_stiffness_methods.py [OUT_DIR]``; writes
+``stiffness_methods.png`` and prints each method's mean stiffness.
 """
 
 from __future__ import annotations
@@ -22,7 +28,7 @@ METHODS = ("iso6336", "potential_energy", "weber")
 
 
 def main(out: Path, fast: bool = False) -> dict[str, float]:
-    # the seed 002 helicopter tail pair (SI units in the Python API: m, rad, Pa)
+    # the helicopter tail pair of Jiang et al. (2018) (SI units in the Python API: m, rad, Pa)
     pair = gd.GearPair(z1=23, z2=64, module=6e-3, pressure_angle=math.radians(22.5),
                        face_width=50e-3, youngs_modulus1=207e9, youngs_modulus2=207e9)
     opts = {"samples_per_cycle": 40} if fast else {}

@@ -1,7 +1,7 @@
-"""One run of a model: the trajectory on a uniform grid and the solver statistics.
+"""One bare run of a model: the trajectory on a uniform grid and the solver statistics.
 
-This is the bare simulation; it does no analysis. :func:`gear_dyn.simulate` (the public name,
-:mod:`gear_dyn.analysis.study`) adds the error estimate and the stability checks.
+Bare: it does no analysis. :func:`gear_dyn.simulate` (:mod:`gear_dyn.analysis.study`) is the same
+run with its error estimate and stability checks, and what the API and ``run_scene`` use.
 """
 
 from __future__ import annotations
@@ -52,14 +52,16 @@ def output_grid(model: Model, t_end: float, settings: SolverSettings) -> FloatAr
     return t_grid
 
 
-def simulate(
+def simulate_bare(
     model: Model,
     t_end: float,
     settings: SolverSettings | None = None,
     steady_start: float | None = None,
     scene: Any = None,
 ) -> Result:
-    """Integrate ``model`` from 0 to ``t_end``: trajectory, outputs and solver statistics.
+    """Integrate ``model`` from 0 to ``t_end``: trajectory, outputs and solver statistics only.
+
+    No error estimate and no stability check (:func:`gear_dyn.simulate` adds them).
 
     Parameters
     ----------

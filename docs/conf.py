@@ -1,0 +1,112 @@
+"""Sphinx configuration of the gear_dyn documentation.
+
+Build (warnings are errors), from the repository root::
+
+    pip install ".[docs]" && python -m sphinx -W --keep-going -b html docs docs/_build/html
+
+Pages: Markdown (MyST) beside this file; the API reference from the docstrings (autodoc,
+autosummary, numpydoc; ``docs/api/``); the gallery runs ``examples/plot_*.py``
+(sphinx-gallery, pictures taken from the PNG files each example writes: ``_ext/gallery_files.py``).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+import gear_dyn
+
+DOCS = Path(__file__).resolve().parent
+sys.path.insert(0, str(DOCS / "_ext"))
+os.environ.setdefault("MPLBACKEND", "Agg")
+
+project = "gear_dyn"
+author = "the gear_dyn authors"
+copyright = "the gear_dyn authors, MIT licence"
+release = version = gear_dyn.__version__
+
+extensions = [
+    "sphinx.ext.autodoc",
+    "sphinx.ext.autosummary",
+    "sphinx.ext.mathjax",
+    "sphinx.ext.viewcode",
+    "numpydoc",
+    "myst_parser",
+    "sphinx_gallery.gen_gallery",
+]
+
+source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
+root_doc = "index"
+exclude_patterns = ["_build", "README.md", "gallery/*.ipynb", "gallery/*.py",
+                    "gallery/*.zip", "gallery/*.md5", "gallery/*.json", "gallery/*.codeobj.json"]
+templates_path = ["_templates"]
+
+# --- MyST: the Markdown pages -----------------------------------------------------------------
+myst_enable_extensions = ["colon_fence", "dollarmath"]
+myst_heading_anchors = 3
+suppress_warnings = [
+    # pages link to source files of the repository (tests/..., gear_dyn/....py) as plain paths
+    "myst.xref_missing",
+    # a docstring's relative :mod:`.contact` matches two modules (modification and plots)
+    "ref.python",
+]
+
+# --- API reference: autodoc + autosummary + numpydoc -------------------------------------------
+autosummary_generate = True
+autosummary_imported_members = False
+autosummary_ignore_module_all = False   # a package's page lists the names of its __all__
+autodoc_default_options = {"member-order": "bysource"}
+autodoc_typehints = "none"          # the numpydoc Parameters sections give types and units
+numpydoc_show_class_members = False
+numpydoc_class_members_toctree = False
+numpydoc_xref_param_type = False
+
+# --- gallery -------------------------------------------------------------------------------------
+sphinx_gallery_conf = {
+    "examples_dirs": ["../examples"],
+    "gallery_dirs": ["gallery"],
+    "filename_pattern": r"/plot_",          # run every example (all are plot_*.py)
+    "ignore_pattern": r"__init__\.py",
+    "image_scrapers": ("gallery_files.scrape_pngs",),
+    "reset_argv": "gallery_files.example_argv",
+    "download_all_examples": False,
+    "remove_config_comments": True,
+    "abort_on_example_error": True,
+    "show_memory": False,
+    "min_reported_time": 1,
+}
+
+# --- HTML ----------------------------------------------------------------------------------------
+html_theme = "pydata_sphinx_theme"
+html_title = "gear_dyn"
+html_static_path = ["_static"]
+html_css_files = ["custom.css"]
+html_theme_options = {
+    "navigation_with_keys": False,
+    "show_toc_level": 2,
+    "header_links_before_dropdown": 8,
+    "secondary_sidebar_items": ["page-toc"],
+}
+html_sidebars = {"index": []}
+html_show_sourcelink = False
+
+
+def _signature_of_callables_only(app, what, name, obj, options, sig, retann):  # noqa: ANN001
+    """numpydoc's signature hook, not for data: a type alias (``tuple[...]``) is callable, so
+    numpydoc offers tuple's signature, which Sphinx 9 cannot attach to a data item."""
+    import numpydoc.numpydoc
+
+    if what in ("data", "attribute"):
+        return None
+    return numpydoc.numpydoc.mangle_signature(app, what, name, obj, options, sig, retann)
+
+
+def setup(app):  # noqa: ANN001, ANN201
+    import numpydoc.numpydoc
+
+    for listener in list(app.events.listeners["autodoc-process-signature"]):
+        if listener.handler is numpydoc.numpydoc.mangle_signature:
+            app.disconnect(listener.id)
+            app.connect("autodoc-process-signature", _signature_of_callables_only,
+                        priority=listener.priority)

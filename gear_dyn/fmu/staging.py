@@ -1,0 +1,165 @@
+"""What the FMI 2 and FMI 3 builders share: the scene to build, the private copy of the
+sources and the staging folder.
+
+An FMU carries everything it runs: the generated slave script, a private copy of the gear_dyn
+sources under a name unique to the build (its absolute imports and module-name strings are
+rewritten to that name, so two FMUs in one process, or an FMU next to an installed gear_dyn,
+never share modules), the scene in SI values and the build interpreter's facts.
+:mod:`.build` (FMI 2, pythonfmu) and :mod:`.build3` (FMI 3, pythonfmu3) stage their build here.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import importlib
+import json
+import re
+import secrets
+import shutil
+import sys
+import tempfile
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from gear_dyn.errors import InputError
+from gear_dyn.fmu.native import PYTHON_FILE, python_info
+from gear_dyn.fmu.variables import SPEC_FILE, fmu_spec
+from gear_dyn.scene import Scene, load_scene
+from gear_dyn.scene.packaged import scene_path
+
+PACKAGE_ROOT = Path(__file__).resolve().parent.parent
+#: ``gear-dyn fmu build MODEL``: the packaged scene each model name stands for
+MODEL_SCENES = {"sdof": "helicopter_tail", "torsional": "eccentric_helical"}
+
+_IMPORT_RE = re.compile(r"^([ \t]*)(from|import)([ \t]+)gear_dyn\b", re.MULTILINE)
+_STRING_RE = re.compile(r"""(["'])gear_dyn\.""")
+
+
+@dataclass(frozen=True)
+class BuiltFmu:
+    """What :func:`gear_dyn.fmu.build.build_fmu` made."""
+
+    path: Path
+    model_identifier: str
+    package: str
+    spec: dict[str, Any]
+    #: why the FMU runs only in Python hosts (None: it runs in C hosts too, see .native)
+    c_host_missing: str | None = None
+
+
+def load_fmu_scene(target: str | Path) -> Scene:
+    """A scene from a file, a packaged scene name or a model name (``sdof``, ``torsional``).
+
+    Raises
+    ------
+    SceneError / InputError
+        No such file, scene or model; or an invalid scene.
+    """
+    p = Path(target)
+    if p.suffix == ".toml" or p.exists():
+        return load_scene(p)
+    name = MODEL_SCENES.get(str(target), str(target))
+    candidate = scene_path(name)
+    if candidate.exists():
+        return load_scene(candidate)
+    raise InputError(f"{target}: not a scene file, packaged scene or model name "
+                     f"(models: {', '.join(MODEL_SCENES)})")
+
+
+#: gear_dyn sources the FMU never runs (the slim FMU leaves them out): the CLI, plots, the FMU
+#: build and co-simulation side, file output, and the studies beyond a run's own checks
+NOT_IN_FMU = ("cli/", "plots/", "fmu/build.py", "fmu/build3.py", "fmu/staging.py",
+              "fmu/check.py", "fmu/cosim.py", "fmu/native.py", "io.py",
+              "scene/packaged.py", "scene/sweep.py", "scenes/", "analysis/sweep/",
+              "analysis/bench.py", "analysis/chart.py", "analysis/excitation.py",
+              "analysis/report.py", "analysis/spectrum.py", "analysis/spectrum_labels.py",
+              "analysis/stiffness.py")
+
+
+def _vendor(dest: Path, package: str, skip: tuple[str, ...] = ("fmu/slave3.py",)) -> None:
+    """Copy the gear_dyn sources the FMU runs (all but :data:`NOT_IN_FMU` and ``skip``, the
+    other FMI version's slave) to ``dest/package`` with imports renamed to ``package``."""
+    target = dest / package
+    for src in PACKAGE_ROOT.rglob("*"):
+        rel = src.relative_to(PACKAGE_ROOT)
+        if "__pycache__" in rel.parts or src.is_dir():
+            continue
+        if rel.as_posix().startswith(NOT_IN_FMU + skip):
+            continue
+        if src.suffix not in (".py", ".toml", ".typed"):
+            continue
+        out = target / rel
+        out.parent.mkdir(parents=True, exist_ok=True)
+        if src.suffix == ".py":
+            text = src.read_text("utf-8")
+            text = _IMPORT_RE.sub(lambda m: f"{m[1]}{m[2]}{m[3]}{package}", text)
+            text = _STRING_RE.sub(lambda m: f"{m[1]}{package}.", text)
+            out.write_text(text, "utf-8")
+        else:
+            shutil.copy2(src, out)
+
+
+PATH_SETUP = f"""import sys
+
+if getattr(sys, "gear_dyn_embedded", False):  # started by the boot library (a C host)
+    import json as _json
+    import os as _os
+
+    _here = _os.path.dirname(_os.path.abspath(__file__))
+    with open(_os.path.join(_here, "{PYTHON_FILE}"), encoding="utf-8") as _f:
+        for _p in _json.load(_f)["path"]:  # the build interpreter's import path, as fallback
+            if _p not in sys.path and _os.path.isdir(_p):
+                sys.path.append(_p)
+
+"""
+
+
+def fmu_target(out: str | Path) -> Path:
+    """``out`` as the FMU file to write: a ``.fmu`` name that is not a folder (InputError)."""
+    out = Path(out)
+    if out.suffix != ".fmu":
+        raise InputError(f"--out {out}: an FMU file name must end in .fmu")
+    if out.exists() and out.is_dir():
+        raise InputError(f"--out {out}: is a folder, expected an .fmu file name")
+    return out
+
+
+def build_names(target: str | Path | Scene, tag: str) -> tuple[dict[str, Any], str, str, str]:
+    """The FMU spec of ``target`` and the names of one build: (spec, package, slave module,
+    slave class), each with a fresh token (every FMU loads its own private copy) and ``tag``
+    for the FMI version ("" for 2, "3" for 3)."""
+    scene = target if isinstance(target, Scene) else load_fmu_scene(target)
+    spec = fmu_spec(scene)
+    token = secrets.token_hex(5)
+    kind = spec["model"]
+    return (spec, f"gear_dyn_fmu_{token}", f"gear_dyn_slave{tag}_{kind}_{token}",
+            f"GearDyn{tag}_{kind}_{token}")
+
+
+@contextlib.contextmanager
+def staged_build(spec: dict[str, Any], package: str, module: str, script: str,
+                 skip: tuple[str, ...]) -> Iterator[tuple[Path, Path, list[Path]]]:
+    """A staging folder for an exporter: the private copy of the package (``_vendor``), the
+    FMU spec and build-interpreter files and the slave script ``module.py``. Yields (temporary
+    folder, script path, project files). The exporter imports the script (and so the private
+    copy) from the staging folder: on exit those modules are forgotten and sys.path restored,
+    so the FMU loads its own copy when it is instantiated."""
+    with tempfile.TemporaryDirectory(prefix="gear_dyn_fmu_") as tmp:
+        stage = Path(tmp) / "stage"
+        stage.mkdir()
+        _vendor(stage, package, skip=skip)
+        (stage / SPEC_FILE).write_text(json.dumps(spec, indent=1), "utf-8")
+        (stage / PYTHON_FILE).write_text(json.dumps(python_info(), indent=1), "utf-8")
+        path = stage / f"{module}.py"
+        path.write_text(script, "utf-8")
+        saved_path = list(sys.path)
+        try:
+            yield Path(tmp), path, [stage / package, stage / SPEC_FILE, stage / PYTHON_FILE]
+        finally:
+            sys.path[:] = saved_path
+            for name in [m for m in sys.modules
+                         if m == module or m == package or m.startswith(package + ".")]:
+                del sys.modules[name]
+            importlib.invalidate_caches()
