@@ -1,8 +1,8 @@
-"""Speed sweeps: fixed cost, per-speed cost against the steady-state kernel, workers, Dask.
+"""Speed sweeps: fixed cost, per-speed cost against the steady-state kernel, what workers buy.
 
-Run:  python benchmarks/bench_sweep.py [--repeats 5] [--out DIR] [--record] [--methods]
+Run:  python benchmarks/bench_sweep.py [--repeats 5] [--out DIR] [--record] [--no-dask] [--methods]
 
-Scene `helicopter_tail.toml` (linear, piecewise-constant stiffness) and, for the parallel cases,
+Scene `helicopter_tail.toml` (linear, piecewise-constant stiffness) and
 `helicopter_tail_backlash.toml` (shooting with continuation up and down). Every repeat runs all
 cases interleaved; each line gives the median of the repeats and (min..max); ratios are formed
 inside one repeat and then summarised the same way.
@@ -11,15 +11,16 @@ inside one repeat and then summarised the same way.
    every scene command pays (a process importing the CLI and loading the scene); with and
    without ``--chart both``; the command's per-speed cost from 2 and 2000 speeds; and the whole
    backlash example sweep of docs/sweep.md (71 speeds up and down).
-2. Per-speed cost in-process, 2000 speeds, one process: ``sweep_scene(workers=1)`` (the whole
-   sweep: models, orbit, metrics, spectra, curves) against the steady-state kernel alone, a loop
-   of ``periodic_steady_state(model)`` (monodromy matrix and fixed point) over the same speeds.
-3. ``--workers 2`` against ``--workers 1`` (process pool; the default rule runs small sweeps in
-   the calling process, "forced" is ``min_parallel_s=0``), small and large linear sweeps and the
-   backlash sweep, also with ``method = "DOP853"`` pinned (its orbits sampled by DOP853, not by
-   the exact contact propagator ``auto`` picks: the route before).
-4. The same through a Dask ``LocalCluster`` (2 worker processes, 1 thread each), its start-up
-   and the first (cold) sweep reported apart.
+2. Per-speed cost in-process, 2000 speeds, one process: ``sweep_scene`` (the whole sweep:
+   models, orbit, metrics, spectra, curves) against the steady-state kernel alone, a loop of
+   ``periodic_steady_state(model)`` (monodromy matrix and fixed point) over the same speeds.
+3. What workers buy: ``sweep_scene`` serial (the default) against ``workers=2`` (a process pool
+   of 2, started by each call: its start-up is part of the figure) and, unless ``--no-dask``,
+   a Dask ``LocalCluster`` of 2 processes (started once, outside the figures). Cases: one speed
+   (the fixed cost of a pool), the linear example sweep of docs/sweep.md (300 speeds), 20000
+   linear speeds, and the backlash example sweep (71 speeds up and down), also with
+   ``method = "DOP853"`` pinned (orbits sampled by DOP853 instead of the exact contact
+   propagator: more work per speed). Each parallel result is checked to equal the serial one.
 
 BLAS runs single-threaded (``OPENBLAS_NUM_THREADS=1``, as ``gear-dyn sweep`` sets it): with its
 default threads, on a loaded machine, scipy's ``expm`` of a 3x3 matrix took 10-30 ms.
@@ -64,11 +65,6 @@ GEAR_DYN = str(Path(sys.executable).with_name("gear-dyn"))
 STARTUP = ("import sys; from gear_dyn.cli.app import build_parser; "
            "from gear_dyn.scene import load_scene; load_scene(sys.argv[1])")
 CHUNK = 10  # mesh periods per transient chunk between convergence checks
-
-
-
-
-
 
 #: the children's environment (bytecode compiled as after pip install), set by main()
 ENV: dict[str, str] = {}
@@ -135,7 +131,7 @@ def methods_table(args: argparse.Namespace) -> str:
     """The method comparison (steady vs transient); slow: minutes."""
     scene = load_scene(SCENE)
     speeds = np.linspace(500, 12000, args.speeds) * RPM
-    ref = sweep_scene(scene, speeds, workers=1, rtol=1e-12).curves[0]
+    ref = sweep_scene(scene, speeds, rtol=1e-12).curves[0]
 
     rows = []
 
@@ -144,7 +140,7 @@ def methods_table(args: argparse.Namespace) -> str:
         e_rms = float(np.max(np.abs(rms / ref.rms_dte - 1)))
         return f"{e_df:.1e} / {e_rms:.1e}"
 
-    t_st, ts_st, res = _timed(lambda: sweep_scene(scene, speeds, workers=1), args.repeats)
+    t_st, ts_st, res = _timed(lambda: sweep_scene(scene, speeds), args.repeats)
     c = res.curves[0]
     rows.append(("steady (monodromy, expm)", t_st, ts_st, err(c.dynamic_factor, c.rms_dte),
                  "measured"))
@@ -164,7 +160,6 @@ def methods_table(args: argparse.Namespace) -> str:
     rows.append(("transient until converged (DOP853, rtol 1e-10)", t_dop * scale,
                  [t * scale for t in ts_dop], f"{e_df:.1e} / {e_rms:.1e}",
                  f"extrapolated from {sub.size} speeds ({t_dop:.2f} s)"))
-    t_par, ts_par, _ = _timed(lambda: sweep_scene(scene, speeds), args.repeats)
     base = build_model(scene)
 
     lines = [
@@ -173,7 +168,8 @@ def methods_table(args: argparse.Namespace) -> str:
         f"Command: `python benchmarks/bench_sweep.py --methods --speeds {args.speeds} "
         f"--repeats {args.repeats}`",
         "",
-        f"Scene `gear_dyn/scenes/helicopter_tail.toml` (seed 002, ISO 6336 rectangular stiffness, "
+        "Scene `gear_dyn/scenes/helicopter_tail.toml` (the helicopter tail drive of Jiang et al. "
+        "(2018), ISO 6336 rectangular stiffness, "
         f"zeta = {base.damping_ratio}), {args.speeds} speeds from 500 to 12000 rpm "
         f"(f_m / f_n = {23 * 500 / 60 / base.natural_frequency:.3f} .. "
         f"{23 * 12000 / 60 / base.natural_frequency:.3f}; the main resonance f_m = f_n at "
@@ -204,9 +200,6 @@ def methods_table(args: argparse.Namespace) -> str:
         f"Floquet multiplier is close to 1 (max {float(np.max(c.spectral_radius)):.3f} in this "
         f"range, at {float(c.speed[np.argmax(c.spectral_radius)] / RPM):.0f} rpm).",
         "",
-        f"Default parallel sweep (process pool, {os.cpu_count()} workers, steady): "
-        f"{t_par:.2f} s ({', '.join(f'{x:.2f}' for x in ts_par)}), including the pool start.",
-        "",
         f"Ratio transient-as-run / steady: **{t_run / t_st:.0f} x**; converged exact transient "
         f"/ steady: **{t_tun / t_st:.1f} x**; converged DOP853 transient / steady: "
         f"**{rows[3][1] / t_st:.0f} x** (extrapolated).",
@@ -218,14 +211,14 @@ def methods_table(args: argparse.Namespace) -> str:
 def cli_costs(repeats: int, work: Path) -> dict[str, list[float]]:
     """Whole-process times (s) per repeat: start-up, sweeps of 2 and 2000 speeds, the backlash
     example sweep (71 speeds up and down)."""
-    sweep = [GEAR_DYN, "sweep", str(SCENE), "--workers", "1", "--quiet"]
+    sweep = [GEAR_DYN, "sweep", str(SCENE), "--quiet"]
     cases = {
         "startup": [sys.executable, "-c", STARTUP, str(SCENE)],
         "sweep_2": [*sweep, "--speeds", "500 rpm:12000 rpm:2", "--out", str(work / "a")],
         "sweep_2_charts": [*sweep, "--speeds", "500 rpm:12000 rpm:2", "--out", str(work / "b"),
                            "--chart", "both"],
         "sweep_2000": [*sweep, "--speeds", "500 rpm:12000 rpm:2000", "--out", str(work / "c")],
-        # the documented backlash example (docs/sweep.md), as a user runs it (default workers)
+        # the documented backlash example (docs/sweep.md), as a user runs it (serial)
         "backlash_71": [GEAR_DYN, "sweep", str(BACKLASH), "--quiet", "--speeds",
                         "3000 rpm:10000 rpm:71", "--out", str(work / "d")],
     }
@@ -248,7 +241,7 @@ def kernel_costs(repeats: int, n: int = 2000) -> dict[str, list[float]]:
     factory = SceneModels.of(scene)
     rtol = factory.plan.settings.rtol
     speeds = np.linspace(500, 12000, n) * RPM
-    sweep_scene(scene, speeds[:50], workers=1)
+    sweep_scene(scene, speeds[:50])
 
     def kernel() -> None:
         for s in speeds:
@@ -256,7 +249,7 @@ def kernel_costs(repeats: int, n: int = 2000) -> dict[str, list[float]]:
 
     out: dict[str, list[float]] = {"sweep_ms": [], "kernel_ms": [], "ratio": []}
     for _ in range(repeats):
-        t_s, _r = timed(lambda: sweep_scene(scene, speeds, workers=1))
+        t_s, _r = timed(lambda: sweep_scene(scene, speeds))
         t_k, _ = timed(kernel)
         out["sweep_ms"].append(1e3 * t_s / n)
         out["kernel_ms"].append(1e3 * t_k / n)
@@ -265,23 +258,33 @@ def kernel_costs(repeats: int, n: int = 2000) -> dict[str, list[float]]:
 
 
 def _cases() -> list[tuple[str, Any, np.ndarray, dict[str, Any]]]:
-    """(name, scene, speeds, [solver] overrides). The backlash sweep twice: as the scene says
-    (``auto``: orbits sampled by the exact contact propagator) and with DOP853 pinned (the
-    orbits sampled by DOP853 at the scene's rtol, as every backlash sweep was before)."""
+    """(name, scene, speeds, [solver] overrides)."""
     lin, bl = load_scene(SCENE), load_scene(BACKLASH)
-    bl_speeds = np.linspace(3000, 9000, 24) * RPM
-    return [("linear, 200 speeds", lin, np.linspace(500, 12000, 200) * RPM, {}),
+    bl_speeds = np.linspace(3000, 10000, 71) * RPM
+    return [("linear, 1 speed (a pool's fixed cost)", lin, np.array([3000.0]) * RPM, {}),
+            ("linear, 300 speeds (docs/sweep.md example)", lin,
+             np.linspace(500, 12000, 300) * RPM, {}),
             ("linear, 20000 speeds", lin, np.linspace(500, 12000, 20000) * RPM, {}),
-            ("backlash, 24 speeds up and down", bl, bl_speeds, {}),
-            ("backlash, 24 speeds up and down, DOP853 pinned", bl, bl_speeds,
+            ("backlash, 71 speeds up and down (docs/sweep.md example)", bl, bl_speeds, {}),
+            ("backlash, 71 speeds up and down, DOP853 pinned", bl, bl_speeds,
              {"method": "DOP853"})]
 
 
+def _same(a: Any, b: Any) -> bool:
+    """Every curve array of two sweeps equal bit for bit (NaN where NaN)."""
+    return all(ca.status == cb.status and all(
+        np.array_equal(getattr(ca, n), getattr(cb, n), equal_nan=True)
+        for n in ("speed", "dynamic_factor", "rms_dte", "ptp_dte", "mean_dte", "spectral_radius",
+                  "separation", "backside", "spectrum", "state", "orbit_periods"))
+        for ca, cb in zip(a.curves, b.curves, strict=True))
+
+
 def parallel_costs(repeats: int, dask: bool) -> tuple[dict[str, dict[str, list[float]]],
-                                                      dict[str, float | str]]:
-    """Seconds per case and variant: workers 1, workers 2 (default rule / forced), Dask."""
-    info: dict[str, float | str] = {}
-    ex = None
+                                                      dict[str, float], bool]:
+    """Seconds per case and variant (serial, workers 2, Dask), the Dask cluster's start-up,
+    and whether every parallel result equalled the serial one."""
+    info: dict[str, float] = {}
+    variants: dict[str, dict[str, Any]] = {"serial": {}, "workers 2": {"workers": 2}}
     cluster = client = None
     if dask:
         from distributed import Client, LocalCluster
@@ -290,47 +293,46 @@ def parallel_costs(repeats: int, dask: bool) -> tuple[dict[str, dict[str, list[f
         cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                dashboard_address=None)
         client = Client(cluster)
-        ex = client.get_executor()
+        variants["dask"] = {"executor": client.get_executor()}
         info["dask_start_s"] = time.perf_counter() - t0
-        lin = _cases()[0]
-        info["dask_cold_s"] = timed(lambda: sweep_scene(lin[1], lin[2], executor=ex,
-                                                        min_parallel_s=0))[0]
-    variants: dict[str, dict[str, Any]] = {
-        "workers 1": {"workers": 1}, "workers 2": {"workers": 2},
-        "workers 2, forced": {"workers": 2, "min_parallel_s": 0.0}}
-    if ex is not None:
-        variants["dask"] = {"executor": ex}
-        variants["dask, forced"] = {"executor": ex, "min_parallel_s": 0.0}
+        lin = _cases()[1]
+        # each Dask worker imports gear_dyn and builds the scene once: not in the figures
+        info["dask_cold_s"] = timed(lambda: sweep_scene(lin[1], lin[2],
+                                                        **variants["dask"]))[0]
     out: dict[str, dict[str, list[float]]] = {}
+    same = True
     try:
         for _ in range(repeats):
             for name, scene, speeds, over in _cases():
                 row = out.setdefault(name, {})
+                ref = None
                 for v, kw in variants.items():
                     t, res = timed(lambda kw={**kw, **over}, sc=scene, sp=speeds:
                                    sweep_scene(sc, sp, **kw))
                     row.setdefault(v, []).append(t)
-                    info[f"{name} / {v}"] = res.executor
+                    ref = res if ref is None else ref
+                    same = same and _same(ref, res)
     finally:
         if client is not None:
             client.close()
         if cluster is not None:
             cluster.close()
-    return out, info
+    return out, info, same
 
 
 def report(args: argparse.Namespace, cli: dict[str, list[float]],
            kern: dict[str, list[float]], par: dict[str, dict[str, list[float]]],
-           info: dict[str, float | str]) -> str:
+           info: dict[str, float], same: bool) -> str:
     lines = [
-        "# Speed sweep benchmark: fixed cost, per-speed cost, workers, Dask", "",
-        f"Command: `python benchmarks/bench_sweep.py --repeats {args.repeats}`. Median of "
+        "# Speed sweep benchmark: fixed cost, per-speed cost, what workers buy", "",
+        f"Command: `python benchmarks/bench_sweep.py --repeats {args.repeats}"
+        f"{' --no-dask' if args.no_dask else ''} --record`. Median of "
         f"{args.repeats} interleaved repeats (min..max); ratios formed within one repeat.", "",
         f"Machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores shared "
         f"with other jobs (load average at the end: "
         f"{', '.join(f'{x:.1f}' for x in os.getloadavg())}), Python "
         f"{platform.python_version()}.", "",
-        "## Fixed cost of `gear-dyn sweep` (whole processes; helicopter_tail with --workers 1)", "",
+        "## Fixed cost of `gear-dyn sweep` (whole processes, serial; helicopter_tail)", "",
         "| process | wall time (s) |", "|---|---|",
         f"| start-up: import the CLI, load the scene | {spread(cli['startup'])} |",
         f"| `gear-dyn sweep --speeds 500 rpm:12000 rpm:2` (response, waterfall, CSV, JSON) | "
@@ -338,31 +340,34 @@ def report(args: argparse.Namespace, cli: dict[str, list[float]],
         f"| the same with `--chart both` (stability.png) | {spread(cli['sweep_2_charts'])} |",
         f"| the same with 2000 speeds | {spread(cli['sweep_2000'])} |",
         f"| `gear-dyn sweep helicopter_tail_backlash.toml --speeds 3000 rpm:10000 rpm:71` "
-        f"(default workers) | {spread(cli['backlash_71'])} |", "",
+        f"| {spread(cli['backlash_71'])} |", "",
         f"Fixed cost beyond start-up: **{spread(cli['fixed'])} s** (with the stability charts "
         f"{spread(cli['fixed_charts'])} s); the command's cost per speed "
         f"{spread(cli['cli_per_speed_ms'])} ms.", "",
         "## Per-speed cost against the steady-state kernel (in-process, 2000 speeds)", "",
-        f"Whole sweep (`sweep_scene(workers=1)`): {spread(kern['sweep_ms'])} ms per speed; the "
+        f"Whole sweep (`sweep_scene`, serial): {spread(kern['sweep_ms'])} ms per speed; the "
         f"kernel alone (`periodic_steady_state` per speed): {spread(kern['kernel_ms'])} ms; "
         f"**sweep / kernel = {spread(kern['ratio'], '.2f')}**.", "",
-        "## Workers and Dask (in-process calls, seconds per sweep)", "",
+        "## What workers buy (in-process `sweep_scene` calls, seconds per sweep)", "",
+        "Serial is the default; `workers=2` (`gear-dyn sweep --workers 2`) starts a process pool "
+        "of 2 (spawn) in each call, its start-up included; Dask is a LocalCluster of 2 "
+        "processes started beforehand (`--dask ADDRESS`).", "",
     ]
     variants = list(next(iter(par.values())).keys())
-    lines += ["| case | " + " | ".join(variants) + " | workers 2 / workers 1 | "
-              "dask / workers 1 |", "|---" * (len(variants) + 3) + "|"]
+    ratios = [v for v in variants if v != "serial"]
+    lines += ["| case | " + " | ".join(variants) + " | "
+              + " | ".join(f"{v} / serial" for v in ratios) + " |",
+              "|---" * (1 + len(variants) + len(ratios)) + "|"]
     for case, row in par.items():
-        r2 = [b / a for a, b in zip(row["workers 1"], row["workers 2"], strict=True)]
-        rd = ([b / a for a, b in zip(row["workers 1"], row["dask"], strict=True)]
-              if "dask" in row else [])
-        lines.append(f"| {case} | " + " | ".join(spread(row[v]) for v in variants)
-                     + f" | {spread(r2, '.2f')} | {spread(rd, '.2f') if rd else '-'} |")
-    lines += ["", "Where each default ran (`SweepResult.executor`):", ""]
-    lines += [f"- {k}: {v}" for k, v in info.items()
-              if isinstance(v, str) and "forced" not in k and "workers 1" not in k]
+        rs = [spread([b / a for a, b in zip(row["serial"], row[v], strict=True)], ".2f")
+              for v in ratios]
+        lines.append(f"| {case} | " + " | ".join(spread(row[v]) for v in variants) + " | "
+                     + " | ".join(rs) + " |")
+    lines += ["", "Every parallel sweep gave the serial sweep's numbers bit for bit: "
+              f"{'yes' if same else 'NO'}."]
     if "dask_start_s" in info:
-        lines += ["", f"Dask LocalCluster start {info['dask_start_s']:.2f} s and the first "
-                  f"(cold) forced sweep of 200 speeds {info['dask_cold_s']:.2f} s (each worker "
+        lines += ["", f"Dask LocalCluster start {info['dask_start_s']:.2f} s and its first "
+                  f"(cold) sweep of 300 speeds {info['dask_cold_s']:.2f} s (each worker "
                   "imports gear_dyn and builds the scene once), not in the table."]
     return "\n".join(lines) + "\n"
 
@@ -393,8 +398,8 @@ def main() -> None:
     print(f"fixed cost beyond start-up {spread(cli['fixed'])} s", flush=True)
     kern = kernel_costs(args.repeats)
     print(f"sweep / kernel per speed {spread(kern['ratio'], '.2f')}", flush=True)
-    par, info = parallel_costs(args.repeats, not args.no_dask)
-    text = report(args, cli, kern, par, info)
+    par, info, same = parallel_costs(args.repeats, not args.no_dask)
+    text = report(args, cli, kern, par, info, same)
     print(text)
     (out_dir / "sweep.md").write_text(text)
     print(f"wrote {out_dir / 'sweep.md'}")

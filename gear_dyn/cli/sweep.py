@@ -34,17 +34,16 @@ def register(sub: Any) -> None:
                    "(default); transient: integrate [solver] periods at every speed")
     p.add_argument("--direction", choices=("auto", "up", "down", "both"), default="auto",
                    help="auto (default): up and down with backlash, up otherwise")
-    p.add_argument("--workers", type=int, default=None,
-                   help="local processes, this one included (default: all cores; 1 = in "
-                   "this process only)")
-    p.add_argument("--dask", metavar="ADDRESS", default=None,
-                   help="run on a Dask distributed scheduler at ADDRESS (e.g. tcp://host:8786)")
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, default=None, metavar="N",
+                       help="run blocks of speeds on a pool of N local processes (default: "
+                       "serial, in this process); the results are the same")
+    where.add_argument("--dask", metavar="ADDRESS", default=None,
+                       help="run blocks of speeds on the Dask scheduler at ADDRESS (e.g. "
+                       "tcp://host:8786; needs pip install \"gear_dyn[dask]\")")
     p.add_argument("--block", type=int, default=None,
-                   help="speeds per task (default: 8 with backlash; linear scenes about 20 "
-                   "blocks, 8 per process in parallel, at least 32)")
-    p.add_argument("--min-parallel", type=float, default=None, metavar="SECONDS",
-                   help="the first block runs here and is timed; below this much estimated "
-                   "work left, --workers / --dask are not used (default 0.5; 0: always)")
+                   help="speeds per block (default: 8 with backlash; linear scenes about 20 "
+                   "blocks of at least 32 speeds)")
     p.add_argument("--harmonics", type=int, default=5, help="mesh harmonics in the spectra")
     p.add_argument("--chart", choices=("stiffness", "damping", "both", "none"), default="none",
                    help="stability.png: Floquet stability charts over f_m/f_n and the stiffness "
@@ -94,20 +93,16 @@ def _sweep(args: argparse.Namespace) -> tuple[Any, Any]:
 
     scene = load_scene(args.scene)
     speeds = parse_speed_range(args.speeds)
-    if args.workers is not None and args.workers < 1:
-        raise InputError(f"--workers = {args.workers}: valid range >= 1")
-    if args.min_parallel is not None and not 0 <= args.min_parallel <= 1e6:
-        raise InputError(f"--min-parallel = {args.min_parallel} s: valid range 0..1e6 s")
+    if args.workers is not None and not 1 <= args.workers <= 4096:
+        raise InputError(f"--workers = {args.workers}: valid range 1..4096 processes")
     opts = SweepOptions(method=args.sweep_method, harmonics=args.harmonics)
     show = counter("speed", args.no_progress)
     client = _dask_client(args.dask) if args.dask else None
     try:
         result = sweep_scene(scene, speeds, options=opts, direction=args.direction,
+                             workers=args.workers,
                              executor=None if client is None else client.get_executor(),
-                             workers=args.workers, block=args.block, progress=show,
-                             **({} if args.min_parallel is None else
-                                {"min_parallel_s": args.min_parallel}),
-                             **overrides(args))
+                             block=args.block, progress=show, **overrides(args))
     finally:
         if client is not None:
             client.close()
@@ -120,8 +115,8 @@ def _dask_client(address: str) -> Any:
     try:
         from distributed import Client
     except ImportError:
-        raise InputError("--dask needs the distributed package: pip install "
-                         "'dask[distributed]'") from None
+        raise InputError('--dask needs the optional dask extra: pip install "gear_dyn[dask]"'
+                         ) from None
     try:
         return Client(address, timeout="20s")
     except (OSError, TimeoutError, ValueError) as exc:  # ValueError: a malformed address
@@ -160,9 +155,13 @@ def _print_summary(result: Any, scene: Any, summary: dict[str, Any], chart: str)
         if info["unstable_ranges_rpm"]:
             rng = _ranges(info["unstable_ranges_rpm"])
             print(f"  parametric instability ({d}): {rng} rpm")
+        if info["aperiodic_ranges_rpm"]:
+            rng = _ranges(info["aperiodic_ranges_rpm"])
+            print(f"  no period-1 or period-2 orbit ({d}): {rng} rpm (aperiodic: not "
+                  "periodic, so up and down are not compared there)")
     if summary["hysteresis_ranges_rpm"]:
         rng = _ranges(summary["hysteresis_ranges_rpm"])
-        print(f"  up and down sweeps differ (jumps, hysteresis): {rng} rpm")
+        print(f"  hysteresis, up and down sweeps on different periodic orbits: {rng} rpm")
     if chart == "none" and "stability_chart" not in summary:
         print("  Floquet stability charts around the scene: --chart both (stability.png)")
 

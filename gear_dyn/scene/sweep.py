@@ -7,8 +7,10 @@ picklable (the scene travels as JSON) and builds the scene's model once per proc
 
 from __future__ import annotations
 
+import concurrent.futures as cf
 import json
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
@@ -16,7 +18,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.analysis.sweep import SweepResult, sweep
+from gear_dyn.analysis.sweep import SweepOptions, SweepResult, sweep
 from gear_dyn.errors import InputError, check_range
 from gear_dyn.geometry import GearPair, mesh_frequency
 from gear_dyn.models.base import Model
@@ -25,6 +27,8 @@ from gear_dyn.scene.validated import Scene
 
 FloatArray = NDArray[np.float64]
 RPM = 2 * math.pi / 60
+#: the ``[solver]`` values a sweep may override
+SOLVER_OVERRIDES = ("method", "rtol", "atol", "samples_per_period", "periods", "steady_periods")
 
 
 @lru_cache(maxsize=4)
@@ -75,31 +79,40 @@ def model_at_speed(scene: Scene, speed: float, **overrides: Any) -> Model:
     return SceneModels.of(scene, **overrides)(speed)
 
 
-def sweep_scene(scene: Scene, speeds: Any, **kwargs: Any) -> SweepResult:
+def sweep_scene(scene: Scene, speeds: Any, *, options: SweepOptions | None = None,
+                direction: str = "auto", workers: int | None = None,
+                executor: cf.Executor | None = None, block: int | None = None,
+                progress: Callable[[int, int], None] | None = None,
+                **solver: Any) -> SweepResult:
     """Sweep a scene over pinion speeds (rad/s): :func:`gear_dyn.analysis.sweep.sweep` with the
     scene's model factory, solver settings and span.
 
-    ``kwargs``: the options of :func:`~gear_dyn.analysis.sweep.sweep` (options, direction,
-    executor, workers, block, progress, min_parallel_s) and ``[solver]`` overrides (rtol, method,
-    samples_per_period, periods, steady_periods).
+    Serial in the calling process unless ``workers`` (N >= 2: a local process pool) or an
+    ``executor`` (e.g. ``distributed.Client(...).get_executor()``) is given; the numbers are
+    the same. ``options``, ``direction``, ``workers``, ``executor``, ``block`` and ``progress``
+    are those of :func:`~gear_dyn.analysis.sweep.sweep`; ``solver``: ``[solver]`` overrides
+    (:data:`SOLVER_OVERRIDES`).
 
     Raises
     ------
     InputError
-        Bad speeds, options, overrides or direction.
+        Bad speeds, options, overrides, direction, block or workers; an unknown keyword.
     SolverError
         An integration failed.
     """
-    names = ("options", "direction", "executor", "workers", "block", "progress",
-             "min_parallel_s")
-    sweep_kw = {k: kwargs.pop(k) for k in names if k in kwargs}
-    factory = SceneModels.of(scene, **kwargs)
+    unknown = sorted(set(solver) - set(SOLVER_OVERRIDES))
+    if unknown:
+        raise InputError(f"sweep_scene: unknown option {unknown[0]!r}; valid: options, "
+                         f"direction, workers, executor, block, progress, "
+                         f"{', '.join(SOLVER_OVERRIDES)}")
+    factory = SceneModels.of(scene, **solver)
     plan = factory.plan
     f0 = plan.model.mesh_frequency
     periods = round(plan.t_end * f0)
     steady = round((plan.t_end - plan.steady_start) * f0)
     return sweep(factory, speeds, settings=plan.settings, periods=periods, steady_periods=steady,
-                 name=scene.name, **sweep_kw)
+                 name=scene.name, options=options, direction=direction, workers=workers,
+                 executor=executor, block=block, progress=progress)
 
 
 def parse_speed_range(text: str) -> FloatArray:

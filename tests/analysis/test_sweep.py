@@ -182,30 +182,29 @@ def test_backlash_markers(backlash_sweep) -> None:
     assert all(s in ("periodic", "settled") for c in res.curves for s in c.status)
 
 
-def test_dask_and_local_executor_identical(tmp_path: Path) -> None:
+def test_dask_and_serial_identical(tmp_path: Path) -> None:
     from distributed import Client, LocalCluster
 
     tail = load_scene(TAIL)
     bl = load_scene(BACKLASH)
     sp_tail = np.linspace(2000, 16000, 12) * RPM
     sp_bl = np.array([5000.0, 6000.0, 6400.0]) * RPM
-    local = [sweep_scene(tail, sp_tail, workers=2, block=3, min_parallel_s=0),
-             sweep_scene(bl, sp_bl, workers=2, block=2, min_parallel_s=0)]
+    serial = [sweep_scene(tail, sp_tail, block=3), sweep_scene(bl, sp_bl, block=2)]
     with LocalCluster(n_workers=1, processes=False, threads_per_worker=2,
                       dashboard_address=":0") as cluster, Client(cluster) as client:
         ex = client.get_executor()
-        remote = [sweep_scene(tail, sp_tail, executor=ex, block=3, min_parallel_s=0),
-                  sweep_scene(bl, sp_bl, executor=ex, block=2, min_parallel_s=0)]
+        remote = [sweep_scene(tail, sp_tail, executor=ex, block=3),
+                  sweep_scene(bl, sp_bl, executor=ex, block=2)]
         # the command line reaches the same scheduler by its address
         code = main(["sweep", str(TAIL), "--speeds", "2000 rpm:4000 rpm:3", "--out",
                      str(tmp_path / "d"), "--dask", cluster.scheduler_address, "--chart", "none",
-                     "--no-progress", "--min-parallel", "0"])
+                     "--no-progress"])
         assert code == 0
         assert json.loads((tmp_path / "d" / "sweep.json").read_text())["executor"] == (
             "ClientExecutor")
     assert remote[0].executor == "ClientExecutor"
-    assert local[0].executor == "ProcessPoolExecutor"
-    for a, b in zip(local, remote, strict=True):
+    assert serial[0].executor == "serial"
+    for a, b in zip(serial, remote, strict=True):
         for ca, cb in zip(a.curves, b.curves, strict=True):
             for name in ("speed", "dynamic_factor", "rms_dte", "ptp_dte", "spectral_radius",
                          "separation", "backside", "spectrum"):
@@ -219,12 +218,10 @@ def test_progress_and_thread_executor() -> None:
     seen: list[tuple[int, int]] = []
     with cf.ThreadPoolExecutor(2) as ex:
         res = sweep_scene(scene, np.linspace(1000, 3000, 10) * RPM, executor=ex, block=4,
-                          progress=lambda d, n: seen.append((d, n)), min_parallel_s=0)
-    # one call per finished block (4, 4 and 2 speeds, in any order), counting up to 10
-    assert [n for _d, n in seen] == [10, 10, 10]
-    done = [d for d, _n in seen]
-    assert done[-1] == 10 and sorted(np.diff([0, *done]).tolist()) == [2, 4, 4]
-    assert res.curves[0].speed.size == 10
+                          progress=lambda d, n: seen.append((d, n)))
+    # one call per finished block (4, 4 and 2 speeds), in sweep order (the executor's map)
+    assert seen == [(4, 10), (8, 10), (10, 10)]
+    assert res.curves[0].speed.size == 10 and res.executor == "ThreadPoolExecutor"
 
 
 def test_parse_speed_range() -> None:
@@ -251,6 +248,12 @@ def test_sweep_bad_input() -> None:
         SweepOptions(method="guess")
     with pytest.raises(InputError, match="speed"):
         sweep_scene(scene, [0.0, 100.0], workers=1)
+    with pytest.raises(InputError, match="workers = 0"):
+        sweep_scene(scene, [100.0], workers=0)
+    with cf.ThreadPoolExecutor(1) as ex, pytest.raises(InputError, match="not both"):
+        sweep_scene(scene, [100.0], workers=2, executor=ex)
+    with pytest.raises(InputError, match="unknown option 'min_parallel_s'"):
+        sweep_scene(scene, [100.0], min_parallel_s=0)
 
 
 def test_cli_sweep(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -310,3 +313,23 @@ def test_progress_bar_text() -> None:
     show(10, 10)
     # redrawn in place (carriage return), a newline only when done
     assert buf.getvalue() == "\r[###.......] 3/10 speeds\r[##########] 10/10 speeds\n"
+
+
+def test_cli_where_the_sweep_runs_flags(tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                        monkeypatch: pytest.MonkeyPatch) -> None:
+    out = str(tmp_path / "o")
+    base = ["sweep", str(TAIL), "--speeds", "3000 rpm:4000 rpm:3", "--out", out, "--no-progress"]
+    # --workers and --dask exclude each other; the old threshold flag is gone: usage errors
+    for extra, said in ((["--workers", "2", "--dask", "tcp://h:8786"], "not allowed with"),
+                        (["--min-parallel", "0"], "unrecognized arguments")):
+        assert main([*base, *extra]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and said in err
+    assert main([*base, "--workers", "0"]) == 2
+    assert "--workers = 0: valid range 1..4096" in capsys.readouterr().err
+    # without the optional dask extra: one line naming what to install
+    monkeypatch.setitem(__import__("sys").modules, "distributed", None)
+    assert main([*base, "--dask", "tcp://h:8786"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and 'pip install "gear_dyn[dask]"' in err
+    assert not (tmp_path / "o").exists()

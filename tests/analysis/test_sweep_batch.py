@@ -1,4 +1,4 @@
-"""The vectorised linear block against the per-speed steady path; the serial fallback."""
+"""The vectorised linear block against the per-speed steady path."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from gear_dyn.analysis.sweep import RPM, SweepOptions
 from gear_dyn.analysis.sweep.batch import linear_block
 from gear_dyn.analysis.sweep.points import steady_point
 from gear_dyn.scene import load_scene
-from gear_dyn.scene.sweep import SceneModels, sweep_scene
+from gear_dyn.scene.sweep import SceneModels
 
 SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
 TAIL = SCENES / "helicopter_tail.toml"
@@ -48,29 +48,3 @@ def test_linear_block_declines_backlash() -> None:
     speeds = [3000 * RPM, 4000 * RPM]
     assert linear_block([factory(s) for s in speeds], speeds, factory.plan.settings,
                         SweepOptions()) is None
-
-
-def test_small_sweep_stays_serial_and_equal() -> None:
-    scene = load_scene(TAIL)
-    speeds = np.linspace(1000, 9000, 40) * RPM
-    one = sweep_scene(scene, speeds, workers=1)
-    two = sweep_scene(scene, speeds, workers=2, min_parallel_s=1e3)
-    assert two.executor.startswith("serial:") and "process pool" in two.executor
-    for name in (*FIELDS, "spectrum"):
-        assert np.array_equal(getattr(one.curves[0], name), getattr(two.curves[0], name),
-                              equal_nan=True), name
-
-
-def test_backlash_parallel_equals_serial() -> None:
-    # the calling process runs the up chain, a worker the down chain as one task: the same
-    # continuation, so the same numbers as one process
-    scene = load_scene(BACKLASH)
-    speeds = np.array([5000.0, 5600.0, 6000.0, 6400.0]) * RPM
-    one = sweep_scene(scene, speeds, workers=1, block=2)
-    two = sweep_scene(scene, speeds, workers=2, block=2, min_parallel_s=0)
-    assert two.executor == "ProcessPoolExecutor"
-    for a, b in zip(one.curves, two.curves, strict=True):
-        assert a.direction == b.direction
-        for name in (*FIELDS, "spectrum"):
-            assert np.array_equal(getattr(a, name), getattr(b, name), equal_nan=True), name
-        assert a.status == b.status

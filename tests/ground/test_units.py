@@ -91,3 +91,49 @@ def test_cli_plain_speed_is_exit_2_one_line(tmp_path: Path) -> None:
     assert not (tmp_path / "o").exists()
     assert main(["sweep", str(HELI), "--speeds", "1000:2000:3", "--out",
                  str(tmp_path / "s")]) == 2
+
+
+@pytest.mark.parametrize(("raw", "unit", "message"), [
+    # wrong dimension: the field, the text, what was expected and the valid range
+    ("6 kg", "m", r"module = '6 kg': wrong unit; expected a length \(e\.g\. '6 mm'\), "
+                  r"valid range > 0 m$"),
+    # nanometre in a length-free field: the hint says where Nm means newton-metre
+    ("200 Nm", "m**2", r"wrong unit; .*\(Nm is newton-metre only in torque fields\)"),
+    # a number without a unit: the readings it could have, the usual one first
+    ("1500", "rad/s", r'module = 1500: give a unit, e\.g\. "1500 rpm" \(or "1500 rad/s"\); '
+                      r"a plain number is refused for a rotational speed"),
+    ("25 Hz", "rad/s", r"ambiguous unit for a rotational speed .* rpm, rad/s or turn/s"),
+    ("six mm", "m", r"module = 'six mm': not a number with a unit; expected a length"),
+])
+def test_parse_errors_name_field_value_unit_and_range(raw: str, unit: str, message: str) -> None:
+    from gear_dyn.units import parse_quantity
+
+    with pytest.raises(InputError, match=message):
+        parse_quantity(raw, unit, "module", "> 0 m")
+
+
+def test_torque_spellings_are_newton_metre() -> None:
+    from gear_dyn.units import parse_quantity
+
+    for raw, expected in (("200 Nm", 200.0), ("2 kNm", 2000.0), ("3 N.m", 3.0),
+                          ("4 N·m", 4.0), ("1 MNm", 1e6)):
+        assert parse_quantity(raw, "N*m", "torque", "> 0 N*m") == pytest.approx(expected,
+                                                                                 rel=1e-15)
+
+
+def test_registry_without_a_usable_cache_folder() -> None:
+    """pint raises OSError when its cache folder cannot be made (here: the cache home is a
+    file); the registry is then built from the definition files, with the same values."""
+    import subprocess
+    import sys
+    import tempfile
+
+    if not sys.platform.startswith("linux"):
+        pytest.skip("XDG_CACHE_HOME places pint's cache folder on Linux only")
+    with tempfile.NamedTemporaryFile() as not_a_folder:
+        code = ("from gear_dyn.units import parse_quantity, registry\n"
+                "print(registry()._diskcache, parse_quantity('6 mm', 'm', 'module', '> 0'))")
+        env = {**__import__("os").environ, "XDG_CACHE_HOME": not_a_folder.name}
+        out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                             env=env, check=True).stdout.split()
+    assert out == ["None", "0.006"]

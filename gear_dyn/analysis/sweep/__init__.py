@@ -18,18 +18,25 @@ them (for the single-DOF model only the mesh frequency ``f_m = z1 w / 2 pi``). M
 are swept up and down (the two curves differ where the response has coexisting orbits: the jumps of
 Kahraman & Singh 1990).
 
-Parallel runs: speeds are cut into blocks and the blocks run on any
-:class:`concurrent.futures.Executor`: by default a process pool over the local cores; a Dask
-``distributed.Client(...).get_executor()`` runs the same sweep on a cluster. Linear sweeps run
-all blocks at once; continuation sweeps run their blocks in order, one chain per direction (the
-up and down chains run side by side). Every speed is computed by the same code whatever the
-executor, so the results are identical.
+Where it runs: in the calling process, unless the caller asks for ``workers=N`` (a process pool
+of N processes) or passes an ``executor`` (any :class:`concurrent.futures.Executor`; a Dask
+``distributed.Client(...).get_executor()`` runs the same sweep on a cluster). Then blocks of speeds
+go out through the executor's ``map``: linear sweeps all blocks at once; continuation sweeps one
+round per block, the up and down chains side by side, each block starting where its direction's
+previous block ended. Blocks and their starting states do not depend on the executor, so the
+results are identical to the serial run.
+
+Up and down sweeps that differ are hysteresis only where both directions found a periodic orbit
+(:func:`hysteresis_ranges`); where either direction's response is not periodic the two are not
+compared (:func:`aperiodic_ranges`).
 """
 
-from gear_dyn.analysis.sweep.driver import ModelFactory, run_block, sweep
+from gear_dyn.analysis.sweep.driver import ModelFactory, sweep
 from gear_dyn.analysis.sweep.report import (
+    aperiodic_ranges,
     hysteresis_ranges,
     jumps,
+    periodic_response,
     summarize_sweep,
     sweep_columns,
 )
@@ -45,6 +52,6 @@ from gear_dyn.analysis.sweep.types import (
 
 __all__ = [
     "DIRECTIONS", "METHODS", "RPM", "ModelFactory", "Point", "SweepCurve", "SweepOptions",
-    "SweepResult", "hysteresis_ranges", "jumps", "run_block", "summarize_sweep", "sweep",
-    "sweep_columns",
+    "SweepResult", "aperiodic_ranges", "hysteresis_ranges", "jumps", "periodic_response",
+    "summarize_sweep", "sweep", "sweep_columns",
 ]

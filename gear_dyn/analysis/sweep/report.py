@@ -1,4 +1,8 @@
-"""Tables and summaries of a sweep: CSV columns, ranges, jumps, hysteresis, sweep.json."""
+"""Tables and summaries of a sweep: CSV columns, ranges, jumps, hysteresis, sweep.json.
+
+Hysteresis is claimed only where both directions found a periodic orbit and the two differ;
+where either direction's response is not periodic the summary says so (``aperiodic``) instead.
+"""
 
 from __future__ import annotations
 
@@ -59,8 +63,50 @@ def _ranges(speed: FloatArray, mask: NDArray[np.bool_]) -> list[list[float]]:
     return out
 
 
+def periodic_response(curve: SweepCurve) -> NDArray[np.bool_]:
+    """Per speed, whether the response is a periodic orbit.
+
+    Steady method: an orbit was found (of one or two mesh periods: status ``periodic``,
+    ``settled`` or ``period-2``); not where the status is ``aperiodic`` (no orbit found after
+    settling) or ``unstable``. Transient method (status ``transient``): the measured window
+    repeats after one mesh period (``SweepCurve.periodic``).
+    """
+    transient = np.array([s == "transient" for s in curve.status], dtype=bool)
+    return np.where(transient, curve.periodic, curve.orbit_periods > 0)
+
+
+def _not_periodic(curve: SweepCurve) -> NDArray[np.bool_]:
+    """Speeds with a bounded response that is not a periodic orbit (parametrically unstable
+    speeds of a linear model, NaN, are reported as unstable instead)."""
+    unstable = np.array([s == "unstable" for s in curve.status], dtype=bool)
+    return ~periodic_response(curve) & ~unstable
+
+
+def aperiodic_ranges(result: SweepResult) -> list[list[float]]:
+    """Speed ranges (rpm) where the response of at least one direction is not periodic.
+
+    Up and down are not compared there: a difference between a periodic orbit and a response
+    that is not periodic (or between two such responses) is no hysteresis finding.
+    """
+    mask = np.zeros(result.curves[0].speed.size, dtype=bool)
+    for c in result.curves:
+        m = _not_periodic(c)
+        mask |= m if c.direction == "up" else m[::-1]
+    return _ranges(_up_speeds(result), mask)
+
+
+def _up_speeds(result: SweepResult) -> FloatArray:
+    c = result.curves[0]
+    return c.speed if c.direction == "up" else c.speed[::-1]
+
+
 def hysteresis_ranges(result: SweepResult, rel: float = 0.05) -> list[list[float]]:
-    """Speed ranges (rpm) where the up and down sweeps differ by more than ``rel`` in RMS DTE."""
+    """Speed ranges (rpm) of hysteresis: both the up and the down sweep found a periodic orbit
+    there and the two differ by more than ``rel`` in RMS DTE (coexisting orbits).
+
+    Speeds where either direction's response is not periodic are left out
+    (:func:`aperiodic_ranges`).
+    """
     if len(result.curves) < 2:
         return []
     up, down = result.curve("up"), result.curve("down")
@@ -68,7 +114,8 @@ def hysteresis_ranges(result: SweepResult, rel: float = 0.05) -> list[list[float
     ref = np.maximum(np.abs(up.rms_dte), np.abs(d))
     with np.errstate(invalid="ignore"):
         differ = np.abs(up.rms_dte - d) > rel * ref
-    return _ranges(up.speed, differ & np.isfinite(ref))
+    both = periodic_response(up) & periodic_response(down)[::-1]
+    return _ranges(up.speed, differ & np.isfinite(ref) & both)
 
 
 def jumps(curve: SweepCurve, rel: float = 0.3) -> list[dict[str, float]]:
@@ -104,7 +151,9 @@ def summarize_sweep(result: SweepResult) -> dict[str, Any]:
                     "harmonics": result.options.harmonics,
                     "settle_periods": result.options.settle_periods},
         "curves": {},
+        # both directions periodic and different / either direction not periodic
         "hysteresis_ranges_rpm": hysteresis_ranges(result),
+        "aperiodic_ranges_rpm": aperiodic_ranges(result),
     }
     for c in result.curves:
         finite = np.isfinite(c.dynamic_factor)
@@ -113,8 +162,7 @@ def summarize_sweep(result: SweepResult) -> dict[str, Any]:
                                                                for s in c.status])),
             "separation_ranges_rpm": _ranges(c.speed, np.nan_to_num(c.separation) > 0),
             "backside_ranges_rpm": _ranges(c.speed, np.nan_to_num(c.backside) > 0),
-            "aperiodic_ranges_rpm": _ranges(c.speed, np.array([s == "aperiodic"
-                                                                for s in c.status])),
+            "aperiodic_ranges_rpm": _ranges(c.speed, _not_periodic(c)),
             "period2_ranges_rpm": _ranges(c.speed, c.orbit_periods == 2),
             "jumps": jumps(c),
         }

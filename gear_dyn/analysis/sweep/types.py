@@ -175,7 +175,8 @@ class SweepResult:
     run_time_s : float
         Wall time of the whole sweep.
     executor : str
-        Name of the executor class that ran it.
+        Where it ran: ``serial`` (the calling process), ``ProcessPoolExecutor, N workers``
+        (``workers=N``) or the class name of the executor given (``ClientExecutor`` for Dask).
     """
 
     scene_name: str
