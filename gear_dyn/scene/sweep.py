@@ -23,7 +23,7 @@ from gear_dyn.errors import InputError, check_range
 from gear_dyn.geometry import GearPair, mesh_frequency
 from gear_dyn.models.base import Model
 from gear_dyn.scene.build import RunPlan, build_model, build_pair, build_plan
-from gear_dyn.scene.loader import Scene
+from gear_dyn.scene.validated import Scene
 
 FloatArray = NDArray[np.float64]
 RPM = 2 * math.pi / 60
