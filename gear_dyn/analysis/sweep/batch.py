@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 
 from gear_dyn.analysis.chart import _expm2_sdof
 from gear_dyn.analysis.stability import UNIT_CIRCLE_TOL
+from gear_dyn.analysis.sweep import smooth
 from gear_dyn.analysis.sweep.points import _nan_point
 from gear_dyn.analysis.sweep.types import Point, SweepOptions
 from gear_dyn.models.base import MeshModel, Model
@@ -98,6 +99,23 @@ def _orbits(fm: FloatArray, edges: FloatArray, kappa: FloatArray, gamma: FloatAr
     return out, phi, q
 
 
+def _piecewise_orbits(mesh: list[MeshModel], fm: FloatArray, spp: int
+                      ) -> tuple[FloatArray, FloatArray] | None:
+    """Exact orbits (S, 2, spp) and monodromy (S, 2, 2) for piecewise-constant stiffness, or
+    None."""
+    cells = [_cells(m, spp) for m in mesh]
+    if any(c is None for c in cells):
+        return None
+    first = cast(tuple[FloatArray, ...], cells[0])
+    if any(c[0].shape != first[0].shape or not np.array_equal(c[0], first[0])
+           for c in cast(list[tuple[FloatArray, ...]], cells)):
+        return None  # cells differ between speeds (not seen for sdof models): per speed
+    kap, gam, gg = (np.stack([cast(tuple[FloatArray, ...], c)[i] for c in cells])
+                    for i in (1, 2, 3))
+    y, phi, _q = _orbits(fm, first[0], kap, gam, gg, spp)
+    return y, phi
+
+
 def linear_block(models: Sequence[Model], speeds: Sequence[float], settings: SolverSettings,
                  opts: SweepOptions) -> list[Point] | None:
     """Steady points of a linear single-DOF model at ``speeds`` (rad/s), all at once.
@@ -109,17 +127,13 @@ def linear_block(models: Sequence[Model], speeds: Sequence[float], settings: Sol
         return None
     mesh = [cast(MeshModel, m) for m in models]
     spp = settings.samples_per_period
-    cells = [_cells(m, spp) for m in mesh]
-    if any(c is None for c in cells):
-        return None
-    first = cast(tuple[FloatArray, ...], cells[0])
-    if any(c[0].shape != first[0].shape or not np.array_equal(c[0], first[0])
-           for c in cast(list[tuple[FloatArray, ...]], cells)):
-        return None  # cells differ between speeds (not seen for sdof models): per speed
     fm = np.array([m.mesh_frequency for m in mesh])
-    kap, gam, gg = (np.stack([cast(tuple[FloatArray, ...], c)[i] for c in cells])
-                    for i in (1, 2, 3))
-    y, phi, _q = _orbits(fm, first[0], kap, gam, gg, spp)
+    orbit = _piecewise_orbits(mesh, fm, spp)
+    if orbit is None:
+        if not smooth.covered(mesh):
+            return None
+        orbit = smooth.orbits(mesh, spp, settings.rtol)
+    y, phi = orbit
     mult = np.linalg.eigvals(phi)
     rho = np.max(np.abs(mult), axis=1)
     if not np.all(np.linalg.cond(np.eye(2)[None] - phi) < 1e14):
