@@ -7,7 +7,9 @@ exact: per speed, the mesh period is cut at the stiffness switches and at the ou
 ``y* = [g / kappa, 0]`` the cell's equilibrium; their product is the one-period map, its fixed
 point the orbit, and the same cells carry the orbit to the samples. All speeds of a block go
 through each cell at once (numpy over speeds), so the per-speed cost is a few array rows instead
-of a sequence of small matrix calls. The result equals the per-speed path
+of a sequence of small matrix calls. (Stiffness that varies within a piece, or a transmission
+error: :mod:`gear_dyn.analysis.sweep.smooth`, the same idea with fourth-order Magnus steps.)
+The result equals the per-speed path
 (:func:`gear_dyn.analysis.sweep.points.steady_point`) up to rounding (tests/analysis/
 test_sweep_batch.py compares them).
 """
@@ -120,8 +122,11 @@ def linear_block(models: Sequence[Model], speeds: Sequence[float], settings: Sol
                  opts: SweepOptions) -> list[Point] | None:
     """Steady points of a linear single-DOF model at ``speeds`` (rad/s), all at once.
 
-    Returns None when a model is not covered (backlash, transmission error, smooth stiffness,
-    not single-DOF): the caller then takes the per-speed path.
+    Piecewise-constant stiffness without transmission error: the exact cells above. Varying
+    stiffness or a transmission error (potential_energy, Weber, tip relief): the fourth-order
+    Magnus step maps of :mod:`gear_dyn.analysis.sweep.smooth` over phase tables shared by the
+    block. Returns None when a model is not covered (backlash, not single-DOF): the caller then
+    takes the per-speed path.
     """
     if not models or any(not (m.mesh_periodic and m.is_linear) for m in models):
         return None

@@ -171,12 +171,12 @@ def orbits(models: Sequence[Model], spp: int, rtol: float
     keep[at_sample] = True
     saved = []
     cols = [a.T.copy() for a in (e11, e12, e21, e22, q1, q2)]  # (N, S): contiguous rows
-    for k in range(n):
-        a11, a12, a21, a22, v1, v2 = (col[k] for col in cols)
+    for i in range(n):
+        a11, a12, a21, a22, v1, v2 = (col[i] for col in cols)
         p11, p12, p21, p22 = (a11 * p11 + a12 * p21, a11 * p12 + a12 * p22,
                               a21 * p11 + a22 * p21, a21 * p12 + a22 * p22)
         u1, u2 = a11 * u1 + a12 * u2 + v1, a21 * u1 + a22 * u2 + v2
-        if keep[k]:
+        if keep[i]:
             saved.append((p11, p12, p21, p22, u1, u2))
     phi = np.stack([np.stack([p11, p12], -1), np.stack([p21, p22], -1)], 1)
     y0 = np.linalg.solve(np.eye(2)[None] - phi, np.stack([u1, u2], -1)[:, :, None])[:, :, 0]
