@@ -145,6 +145,8 @@ def _run_chains(run_map: _Map, template: dict[str, Any],
     points: dict[str, list[Point]] = {d: [] for d in chains}
     total = sum(len(blk) for c in chains.values() for blk in c)
     done = 0
+    if progress is not None:
+        progress(0, total)  # a bar from the start, before the first block is done
 
     def finished(d: str, pts: list[Point]) -> None:
         nonlocal done
