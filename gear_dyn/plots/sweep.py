@@ -160,6 +160,47 @@ def plot_sweep_response(result: SweepResult, ax: Any = None,
     return fig
 
 
+def plot_compare(results: Sequence[SweepResult], names: Sequence[str], ax: Any = None) -> Any:
+    """Dynamic factor and RMS DTE of several sweeps against speed, each peak starred.
+
+    Parameters
+    ----------
+    results : sequence of SweepResult
+    names : sequence of str
+        One label per result.
+    ax : sequence of 2 Axes or None
+        Dynamic factor, RMS DTE (None: a new figure).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    own = ax is None
+    fig, axes = axes_of(ax, 2, 1, figsize=(11, 7), name="plot_compare", sharex=True)
+    colors = [f"C{i}" for i in range(10)]
+    for i, (res, name) in enumerate(zip(results, names, strict=True)):
+        col = colors[i % len(colors)]
+        for c in res.curves:
+            ls = "--" if c.direction == "down" else "-"
+            lab = name if len(res.curves) == 1 else f"{name} ({c.direction})"
+            axes[0].plot(c.speed / RPM, c.dynamic_factor, color=col, ls=ls, lw=1.1, label=lab)
+            axes[1].plot(c.speed / RPM, c.rms_dte * 1e6, color=col, ls=ls, lw=1.1)
+        for d, v, s in sweep_peaks(res):
+            tag = "" if len(res.curves) == 1 else f" {d}"
+            axes[0].plot([s], [v], "*", ms=11, color=col, mec="k", mew=0.6,
+                         label=f"peak{tag} {v:.3f} at {s:.0f} rpm")
+    axes[0].set_ylabel("dynamic factor")
+    axes[1].set_ylabel("RMS DTE (µm)")
+    axes[1].set_xlabel("pinion speed (rpm)")
+    for a in axes:
+        a.grid(alpha=0.3)
+    axes[0].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0)
+    if own:
+        fig.suptitle("comparison: " + " / ".join(names), fontsize=10)
+    _layout(fig, own, left=0.08, right=0.7, bottom=0.08, top=0.92, hspace=0.08)
+    return fig
+
+
 def _shade(ax: Any, rpm: np.ndarray, mask: np.ndarray, label: bool) -> None:
     order = np.argsort(rpm)
     r, m = rpm[order], mask[order]
