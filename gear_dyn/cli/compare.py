@@ -68,8 +68,8 @@ def run(args: argparse.Namespace) -> int:
     from gear_dyn.scene import load_scene
     from gear_dyn.scene.sweep import parse_speed_range, sweep_scene
 
-    speeds = parse_speed_range(args.speeds)
     scenes = [load_scene(p) for p in args.scenes]  # every file checked before any sweep
+    speeds = parse_speed_range(args.speeds)
     names = [s.name for s in scenes]
     if len(set(names)) != len(names):
         names = [f"{s.name} ({p.name})" for s, p in zip(scenes, args.scenes, strict=True)]
