@@ -109,7 +109,8 @@ def main() -> None:
              f"(load average at the end: {', '.join(f'{x:.1f}' for x in os.getloadavg())}), "
              f"Python {platform.python_version()}. Median (min..max) of {args.repeats} "
              "repeats.", "",
-             "Before this change (issue 24, finding 4, on the issue's own 28/28 pair): 361 speeds took 0.17 s with iso6336, "
+             "Before this change (issue 24, finding 4, on the issue's own 28/28 pair): 361 "
+             "speeds took 0.17 s with iso6336, "
              "18.6 s with potential_energy and 107 s with tip relief (DOP853 per speed).", "",
              "| stiffness | per speed (ms) | vs iso6336 (target <= 5) |", "|---|---|---|"]
     for k in scenes:
