@@ -146,6 +146,8 @@ def _run_chains(run_map: _Map, template: dict[str, Any],
     points: dict[str, list[Point]] = {d: [] for d in chains}
     total = sum(len(blk) for c in chains.values() for blk in c)
     done = 0
+    if progress is not None:
+        progress(0, total)  # a bar from the start, before the first block is done
 
     def finished(d: str, pts: list[Point]) -> None:
         nonlocal done
@@ -286,7 +288,7 @@ def sweep(
         label = type(executor).__name__
         points = _run_chains(executor.map, template, chains, nonlinear, progress)
     elif workers is not None and workers > 1:
-        label = f"ProcessPoolExecutor, {workers} workers"
+        label = f"process pool, {workers} workers"
         points = _on_pool(workers, template, chains, nonlinear, progress)
     else:
         label = "serial"
