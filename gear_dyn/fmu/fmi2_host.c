@@ -8,7 +8,8 @@
  * (start 0, stop STOP or none), initializes, does N_STEPS steps of STEP seconds and prints
  * "t v1 v2 ..." (%.17g) after initialization and after every step; then terminates, frees the
  * instance, reports the shared libraries mapped into the process ("fmi2_host: mapped PATH"
- * lines on stderr, from /proc/self/maps) and dlcloses the library. Exit code 0 only if every FMI call returned fmi2OK.
+ * lines on stderr, from /proc/self/maps) and dlcloses the library. Exit code 0 only if every
+ * FMI call returned fmi2OK.
  */
 #include <dlfcn.h>
 #include <stdarg.h>
