@@ -42,7 +42,8 @@ C_STEPS, FMPY_STEPS = 200_000, 4000
 
 
 def _trivial(out: Path) -> Path:
-    spec = importlib.util.spec_from_file_location("trivial_build", HERE / "trivial_fmu" / "build.py")
+    spec = importlib.util.spec_from_file_location("trivial_build",
+                                                  HERE / "trivial_fmu" / "build.py")
     assert spec is not None and spec.loader is not None
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
