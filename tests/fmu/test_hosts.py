@@ -239,3 +239,16 @@ def test_trivial_fmu_windows_binary(trivial: dict[int, Path], fmi: int,
     rows = np.loadtxt(out)
     assert rows.shape == (N + 1, 2)
     _assert_exact(rows)
+
+
+@pytest.mark.parametrize("fmi", [2, 3])
+def test_fmu_check_passes_the_trivial_fmu(trivial: dict[int, Path], fmi: int) -> None:
+    """`gear-dyn fmu check` takes any co-simulation FMU: the trivial one passes all four checks,
+    its C host line saying that no libpython was in the process."""
+    from gear_dyn.fmu.check import check_fmu, verdict
+
+    lines = check_fmu(trivial[fmi], n_steps=16)
+    assert [line.name for line in lines] == ["validation", "fmpy run",
+                                             "stop-time independence", "C host"]
+    assert verdict(lines) and all(line.ok for line in lines), lines
+    assert "no libpython in the process" in lines[-1].detail
