@@ -29,6 +29,9 @@ def register(sub: Any) -> None:
     b.add_argument("--fmi", type=int, default=2, choices=(2, 3),
                    help="FMI version: 2 (default, pythonfmu) or 3 (pythonfmu3: pip install "
                    "'gear_dyn[fmi3]')")
+    b.add_argument("--backend", default="native", choices=("native", "python"),
+                   help="native (default): C kernel compiled now, needs no Python on the "
+                   "importing machine (single-DOF scenes, FMI 2); python: the pythonfmu FMU")
     b.add_argument("--no-validate", action="store_true",
                    help="skip the fmpy validation of the built FMU")
     add_quiet_flag(b)
@@ -73,6 +76,8 @@ def run_build(args: argparse.Namespace) -> int:
     from gear_dyn.errors import SolverError
     from gear_dyn.fmu.build import build_fmu
 
+    if args.backend == "native":
+        return _run_build_native(args)
     with Stages(["build FMU"], args.quiet):
         built = build_fmu(args.scene, args.out, fmi=args.fmi)
     n_par = sum(v["causality"] == "parameter" for v in built.spec["variables"])
@@ -88,6 +93,26 @@ def run_build(args: argparse.Namespace) -> int:
     else:
         print(f"C hosts: not supported by this FMU ({built.c_host_missing}); it runs in "
               "Python hosts (fmpy) only")
+    if not args.no_validate:
+        with Stages(["validate (fmpy)"], args.quiet):
+            problems = _problems(built.path)
+        if problems:
+            raise SolverError(f"{built.path}: fmpy validation found {len(problems)} problem(s): "
+                              + "; ".join(problems))
+        print("fmpy validation: no problems")
+    return 0
+
+
+def _run_build_native(args: argparse.Namespace) -> int:
+    from gear_dyn.errors import SolverError
+    from gear_dyn.fmu.export_fmu import build_native_fmu
+
+    with Stages(["build native FMU"], args.quiet):
+        built = build_native_fmu(args.scene, args.out, fmi=args.fmi)
+    t = built.model.table
+    print(f"{built.scene_name}: native FMU -> {built.path} (FMI {args.fmi}.0 co-simulation, "
+          f"model identifier {built.model_identifier}; {t.flat.size} table pieces, "
+          f"{'exact' if t.exact else 'fitted'})")
     if not args.no_validate:
         with Stages(["validate (fmpy)"], args.quiet):
             problems = _problems(built.path)
