@@ -148,13 +148,13 @@ def _knots(part: Any) -> tuple[FloatArray, bool] | None:
         ph = np.concatenate([part.edges] + [np.asarray(s[0], float) for s in part.samples])
         return ph, True
     if isinstance(part, SampledSignal):
-        ph = [np.asarray(part.phase, dtype=float)]
+        phs: list[FloatArray] = [np.asarray(part.phase, dtype=float)]
         for name in ("edges", "seg_phase"):  # PiecewiseSignal's jumps and segments
             extra = getattr(part, name, None)
             if extra is not None and len(extra):
-                ph.append(np.concatenate([np.atleast_1d(np.asarray(e, float)) for e in extra])
+                phs.append(np.concatenate([np.atleast_1d(np.asarray(e, float)) for e in extra])
                           if name == "seg_phase" else np.asarray(extra, float))
-        return np.concatenate(ph), True
+        return np.concatenate(phs), True
     sw = getattr(part, "switching_phases", np.empty(0))
     return np.asarray(sw, dtype=float), False
 
@@ -220,7 +220,7 @@ def phase_table(model: SDOFModel) -> PhaseTable:
     return PhaseTable(br, degree, coef, flat, linear, max_error)
 
 
-def native_model(model: SDOFModel, pair: GearPair, speed: float, torque: float,
+def native_model(model: Any, pair: GearPair, speed: float, torque: float,
                  tolerance: float = 1e-10) -> NativeModel:
     """The native FMU's data for a single-DOF model built at ``speed`` (rad/s), ``torque`` (N m).
 

@@ -160,10 +160,10 @@ def build_native_fmu(target: str | Path, out: Path, fmi: int = 2,
             z.write(so, f"binaries/linux64/{ident}.so")
             for s in srcs:
                 z.write(s, f"sources/{s.name}")
-            for h in HEADERS:
-                z.write(NATIVE_DIR / h, f"sources/{h}")
-            for h in sorted((NATIVE_DIR / "fmi2").iterdir()):
-                z.write(h, f"sources/fmi2/{h.name}")
+            for name in HEADERS:
+                z.write(NATIVE_DIR / name, f"sources/{name}")
+            for hdr in sorted((NATIVE_DIR / "fmi2").iterdir()):
+                z.write(hdr, f"sources/fmi2/{hdr.name}")
         payload = buf.read_bytes()
     if len(payload) > MAX_SIZE:
         raise InputError(f"native FMU: {len(payload)} bytes, valid range <= {MAX_SIZE} bytes")
