@@ -29,9 +29,11 @@ def register(sub: Any) -> None:
     b.add_argument("--fmi", type=int, default=2, choices=(2, 3),
                    help="FMI version: 2 (default, pythonfmu) or 3 (pythonfmu3: pip install "
                    "'gear_dyn[fmi3]')")
-    b.add_argument("--backend", default="native", choices=("native", "python"),
-                   help="native (default): C kernel compiled now, needs no Python on the "
-                   "importing machine (single-DOF scenes, FMI 2); python: the pythonfmu FMU")
+    b.add_argument("--backend", default=None, choices=("native", "python"),
+                   help="native (the default for single-DOF scenes): C kernel compiled now, "
+                   "needs no Python on the importing machine; python: the pythonfmu FMU, every "
+                   "scene key a parameter (the default, with a note, for the torsional model, "
+                   "which has no native kernel yet)")
     b.add_argument("--no-validate", action="store_true",
                    help="skip the fmpy validation of the built FMU")
     add_quiet_flag(b)
@@ -76,8 +78,15 @@ def run_build(args: argparse.Namespace) -> int:
     from gear_dyn.errors import SolverError
     from gear_dyn.fmu.build import build_fmu
 
-    if args.backend == "native":
-        return _run_build_native(args)
+    if args.backend != "python":
+        from gear_dyn.fmu.export import NotNativeError
+
+        try:
+            return _run_build_native(args)
+        except NotNativeError as exc:
+            if args.backend == "native":  # asked for explicitly: refuse
+                raise
+            print(f"backend: python (pythonfmu), because {exc.reason}")
     with Stages(["build FMU"], args.quiet):
         built = build_fmu(args.scene, args.out, fmi=args.fmi)
     n_par = sum(v["causality"] == "parameter" for v in built.spec["variables"])

@@ -49,6 +49,20 @@ MIN_WIDTH = 1e-12
 CHECK_POINTS = 24
 
 
+class NotNativeError(InputError):
+    """The scene's model has no native kernel (yet): build the pythonfmu FMU instead.
+
+    Attributes
+    ----------
+    reason : str
+        Why, in a few words ("the TorsionalModel model has no native kernel yet").
+    """
+
+    def __init__(self, reason: str) -> None:
+        super().__init__(f"native FMU: {reason}; build with --backend python")
+        self.reason = reason
+
+
 @dataclass(frozen=True)
 class PhaseTable:
     """Piecewise polynomials of ``k``, ``e`` and ``de/dp`` over one mesh cycle.
@@ -226,13 +240,14 @@ def native_model(model: Any, pair: GearPair, speed: float, torque: float,
 
     Raises
     ------
+    NotNativeError
+        Not a single-DOF mesh model (the torsional model has no native kernel yet).
     InputError
-        Not a single-DOF mesh model (the torsional model has no native kernel yet), or a
-        stiffness the table cannot represent.
+        A stiffness the table cannot represent.
     """
     if not isinstance(model, SDOFModel):
-        raise InputError(f"native FMU: model {type(model).__name__} is not supported (the "
-                         "single-DOF model is); build with --backend python")
+        raise NotNativeError(f"the {type(model).__name__} model has no native kernel yet "
+                             "(single-DOF scenes only)")
     return NativeModel(
         table=phase_table(model), mass=model.mass, mean_stiffness=model.mean_stiffness,
         rb1=pair.rb1, rb2=pair.rb2, z1=int(pair.z1), phase0=float(model.phase0),

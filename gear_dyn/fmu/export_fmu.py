@@ -118,7 +118,7 @@ def build_native_fmu(target: str | Path, out: Path, fmi: int = 2,
     Parameters
     ----------
     target : str or Path
-        Scene file, packaged scene name or model name.
+        Scene file, packaged scene name or model name (``sdof``).
     out : Path
         FMU file to write.
     fmi : int
@@ -128,19 +128,21 @@ def build_native_fmu(target: str | Path, out: Path, fmi: int = 2,
 
     Raises
     ------
+    NotNativeError
+        A scene whose model has no native kernel (the torsional model).
     InputError
-        A scene whose model has no native kernel, no C compiler, FMI 3, an FMU over
-        :data:`MAX_SIZE`.
+        Bad scene or output name, no C compiler, FMI 3, an FMU over :data:`MAX_SIZE`.
     SolverError
         The C compiler failed.
     """
-    from gear_dyn.scene import build_pair, build_plan, load_scene
-    from gear_dyn.scene.packaged import resolve_scene
+    from gear_dyn.fmu.staging import fmu_target, load_fmu_scene
+    from gear_dyn.scene import build_pair, build_plan
 
     if fmi != 2:
         raise InputError(f"--fmi {fmi}: the native FMU is built for FMI 2 only so far; use "
                          "--backend python for FMI 3")
-    scene = load_scene(resolve_scene(target))
+    out = fmu_target(out)
+    scene = load_fmu_scene(target)
     plan = build_plan(scene)
     op = scene.get("operating")
     nm = native_model(plan.model, build_pair(scene), op["speed"], op["torque"], tolerance)
