@@ -30,7 +30,7 @@ def register(sub: Any) -> None:
                    help="FMI version: 2 (default, pythonfmu) or 3 (pythonfmu3: pip install "
                    "'gear_dyn[fmi3]')")
     b.add_argument("--backend", default=None, choices=("native", "python"),
-                   help="native (the default for single-DOF scenes): C kernel compiled now, "
+                   help="native (the default for single-DOF scenes, FMI 2 and 3): C kernel compiled now, "
                    "needs no Python on the importing machine; python: the pythonfmu FMU, every "
                    "scene key a parameter (the default, with a note, for the torsional model, "
                    "which has no native kernel yet)")

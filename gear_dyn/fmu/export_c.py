@@ -8,6 +8,7 @@ The kernel and the FMI glue are fixed sources in ``gear_dyn/fmu/native/``; only
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import subprocess
 from dataclasses import dataclass
@@ -23,8 +24,11 @@ NATIVE_DIR = Path(__file__).parent / "native"
 KERNEL_SOURCES = ("gd_kernel.c",)
 GLUE_SOURCES = {2: ("gd_fmi2.c",), 3: ("gd_fmi3.c",)}
 HEADERS = ("gd_kernel.h",)
+_HEADER = (NATIVE_DIR / "gd_kernel.h").read_text("utf-8")
 #: the table format the kernel reads (GD_TABLE_FORMAT in gd_kernel.h)
-TABLE_FORMAT = 1
+TABLE_FORMAT = int(re.search(r"#define GD_TABLE_FORMAT (\d+)", _HEADER)[1])  # type: ignore[index]
+#: the kernel's version (GD_KERNEL_VERSION in gd_kernel.h)
+KERNEL_VERSION = re.search(r'#define GD_KERNEL_VERSION "([^"]+)"', _HEADER)[1]  # type: ignore[index]
 CFLAGS = ("-std=c99", "-O2", "-fPIC", "-Wall", "-Wextra", "-Werror", "-pedantic")
 
 

@@ -20,16 +20,6 @@ static void logmsg(inst *c, fmi2Status status, const char *msg)
     if (c->cb.logger) c->cb.logger(c->cb.componentEnvironment, c->name, status, "logError", msg);
 }
 
-static fmi2Status range_error(inst *c, int i, double value)
-{
-    const gd_param *p = &M->params[i];
-    char msg[256];
-    snprintf(msg, sizeof msg, "%s = %.17g %s is out of range: valid range %s%.17g, %.17g] %s", p->name,
-            value, p->unit, p->low_open ? "(" : "[", p->low, p->high, p->unit);
-    logmsg(c, fmi2Error, msg);
-    return fmi2Error;
-}
-
 const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
 const char *fmi2GetVersion(void) { return fmi2Version; }
 
@@ -86,30 +76,20 @@ fmi2Status fmi2Reset(fmi2Component c)
 
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Real v[])
 {
-    inst *i = (inst *)c;
-    double out[GD_NOUT];
-    size_t k;
-    gd_outputs(&i->st, M, out);
-    for (k = 0; k < n; k++) {
-        if (vr[k] >= 1 && vr[k] <= GD_NPAR) v[k] = i->st.par[vr[k] - 1];
-        else if (vr[k] > GD_NPAR && vr[k] <= GD_NPAR + GD_NOUT) v[k] = out[vr[k] - GD_NPAR - 1];
-        else return fmi2Error;
-    }
-    return fmi2OK;
+    return gd_get(&((inst *)c)->st, M, vr, n, v) == GD_OK ? fmi2OK : fmi2Error;
 }
 
 fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
                        const fmi2Real v[])
 {
     inst *i = (inst *)c;
+    char msg[256];
     size_t k;
-    for (k = 0; k < n; k++) {
-        int j = (int)vr[k] - 1;
-        if (j < 0 || j >= GD_NPAR || (j == GD_HALF_GAP && !M->has_backlash)) return fmi2Error;
-        if (i->started && j > GD_TORQUE) return fmi2Error;  /* parameters are fixed */
-        if (gd_check(M, j, v[k]) != GD_OK) return range_error(i, j, v[k]);
-        i->st.par[j] = v[k];
-    }
+    for (k = 0; k < n; k++)
+        if (gd_set(&i->st, M, vr[k], v[k], i->started, msg, sizeof msg) != GD_OK) {
+            logmsg(i, fmi2Error, msg);
+            return fmi2Error;
+        }
     return fmi2OK;
 }
 
@@ -201,8 +181,7 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean no_pr
     (void)no_prior;
     rc = gd_advance(&i->st, M, t + h);
     if (rc == GD_OK) return fmi2OK;
-    logmsg(i, fmi2Error, "gear_dyn kernel: step failed (step size underflow or too many "
-           "contact changes); lower solver.tolerance or check the inputs");
+    logmsg(i, fmi2Error, GD_STEP_MESSAGE);
     return fmi2Error;
 }
 

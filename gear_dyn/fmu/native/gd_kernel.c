@@ -4,6 +4,7 @@
  * boundaries are time events; backlash contact changes are located by root finding (Illinois
  * method) on the closed form or the dense output. */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 #include "gd_kernel.h"
 
@@ -361,4 +362,44 @@ void gd_outputs(const gd_state *s, const gd_model *m, double *out)
     out[GD_FORCE] = k[0] * f + 2.0 * s->par[GD_ZETA] * sqrt(m->mass * m->k_mean) * ud;
     out[GD_K] = k[0];
     out[GD_DRIVEN] = (m->rb1 * s->par[GD_SPEED] - s->v) / m->rb2;
+}
+
+int gd_get(const gd_state *s, const gd_model *m, const unsigned *vr, size_t n, double *v)
+{
+    double out[GD_NOUT];
+    size_t k;
+    gd_outputs(s, m, out);
+    for (k = 0; k < n; k++) {
+        if (vr[k] == 0) v[k] = s->t;   /* FMI 3's independent variable */
+        else if (vr[k] <= GD_NPAR) v[k] = s->par[vr[k] - 1];
+        else if (vr[k] > GD_NPAR && vr[k] <= GD_NPAR + GD_NOUT) v[k] = out[vr[k] - GD_NPAR - 1];
+        else return GD_ERR_VR;
+    }
+    return GD_OK;
+}
+
+int gd_set(gd_state *s, const gd_model *m, unsigned vr, double value, int started, char *msg,
+           size_t len)
+{
+    int j = (int)vr - 1;
+    const gd_param *p;
+    const char *u;
+    if (j < 0 || j >= GD_NPAR || (j == GD_HALF_GAP && !m->has_backlash)) {
+        snprintf(msg, len, "value reference %u: not a parameter or input of this FMU", vr);
+        return GD_ERR_VR;
+    }
+    p = &m->params[j];
+    if (started && j > GD_TORQUE) {
+        snprintf(msg, len, "%s is a fixed parameter: set it before initialization "
+                 "(or reset the instance)", p->name);
+        return GD_ERR_VR;
+    }
+    if (gd_check(m, j, value) != GD_OK) {
+        u = strcmp(p->unit, "1") ? p->unit : "";
+        snprintf(msg, len, "%s = %.17g %s is out of range: valid range %s%.17g, %.17g] %s",
+                 p->name, value, u, p->low_open ? "(" : "[", p->low, p->high, u);
+        return GD_ERR_RANGE;
+    }
+    s->par[j] = value;
+    return GD_OK;
 }

@@ -8,6 +8,8 @@
 #ifndef GD_KERNEL_H
 #define GD_KERNEL_H
 
+#include <stddef.h>
+
 #define GD_KERNEL_VERSION "1.0.0"
 #define GD_TABLE_FORMAT 1
 
@@ -45,12 +47,21 @@ typedef struct {
     long n_events;
 } gd_state;
 
-enum { GD_OK = 0, GD_ERR_RANGE = 1, GD_ERR_STEP = 2 };
+enum { GD_OK = 0, GD_ERR_RANGE = 1, GD_ERR_STEP = 2, GD_ERR_VR = 3 };
+
+/* the message of a failed step (both FMI versions log it) */
+#define GD_STEP_MESSAGE "gear_dyn kernel: step failed (step size underflow or too many " \
+    "contact changes); lower solver.tolerance or check the inputs"
 
 void gd_defaults(gd_state *s, const gd_model *m);
 int gd_check(const gd_model *m, int i, double value);
 void gd_start(gd_state *s, const gd_model *m, double t0);
 int gd_advance(gd_state *s, const gd_model *m, double t_end);
 void gd_outputs(const gd_state *s, const gd_model *m, double *out);
+/* the FMI glue of both versions: values by value reference (0 time, 1..GD_NPAR the parameters
+ * and inputs, then the outputs); gd_set writes one message into msg on a refused value */
+int gd_get(const gd_state *s, const gd_model *m, const unsigned *vr, size_t n, double *v);
+int gd_set(gd_state *s, const gd_model *m, unsigned vr, double value, int started, char *msg,
+           size_t len);
 
 #endif
