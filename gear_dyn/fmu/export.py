@@ -47,6 +47,11 @@ SMOOTH_DEGREE = 10
 MIN_WIDTH = 1e-12
 #: check points per piece for the stated interpolation error
 CHECK_POINTS = 24
+#: stated error of the native FMU's DTE, in units of the static deflection W/k_m: every piece
+#: closed form on an exact table (rounding only) ...
+EXACT_ERROR = 1e-9
+#: ... and otherwise (Runge-Kutta pieces at solver.tolerance <= 1e-10, or a fitted table)
+RK_ERROR = 1e-6
 
 
 class NotNativeError(InputError):
@@ -151,6 +156,13 @@ class NativeModel:
     def static_deflection(self) -> float:
         """W / k_m at the start torque, m."""
         return self.torque / self.rb1 / self.mean_stiffness
+
+    @property
+    def stated_error(self) -> float:
+        """Stated error of the DTE relative to :attr:`static_deflection`: :data:`EXACT_ERROR`
+        when every piece is exact and flat (closed form), else :data:`RK_ERROR`."""
+        t = self.table
+        return EXACT_ERROR if t.exact and bool(np.all(t.flat)) else RK_ERROR
 
 
 def _knots(part: Any) -> tuple[FloatArray, bool] | None:

@@ -5,6 +5,7 @@
  * method) on the closed form or the dense output. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include "gd_kernel.h"
 
@@ -378,12 +379,21 @@ int gd_get(const gd_state *s, const gd_model *m, const unsigned *vr, size_t n, d
     return GD_OK;
 }
 
+/* the shortest of %.15g, %.17g that reads back as v */
+static const char *num(char *buf, double v)
+{
+    sprintf(buf, "%.15g", v);
+    if (strtod(buf, NULL) != v) sprintf(buf, "%.17g", v);
+    return buf;
+}
+
 int gd_set(gd_state *s, const gd_model *m, unsigned vr, double value, int started, char *msg,
            size_t len)
 {
     int j = (int)vr - 1;
     const gd_param *p;
     const char *u;
+    char a[32], b[32], c[32];
     if (j < 0 || j >= GD_NPAR || (j == GD_HALF_GAP && !m->has_backlash)) {
         snprintf(msg, len, "value reference %u: not a parameter or input of this FMU", vr);
         return GD_ERR_VR;
@@ -396,8 +406,9 @@ int gd_set(gd_state *s, const gd_model *m, unsigned vr, double value, int starte
     }
     if (gd_check(m, j, value) != GD_OK) {
         u = strcmp(p->unit, "1") ? p->unit : "";
-        snprintf(msg, len, "%s = %.17g %s is out of range: valid range %s%.17g, %.17g] %s",
-                 p->name, value, u, p->low_open ? "(" : "[", p->low, p->high, u);
+        snprintf(msg, len, "%s = %s%s%s is out of range: valid range %s%s, %s]%s%s", p->name,
+                 num(a, value), *u ? " " : "", u, p->low_open ? "(" : "[", num(b, p->low),
+                 num(c, p->high), *u ? " " : "", u);
         return GD_ERR_RANGE;
     }
     s->par[j] = value;
