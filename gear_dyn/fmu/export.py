@@ -34,6 +34,7 @@ from numpy.typing import NDArray
 from gear_dyn.errors import InputError
 from gear_dyn.excitation import SampledSignal
 from gear_dyn.geometry import GearPair
+from gear_dyn.models.relief import ReliefSDOFModel
 from gear_dyn.models.sdof import SDOFModel
 from gear_dyn.stiffness.periodic import PiecewiseStiffness
 
@@ -135,6 +136,9 @@ class NativeModel:
         Backlash half gap in m, None without backlash.
     transmission_error : bool
         The table carries a static transmission error.
+    load_tables : bool
+        The tables come from a loaded-contact analysis at the build torque (tip relief): the
+        torque input then changes W only, the tables stay those of :attr:`torque`.
     """
 
     table: PhaseTable
@@ -151,6 +155,7 @@ class NativeModel:
     tolerance: float
     half_gap: float | None
     transmission_error: bool
+    load_tables: bool = False
 
     @property
     def static_deflection(self) -> float:
@@ -267,6 +272,7 @@ def native_model(model: Any, pair: GearPair, speed: float, torque: float,
         damping_ratio=float(model.damping_ratio), tolerance=float(tolerance),
         half_gap=None if model.backlash is None else float(model.backlash),
         transmission_error=model.transmission_error is not None,
+        load_tables=isinstance(model, ReliefSDOFModel),
     )
 
 

@@ -62,7 +62,17 @@ def _description(nm: NativeModel, scene_name: str) -> str:
             "geometry and the tables of k(p), e(p) over one mesh cycle are fixed at build "
             f"({t.flat.size} pieces, {kind}); the parameters are what the kernel applies "
             f"without geometry. Stated error of the DTE: {nm.stated_error:.0e} of the static "
-            f"deflection W/k_m ({method}).")
+            f"deflection W/k_m ({method}).{_load_note(nm)}")
+
+
+def _load_note(nm: NativeModel) -> str:
+    """The sentence that says the loaded-contact tables belong to the build torque."""
+    if not nm.load_tables:
+        return ""
+    return (f" The loaded-contact tables (tangent stiffness k_t(p) and the relief's e(p)) are "
+            f"those of the build torque {nm.torque!r} N.m: the torque input changes the load "
+            "W = T1/r_b1 only (the model is linearised about the build load); rebuild the FMU "
+            "for another operating torque.")
 
 
 def _units() -> str:
@@ -77,9 +87,13 @@ def _variables(nm: NativeModel) -> list[tuple[int, str, dict[str, str]]]:
     for vr, (p, start) in enumerate(zip(PARAMS, start_values(nm), strict=True), start=1):
         if p.name == "backlash.half_gap" and nm.half_gap is None:
             continue
+        doc = p.description
+        if p.name == "operating.torque" and nm.load_tables:
+            doc += (f"; changes W only: the loaded-contact tables are fixed at the build "
+                    f"torque {nm.torque!r} N.m")
         attrs = {"name": p.name, "causality": p.causality,
                  "variability": "continuous" if p.causality == "input" else "fixed",
-                 "description": p.description, "start": repr(start),
+                 "description": doc, "start": repr(start),
                  "min": repr(p.low), "max": repr(p.high),
                  "nominal": repr(abs(start) if start else 1.0)}
         if p.unit != "1":

@@ -228,5 +228,24 @@ def test_native_and_pythonfmu_agree(native_fmus, tmp_path_factory) -> None:
     scale = model.static_load / model.mean_stiffness
     err = float(np.max(np.abs(a["dte"] - b["dte"]))) / scale
     assert err < stated_error(nat), f"{err:.3g} W/k_m"
-    f_err = float(np.max(np.abs(a["mesh_force"] - b["mesh_force"]))) / model.static_load
-    assert math.isfinite(f_err) and f_err < 10 * stated_error(nat)
+    # the force jumps with k at a switching instant: there the native FMU reports the new
+    # piece (right limit), the pythonfmu FMU the one before; compare the others
+    phase = np.mod(model.mesh_frequency * a["time"] + model.phase0, 1.0)
+    switch = np.asarray(model.stiffness.switching_phases)
+    gap = np.abs(phase[:, None] - switch[None, :])
+    away = np.min(np.minimum(gap, 1 - gap), axis=1) > 1e-9
+    assert 0 < np.sum(~away) < away.size // 4
+    f_err = float(np.max(np.abs(a["mesh_force"] - b["mesh_force"])[away])) / model.static_load
+    # |dF| <= k_max |dx| + c |dv|: a few times the DTE bound
+    assert math.isfinite(f_err) and f_err < 10 * stated_error(nat), f"{f_err:.3g} W"
+
+
+def test_relief_fmu_says_its_tables_are_fixed_at_the_build_torque(native_fmus) -> None:
+    """The relief scene's tables come from the loaded contact at the build torque: the FMU's
+    description and its torque variable say so; the other scenes' do not."""
+    for (scene, _fmi), path in native_fmus.items():
+        md = fmpy.read_model_description(str(path))
+        torque = next(v for v in md.modelVariables if v.name == "operating.torque")
+        fixed = "fixed at the build torque" in (torque.description or "")
+        assert fixed == (scene == "helicopter_tail_relief"), scene
+        assert ("changes the load W = T1/r_b1 only" in (md.description or "")) == fixed
