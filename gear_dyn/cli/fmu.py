@@ -21,19 +21,21 @@ def register(sub: Any) -> None:
     b = fsub.add_parser(
         "build", help="build the FMU of a scene",
         description="Build FILE.fmu from SCENE: a scene file, a packaged scene name "
-        "(helicopter_tail, eccentric_helical, ...) or a model name (sdof, torsional). The FMU "
-        "needs only Python with numpy and scipy on the importing side.",
+        "(helicopter_tail, eccentric_helical, ...) or a model name (sdof, torsional). A "
+        "single-DOF scene gives a native FMU (compiled C, needs no Python on the importing "
+        "side; docs/native_fmu.md); a torsional scene, or --backend python, the pythonfmu FMU "
+        "(needs Python with numpy and scipy on the importing side).",
     )
     b.add_argument("scene", help="scene file (TOML), packaged scene name or model name")
     b.add_argument("--out", type=Path, required=True, help="FMU file to write (.fmu)")
     b.add_argument("--fmi", type=int, default=2, choices=(2, 3),
-                   help="FMI version: 2 (default, pythonfmu) or 3 (pythonfmu3: pip install "
-                   "'gear_dyn[fmi3]')")
+                   help="FMI version: 2 (default) or 3 (the pythonfmu backend needs pythonfmu3: "
+                   "pip install 'gear_dyn[fmi3]')")
     b.add_argument("--backend", default=None, choices=("native", "python"),
-                   help="native (the default for single-DOF scenes, FMI 2 and 3): C kernel compiled now, "
-                   "needs no Python on the importing machine; python: the pythonfmu FMU, every "
-                   "scene key a parameter (the default, with a note, for the torsional model, "
-                   "which has no native kernel yet)")
+                   help="native (the default for single-DOF scenes, FMI 2 and 3): C kernel "
+                   "compiled now, needs no Python on the importing machine; python: the "
+                   "pythonfmu FMU, every scene key a parameter (the default, with a note, for "
+                   "the torsional model, which has no native kernel yet)")
     b.add_argument("--no-validate", action="store_true",
                    help="skip the fmpy validation of the built FMU")
     add_quiet_flag(b)

@@ -23,10 +23,10 @@ from gear_dyn.fmu.export_c import (
     GLUE_SOURCES,
     HEADERS,
     KERNEL_SOURCES,
+    KERNEL_VERSION,
     NATIVE_DIR,
     OUTPUTS,
     PARAMS,
-    KERNEL_VERSION,
     compile_shared,
     model_data_c,
     start_values,
@@ -138,8 +138,8 @@ def model_description(nm: NativeModel, ident: str, scene_name: str, stop_time: f
                  'variability="continuous" description="simulation time" unit="s"/>']
         for vr, _kind, a in rows:
             a = {**a, "valueReference": str(vr)}
-            lines.append(f"    <Float64 "
-                         f"{_attr(a, (*head, 'description', 'start', 'unit', 'min', 'max', 'nominal'))}/>")
+            keys = (*head, "description", "start", "unit", "min", "max", "nominal")
+            lines.append(f"    <Float64 {_attr(a, keys)}/>")
         structure = "\n".join(f'    <{tag} valueReference="{vr}"/>' for tag in
                               ("Output", "InitialUnknown") for vr, k, _ in rows if k == "out")
         version = f'fmiVersion="3.0" instantiationToken="{{{uuid.uuid4()}}}"'

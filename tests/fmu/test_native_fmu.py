@@ -13,10 +13,10 @@ reference instants.
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 import shutil
-import functools
 from pathlib import Path
 from typing import Any
 
