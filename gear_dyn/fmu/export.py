@@ -34,7 +34,6 @@ from numpy.typing import NDArray
 from gear_dyn.errors import InputError
 from gear_dyn.excitation import SampledSignal
 from gear_dyn.geometry import GearPair
-from gear_dyn.models.relief import ReliefSDOFModel
 from gear_dyn.models.sdof import SDOFModel
 from gear_dyn.stiffness.periodic import PiecewiseStiffness
 
@@ -252,8 +251,11 @@ def phase_table(model: SDOFModel) -> PhaseTable:
 
 
 def native_model(model: Any, pair: GearPair, speed: float, torque: float,
-                 tolerance: float = 1e-10) -> NativeModel:
+                 tolerance: float = 1e-10, load_tables: bool = False) -> NativeModel:
     """The native FMU's data for a single-DOF model built at ``speed`` (rad/s), ``torque`` (N m).
+
+    ``load_tables``: the model's stiffness and TE come from a loaded-contact analysis at
+    ``torque`` (tip relief), see :attr:`NativeModel.load_tables`.
 
     Raises
     ------
@@ -262,7 +264,7 @@ def native_model(model: Any, pair: GearPair, speed: float, torque: float,
     InputError
         A stiffness the table cannot represent.
     """
-    if not isinstance(model, SDOFModel):
+    if np.size(getattr(model, "state_scale", ())) != 2:  # the single-DOF model's (x, x')
         raise NotNativeError(f"the {type(model).__name__} model has no native kernel yet "
                              "(single-DOF scenes only)")
     return NativeModel(
@@ -272,7 +274,7 @@ def native_model(model: Any, pair: GearPair, speed: float, torque: float,
         damping_ratio=float(model.damping_ratio), tolerance=float(tolerance),
         half_gap=None if model.backlash is None else float(model.backlash),
         transmission_error=model.transmission_error is not None,
-        load_tables=isinstance(model, ReliefSDOFModel),
+        load_tables=load_tables,
     )
 
 
