@@ -106,7 +106,7 @@ def test_kernel_matches_solver(tmp_path: Path, case: str) -> None:
 
 
 def test_kernel_under_sanitizers(tmp_path: Path) -> None:
-    """Kernel and FMI 2 glue under AddressSanitizer and UBSan: every model kind, a C driver
+    """Kernel and FMI 2 and 3 glue under AddressSanitizer and UBSan: every model kind, a C driver
     that instantiates, steps (dividing and non-dividing steps), copies the state, resets."""
     driver = tmp_path / "driver.c"
     driver.write_text(r"""
@@ -141,18 +141,59 @@ int main(void) {
 """)
     cc = shutil.which("cc")
     assert cc is not None
+    driver3 = tmp_path / "driver3.c"
+    driver3.write_text(DRIVER3)
     for case in sorted(CASES):
         model, nm = CASES[case][0]()
         (tmp_path / "model_data.c").write_text(model_data_c(nm, case))
-        exe = tmp_path / f"drv_{case}"
-        cmd = [cc, "-std=c99", "-g", "-Wall", "-Wextra", "-Werror", "-pedantic",
-               "-fsanitize=address,undefined", "-fno-sanitize-recover=all", f"-I{NATIVE_DIR}",
-               str(driver), str(NATIVE_DIR / "gd_kernel.c"), str(NATIVE_DIR / "gd_fmi2.c"),
-               str(tmp_path / "model_data.c"), "-o", str(exe), "-lm"]
-        subprocess.run(cmd, check=True, capture_output=True)
-        proc = subprocess.run([str(exe)], capture_output=True, text=True, check=False)
-        assert proc.returncode == 0, f"{case}: {proc.stdout}{proc.stderr}"
-        assert "runtime error" not in proc.stderr and "ERROR" not in proc.stderr
+        for drv, glue in ((driver, "gd_fmi2.c"), (driver3, "gd_fmi3.c")):
+            exe = tmp_path / f"drv_{case}_{glue[:-2]}"
+            cmd = [cc, "-std=c99", "-g", "-Wall", "-Wextra", "-Werror", "-pedantic",
+                   "-fsanitize=address,undefined", "-fno-sanitize-recover=all",
+                   f"-I{NATIVE_DIR}", str(drv), str(NATIVE_DIR / "gd_kernel.c"),
+                   str(NATIVE_DIR / glue), str(tmp_path / "model_data.c"), "-o", str(exe), "-lm"]
+            subprocess.run(cmd, check=True, capture_output=True)
+            proc = subprocess.run([str(exe)], capture_output=True, text=True, check=False)
+            assert proc.returncode == 0, f"{case} {glue}: {proc.stdout}{proc.stderr}"
+            assert "runtime error" not in proc.stderr and "ERROR" not in proc.stderr
+
+
+#: the FMI 3 twin of the FMI 2 driver above: a refused value, reset, steps, state
+#: get/serialize/deserialize/set
+DRIVER3 = r"""
+#include <stdio.h>
+#include "fmi3/fmi3Functions.h"
+static void lg(fmi3InstanceEnvironment e, fmi3Status s, fmi3String c, fmi3String m)
+{ (void)e; (void)s; (void)c; (void)m; }
+int main(void) {
+    fmi3ValueReference vr[2] = {6, 9}, zeta = 3;
+    fmi3Float64 v[2], bad = 50.0, t = 0.0, h = 1.0 / 1272.28 / 7.0, last;
+    fmi3Boolean ev, term, early;
+    fmi3FMUState s = 0, s2 = 0;
+    fmi3Byte buf[4096];
+    size_t size = 0;
+    int i;
+    fmi3Instance c = fmi3InstantiateCoSimulation("a", "", "", 0, 1, 0, 0, 0, 0, 0, lg, 0);
+    if (!c || fmi3SetFloat64(c, &zeta, 1, &bad, 1) != fmi3Error) return 2;
+    fmi3Reset(c);
+    fmi3EnterInitializationMode(c, 0, 0.0, 0.0, 0, 0.0);
+    fmi3ExitInitializationMode(c);
+    for (i = 0; i < 400; i++, t += h) {
+        if (fmi3DoStep(c, t, h, 1, &ev, &term, &early, &last) != fmi3OK) return 3;
+        if (i == 100) fmi3GetFMUState(c, &s);
+    }
+    if (fmi3SerializedFMUStateSize(c, s, &size) != fmi3OK || size > sizeof buf) return 4;
+    fmi3SerializeFMUState(c, s, buf, size);
+    fmi3DeserializeFMUState(c, buf, size, &s2);
+    fmi3SetFMUState(c, s2);
+    fmi3FreeFMUState(c, &s);
+    fmi3FreeFMUState(c, &s2);
+    fmi3GetFloat64(c, vr, 2, v, 2);
+    printf("%.6g %.6g\n", v[0], v[1]);
+    fmi3FreeInstance(c);
+    return 0;
+}
+"""
 
 
 fmpy = pytest.importorskip("fmpy")
