@@ -249,3 +249,32 @@ def test_relief_fmu_says_its_tables_are_fixed_at_the_build_torque(native_fmus) -
         fixed = "fixed at the build torque" in (torque.description or "")
         assert fixed == (scene == "helicopter_tail_relief"), scene
         assert ("changes the load W = T1/r_b1 only" in (md.description or "")) == fixed
+
+
+def test_cli_builds_native_by_default_and_falls_back_for_torsional(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """`fmu build` of a single-DOF scene: the native FMU (FMI 3 here: x86_64-linux binary and
+    buildDescription.xml). Of a torsional scene: the pythonfmu FMU with one line naming the
+    backend and why; with --backend native explicitly: exit 2 naming --backend python."""
+    import zipfile
+
+    from gear_dyn.cli.app import main
+
+    out = tmp_path / "tail3.fmu"
+    assert main(["fmu", "build", "helicopter_tail", "--fmi", "3", "--out", str(out),
+                 "--no-validate", "--quiet"]) == 0
+    names = zipfile.ZipFile(out).namelist()
+    assert "binaries/x86_64-linux/gd_helicopter_tail.so" in names
+    assert "sources/buildDescription.xml" in names and "sources/gd_fmi3.c" in names
+    assert "native FMU" in capsys.readouterr().out
+    ecc = tmp_path / "ecc.fmu"
+    assert main(["fmu", "build", "eccentric_helical", "--backend", "native", "--out", str(ecc),
+                 "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--backend python" in err and not ecc.exists()
+    assert main(["fmu", "build", "eccentric_helical", "--out", str(ecc), "--no-validate",
+                 "--quiet"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0] == ("backend: python (pythonfmu), because the TorsionalModel model has no "
+                        "native kernel yet (single-DOF scenes only)")
+    assert any(n.startswith("resources/pythonfmu/") for n in zipfile.ZipFile(ecc).namelist())
