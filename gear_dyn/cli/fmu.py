@@ -21,14 +21,21 @@ def register(sub: Any) -> None:
     b = fsub.add_parser(
         "build", help="build the FMU of a scene",
         description="Build FILE.fmu from SCENE: a scene file, a packaged scene name "
-        "(helicopter_tail, eccentric_helical, ...) or a model name (sdof, torsional). The FMU "
-        "needs only Python with numpy and scipy on the importing side.",
+        "(helicopter_tail, eccentric_helical, ...) or a model name (sdof, torsional). A "
+        "single-DOF scene gives a native FMU (compiled C, needs no Python on the importing "
+        "side; docs/native_fmu.md); a torsional scene, or --backend python, the pythonfmu FMU "
+        "(needs Python with numpy and scipy on the importing side).",
     )
     b.add_argument("scene", help="scene file (TOML), packaged scene name or model name")
     b.add_argument("--out", type=Path, required=True, help="FMU file to write (.fmu)")
     b.add_argument("--fmi", type=int, default=2, choices=(2, 3),
-                   help="FMI version: 2 (default, pythonfmu) or 3 (pythonfmu3: pip install "
-                   "'gear_dyn[fmi3]')")
+                   help="FMI version: 2 (default) or 3 (the pythonfmu backend needs pythonfmu3: "
+                   "pip install 'gear_dyn[fmi3]')")
+    b.add_argument("--backend", default=None, choices=("native", "python"),
+                   help="native (the default for single-DOF scenes, FMI 2 and 3): C kernel "
+                   "compiled now, needs no Python on the importing machine; python: the "
+                   "pythonfmu FMU, every scene key a parameter (the default, with a note, for "
+                   "the torsional model, which has no native kernel yet)")
     b.add_argument("--no-validate", action="store_true",
                    help="skip the fmpy validation of the built FMU")
     add_quiet_flag(b)
@@ -73,6 +80,15 @@ def run_build(args: argparse.Namespace) -> int:
     from gear_dyn.errors import SolverError
     from gear_dyn.fmu.build import build_fmu
 
+    if args.backend != "python":
+        from gear_dyn.fmu.export import NotNativeError
+
+        try:
+            return _run_build_native(args)
+        except NotNativeError as exc:
+            if args.backend == "native":  # asked for explicitly: refuse
+                raise
+            print(f"backend: python (pythonfmu), because {exc.reason}")
     with Stages(["build FMU"], args.quiet):
         built = build_fmu(args.scene, args.out, fmi=args.fmi)
     n_par = sum(v["causality"] == "parameter" for v in built.spec["variables"])
@@ -88,6 +104,26 @@ def run_build(args: argparse.Namespace) -> int:
     else:
         print(f"C hosts: not supported by this FMU ({built.c_host_missing}); it runs in "
               "Python hosts (fmpy) only")
+    if not args.no_validate:
+        with Stages(["validate (fmpy)"], args.quiet):
+            problems = _problems(built.path)
+        if problems:
+            raise SolverError(f"{built.path}: fmpy validation found {len(problems)} problem(s): "
+                              + "; ".join(problems))
+        print("fmpy validation: no problems")
+    return 0
+
+
+def _run_build_native(args: argparse.Namespace) -> int:
+    from gear_dyn.errors import SolverError
+    from gear_dyn.fmu.export_fmu import build_native_fmu
+
+    with Stages(["build native FMU"], args.quiet):
+        built = build_native_fmu(args.scene, args.out, fmi=args.fmi)
+    t = built.model.table
+    print(f"{built.scene_name}: native FMU -> {built.path} (FMI {args.fmi}.0 co-simulation, "
+          f"model identifier {built.model_identifier}; {t.flat.size} table pieces, "
+          f"{'exact' if t.exact else 'fitted'})")
     if not args.no_validate:
         with Stages(["validate (fmpy)"], args.quiet):
             problems = _problems(built.path)

@@ -1,0 +1,283 @@
+"""The single-DOF model as data for the native FMU: piecewise polynomials in the mesh phase.
+
+The native FMU's C kernel (``gear_dyn/fmu/native/gd_kernel.c``) steps
+
+    m_e x'' + c (x' - f_m e'(p)) + k(p) f(x - e(p)) = W,    p = mesh phase (cycles)
+
+from a table over one mesh cycle: the breakpoints (the switching phases and every sample phase of
+a piecewise-linear stiffness or transmission error) and, on each piece, the polynomial
+coefficients of ``k(p)`` (N/m), ``e(p)`` (m) and ``de/dp`` (m per cycle) in the local variable
+``s`` in [-1, 1] (Horner order, highest power first), plus the constants.
+
+- Piecewise-constant and piecewise-linear stiffness and transmission error (the rectangular wave,
+  ISO 6336, the loaded-contact tangent stiffness and relief TE of tip relief, sampled TE) are
+  polynomials of degree 0 or 1 between their sample phases: the table is exact (to rounding).
+- Smooth ones (a Fourier stiffness, a harmonic TE) are interpolated at Chebyshev points on
+  :data:`SMOOTH_PIECES` equal pieces per cycle with degree :data:`SMOOTH_DEGREE`; the error is
+  measured against the direct evaluation at points between the nodes and stated in
+  :attr:`PhaseTable.max_error`.
+
+A piece is *flat* when ``k`` and ``e`` are constant on it and ``de/dp`` is zero: the kernel then
+propagates it in closed form.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.polynomial import chebyshev as cheb
+from numpy.typing import NDArray
+
+from gear_dyn.errors import InputError
+from gear_dyn.excitation import SampledSignal
+from gear_dyn.geometry import GearPair
+from gear_dyn.models.sdof import SDOFModel
+from gear_dyn.stiffness.periodic import PiecewiseStiffness
+
+FloatArray = NDArray[np.float64]
+
+#: equal pieces per mesh cycle for a smooth (Fourier, harmonic) stiffness or TE
+SMOOTH_PIECES = 64
+#: polynomial degree on those pieces
+SMOOTH_DEGREE = 10
+#: pieces closer than this (cycles) are merged
+MIN_WIDTH = 1e-12
+#: check points per piece for the stated interpolation error
+CHECK_POINTS = 24
+#: stated error of the native FMU's DTE, in units of the static deflection W/k_m: every piece
+#: closed form on an exact table (rounding only) ...
+EXACT_ERROR = 1e-9
+#: ... and otherwise (Runge-Kutta pieces at solver.tolerance <= 1e-10, or a fitted table)
+RK_ERROR = 1e-6
+
+
+class NotNativeError(InputError):
+    """The scene's model has no native kernel (yet): build the pythonfmu FMU instead.
+
+    Attributes
+    ----------
+    reason : str
+        Why, in a few words ("the TorsionalModel model has no native kernel yet").
+    """
+
+    def __init__(self, reason: str) -> None:
+        super().__init__(f"native FMU: {reason}; build with --backend python")
+        self.reason = reason
+
+
+@dataclass(frozen=True)
+class PhaseTable:
+    """Piecewise polynomials of ``k``, ``e`` and ``de/dp`` over one mesh cycle.
+
+    Attributes
+    ----------
+    breaks : ndarray (n + 1,)
+        Piece edges in cycles, from 0 to 1.
+    degree : int
+        Polynomial degree (0 or 1: exact; :data:`SMOOTH_DEGREE`: fitted).
+    coef : ndarray (n, 3, degree + 1)
+        Coefficients of ``k`` (N/m), ``e`` (m), ``de/dp`` (m/cycle) in ``s = (2 p - a - b) /
+        (b - a)`` on the piece ``[a, b]``, highest power first.
+    flat : ndarray of bool (n,)
+        ``k``, ``e`` constant and ``de/dp = 0`` on the piece.
+    exact : bool
+        True when every piece is exact (degree 0 or 1 pieces of a piecewise-linear model).
+    max_error : dict
+        Largest table error on the check points: ``k`` relative to the mean stiffness, ``e`` and
+        ``de`` in m and m/cycle relative to the static deflection.
+    """
+
+    breaks: FloatArray
+    degree: int
+    coef: FloatArray
+    flat: NDArray[np.bool_]
+    exact: bool
+    max_error: dict[str, float]
+
+    def evaluate(self, phase: FloatArray) -> FloatArray:
+        """``(k, e, de/dp)`` at phases (cycles, any real), vectorised: array (3, n)."""
+        p = np.mod(np.asarray(phase, dtype=float), 1.0)
+        i = np.clip(np.searchsorted(self.breaks, p, side="right") - 1, 0, self.flat.size - 1)
+        a, b = self.breaks[i], self.breaks[i + 1]
+        s = (2 * p - a - b) / (b - a)
+        c = self.coef[i]  # (n, 3, degree + 1)
+        acc = c[:, :, 0].copy()
+        for j in range(1, self.degree + 1):
+            acc = acc * s[:, None] + c[:, :, j]
+        return acc.T
+
+
+@dataclass(frozen=True)
+class NativeModel:
+    """What the native FMU needs: the table, the constants and the parameters' start values.
+
+    Attributes
+    ----------
+    table : PhaseTable
+    mass : float
+        Equivalent mass m_e in kg.
+    mean_stiffness : float
+        k_m in N/m (damping c = 2 xi sqrt(m_e k_m)).
+    rb1, rb2 : float
+        Base radii in m (W = T1 / r_b1; driven speed (r_b1 w1 - x') / r_b2).
+    z1 : int
+        Pinion teeth (f_m = z1 w1 / 2 pi).
+    phase0 : float
+        Mesh phase at the start, cycles.
+    x_scale : float
+        Displacement scale of the error control, m (the model's ``state_scale[0]``).
+    speed, torque, damping_ratio, tolerance : float
+        Start values: rad/s, N m, -, - (relative solver tolerance).
+    half_gap : float or None
+        Backlash half gap in m, None without backlash.
+    transmission_error : bool
+        The table carries a static transmission error.
+    load_tables : bool
+        The tables come from a loaded-contact analysis at the build torque (tip relief): the
+        torque input then changes W only, the tables stay those of :attr:`torque`.
+    """
+
+    table: PhaseTable
+    mass: float
+    mean_stiffness: float
+    rb1: float
+    rb2: float
+    z1: int
+    phase0: float
+    x_scale: float
+    speed: float
+    torque: float
+    damping_ratio: float
+    tolerance: float
+    half_gap: float | None
+    transmission_error: bool
+    load_tables: bool = False
+
+    @property
+    def static_deflection(self) -> float:
+        """W / k_m at the start torque, m."""
+        return self.torque / self.rb1 / self.mean_stiffness
+
+    @property
+    def stated_error(self) -> float:
+        """Stated error of the DTE relative to :attr:`static_deflection`: :data:`EXACT_ERROR`
+        when every piece is exact and flat (closed form), else :data:`RK_ERROR`."""
+        t = self.table
+        return EXACT_ERROR if t.exact and bool(np.all(t.flat)) else RK_ERROR
+
+
+def _knots(part: Any) -> tuple[FloatArray, bool] | None:
+    """Sample phases of a piecewise-linear part and True, or (switching phases, False) for a
+    smooth one; None for an absent part."""
+    if part is None:
+        return None
+    if isinstance(part, PiecewiseStiffness):
+        ph = np.concatenate([part.edges] + [np.asarray(s[0], float) for s in part.samples])
+        return ph, True
+    if isinstance(part, SampledSignal):
+        phs: list[FloatArray] = [np.asarray(part.phase, dtype=float)]
+        for name in ("edges", "seg_phase"):  # PiecewiseSignal's jumps and segments
+            extra = getattr(part, name, None)
+            if extra is not None and len(extra):
+                phs.append(np.concatenate([np.atleast_1d(np.asarray(e, float)) for e in extra])
+                          if name == "seg_phase" else np.asarray(extra, float))
+        return np.concatenate(phs), True
+    sw = getattr(part, "switching_phases", np.empty(0))
+    return np.asarray(sw, dtype=float), False
+
+
+def _fit_matrix(degree: int) -> tuple[FloatArray, FloatArray]:
+    """Chebyshev points on [-1, 1] and the matrix from values there to monomial coefficients
+    (highest power first)."""
+    n = degree + 1
+    s = np.cos(np.pi * (np.arange(n) + 0.5) / n)
+    to_cheb = np.linalg.inv(cheb.chebvander(s, degree))
+    to_mono = np.zeros((n, n))
+    for k in range(n):
+        unit = np.zeros(n)
+        unit[k] = 1.0
+        to_mono[: k + 1, k] = cheb.cheb2poly(unit)
+    return s, (to_mono @ to_cheb)[::-1]
+
+
+def phase_table(model: SDOFModel) -> PhaseTable:
+    """Tabulate ``k``, ``e`` and ``de/dp`` of a single-DOF model over one mesh cycle.
+
+    Raises
+    ------
+    InputError
+        A stiffness or transmission error the table cannot represent.
+    """
+    parts = [_knots(model.stiffness), _knots(model.transmission_error)]
+    linear = all(p is None or p[1] for p in parts)
+    edges = [np.array([0.0, 1.0])] + [p[0] for p in parts if p is not None]
+    if not linear:
+        edges.append(np.linspace(0.0, 1.0, SMOOTH_PIECES + 1))
+    br = np.unique(np.mod(np.concatenate(edges), 1.0))
+    br = np.append(br, 1.0)
+    br = br[np.concatenate([[True], np.diff(br) > MIN_WIDTH])]
+    br[-1] = 1.0
+    if not np.all(np.isfinite(br)):
+        raise InputError("native FMU table: non-finite switching phases")
+    degree = 1 if linear else SMOOTH_DEGREE
+    s, to_mono = _fit_matrix(degree)
+    a, b = br[:-1], br[1:]
+    mid, half = 0.5 * (a + b), 0.5 * (b - a)
+    te = model.transmission_error
+
+    def direct(ph: FloatArray) -> FloatArray:
+        k = np.asarray(model.stiffness(ph), dtype=float)
+        if te is None:
+            return np.stack([k, np.zeros_like(k), np.zeros_like(k)])
+        return np.stack([k, np.asarray(te.value(ph), float), np.asarray(te.slope(ph), float)])
+
+    nodes = (mid[:, None] + half[:, None] * s[None, :])
+    vals = direct(nodes.ravel()).reshape(3, a.size, s.size)
+    coef = np.einsum("ij,qpj->pqi", to_mono, vals)  # (pieces, 3, degree + 1)
+    flat = np.all(np.ptp(vals, axis=2) == 0.0, axis=0) & np.all(vals[2] == 0.0, axis=1)
+    coef[flat, :, :-1] = 0.0
+    coef[flat, :, -1] = vals[:, flat, 0].T
+    table0 = PhaseTable(br, degree, coef, flat, linear, {})
+    u = np.linspace(-0.98, 0.98, CHECK_POINTS)
+    chk = (mid[:, None] + half[:, None] * u[None, :]).ravel()
+    err = np.abs(table0.evaluate(chk) - direct(chk))
+    x_s = max(model.static_load / model.mean_stiffness, 1e-12)
+    scale = (model.mean_stiffness, x_s, x_s)
+    max_error = {n: float(np.max(err[q])) / scale[q] for q, n in enumerate(("k", "e", "de"))}
+    return PhaseTable(br, degree, coef, flat, linear, max_error)
+
+
+def native_model(model: Any, pair: GearPair, speed: float, torque: float,
+                 tolerance: float = 1e-10, load_tables: bool = False) -> NativeModel:
+    """The native FMU's data for a single-DOF model built at ``speed`` (rad/s), ``torque`` (N m).
+
+    ``load_tables``: the model's stiffness and TE come from a loaded-contact analysis at
+    ``torque`` (tip relief), see :attr:`NativeModel.load_tables`.
+
+    Raises
+    ------
+    NotNativeError
+        Not a single-DOF mesh model (the torsional model has no native kernel yet).
+    InputError
+        A stiffness the table cannot represent.
+    """
+    if np.size(getattr(model, "state_scale", ())) != 2:  # the single-DOF model's (x, x')
+        raise NotNativeError(f"the {type(model).__name__} model has no native kernel yet "
+                             "(single-DOF scenes only)")
+    return NativeModel(
+        table=phase_table(model), mass=model.mass, mean_stiffness=model.mean_stiffness,
+        rb1=pair.rb1, rb2=pair.rb2, z1=int(pair.z1), phase0=float(model.phase0),
+        x_scale=float(model.state_scale[0]), speed=float(speed), torque=float(torque),
+        damping_ratio=float(model.damping_ratio), tolerance=float(tolerance),
+        half_gap=None if model.backlash is None else float(model.backlash),
+        transmission_error=model.transmission_error is not None,
+        load_tables=load_tables,
+    )
+
+
+def speed_of(model: SDOFModel, pair: GearPair) -> float:
+    """Pinion speed in rad/s of a model (from its mesh frequency)."""
+    return 2 * math.pi * model.mesh_frequency / pair.z1

@@ -1,0 +1,255 @@
+"""Build the native FMU of a scene: model description, C sources and the Linux binary in a zip.
+
+``build_native_fmu(scene, out)`` exports the single-DOF model as tables
+(:mod:`gear_dyn.fmu.export`), writes ``model_data.c`` (:mod:`gear_dyn.fmu.export_c`), compiles it
+with the fixed kernel and the FMI 2.0 or 3.0 glue by the system compiler and zips the FMU with its
+sources (FMI 2 ``<SourceFiles>``, FMI 3 ``sources/buildDescription.xml``), so that an importer
+can rebuild it for its own platform.
+"""
+
+from __future__ import annotations
+
+import re
+import tempfile
+import uuid
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+from xml.sax.saxutils import quoteattr
+
+from gear_dyn.errors import InputError
+from gear_dyn.fmu.export import EXACT_ERROR, NativeModel, native_model
+from gear_dyn.fmu.export_c import (
+    GLUE_SOURCES,
+    HEADERS,
+    KERNEL_SOURCES,
+    KERNEL_VERSION,
+    NATIVE_DIR,
+    OUTPUTS,
+    PARAMS,
+    compile_shared,
+    model_data_c,
+    start_values,
+)
+from gear_dyn.io import write_bytes
+
+#: SI base-unit exponents of the units the FMU uses
+BASE_UNITS = {"m": 'm="1"', "m/s": 'm="1" s="-1"', "rad/s": 'rad="1" s="-1"',
+              "N": 'kg="1" m="1" s="-2"', "N.m": 'kg="1" m="2" s="-2"', "N/m": 'kg="1" s="-2"'}
+#: largest FMU the build accepts, bytes
+MAX_SIZE = 500_000
+
+
+@dataclass(frozen=True)
+class NativeFMU:
+    """A built native FMU: its path, model identifier and the exported model."""
+
+    path: Path
+    model_identifier: str
+    model: NativeModel
+    scene_name: str
+    fmi: int
+
+
+def _description(nm: NativeModel, scene_name: str) -> str:
+    """The FMU's description: what is fixed at build and what the parameters change."""
+    t = nm.table
+    method = ("closed form on every piece" if nm.stated_error == EXACT_ERROR else
+              "Dormand-Prince 5(4) at solver.tolerance <= 1e-10")
+    kind = "exact (piecewise-linear coefficients)" if t.exact else (
+        f"fitted, max relative error k {t.max_error['k']:.1e}, e {t.max_error['e']:.1e}")
+    return (f"gear_dyn single-DOF mesh model of scene {scene_name}, native C kernel. The gear "
+            "geometry and the tables of k(p), e(p) over one mesh cycle are fixed at build "
+            f"({t.flat.size} pieces, {kind}); the parameters are what the kernel applies "
+            f"without geometry. Stated error of the DTE: {nm.stated_error:.0e} of the static "
+            f"deflection W/k_m ({method}).{_load_note(nm)}")
+
+
+def _load_note(nm: NativeModel) -> str:
+    """The sentence that says the loaded-contact tables belong to the build torque."""
+    if not nm.load_tables:
+        return ""
+    return (f" The loaded-contact tables (tangent stiffness k_t(p) and the relief's e(p)) are "
+            f"those of the build torque {nm.torque!r} N.m: the torque input changes the load "
+            "W = T1/r_b1 only (the model is linearised about the build load); rebuild the FMU "
+            "for another operating torque.")
+
+
+def _units() -> str:
+    units = sorted({p.unit for p in PARAMS} | {o[1] for o in OUTPUTS} - {"1"})
+    return "\n".join(f'    <Unit name="{u}"><BaseUnit {BASE_UNITS[u]}/></Unit>'
+                     for u in units if u in BASE_UNITS)
+
+
+def _variables(nm: NativeModel) -> list[tuple[int, str, dict[str, str]]]:
+    """(value reference, kind, attributes) of every variable; kind is "par" or "out"."""
+    rows: list[tuple[int, str, dict[str, str]]] = []
+    for vr, (p, start) in enumerate(zip(PARAMS, start_values(nm), strict=True), start=1):
+        if p.name == "backlash.half_gap" and nm.half_gap is None:
+            continue
+        doc = p.description
+        if p.name == "operating.torque" and nm.load_tables:
+            doc += (f"; changes W only: the loaded-contact tables are fixed at the build "
+                    f"torque {nm.torque!r} N.m")
+        attrs = {"name": p.name, "causality": p.causality,
+                 "variability": "continuous" if p.causality == "input" else "fixed",
+                 "description": doc, "start": repr(start),
+                 "min": repr(p.low), "max": repr(p.high),
+                 "nominal": repr(abs(start) if start else 1.0)}
+        if p.unit != "1":
+            attrs["unit"] = p.unit
+        rows.append((vr, "par", attrs))
+    for k, (name, unit, doc) in enumerate(OUTPUTS):
+        rows.append((len(PARAMS) + 1 + k, "out",
+                     {"name": name, "causality": "output", "variability": "continuous",
+                      "description": doc, "unit": unit}))
+    return rows
+
+
+def _attr(a: dict[str, str], keys: tuple[str, ...]) -> str:
+    return " ".join(f"{k}={quoteattr(a[k])}" for k in keys if k in a)
+
+
+def model_description(nm: NativeModel, ident: str, scene_name: str, stop_time: float,
+                      step: float, fmi: int = 2) -> str:
+    """The FMI 2.0 or 3.0 ``modelDescription.xml`` of a native model."""
+    rows = _variables(nm)
+    head = ("name", "valueReference", "causality", "variability")
+    if fmi == 2:
+        lines, outs = [], []
+        for vr, kind, a in rows:
+            a = {**a, "valueReference": str(vr)}
+            if kind == "out":
+                a["initial"] = "calculated"
+            real = _attr(a, ("start", "unit", "min", "max", "nominal"))
+            lines.append(f'    <ScalarVariable {_attr(a, (*head, "initial", "description"))}>'
+                         f'<Real {real}/></ScalarVariable>')
+            if kind == "out":
+                outs.append(len(lines))
+        unknowns = "\n".join(f'      <Unknown index="{i}"/>' for i in outs)
+        structure = (f"    <Outputs>\n{unknowns}\n    </Outputs>\n"
+                     f"    <InitialUnknowns>\n{unknowns}\n    </InitialUnknowns>")
+        sources = "".join(f'<File name="{f}"/>' for f in _sources(2))
+        version = f'fmiVersion="2.0" guid="{{{uuid.uuid4()}}}" numberOfEventIndicators="0"'
+        cosim = (f'canGetAndSetFMUstate="true" canSerializeFMUstate="true">\n'
+                 f"    <SourceFiles>{sources}</SourceFiles>\n  </CoSimulation>")
+    else:
+        lines = ['    <Float64 name="time" valueReference="0" causality="independent" '
+                 'variability="continuous" description="simulation time" unit="s"/>']
+        for vr, _kind, a in rows:
+            a = {**a, "valueReference": str(vr)}
+            keys = (*head, "description", "start", "unit", "min", "max", "nominal")
+            lines.append(f"    <Float64 {_attr(a, keys)}/>")
+        structure = "\n".join(f'    <{tag} valueReference="{vr}"/>' for tag in
+                              ("Output", "InitialUnknown") for vr, k, _ in rows if k == "out")
+        version = f'fmiVersion="3.0" instantiationToken="{{{uuid.uuid4()}}}"'
+        cosim = 'canGetAndSetFMUState="true" canSerializeFMUState="true"/>'
+    variables = "\n".join(lines)
+    s_unit = '    <Unit name="s"><BaseUnit s="1"/></Unit>\n' if fmi == 3 else ""
+    return f"""<?xml version="1.0" encoding="UTF-8"?>
+<fmiModelDescription {version} modelName="{ident}"
+  description={quoteattr(_description(nm, scene_name))}
+  generationTool="gear_dyn native kernel {KERNEL_VERSION}" variableNamingConvention="structured">
+  <CoSimulation modelIdentifier="{ident}" canHandleVariableCommunicationStepSize="true"
+    {cosim}
+  <UnitDefinitions>
+{s_unit}{_units()}
+  </UnitDefinitions>
+  <DefaultExperiment startTime="0" stopTime="{stop_time!r}" stepSize="{step!r}"/>
+  <ModelVariables>
+{variables}
+  </ModelVariables>
+  <ModelStructure>
+{structure}
+  </ModelStructure>
+</fmiModelDescription>
+"""
+
+
+def _sources(fmi: int) -> tuple[str, ...]:
+    """The C sources of an FMU, compiled together (headers beside them)."""
+    return (*KERNEL_SOURCES, *GLUE_SOURCES[fmi], "model_data.c")
+
+
+def build_description(ident: str) -> str:
+    """FMI 3.0 ``sources/buildDescription.xml``: one C99 source set, libm."""
+    files = "\n".join(f'      <SourceFile name="{f}"/>' for f in _sources(3))
+    return f"""<?xml version="1.0" encoding="UTF-8"?>
+<fmiBuildDescription fmiVersion="3.0">
+  <BuildConfiguration modelIdentifier="{ident}" description="C99, link with libm">
+    <SourceFileSet language="C99">
+{files}
+      <IncludeDirectory name="."/>
+    </SourceFileSet>
+    <Library name="m"/>
+  </BuildConfiguration>
+</fmiBuildDescription>
+"""
+
+
+def build_native_fmu(target: str | Path, out: Path, fmi: int = 2,
+                     tolerance: float = 1e-10) -> NativeFMU:
+    """Build the native FMU of a scene.
+
+    Parameters
+    ----------
+    target : str or Path
+        Scene file, packaged scene name or model name (``sdof``).
+    out : Path
+        FMU file to write.
+    fmi : int
+        FMI version, 2 or 3.
+    tolerance : float
+        Start value of ``solver.tolerance`` (relative tolerance of the Runge-Kutta pieces).
+
+    Raises
+    ------
+    NotNativeError
+        A scene whose model has no native kernel (the torsional model).
+    InputError
+        Bad scene or output name, an FMI version other than 2 and 3, no C compiler, an FMU over
+        :data:`MAX_SIZE`.
+    SolverError
+        The C compiler failed.
+    """
+    from gear_dyn.fmu.staging import fmu_target, load_fmu_scene
+    from gear_dyn.scene import build_pair, build_plan
+
+    if fmi not in (2, 3):
+        raise InputError(f"--fmi {fmi}: valid FMI versions are 2 and 3")
+    out = fmu_target(out)
+    scene = load_fmu_scene(target)
+    plan = build_plan(scene)
+    op = scene.get("operating")
+    nm = native_model(plan.model, build_pair(scene), op["speed"], op["torque"], tolerance,
+                      load_tables="tip_relief" in scene.tables)
+    ident = "gd_" + re.sub(r"\W", "_", scene.name)
+    f_m = plan.model.mesh_frequency
+    step = 1.0 / (f_m * plan.settings.samples_per_period)
+    xml = model_description(nm, ident, scene.name, float(plan.t_end), step, fmi)
+    data = model_data_c(nm, scene.name)
+    with tempfile.TemporaryDirectory() as tmp:
+        d = Path(tmp)
+        (d / "model_data.c").write_text(data)
+        srcs = [NATIVE_DIR / s for s in (*KERNEL_SOURCES, *GLUE_SOURCES[fmi])]
+        srcs.append(d / "model_data.c")
+        so = compile_shared(srcs, d / f"{ident}.so")
+        platform = "linux64" if fmi == 2 else "x86_64-linux"
+        buf = d / "fmu.zip"
+        with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as z:
+            z.writestr("modelDescription.xml", xml)
+            z.write(so, f"binaries/{platform}/{ident}.so")
+            for s in srcs:
+                z.write(s, f"sources/{s.name}")
+            for name in HEADERS:
+                z.write(NATIVE_DIR / name, f"sources/{name}")
+            for hdr in sorted((NATIVE_DIR / f"fmi{fmi}").iterdir()):
+                z.write(hdr, f"sources/fmi{fmi}/{hdr.name}")
+            if fmi == 3:
+                z.writestr("sources/buildDescription.xml", build_description(ident))
+        payload = buf.read_bytes()
+    if len(payload) > MAX_SIZE:
+        raise InputError(f"native FMU: {len(payload)} bytes, valid range <= {MAX_SIZE} bytes")
+    write_bytes(out, payload)
+    return NativeFMU(Path(out), ident, nm, scene.name, fmi)
+

@@ -1,0 +1,197 @@
+/* FMI 2.0 co-simulation glue of the gear_dyn native kernel (gd_kernel.h). Value references:
+ * 1..5 the parameters and inputs (GD_SPEED..GD_TOL), 6..11 the outputs (GD_X..GD_DRIVEN). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "fmi2/fmi2Functions.h"
+#include "gd_kernel.h"
+
+typedef struct {
+    gd_state st;
+    fmi2CallbackFunctions cb;
+    char name[128];
+    int started;
+} inst;
+
+#define M (&gd_model_data)
+
+static void logmsg(inst *c, fmi2Status status, const char *msg)
+{
+    if (c->cb.logger) c->cb.logger(c->cb.componentEnvironment, c->name, status, "logError", msg);
+}
+
+const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
+const char *fmi2GetVersion(void) { return fmi2Version; }
+
+fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean on, size_t n, const fmi2String cat[])
+{
+    (void)c; (void)on; (void)n; (void)cat;
+    return fmi2OK;
+}
+
+fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid,
+                              fmi2String location, const fmi2CallbackFunctions *cb,
+                              fmi2Boolean visible, fmi2Boolean logging)
+{
+    inst *c;
+    (void)guid; (void)location; (void)visible; (void)logging;
+    if (type != fmi2CoSimulation || M->format != GD_TABLE_FORMAT) return NULL;
+    c = (inst *)calloc(1, sizeof *c);
+    if (!c) return NULL;
+    if (cb) c->cb = *cb;
+    strncpy(c->name, name ? name : "gear_dyn", sizeof c->name - 1);
+    gd_defaults(&c->st, M);
+    return c;
+}
+
+void fmi2FreeInstance(fmi2Component c) { free(c); }
+
+fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tol_on, fmi2Real tol,
+                               fmi2Real t0, fmi2Boolean stop_on, fmi2Real stop)
+{
+    (void)tol_on; (void)tol; (void)stop_on; (void)stop;
+    ((inst *)c)->st.t = t0;
+    return fmi2OK;
+}
+
+fmi2Status fmi2EnterInitializationMode(fmi2Component c) { (void)c; return fmi2OK; }
+
+fmi2Status fmi2ExitInitializationMode(fmi2Component c)
+{
+    inst *i = (inst *)c;
+    gd_start(&i->st, M, i->st.t);
+    i->started = 1;
+    return fmi2OK;
+}
+
+fmi2Status fmi2Terminate(fmi2Component c) { (void)c; return fmi2OK; }
+
+fmi2Status fmi2Reset(fmi2Component c)
+{
+    inst *i = (inst *)c;
+    gd_defaults(&i->st, M);
+    i->started = 0;
+    return fmi2OK;
+}
+
+fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Real v[])
+{
+    return gd_get(&((inst *)c)->st, M, vr, n, v) == GD_OK ? fmi2OK : fmi2Error;
+}
+
+fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
+                       const fmi2Real v[])
+{
+    inst *i = (inst *)c;
+    char msg[256];
+    size_t k;
+    for (k = 0; k < n; k++)
+        if (gd_set(&i->st, M, vr[k], v[k], i->started, msg, sizeof msg) != GD_OK) {
+            logmsg(i, fmi2Error, msg);
+            return fmi2Error;
+        }
+    return fmi2OK;
+}
+
+#define NOT_USED(T) \
+    fmi2Status fmi2Get##T(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2##T v[]) \
+    { (void)c; (void)vr; (void)v; return n ? fmi2Error : fmi2OK; } \
+    fmi2Status fmi2Set##T(fmi2Component c, const fmi2ValueReference vr[], size_t n, \
+                          const fmi2##T v[]) \
+    { (void)c; (void)vr; (void)v; return n ? fmi2Error : fmi2OK; }
+NOT_USED(Integer)
+NOT_USED(Boolean)
+NOT_USED(String)
+
+/* the FMU state is a plain copy of the kernel's struct */
+fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *s)
+{
+    if (!*s) *s = malloc(sizeof(gd_state));
+    if (!*s) return fmi2Error;
+    memcpy(*s, &((inst *)c)->st, sizeof(gd_state));
+    return fmi2OK;
+}
+
+fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate s)
+{
+    if (!s) return fmi2Error;
+    memcpy(&((inst *)c)->st, s, sizeof(gd_state));
+    ((inst *)c)->started = 1;
+    return fmi2OK;
+}
+
+fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *s)
+{
+    (void)c;
+    free(*s);
+    *s = NULL;
+    return fmi2OK;
+}
+
+fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate s, size_t *size)
+{
+    (void)c; (void)s;
+    *size = sizeof(gd_state);
+    return fmi2OK;
+}
+
+fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate s, fmi2Byte b[], size_t size)
+{
+    (void)c;
+    if (size != sizeof(gd_state)) return fmi2Error;
+    memcpy(b, s, size);
+    return fmi2OK;
+}
+
+fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte b[], size_t size,
+                                   fmi2FMUstate *s)
+{
+    (void)c;
+    if (size != sizeof(gd_state) || !(*s = malloc(size))) return fmi2Error;
+    memcpy(*s, b, size);
+    return fmi2OK;
+}
+
+fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference u[], size_t nu,
+                                        const fmi2ValueReference z[], size_t nz,
+                                        const fmi2Real du[], fmi2Real dz[])
+{
+    (void)c; (void)u; (void)nu; (void)z; (void)nz; (void)du; (void)dz;
+    return fmi2Error;
+}
+
+fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t n,
+                                       const fmi2Integer order[], const fmi2Real v[])
+{
+    (void)c; (void)vr; (void)n; (void)order; (void)v;
+    return fmi2Error;
+}
+
+fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t n,
+                                        const fmi2Integer order[], fmi2Real v[])
+{
+    (void)c; (void)vr; (void)n; (void)order; (void)v;
+    return fmi2Error;
+}
+
+fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean no_prior)
+{
+    inst *i = (inst *)c;
+    int rc;
+    (void)no_prior;
+    rc = gd_advance(&i->st, M, t + h);
+    if (rc == GD_OK) return fmi2OK;
+    logmsg(i, fmi2Error, GD_STEP_MESSAGE);
+    return fmi2Error;
+}
+
+fmi2Status fmi2CancelStep(fmi2Component c) { (void)c; return fmi2Error; }
+
+#define STATUS(T, V) \
+    fmi2Status fmi2Get##T##Status(fmi2Component c, const fmi2StatusKind k, fmi2##V *v) \
+    { (void)c; (void)k; (void)v; return fmi2Discard; }
+STATUS(, Status)
+STATUS(Real, Real)
+STATUS(Integer, Integer)
+STATUS(Boolean, Boolean)
+STATUS(String, String)

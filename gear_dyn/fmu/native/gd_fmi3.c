@@ -1,0 +1,274 @@
+/* FMI 3.0 co-simulation glue of the gear_dyn native kernel (gd_kernel.h); the same value
+ * references and the same kernel calls as the FMI 2.0 glue (gd_fmi2.c). Model exchange and
+ * scheduled execution are not provided: their functions exist (the standard header declares
+ * them) and return fmi3Error. */
+#include <stdlib.h>
+#include <string.h>
+#include "fmi3/fmi3Functions.h"
+#include "gd_kernel.h"
+
+typedef struct {
+    gd_state st;
+    fmi3InstanceEnvironment env;
+    fmi3LogMessageCallback log;
+    int started;
+} inst;
+
+#define M (&gd_model_data)
+#define I ((inst *)c)
+
+static fmi3Status fail(inst *c, const char *msg)
+{
+    if (c->log) c->log(c->env, fmi3Error, "logStatusError", msg);
+    return fmi3Error;
+}
+
+const char *fmi3GetVersion(void) { return fmi3Version; }
+
+fmi3Status fmi3SetDebugLogging(fmi3Instance c, fmi3Boolean on, size_t n, const fmi3String cat[])
+{
+    (void)c; (void)on; (void)n; (void)cat;
+    return fmi3OK;
+}
+
+fmi3Instance fmi3InstantiateCoSimulation(
+    fmi3String name, fmi3String token, fmi3String resources, fmi3Boolean visible,
+    fmi3Boolean logging, fmi3Boolean event_mode, fmi3Boolean early_return,
+    const fmi3ValueReference required[], size_t n_required, fmi3InstanceEnvironment env,
+    fmi3LogMessageCallback log, fmi3IntermediateUpdateCallback update)
+{
+    inst *c;
+    (void)name; (void)token; (void)resources; (void)visible; (void)logging;
+    (void)early_return; (void)required; (void)n_required; (void)update;
+    if (event_mode || M->format != GD_TABLE_FORMAT) return NULL;
+    c = (inst *)calloc(1, sizeof *c);
+    if (!c) return NULL;
+    c->env = env;
+    c->log = log;
+    gd_defaults(&c->st, M);
+    return c;
+}
+
+fmi3Instance fmi3InstantiateModelExchange(fmi3String name, fmi3String token, fmi3String res,
+                                          fmi3Boolean visible, fmi3Boolean logging,
+                                          fmi3InstanceEnvironment env, fmi3LogMessageCallback log)
+{
+    (void)name; (void)token; (void)res; (void)visible; (void)logging; (void)env; (void)log;
+    return NULL;
+}
+
+fmi3Instance fmi3InstantiateScheduledExecution(
+    fmi3String name, fmi3String token, fmi3String res, fmi3Boolean visible, fmi3Boolean logging,
+    fmi3InstanceEnvironment env, fmi3LogMessageCallback log, fmi3ClockUpdateCallback clock,
+    fmi3LockPreemptionCallback lock, fmi3UnlockPreemptionCallback unlock)
+{
+    (void)name; (void)token; (void)res; (void)visible; (void)logging; (void)env; (void)log;
+    (void)clock; (void)lock; (void)unlock;
+    return NULL;
+}
+
+void fmi3FreeInstance(fmi3Instance c) { free(c); }
+
+fmi3Status fmi3EnterInitializationMode(fmi3Instance c, fmi3Boolean tol_on, fmi3Float64 tol,
+                                       fmi3Float64 t0, fmi3Boolean stop_on, fmi3Float64 stop)
+{
+    (void)tol_on; (void)tol; (void)stop_on; (void)stop;
+    I->st.t = t0;
+    return fmi3OK;
+}
+
+fmi3Status fmi3ExitInitializationMode(fmi3Instance c)
+{
+    gd_start(&I->st, M, I->st.t);
+    I->started = 1;
+    return fmi3OK;
+}
+
+fmi3Status fmi3Terminate(fmi3Instance c) { (void)c; return fmi3OK; }
+
+fmi3Status fmi3Reset(fmi3Instance c)
+{
+    gd_defaults(&I->st, M);
+    I->started = 0;
+    return fmi3OK;
+}
+
+fmi3Status fmi3GetFloat64(fmi3Instance c, const fmi3ValueReference vr[], size_t n,
+                          fmi3Float64 v[], size_t nv)
+{
+    if (nv != n || gd_get(&I->st, M, vr, n, v) != GD_OK)
+        return fail(I, "fmi3GetFloat64: unknown value reference");
+    return fmi3OK;
+}
+
+fmi3Status fmi3SetFloat64(fmi3Instance c, const fmi3ValueReference vr[], size_t n,
+                          const fmi3Float64 v[], size_t nv)
+{
+    char msg[256];
+    size_t k;
+    if (nv != n) return fail(I, "fmi3SetFloat64: one value per value reference");
+    for (k = 0; k < n; k++)
+        if (gd_set(&I->st, M, vr[k], v[k], I->started, msg, sizeof msg) != GD_OK)
+            return fail(I, msg);
+    return fmi3OK;
+}
+
+fmi3Status fmi3DoStep(fmi3Instance c, fmi3Float64 t, fmi3Float64 h, fmi3Boolean no_prior,
+                      fmi3Boolean *event, fmi3Boolean *terminate, fmi3Boolean *early,
+                      fmi3Float64 *last)
+{
+    int rc = gd_advance(&I->st, M, t + h);
+    (void)no_prior;
+    *event = fmi3False;
+    *terminate = fmi3False;
+    *early = fmi3False;
+    *last = I->st.t;
+    return rc == GD_OK ? fmi3OK : fail(I, GD_STEP_MESSAGE);
+}
+
+/* the FMU state is a plain copy of the kernel's struct */
+fmi3Status fmi3GetFMUState(fmi3Instance c, fmi3FMUState *s)
+{
+    if (!*s) *s = malloc(sizeof(gd_state));
+    if (!*s) return fmi3Error;
+    memcpy(*s, &I->st, sizeof(gd_state));
+    return fmi3OK;
+}
+
+fmi3Status fmi3SetFMUState(fmi3Instance c, fmi3FMUState s)
+{
+    if (!s) return fmi3Error;
+    memcpy(&I->st, s, sizeof(gd_state));
+    I->started = 1;
+    return fmi3OK;
+}
+
+fmi3Status fmi3FreeFMUState(fmi3Instance c, fmi3FMUState *s)
+{
+    (void)c;
+    free(*s);
+    *s = NULL;
+    return fmi3OK;
+}
+
+fmi3Status fmi3SerializedFMUStateSize(fmi3Instance c, fmi3FMUState s, size_t *size)
+{
+    (void)c; (void)s;
+    *size = sizeof(gd_state);
+    return fmi3OK;
+}
+
+fmi3Status fmi3SerializeFMUState(fmi3Instance c, fmi3FMUState s, fmi3Byte b[], size_t size)
+{
+    (void)c;
+    if (size != sizeof(gd_state)) return fmi3Error;
+    memcpy(b, s, size);
+    return fmi3OK;
+}
+
+fmi3Status fmi3DeserializeFMUState(fmi3Instance c, const fmi3Byte b[], size_t size,
+                                   fmi3FMUState *s)
+{
+    (void)c;
+    if (size != sizeof(gd_state) || !(*s = malloc(size))) return fmi3Error;
+    memcpy(*s, b, size);
+    return fmi3OK;
+}
+
+/* ---- what this FMU does not provide: fmi3Error (or no values for n = 0) */
+#define VR_ARGS fmi3Instance c, const fmi3ValueReference vr[], size_t n
+#define UNUSED_VR (void)c; (void)vr
+#define NO_TYPE(T) \
+    fmi3Status fmi3Get##T(VR_ARGS, fmi3##T v[], size_t nv) \
+    { UNUSED_VR; (void)v; (void)nv; return n ? fmi3Error : fmi3OK; } \
+    fmi3Status fmi3Set##T(VR_ARGS, const fmi3##T v[], size_t nv) \
+    { UNUSED_VR; (void)v; (void)nv; return n ? fmi3Error : fmi3OK; }
+NO_TYPE(Float32)
+NO_TYPE(Int8)
+NO_TYPE(UInt8)
+NO_TYPE(Int16)
+NO_TYPE(UInt16)
+NO_TYPE(Int32)
+NO_TYPE(UInt32)
+NO_TYPE(Int64)
+NO_TYPE(UInt64)
+NO_TYPE(Boolean)
+NO_TYPE(String)
+
+fmi3Status fmi3GetBinary(VR_ARGS, size_t sizes[], fmi3Binary v[], size_t nv)
+{ UNUSED_VR; (void)sizes; (void)v; (void)nv; return n ? fmi3Error : fmi3OK; }
+fmi3Status fmi3SetBinary(VR_ARGS, const size_t sizes[], const fmi3Binary v[], size_t nv)
+{ UNUSED_VR; (void)sizes; (void)v; (void)nv; return n ? fmi3Error : fmi3OK; }
+fmi3Status fmi3GetClock(VR_ARGS, fmi3Clock v[])
+{ UNUSED_VR; (void)v; return n ? fmi3Error : fmi3OK; }
+fmi3Status fmi3SetClock(VR_ARGS, const fmi3Clock v[])
+{ UNUSED_VR; (void)v; return n ? fmi3Error : fmi3OK; }
+fmi3Status fmi3GetIntervalDecimal(VR_ARGS, fmi3Float64 v[], fmi3IntervalQualifier q[])
+{ UNUSED_VR; (void)n; (void)v; (void)q; return fmi3Error; }
+fmi3Status fmi3GetIntervalFraction(VR_ARGS, fmi3UInt64 a[], fmi3UInt64 b[],
+                                   fmi3IntervalQualifier q[])
+{ UNUSED_VR; (void)n; (void)a; (void)b; (void)q; return fmi3Error; }
+fmi3Status fmi3GetShiftDecimal(VR_ARGS, fmi3Float64 v[])
+{ UNUSED_VR; (void)n; (void)v; return fmi3Error; }
+fmi3Status fmi3GetShiftFraction(VR_ARGS, fmi3UInt64 a[], fmi3UInt64 b[])
+{ UNUSED_VR; (void)n; (void)a; (void)b; return fmi3Error; }
+fmi3Status fmi3SetIntervalDecimal(VR_ARGS, const fmi3Float64 v[])
+{ UNUSED_VR; (void)n; (void)v; return fmi3Error; }
+fmi3Status fmi3SetIntervalFraction(VR_ARGS, const fmi3UInt64 a[], const fmi3UInt64 b[])
+{ UNUSED_VR; (void)n; (void)a; (void)b; return fmi3Error; }
+fmi3Status fmi3SetShiftDecimal(VR_ARGS, const fmi3Float64 v[])
+{ UNUSED_VR; (void)n; (void)v; return fmi3Error; }
+fmi3Status fmi3SetShiftFraction(VR_ARGS, const fmi3UInt64 a[], const fmi3UInt64 b[])
+{ UNUSED_VR; (void)n; (void)a; (void)b; return fmi3Error; }
+fmi3Status fmi3GetOutputDerivatives(VR_ARGS, const fmi3Int32 o[], fmi3Float64 v[], size_t nv)
+{ UNUSED_VR; (void)n; (void)o; (void)v; (void)nv; return fmi3Error; }
+
+fmi3Status fmi3GetNumberOfVariableDependencies(fmi3Instance c, fmi3ValueReference vr,
+                                               size_t *n)
+{ (void)c; (void)vr; (void)n; return fmi3Error; }
+fmi3Status fmi3GetVariableDependencies(fmi3Instance c, fmi3ValueReference vr, size_t a[],
+                                       fmi3ValueReference b[], size_t d[],
+                                       fmi3DependencyKind k[], size_t n)
+{ (void)c; (void)vr; (void)a; (void)b; (void)d; (void)k; (void)n; return fmi3Error; }
+
+#define DERIV(NAME) \
+    fmi3Status NAME(fmi3Instance c, const fmi3ValueReference u[], size_t nu, \
+                    const fmi3ValueReference k[], size_t nk, const fmi3Float64 seed[], \
+                    size_t ns, fmi3Float64 out[], size_t no) \
+    { (void)c; (void)u; (void)nu; (void)k; (void)nk; (void)seed; (void)ns; (void)out; \
+      (void)no; return fmi3Error; }
+DERIV(fmi3GetDirectionalDerivative)
+DERIV(fmi3GetAdjointDerivative)
+
+#define NO_MODE(NAME) fmi3Status NAME(fmi3Instance c) { (void)c; return fmi3Error; }
+NO_MODE(fmi3EnterConfigurationMode)
+NO_MODE(fmi3ExitConfigurationMode)
+NO_MODE(fmi3EnterEventMode)
+NO_MODE(fmi3EvaluateDiscreteStates)
+NO_MODE(fmi3EnterContinuousTimeMode)
+NO_MODE(fmi3EnterStepMode)
+
+fmi3Status fmi3UpdateDiscreteStates(fmi3Instance c, fmi3Boolean *a, fmi3Boolean *b,
+                                    fmi3Boolean *d, fmi3Boolean *e, fmi3Boolean *f,
+                                    fmi3Float64 *t)
+{ (void)c; (void)a; (void)b; (void)d; (void)e; (void)f; (void)t; return fmi3Error; }
+fmi3Status fmi3CompletedIntegratorStep(fmi3Instance c, fmi3Boolean no_prior, fmi3Boolean *a,
+                                       fmi3Boolean *b)
+{ (void)c; (void)no_prior; (void)a; (void)b; return fmi3Error; }
+fmi3Status fmi3SetTime(fmi3Instance c, fmi3Float64 t) { (void)c; (void)t; return fmi3Error; }
+
+#define ARRAY(NAME, Q) \
+    fmi3Status NAME(fmi3Instance c, Q fmi3Float64 v[], size_t n) \
+    { (void)c; (void)v; (void)n; return fmi3Error; }
+ARRAY(fmi3SetContinuousStates, const)
+ARRAY(fmi3GetContinuousStateDerivatives, )
+ARRAY(fmi3GetEventIndicators, )
+ARRAY(fmi3GetContinuousStates, )
+ARRAY(fmi3GetNominalsOfContinuousStates, )
+
+fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance c, size_t *n)
+{ (void)c; *n = 0; return fmi3OK; }
+fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance c, size_t *n)
+{ (void)c; *n = 0; return fmi3OK; }
+fmi3Status fmi3ActivateModelPartition(fmi3Instance c, fmi3ValueReference vr, fmi3Float64 t)
+{ (void)c; (void)vr; (void)t; return fmi3Error; }

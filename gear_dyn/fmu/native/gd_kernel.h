@@ -1,0 +1,67 @@
+/* gear_dyn native FMU kernel: the single-DOF gear mesh model stepped from tables in mesh phase.
+ *
+ *   m x'' + c (x' - f_m e'(p)) + k(p) f(x - e(p)) = W,   p' = f_m = z1 w1 / (2 pi),  W = T1 / r_b1
+ *
+ * f is the identity, or the backlash dead zone of half gap b. k, e and de/dp are polynomials of
+ * the phase on each piece of one mesh cycle (data in model_data.c, written by gear_dyn). C99,
+ * libm only. The kernel version is GD_KERNEL_VERSION; model_data.c states the table format. */
+#ifndef GD_KERNEL_H
+#define GD_KERNEL_H
+
+#include <stddef.h>
+
+#define GD_KERNEL_VERSION "1.0.0"
+#define GD_TABLE_FORMAT 1
+
+/* parameters and inputs, in this order (value references 1..5) */
+enum { GD_SPEED, GD_TORQUE, GD_ZETA, GD_HALF_GAP, GD_TOL, GD_NPAR };
+/* outputs (value references 6..11) */
+enum { GD_X, GD_V, GD_DTE, GD_FORCE, GD_K, GD_DRIVEN, GD_NOUT };
+
+typedef struct {
+    const char *name, *unit;
+    double low, high;   /* valid range */
+    int low_open;       /* 1: low itself is refused */
+} gd_param;
+
+typedef struct {
+    int format;                 /* GD_TABLE_FORMAT */
+    int n_pieces, degree;       /* pieces over one mesh cycle, polynomial degree */
+    int has_te, has_backlash;
+    const double *breaks;       /* n_pieces + 1 phases from 0 to 1 (cycles) */
+    const double *coef;         /* [piece][k, e, de/dp][degree + 1], Horner order in s in [-1, 1] */
+    const unsigned char *flat;  /* 1: k and e constant and de/dp = 0 on the piece */
+    const gd_param *params;     /* GD_NPAR names, units and ranges */
+    double start[GD_NPAR];      /* start values of the parameters and inputs */
+    double mass, k_mean, rb1, rb2, z1, phase0, x_scale;
+} gd_model;
+
+extern const gd_model gd_model_data;
+
+typedef struct {
+    double par[GD_NPAR];        /* parameters and inputs */
+    double t, x, v;             /* time (s), DTE (m) and its rate (m/s) */
+    double cycles, frac;        /* mesh phase = cycles + frac, frac in [0, 1) */
+    double h;                   /* next Runge-Kutta step (s) */
+    int piece, regime;          /* table piece; contact 1 drive, 0 gap, -1 back flank */
+    long n_events;
+} gd_state;
+
+enum { GD_OK = 0, GD_ERR_RANGE = 1, GD_ERR_STEP = 2, GD_ERR_VR = 3 };
+
+/* the message of a failed step (both FMI versions log it) */
+#define GD_STEP_MESSAGE "gear_dyn kernel: step failed (step size underflow or too many " \
+    "contact changes); lower solver.tolerance or check the inputs"
+
+void gd_defaults(gd_state *s, const gd_model *m);
+int gd_check(const gd_model *m, int i, double value);
+void gd_start(gd_state *s, const gd_model *m, double t0);
+int gd_advance(gd_state *s, const gd_model *m, double t_end);
+void gd_outputs(const gd_state *s, const gd_model *m, double *out);
+/* the FMI glue of both versions: values by value reference (0 time, 1..GD_NPAR the parameters
+ * and inputs, then the outputs); gd_set writes one message into msg on a refused value */
+int gd_get(const gd_state *s, const gd_model *m, const unsigned *vr, size_t n, double *v);
+int gd_set(gd_state *s, const gd_model *m, unsigned vr, double value, int started, char *msg,
+           size_t len);
+
+#endif
