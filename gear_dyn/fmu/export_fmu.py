@@ -27,10 +27,10 @@ from gear_dyn.fmu.export_c import (
     NATIVE_DIR,
     OUTPUTS,
     PARAMS,
-    compile_shared,
     model_data_c,
     start_values,
 )
+from gear_dyn.fmu.toolchain import compile_binaries
 from gear_dyn.io import write_bytes
 
 #: SI base-unit exponents of the units the FMU uses
@@ -233,12 +233,13 @@ def build_native_fmu(target: str | Path, out: Path, fmi: int = 2,
         (d / "model_data.c").write_text(data)
         srcs = [NATIVE_DIR / s for s in (*KERNEL_SOURCES, *GLUE_SOURCES[fmi])]
         srcs.append(d / "model_data.c")
-        so = compile_shared(srcs, d / f"{ident}.so")
-        platform = "linux64" if fmi == 2 else "x86_64-linux"
+        # x86_64 Linux always; x86_64 Windows too where MinGW-w64 is installed
+        binaries = compile_binaries(srcs, d / "binaries", ident, fmi, include_dirs=[NATIVE_DIR])
         buf = d / "fmu.zip"
         with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as z:
             z.writestr("modelDescription.xml", xml)
-            z.write(so, f"binaries/{platform}/{ident}.so")
+            for folder, library in binaries.items():
+                z.write(library, f"binaries/{folder}/{library.name}")
             for s in srcs:
                 z.write(s, f"sources/{s.name}")
             for name in HEADERS:
