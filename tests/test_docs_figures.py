@@ -128,7 +128,7 @@ def test_backlash_sweep_jump_speeds() -> None:
     from gear_dyn.scene.sweep import sweep_scene
 
     scene = load_scene(ROOT / "gear_dyn" / "scenes" / "helicopter_tail_backlash.toml")
-    res = sweep_scene(scene, np.arange(4600.0, 6401.0, 100.0) * RPM, workers=1,
+    res = sweep_scene(scene, np.arange(4600.0, 6401.0, 100.0) * RPM, si=True, workers=1,
                       direction="both")
     up = [(round(j["from_rpm"]), round(j["to_rpm"])) for j in jumps(res.curve("up"))]
     down = [(round(j["from_rpm"]), round(j["to_rpm"])) for j in jumps(res.curve("down"))]

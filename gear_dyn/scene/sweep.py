@@ -24,6 +24,7 @@ from gear_dyn.geometry import GearPair, mesh_frequency
 from gear_dyn.models.base import Model
 from gear_dyn.scene.build import RunPlan, build_model, build_pair, build_plan
 from gear_dyn.scene.loader import Scene
+from gear_dyn.scene.operating import check_keywords, parse_speeds
 
 FloatArray = NDArray[np.float64]
 RPM = 2 * math.pi / 60
@@ -79,16 +80,23 @@ def model_at_speed(scene: Scene, speed: float, **overrides: Any) -> Model:
     return SceneModels.of(scene, **overrides)(speed)
 
 
-def sweep_scene(scene: Scene, speeds: Any, *, options: SweepOptions | None = None,
+def sweep_scene(scene: Scene, speeds: Any, *, si: bool = False,
+                options: SweepOptions | None = None,
                 direction: str = "auto", workers: int | None = None,
                 executor: cf.Executor | None = None, block: int | None = None,
                 progress: Callable[[int, int], None] | None = None,
                 **solver: Any) -> SweepResult:
-    """Sweep a scene over pinion speeds (rad/s): :func:`gear_dyn.analysis.sweep.sweep` with the
+    """Sweep a scene over pinion speeds: :func:`gear_dyn.analysis.sweep.sweep` with the
     scene's model factory, solver settings and span.
 
+    ``speeds``: strings with units (``["4000 rpm", "6275 rpm"]``), a range ``"1000 rpm:6000
+    rpm:51"`` (START:STOP:N, as ``--speeds``), or, with ``si=True``, numbers in rad/s (a list or
+    a numpy array); plain numbers without ``si=True`` are refused, as in a scene file
+    (:func:`gear_dyn.scene.operating.parse_speeds`).
+
     Serial in the calling process unless ``workers`` (N >= 2: a local process pool) or an
-    ``executor`` (e.g. ``distributed.Client(...).get_executor()``) is given; the numbers are
+    ``executor`` (e.g. ``distributed.Client(...).get_executor()``, which needs the ``dask``
+    extra: ``pip install "gear_dyn[dask]"``) is given; the numbers are
     the same. ``options``, ``direction``, ``workers``, ``executor``, ``block`` and ``progress``
     are those of :func:`~gear_dyn.analysis.sweep.sweep`; ``solver``: ``[solver]`` overrides
     (:data:`SOLVER_OVERRIDES`).
@@ -96,15 +104,14 @@ def sweep_scene(scene: Scene, speeds: Any, *, options: SweepOptions | None = Non
     Raises
     ------
     InputError
-        Bad speeds, options, overrides, direction, block or workers; an unknown keyword.
+        Plain-number speeds without ``si=True``; bad speeds, options, overrides, direction, block or workers; an unknown keyword.
     SolverError
         An integration failed.
     """
-    unknown = sorted(set(solver) - set(SOLVER_OVERRIDES))
-    if unknown:
-        raise InputError(f"sweep_scene: unknown option {unknown[0]!r}; valid: options, "
-                         f"direction, workers, executor, block, progress, "
-                         f"{', '.join(SOLVER_OVERRIDES)}")
+    check_keywords("sweep_scene", solver, (
+        "si", "options", "direction", "workers", "executor", "block", "progress",
+        *SOLVER_OVERRIDES))
+    speeds = parse_speeds(speeds, si=si)
     factory = SceneModels.of(scene, **solver)
     plan = factory.plan
     f0 = plan.model.mesh_frequency
