@@ -104,7 +104,8 @@ def sweep_scene(scene: Scene, speeds: Any, *, si: bool = False,
     Raises
     ------
     InputError
-        Plain-number speeds without ``si=True``; bad speeds, options, overrides, direction, block or workers; an unknown keyword.
+        Plain-number speeds without ``si=True``; bad speeds, options, overrides, direction,
+        block or workers; an unknown keyword.
     SolverError
         An integration failed.
     """

@@ -62,7 +62,8 @@ def test_sweep_point_equals_run_scene() -> None:
     assert c.rms_dte[1] == pytest.approx(np.std(x), rel=1e-9)
     assert c.mean_dte[1] == pytest.approx(np.mean(x), rel=1e-9)
     assert c.mesh_frequency[1] == run.mesh_frequency
-    trans = sweep_scene(scene, [w0 * 0.7, w0], si=True, workers=1, options=SweepOptions(method="transient"))
+    trans = sweep_scene(scene, [w0 * 0.7, w0], si=True, workers=1,
+                        options=SweepOptions(method="transient"))
     for name in ("dynamic_factor", "rms_dte", "ptp_dte"):
         assert np.allclose(getattr(trans.curves[0], name), getattr(c, name), rtol=1e-9)
     # a second method at 0.7 w0: DOP853 at rtol 1e-12 (not the matrix exponentials of both paths
@@ -124,7 +125,8 @@ def test_parametric_instability_flagged_not_integrated() -> None:
     scene = load_scene(TAIL)
     speeds = np.array([12000.0, 15000.0]) * RPM  # f_m / f_n = 1.58 (stable) and 1.97 (tongue)
     for method in ("steady", "transient"):
-        c = sweep_scene(scene, speeds, si=True, workers=1, options=SweepOptions(method=method)).curves[0]
+        c = sweep_scene(scene, speeds, si=True, workers=1,
+                        options=SweepOptions(method=method)).curves[0]
         assert c.status[0] != "unstable" and c.status[1] == "unstable"
         assert c.spectral_radius[1] > 1 and np.isnan(c.rms_dte[1])
         assert np.isfinite(c.rms_dte[0])
@@ -189,7 +191,8 @@ def test_dask_and_serial_identical(tmp_path: Path) -> None:
     bl = load_scene(BACKLASH)
     sp_tail = np.linspace(2000, 16000, 12) * RPM
     sp_bl = np.array([5000.0, 6000.0, 6400.0]) * RPM
-    serial = [sweep_scene(tail, sp_tail, si=True, block=3), sweep_scene(bl, sp_bl, si=True, block=2)]
+    serial = [sweep_scene(tail, sp_tail, si=True, block=3),
+              sweep_scene(bl, sp_bl, si=True, block=2)]
     with LocalCluster(n_workers=1, processes=False, threads_per_worker=2,
                       dashboard_address=":0") as cluster, Client(cluster) as client:
         ex = client.get_executor()
