@@ -119,7 +119,8 @@ def plot_sweep_response(result: SweepResult, ax: Any = None,
         top.set_xlabel("f_m / f_n")
     kind = "steady state (monodromy / shooting)" if result.options.method == "steady" else \
         "transient integration"
-    fig.suptitle(f"{result.scene_name}: speed sweep, {kind}", fontsize=10)
+    if own:  # a caller's figure gets no title
+        fig.suptitle(f"{result.scene_name}: speed sweep, {kind}", fontsize=10)
     _layout(fig, own, left=0.09, right=0.98, bottom=0.06, top=0.9, hspace=0.08)
     return fig
 
@@ -200,8 +201,9 @@ def plot_waterfall(result: SweepResult, direction: str | None = None, max_lines:
     ax.set_ylabel("speed (rpm)")
     ax.set_xlim(0, float(np.max(freq)) / 1e3)
     ax.grid(alpha=0.3)
-    fig.suptitle(f"{result.scene_name}: DTE spectra over speed (sweep {c.direction})",
-                 fontsize=10)
+    if own:  # a caller's figure gets no title
+        fig.suptitle(f"{result.scene_name}: DTE spectra over speed (sweep {c.direction})",
+                     fontsize=10)
     _layout(fig, own, left=0.02, right=0.97, bottom=0.11, top=0.9, wspace=0.12)
     return fig
 
