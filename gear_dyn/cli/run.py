@@ -92,6 +92,8 @@ def run(args: argparse.Namespace) -> int:
         file=sys.stdout,
     )
     print(f"  dynamic factor = {summary['dynamic_factor_definition']}", file=sys.stdout)
+    for line in jump_lines(summary):
+        print(f"  {line}", file=sys.stdout)
     if summary.get("iso_6336_kv"):
         from gear_dyn.scene.iso import iso_kv_lines
 
@@ -102,6 +104,20 @@ def run(args: argparse.Namespace) -> int:
         print(line, file=sys.stdout)
     print(f"wrote {args.out}/", file=sys.stdout)
     return 0
+
+
+def jump_lines(summary: dict[str, Any]) -> list[str]:
+    """The peak force over W and the stiffness-jump overshoot, beside the dynamic factor."""
+    qs = summary.get("quasi_static")
+    if not qs:
+        return []
+    jump = summary["stiffness_jump_factor"]
+    name = ("stiffness-jump overshoot" if jump > 1 + qs["estimated_error"]
+            else "no stiffness-jump overshoot")
+    return [f"peak mesh force {summary['peak_force_ratio']:.4f} W = dynamic factor x "
+            f"quasi-static peak {jump:.4f} W ({name}: the force overshoot at the jumps of "
+            f"k(t), at any speed; quasi-static run at f_m = f_n x {qs['speed_ratio']:.3g}, "
+            f"error {qs['estimated_error']:.1g})"]
 
 
 def self_assessment_lines(summary: dict[str, Any]) -> list[str]:

@@ -6,11 +6,14 @@ and the ISO 6336-1 K_v beside it (:mod:`.iso`).
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
+from gear_dyn.analysis.dynamic_factor import QS_SPEED_RATIO, quasi_static_model
 from gear_dyn.analysis.study import simulate
 from gear_dyn.errors import InputError
-from gear_dyn.scene.build import build_plan, scene_facts
+from gear_dyn.models.base import Model
+from gear_dyn.scene.build import build_model, build_plan, scene_facts
 from gear_dyn.scene.iso import iso_kv_summary
 from gear_dyn.scene.operating import check_keywords, with_operating
 from gear_dyn.scene.validated import Scene, scene_error
@@ -21,6 +24,18 @@ RUN_SOLVER_OVERRIDES = ("method", "rtol", "atol", "periods", "steady_periods",
                         "samples_per_period")
 #: every keyword of :func:`run_scene`
 RUN_KEYWORDS = ("speed", "torque", "si", *RUN_SOLVER_OVERRIDES)
+
+
+def _quasi_static_model(scene: Scene, model: Model) -> Model | None:
+    """The scene's model at the quasi-static speed of the dynamic factor's reference
+    (:mod:`gear_dyn.analysis.dynamic_factor`): the model itself where only f_m depends on speed,
+    else the scene rebuilt at that speed (eccentric models: the kinematics change with it)."""
+    qs = quasi_static_model(model)
+    fn = model.natural_frequency
+    if qs is not None or fn is None or not math.isfinite(fn) or fn <= 0:
+        return qs
+    speed = scene.tables["operating"]["speed"] * QS_SPEED_RATIO * fn / model.mesh_frequency
+    return build_model(with_operating(scene, speed, si=True))
 
 
 def run_scene(scene: Scene, speed: Any = None, torque: Any = None, *, si: bool = False,
@@ -76,7 +91,8 @@ def run_scene(scene: Scene, speed: Any = None, torque: Any = None, *, si: bool =
     plan = build_plan(scene, **solver)
     iso_kv = iso_kv_summary(scene)  # before the run: a bad [iso] table fails fast
     try:
-        result = simulate(plan.model, plan.t_end, plan.settings, plan.steady_start, scene=scene)
+        result = simulate(plan.model, plan.t_end, plan.settings, plan.steady_start, scene=scene,
+                          quasi_static=_quasi_static_model(scene, plan.model))
     except InputError as exc:  # e.g. a run too long for the solver: name the file
         raise scene_error(scene.source, exc) from None
     for key, value in scene_facts(scene).items():

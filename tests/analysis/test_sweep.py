@@ -57,7 +57,7 @@ def test_sweep_point_equals_run_scene() -> None:
     # rho^100 ~ 1e-38 at the window start, so only rounding separates them. run_scene's window
     # holds phase 0 at both ends; the sweep counts whole periods, so drop one end for RMS/mean
     x = run.outputs["dte"][run.steady][1:]
-    assert c.dynamic_factor[1] == pytest.approx(run.dynamic_factor, rel=1e-9)
+    assert c.dynamic_factor[1] == pytest.approx(run.peak_force_ratio, rel=1e-9)
     assert c.ptp_dte[1] == pytest.approx(run.ptp_dte, rel=1e-9)
     assert c.rms_dte[1] == pytest.approx(np.std(x), rel=1e-9)
     assert c.mean_dte[1] == pytest.approx(np.mean(x), rel=1e-9)
