@@ -78,8 +78,8 @@ def checks(model: Model, result: Result, quasi_static: Model | None = None) -> d
     if quasi_static is None:
         quasi_static = quasi_static_model(model)
     if quasi_static is not None and "mesh_force" in result.outputs:
-        reference = quasi_static_reference(quasi_static, result.settings)
-        out.update(dynamic_factor_figures(result, reference))
+        qs_ref = quasi_static_reference(quasi_static, result.settings)
+        out.update(dynamic_factor_figures(result, qs_ref))
     out["warnings"] = warnings
     return out
 
