@@ -105,7 +105,7 @@ def transient(scene, speeds, mode: str, method: str = "auto"):  # type: ignore[n
         if mode == "run":
             r = simulate(model, 200 / fm, settings, 100 / fm)
             x = r.outputs["dte"][r.steady][1:]  # whole periods (phase 0 once)
-            df.append(r.dynamic_factor)
+            df.append(r.peak_force_ratio)
             rms.append(float(np.std(x)))
             used.append(200)
             continue
