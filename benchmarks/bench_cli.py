@@ -27,7 +27,7 @@ It also times, ``repeats`` fresh processes each:
   where the time goes;
 
 and what each drawing choice of the run's figures saves (``benchmarks/cli_phases.py
---choices``, for the first scene and for ``eccentric_helical``, the longest packaged run).
+--choices``, on the runs of :data:`CHOICE_RUNS`).
 
 Writes ``cli.md`` into ``--out`` (default ``benchmarks/out/``, git-ignored); ``--record`` writes
 it into ``benchmarks/results/`` instead (the recorded figures).
@@ -40,6 +40,7 @@ import json
 import math
 import os
 import platform
+import resource
 import statistics
 import subprocess
 import sys
@@ -62,8 +63,12 @@ SCENES = ("helicopter_tail", "helicopter_tail_backlash")
 TARGET = 1e-6
 #: the whole command's target: at least this many times faster than the naive script
 TARGET_RATIO = 2.5
-#: the longest packaged run, for the drawing choices (its 40 321 samples per line)
-LONG_SCENE = "eccentric_helical"
+#: the drawing choices are timed on these runs: (scene, mesh periods or None for the scene's
+#: own); eccentric_helical is the longest packaged run (40 321 samples per line), the last a
+#: long run of the first scene as ``gear-dyn run --periods 2000`` makes it
+CHOICE_RUNS: tuple[tuple[str, int | None], ...] = (("helicopter_tail", None),
+                                                   ("eccentric_helical", None),
+                                                   ("helicopter_tail", 2000))
 RTOLS = (1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11)
 GEAR_DYN = str(Path(sys.executable).with_name("gear-dyn"))
 MPL_USUAL = "import numpy, matplotlib.figure, matplotlib.backends.backend_agg"
@@ -79,10 +84,21 @@ ENV: dict[str, str] = {}
 def timed(cmd: list[str], env: dict[str, str] | None = None) -> float:
     """Wall time of one whole process in s (its output discarded; a failure raises);
     ``env``: variables set on top of :data:`ENV`."""
+    return timed_cpu(cmd, env)[0]
+
+
+def timed_cpu(cmd: list[str], env: dict[str, str] | None = None) -> tuple[float, float]:
+    """Wall time and CPU time (user + system, of the process and its children) of one whole
+    process in s. On a machine busy with other work the wall time grows with the load; the CPU
+    time much less."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                    env={**ENV, **(env or {})})
-    return time.perf_counter() - t0
+    wall = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return wall, cpu
 
 
 def naive_params(model: Any, t: np.ndarray, rtol: float) -> dict[str, Any]:
@@ -121,18 +137,22 @@ def bench_scene(name: str, repeats: int, work: Path) -> dict[str, Any]:
     if chosen is None:
         raise SystemExit(f"{name}: the naive script does not reach {TARGET:g} at rtol 1e-11")
     ours = [GEAR_DYN, "run", str(path), "--out", str(work / "gd")]
-    t_naive, t_ours = [], []
+    t_naive, t_ours, cpu_naive, cpu_ours = [], [], [], []
     timed(ours)  # warm-up (pint's definition cache, file-system caches)
     for _ in range(repeats):
-        t_naive.append(timed(chosen["cmd"]))
-        t_ours.append(timed(ours))
+        for times, cpus, cmd in ((t_naive, cpu_naive, chosen["cmd"]), (t_ours, cpu_ours, ours)):
+            wall, cpu = timed_cpu(cmd)
+            times.append(wall)
+            cpus.append(cpu)
     lines = (work / "gd" / "timeseries.csv").read_text().splitlines()
     body = [ln for ln in lines if not ln.startswith("#")][1:]  # comments, then the header
     data = np.loadtxt(body, delimiter=",")
     err_ours = relative_errors(model, t, data[:, 1:3].T, ref.y)[0]
     ratios = [a / b for a, b in zip(t_naive, t_ours, strict=True)]
+    cpu_ratios = [a / b for a, b in zip(cpu_naive, cpu_ours, strict=True)]
     return {"scene": name, "naive_rtol": chosen["rtol"], "naive_err": chosen["err"],
             "ours_err": err_ours, "t_naive": t_naive, "t_ours": t_ours, "ratios": ratios,
+            "cpu_naive": cpu_naive, "cpu_ours": cpu_ours, "cpu_ratios": cpu_ratios,
             "ref": ref.kind, "naive_cmd": chosen["cmd"], "path": path}
 
 
@@ -201,11 +221,13 @@ def blas(row: dict[str, Any], repeats: int, work: Path) -> dict[str, dict[str, l
     return out
 
 
-def choices(scene: Path) -> dict[str, float]:
-    """``benchmarks/cli_phases.py --choices SCENE``: seconds each drawing choice saves."""
+def choices(scene: Path, periods: int | None) -> dict[str, float]:
+    """``benchmarks/cli_phases.py --choices SCENE [--periods N]``: seconds each drawing choice
+    saves."""
+    extra = [] if periods is None else ["--periods", str(periods)]
     out = subprocess.run([sys.executable, str(ROOT / "benchmarks" / "cli_phases.py"),
-                          "--choices", str(scene)], check=True, capture_output=True, text=True,
-                         env=ENV)
+                          "--choices", str(scene), *extra], check=True, capture_output=True,
+                         text=True, env=ENV)
     return {ln.split("\t")[0]: float(ln.split("\t")[1]) for ln in out.stdout.splitlines()
             if "\t" in ln}
 
@@ -228,7 +250,8 @@ def _choice_rows(scene: str, saved: dict[str, float]) -> list[str]:
         if key == "png_zlib_6":
             extra = (f"; both files {saved['png_zlib_6 (bytes)'] / 1e3:.0f} kB instead of "
                      f"{size / 1e3:.0f} kB")
-        rows.append(f"| {scene} | {text} | {saved[key] * 1e3:+.0f} ms "
+        rows.append(f"| {scene} ({saved['samples per line']:.0f} samples per line) | {text} | "
+                    f"{saved[key] * 1e3:+.0f} ms "
                     f"({100 * saved[key] / both:+.0f} %){extra} |")
     return rows
 
@@ -264,6 +287,13 @@ def report(rows: list[dict[str, Any]], start: dict[str, list[float]], repeats: i
             f"| {r['scene']} | {r['naive_rtol']:.0e} | {r['naive_err']:.1e} | "
             f"{r['ours_err']:.1e} | {spread(r['t_naive'])} | {spread(r['t_ours'])} | "
             f"**{spread(r['ratios'])}x** |")
+    lines += ["", "The same pairs in CPU time (user + system of each process; on a machine busy "
+              "with other work it grows much less than the wall time):", "",
+              "| scene | naive CPU (s) | gear-dyn run CPU (s) | ratio naive / gear-dyn |",
+              "|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['scene']} | {spread(r['cpu_naive'])} | {spread(r['cpu_ours'])} | "
+                     f"{spread(r['cpu_ratios'])}x |")
     lines += ["", f"Target: the whole command at least {TARGET_RATIO:g}x faster than the naive "
               f"script (median ratio): **{'met' if met else 'NOT met'}** "
               f"({', '.join(f'{x:.2f}x' for x in ratios)}).", ""]
@@ -318,8 +348,9 @@ def main(argv: list[str] | None = None) -> int:
     with tempfile.TemporaryDirectory() as tmp:
         for name in args.scenes.split(","):
             r = bench_scene(name.strip(), args.repeats, Path(tmp))
-            print(f"{r['scene']}: naive / gear-dyn run = {spread(r['ratios'])}x "
-                  f"(errors {r['naive_err']:.1e} / {r['ours_err']:.1e})", flush=True)
+            print(f"{r['scene']}: naive / gear-dyn run = {spread(r['ratios'])}x, CPU time "
+                  f"{spread(r['cpu_ratios'])}x (errors {r['naive_err']:.1e} / "
+                  f"{r['ours_err']:.1e})", flush=True)
             rows.append(r)
         phase = phases(rows[0], args.repeats)
         blas_row = blas(rows[0], args.repeats, Path(tmp))
@@ -329,9 +360,10 @@ def main(argv: list[str] | None = None) -> int:
     for key, vals in start.items():
         print(f"{key}: {spread(vals)} s")
     saved = {}
-    for scene in dict.fromkeys((rows[0]["scene"], LONG_SCENE)):
-        saved[scene] = choices(ROOT / "examples" / "scenes" / f"{scene}.toml")
-        print(f"drawing choices, {scene}: {saved[scene]}", flush=True)
+    for scene, periods in CHOICE_RUNS:
+        label = scene if periods is None else f"{scene} --periods {periods}"
+        saved[label] = choices(ROOT / "examples" / "scenes" / f"{scene}.toml", periods)
+        print(f"drawing choices, {label}: {saved[label]}", flush=True)
     out_dir.mkdir(parents=True, exist_ok=True)
     (out_dir / "cli.md").write_text(report(rows, start, args.repeats, phase, blas_row, saved,
                                            command.strip()))

@@ -1,7 +1,8 @@
 """Where a ``gear-dyn run`` process spends its time, and what its drawing choices save.
 
 Run:  python benchmarks/cli_phases.py [SCENE]            (prints ``phase<TAB>seconds`` lines)
-      python benchmarks/cli_phases.py --choices [SCENE]  (prints ``choice<TAB>seconds`` lines)
+      python benchmarks/cli_phases.py --choices [SCENE] [--periods N]
+                                                         (prints ``choice<TAB>seconds`` lines)
 
 Phases: the steps of ``gear-dyn run SCENE --out DIR`` (gear_dyn/cli/run.py, cli/output.py), in
 a fresh interpreter, each timed by wall clock. Python's own start-up and exit are not included
@@ -142,12 +143,15 @@ def _mathtext_first_use() -> float:
     return statistics.median(diffs)
 
 
-def choices(scene_path: str) -> None:
-    """Time what each drawing choice of ``gear-dyn run`` saves and print it."""
+def choices(scene_path: str, periods: int | None = None) -> None:
+    """Time what each drawing choice of ``gear-dyn run`` saves and print it (``periods``: mesh
+    periods of the run, as ``gear-dyn run --periods``; None: the scene's own)."""
     from gear_dyn.cli.output import ENVELOPE_BLOCKS, PNG_OPTIONS
     from gear_dyn.scene import load_scene, run_scene
 
-    result = run_scene(load_scene(scene_path))
+    result = run_scene(load_scene(scene_path), **({} if periods is None else
+                                                   {"periods": periods}))
+    print(f"samples per line\t{result.t.size}")
 
     def ours() -> tuple[float, int]:
         return _both_figures(result, ENVELOPE_BLOCKS, "fixed", PNG_OPTIONS)
@@ -169,10 +173,20 @@ def choices(scene_path: str) -> None:
     print(f"mathtext_first_use\t{_mathtext_first_use():.4f}")
 
 
-if __name__ == "__main__":
-    args = [a for a in sys.argv[1:] if a != "--choices"]
-    scene = args[0] if args else DEFAULT_SCENE
-    if "--choices" in sys.argv[1:]:
-        choices(scene)
+def main(argv: list[str]) -> None:
+    import argparse
+
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("scene", nargs="?", default=DEFAULT_SCENE)
+    ap.add_argument("--choices", action="store_true", help="time the drawing choices")
+    ap.add_argument("--periods", type=int, default=None,
+                    help="mesh periods of the run (--choices only; default: the scene's)")
+    args = ap.parse_args(argv)
+    if args.choices:
+        choices(args.scene, args.periods)
     else:
-        phases(scene)
+        phases(args.scene)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

@@ -1,4 +1,10 @@
-"""Progress bars of the long commands (tqdm on stderr), silent off a terminal or with --quiet.
+"""Progress of the long commands on stderr: a tqdm bar on a terminal, plain lines elsewhere.
+
+On a terminal the bar is drawn from the start (``progress(0, total)``, before the first item is
+done). Off a terminal (a log file, CI, a pipe) :func:`counter` writes one line per 10 % of the
+items (``gear-dyn: sweep 30% (108/361 speeds, 2.4 s)``), from the first 10 % step reached after
+one second, so short runs stay silent and long ones leave a readable log. ``--quiet`` silences
+both.
 
 Every command that can take more than ~2 s (sweep, bench, cosim, demo, excitation, stiffness,
 relief, fmu build) draws one: by items where it has them (speeds, cases, steps), else by
@@ -42,8 +48,10 @@ def counter(unit: str, quiet: bool = False, stream: TextIO | None = None
     The bar closes itself when ``done`` reaches ``total``.
     """
     s = sys.stderr if stream is None else stream
-    if not shown(quiet, s):
+    if quiet:
         return None
+    if not shown(quiet, s):
+        return _lines(unit, s)
     from tqdm import tqdm
 
     state: dict[str, Any] = {}
@@ -56,6 +64,28 @@ def counter(unit: str, quiet: bool = False, stream: TextIO | None = None
         bar.update(done - bar.n)
         if done >= total:
             bar.close()
+    return show
+
+
+def _lines(unit: str, stream: TextIO, step: float = 0.1, after: float = 1.0
+           ) -> Callable[[int, int], None]:
+    """``progress(done, total)`` writing a line at each ``step`` of the total, once ``after``
+    seconds have passed (off a terminal: no redrawing)."""
+    import time
+
+    t0 = time.perf_counter()
+    state = {"next": step}
+
+    def show(done: int, total: int) -> None:
+        share = done / max(total, 1)
+        if share + 1e-12 < state["next"]:
+            return
+        while state["next"] <= share + 1e-12:
+            state["next"] += step
+        elapsed = time.perf_counter() - t0
+        if elapsed >= after:
+            stream.write(f"gear-dyn: {share:.0%} ({done}/{total} {unit}s, {elapsed:.1f} s)\n")
+            stream.flush()
     return show
 
 

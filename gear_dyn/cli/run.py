@@ -83,10 +83,9 @@ def run(args: argparse.Namespace) -> int:
     speed, torque = operating_flags(args)
     result = run_scene(scene, speed=speed, torque=torque, si=True, **overrides(args))
     summary = write_run_outputs(result, args.out, spectrum_scale=args.spectrum_scale)
-    fn = summary.get("natural_frequency_hz")
-    fn_text = f", f_n = {fn:.1f} Hz" if fn else ""
     print(
-        f"{scene.name}: f_m = {summary['mesh_frequency_hz']:.1f} Hz{fn_text}, dynamic factor "
+        f"{scene.name}: f_m = {summary['mesh_frequency_hz']:.1f} Hz{_fn(summary)}, "
+        f"dynamic factor "
         f"{summary['dynamic_factor']:.4f}, RMS DTE {summary['rms_dte_m'] * 1e6:.4g} um "
         f"({summary['solver']['method']}, {summary['solver']['run_time_s']:.3g} s)",
         file=sys.stdout,
@@ -118,6 +117,16 @@ def jump_lines(summary: dict[str, Any]) -> list[str]:
             f"quasi-static peak {jump:.4f} W ({name}: the force overshoot at the jumps of "
             f"k(t), at any speed; quasi-static run at f_m = f_n x {qs['speed_ratio']:.3g}, "
             f"error {qs['estimated_error']:.1g})"]
+
+
+def _fn(summary: dict[str, Any]) -> str:
+    """``, f_n = 2913 Hz (f_m / f_n = 0.44)`` where the model has a natural frequency."""
+    fn = summary.get("natural_frequency_hz")
+    if fn is None:
+        fn = summary.get("model", {}).get("natural_frequency_hz")
+    if not fn:
+        return ""
+    return f", f_n = {fn:.0f} Hz (f_m / f_n = {summary['mesh_frequency_hz'] / fn:.3g})"
 
 
 def self_assessment_lines(summary: dict[str, Any]) -> list[str]:

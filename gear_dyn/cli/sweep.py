@@ -131,17 +131,29 @@ def _ranges(ranges: list[tuple[float, float]]) -> str:
 
 def _print_summary(result: Any, scene: Any, summary: dict[str, Any], chart: str) -> None:
     """The sweep's terminal report: range, resonance, maximum dynamic factor, K_v, warnings."""
-    up = summary["curves"][result.curves[0].direction]
     print(f"{scene.name}: {summary['n_speeds']} speeds {summary['speed_range_rpm'][0]:.0f}-"
           f"{summary['speed_range_rpm'][1]:.0f} rpm in {result.run_time_s:.3g} s "
-          f"({result.options.method}, {result.executor}); f_m = f_n at "
+          f"({result.options.method}, {result.executor}); f_n = "
+          f"{summary['natural_frequency_hz']:.0f} Hz, f_m = f_n at "
           f"{summary['resonance_speed_rpm']:.0f} rpm")
-    if "max_dynamic_factor" in up:
-        share = up.get("max_dynamic_factor_separation_share", 0.0)
-        lost = (f" - CONTACT LOSS there: the teeth separate over {share:.0%} of the mesh period"
-                if share > 0 else " (teeth in contact)")
-        print(f"  max dynamic factor {up['max_dynamic_factor']:.4f} at "
-              f"{up['max_dynamic_factor_speed_rpm']:.0f} rpm{lost}")
+    for note in summary.get("resonances_outside_range", []):
+        print(f"  {note}")
+    worst = max((info["max_dynamic_factor"] for info in summary["curves"].values()
+                 if "max_dynamic_factor" in info), default=None)
+    for d, info in summary["curves"].items():
+        if "max_dynamic_factor" not in info:
+            continue
+        share = info.get("max_dynamic_factor_separation_share", 0.0)
+        if share > 0:
+            what = "teeth separate" if result.nonlinear else "F < 0, linear model invalid"
+            lost = f" - {what} over {share:.0%} of the mesh period there"
+        else:
+            lost = " (teeth in contact)"
+        mark = " <- the larger" if (len(summary["curves"]) > 1
+                                    and info["max_dynamic_factor"] == worst) else ""
+        print(f"  max dynamic factor, sweep {d}: {info['max_dynamic_factor']:.4f} at "
+              f"{info['max_dynamic_factor_speed_rpm']:.0f} rpm{lost}{mark}")
+    if worst is not None:
         print("  dynamic factor = peak dynamic mesh force / static load W = T1 / r_b1 "
               "(steady window)")
     if "iso_6336_kv_max" in summary:
@@ -150,8 +162,12 @@ def _print_summary(result: Any, scene: Any, summary: dict[str, Any], chart: str)
     for d, info in summary["curves"].items():
         if info["separation_ranges_rpm"]:
             rng = _ranges(info["separation_ranges_rpm"])
-            print(f"  contact loss, teeth separate ({d}): {rng} rpm (column separation_share "
-                  "in sweep.csv)")
+            if result.nonlinear:
+                print(f"  contact loss, teeth separate ({d}): {rng} rpm (column "
+                      "separation_share in sweep.csv)")
+            else:
+                print(f"  negative mesh force ({d}): {rng} rpm - the linear model is invalid "
+                      "there (the teeth would separate): add [backlash]")
         if info["unstable_ranges_rpm"]:
             rng = _ranges(info["unstable_ranges_rpm"])
             print(f"  parametric instability ({d}): {rng} rpm")

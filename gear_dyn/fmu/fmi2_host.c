@@ -7,7 +7,9 @@
  * instantiates (logging on), sets the given Real values (rVR=VALUE), sets up the experiment
  * (start 0, stop STOP or none), initializes, does N_STEPS steps of STEP seconds and prints
  * "t v1 v2 ..." (%.17g) after initialization and after every step; then terminates, frees the
- * instance and dlcloses the library. Exit code 0 only if every FMI call returned fmi2OK.
+ * instance, reports the shared libraries mapped into the process ("fmi2_host: mapped PATH"
+ * lines on stderr, from /proc/self/maps) and dlcloses the library. Exit code 0 only if every
+ * FMI call returned fmi2OK.
  */
 #include <dlfcn.h>
 #include <stdarg.h>
@@ -60,6 +62,23 @@ static void *sym(void *lib, const char *name) {
         exit(4);
     }
     return p;
+}
+
+/* every shared library mapped into this process, one "HOST: mapped PATH" line each on stderr
+ * (from /proc/self/maps, Linux): the caller checks that no libpython was loaded */
+static void report_mapped(const char *host) {
+    FILE *maps = fopen("/proc/self/maps", "r");
+    char line[4352], last[4096] = "";
+    if (!maps) return;
+    while (fgets(line, sizeof line, maps)) {
+        char *path = strchr(line, '/');
+        if (!path || !strstr(path, ".so")) continue;
+        path[strcspn(path, "\n")] = '\0';
+        if (strcmp(path, last) == 0) continue;
+        strncpy(last, path, sizeof last - 1);
+        fprintf(stderr, "%s: mapped %s\n", host, path);
+    }
+    fclose(maps);
 }
 
 #define CHECK(call, what)                                                  \
@@ -136,6 +155,7 @@ int main(int argc, char **argv) {
     fflush(stdout);
     CHECK(terminate(c), "fmi2Terminate");
     free_instance(c);
+    report_mapped("fmi2_host");
     dlclose(lib);
     return 0;
 }

@@ -7,8 +7,9 @@
  * instantiates for co-simulation (logging on), enters initialization mode (start 0, stop STOP
  * or none), sets the given Float64 values (rVR=VALUE), exits initialization mode, does N_STEPS
  * steps of STEP seconds and prints "t v1 v2 ..." (%.17g) after initialization and after every
- * step; then terminates, frees the instance and dlcloses the library. Exit code 0 only if
- * every FMI call returned fmi3OK.
+ * step; then terminates, frees the instance, reports the shared libraries mapped into the
+ * process ("fmi3_host: mapped PATH" lines on stderr, from /proc/self/maps) and dlcloses the
+ * library. Exit code 0 only if every FMI call returned fmi3OK.
  */
 #include <dlfcn.h>
 #include <stdio.h>
@@ -53,6 +54,23 @@ static void *sym(void *lib, const char *name) {
         exit(4);
     }
     return p;
+}
+
+/* every shared library mapped into this process, one "HOST: mapped PATH" line each on stderr
+ * (from /proc/self/maps, Linux): the caller checks that no libpython was loaded */
+static void report_mapped(const char *host) {
+    FILE *maps = fopen("/proc/self/maps", "r");
+    char line[4352], last[4096] = "";
+    if (!maps) return;
+    while (fgets(line, sizeof line, maps)) {
+        char *path = strchr(line, '/');
+        if (!path || !strstr(path, ".so")) continue;
+        path[strcspn(path, "\n")] = '\0';
+        if (strcmp(path, last) == 0) continue;
+        strncpy(last, path, sizeof last - 1);
+        fprintf(stderr, "%s: mapped %s\n", host, path);
+    }
+    fclose(maps);
 }
 
 #define CHECK(call, what)                                                  \
@@ -131,6 +149,7 @@ int main(int argc, char **argv) {
     fflush(stdout);
     CHECK(terminate(c), "fmi3Terminate");
     free_instance(c);
+    report_mapped("fmi3_host");
     dlclose(lib);
     return 0;
 }

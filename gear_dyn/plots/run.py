@@ -147,6 +147,8 @@ def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = No
                 if col == 0 and blocks:
                     xs, ys = envelope(xs, ys, blocks)
                 a.plot(xs, ys, lw=0.8, color=color, label=label)
+                if label == "mesh force" and np.any(ys < 0):
+                    _mark_negative(a, xs, ys, col == 0)
             a.set_ylabel(ylabels[r])
             a.grid(alpha=0.3)
             if col == 0:
@@ -167,6 +169,15 @@ def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = No
     # margins in inches: the look of tight_layout without measuring twice
     fixed_layout(fig, left=0.72, right=0.15, top=0.62, bottom=0.55, wgap=0.75, hgap=0.25)
     return fig
+
+
+def _mark_negative(ax: Any, xs: Any, ys: Any, label: bool) -> None:
+    """Shade where the mesh force is negative: the teeth would pull (in a model without
+    backlash: the model does not hold there; with backlash the force is never negative)."""
+    ax.fill_between(xs, ys, 0.0, where=ys < 0, color="tab:red", alpha=0.5, lw=0,
+                    label="F < 0: teeth would separate (model invalid: add [backlash])"
+                    if label else None)
+    ax.axhline(0.0, color="tab:red", lw=0.6)
 
 
 def _scale(scale: str) -> str:

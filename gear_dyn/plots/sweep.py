@@ -10,12 +10,17 @@ from typing import Any
 
 import numpy as np
 from matplotlib.colors import LogNorm, TwoSlopeNorm
-from matplotlib.figure import Figure
 
 from gear_dyn.analysis.chart import StabilityChart
 from gear_dyn.analysis.stability import UNIT_CIRCLE_TOL
-from gear_dyn.analysis.sweep import RPM, SweepCurve, SweepResult
-from gear_dyn.plots._axes import axes_of, given_axes, tidy
+from gear_dyn.analysis.sweep import RPM, SweepCurve, SweepResult, hysteresis_ranges
+from gear_dyn.analysis.sweep.report import (
+    RESONANCES,
+    resonance_notes,
+    rpm_per_ratio,
+    sweep_peaks,
+)
+from gear_dyn.plots._axes import axes_of, tidy
 
 _STYLE = {"up": dict(color="tab:blue", ls="-"), "down": dict(color="tab:orange", ls="--")}
 
@@ -32,27 +37,22 @@ def _layout(fig: Any, own: bool, **margins: float) -> None:
 
 
 def _resonance_marks(ax: Any, result: SweepResult, lo: float, hi: float) -> None:
-    """Dotted lines where f_m = f_n / k (k = 1, 2, 3) and f_m = 2 f_n, within [lo, hi] rpm."""
-    fn = result.natural_frequency
-    if not np.isfinite(fn):
+    """Dotted lines where f_m = f_n / k (k = 1, 2, 3) and f_m = 2 f_n, within [lo, hi] rpm
+    (named by the ticks of the top axis, clear of the curves and of the legend)."""
+    if not np.isfinite(result.natural_frequency):
         return
-    c = result.curves[0]
-    per_rpm = c.mesh_frequency[0] / (c.speed[0] / RPM)  # Hz per rpm
-    drawn = 0
-    for ratio, label in ((1 / 3, "f_n/3"), (0.5, "f_n/2"), (1.0, "f_n"), (2.0, "2f_n")):
-        s = ratio * fn / per_rpm
+    for ratio, _label in RESONANCES:
+        s = ratio * rpm_per_ratio(result)
         if lo <= s <= hi:
             ax.axvline(s, color="0.5", ls=":", lw=0.8)
-            # every other label a line lower: f_n/3 and f_n/2 are close on a wide range
-            ax.text(s, 0.98 - 0.07 * (drawn % 2), f" f_m={label}",
-                    transform=ax.get_xaxis_transform(), fontsize=7, ha="left", va="top",
-                    color="0.35")
-            drawn += 1
 
 
-def _markers(ax: Any, c: SweepCurve, y: np.ndarray, legend: bool) -> None:
+def _markers(ax: Any, c: SweepCurve, y: np.ndarray, legend: bool, nonlinear: bool) -> None:
     """Marks of separation, back-side contact, no orbit and period 2 on one curve; with
-    ``legend``, each kind is labelled once on ``ax`` (by the first curve that shows it)."""
+    ``legend``, each kind is labelled once on ``ax`` (by the first curve that shows it).
+
+    On a linear model (``nonlinear`` False) "separation" is a negative mesh force: the model
+    does not hold there, and the label says so."""
     rpm = c.speed / RPM
     shown = set(ax.get_legend_handles_labels()[1])
 
@@ -62,8 +62,9 @@ def _markers(ax: Any, c: SweepCurve, y: np.ndarray, legend: bool) -> None:
     back = np.nan_to_num(c.backside) > 0
     aper = np.array([s == "aperiodic" for s in c.status])
     if np.any(sep):  # a legend entry only for what the sweep shows
-        ax.plot(rpm[sep], y[sep], "x", color="tab:red", ms=4,
-                label=label("teeth separate"))
+        text = ("teeth separate" if nonlinear else
+                "F < 0: linear model invalid here,\nadd [backlash]")
+        ax.plot(rpm[sep], y[sep], "x", color="tab:red", ms=4, label=label(text))
     if np.any(back):
         ax.plot(rpm[back], y[back], "v", color="tab:purple", ms=4, mfc="none",
                 label=label("back-side contact"))
@@ -81,16 +82,31 @@ def plot_sweep_response(result: SweepResult, ax: Any = None,
     """Dynamic factor, RMS and peak-to-peak DTE against speed (top axis: f_m / f_n).
 
     Up and down sweeps are drawn (solid, dashed) so jumps and hysteresis show; crosses mark
-    tooth separation, open triangles back-side contact, shaded bands parametric instability.
-    ``ax``: 3 Axes (dynamic factor, RMS, peak-to-peak) or None. ``iso_kv``: (pinion speeds in
-    rpm, ISO 6336-1 K_v) drawn beside the simulated dynamic factor.
+    tooth separation (on a linear model: a negative mesh force, where the model does not
+    hold), open triangles back-side contact, red bands parametric instability, orange bands
+    hysteresis. The peak of each direction is starred and named in the legend (value, speed,
+    direction); dotted lines mark f_m = f_n/3, f_n/2, f_n, 2 f_n (named on the top axis);
+    resonances outside the range are named in the title. The legend sits right of the panels.
+
+    Parameters
+    ----------
+    result : SweepResult
+    ax : sequence of 3 Axes or None
+        Dynamic factor, RMS DTE, peak-to-peak DTE (None: a new figure).
+    iso_kv : (array, array) or None
+        (pinion speeds in rpm, ISO 6336-1 K_v) drawn beside the simulated dynamic factor.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
     """
     own = ax is None
-    fig, axes = axes_of(ax, 3, 1, figsize=(9, 9), name="plot_sweep_response", sharex=True)
+    fig, axes = axes_of(ax, 3, 1, figsize=(11, 9), name="plot_sweep_response", sharex=True)
     quantities = (("dynamic_factor", 1.0, "dynamic factor"), ("rms_dte", 1e6, "RMS DTE (µm)"),
                   ("ptp_dte", 1e6, "peak-to-peak DTE (µm)"))
     all_rpm = np.concatenate([c.speed for c in result.curves]) / RPM
     lo, hi = float(np.min(all_rpm)), float(np.max(all_rpm))
+    hyst = hysteresis_ranges(result)
     for row, (name, scale, label) in enumerate(quantities):
         ax = axes[row]
         for c in result.curves:
@@ -99,29 +115,89 @@ def plot_sweep_response(result: SweepResult, ax: Any = None,
             lab = (f"sweep {c.direction}" if len(result.curves) > 1
                    else "simulated (steady state)") if row == 0 else None
             ax.plot(c.speed / RPM, y, lw=1.1, marker=".", ms=2.5, label=lab, **style)
-            _markers(ax, c, y, legend=row == 0)
+            _markers(ax, c, y, legend=row == 0, nonlinear=result.nonlinear)
             unstable = np.array([s == "unstable" for s in c.status])
             _shade(ax, c.speed / RPM, unstable, row == 0 and c is result.curves[0])
+        for k, (a, b) in enumerate(hyst):
+            step = (hi - lo) / max(all_rpm.size - 1, 1)
+            ax.axvspan(a - step / 2, b + step / 2, color="tab:orange", alpha=0.15, lw=0,
+                       label="hysteresis: up and down\non different orbits"
+                       if row == 0 and k == 0 else None)
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
         if row == 0:
             _resonance_marks(ax, result, lo, hi)
             if iso_kv is not None:
                 ax.plot(*iso_kv, color="k", lw=1.0, ls="-.", label="ISO 6336-1 K_v (method B)")
+            for d, v, s in sweep_peaks(result):
+                ax.plot([s], [v], "*", ms=11, mec="k", mew=0.6,
+                        color=_STYLE.get(d, {}).get("color", "tab:blue"),
+                        label=f"peak {v:.3f} at {s:.0f} rpm" + (f" ({d})"
+                                                                 if len(result.curves) > 1
+                                                                 else ""))
     axes[-1].set_xlabel("pinion speed (rpm)")
-    axes[0].legend(loc="best", fontsize=8, ncol=2)  # clear of the resonance peaks
+    axes[0].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8,
+                   borderaxespad=0.0)
     fn = result.natural_frequency
     if np.isfinite(fn):
-        c = result.curves[0]
-        per_rpm = c.mesh_frequency[0] / (c.speed[0] / RPM) / fn
-        top = axes[0].secondary_xaxis("top", functions=(lambda s: s * per_rpm,
-                                                        lambda r: r / per_rpm))
-        top.set_xlabel("f_m / f_n")
+        per = rpm_per_ratio(result)
+        top = axes[0].secondary_xaxis("top", functions=(lambda s: s / per, lambda r: r * per))
+        inside = [(r, lab) for r, lab in RESONANCES if lo <= r * per <= hi]
+        if inside:
+            top.set_xticks([r for r, _ in inside], [lab for _, lab in inside])
+            top.tick_params(labelsize=8)
+        top.set_xlabel(f"f_m / f_n (f_n = {fn:.0f} Hz; dotted lines: f_m = f_n/3, f_n/2, "
+                       "f_n, 2 f_n)", fontsize=8)
     kind = "steady state (monodromy / shooting)" if result.options.method == "steady" else \
         "transient integration"
-    if own:  # a caller's figure gets no title
-        fig.suptitle(f"{result.scene_name}: speed sweep, {kind}", fontsize=10)
-    _layout(fig, own, left=0.09, right=0.98, bottom=0.06, top=0.9, hspace=0.08)
+    title = f"{result.scene_name}: speed sweep, {kind}"
+    notes = resonance_notes(result)
+    if notes:
+        title += "\n" + "; ".join(notes)
+    if own:  # a caller's figure keeps its own title
+        fig.suptitle(title, fontsize=10)
+    _layout(fig, own, left=0.08, right=0.76, bottom=0.06, top=0.88, hspace=0.08)
+    return fig
+
+
+def plot_compare(results: Sequence[SweepResult], names: Sequence[str], ax: Any = None) -> Any:
+    """Dynamic factor and RMS DTE of several sweeps against speed, each peak starred.
+
+    Parameters
+    ----------
+    results : sequence of SweepResult
+    names : sequence of str
+        One label per result.
+    ax : sequence of 2 Axes or None
+        Dynamic factor, RMS DTE (None: a new figure).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    own = ax is None
+    fig, axes = axes_of(ax, 2, 1, figsize=(11, 7), name="plot_compare", sharex=True)
+    colors = [f"C{i}" for i in range(10)]
+    for i, (res, name) in enumerate(zip(results, names, strict=True)):
+        col = colors[i % len(colors)]
+        for c in res.curves:
+            ls = "--" if c.direction == "down" else "-"
+            lab = name if len(res.curves) == 1 else f"{name} ({c.direction})"
+            axes[0].plot(c.speed / RPM, c.dynamic_factor, color=col, ls=ls, lw=1.1, label=lab)
+            axes[1].plot(c.speed / RPM, c.rms_dte * 1e6, color=col, ls=ls, lw=1.1)
+        for d, v, s in sweep_peaks(res):
+            tag = "" if len(res.curves) == 1 else f" {d}"
+            axes[0].plot([s], [v], "*", ms=11, color=col, mec="k", mew=0.6,
+                         label=f"peak{tag} {v:.3f} at {s:.0f} rpm")
+    axes[0].set_ylabel("dynamic factor")
+    axes[1].set_ylabel("RMS DTE (µm)")
+    axes[1].set_xlabel("pinion speed (rpm)")
+    for a in axes:
+        a.grid(alpha=0.3)
+    axes[0].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0)
+    if own:
+        fig.suptitle("comparison: " + " / ".join(names), fontsize=10)
+    _layout(fig, own, left=0.08, right=0.7, bottom=0.08, top=0.92, hspace=0.08)
     return fig
 
 
@@ -144,26 +220,28 @@ def _shade(ax: Any, rpm: np.ndarray, mask: np.ndarray, label: bool) -> None:
             i += 1
 
 
-def _waterfall_axes(ax: Any) -> tuple[Any, Any, Any]:
-    """(figure, 3-D axes, 2-D axes) of the waterfall: new, or the caller's two Axes."""
-    if ax is None:
-        fig = Figure(figsize=(13, 5.5))
-        return fig, fig.add_subplot(1, 2, 1, projection="3d"), fig.add_subplot(1, 2, 2)
-    ax3, ax2 = given_axes(ax, 2, "plot_waterfall")
-    if ax3.name != "3d":
-        raise ValueError("plot_waterfall: the first of the 2 Axes must be 3-D "
-                         "(projection='3d')")
-    return ax3.figure, ax3, ax2
+def plot_waterfall(result: SweepResult, direction: str | None = None, floor: float = 1e-4,
+                   ax: Any = None) -> Any:
+    """Map of the DTE spectra over speed: frequency against speed, colour = amplitude.
 
+    Dashed lines are the mesh orders k f_m (k = 1 .. harmonics, each labelled ``k f_m`` at
+    its top end); the dotted red line is f_n, where the spectrum lines brighten as they cross
+    it. Points between the orders (k / window_periods) show sub-harmonic response. Amplitudes
+    below ``floor`` times the largest are not drawn.
 
-def plot_waterfall(result: SweepResult, direction: str | None = None, max_lines: int = 60,
-                   floor: float = 1e-4, ax: Any = None) -> Any:
-    """Waterfall of DTE spectra: speed vs frequency vs amplitude.
+    Parameters
+    ----------
+    result : SweepResult
+    direction : {"up", "down"} or None
+        The curve drawn (default: the first).
+    floor : float
+        Smallest amplitude drawn, relative to the largest (0..1).
+    ax : Axes or None
+        One Axes (None: a new figure); the colour bar is added beside it.
 
-    Left: 3-D waterfall (one line spectrum per speed, at most ``max_lines`` speeds). Right: the
-    same as a map (frequency vs speed, colour = amplitude) with the mesh-harmonic lines and the
-    natural frequency. Amplitudes below ``floor`` times the largest are not drawn. ``ax``: 2
-    Axes, the first 3-D (``projection="3d"``), or None.
+    Returns
+    -------
+    matplotlib.figure.Figure
     """
     c = result.curve(direction or result.curves[0].direction)
     order = np.argsort(c.speed)
@@ -173,38 +251,31 @@ def plot_waterfall(result: SweepResult, direction: str | None = None, max_lines:
     freq = fm[:, None] * result.orders[None, :]
     top = np.nanmax(amp) if np.any(np.isfinite(amp)) else 1.0
     own = ax is None
-    fig, ax3, ax = _waterfall_axes(ax)
-    pick = np.unique(np.linspace(0, rpm.size - 1, min(max_lines, rpm.size)).astype(int))
-    for i in pick:
-        a = amp[i]
-        if not np.any(np.isfinite(a)):
-            continue
-        f = freq[i]
-        xs = np.repeat(f, 3)
-        zs = np.column_stack([np.zeros_like(a), np.nan_to_num(a), np.zeros_like(a)]).ravel()
-        ax3.plot(xs / 1e3, np.full(xs.size, rpm[i]), zs, lw=0.7, color="tab:blue")
-    ax3.set_xlabel("frequency (kHz)")
-    ax3.set_ylabel("speed (rpm)")
-    ax3.set_zlabel("DTE amplitude (µm)")
-    ax3.view_init(elev=28, azim=-60)
+    fig, ax = axes_of(ax, figsize=(9, 6), name="plot_waterfall")
     keep = np.isfinite(amp) & (amp > floor * top)
     sc = ax.scatter(freq[keep] / 1e3, np.broadcast_to(rpm[:, None], amp.shape)[keep],
-                    c=amp[keep], s=8, cmap="viridis", norm=LogNorm(vmin=floor * top, vmax=top))
+                    c=amp[keep], s=10, cmap="viridis", norm=LogNorm(vmin=floor * top, vmax=top))
     fig.colorbar(sc, ax=ax, label="DTE amplitude (µm)")
+    fmax = float(np.max(freq)) / 1e3
     for k in range(1, result.options.harmonics + 1):
-        ax.plot(k * fm / 1e3, rpm, color="0.6", lw=0.6, ls="--")
+        ax.plot(k * fm / 1e3, rpm, color="0.45", lw=0.7, ls="--",
+                label="mesh orders k f_m" if k == 1 else None)
+        x_end = k * fm[-1] / 1e3
+        if x_end <= fmax:
+            ax.text(x_end, rpm[-1], f" {k} f_m", fontsize=8, color="0.25", ha="left",
+                    va="bottom", rotation=0, clip_on=False)
     fn = result.natural_frequency
     if np.isfinite(fn):
-        ax.axvline(fn / 1e3, color="tab:red", lw=0.8, ls=":", label="f_n")
-        ax.legend(loc="lower right", fontsize=8)
-    ax.set_xlabel("frequency (kHz)  (dashed: k f_m)")
-    ax.set_ylabel("speed (rpm)")
-    ax.set_xlim(0, float(np.max(freq)) / 1e3)
+        ax.axvline(fn / 1e3, color="tab:red", lw=0.9, ls=":", label=f"f_n = {fn:.0f} Hz")
+    ax.legend(loc="lower right", fontsize=8)
+    ax.set_xlabel("frequency (kHz)")
+    ax.set_ylabel("pinion speed (rpm)")
+    ax.set_xlim(0, fmax * 1.04)
+    ax.set_ylim(rpm[0], rpm[-1] + 0.06 * (rpm[-1] - rpm[0] or 1.0))
     ax.grid(alpha=0.3)
-    if own:  # a caller's figure gets no title
-        fig.suptitle(f"{result.scene_name}: DTE spectra over speed (sweep {c.direction})",
-                     fontsize=10)
-    _layout(fig, own, left=0.02, right=0.97, bottom=0.11, top=0.9, wspace=0.12)
+    ax.set_title(f"{result.scene_name}: DTE spectra over speed (sweep {c.direction}); "
+                 f"orders k/{result.options.window_periods} of f_m", fontsize=10)
+    _layout(fig, own, left=0.09, right=0.98, bottom=0.09, top=0.92)
     return fig
 
 

@@ -16,9 +16,10 @@ from gear_dyn.scene.build import (
     scene_stiffness,
 )
 from gear_dyn.scene.fields import REQUIRED, Field, Section
-from gear_dyn.scene.loader import Scene, load_scene, parse_scene
+from gear_dyn.scene.loader import load_scene, parse_scene
 from gear_dyn.scene.registry import MODEL_BUILDERS, SECTIONS, register_model, register_section
 from gear_dyn.scene.run import run_scene
+from gear_dyn.scene.validated import Scene
 
 __all__ = [
     "MODEL_BUILDERS", "REQUIRED", "SECTIONS", "Field", "RunPlan", "Scene", "Section",

@@ -17,9 +17,7 @@ from gear_dyn.errors import SceneError
 # then the optional parts (eccentricity and torsional model, tip relief, ISO 6336 K_v)
 from gear_dyn.scene import core, eccentricity, iso, modification  # noqa: F401
 from gear_dyn.scene.registry import SECTIONS
-from gear_dyn.scene.validated import Scene, scene_error
-
-__all__ = ["Scene", "load_scene", "parse_scene", "scene_error"]
+from gear_dyn.scene.validated import Scene
 
 
 def parse_scene(data: dict[str, Any], source: str = "<dict>", si: bool = False) -> Scene:

@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.errors import InputError
+from gear_dyn.errors import InputError, check_range
 from gear_dyn.scene.validated import Scene
 
 FloatArray = NDArray[np.float64]
@@ -111,8 +111,6 @@ def parse_speeds(speeds: Any, si: bool = False, function: str = "sweep_scene") -
     InputError
         Plain numbers without ``si`` (with a hint), an empty sequence, a bad unit or range.
     """
-    from gear_dyn.scene.sweep import parse_speed_range
-
     if isinstance(speeds, str):
         if speeds.count(":") == 2:
             return parse_speed_range(speeds)
@@ -132,3 +130,38 @@ def parse_speeds(speeds: Any, si: bool = False, function: str = "sweep_scene") -
             "['4000 rpm', '6275 rpm'], or numbers in rad/s with si=True")
     return np.array([parse_operating("speed", v, f"{function} speeds[{i}]", si)
                      for i, v in enumerate(values)], dtype=float)
+
+
+def parse_speed_range(text: str) -> FloatArray:
+    """Speeds from ``START:STOP:N``, in rad/s; START and STOP carry their unit.
+
+    >>> parse_speed_range("600 rpm:1200 rpm:3") * 60 / (2 * math.pi)
+    array([ 600.,  900., 1200.])
+
+    Raises
+    ------
+    InputError
+        Not three parts, a plain number (``1500``: give a unit, e.g. ``1500 rpm``), a bad
+        number or unit (Hz is refused: pint would read it as rad/s), N < 2, or speeds out of
+        range.
+    """
+    from gear_dyn.scene.fields import Field
+
+    parts = text.split(":")
+    if len(parts) != 3:
+        raise InputError(f"--speeds {text!r}: expected START:STOP:N, e.g. '500 rpm:6000 rpm:200'")
+    fld = Field("speed", "rad/s", low=0.0, high=1e5, low_open=True)
+    ends = []
+    for label, part in zip(("START", "STOP"), parts[:2], strict=True):
+        part = part.strip()
+        if "hz" in part.lower():
+            # pint reads 1 Hz as 1 rad/s (radians are dimensionless): 2 pi off for a shaft
+            raise InputError(f"--speeds {label} = {part!r}: Hz is ambiguous for a shaft speed "
+                             "(it would be read as rad/s); write e.g. '600 rpm' or '10 turn/s'")
+        ends.append(fld.parse(part, f"--speeds {label}"))
+    try:
+        n = int(parts[2])
+    except ValueError:
+        raise InputError(f"--speeds N = {parts[2]!r}: expected a whole number >= 2") from None
+    check_range("--speeds N", n, "", low=2, high=1_000_000)
+    return np.linspace(ends[0], ends[1], n)

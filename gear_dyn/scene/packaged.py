@@ -90,8 +90,18 @@ face_width = "30 mm"
 speed = "1500 rpm"          # pinion speed
 torque = "120 Nm"           # pinion torque (Nm = newton-metre)
 
-[stiffness]
-method = "iso6336"          # or rectangular, potential_energy, weber, contact_line
+# [stiffness]               # left out, the toolkit chooses the mesh stiffness that fits:
+#                           #   no [tip_relief]: iso6336 (rectangular wave, ISO 6336-1 method B)
+#                           #   with [tip_relief]: the loaded contact of tip_relief.pair_stiffness
+#                           #   (potential_energy unless set); a [stiffness] table there must name
+#                           #   that same method
+# method = "iso6336"        # or rectangular, potential_energy, weber, contact_line
+#                           # to compare a relief with no relief like for like, give the pair
+#                           # without relief method = "potential_energy" (the relief's baseline)
+
+# [tip_relief]              # tip relief: single-DOF on the loaded contact (docs/modification.md)
+# rule = "wang2024"         # or handbook, dudley, niemann, custom
+# pair_stiffness = "potential_energy"
 
 [damping]
 ratio = 0.06                # mesh damping ratio xi

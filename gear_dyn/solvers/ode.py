@@ -153,10 +153,13 @@ def check_work(model: Model, t0: float, t1: float, y0: FloatArray) -> None:
         return
     n_nat = (t1 - t0) * float(f_n)
     if not (math.isfinite(n_nat) and n_nat <= limits.MAX_NATURAL_PERIODS):
+        n_mesh = (t1 - t0) * model.mesh_frequency
+        f_min = float(f_n) * n_mesh / limits.MAX_NATURAL_PERIODS
         raise InputError(
             f"the run spans {n_nat:.4g} natural periods (natural frequency {float(f_n):.6g} Hz, "
             f"mesh frequency {model.mesh_frequency:.6g} Hz, duration {t1 - t0:.6g} s): valid "
-            f"range <= {limits.MAX_NATURAL_PERIODS} for an ODE solver; raise operating.speed, "
+            f"range <= {limits.MAX_NATURAL_PERIODS} for an ODE solver, i.e. a mesh frequency "
+            f">= {f_min:.4g} Hz for these {n_mesh:.4g} mesh periods; raise operating.speed, "
             "lower solver.periods, or use method 'exact' where it applies"
         )
 

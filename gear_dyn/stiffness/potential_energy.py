@@ -11,14 +11,13 @@ half tooth angle there), the strain energies give (Yang & Lin 1987, Tian 2004, C
     1/k_b = int_0^eta_P [(eta_P - eta) cos a1 - x_P sin a1]^2 / (E I(eta)) d eta,  I = 2 x^3 B / 3
     1/k_s = int_0^eta_P 1.2 cos^2 a1 / (G A(eta)) d eta,                           A = 2 x B
     1/k_a = int_0^eta_P sin^2 a1 / (E A(eta)) d eta
-    1/k_f = cos^2 a1 / (E B) [L* (u_f/S_f)^2 + M* (u_f/S_f) + P* (1 + Q* tan^2 a1)]  (Sainsot
-            et al. 2004)
+    1/k_f = cos^2 a1 / (E B) [L* (u_f/S_f)^2 + M* (u_f/S_f) + P* (1 + Q* tan^2 a1)]
     1/k_h = 4 (1 - nu^2) / (pi E B)   (Yang & Sun 1985; 2 / (pi B E*) for unlike materials)
 
 with ``u_f`` the radial distance from the root circle to the point where the force line crosses the
 centre line, ``S_f = 2 r_f theta_f`` the root arc thickness, and ``L*, M*, P*, Q*`` the polynomials
 ``X* = A/theta_f^2 + B h_fi^2 + C h_fi/theta_f + D/theta_f + E h_fi + F`` in ``h_fi = r_f / r_int``
-(Sainsot, Velex & Duverger 2004, table 1). The single-pair stiffness is
+(the fillet-foundation term ``k_f`` of Sainsot et al. 2004, table 1). The single-pair stiffness is
 
     1/K = 1/k_h + sum over both gears (1/k_b + 1/k_s + 1/k_a + 1/k_f)
 

@@ -222,8 +222,9 @@ def test_progress_and_thread_executor() -> None:
     with cf.ThreadPoolExecutor(2) as ex:
         res = sweep_scene(scene, np.linspace(1000, 3000, 10) * RPM, si=True, executor=ex, block=4,
                           progress=lambda d, n: seen.append((d, n)))
-    # one call per finished block (4, 4 and 2 speeds), in sweep order (the executor's map)
-    assert seen == [(4, 10), (8, 10), (10, 10)]
+    # (0, total) at the start (a bar from the first second), then one call per finished
+    # block (4, 4 and 2 speeds), in sweep order (the executor's map)
+    assert seen == [(0, 10), (4, 10), (8, 10), (10, 10)]
     assert res.curves[0].speed.size == 10 and res.executor == "ThreadPoolExecutor"
 
 

@@ -56,7 +56,7 @@ def test_pool_of_two_reports_the_serial_numbers(case: str) -> None:
     serial = sweep_scene(scene, rpm * RPM, si=True, block=block)
     pool = sweep_scene(scene, rpm * RPM, si=True, block=block, workers=2)
     assert serial.executor == "serial"
-    assert pool.executor == "ProcessPoolExecutor, 2 workers"
+    assert pool.executor == "process pool, 2 workers"
     assert [c.direction for c in pool.curves] == [c.direction for c in serial.curves]
     if case == "linear":
         assert "unstable" in serial.curves[0].status  # NaN rows are compared too

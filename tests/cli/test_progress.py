@@ -1,4 +1,5 @@
-"""Progress bars: drawn on a terminal only, silent off a terminal and with --quiet."""
+"""Progress: a bar on a terminal, a line per 10 % off a terminal (after 1 s), none with
+--quiet."""
 
 from __future__ import annotations
 
@@ -47,7 +48,7 @@ def test_bar_on_a_terminal_only() -> None:
     # drawn in place (carriage returns) and cleared when done
     assert "0/10" in tty.getvalue() and "speed" in tty.getvalue() and "\r" in tty.getvalue()
     assert counter("speed", quiet=True, stream=_Tty()) is None
-    assert counter("speed", stream=io.StringIO()) is None
+    assert counter("speed", quiet=True, stream=io.StringIO()) is None
     tty = _Tty()
     with Stages(["load", "solve"], stream=tty) as st:
         st.next()
@@ -56,6 +57,25 @@ def test_bar_on_a_terminal_only() -> None:
     with Stages(["load", "solve"], stream=plain) as st:
         st.next()
     assert plain.getvalue() == ""
+
+
+def test_lines_off_a_terminal(monkeypatch: pytest.MonkeyPatch) -> None:
+    import time
+
+    clock = [100.0]
+    monkeypatch.setattr(time, "perf_counter", lambda: clock[0])
+    plain = io.StringIO()
+    show = counter("speed", stream=plain)
+    assert show is not None
+    show(0, 40)
+    show(5, 40)  # 12 % within the first second: silent
+    clock[0] += 2.0
+    for done in range(6, 41):
+        show(done, 40)
+    lines = plain.getvalue().splitlines()
+    # one line per 10 % step from 20 % on (10 % passed inside the first second), no redraws
+    assert [ln.split()[1] for ln in lines] == [f"{p}%" for p in range(20, 101, 10)]
+    assert "\r" not in plain.getvalue() and lines[-1].startswith("gear-dyn: 100% (40/40 speeds")
 
 
 @pytest.mark.parametrize("cmd", [

@@ -16,7 +16,7 @@ from gear_dyn.geometry import GearPair
 from gear_dyn.models.base import ModelDefaults
 from gear_dyn.scene import parse_scene
 from gear_dyn.scene.fields import Field
-from gear_dyn.scene.loader import scene_error
+from gear_dyn.scene.validated import scene_error
 from gear_dyn.solvers import SolverSettings
 
 

@@ -16,12 +16,19 @@ def _labels(speeds_rpm: np.ndarray) -> list[str]:
     return list(fig.axes[0].get_legend_handles_labels()[1])
 
 
-def test_legend_without_separation_names_only_the_curve() -> None:
-    assert _labels(np.linspace(10000, 12000, 5)) == ["simulated (steady state)"]
+def test_legend_without_separation_names_only_the_curve_and_its_peak() -> None:
+    # the peak of this range is at its lower end: the dynamic factor falls above resonance
+    labels = _labels(np.linspace(10000, 12000, 5))
+    assert labels[0] == "simulated (steady state)"
+    assert len(labels) == 2 and labels[1].startswith("peak ")
+    assert labels[1].endswith(" at 10000 rpm")
 
 
 def test_legend_with_separation_marks_it_once_and_no_absent_kind() -> None:
     labels = _labels(np.linspace(7000, 8000, 11))  # f_m = f_n at 7599 rpm: the teeth separate
-    assert labels.count("teeth separate") == 1
+    # a linear scene: the teeth would separate, the model does not hold there; said once
+    assert sum(lab.startswith("F < 0: linear model invalid") for lab in labels) == 1
+    assert "teeth separate" not in labels
     assert "back-side contact" not in labels  # no backlash in this scene
+    assert sum(lab.startswith("peak ") for lab in labels) == 1
     assert labels[0] == "simulated (steady state)"

@@ -131,7 +131,7 @@ def test_cli_run_speed_and_torque_flags(tmp_path: Path, capsys: pytest.CaptureFi
     assert summary["input_speed_rpm"] == pytest.approx(6000.0, rel=1e-12)
     assert summary["mesh_frequency_hz"] == pytest.approx(2300.0, rel=1e-12)
     text = capsys.readouterr().out
-    assert f"f_n = {summary['natural_frequency_hz']:.1f} Hz" in text.splitlines()[0]
+    assert f"f_n = {summary['natural_frequency_hz']:.0f} Hz" in text.splitlines()[0]
     for flag, value, match in (
             ("--speed", "6000", r'--speed = 6000: give a unit, e\.g\. "6000 rpm"'),
             ("--torque", "5 m", r"--torque = '5 m': wrong unit")):

@@ -2,10 +2,11 @@
 
 ``gear-dyn run`` (in-process, :func:`gear_dyn.cli.app.main`) on a copy of each packaged scene
 with ``[operating] speed`` set to 1, 10, ..., 100 000 rpm returns 0 (and the run's mesh
-frequency is ``n z1 / 60``), or 2 with one stderr line naming ``operating.speed``, the value
-and the valid range. Never 1 (an internal error): the backlash scene at 1 rpm once ended in a
-ZeroDivisionError of the contact root finder (velocities of 1e-316 m/s, rounding noise of a
-settled response, whose secant had equal end values).
+frequency is ``n z1 / 60``), or 2 with one stderr line naming ``operating.speed`` and a valid
+range (of the speed itself, or of the natural periods a solver run may span at that speed). Never 1
+(an internal error): the backlash scene at 1 rpm once ended in a ZeroDivisionError of the contact
+root finder (velocities of 1e-316 m/s, rounding noise of a settled response, whose secant had equal
+end values).
 
 Two mesh periods (``--periods 2``) are enough to reach every part of a run (transient, error
 estimate, stability check, figures). Below 100 rpm the runs take ``--method auto``: there a mesh
@@ -56,11 +57,10 @@ def test_runs_or_is_refused_with_the_valid_range(name: str, rpm: int, tmp_path: 
     code = main(args)
     captured = capsys.readouterr()
     assert code in (0, 2), f"exit {code}: {captured.err}"
-    if code == 2:
+    if code == 2:  # the speed out of its range, or a run too long for the solver at that speed
         lines = captured.err.splitlines()
         assert len(lines) == 1, captured.err
-        assert "operating.speed" in lines[0] and f"{rpm} rpm" in lines[0], lines[0]
-        assert "valid range" in lines[0] and "rad/s" in lines[0], lines[0]
+        assert "operating.speed" in lines[0] and "valid range" in lines[0], lines[0]
         return
     summary = json.loads((tmp_path / "out" / "summary.json").read_text(encoding="utf-8"))
     z1 = scene.get("gear")["teeth_pinion"]

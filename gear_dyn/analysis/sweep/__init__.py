@@ -1,7 +1,7 @@
 """Speed sweeps: dynamic factor, DTE, stability and spectra over a range of pinion speeds.
 
 A sweep evaluates a model at many speeds; it takes a model factory ``speed -> Model`` (the scene
-layer builds one from a scene: :func:`gear_dyn.scene.sweep_scene`). Two methods:
+layer builds one from a scene: :func:`gear_dyn.scene.sweep.sweep_scene`). Two methods:
 
 - ``steady`` (default): the periodic steady state directly
   (:mod:`gear_dyn.analysis.stability`). Linear models: the monodromy matrix and one linear solve per

@@ -7,7 +7,9 @@ exact: per speed, the mesh period is cut at the stiffness switches and at the ou
 ``y* = [g / kappa, 0]`` the cell's equilibrium; their product is the one-period map, its fixed
 point the orbit, and the same cells carry the orbit to the samples. All speeds of a block go
 through each cell at once (numpy over speeds), so the per-speed cost is a few array rows instead
-of a sequence of small matrix calls. The result equals the per-speed path
+of a sequence of small matrix calls. (Stiffness that varies within a piece, or a transmission
+error: :mod:`gear_dyn.analysis.sweep.smooth`, the same idea with fourth-order Magnus steps.)
+The result equals the per-speed path
 (:func:`gear_dyn.analysis.sweep.points.steady_point`) up to rounding (tests/analysis/
 test_sweep_batch.py compares them).
 """
@@ -23,6 +25,7 @@ from numpy.typing import NDArray
 
 from gear_dyn.analysis.chart import _expm2_sdof
 from gear_dyn.analysis.stability import UNIT_CIRCLE_TOL
+from gear_dyn.analysis.sweep import smooth
 from gear_dyn.analysis.sweep.points import _nan_point
 from gear_dyn.analysis.sweep.types import Point, SweepOptions
 from gear_dyn.models.base import MeshModel, Model
@@ -98,17 +101,10 @@ def _orbits(fm: FloatArray, edges: FloatArray, kappa: FloatArray, gamma: FloatAr
     return out, phi, q
 
 
-def linear_block(models: Sequence[Model], speeds: Sequence[float], settings: SolverSettings,
-                 opts: SweepOptions) -> list[Point] | None:
-    """Steady points of a linear single-DOF model at ``speeds`` (rad/s), all at once.
-
-    Returns None when a model is not covered (backlash, transmission error, smooth stiffness,
-    not single-DOF): the caller then takes the per-speed path.
-    """
-    if not models or any(not (m.mesh_periodic and m.is_linear) for m in models):
-        return None
-    mesh = [cast(MeshModel, m) for m in models]
-    spp = settings.samples_per_period
+def _piecewise_orbits(mesh: list[MeshModel], fm: FloatArray, spp: int
+                      ) -> tuple[FloatArray, FloatArray] | None:
+    """Exact orbits (S, 2, spp) and monodromy (S, 2, 2) for piecewise-constant stiffness, or
+    None."""
     cells = [_cells(m, spp) for m in mesh]
     if any(c is None for c in cells):
         return None
@@ -116,10 +112,33 @@ def linear_block(models: Sequence[Model], speeds: Sequence[float], settings: Sol
     if any(c[0].shape != first[0].shape or not np.array_equal(c[0], first[0])
            for c in cast(list[tuple[FloatArray, ...]], cells)):
         return None  # cells differ between speeds (not seen for sdof models): per speed
-    fm = np.array([m.mesh_frequency for m in mesh])
     kap, gam, gg = (np.stack([cast(tuple[FloatArray, ...], c)[i] for c in cells])
                     for i in (1, 2, 3))
     y, phi, _q = _orbits(fm, first[0], kap, gam, gg, spp)
+    return y, phi
+
+
+def linear_block(models: Sequence[Model], speeds: Sequence[float], settings: SolverSettings,
+                 opts: SweepOptions) -> list[Point] | None:
+    """Steady points of a linear single-DOF model at ``speeds`` (rad/s), all at once.
+
+    Piecewise-constant stiffness without transmission error: the exact cells above. Varying
+    stiffness or a transmission error (potential_energy, Weber, tip relief): the fourth-order
+    Magnus step maps of :mod:`gear_dyn.analysis.sweep.smooth` over phase tables shared by the
+    block. Returns None when a model is not covered (backlash, not single-DOF): the caller then
+    takes the per-speed path.
+    """
+    if not models or any(not (m.mesh_periodic and m.is_linear) for m in models):
+        return None
+    mesh = [cast(MeshModel, m) for m in models]
+    spp = settings.samples_per_period
+    fm = np.array([m.mesh_frequency for m in mesh])
+    orbit = _piecewise_orbits(mesh, fm, spp)
+    if orbit is None:
+        if not smooth.covered(mesh):
+            return None
+        orbit = smooth.orbits(mesh, spp, settings.rtol)
+    y, phi = orbit
     mult = np.linalg.eigvals(phi)
     rho = np.max(np.abs(mult), axis=1)
     if not np.all(np.linalg.cond(np.eye(2)[None] - phi) < 1e14):

@@ -17,6 +17,7 @@ from __future__ import annotations
 import concurrent.futures as cf
 import math
 import multiprocessing
+import signal
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
@@ -145,6 +146,8 @@ def _run_chains(run_map: _Map, template: dict[str, Any],
     points: dict[str, list[Point]] = {d: [] for d in chains}
     total = sum(len(blk) for c in chains.values() for blk in c)
     done = 0
+    if progress is not None:
+        progress(0, total)  # a bar from the start, before the first block is done
 
     def finished(d: str, pts: list[Point]) -> None:
         nonlocal done
@@ -168,6 +171,33 @@ def _run_chains(run_map: _Map, template: dict[str, Any],
             state[d] = end
             finished(d, pts)
     return points
+
+
+def _leave_ctrl_c_to_the_caller() -> None:
+    """Pool processes ignore Ctrl-C (SIGINT): the calling process gets it and stops them."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _on_pool(workers: int, template: dict[str, Any], chains: dict[str, list[tuple[float, ...]]],
+             continuation: bool, progress: Callable[[int, int], None] | None
+             ) -> dict[str, list[Point]]:
+    """:func:`_run_chains` on a process pool of ``workers`` processes, shut down at the end.
+
+    Interrupted (Ctrl-C, or SIGTERM turned into an exception by ``gear-dyn``) or failed, the
+    pool's processes are terminated at once rather than left to finish their blocks.
+    """
+    before = set(multiprocessing.active_children())
+    pool = cf.ProcessPoolExecutor(max_workers=workers,
+                                  mp_context=multiprocessing.get_context("spawn"),
+                                  initializer=_leave_ctrl_c_to_the_caller)
+    try:
+        return _run_chains(pool.map, template, chains, continuation, progress)
+    except BaseException:
+        for process in set(multiprocessing.active_children()) - before:
+            process.terminate()
+        raise
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
 
 
 def sweep(
@@ -211,7 +241,9 @@ def sweep(
     workers : int or None
         Local processes (1..4096): ``None`` or 1 runs in the calling process; N >= 2 runs the
         blocks on a process pool of N processes (started with ``spawn``, shut down at the
-        end). Not together with ``executor``.
+        end; each process imports gear_dyn, so a script that asks for it guards its top level
+        with ``if __name__ == "__main__":``, as for any such pool). Not together with
+        ``executor``.
     executor : concurrent.futures.Executor or None
         Runs the blocks through its ``map`` (e.g. ``distributed.Client(...).get_executor()``
         for a Dask cluster); it is not shut down.
@@ -256,10 +288,8 @@ def sweep(
         label = type(executor).__name__
         points = _run_chains(executor.map, template, chains, nonlinear, progress)
     elif workers is not None and workers > 1:
-        label = f"ProcessPoolExecutor, {workers} workers"
-        with cf.ProcessPoolExecutor(max_workers=workers,
-                                    mp_context=multiprocessing.get_context("spawn")) as pool:
-            points = _run_chains(pool.map, template, chains, nonlinear, progress)
+        label = f"process pool, {workers} workers"
+        points = _on_pool(workers, template, chains, nonlinear, progress)
     else:
         label = "serial"
         points = _run_chains(map, template, chains, nonlinear, progress)

@@ -131,6 +131,45 @@ def jumps(curve: SweepCurve, rel: float = 0.3) -> list[dict[str, float]]:
     return out
 
 
+#: f_m / f_n of the resonances marked: super-harmonic (f_n/3, f_n/2), main, parametric
+RESONANCES: tuple[tuple[float, str], ...] = ((1 / 3, "f_n/3"), (0.5, "f_n/2"), (1.0, "f_n"),
+                                             (2.0, "2f_n"))
+
+
+def rpm_per_ratio(result: SweepResult) -> float:
+    """Pinion speed (rpm) per unit of f_m / f_n."""
+    c = result.curves[0]
+    return float(result.natural_frequency / (c.mesh_frequency[0] / (c.speed[0] / RPM)))
+
+
+def resonance_notes(result: SweepResult) -> list[str]:
+    """Where the marked resonances lie outside the swept range, one sentence each
+    (``f_m = f_n at 7420 rpm, above the range``); empty where f_n is unknown."""
+    if not np.isfinite(result.natural_frequency):
+        return []
+    rpm = np.concatenate([c.speed for c in result.curves]) / RPM
+    lo, hi = float(np.min(rpm)), float(np.max(rpm))
+    out = []
+    for ratio, label in RESONANCES:
+        s = ratio * rpm_per_ratio(result)
+        if s < lo or s > hi:
+            out.append(f"f_m = {label} at {s:.0f} rpm, {'above' if s > hi else 'below'} "
+                       "the range")
+    return out
+
+
+def sweep_peaks(result: SweepResult) -> list[tuple[str, float, float]]:
+    """(direction, largest dynamic factor, its speed in rpm) of each curve with finite values."""
+    out = []
+    for c in result.curves:
+        df = np.where(np.isfinite(c.dynamic_factor), c.dynamic_factor, -np.inf)
+        if np.any(np.isfinite(c.dynamic_factor)):
+            i = int(np.argmax(df))
+            out.append((c.direction, float(df[i]), float(c.speed[i] / RPM)))
+    return out
+
+
+
 def summarize_sweep(result: SweepResult) -> dict[str, Any]:
     """Summary of a sweep for sweep.json (SI units in the key names, speeds in rpm)."""
     out: dict[str, Any] = {
@@ -139,6 +178,7 @@ def summarize_sweep(result: SweepResult) -> dict[str, Any]:
         "nonlinear": result.nonlinear,
         "natural_frequency_hz": result.natural_frequency,
         "resonance_speed_rpm": _resonance_rpm(result),
+        "resonances_outside_range": resonance_notes(result),
         "static_load_n": result.static_load,
         "n_speeds": int(result.curves[0].speed.size),
         "speed_range_rpm": [float(np.min(result.curves[0].speed) / RPM),

@@ -208,7 +208,7 @@ class SweepResult:
     run_time_s : float
         Wall time of the whole sweep.
     executor : str
-        Where it ran: ``serial`` (the calling process), ``ProcessPoolExecutor, N workers``
+        Where it ran: ``serial`` (the calling process), ``process pool, N workers``
         (``workers=N``) or the class name of the executor given (``ClientExecutor`` for Dask).
     """
 
