@@ -105,7 +105,7 @@ def transient(scene, speeds, mode: str, method: str = "auto"):  # type: ignore[n
         if mode == "run":
             r = simulate(model, 200 / fm, settings, 100 / fm)
             x = r.outputs["dte"][r.steady][1:]  # whole periods (phase 0 once)
-            df.append(r.dynamic_factor)
+            df.append(r.peak_force_ratio)
             rms.append(float(np.std(x)))
             used.append(200)
             continue
@@ -131,7 +131,7 @@ def methods_table(args: argparse.Namespace) -> str:
     """The method comparison (steady vs transient); slow: minutes."""
     scene = load_scene(SCENE)
     speeds = np.linspace(500, 12000, args.speeds) * RPM
-    ref = sweep_scene(scene, speeds, rtol=1e-12).curves[0]
+    ref = sweep_scene(scene, speeds, si=True, rtol=1e-12).curves[0]
 
     rows = []
 
@@ -140,7 +140,7 @@ def methods_table(args: argparse.Namespace) -> str:
         e_rms = float(np.max(np.abs(rms / ref.rms_dte - 1)))
         return f"{e_df:.1e} / {e_rms:.1e}"
 
-    t_st, ts_st, res = _timed(lambda: sweep_scene(scene, speeds), args.repeats)
+    t_st, ts_st, res = _timed(lambda: sweep_scene(scene, speeds, si=True), args.repeats)
     c = res.curves[0]
     rows.append(("steady (monodromy, expm)", t_st, ts_st, err(c.dynamic_factor, c.rms_dte),
                  "measured"))
@@ -241,7 +241,7 @@ def kernel_costs(repeats: int, n: int = 2000) -> dict[str, list[float]]:
     factory = SceneModels.of(scene)
     rtol = factory.plan.settings.rtol
     speeds = np.linspace(500, 12000, n) * RPM
-    sweep_scene(scene, speeds[:50])
+    sweep_scene(scene, speeds[:50], si=True)
 
     def kernel() -> None:
         for s in speeds:
@@ -249,7 +249,7 @@ def kernel_costs(repeats: int, n: int = 2000) -> dict[str, list[float]]:
 
     out: dict[str, list[float]] = {"sweep_ms": [], "kernel_ms": [], "ratio": []}
     for _ in range(repeats):
-        t_s, _r = timed(lambda: sweep_scene(scene, speeds))
+        t_s, _r = timed(lambda: sweep_scene(scene, speeds, si=True))
         t_k, _ = timed(kernel)
         out["sweep_ms"].append(1e3 * t_s / n)
         out["kernel_ms"].append(1e3 * t_k / n)
@@ -297,7 +297,7 @@ def parallel_costs(repeats: int, dask: bool) -> tuple[dict[str, dict[str, list[f
         info["dask_start_s"] = time.perf_counter() - t0
         lin = _cases()[1]
         # each Dask worker imports gear_dyn and builds the scene once: not in the figures
-        info["dask_cold_s"] = timed(lambda: sweep_scene(lin[1], lin[2],
+        info["dask_cold_s"] = timed(lambda: sweep_scene(lin[1], lin[2], si=True,
                                                         **variants["dask"]))[0]
     out: dict[str, dict[str, list[float]]] = {}
     same = True
@@ -308,7 +308,7 @@ def parallel_costs(repeats: int, dask: bool) -> tuple[dict[str, dict[str, list[f
                 ref = None
                 for v, kw in variants.items():
                     t, res = timed(lambda kw={**kw, **over}, sc=scene, sp=speeds:
-                                   sweep_scene(sc, sp, **kw))
+                                   sweep_scene(sc, sp, si=True, **kw))
                     row.setdefault(v, []).append(t)
                     ref = res if ref is None else ref
                     same = same and _same(ref, res)

@@ -58,7 +58,7 @@ CASES = {"iso6336": lambda: _scene("helicopter_tail"),
 def per_speed(scene: Scene) -> float:
     def timed(n: int) -> float:
         t0 = time.perf_counter()
-        sweep_scene(scene, np.linspace(1000, 10000, n) * RPM)
+        sweep_scene(scene, np.linspace(1000, 10000, n) * RPM, si=True)
         return time.perf_counter() - t0
     timed(2)  # the model built and cached, imports done
     return (timed(361) - timed(37)) / 324

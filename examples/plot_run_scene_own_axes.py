@@ -40,6 +40,7 @@ def main(out: Path, fast: bool = False) -> dict[str, float]:
     out.mkdir(parents=True, exist_ok=True)
     save_figure(fig, out / "own_axes.png", dpi=100)
     return {"dynamic_factor": summary["dynamic_factor"],
+            "peak_force_ratio": summary["peak_force_ratio"],
             "mesh_frequency_hz": summary["mesh_frequency_hz"]}
 
 

@@ -21,19 +21,21 @@ import numpy as np
 import gear_dyn as gd
 from gear_dyn.io import save_figure
 from gear_dyn.plots.sweep import plot_sweep_response
-from gear_dyn.scene.sweep import parse_speed_range, sweep_scene
 
 
 def main(out: Path, fast: bool = False) -> dict[str, float]:
     scene = gd.load_scene("helicopter_tail")
     # speeds carry their unit, as everywhere in gear_dyn (a plain number is refused)
-    speeds = parse_speed_range("2000 rpm:12000 rpm:8" if fast else "500 rpm:12000 rpm:200")
-    local = sweep_scene(scene, speeds, workers=1)               # in this process
-    from distributed import Client, LocalCluster
+    speeds = "2000 rpm:12000 rpm:8" if fast else "500 rpm:12000 rpm:200"   # START:STOP:N
+    local = gd.sweep_scene(scene, speeds, workers=1)            # in this process
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        sys.exit("this example runs a Dask cluster: pip install 'gear_dyn[dask]'")
 
     with LocalCluster(n_workers=1, processes=False, threads_per_worker=2,
                       dashboard_address=":0") as cluster, Client(cluster) as client:
-        remote = sweep_scene(scene, speeds, executor=client.get_executor(), block=4)
+        remote = gd.sweep_scene(scene, speeds, executor=client.get_executor(), block=4)
     a, b = local.curves[0], remote.curves[0]
     same = bool(np.array_equal(a.dynamic_factor, b.dynamic_factor))
     i = int(np.nanargmax(a.dynamic_factor))

@@ -2,7 +2,11 @@
 
 The public API in one place::
 
-    from gear_dyn import GearPair, load_scene, run_scene, simulate, SolverSettings
+    from gear_dyn import GearPair, load_scene, run_scene, simulate, SolverSettings, sweep_scene
+
+    scene = load_scene("helicopter_tail")
+    res = run_scene(scene, speed="6000 rpm", torque="200 Nm")   # units as in a scene file
+    sweep = sweep_scene(scene, "1000 rpm:8000 rpm:141")          # a SweepResult
 
 What two of these names mean, beside their relatives deeper in the package:
 
@@ -41,6 +45,9 @@ _EXPORTS: dict[str, str] = {
     "load_scene": "gear_dyn.scene",
     "parse_scene": "gear_dyn.scene",
     "run_scene": "gear_dyn.scene",
+    "sweep_scene": "gear_dyn.scene.sweep",
+    "SweepOptions": "gear_dyn.analysis.sweep.types",
+    "SweepResult": "gear_dyn.analysis.sweep.types",
     "Result": "gear_dyn.solvers.result",
     "SolverSettings": "gear_dyn.solvers.settings",
     "simulate": "gear_dyn.analysis.study",
@@ -57,10 +64,12 @@ __all__ = sorted(_EXPORTS)
 if TYPE_CHECKING:  # what type checkers and IDEs see; at run time the names load lazily
     from gear_dyn.analysis.report import summarize
     from gear_dyn.analysis.study import simulate
+    from gear_dyn.analysis.sweep.types import SweepOptions, SweepResult
     from gear_dyn.errors import GearDynError, InputError, SceneError, SolverError
     from gear_dyn.geometry import GearPair, mesh_frequency, output_speed
     from gear_dyn.models.sdof import SDOFModel, sdof_from_pair
     from gear_dyn.scene import load_scene, parse_scene, run_scene
+    from gear_dyn.scene.sweep import sweep_scene
     from gear_dyn.solvers.result import Result
     from gear_dyn.solvers.settings import SolverSettings
     from gear_dyn.stiffness.iso6336 import iso6336_stiffness

@@ -24,8 +24,14 @@ DTE_DEFINITION = {
                  "part -e_ecc (eccentricity, rigid teeth) + elastic part delta (mesh deflection)",
 }
 
-#: what the dynamic factor is (summary.json ``dynamic_factor_definition``, terminal output)
-DYNAMIC_FACTOR_DEFINITION = (
+#: the figures of the dynamic factor (summary.json, terminal output; defined there)
+from gear_dyn.analysis.dynamic_factor import (  # noqa: E402
+    DYNAMIC_FACTOR_DEFINITION,
+    STIFFNESS_JUMP_DEFINITION,
+)
+
+#: what ``peak_force_ratio`` is (summary.json ``peak_force_ratio_definition``)
+PEAK_FORCE_DEFINITION = (
     "peak of the dynamic mesh force over the steady window / static load W = T1 / r_b1")
 
 
@@ -60,6 +66,10 @@ def summarize(result: Result) -> dict[str, Any]:
     out["static_load_n"] = result.static_load
     out["dynamic_factor"] = result.dynamic_factor
     out["dynamic_factor_definition"] = DYNAMIC_FACTOR_DEFINITION
+    out["peak_force_ratio"] = result.peak_force_ratio
+    out["peak_force_ratio_definition"] = PEAK_FORCE_DEFINITION
+    if "stiffness_jump_factor" in result.extra:
+        out["stiffness_jump_definition"] = STIFFNESS_JUMP_DEFINITION
     out["dte_definition"] = DTE_DEFINITION[model_kind(result)]
     out["mean_dte_m"] = result.mean_dte
     out["rms_dte_m"] = result.rms_dte

@@ -14,6 +14,9 @@ public ``gear_dyn.simulate``, and what ``run_scene`` calls) adds to ``Result.ext
 - ``orbit``: for nonlinear mesh-periodic models (backlash), the stability statement: the
   period-1 orbit found by shooting from the run's end state and its largest Floquet multiplier,
   or that none was found (the response is not period-1);
+- ``dynamic_factor``, ``peak_force_ratio``, ``stiffness_jump_factor`` and ``quasi_static``: the
+  dynamic factor against a quasi-static run of the same model
+  (:mod:`~.dynamic_factor`);
 - ``warnings``: one line each, printed by the CLI.
 """
 
@@ -30,14 +33,21 @@ from gear_dyn.analysis.accuracy import (
     floquet_check,
     stiffness_check,
 )
+from gear_dyn.analysis.dynamic_factor import (
+    dynamic_factor_figures,
+    quasi_static_model,
+    quasi_static_reference,
+)
 from gear_dyn.analysis.stability import shoot
 from gear_dyn.errors import GearDynError
 from gear_dyn.models.base import MeshModel, Model
 from gear_dyn.solvers import Result, SolverSettings, simulate_bare
 
 
-def checks(model: Model, result: Result) -> dict[str, Any]:
-    """The error estimate and stability checks of ``result`` (a run of ``model``)."""
+def checks(model: Model, result: Result, quasi_static: Model | None = None) -> dict[str, Any]:
+    """The error estimate and stability checks of ``result`` (a run of ``model``), and its
+    dynamic factor against a quasi-static run of ``quasi_static`` (default: ``model`` at
+    :func:`~.dynamic_factor.quasi_static_model`'s mesh frequency)."""
     out: dict[str, Any] = {}
     warnings: list[str] = []
     reference = None  # a periodic run's Gauss-Legendre monodromy matrices, for the Floquet check
@@ -65,6 +75,11 @@ def checks(model: Model, result: Result) -> dict[str, Any]:
         warnings.append(out["contact"]["warning"])
     if model.mesh_periodic and not model.is_linear:
         out["orbit"] = orbit_check(model, result)
+    if quasi_static is None:
+        quasi_static = quasi_static_model(model)
+    if quasi_static is not None and "mesh_force" in result.outputs:
+        qs_ref = quasi_static_reference(quasi_static, result.settings)
+        out.update(dynamic_factor_figures(result, qs_ref))
     out["warnings"] = warnings
     return out
 
@@ -131,6 +146,7 @@ def simulate(
     settings: SolverSettings | None = None,
     steady_start: float | None = None,
     scene: Any = None,
+    quasi_static: Model | None = None,
 ) -> Result:
     """Integrate ``model`` from 0 to ``t_end`` and attach the error estimate and checks.
 
@@ -149,6 +165,9 @@ def simulate(
         Start of the steady-state window in s; None takes the second half of the run.
     scene : object
         Provenance stored in the result.
+    quasi_static : Model or None
+        The same model at a mesh frequency far below f_n, for the dynamic factor's reference
+        (:mod:`gear_dyn.analysis.dynamic_factor`); None: ``model.at_mesh_frequency`` gives it.
 
     Returns
     -------
@@ -162,5 +181,5 @@ def simulate(
         The integration failed or diverged.
     """
     result = simulate_bare(model, t_end, settings, steady_start, scene)
-    result.extra.update(checks(model, result))
+    result.extra.update(checks(model, result, quasi_static))
     return result

@@ -78,7 +78,8 @@ def run(args: argparse.Namespace) -> int:
     results = []
     for name, scene in zip(names, scenes, strict=True):
         show = counter(f"{name} speed", args.quiet)
-        results.append(sweep_scene(scene, speeds, workers=args.workers, progress=show))
+        results.append(sweep_scene(scene, speeds, si=True, workers=args.workers,
+                                   progress=show))
     rows = [r for name, res in zip(names, results, strict=True) for r in compare_rows(name, res)]
     cols = {"scene_index": [float(names.index(r["scene"])) for r in rows],
             "direction_down": [float(r["direction"] == "down") for r in rows]}

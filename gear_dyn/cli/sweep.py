@@ -99,7 +99,7 @@ def _sweep(args: argparse.Namespace) -> tuple[Any, Any]:
     show = counter("speed", args.no_progress)
     client = _dask_client(args.dask) if args.dask else None
     try:
-        result = sweep_scene(scene, speeds, options=opts, direction=args.direction,
+        result = sweep_scene(scene, speeds, si=True, options=opts, direction=args.direction,
                              workers=args.workers,
                              executor=None if client is None else client.get_executor(),
                              block=args.block, progress=show, **overrides(args))

@@ -97,7 +97,7 @@ def plot_dynamic_comparison(results: Mapping[str, Result], periods: float = 4.0,
         sel = t >= t[-1] - periods / fm
         x = res.series("dte")
         a0.plot((t[sel] - t[sel][0]) * fm, x[sel] * 1e6,
-                label=f"{name} (K_v = {res.dynamic_factor:.3f})", **st)
+                label=f"{name} (F_max / W = {res.peak_force_ratio:.3f})", **st)
         mask = res.steady
         f, amp = amplitude_spectrum(t[mask], x[mask])
         a1.semilogy(f, np.maximum(amp * 1e6, 1e-6), label=name, **st)

@@ -79,6 +79,7 @@ def convergence_figure(report: Any, ax: Any = None) -> Any:
     for axis in (a.xaxis, b.xaxis, b.yaxis):
         axis.set_major_formatter(ScalarFormatter())
         axis.set_minor_formatter(NullFormatter())
-    fig.suptitle(f"{report.scene_name}: difference and cost against the communication step")
-    tidy(fig)
+    if ax is None:  # a caller's figure gets no title and keeps its layout
+        fig.suptitle(f"{report.scene_name}: difference and cost against the communication step")
+        tidy(fig)
     return fig

@@ -20,7 +20,7 @@ import numpy as np
 from gear_dyn.analysis.report import DTE_DEFINITION, model_kind
 from gear_dyn.analysis.spectrum import amplitude_spectrum
 from gear_dyn.errors import InputError
-from gear_dyn.plots._axes import axes_of, fixed_layout, tidy
+from gear_dyn.plots._axes import axes_of, fixed_layout
 from gear_dyn.plots._decimate import envelope
 from gear_dyn.solvers import Result
 
@@ -88,17 +88,41 @@ def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = No
     result : Result
     periods : float or None
         Also draws a zoom on the last ``periods`` mesh periods (None: no zoom).
-    ax : sequence of Axes or None
-        ``rows x cols`` Axes, row-major: rows DTE, [elastic part,] force (the middle row only
-        for eccentric models); cols whole run[, zoom].
+    ax : Axes sequence or None
+        One Axes per panel. Panels: rows DTE[, elastic part], mesh force (the middle row only
+        for eccentric models); columns whole run[, zoom on the last ``periods``]. Give 2 Axes
+        (3 for eccentric models: one per row) for the whole run alone, or 4 (6) in row-major
+        order, e.g. a 2 x 2 array, for the whole run and the zoom. None: a new figure with the
+        zoom column when ``periods`` is given. On the caller's Axes nothing is written outside
+        them: no figure title, no layout change.
+
+    Returns
+    -------
+    Figure
+        The new figure, or the figure of the caller's Axes.
+
+    Raises
+    ------
+    ValueError
+        ``ax`` is not one of the Axes counts above (the message names them).
     blocks : int or None
         Draw the whole-run lines as the first, smallest, largest and last sample of this many
         blocks (:func:`gear_dyn.plots._decimate.envelope`): for a file, about 2 per pixel column
         give the same picture from fewer points. None: every sample (a later zoom shows data).
     """
     split = "e_ecc" in result.outputs
-    ncols = 2 if periods else 1
     nrows = 3 if split else 2
+    ncols = 2 if periods else 1
+    if ax is not None:
+        n = 1 if hasattr(ax, "plot") else len(list(np.ravel(np.asarray(ax, dtype=object))))
+        if n not in (nrows, 2 * nrows):
+            raise ValueError(
+                f"plot_time_history: expected {nrows} Axes (whole run: "
+                f"{'DTE, elastic part, force' if split else 'DTE, force'}) or {2 * nrows} "
+                f"(whole run and zoom, row-major), got {n}")
+        ncols = n // nrows
+        if ncols == 2 and not periods:
+            periods = 10.0  # the zoom column the caller asked for
     fig, axes = axes_of(ax, nrows, ncols, figsize=time_history_size(result, periods),
                         name="plot_time_history", squeeze=False, sharex="col")
     t = result.t
@@ -135,15 +159,15 @@ def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = No
                         label=f"static load W = {result.static_load / 1e3:.4g} kN")
     for r in range(nrows):
         axes[r, 0].legend(loc="upper right", fontsize=7)
-    if periods:
+    if ax is not None:
+        return fig  # the caller's figure: its titles and layout are the caller's
+    if ncols == 2 and periods:
         span_ms = periods / result.mesh_frequency * 1e3
         axes[0, 1].set_title(f"last {periods:g} mesh periods ({span_ms:.3g} ms)", fontsize=10)
     axes[0, 0].set_title("whole run", fontsize=10)
     fig.suptitle(DTE_DEFINITION[model_kind(result)], fontsize=8)
-    if ax is None:  # margins in inches: the look of tight_layout without measuring twice
-        fixed_layout(fig, left=0.72, right=0.15, top=0.62, bottom=0.55, wgap=0.75, hgap=0.25)
-    else:
-        tidy(fig)
+    # margins in inches: the look of tight_layout without measuring twice
+    fixed_layout(fig, left=0.72, right=0.15, top=0.62, bottom=0.55, wgap=0.75, hgap=0.25)
     return fig
 
 
@@ -175,7 +199,20 @@ def plot_spectrum(result: Result, name: str = "dte", harmonics: int | None = Non
         Mesh harmonics shown (default: up to the first above f_n, at least 3).
     ax : Axes, sequence of 2 Axes, or None
         One Axes: the spectrum. Two: the spectrum and a zoom on the sidebands around f_m
-        (eccentric models). None: a new figure (two panels for eccentric models).
+        (eccentric models). None: a new figure (two panels for eccentric models), titled. On
+        the caller's Axes nothing is written outside them: no titles, no layout change.
+
+    Returns
+    -------
+    Figure
+        The new figure, or the figure of the caller's Axes.
+
+    Raises
+    ------
+    InputError
+        An unknown ``scale``.
+    ValueError
+        ``ax`` is neither one Axes nor two of one figure.
     scale : {"log", "linear"}
         Amplitude axis.
     floor : float or None
@@ -208,17 +245,17 @@ def plot_spectrum(result: Result, name: str = "dte", harmonics: int | None = Non
     main.set_xlim(0, fmax)
     main.set_ylabel(f"amplitude of {name} ({unit})")
     df = 1.0 / (t[-1] - t[0] + (t[1] - t[0]))
-    main.set_title(f"{name} spectrum, steady window {t[0] * 1e3:.4g}-{t[-1] * 1e3:.4g} ms "
-                   f"({(t[-1] - t[0]) * marks.mesh:.0f} mesh periods), Hann window, "
-                   f"resolution {df:.3g} Hz", fontsize=9)
+    if ax is None:  # the caller's Axes get no title (their figure is theirs to label)
+        main.set_title(f"{name} spectrum, steady window {t[0] * 1e3:.4g}-{t[-1] * 1e3:.4g} ms "
+                       f"({(t[-1] - t[0]) * marks.mesh:.0f} mesh periods), Hann window, "
+                       f"resolution {df:.3g} Hz", fontsize=9)
     if zoom:
-        _sideband_zoom(axes[1, 0], f, amp, marks, scale, floor * factor if floor else None, unit)
+        _sideband_zoom(axes[1, 0], f, amp, marks, scale, floor * factor if floor else None, unit,
+                       title=ax is None)
         axes[1, 0].set_ylabel(f"amplitude ({unit})")
     axes[-1, 0].set_xlabel("frequency (Hz)")
     if ax is None:  # margins in inches: the look of tight_layout without measuring twice
         fixed_layout(fig, left=0.85, right=0.15, top=0.35, bottom=0.55, hgap=0.65)
-    else:
-        tidy(fig)
     return fig
 
 
@@ -266,8 +303,9 @@ def _mark_physics(ax: Any, marks: Marks, top: int, fmax: float) -> None:
 
 
 def _sideband_zoom(ax: Any, f: Any, amp: Any, marks: Marks, scale: str,
-                   floor: float | None, unit: str) -> None:
-    """Zoom on f_m +- 3.5 f1: the sidebands f_m +- k f1 and f_m +- k f2, labelled."""
+                   floor: float | None, unit: str, title: bool = True) -> None:
+    """Zoom on f_m +- 3.5 f1: the sidebands f_m +- k f1 and f_m +- k f2, labelled (``title``:
+    the shaft frequencies as the panel's title; not on a caller's Axes)."""
     f1 = max(fs for _, fs in marks.shafts)
     lo, hi = marks.mesh - 3.5 * f1, marks.mesh + 3.5 * f1
     sel = (f >= lo) & (f <= hi)
@@ -288,5 +326,6 @@ def _sideband_zoom(ax: Any, f: Any, amp: Any, marks: Marks, scale: str,
                 ax.text(fb, y, f"f_m{'+' if sign > 0 else '-'}{kk}{label}\n{fb:.1f} Hz",
                         transform=trans, color="tab:purple", fontsize=6, ha="center", va="top",
                         bbox=_BOX)
-    ax.set_title(f"sidebands around f_m: f1 = {marks.shafts[0][1]:.3g} Hz (pinion shaft), "
-                 f"f2 = {marks.shafts[1][1]:.3g} Hz (gear shaft)", fontsize=9)
+    if title:
+        ax.set_title(f"sidebands around f_m: f1 = {marks.shafts[0][1]:.3g} Hz (pinion shaft), "
+                     f"f2 = {marks.shafts[1][1]:.3g} Hz (gear shaft)", fontsize=9)

@@ -6,24 +6,93 @@ and the ISO 6336-1 K_v beside it (:mod:`.iso`).
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
+from gear_dyn.analysis.dynamic_factor import QS_SPEED_RATIO, quasi_static_model
 from gear_dyn.analysis.study import simulate
 from gear_dyn.errors import InputError
-from gear_dyn.scene.build import build_plan, scene_facts
+from gear_dyn.models.base import Model
+from gear_dyn.scene.build import build_model, build_plan, scene_facts
 from gear_dyn.scene.iso import iso_kv_summary
+from gear_dyn.scene.operating import check_keywords, with_operating
 from gear_dyn.scene.validated import Scene, scene_error
 from gear_dyn.solvers import Result
 
+#: the ``[solver]`` values a run may override (as the CLI's flags do)
+RUN_SOLVER_OVERRIDES = ("method", "rtol", "atol", "periods", "steady_periods",
+                        "samples_per_period")
+#: every keyword of :func:`run_scene`
+RUN_KEYWORDS = ("speed", "torque", "si", *RUN_SOLVER_OVERRIDES)
 
-def run_scene(scene: Scene, **overrides: Any) -> Result:
-    """Build and simulate a scene; the Result carries the scene and, in ``extra``, what the
-    scene says about the case (:func:`scene_facts`: speeds, contact ratio, backlash, ...) and
-    ``iso_6336_kv``, the ISO 6336-1 method B K_v at the same speed (:mod:`gear_dyn.scene.iso`)."""
-    plan = build_plan(scene, **overrides)
+
+def _quasi_static_model(scene: Scene, model: Model) -> Model | None:
+    """The scene's model at the quasi-static speed of the dynamic factor's reference
+    (:mod:`gear_dyn.analysis.dynamic_factor`): the model itself where only f_m depends on speed,
+    else the scene rebuilt at that speed (eccentric models: the kinematics change with it)."""
+    qs = quasi_static_model(model)
+    fn = model.natural_frequency
+    if qs is not None or fn is None or not math.isfinite(fn) or fn <= 0:
+        return qs
+    speed = scene.tables["operating"]["speed"] * QS_SPEED_RATIO * fn / model.mesh_frequency
+    return build_model(with_operating(scene, speed, si=True))
+
+
+def run_scene(scene: Scene, speed: Any = None, torque: Any = None, *, si: bool = False,
+              **solver: Any) -> Result:
+    """Build and simulate a scene, optionally at another speed or torque.
+
+    The Result carries the scene and, in ``extra``, what the scene says about the case
+    (:func:`~gear_dyn.scene.build.scene_facts`: speeds, contact ratio, backlash, ...) and
+    ``iso_6336_kv``, the ISO 6336-1 method B K_v at the same speed (:mod:`gear_dyn.scene.iso`).
+
+    Parameters
+    ----------
+    scene : Scene
+        From :func:`~gear_dyn.scene.load_scene` or :func:`~gear_dyn.scene.parse_scene`.
+    speed : str or float, optional
+        Pinion speed replacing ``[operating] speed``, with its unit as in a scene file
+        (``"6000 rpm"``, ``"628 rad/s"``); a plain number only with ``si=True`` (rad/s).
+    torque : str or float, optional
+        Pinion torque replacing ``[operating] torque`` (``"200 Nm"``; N m with ``si=True``).
+    si : bool
+        Plain numbers for ``speed`` and ``torque`` are SI values (rad/s, N m).
+    **solver
+        ``[solver]`` overrides: ``method``, ``rtol``, ``atol``, ``periods``, ``steady_periods``,
+        ``samples_per_period`` (None keeps the scene's value).
+
+    Returns
+    -------
+    Result
+
+    Raises
+    ------
+    InputError
+        An unknown keyword (with the closest valid one), a plain number for ``speed`` or
+        ``torque`` without ``si=True``, a bad unit or a value out of range (as the scene's
+        ``[operating]`` keys), bad solver overrides.
+    SolverError
+        The integration failed.
+
+    Examples
+    --------
+    >>> import gear_dyn as gd
+    >>> scene = gd.load_scene("helicopter_tail")
+    >>> res = gd.run_scene(scene, speed="1000 rpm", periods=20)
+    >>> round(res.extra["input_speed_rpm"])
+    1000
+    >>> gd.run_scene(scene, sped="1000 rpm")
+    Traceback (most recent call last):
+    ...
+    gear_dyn.errors.InputError: run_scene: unknown keyword 'sped'; did you mean 'speed'? ...
+    """
+    check_keywords("run_scene", solver, RUN_KEYWORDS)
+    scene = with_operating(scene, speed, torque, si=si, function="run_scene")
+    plan = build_plan(scene, **solver)
     iso_kv = iso_kv_summary(scene)  # before the run: a bad [iso] table fails fast
     try:
-        result = simulate(plan.model, plan.t_end, plan.settings, plan.steady_start, scene=scene)
+        result = simulate(plan.model, plan.t_end, plan.settings, plan.steady_start, scene=scene,
+                          quasi_static=_quasi_static_model(scene, plan.model))
     except InputError as exc:  # e.g. a run too long for the solver: name the file
         raise scene_error(scene.source, exc) from None
     for key, value in scene_facts(scene).items():

@@ -19,10 +19,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.analysis.sweep import SweepOptions, SweepResult, sweep
-from gear_dyn.errors import InputError, check_range
+from gear_dyn.errors import check_range
 from gear_dyn.geometry import GearPair, mesh_frequency
 from gear_dyn.models.base import Model
 from gear_dyn.scene.build import RunPlan, build_model, build_pair, build_plan
+from gear_dyn.scene.operating import check_keywords, parse_speeds
+from gear_dyn.scene.operating import parse_speed_range as parse_speed_range  # its old home
 from gear_dyn.scene.validated import Scene
 
 FloatArray = NDArray[np.float64]
@@ -79,16 +81,23 @@ def model_at_speed(scene: Scene, speed: float, **overrides: Any) -> Model:
     return SceneModels.of(scene, **overrides)(speed)
 
 
-def sweep_scene(scene: Scene, speeds: Any, *, options: SweepOptions | None = None,
+def sweep_scene(scene: Scene, speeds: Any, *, si: bool = False,
+                options: SweepOptions | None = None,
                 direction: str = "auto", workers: int | None = None,
                 executor: cf.Executor | None = None, block: int | None = None,
                 progress: Callable[[int, int], None] | None = None,
                 **solver: Any) -> SweepResult:
-    """Sweep a scene over pinion speeds (rad/s): :func:`gear_dyn.analysis.sweep.sweep` with the
+    """Sweep a scene over pinion speeds: :func:`gear_dyn.analysis.sweep.sweep` with the
     scene's model factory, solver settings and span.
 
+    ``speeds``: strings with units (``["4000 rpm", "6275 rpm"]``), a range ``"1000 rpm:6000
+    rpm:51"`` (START:STOP:N, as ``--speeds``), or, with ``si=True``, numbers in rad/s (a list or
+    a numpy array); plain numbers without ``si=True`` are refused, as in a scene file
+    (:func:`gear_dyn.scene.operating.parse_speeds`).
+
     Serial in the calling process unless ``workers`` (N >= 2: a local process pool) or an
-    ``executor`` (e.g. ``distributed.Client(...).get_executor()``) is given; the numbers are
+    ``executor`` (e.g. ``distributed.Client(...).get_executor()``, which needs the ``dask``
+    extra: ``pip install "gear_dyn[dask]"``) is given; the numbers are
     the same. ``options``, ``direction``, ``workers``, ``executor``, ``block`` and ``progress``
     are those of :func:`~gear_dyn.analysis.sweep.sweep`; ``solver``: ``[solver]`` overrides
     (:data:`SOLVER_OVERRIDES`).
@@ -96,15 +105,15 @@ def sweep_scene(scene: Scene, speeds: Any, *, options: SweepOptions | None = Non
     Raises
     ------
     InputError
-        Bad speeds, options, overrides, direction, block or workers; an unknown keyword.
+        Plain-number speeds without ``si=True``; bad speeds, options, overrides, direction,
+        block or workers; an unknown keyword.
     SolverError
         An integration failed.
     """
-    unknown = sorted(set(solver) - set(SOLVER_OVERRIDES))
-    if unknown:
-        raise InputError(f"sweep_scene: unknown option {unknown[0]!r}; valid: options, "
-                         f"direction, workers, executor, block, progress, "
-                         f"{', '.join(SOLVER_OVERRIDES)}")
+    check_keywords("sweep_scene", solver, (
+        "si", "options", "direction", "workers", "executor", "block", "progress",
+        *SOLVER_OVERRIDES))
+    speeds = parse_speeds(speeds, si=si)
     factory = SceneModels.of(scene, **solver)
     plan = factory.plan
     f0 = plan.model.mesh_frequency
@@ -113,38 +122,3 @@ def sweep_scene(scene: Scene, speeds: Any, *, options: SweepOptions | None = Non
     return sweep(factory, speeds, settings=plan.settings, periods=periods, steady_periods=steady,
                  name=scene.name, options=options, direction=direction, workers=workers,
                  executor=executor, block=block, progress=progress)
-
-
-def parse_speed_range(text: str) -> FloatArray:
-    """Speeds from ``START:STOP:N``, in rad/s; START and STOP carry their unit.
-
-    >>> parse_speed_range("600 rpm:1200 rpm:3") * 60 / (2 * math.pi)
-    array([ 600.,  900., 1200.])
-
-    Raises
-    ------
-    InputError
-        Not three parts, a plain number (``1500``: give a unit, e.g. ``1500 rpm``), a bad
-        number or unit (Hz is refused: pint would read it as rad/s), N < 2, or speeds out of
-        range.
-    """
-    from gear_dyn.scene.fields import Field
-
-    parts = text.split(":")
-    if len(parts) != 3:
-        raise InputError(f"--speeds {text!r}: expected START:STOP:N, e.g. '500 rpm:6000 rpm:200'")
-    fld = Field("speed", "rad/s", low=0.0, high=1e5, low_open=True)
-    ends = []
-    for label, part in zip(("START", "STOP"), parts[:2], strict=True):
-        part = part.strip()
-        if "hz" in part.lower():
-            # pint reads 1 Hz as 1 rad/s (radians are dimensionless): 2 pi off for a shaft
-            raise InputError(f"--speeds {label} = {part!r}: Hz is ambiguous for a shaft speed "
-                             "(it would be read as rad/s); write e.g. '600 rpm' or '10 turn/s'")
-        ends.append(fld.parse(part, f"--speeds {label}"))
-    try:
-        n = int(parts[2])
-    except ValueError:
-        raise InputError(f"--speeds N = {parts[2]!r}: expected a whole number >= 2") from None
-    check_range("--speeds N", n, "", low=2, high=1_000_000)
-    return np.linspace(ends[0], ends[1], n)

@@ -160,10 +160,21 @@ class Result:
         )
 
     @property
-    def dynamic_factor(self) -> float:
-        """Peak dynamic mesh force / W over the steady window (NaN if W = 0)."""
+    def peak_force_ratio(self) -> float:
+        """Peak dynamic mesh force / W over the steady window, F_max / W (NaN if W = 0)."""
         f = self.outputs["mesh_force"][self.steady]
         return float(np.max(f) / self.static_load) if self.static_load > 0 else math.nan
+
+    @property
+    def dynamic_factor(self) -> float:
+        """K_dyn = F_max / F_qs,max: the peak dynamic mesh force over the peak quasi-static
+        mesh force of the same model (Tamminana, Kahraman & Vijayakar 2007), which tends to 1
+        at low speed like ISO 6336-1 K_v: :attr:`peak_force_ratio` over
+        ``extra["stiffness_jump_factor"]`` (F_qs,max / W, the stiffness-jump overshoot), which
+        :func:`gear_dyn.simulate` computes (:mod:`gear_dyn.analysis.dynamic_factor`). NaN
+        without it (a bare run of :func:`gear_dyn.solvers.simulate_bare`)."""
+        qs = self.extra.get("stiffness_jump_factor")
+        return self.peak_force_ratio / float(qs) if qs else math.nan
 
     @property
     def mean_dte(self) -> float:
@@ -188,6 +199,9 @@ class Result:
                 ("span", f"{periods:.0f} mesh periods at f_m = {self.mesh_frequency:.1f} Hz")]
         if "dte" in self.outputs and "mesh_force" in self.outputs:
             rows += [("dynamic factor", f"{self.dynamic_factor:.4f}")]
+            jump = self.extra.get("stiffness_jump_factor")
+            rows.append(("peak force / W", f"{self.peak_force_ratio:.4f}" + (
+                f" (stiffness-jump overshoot {jump:.4f} at crawl speed)" if jump else "")))
             iso = self.extra.get("iso_6336_kv")
             if isinstance(iso, dict) and iso.get("k_v") is not None:
                 rows.append(("ISO 6336-1 K_v", f"{iso['k_v']:.4f} (N = "

@@ -50,19 +50,20 @@ def test_model_at_speed_is_run_scene_model() -> None:
 def test_sweep_point_equals_run_scene() -> None:
     scene = load_scene(TAIL)
     w0 = scene.tables["operating"]["speed"]
-    res = sweep_scene(scene, [w0 * 0.7, w0], workers=1)
+    res = sweep_scene(scene, [w0 * 0.7, w0], si=True, workers=1)
     run = run_scene(scene)
     c = res.curves[0]
     # steady state (monodromy) vs 200-period exact transient: the transient's remainder is
     # rho^100 ~ 1e-38 at the window start, so only rounding separates them. run_scene's window
     # holds phase 0 at both ends; the sweep counts whole periods, so drop one end for RMS/mean
     x = run.outputs["dte"][run.steady][1:]
-    assert c.dynamic_factor[1] == pytest.approx(run.dynamic_factor, rel=1e-9)
+    assert c.dynamic_factor[1] == pytest.approx(run.peak_force_ratio, rel=1e-9)
     assert c.ptp_dte[1] == pytest.approx(run.ptp_dte, rel=1e-9)
     assert c.rms_dte[1] == pytest.approx(np.std(x), rel=1e-9)
     assert c.mean_dte[1] == pytest.approx(np.mean(x), rel=1e-9)
     assert c.mesh_frequency[1] == run.mesh_frequency
-    trans = sweep_scene(scene, [w0 * 0.7, w0], workers=1, options=SweepOptions(method="transient"))
+    trans = sweep_scene(scene, [w0 * 0.7, w0], si=True, workers=1,
+                        options=SweepOptions(method="transient"))
     for name in ("dynamic_factor", "rms_dte", "ptp_dte"):
         assert np.allclose(getattr(trans.curves[0], name), getattr(c, name), rtol=1e-9)
     # a second method at 0.7 w0: DOP853 at rtol 1e-12 (not the matrix exponentials of both paths
@@ -98,7 +99,7 @@ def test_linear_resonance_at_natural_frequency() -> None:
     fn = model.natural_frequency
     rpm_n = fn * 60 / 23  # speed with f_m = f_n
     speeds = np.linspace(0.9, 1.1, 41) * rpm_n * RPM
-    res = sweep_scene(scene, speeds, workers=1)
+    res = sweep_scene(scene, speeds, si=True, workers=1)
     c = res.curves[0]
     assert res.natural_frequency == pytest.approx(math.sqrt(1e9 / model.mass) / (2 * math.pi))
     r = c.mesh_frequency / fn
@@ -124,7 +125,8 @@ def test_parametric_instability_flagged_not_integrated() -> None:
     scene = load_scene(TAIL)
     speeds = np.array([12000.0, 15000.0]) * RPM  # f_m / f_n = 1.58 (stable) and 1.97 (tongue)
     for method in ("steady", "transient"):
-        c = sweep_scene(scene, speeds, workers=1, options=SweepOptions(method=method)).curves[0]
+        c = sweep_scene(scene, speeds, si=True, workers=1,
+                        options=SweepOptions(method=method)).curves[0]
         assert c.status[0] != "unstable" and c.status[1] == "unstable"
         assert c.spectral_radius[1] > 1 and np.isnan(c.rms_dte[1])
         assert np.isfinite(c.rms_dte[0])
@@ -134,7 +136,7 @@ def test_parametric_instability_flagged_not_integrated() -> None:
 def backlash_sweep():
     scene = load_scene(BACKLASH)
     speeds = np.arange(4600.0, 6401.0, 200.0) * RPM
-    return scene, sweep_scene(scene, speeds, workers=1)
+    return scene, sweep_scene(scene, speeds, si=True, workers=1)
 
 
 def test_backlash_hysteresis(backlash_sweep) -> None:
@@ -189,12 +191,13 @@ def test_dask_and_serial_identical(tmp_path: Path) -> None:
     bl = load_scene(BACKLASH)
     sp_tail = np.linspace(2000, 16000, 12) * RPM
     sp_bl = np.array([5000.0, 6000.0, 6400.0]) * RPM
-    serial = [sweep_scene(tail, sp_tail, block=3), sweep_scene(bl, sp_bl, block=2)]
+    serial = [sweep_scene(tail, sp_tail, si=True, block=3),
+              sweep_scene(bl, sp_bl, si=True, block=2)]
     with LocalCluster(n_workers=1, processes=False, threads_per_worker=2,
                       dashboard_address=":0") as cluster, Client(cluster) as client:
         ex = client.get_executor()
-        remote = [sweep_scene(tail, sp_tail, executor=ex, block=3),
-                  sweep_scene(bl, sp_bl, executor=ex, block=2)]
+        remote = [sweep_scene(tail, sp_tail, si=True, executor=ex, block=3),
+                  sweep_scene(bl, sp_bl, si=True, executor=ex, block=2)]
         # the command line reaches the same scheduler by its address
         code = main(["sweep", str(TAIL), "--speeds", "2000 rpm:4000 rpm:3", "--out",
                      str(tmp_path / "d"), "--dask", cluster.scheduler_address, "--chart", "none",
@@ -217,7 +220,7 @@ def test_progress_and_thread_executor() -> None:
     scene = load_scene(TAIL)
     seen: list[tuple[int, int]] = []
     with cf.ThreadPoolExecutor(2) as ex:
-        res = sweep_scene(scene, np.linspace(1000, 3000, 10) * RPM, executor=ex, block=4,
+        res = sweep_scene(scene, np.linspace(1000, 3000, 10) * RPM, si=True, executor=ex, block=4,
                           progress=lambda d, n: seen.append((d, n)))
     # (0, total) at the start (a bar from the first second), then one call per finished
     # block (4, 4 and 2 speeds), in sweep order (the executor's map)
@@ -244,17 +247,17 @@ def test_parse_speed_range() -> None:
 def test_sweep_bad_input() -> None:
     scene = load_scene(TAIL)
     with pytest.raises(InputError, match="direction"):
-        sweep_scene(scene, [100.0], direction="sideways", workers=1)
+        sweep_scene(scene, [100.0], si=True, direction="sideways", workers=1)
     with pytest.raises(InputError, match="sweep method"):
         SweepOptions(method="guess")
     with pytest.raises(InputError, match="speed"):
-        sweep_scene(scene, [0.0, 100.0], workers=1)
+        sweep_scene(scene, [0.0, 100.0], si=True, workers=1)
     with pytest.raises(InputError, match="workers = 0"):
-        sweep_scene(scene, [100.0], workers=0)
+        sweep_scene(scene, [100.0], si=True, workers=0)
     with cf.ThreadPoolExecutor(1) as ex, pytest.raises(InputError, match="not both"):
-        sweep_scene(scene, [100.0], workers=2, executor=ex)
-    with pytest.raises(InputError, match="unknown option 'min_parallel_s'"):
-        sweep_scene(scene, [100.0], min_parallel_s=0)
+        sweep_scene(scene, [100.0], si=True, workers=2, executor=ex)
+    with pytest.raises(InputError, match="unknown keyword 'min_parallel_s'"):
+        sweep_scene(scene, [100.0], si=True, min_parallel_s=0)
 
 
 def test_cli_sweep(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -285,7 +288,7 @@ def test_backlash_inside_parametric_tongue_period_two() -> None:
     # linear, the pair is unstable at 15000 rpm (f_m / f_n = 1.97); with backlash the response
     # is bounded by contact loss and settles on a period-2 orbit (subharmonic f_m / 2)
     scene = load_scene(BACKLASH)
-    res = sweep_scene(scene, [15000 * RPM], workers=1, direction="up")
+    res = sweep_scene(scene, [15000 * RPM], si=True, workers=1, direction="up")
     c = res.curves[0]
     assert c.status == ("period-2",) and c.orbit_periods[0] == 2 and c.stable[0]
     half = int(np.argmin(np.abs(res.orders - 0.5)))

@@ -41,7 +41,7 @@ def aperiodic_sweep():
     data["transmission_error"] = {"cos": ["10 um"]}
     scene = parse_scene(data, "constant_stiffness_backlash.toml")
     rpm_n = build_model(scene).natural_frequency * 60 / 23  # f_m = f_n
-    return scene, sweep_scene(scene, np.array(RATIOS) * rpm_n * RPM)
+    return scene, sweep_scene(scene, np.array(RATIOS) * rpm_n * RPM, si=True)
 
 
 def test_aperiodic_speed_is_not_hysteresis(aperiodic_sweep) -> None:

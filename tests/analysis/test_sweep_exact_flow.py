@@ -46,7 +46,8 @@ def sweeps():
     scene = load_scene(BACKLASH)
     runs = {"auto": {}, "exact_contact": {"method": "exact_contact"},
             "dop": {"method": "DOP853"}, "dop_tight": {"method": "DOP853", "rtol": 1e-10}}
-    return scene, {k: sweep_scene(scene, SPEEDS, workers=1, **kw) for k, kw in runs.items()}
+    return scene, {k: sweep_scene(scene, SPEEDS, si=True, workers=1, **kw)
+                   for k, kw in runs.items()}
 
 
 def test_auto_sweep_takes_the_exact_route(sweeps) -> None:

@@ -53,8 +53,8 @@ def _same(a: Any, b: Any, where: str) -> None:
 def test_pool_of_two_reports_the_serial_numbers(case: str) -> None:
     name, rpm, block = CASES[case]
     scene = load_scene(SCENES / name)
-    serial = sweep_scene(scene, rpm * RPM, block=block)
-    pool = sweep_scene(scene, rpm * RPM, block=block, workers=2)
+    serial = sweep_scene(scene, rpm * RPM, si=True, block=block)
+    pool = sweep_scene(scene, rpm * RPM, si=True, block=block, workers=2)
     assert serial.executor == "serial"
     assert pool.executor == "process pool, 2 workers"
     assert [c.direction for c in pool.curves] == [c.direction for c in serial.curves]

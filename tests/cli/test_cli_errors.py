@@ -100,7 +100,8 @@ def _check_outcome(label: str, code: int, err: str, out_dir: Path) -> list[str]:
         names = sorted(p.name for p in out_dir.iterdir())
         if "summary.json" not in names or any(n.startswith(".") for n in names):
             bad.append(f"{label}: output folder incomplete or with temporary files: {names}")
-        csv = (out_dir / "timeseries.csv").read_text().lower()
+        csv = "\n".join(line for line in (out_dir / "timeseries.csv").read_text().lower()
+                        .splitlines() if not line.startswith("#"))  # values, not the notes
         if "nan" in csv or "inf" in csv:
             bad.append(f"{label}: exit 0 with non-finite values in timeseries.csv")
     leftovers = _hidden_leftovers(out_dir.parent)

@@ -11,7 +11,7 @@ import pytest
 from gear_dyn.analysis.sweep import RPM
 from gear_dyn.cli.app import main
 from gear_dyn.scene import load_scene
-from gear_dyn.scene.sweep import parse_speed_range, sweep_scene
+from gear_dyn.scene.sweep import sweep_scene
 
 SCENES = Path(__file__).resolve().parents[2] / "gear_dyn" / "scenes"
 
@@ -32,7 +32,7 @@ def test_compare_table_equals_separate_sweeps(tmp_path: Path, capsys: pytest.Cap
     assert data["scenes"] == ["helicopter_tail", "damped"]
     assert (out / "compare.png").stat().st_size > 0 and (out / "compare.csv").exists()
     for path, row in zip((a, b), data["peaks"], strict=True):
-        c = sweep_scene(load_scene(path), parse_speed_range(speeds)).curves[0]
+        c = sweep_scene(load_scene(path), speeds).curves[0]
         i = int(np.nanargmax(c.dynamic_factor))
         assert row["max_dynamic_factor"] == c.dynamic_factor[i]
         assert row["max_dynamic_factor_speed_rpm"] == pytest.approx(c.speed[i] / RPM)

@@ -42,7 +42,7 @@ def test_response_plot_draws_kv_beside_the_dynamic_factor() -> None:
     from gear_dyn.scene.sweep import sweep_scene
 
     scene = gd.load_scene("helicopter_tail")
-    res = sweep_scene(scene, np.array([3000.0, 6000.0]) * RPM, workers=1, direction="up")
+    res = sweep_scene(scene, np.array([3000.0, 6000.0]) * RPM, si=True, workers=1, direction="up")
     rpm = np.linspace(3000, 6000, 50)
     kv = iso_kv_at(scene, rpm * RPM)
     fig = plot_sweep_response(res, iso_kv=(rpm, kv))

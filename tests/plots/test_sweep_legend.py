@@ -11,7 +11,7 @@ from gear_dyn.scene.sweep import sweep_scene
 
 
 def _labels(speeds_rpm: np.ndarray) -> list[str]:
-    res = sweep_scene(load_scene("helicopter_tail"), speeds_rpm * RPM, workers=1)
+    res = sweep_scene(load_scene("helicopter_tail"), speeds_rpm * RPM, si=True, workers=1)
     fig = plot_sweep_response(res)
     return list(fig.axes[0].get_legend_handles_labels()[1])
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -153,7 +154,39 @@ class SweepCurve:
         )
 
 
-@dataclass(frozen=True, eq=False)
+#: the module that draws a SweepResult; looked up by name at call time (never imported on load,
+#: as :class:`gear_dyn.solvers.result.ResultPlots` does for runs)
+PLOTS_MODULE = "gear_dyn.plots.sweep"
+
+
+class SweepPlots:
+    """``sweep.plot``: the sweep's figures as methods, each taking ``ax=None`` and returning the
+    matplotlib Figure. Thin forwards to :mod:`gear_dyn.plots.sweep`, imported on the first call.
+
+    Examples
+    --------
+    >>> fig = sweep.plot.response()                                   # doctest: +SKIP
+    >>> fig = Figure(); sweep.plot.response(ax=fig.subplots(3, 1))    # doctest: +SKIP
+    """
+
+    def __init__(self, result: SweepResult) -> None:
+        self._result = result
+
+    def response(self, ax: Any = None, **kwargs: Any) -> Any:
+        """Dynamic factor, RMS and peak-to-peak DTE against speed
+        (:func:`gear_dyn.plots.sweep.plot_sweep_response`: ``ax`` is None or its 3 Axes, one
+        per panel; ``kwargs`` as there, e.g. ``iso_kv``)."""
+        plots = importlib.import_module(PLOTS_MODULE)
+        return plots.plot_sweep_response(self._result, ax=ax, **kwargs)
+
+    def waterfall(self, ax: Any = None, **kwargs: Any) -> Any:
+        """DTE spectra against speed (:func:`gear_dyn.plots.sweep.plot_waterfall`: ``ax`` is
+        None or the Axes it documents; ``kwargs`` as there, e.g. ``direction``)."""
+        plots = importlib.import_module(PLOTS_MODULE)
+        return plots.plot_waterfall(self._result, ax=ax, **kwargs)
+
+
+@dataclass(frozen=True, eq=False, repr=False)
 class SweepResult:
     """A speed sweep.
 
@@ -189,6 +222,34 @@ class SweepResult:
     settings: SolverSettings
     run_time_s: float
     executor: str
+
+    @property
+    def plot(self) -> SweepPlots:
+        """The sweep's figures: ``sweep.plot.response(ax=None)``, ``sweep.plot.waterfall(ax=None)``
+        (each returns the Figure; :class:`SweepPlots`)."""
+        return SweepPlots(self)
+
+    def peak(self) -> tuple[float, float, str]:
+        """(largest dynamic factor, its pinion speed in rad/s, its direction) over all curves;
+        NaN where no speed has a finite factor."""
+        best = (math.nan, math.nan, "")
+        for c in self.curves:
+            finite = np.isfinite(c.dynamic_factor)
+            if finite.any():
+                i = int(np.argmax(np.where(finite, c.dynamic_factor, -np.inf)))
+                if not best[0] >= c.dynamic_factor[i]:
+                    best = (float(c.dynamic_factor[i]), float(c.speed[i]), c.direction)
+        return best
+
+    def __repr__(self) -> str:
+        speeds = np.concatenate([c.speed for c in self.curves]) / RPM
+        dirs = "/".join(c.direction for c in self.curves)
+        value, speed, direction = self.peak()
+        peak = (f"max dynamic factor {value:.4f} at {speed / RPM:.0f} rpm ({direction})"
+                if math.isfinite(value) else "no finite dynamic factor")
+        return (f"SweepResult({self.scene_name!r}: {len(self.curves[0].speed)} speeds "
+                f"{speeds.min():.0f}-{speeds.max():.0f} rpm, {dirs}, {self.options.method}\n"
+                f"  {peak}; f_n = {self.natural_frequency:.1f} Hz; {self.run_time_s:.3g} s)")
 
     def curve(self, direction: str) -> SweepCurve:
         """The curve of ``direction`` (``up`` or ``down``)."""
