@@ -235,13 +235,3 @@ def exact_applies(model: Model) -> bool:
     """True when ``model`` is linear with piecewise-constant coefficients (method exact works)."""
     return model.linear_segments(0.0, 1.0 / model.mesh_frequency) is not None
 
-
-def rounding_error_estimate(y: FloatArray, scale: FloatArray, n_segments: int) -> float:
-    """Rounding-level error bound of an exact propagation, relative to ``scale`` (state 0).
-
-    Each product and exponential adds about ``eps`` relative to the state magnitude; the bound
-    grows with the number of sequential products (pieces) as sqrt(n) for random rounding, taken
-    here as linear for a safe bound: ``100 eps (n_segments + 1) max|y0| / scale0``.
-    """
-    amp = float(np.max(np.abs(y[0]))) / float(scale[0])
-    return float(100 * np.finfo(float).eps * (n_segments + 1) * max(amp, 1.0))
