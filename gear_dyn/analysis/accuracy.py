@@ -366,21 +366,14 @@ def floquet_check(model: Model, step_maps: StepMaps | None = None,
                   ) -> dict[str, Any] | None:
     """Parametric stability of a linear single-DOF model: its largest Floquet multiplier.
 
-    Where the run computed the maps of one mesh period (``Result.step_maps``), their product is
-    the monodromy matrix: reused, no integration. From the exact propagator (``exact``: its
-    pieces' matrix exponentials, exact up to rounding) the error is the rounding bound
-    ``kappa(V) 100 eps (pieces + 1) prod_j |P_j|`` (Bauer-Fike: ``V`` the eigenvectors, the
-    piece maps ``P_j`` and the norms in state-scaled coordinates). From periodic step maps it
-    is measured against the products of Gauss-Legendre collocation maps (``reference``:
-    their monodromy matrices ``(finer, coarser)`` as the error estimate made them, else made
-    here at 2 and 1 substeps per step): ``multiplier_error`` = ``2 |mu - mu_ref|`` over the
-    multipliers paired the closest way (:func:`multiplier_distance`; it bounds the error of the
-    largest modulus too), never below the rounding level of the products, provided the
-    reference's own difference ``|mu_ref - mu_coarse|`` is below :data:`REFERENCE_SHARE` of
-    that; else (collocation across a kink of the stiffness) against the variational route
-    below. Otherwise the monodromy matrix of
-    :func:`gear_dyn.analysis.stability.one_period_map` (expm for piecewise-constant stiffness,
-    exact up to rounding; else the variational equations at rtol 1e-10), as before.
+    The monodromy matrix is the product of the run's own maps of one mesh period where it has
+    them (``Result.step_maps``; no integration), else that of
+    :func:`gear_dyn.analysis.stability.one_period_map`. ``multiplier_error``: for the exact
+    propagator's maps the rounding bound ``kappa(V) 100 eps (pieces + 1) prod_j |P_j|``
+    (Bauer-Fike); for periodic step maps ``2 |mu - mu_ref|`` against Gauss-Legendre maps
+    (``reference``: their ``(finer, coarser)`` monodromy matrices, else made here), where those
+    agree within :data:`REFERENCE_SHARE`, else against the variational route; None where the
+    run had no maps (docs/solvers.md).
     Returns None for models it does not cover (not linear or not mesh-periodic).
 
     Returns

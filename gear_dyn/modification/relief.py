@@ -341,12 +341,9 @@ def recommended_relief(
       ``C_a2 = b + 0.04 w_t`` micrometres, a = 5..13 (default 9), b = 0..8 (default 4); relief
       height 0.4 m_n on both gears.
     - ``"dudley"`` (Dudley 1984, as Han n.d. quotes it):
-      ``C_a1 = 4.1 C_m F_t / (1e5 B)``, ``C_a2 = 6.5 C_m F_t / (1e5 B)`` with F_t in N, B in mm and
-      the result in mm (units pinned down: with these units the rule gives 0.041 and 0.065 um per
-      N/mm, the same magnitude as the handbook's 0.04 um per N/mm; any other reading is off by
-      orders of magnitude). C_m is the face load distribution factor (default 1). Dudley's relief
-      height table (Han n.d., Table 1) is not in the text read: long relief (tip to single-contact
-      point) is used, an assumption.
+      ``C_a1 = 4.1 C_m F_t / (1e5 B)``, ``C_a2 = 6.5 C_m F_t / (1e5 B)`` in mm, F_t in N, B in mm
+      (the units pinned down in docs/modification.md), C_m the face load distribution factor;
+      long relief (tip to single-contact point), an assumption.
     - ``"niemann"`` (Niemann & Winter 1983, as Han n.d. quotes it): ``C_a = 0.009 m_n`` mm on both
       gears, height 0.493 m_n.
     - ``"wang2024"`` (Wang et al. 2024, eq. 1): ``C_a,i = c_i + 0.04 F_t / B`` um with c1 = 9,
