@@ -1,15 +1,11 @@
 """Files written whole or not at all.
 
-- :func:`write_text` / :func:`write_bytes`: write to a temporary file in the same folder, flush,
-  fsync, then ``os.replace`` onto the target (atomic on POSIX).
-- :func:`staged_output`: a context manager for a whole output folder. Everything is written into
-  a fresh temporary sibling folder; only when the block succeeds is it swapped in place of the
-  target (the previous folder is kept until the swap is done, then removed). A failure, Ctrl-C or
-  SIGTERM (``gear-dyn`` turns it into a clean exit) leaves the previous output intact and no
-  temporary folder. Only SIGKILL (or a power cut) can leave a hidden ``.NAME.PID.*.partial``
-  sibling behind; the next ``staged_output`` for the same target removes it once process PID is
-  gone. The target itself is always either the complete previous output or the complete new one
-  (or absent for an instant during the swap, never half written).
+- :func:`write_text` / :func:`write_bytes`: write a temporary file in the same folder, fsync, then
+  ``os.replace`` it onto the target (atomic on POSIX).
+- :func:`staged_output`: a whole output folder, written into a temporary sibling and swapped in
+  place of the target only when the block succeeds. A failure, Ctrl-C or SIGTERM leaves the
+  previous output intact; a ``.NAME.PID.*.partial`` sibling left by SIGKILL is removed by the
+  next ``staged_output`` of the same target once process PID is gone.
 
 Files and folders get the usual permissions (0666 / 0777 minus the umask), like ``open()``.
 """

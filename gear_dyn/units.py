@@ -24,14 +24,9 @@ from gear_dyn.errors import InputError
 def registry() -> Any:
     """The process's pint ``UnitRegistry`` (built on first use).
 
-    Built with pint's own option ``cache_folder=":auto:"``: pint keeps its parsed definition
-    files in the user's cache folder, so a new process builds the registry from that cache
-    instead of parsing the definition files again. Measured in new processes
-    (``python benchmarks/bench_units.py``, benchmarks/results/units.md; 2 shared cores, pint
-    0.25): importing pint and building the registry took 1.77 s without the cache and 1.29 s
-    with it (medians; it saved 0.38 s per process, ratio 1.34). The definitions, hence every
-    conversion and message, are the same. Where the cache folder
-    cannot be created (pint raises an ``OSError``), the registry is built without it.
+    Built with pint's ``cache_folder=":auto:"`` (parsed definitions cached in the user's cache
+    folder): 1.29 s instead of 1.77 s per new process (benchmarks/results/units.md), same
+    definitions. Without a usable cache folder (``OSError``) it is built without the cache.
     """
     import pint
 

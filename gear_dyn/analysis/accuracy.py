@@ -1,36 +1,14 @@
-"""Error measures and the error estimate stated in every run summary.
+"""Error measures and the error estimate stated in every run summary (docs/solvers.md, "Error
+estimate in every run summary", states each basis and how it is tested).
 
 All errors are on the dynamic transmission error (``dte`` output, else the first state) and
 relative to the static deflection ``W / k_m`` of the model (else ``state_scale[0]``), so a figure
-of 1e-6 means one millionth of the static deflection.
-
-The estimate of a run (:func:`estimate_error`):
-
-- exact propagator: rounding level, ``100 eps (pieces + 1) max(1, max|x| / x_s)``;
-- solve_ivp methods: a second run with the same method at a 100 times tighter ``rtol``
-  (floor 1e-13) over the whole span; the estimate is ``2 max |x - x_tight| / x_s`` (the factor
-  2 covers the tighter run's own error, about 1/60 of the checked run's for DOP853), never
-  below the rounding level of the span's sequential products. No extrapolation: the
-  difference is measured where it is stated.
-- periodic step maps (DOP853 over one mesh period, reused): the second run is the same fill
-  with the step maps by Gauss-Legendre collocation (order 12, a second method,
-  :func:`~gear_dyn.solvers.periodic.gauss_step_maps`), at 2 substeps per grid step, whose own
-  error is checked by the same at 1 substep: their trajectories (each state relative to its
-  scale) differ by at most :data:`REFERENCE_SHARE` of the larger of the run's difference from
-  the reference and the rounding level, else the substeps double (up to 8); where that never
-  holds, the tighter DOP853 run above. The estimate is then ``2 max |x - x_ref| / x_s`` as
-  above. The reference maps are also the Floquet check's second method
-  (:func:`floquet_check`).
-- reproducibility: when the estimate exceeds :data:`REPRODUCIBLE` of the static deflection, the
-  run does not pin its pointwise trajectory (``reproducible`` False) and states the error of the
-  figures it prints instead (``figures``: RMS, peak-to-peak and mean DTE and the dynamic factor
-  over the steady window, each ``2 |F - F_tight| / |F_tight|``). ``growth_per_period`` is the
-  rate at which the two runs part (the largest difference of each mesh period, fitted
-  exponentially from 1e-3 to 1/2 of its maximum); above :data:`GROWTH_LIMIT` the response is
-  unstable or chaotic: nearby trajectories part exponentially and no tolerance pins them.
-
-tests/analysis/test_solvers_estimate.py and tests/analysis/test_estimate_extreme.py check that
-the estimate bounds the error measured against independent converged references.
+of 1e-6 means one millionth of the static deflection. The estimate (:func:`estimate_error`) is
+the rounding level for the exact propagator and otherwise ``2 max |x - x_ref| / x_s`` against a
+second run over the whole span: Gauss-Legendre step maps (:data:`REFERENCE_SHARE`) for periodic
+step maps, else the same method at a 100 times tighter ``rtol``. Above :data:`REPRODUCIBLE` the
+run states the errors of its printed figures instead; above :data:`GROWTH_LIMIT` the two runs
+part exponentially (unstable or chaotic response).
 """
 
 from __future__ import annotations
@@ -388,21 +366,14 @@ def floquet_check(model: Model, step_maps: StepMaps | None = None,
                   ) -> dict[str, Any] | None:
     """Parametric stability of a linear single-DOF model: its largest Floquet multiplier.
 
-    Where the run computed the maps of one mesh period (``Result.step_maps``), their product is
-    the monodromy matrix: reused, no integration. From the exact propagator (``exact``: its
-    pieces' matrix exponentials, exact up to rounding) the error is the rounding bound
-    ``kappa(V) 100 eps (pieces + 1) prod_j |P_j|`` (Bauer-Fike: ``V`` the eigenvectors, the
-    piece maps ``P_j`` and the norms in state-scaled coordinates). From periodic step maps it
-    is measured against the products of Gauss-Legendre collocation maps (``reference``:
-    their monodromy matrices ``(finer, coarser)`` as the error estimate made them, else made
-    here at 2 and 1 substeps per step): ``multiplier_error`` = ``2 |mu - mu_ref|`` over the
-    multipliers paired the closest way (:func:`multiplier_distance`; it bounds the error of the
-    largest modulus too), never below the rounding level of the products, provided the
-    reference's own difference ``|mu_ref - mu_coarse|`` is below :data:`REFERENCE_SHARE` of
-    that; else (collocation across a kink of the stiffness) against the variational route
-    below. Otherwise the monodromy matrix of
-    :func:`gear_dyn.analysis.stability.one_period_map` (expm for piecewise-constant stiffness,
-    exact up to rounding; else the variational equations at rtol 1e-10), as before.
+    The monodromy matrix is the product of the run's own maps of one mesh period where it has
+    them (``Result.step_maps``; no integration), else that of
+    :func:`gear_dyn.analysis.stability.one_period_map`. ``multiplier_error``: for the exact
+    propagator's maps the rounding bound ``kappa(V) 100 eps (pieces + 1) prod_j |P_j|``
+    (Bauer-Fike); for periodic step maps ``2 |mu - mu_ref|`` against Gauss-Legendre maps
+    (``reference``: their ``(finer, coarser)`` monodromy matrices, else made here), where those
+    agree within :data:`REFERENCE_SHARE`, else against the variational route; None where the
+    run had no maps (docs/solvers.md).
     Returns None for models it does not cover (not linear or not mesh-periodic).
 
     Returns

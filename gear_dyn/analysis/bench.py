@@ -1,17 +1,11 @@
 """Work-precision benchmark: error against run time for every solver and tolerance.
 
-For a model and a span, every solve_ivp method (restarted at each switching instant, the
-toolkit's path) runs over a range of ``rtol``; the exact propagator runs where it applies; and,
-as the baseline a user would write by hand, RK45 runs once over the whole span (no restarts).
-Each case records the median run time of repeated runs, the error against a reference (max and
-RMS of ``|x - x_ref|`` relative to the static deflection, see
-:mod:`gear_dyn.analysis.accuracy`) and the
-function evaluations. :func:`recommend` names the fastest case that meets a target error.
-
-References (:func:`reference_solution`): the exact propagator where the model is linear with
-piecewise-constant coefficients (error: rounding); otherwise DOP853 restarted at the switching
-instants at rtol 1e-13, whose own error is estimated by its difference from a run at rtol 1e-12
-(an upper bound: the 1e-13 run is the more accurate of the two).
+Every solve_ivp method (restarted at the switching instants) over a range of ``rtol``, the exact
+propagator where it applies, and plain RK45 over the whole span as the hand-written baseline.
+Each case records the median run time, the error against :func:`reference_solution` (max and
+RMS, relative to the static deflection) and the function evaluations; :func:`recommend` names
+the fastest case that meets a target error. The reference is the exact propagator, else DOP853
+at rtol 1e-13 whose error is bounded by its difference from a run at rtol 1e-12.
 """
 
 from __future__ import annotations

@@ -1,33 +1,15 @@
 """Periodic steady state, monodromy matrix and Floquet multipliers of the mesh models.
 
-The single-DOF mesh model (:mod:`gear_dyn.models.sdof`) is periodic in the mesh period
-``T = 1/f_m``: its steady response is the periodic orbit, found directly instead of waiting for a
-transient to die out.
+Linear models: the one-period map is affine, ``y(T) = Phi y(0) + q``; the periodic orbit starts
+at ``y0 = (I - Phi)^-1 q`` and the Floquet multipliers are the eigenvalues of ``Phi`` (one
+outside the unit circle: parametric instability). ``Phi`` comes from the pieces' augmented
+matrix exponentials (piecewise-constant stiffness) or from ``Z' = A(t) Z + [0 g(t)]`` by DOP853.
 
-Linear models (no backlash). The one-period map is affine, ``y(T) = Phi y(0) + q``, with ``Phi``
-the monodromy matrix. The periodic orbit starts at ``y0 = (I - Phi)^-1 q`` and its Floquet
-multipliers are the eigenvalues of ``Phi``; one outside the unit circle means parametric
-instability (the response grows without bound and there is no steady state to report).
-
-- Piecewise-constant stiffness: ``[Phi q; 0 1]`` is the product of the augmented matrix
-  exponentials ``expm([[A_j, g_j], [0, 0]] dt_j)`` of the pieces of one period (the idea of
-  :mod:`gear_dyn.solvers.exact`); exact up to rounding.
-- Any other linear case (smooth Fourier stiffness, piecewise-linear stiffness, transmission
-  error): ``Z = [Phi q]`` obeys ``Z' = A(t) Z + [0 g(t)]``, ``Z(0) = [I 0]``, integrated over one
-  period with ``solve_ivp`` (DOP853), cut at the switching instants.
-
-Nonlinear models (backlash). Shooting: Newton's method on ``P(y0) - y0 = 0``, ``P`` the
-one-period map, its Jacobian ``Phi = dP/dy0`` with it. Where the backlash propagator applies
-(piecewise-constant stiffness, no transmission error) both are exact: the product of the
-closed-form pieces' matrix exponentials and the saltation matrices of the located contact
-changes (:func:`gear_dyn.solvers.contact_exact.flow_with_sensitivity`; no scipy). Otherwise the
-variational equations ``Phi' = J(t, y) Phi`` are integrated with the state (DOP853). The dead
-zone makes ``J`` jump where the teeth separate, but the vector field is continuous there, so the
-saltation matrix is the identity and no correction is needed. The eigenvalues of ``Phi`` at the
-converged orbit are its Floquet multipliers: they tell a stable orbit (seen in a slow sweep)
-from an unstable one (the middle branch of a fold).
-
-Stability charts over speed and stiffness variation are in :mod:`gear_dyn.analysis.chart`.
+Nonlinear models (backlash): shooting, Newton's method on ``P(y0) - y0 = 0`` with
+``Phi = dP/dy0`` exact where the backlash propagator applies
+(:func:`gear_dyn.solvers.contact_exact.flow_with_sensitivity`), else from the variational
+equations (the dead zone is continuous, so no saltation correction). Stability charts are in
+:mod:`gear_dyn.analysis.chart`; docs/solvers.md describes the checks and their tests.
 """
 
 from __future__ import annotations

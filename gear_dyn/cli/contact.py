@@ -1,17 +1,8 @@
 """``gear-dyn contact SCENE --out DIR``: loaded contact with tip relief, per relief rule.
 
-Writes into DIR (whole or not at all):
-
-- ``load_sharing.png``: load-sharing factor and Hertz contact stress along the path of contact,
-  the unmodified pair and every relief case on one figure;
-- ``stiffness.png``: loaded mesh stiffness K_TPM and loaded static transmission error over one
-  mesh cycle;
-- ``path.csv``: roll distance, load-sharing factor and contact stress of every case;
-- ``contact.json``: one row per case (the unmodified pair, the scene's ``[tip_relief]`` if any,
-  then the handbook, Dudley, Niemann and Wang et al. (2024) rules): amounts, lengths, heights,
-  peak stress, peak-to-peak static transmission error, single-contact zone start and end;
-- with ``--dynamics``: ``dynamics.png`` (DTE and spectrum) and ``dynamics.json`` (dynamic factor,
-  RMS and peak-to-peak DTE) from the single-DOF model of each case (scene's [solver] settings).
+Writes ``load_sharing.png``, ``stiffness.png``, ``path.csv`` and ``contact.json`` into DIR (whole
+or not at all), with ``--dynamics`` also ``dynamics.png`` and ``dynamics.json``: the unmodified
+pair, the scene's ``[tip_relief]`` if any, and every relief rule (docs/modification.md).
 """
 
 from __future__ import annotations

@@ -1,11 +1,9 @@
 """``gear-dyn excitation SCENE --out DIR``: the excitations of Liu et al. (2017) (eccentricity,
 friction, contact lines) and their labelled spectra.
 
-Computes, for the scene's pair at constant input speed and constant normal load
-``W = T1 / r_b1``, the driven speed w2(t), the contact-line length L(t) and (with a
-``[friction]`` table) the friction force and friction torques over whole hunting periods; writes
-``excitation_time.png``, ``excitation_spectrum.png`` (shaft frequencies, mesh harmonics and
-sidebands labelled), ``excitation.csv`` and ``peaks.json`` (the labelled peaks of each signal).
+At constant input speed and normal load ``W = T1 / r_b1``, over whole hunting periods: w2(t),
+L(t) and (with ``[friction]``) the friction force and torques; writes ``excitation_time.png``,
+``excitation_spectrum.png``, ``excitation.csv`` and ``peaks.json`` (docs/eccentricity.md).
 """
 
 from __future__ import annotations

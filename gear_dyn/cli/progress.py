@@ -1,15 +1,9 @@
 """Progress of the long commands on stderr: a tqdm bar on a terminal, plain lines elsewhere.
 
-On a terminal the bar is drawn from the start (``progress(0, total)``, before the first item is
-done). Off a terminal (a log file, CI, a pipe) :func:`counter` writes one line per 10 % of the
-items (``gear-dyn: sweep 30% (108/361 speeds, 2.4 s)``), from the first 10 % step reached after
-one second, so short runs stay silent and long ones leave a readable log. ``--quiet`` silences
-both.
-
-Every command that can take more than ~2 s (sweep, bench, cosim, demo, excitation, stiffness,
-relief, fmu build) draws one: by items where it has them (speeds, cases, steps), else by
-stages. tqdm is imported only when a bar is drawn, so ``--quiet`` and redirected runs do not
-pay its import.
+Off a terminal :func:`counter` writes one line per 10 % of the items
+(``gear-dyn: sweep 30% (108/361 speeds, 2.4 s)``), from the first step reached after one
+second, so short runs stay silent. ``--quiet`` silences both. tqdm is imported only when a bar
+is drawn.
 """
 
 from __future__ import annotations

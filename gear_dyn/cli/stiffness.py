@@ -1,10 +1,7 @@
 """``gear-dyn stiffness SCENE --out DIR``: mesh stiffness of a scene's pair by several methods.
 
-Writes into DIR (whole or not at all): ``stiffness.png`` (k over mesh cycles, every method on one
-figure, double-contact zones shaded), ``components.png`` (Hertz, bending, shear, axial and fillet
-compliances at the pitch point, potential-energy method), ``stiffness.csv`` (k per method against
-phase) and ``stiffness.json`` (mean, min, max, single- and double-pair values per method, ISO 6336
-figures, operating geometry with the backlash of the centre distance, build times).
+Writes ``stiffness.png``, ``components.png``, ``stiffness.csv`` and ``stiffness.json`` into DIR
+(whole or not at all; contents in docs/stiffness.md, "Command").
 """
 
 from __future__ import annotations

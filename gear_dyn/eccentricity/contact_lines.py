@@ -1,45 +1,19 @@
 """Time-varying contact lines of a helical pair with eccentricity (Liu et al. 2017, eqs. 14-17).
 
-Plane of action, transverse coordinate ``s`` measured along the line of action from the pinion's
-tangent point A (it moves with the eccentric centres), axial coordinate ``z`` across the face width
-``B``. The field of contact is ``L_AC <= s <= L_AD``:
-
-- ``L_AD = sqrt(r_a1^2 - r_b1^2)``: end of contact D, where the pinion tip circle cuts the line
-  (constant: tip and base circle share the centre O1');
-- ``L_AC = |AB| - sqrt(r_a2^2 - r_b2^2)``, ``|AB| = sqrt(l^2 - (r_b1 + r_b2)^2)``: start of contact
-  C, where the gear tip circle cuts the line; it moves with the actual centre distance l(t);
-- ``L_CD = L_AD - L_AC``: the instantaneous transverse path of contact (the paper's ``L_CD``).
-
-The paper prints ``L_AC = sqrt(l^2 - (r_b1+r_b2)^2) - sqrt((r_a1 + r_a2)^2)``,
-``L_AC0 = sqrt(l(0)^2 - (r_b1+r_b2)^2) - sqrt(r_a1^2 + r_a2^2)`` and ``L_CD = L_AC - L_AD``: all
-three are garbled. The definitions above follow from the geometry (distance from the tangent point
-A to the start of contact C on the moving line of action, Fig. 3 of the paper) and reduce, for
-``e1 = e2 = 0``, to ``L_AC = T1A`` and ``L_CD = g_a`` of the error-free pair
-(:attr:`GearPair.start_of_contact`, :attr:`GearPair.path_of_contact`).
-
-Each contact line is straight in the plane of action, inclined at the base helix angle, and spans
-the transverse width ``w = B tan b_b``. The transverse distance of its leading end (front face)
-from C is (the paper's ``D_i``, with the travel ``tau`` from :mod:`.kinematics`)::
+Transverse coordinate ``s`` along the line of action from the moving tangent point A; the field
+of contact is ``L_AC <= s <= L_AD`` with ``L_AD = sqrt(r_a1^2 - r_b1^2)``,
+``L_AC = |AB| - sqrt(r_a2^2 - r_b2^2)`` (it moves with the centre distance l(t)) and
+``L_CD = L_AD - L_AC`` (the paper's printed forms are garbled: docs/eccentricity.md). Line i,
+inclined at ``b_b`` and ``w = B tan b_b`` wide transversally, has its leading end at
 
     D_i(t) = r(t) + (i - 1) p_bt + L_AC0 - L_AC(t),   r = tau - m p_bt,  m = floor(tau / p_bt)
 
-so at t = 0 pair 1 enters at C. A shorter centre distance moves C towards A (L_AC < L_AC0), so
-pair i = 0 can already be in contact: the index starts at 0 (the paper's text after eq. 14). The
-line covers ``[D_i - w, D_i]`` transversally; its length in the field is the overlap with
-``[0, L_CD]`` divided by ``sin b_b``::
+(``tau`` from :mod:`.kinematics`; i starts at 0, a pair can enter early) and the length
 
     L_i = max(0, min(D_i, L_CD) - max(D_i - w, 0)) / sin b_b                  (eqs. 15-16)
 
-which is the paper's four-piece function (ramp ``D_i / sin b_b``, plateau
-``min(w, L_CD) / sin b_b``, ramp ``(L_CD + w - D_i) / sin b_b``, zero) written as one overlap, and
-also gives zero before entry (``D_i < 0``), a case eq. 16 leaves out. Spur pairs (``b_b = 0``):
-a line in contact has length ``B``. ``L(t) = sum_i L_i`` (eq. 17).
-
-Mean length (e1 = e2 = 0): every line sweeps the field once per passage; integrating its length
-over one passage gives ``L_CD w / sin b_b`` in m^2 of transverse travel, and a new line arrives
-each ``p_bt``, so ``mean L = L_CD B tan b_b / (p_bt sin b_b) = B eps_a / cos b_b``
-(Maatar & Velex 1996; ISO 6336-2's contact-ratio factor
-``Z_eps = sqrt(1/eps_a)`` for ``eps_b >= 1`` rests on the same mean length).
+(``B`` for spur pairs); ``L(t) = sum_i L_i`` (eq. 17), whose mean without eccentricity is
+``B eps_a / cos b_b`` (Maatar & Velex 1996).
 """
 
 from __future__ import annotations

@@ -1,37 +1,18 @@
 """Sliding friction on the contact lines of an eccentric helical pair (Liu et al. 2017,
 eqs. 18-27).
 
-Assumptions of the paper, kept here: the normal load ``F`` is spread uniformly over the total
-contact-line length ``L(t)`` (eq. 18); the friction coefficient ``mu`` is constant (the mean of the
-time-varying one); each contact line is split at the instantaneous pitch line (the line through P
-parallel to the axis) because the sliding velocity reverses there; each segment's friction force
-acts at its midpoint.
+The normal load ``F`` is spread uniformly over the contact-line length ``L(t)``, ``mu`` is
+constant, and each line is split at the pitch line (lengths ``L_i1`` beyond P, ``L_i2`` before
+it), its friction acting at each segment's midpoint. Signs as in the paper (force positive
+beyond the pitch line; torques positive in each gear's own sense of rotation):
 
-Segments, in transverse distances from the start of contact C (``L_CP`` = C..P, eq. 20):
-the part of line i beyond P (towards D, the pinion tip) covers ``[max(D_i - w, L_CP),
-min(D_i, L_CD)]`` and has length ``L_i1``; the part before P covers ``[max(D_i - w, 0),
-min(D_i, L_CP)]`` and has length ``L_i2`` (both divided by ``sin b_b``). This is the paper's eq. 22
-in one formula; it also covers lines longer than ``L_CD - L_CP`` that eq. 22 gets wrong, and
-reads eq. 22's last condition ``D_i <= ...`` as the intended ``D_i >= L_CD + w`` (zero).
+    F_f  = mu F / L sum_i (L_i1 - L_i2)                          (eqs. 21, 23)
+    T_f1 = mu F / L sum_i (L_i2 S_i2 - L_i1 S_i1)                (eqs. 25, 27)
+    T_f2 = mu F / L sum_i (L_i1 Q_i1 - L_i2 Q_i2)
 
-Signs (as in the paper: positive beyond the pitch line):
-
-- friction force ``F_f = mu F / L sum_i (L_i1 - L_i2)``                         (eqs. 21, 23)
-- friction torque on the pinion, positive in its sense of rotation,
-  ``T_f1 = mu F / L sum_i (L_i2 S_i2 - L_i1 S_i1)``                            (eqs. 25, 27)
-  with the arms ``S_ij`` = distance along the line of action from the foot of the perpendicular
-  from O1 to the segment's midpoint (eqs. 24, 26: ``S = x_P sin alpha`` at P; the paper writes
-  ``sin psi`` and, in eq. 26, ``S + L_i2 sin b_b / 2`` where ``S - ...`` is meant: the midpoint
-  of the segment before P lies before P);
-- friction torque on the gear, positive in its sense of rotation,
-  ``T_f2 = mu F / L sum_i (L_i1 Q_i1 - L_i2 Q_i2)``, ``Q_ij`` the arms from the foot of the
-  perpendicular from O2.
-
-Derivation of the torque signs: at a point X of the line, the sliding speed of the pinion flank
-relative to the gear flank (perpendicular to the line of action) is ``(w1 + w2)(s - s_P)``; the
-friction on the pinion opposes it and its moment about O1 is ``-f S(X)``. Before P friction
-helps the pinion turn, beyond P it brakes it. The power ``T_f1 w1 + T_f2 w2 =
--mu F / L (w1 + w2) sum |s_mid - s_P| L_seg <= 0`` is always dissipated.
+with ``S_ij``, ``Q_ij`` the arms from O1, O2 to the segments' midpoints. The power
+``T_f1 w1 + T_f2 w2 <= 0`` is always dissipated. The readings of the paper's garbled eqs. 22,
+24 and 26 are listed in docs/eccentricity.md.
 """
 
 from __future__ import annotations

@@ -1,45 +1,19 @@
-"""Kinematics of a gear pair with geometric eccentricity (Liu et al. 2017, eqs. 1-13;
-docs/eccentricity.md).
+"""Kinematics of a gear pair with geometric eccentricity (Liu et al. 2017, eqs. 1-13).
 
-Frame and symbols (Liu et al. 2017, Fig. 1): the rotation centres are fixed at O1 = (0, 0) and
-O2 = (H, 0), H the mounting centre distance (``GearPair.a_w``). The geometric centres (centres of
-base and tip circles) orbit them::
+Rotation centres O1 = (0, 0), O2 = (H, 0) (``H = GearPair.a_w``); the geometric centres orbit
+them, ``O1' = O1 + e1 (cos(ph1 + th1), sin(ph1 + th1))``, ``O2' = O2 + e2 (cos(ph2 - th2),
+sin(ph2 - th2))`` (eq. 1). From them, exactly for rigid involute teeth: the centre distance
+``l = |O1'O2'|`` (eq. 2), the dynamic pressure angle ``alpha = arccos((r_b1 + r_b2) / l) - gamma``
+(eqs. 3-5), the tangent points A, B and the pitch point ``P = (x_P, 0)`` (eqs. 6-11), the ratio
+``i12 = (H - x_P) / x_P`` (eq. 12) and the flank's normal speed ``v = w1 x_P cos alpha`` (eq. 13;
+the paper prints ``cos psi``).
 
-    O1' = (e1 cos(ph1 + th1),     e1 sin(ph1 + th1))          (eq. 1)
-    O2' = (H + e2 cos(ph2 - th2), e2 sin(ph2 - th2))
-
-with th1 the pinion rotation (counter-clockwise, driver) and th2 the gear rotation (clockwise).
-Then (eqs. 2-13, all exact for rigid involute teeth):
-
-- actual centre distance ``l = |O1'O2'|``                                           (eq. 2)
-- ``psi = arccos((r_b1 + r_b2) / l)`` (the paper writes ``a cos a_t``, the same number)   (eq. 3)
-- azimuth of the geometric centre line ``gamma = atan2(y2 - y1, x2 - x1)``            (eq. 4)
-- dynamic transverse pressure angle ``alpha = psi - gamma``, measured from the +Y axis (eq. 5)
-- the line of action has direction ``u = (sin alpha, cos alpha)`` and touches the base circles at
-  ``A = O1' + r_b1 (cos alpha, -sin alpha)`` and ``B = O2' - r_b2 (cos alpha, -sin alpha)``
-  (eqs. 6-9; the paper's slope is ``k = cot alpha``)
-- it crosses the line of centres O1O2 at ``P = (x_P, 0)``, ``x_P = x_A - y_A tan alpha`` (eq. 11)
-- instantaneous ratio ``i12 = (H - x_P) / x_P`` (law of gearing, eq. 12) and driven speed
-  ``w2 = w1 / i12``
-- normal speed of the pinion flank on the line of action ``v = w1 x_P cos alpha`` (eq. 13;
-  the paper prints ``cos psi``, which drops the small azimuth ``gamma``: ``x_P cos alpha`` is the
-  distance from O1 to the line of action, the exact moment arm).
-
-Displacement form (used by the contact lines and by the torsional model). Unwinding the involutes
-from their base circles gives, for rigid teeth in contact,
-``r_b1 th1 - r_b2 th2 = |AB| - (r_b1 + r_b2) alpha + const``. Hence
-
-- the gear angle of the rigid eccentric pair driven at constant ``w1`` (solved by fixed-point
-  iteration, because O2' itself moves with th2):
-  ``r_b2 th2 = r_b1 th1 - (|AB| - |AB|_0) + (r_b1 + r_b2)(alpha - alpha_0)`` (th2(0) = 0);
-- the eccentricity's displacement along the line of action
-  ``e_ecc = r_b2 th2 - r_b1 th1`` (m), with rate ``r_b2 w2 - r_b1 w1`` (w2 from eq. 12);
-- the travel of the contact on the line of action, measured from the moving tangent point A,
-  ``tau = r_b1 (th1 + alpha - alpha_0)`` (m); the paper integrates ``v`` instead, which ignores
-  that A itself moves along the line by O(e).
-
-With ``e1 = e2 = 0`` everything reduces to the error-free pair: ``l = H``, ``alpha = a_wt``,
-``x_P = r_w1``, ``i12 = z2 / z1``, ``tau = r_b1 w1 t``, ``e_ecc = 0``.
+Displacement form: unwinding the involutes gives ``r_b1 th1 - r_b2 th2 = |AB| - (r_b1 + r_b2)
+alpha + const``, hence the rigid gear angle (fixed-point iteration), the eccentricity's
+displacement along the line of action ``e_ecc = r_b2 th2 - r_b1 th1`` (m) and the contact travel
+from the moving tangent point ``tau = r_b1 (th1 + alpha - alpha_0)`` (m). With ``e1 = e2 = 0``
+everything reduces to the error-free pair. The readings of the paper are listed in
+docs/eccentricity.md.
 """
 
 from __future__ import annotations

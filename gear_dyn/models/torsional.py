@@ -1,42 +1,17 @@
-"""Two-DOF torsional model of a gear pair with eccentricity and friction (docs/eccentricity.md).
+"""Two-DOF torsional model of a gear pair with eccentricity and friction.
 
-States (decision): vibration angles about the nominal rotation and their rates,
-``y = [q1, q2, q1', q2']`` with ``q1 = th1 - w1 t`` (pinion, counter-clockwise) and
-``q2 = th2 - w1 t z1 / z2`` (gear, clockwise), in rad and rad/s. The nominal rotation is never
-integrated, so a long run keeps full precision. Equations::
+States ``y = [q1, q2, q1', q2']`` (rad, rad/s): vibration angles about the nominal rotation,
+``q1 = th1 - w1 t``, ``q2 = th2 - w1 t z1 / z2``, so a long run keeps full precision::
 
     I1 q1'' = T1 - r_b1 F_m + T_f1
     I2 q2'' = r_b2 F_m - T2 + T_f2
     F_m     = k(t) f(delta) + c_m delta'
     delta   = r_b1 q1 - r_b2 q2 + e_ecc(t) - e(t)            (mesh deflection, m)
 
-- ``e_ecc(t)`` is the eccentricity's displacement along the line of action of the rigid pair
-  driven at constant ``w1`` (:mod:`gear_dyn.eccentricity.kinematics`): rigid teeth give
-  ``delta = 0``, so as ``k`` grows the driven speed tends to the kinematic ``w2(t)`` of Liu et al.
-  (2017), eq. 12. Its rate uses eq. 12 exactly: ``e_ecc' = r_b2 w2 - r_b1 w1``.
-- ``k(t)``: either ``k_l L(t)`` with ``L(t)`` the eccentric contact-line length (Liu et al. 2017,
-  eqs. 14-17) and ``k_l`` the stiffness per unit line length, or any :class:`PeriodicStiffness`
-  evaluated at the mesh phase ``p = (tau + L_AC0 - L_AC) / p_bt`` (phase 0 = a pair enters at the
-  moving start of contact; ``p = f_m t`` without eccentricity).
-- ``T_f1 = N phi_1(t)``, ``T_f2 = N phi_2(t)``: the friction torques of Liu et al. (2017),
-  eqs. 18-27, per unit normal load, driven by the dynamic normal load ``N = max(F_m, 0)``
-  (friction needs compression; back-flank contact through the backlash carries no friction
-  model).
-- ``f``: identity, or the dead zone of half gap ``b_g`` with backlash; ``e(t)``: optional static
-  transmission error at the nominal mesh phase ``f_m t``.
-- ``c_m = 2 xi sqrt(m_e k_m)``, ``m_e = I1 I2 / (r_b1^2 I2 + r_b2^2 I1)``.
-- Arms ``r_b1, r_b2``: the O(e / r_b) modulation of the moment arms is left in ``e_ecc`` only, so
-  the model stays linear in the states and conservative when nothing varies in time.
-
-Load (decision): ``T1`` is given; the load torque defaults to the value that balances ``T1`` on
-average including the mean friction torques, ``T2 = W (r_b2 + mean phi_2)`` with the static load
-``W = T1 / (r_b1 - mean phi_1)``; without friction ``T2 = T1 z2 / z1``. The initial state is the
-static deflection with rigid-body momentum ``I1 q1' + (r_b1 / r_b2) I2 q2' = 0`` and
-``delta' = 0``: without friction that momentum is conserved exactly, so the rigid-body mode does not
-drift.
-
-Every option left out (eccentricity, friction, backlash, transmission error) is absent from the
-right-hand side: the closures are chosen at construction.
+with ``e_ecc`` and the friction torques ``T_f = max(F_m, 0) phi(t)`` of Liu et al. (2017),
+``c_m = 2 xi sqrt(m_e k_m)``. The terms, the default load torque and the initial state are
+derived in docs/eccentricity.md. Options left out (eccentricity, friction, backlash,
+transmission error) are absent from the right-hand side: closures are chosen at construction.
 """
 
 from __future__ import annotations

@@ -1,25 +1,13 @@
 """Tabulated time functions of the torsional model: piecewise polynomials between switching
 instants, built block by block from the vectorised excitations.
 
-The coefficients of the torsional model that do not depend on the state (the eccentricity's
-displacement ``e_ecc`` and its rate, the mesh stiffness ``k`` and the friction arms ``phi1``,
-``phi2``) are smooth between the instants where a contact line enters, leaves or crosses the pitch
-line (``TorsionalModel.switching_times``) and have kinks there. Evaluated one instant at a time
-they cost a fixed-point solve of the eccentric kinematics and a loop over the contact lines at
-every right-hand-side call. Here they are evaluated once, vectorised, at the Chebyshev points of
-every smooth piece, and the right-hand side evaluates a polynomial of degree :data:`DEGREE` per
-piece instead.
-
-Interpolation error: on each piece the polynomial interpolates at ``DEGREE + 1`` Chebyshev
-points; the error is measured at build time at the Chebyshev points of the next degree (which lie
-between the interpolation nodes) and stated per quantity (:attr:`ExcitationTable.max_error`,
-relative to each quantity's scale). tests/models/test_torsional_table.py checks it against the
-direct evaluation at random instants.
-
-Blocks of :data:`BLOCK_MESH_PERIODS` mesh periods are built when the solver first asks for a time
-inside them, so the memory follows the span actually integrated, never a guess of it; at most
-:data:`MAX_BLOCKS` are kept (solvers move forward in time, so dropping the oldest costs a rebuild
-only when a second run starts again from the beginning of a very long span).
+The state-independent coefficients (``e_ecc`` and its rate, ``k``, the friction arms ``phi1``,
+``phi2``) are smooth between ``TorsionalModel.switching_times``. They are evaluated once,
+vectorised, at the Chebyshev points of every piece, and the right-hand side evaluates a
+polynomial of degree :data:`DEGREE` instead of the eccentric kinematics. The interpolation error
+is measured at build time at the next degree's Chebyshev points (:attr:`ExcitationTable.max_error`,
+relative to each quantity's scale). Blocks of :data:`BLOCK_MESH_PERIODS` mesh periods are built
+when first needed; at most :data:`MAX_BLOCKS` are kept.
 """
 
 from __future__ import annotations

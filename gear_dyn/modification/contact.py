@@ -1,38 +1,15 @@
-"""Loaded contact of a spur pair with tip relief (Wang et al. 2024, eqs. 7-26;
-docs/modification.md).
+"""Loaded contact of a spur pair with tip relief (Wang et al. 2024, eqs. 7-26).
 
-At mesh phase ``p`` the tooth pairs sit at ``s_j = s_A + (p + j) p_bt`` from T1 along the line of
-action (j = 0 the pair that entered last; same phase convention as
-:mod:`gear_dyn.stiffness.periodic`). Pair j is in geometric contact while ``s_A <= s_j <= s_E``;
-it has the unmodified single-pair stiffness ``K_j = K(s_j)`` and the reliefs open an unloaded gap
-``g_j`` (pinion relief at roll distance ``s_j`` plus gear relief at ``T1T2 - s_j``).
+At mesh phase ``p`` pair j sits at ``s_j = s_A + (p + j) p_bt`` from T1, with the unmodified
+single-pair stiffness ``K_j = K(s_j)`` and the unloaded gap ``g_j`` the reliefs open. All pairs
+share one approach ``delta`` (the loaded static transmission error), solved exactly from
 
-Under the normal load ``F = T1 / r_b1`` all pairs share one approach ``delta`` along the line of
-action (the loaded static transmission error). A pair carries load only once the approach has
-closed its gap (Wang et al. 2024, eq. 10: ``d_1 = D + d_2``):
+    F_j = K_j max(0, delta - g_j),        sum_j F_j = F = T1 / r_b1.
 
-    F_j = K_j max(0, delta - g_j),        sum_j F_j = F.
-
-This is the single/double-contact decision of Wang et al. (2024) written for any number of pairs;
-it is solved exactly (the left side is piecewise linear and increasing in delta). From it:
-
-- the load-dependent mesh stiffness ``K_TPM = F / delta`` (Wang et al. 2024, eqs. 8-12; for two
-  loaded pairs ``K_TPM = K1 + K2 - K2 g2 / delta``),
-- the load-sharing factor of each pair ``S_j = F_j / F`` (eqs. 17-26; with no relief
-  ``S_j = K_j / sum K``),
-- the *tangent* stiffness ``k_t = sum of K_j over loaded pairs`` and the transmission error the
-  relief adds, ``e = sum K_j g_j / k_t`` over loaded pairs, so that ``delta = F / k_t + e``.
-
-For dynamics (decision): the single-DOF model receives ``k_t`` and ``e``. The mesh force
-``k_t (x - e)`` equals ``sum K_j (x - g_j)`` of the loaded pairs for every x, so it is exact for
-vibration about the loaded state as long as no pair separates; the secant ``K_TPM`` (the paper's
-quantity, reported and plotted) gives the right static deflection but the wrong incremental
-stiffness. ``k_t`` jumps where a pair picks up or sheds load (these phases become switching phases);
-``e`` jumps there too, and its slope for the damping term is taken piecewise (the jump carries no
-velocity impulse: each pair's damping acts on its own gap rate).
-
-Spur pairs only: the single-pair stiffness of Wang et al. (2024) is a stiffness per tooth pair
-across the whole face; helical pairs are refused.
+From it: the secant mesh stiffness ``K_TPM = F / delta`` (eqs. 8-12), the load-sharing factors
+``S_j = F_j / F`` (eqs. 17-26), and for dynamics (decision) the tangent stiffness ``k_t`` (sum of
+``K_j`` over loaded pairs) with the relief's transmission error ``e = sum K_j g_j / k_t``.
+Spur pairs only. docs/modification.md, "Loaded contact", gives the reasoning and the tests.
 """
 
 from __future__ import annotations

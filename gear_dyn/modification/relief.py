@@ -1,29 +1,11 @@
-"""Tip relief: curves, amounts and lengths (Wang et al. 2024, eqs. 1-3; Han n.d.;
-docs/modification.md).
+"""Tip relief: curves, amounts and lengths (Wang et al. 2024, eqs. 1-3; Han n.d.).
 
-A tip relief removes material from the tip of a tooth along the profile normal, i.e. along the
-line of action. It is described by its amount ``C_a`` (the depth removed at the tip, m), its
-length ``L`` measured along the line of action from the start of the modification towards the
-tip (m), and its curve. At distance ``x`` from the start of the modification the relief is
-
-    D(x) = C_a f(x / L),   f(0) = 0,   f(1) = 1
-
-with the power curves of Wang et al. (2024), eq. 2, ``f(u) = u^k``: linear (k = 1.0), Yoshio
-(1.2), Walker (1.5), parabolic (2.0).
-
-Sine curve, decision: eq. 3 of Wang et al. (2024) prints ``D = C_a sin(pi x / L)``, which is zero
-again at the tip (x = L) and peaks halfway along the relief: that removes no material at the tip,
-the opposite of a tip relief. The intended curve is the quarter wave ``f(u) = sin(pi u / 2)`` (zero
-at the start, the full amount at the tip, as every other relief curve); the printed argument lacks
-the factor 1/2.
-
-A relief length can also be given as a *height* on the tooth: the radial distance ``h`` from the
-tip circle down to the start of the modification (Han n.d., Fig. 2, ``L_ca``). On the line of
-action a point of gear ``i`` at radius ``r`` lies at roll distance ``sqrt(r^2 - r_b^2)`` from its
-base-circle tangent point, so ``L = sqrt(r_a^2 - r_b^2) - sqrt((r_a - h)^2 - r_b^2)``.
-
-Recommended amounts (Han n.d.; ``w_t = F_t / B`` with ``F_t = T1 / r1`` the tangential force at
-the reference circle in N and ``B`` in mm, amounts in micrometres): see :func:`recommended_relief`.
+At distance ``x`` (m, along the line of action) from the start of a relief of amount ``C_a`` and
+length ``L`` the depth removed is ``D(x) = C_a f(x / L)``, ``f(0) = 0``, ``f(1) = 1``: the power
+curves ``f(u) = u^k`` of Wang et al. (2024), eq. 2, and the quarter-wave sine (decision: the
+paper's eq. 3 lacks the factor 1/2). A length can also be given as a radial height ``h`` below
+the tip circle: ``L = sqrt(r_a^2 - r_b^2) - sqrt((r_a - h)^2 - r_b^2)``. Recommended amounts:
+:func:`recommended_relief`. docs/modification.md gives the derivations and decisions.
 """
 
 from __future__ import annotations
@@ -359,12 +341,9 @@ def recommended_relief(
       ``C_a2 = b + 0.04 w_t`` micrometres, a = 5..13 (default 9), b = 0..8 (default 4); relief
       height 0.4 m_n on both gears.
     - ``"dudley"`` (Dudley 1984, as Han n.d. quotes it):
-      ``C_a1 = 4.1 C_m F_t / (1e5 B)``, ``C_a2 = 6.5 C_m F_t / (1e5 B)`` with F_t in N, B in mm and
-      the result in mm (units pinned down: with these units the rule gives 0.041 and 0.065 um per
-      N/mm, the same magnitude as the handbook's 0.04 um per N/mm; any other reading is off by
-      orders of magnitude). C_m is the face load distribution factor (default 1). Dudley's relief
-      height table (Han n.d., Table 1) is not in the text read: long relief (tip to single-contact
-      point) is used, an assumption.
+      ``C_a1 = 4.1 C_m F_t / (1e5 B)``, ``C_a2 = 6.5 C_m F_t / (1e5 B)`` in mm, F_t in N, B in mm
+      (the units pinned down in docs/modification.md), C_m the face load distribution factor;
+      long relief (tip to single-contact point), an assumption.
     - ``"niemann"`` (Niemann & Winter 1983, as Han n.d. quotes it): ``C_a = 0.009 m_n`` mm on both
       gears, height 0.493 m_n.
     - ``"wang2024"`` (Wang et al. 2024, eq. 1): ``C_a,i = c_i + 0.04 F_t / B`` um with c1 = 9,

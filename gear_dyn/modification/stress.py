@@ -1,31 +1,11 @@
-"""Hertz line-contact stress along the path of contact (Wang et al. 2024, eqs. 27-31;
-docs/modification.md).
-
-Two cylinders of radii ``rho1``, ``rho2`` pressed together by a force ``F`` over a length ``B``:
+"""Hertz line-contact stress along the path of contact (Wang et al. 2024, eqs. 27-31).
 
     1/R = 1/rho1 + 1/rho2,   1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2,
-    b = sqrt(4 F R / (pi B E*))      (contact half-width),
-    sigma_H = 2 F / (pi b B) = sqrt(F E* / (pi B R))      (peak contact pressure).
+    b = sqrt(4 F R / (pi B E*)),   sigma_H = sqrt(F E* / (pi B R))
 
-On an involute the radius of curvature at the contact point is the roll distance from the base
-circle tangent point: ``rho1 = s``, ``rho2 = T1T2 - s`` (Euler-Savary, Wang et al. 2024).
-
-Relieved flanks (Wang et al. 2024, eqs. 27-28, derive the curvature of the modified profile):
-removing a depth ``w(sigma)`` along the normal of a curve of curvature ``kappa(sigma)`` (sigma the
-arc length) gives the offset curve ``c + w N`` whose curvature is, exactly,
-
-    kappa' = [(1 - kappa w)((1 - kappa w) kappa + w'') + w' (kappa_s w + 2 kappa w')]
-             / ((1 - kappa w)^2 + w'^2)^(3/2)
-
-(to first order ``kappa + kappa^2 w + w''``). On an involute ``kappa = 1/rho``,
-``sigma = rho^2 / (2 r_b)``, ``dw/dsigma = (r_b / rho) dw/drho`` and
-``kappa_s = -r_b / rho^3``. The relief curves are not
-smooth at their start (a kink for the linear curve, an infinite second derivative for k < 2), so
-the second derivative is averaged over the contact width: the mean of ``d^2 D/dsigma^2`` over
-``sigma +- b`` is ``(D'(sigma + b) - D'(sigma - b)) / (2 b)`` with the unmodified half-width b
-(the window is cut at the tip, where the flank ends).
-Decision: Hertz theory sees the flank through the contact width, and the average is finite for
-every curve.
+with ``rho1 = s``, ``rho2 = T1T2 - s`` on the involutes. On relieved flanks the exact
+offset-curve curvature is used, with the relief's second derivative averaged over the contact
+width (decision; formula and reasoning in docs/modification.md, "Contact stress").
 """
 
 from __future__ import annotations

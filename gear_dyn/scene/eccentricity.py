@@ -1,14 +1,7 @@
 """Scene tables of the eccentric pair and the torsional model, and its model builder.
 
-Tables (each optional; a table left out builds none of its machinery):
-
-- ``[eccentricity]``: ``pinion``, ``gear`` (eccentricities, m), ``phase_pinion``, ``phase_gear``
-  (initial position angles of the geometric centres, rad; Liu et al. 2017, eq. 1)
-- ``[friction]``: ``coefficient`` (mean friction coefficient mu)
-- ``[torsional]``: ``load_torque`` (N m; default balances the input torque including the mean
-  friction loss), ``stiffness_per_length`` (k_l in N/m^2 for ``[stiffness] method =
-  "contact_line"``; default: the mean of that method's stiffness divided by B eps_a / cos b_b)
-
+Tables ``[eccentricity]`` (Liu et al. 2017, eq. 1), ``[friction]`` and ``[torsional]``, each
+optional (a table left out builds none of its machinery; keys in docs/scenes.md).
 ``[scene] model = "torsional"`` selects :func:`build_torsional`.
 """
 

@@ -1,21 +1,10 @@
 """The ``[iso]`` scene table and the ISO 6336-1 method B K_v of a scene, beside the simulation.
 
-Every run of a loaded scene states K_v by ISO 6336-1 method B for the same pair and speed
-(:func:`gear_dyn.stiffness.iso_kv.iso_dynamic_factor`). The deviations it needs are never
-invented silently: they come from this optional table, and when the table (or a key) is absent
-from the stated defaults, which the summary names::
-
-    [iso]
-    accuracy_grade = 5         # ISO 1328-1 grade: f_pb = f_pt cos a_t and f_falpha (default 5)
-    f_pb = "6 um"              # or explicit deviations (override the grade)
-    f_falpha = "5 um"
-    application_factor = 1.0   # K_A
-    running_in = "none"        # none (default), case_hardened, through_hardened
-    sigma_hlim = "1500 MPa"    # through_hardened running-in; C_ay when there is no tip relief
-
-C_a is the larger tip-relief amount of ``[tip_relief]`` when the scene has one; otherwise the
-running-in relief C_ay when running-in is credited and sigma_hlim is given; otherwise 0.
-The mass is the model's: ``[inertia]``, else solid blanks at the pitch radii.
+Every run of a loaded scene states K_v for the same pair and speed
+(:func:`gear_dyn.stiffness.iso_kv.iso_dynamic_factor`). The deviations come from the optional
+``[iso]`` table (keys in docs/scenes.md), else from stated defaults the summary names. C_a is the
+larger ``[tip_relief]`` amount, else the running-in C_ay when credited, else 0; the mass is the
+model's.
 """
 
 from __future__ import annotations

@@ -1,24 +1,9 @@
 """The ``[tip_relief]`` scene table and the single-DOF model with tip relief.
 
 A scene with a ``[tip_relief]`` table runs the single-DOF model on the loaded contact of the
-relieved pair (:func:`~gear_dyn.models.relief.relief_sdof`); without the table nothing of
-this module runs. Keys (SI values or strings with units)::
-
-    [tip_relief]
-    rule = "custom"            # or handbook, dudley, niemann, wang2024 (amounts and lengths
-                               # from the rule at the scene's torque; "seed001", the old name
-                               # of wang2024, still works with a FutureWarning)
-    curve = "linear"           # linear, yoshio, walker, parabolic, sine
-    amount_pinion = "20 um"    # custom only; leave out for an unmodified pinion
-    amount_gear = "15 um"
-    length_pinion = "5 mm"     # along the line of action ...
-    height_gear = "2.4 mm"     # ... or as a radial height from the tip (not both per gear)
-    handbook_a = "9 um"        # handbook rule constants (lengths), Dudley's C_m
-    handbook_b = "4 um"
-    face_load_factor = 1.0
-    pair_stiffness = "potential_energy"   # or "weber": the unmodified single-pair stiffness
-    linearisation = "tangent"  # tangent (k_t + e), secant (K_TPM), contact (nonlinear reference)
-    samples_per_segment = 48
+relieved pair (:func:`~gear_dyn.models.relief.relief_sdof`); without the table nothing of this
+module runs. The keys (a rule or custom amounts, the curve, lengths or heights, the
+linearisation) are listed in docs/scenes.md and explained in docs/modification.md.
 """
 
 from __future__ import annotations

@@ -1,32 +1,15 @@
 """Exact propagation of the single-DOF model with backlash and piecewise-constant stiffness.
 
-``m x'' + c x' + k(t) f(x) = W`` with the dead zone f (half gap b): between a stiffness switch
-and a contact change the equation is linear with constant coefficients, in one of three contact
-states,
-
-- drive flank (x > b):  ``m x'' + c x' + k (x - b) = W``
-- gap (``|x| <= b``):       ``m x'' + c x' = W``
-- back flank (x < -b):  ``m x'' + c x' + k (x + b) = W``
-
-so the solution is closed-form on each piece (:func:`flow`: the Cayley-Hamilton form of the 2x2
-matrix exponential about the piece's equilibrium in contact; the exponential relaxation of the
-velocity in the gap). Contact changes (``x = +-b``) are located on that closed form: the piece is
-sampled at a spacing of at most a quarter of the contact state's damped period (so a sampling
-interval holds at most one extremum of x), a sign change of ``x -+ b`` brackets a crossing, a
-sign change of the velocity brackets an extremum that is checked too (a crossing and return
-inside one interval), and each bracket is closed by a safeguarded root finder (Illinois false
-position, bisection fallback, :func:`find_root`) to a few ulps of the time. A piece whose
-oscillation provably stays inside its contact state (its amplitude below the distance from its
-equilibrium to the boundary, :meth:`_Piece.stays_inside`) is not searched at all: a settled
-response, as at very low speed, costs one evaluation per stiffness piece. The state is then
-carried exactly to the event and the next piece starts there. No step-size control, no
-truncation error: what is left is rounding and the event times' own rounding (stated by
-:func:`rounding_bound`). Method ``exact_contact``; ``auto`` takes it where it applies
-(:func:`contact_exact_applies`).
-
-The same pieces give the flow's sensitivity ``d y(t1) / d y0`` exactly
-(:func:`flow_with_sensitivity`: the pieces' matrix exponentials times the :func:`saltation`
-matrix of each contact change), which shooting for the periodic orbit uses.
+``m x'' + c x' + k(t) f(x) = W`` with the dead zone f (half gap b) is linear with constant
+coefficients between a stiffness switch and a contact change, in one of three contact states
+(drive flank x > b, gap ``|x| <= b``, back flank x < -b), so each piece is closed-form
+(:func:`flow`). Contact changes ``x = +-b`` are bracketed on that closed form (samples at most a
+quarter damped period apart, extrema checked too) and closed by :func:`find_root`; pieces that
+provably stay in their contact state (:meth:`_Piece.stays_inside`) are not searched. What is
+left is rounding (:func:`rounding_bound`). Method ``exact_contact``; ``auto`` takes it where
+:func:`contact_exact_applies`. The flow's exact sensitivity (:func:`flow_with_sensitivity`,
+with the :func:`saltation` matrix of each contact change) serves shooting. docs/solvers.md
+describes the method and its tests.
 """
 
 from __future__ import annotations

@@ -1,17 +1,10 @@
 """Contact-change events: locate tooth separation and impact, restart the solver there.
 
-With backlash the mesh force ``k(t) f(x - e)`` has kinks where ``|x - e| = b_g`` (teeth separate
-or make contact again, on the drive or the back flank). A solver stepping across a kink loses
-its order and, with light load and many impacts, its error stalls at 1e-2..1e-4 whatever the
-tolerance. Here each kink is located with solve_ivp's event finder and the integration is
-restarted at it, so every step sees a smooth right-hand side.
-
-A model states its contact changes through ``contact_events()`` (a list of scalar functions
-``g(t, y)`` whose zeros are the contact changes; empty for a model without them). A restarted
-piece that
-started on an event's zero only looks for the opposite crossing of that function, so an event is
-never found twice at the same instant; a cap on restarts per piece turns a grazing contact that
-chatters into a :class:`~gear_dyn.errors.SolverError` instead of a hang.
+With backlash the mesh force has kinks where ``|x - e| = b_g``; a solver stepping across them
+loses its order. Each kink (a zero of one of ``model.contact_events()``) is located with
+solve_ivp's event finder and the integration restarted there, looking only for the opposite
+crossing of the event just hit. A cap on restarts per piece turns a chattering contact into a
+:class:`~gear_dyn.errors.SolverError` instead of a hang.
 """
 
 from __future__ import annotations

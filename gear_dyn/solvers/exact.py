@@ -1,25 +1,13 @@
-"""Exact propagation of linear models with piecewise-constant coefficients.
+"""Exact propagation of linear models with piecewise-constant coefficients (method ``exact``).
 
-On each piece ``[ta, tb]`` the model is ``y' = A y + g`` with constant ``A`` and ``g`` (e.g. the
-single-DOF model with a rectangular-wave stiffness, no backlash, no transmission error). Its
-solution is exact:
+On each piece ``[ta, tb]`` the model is ``y' = A y + g`` with constant ``A`` and ``g``, so
 
     [y(ta + s); 1] = expm(M s) [y(ta); 1],   M = [[A, g], [0, 0]]
 
-The augmented form needs no inverse of ``A``, so it also covers singular ``A`` (a free rigid-body
-mode, e.g. the torsional model). There is no truncation error, only rounding; it is the reference
-every integrator is measured against and the fastest solver where it applies (method ``exact``).
-
-How it is made fast (every step exact up to rounding):
-
-- pieces with the same ``M`` are grouped: a mesh cycle has only a few distinct matrices;
-- for each distinct ``M`` the exponential is evaluated through its (balanced) eigendecomposition,
-  ``expm(M s) = V diag(exp(lambda s)) V^-1``, vectorised over all the ``s`` it is needed at;
-  when ``V`` is ill-conditioned (a defective ``M``: critical damping, a rigid-body mode) the
-  batched :func:`gear_dyn.solvers.matexp.expm` is used instead, on the distinct ``s`` values
-  only (on a uniform grid commensurate with the mesh period they recur every cycle, so there
-  are few of them);
-- the state at each piece start is carried by one (n+1) x (n+1) product per piece.
+(no inverse of ``A``: a singular ``A``, a rigid-body mode, is covered). No truncation error, only
+rounding. Pieces with the same ``M`` share one (balanced) eigendecomposition, vectorised over
+all their ``s``; an ill-conditioned one falls back to :func:`gear_dyn.solvers.matexp.expm` on the
+distinct ``s`` only (docs/solvers.md).
 """
 
 from __future__ import annotations
@@ -235,13 +223,3 @@ def exact_applies(model: Model) -> bool:
     """True when ``model`` is linear with piecewise-constant coefficients (method exact works)."""
     return model.linear_segments(0.0, 1.0 / model.mesh_frequency) is not None
 
-
-def rounding_error_estimate(y: FloatArray, scale: FloatArray, n_segments: int) -> float:
-    """Rounding-level error bound of an exact propagation, relative to ``scale`` (state 0).
-
-    Each product and exponential adds about ``eps`` relative to the state magnitude; the bound
-    grows with the number of sequential products (pieces) as sqrt(n) for random rounding, taken
-    here as linear for a safe bound: ``100 eps (n_segments + 1) max|y0| / scale0``.
-    """
-    amp = float(np.max(np.abs(y[0]))) / float(scale[0])
-    return float(100 * np.finfo(float).eps * (n_segments + 1) * max(amp, 1.0))

@@ -1,35 +1,16 @@
 """Step maps of affine models by Gauss-Legendre collocation, all steps at once (``gauss``).
 
-For a model of the form ``q' = v``, ``v' = u(t) F + g_v`` with one scalar force
-``F = f(t) . y + f0(t)``, ``y = [q, v]`` (``model.force_form(t)``; the two-DOF torsional model,
-F the mesh force, valid while it is compressive so that the friction torques follow it), the
-right-hand side is affine in the state, so the state after a step is an affine map of the state
-before it, whatever that state is. All maps of a run are computed at once, vectorised over the
-steps, and only their application is sequential:
+For a model ``q' = v``, ``v' = u(t) F + g_v`` with one scalar force ``F = f(t) . y + f0(t)``
+(``model.force_form(t)``: the torsional model, F the mesh force), the state after a step is an
+affine map of the state before it. The output grid is cut at ``model.switching_times`` and each
+interval divided into ``n`` substeps, each one ``s``-stage Gauss-Legendre step (order ``2 s``)
+whose stage equations reduce to ``(I - G) F = B y0 + r`` for the stage forces: one batched
+s x s solve for all steps. Only the application of the maps is sequential. Where
+``model.force_form_needs_compression`` and the force is not compressive at a substep end, the
+run falls back to the ODE path (:mod:`~gear_dyn.solvers.ode`).
 
-- the output grid is cut at the switching instants (``model.switching_times``: the coefficients
-  have kinks there) and each interval is divided into ``n`` equal substeps;
-- each substep is one step of ``s``-stage Gauss-Legendre collocation (order ``2 s``, A-stable).
-  Its stage equations are linear; with ``q' = v`` and one scalar force they reduce to ``s``
-  equations for the stage forces ``F_i``: ``(I - G) F = B y0 + r`` with
-  ``G_il = h^2 (a a)_il f_q,i . u_l + h a_il f_v,i . u_l``, one batched s x s solve (5 right-hand
-  sides: the map of y0 and the constant); then
-  ``v1 = v0 + h sum b_l (u_l F_l + g_v)``, ``q1 = q0 + h v0 + h^2 sum (b a)_l (u_l F_l + g_v)``;
-- the maps are applied in order (one 4x4 product per substep), and, where the model says the
-  form needs it (``model.force_form_needs_compression``: friction), the mesh force
-  ``F = f_row . y + f0`` is checked at every substep end: where it is not compressive the affine
-  form does not hold and the run falls back to the ODE path (:mod:`~gear_dyn.solvers.ode`).
-
-Substeps: the local error of one Gauss step grows as ``(omega_n h)^(2 s + 1)`` (with the error
-constant ``(s!)^4 / ((2 s + 1) ((2 s)!)^3)``, 5.6e-10 for s = 4); ``n`` is the smallest number
-with ``(omega_n h / 2)^(2 s) <= rtol`` (``omega_n`` the model's natural angular frequency, ``h``
-the longest substep), far on the safe side of that constant, and such that a run at rtol / 100
-takes about 1.8 times the substeps, so that the two runs differ. The error is not otherwise
-controlled; the stated error of a run (:mod:`gear_dyn.analysis.accuracy`) is its difference
-from a second run at rtol / 100, i.e. with more substeps; tests/models/test_torsional_table.py
-checks both against an independent reference (DOP853 at rtol 1e-13, coefficients evaluated
-directly). Where both runs take the same ``n``, ``(omega_n h / 2)^(2 s) <= rtol / 100`` holds
-and the error is below the rounding floor that the estimate states then.
+Substeps: ``n`` is the smallest with ``(omega_n h / 2)^(2 s) <= rtol``; the stated error is the
+difference from a run at rtol / 100 (docs/solvers.md, "Eccentric torsional model").
 """
 
 from __future__ import annotations

@@ -1,16 +1,11 @@
 """Choose the integration method for a model and grid, and run it.
 
-``auto`` picks the exact propagator for a linear model with piecewise-constant coefficients
-(:mod:`~gear_dyn.solvers.exact`), else the closed form between located contact changes for the
-single-DOF model with backlash and piecewise-constant stiffness
-(:mod:`~gear_dyn.solvers.contact_exact`), else ``periodic`` for a linear mesh-periodic model on a
-grid
-commensurate with the mesh period (:mod:`~gear_dyn.solvers.periodic`), else ``gauss`` for a model
-that is affine in the state while a condition holds (:mod:`~gear_dyn.solvers.gauss`: the
-eccentric torsional model), else solve_ivp with
-:data:`~gear_dyn.solvers.settings.DEFAULT_ODE_METHOD` (:mod:`~gear_dyn.solvers.ode`). ``gauss``
-falls back to that ODE path where its condition fails (the mesh force of the torsional model
-not compressive: the friction torques stop following it).
+``auto`` picks, in order: ``exact`` (:mod:`~gear_dyn.solvers.exact`), ``exact_contact``
+(:mod:`~gear_dyn.solvers.contact_exact`), ``periodic`` (:mod:`~gear_dyn.solvers.periodic`),
+``gauss`` (:mod:`~gear_dyn.solvers.gauss`), else solve_ivp with
+:data:`~gear_dyn.solvers.settings.DEFAULT_ODE_METHOD` (:mod:`~gear_dyn.solvers.ode`), each where
+the model says it applies (docs/solvers.md). ``gauss`` falls back to the ODE path where its
+affine form fails.
 """
 
 from __future__ import annotations

@@ -1,23 +1,11 @@
 """scipy's solve_ivp, piece by piece between switching instants, restarted at contact changes.
 
-The solver never steps across an instant where the right-hand side jumps (teeth entering or
-leaving contact): the span is cut at ``model.switching_times`` and each piece is integrated by its
-own ``solve_ivp`` call, started from the end state of the previous one. A model with contact
-changes (``model.contact_events()`` non-empty: backlash) is also restarted at each of them
-(:mod:`gear_dyn.solvers.events`).
-
-Dense output: solve_ivp returns the states on the output grid inside a step from the method's
-interpolant, whose error is not controlled by the step-size control. When DOP853's error
-estimate happens to be small, a step grows to a good part of a natural period and the
-interpolated states inside it are wrong by far more than the tolerance (the eccentric torsional
-scene had 1e-6 spikes at rtol 1e-9..1e-11 this way, while the step ends were right). The
-explicit Runge-Kutta methods are therefore limited to steps with ``omega_n h <= (pi / 4)
-(rtol / 1e-8)^(1 / (q + 1))`` (:func:`step_limit`; ``q`` the order of the interpolant): at rtol
-1e-8 an eighth of the natural period, and the interpolation error, which grows as
-``(omega_n h)^(q + 1)``, then falls in proportion to rtol.
-
-Failures are never silent: a solver that reports failure or a non-finite state raises
-:class:`~gear_dyn.errors.SolverError` carrying scipy's own message and advice.
+The span is cut at ``model.switching_times`` and each piece is one ``solve_ivp`` call; a model
+with contact changes (``model.contact_events()``: backlash) is also restarted at each of them
+(:mod:`gear_dyn.solvers.events`). The dense output's interpolation error is not controlled by
+solve_ivp, so explicit Runge-Kutta steps are limited to ``omega_n h <= (pi / 4)
+(rtol / 1e-8)^(1 / (q + 1))`` (:func:`step_limit`, ``q`` the interpolant's order). A reported
+failure or a non-finite state raises :class:`~gear_dyn.errors.SolverError` with scipy's message.
 """
 
 from __future__ import annotations

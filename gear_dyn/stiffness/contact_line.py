@@ -1,21 +1,10 @@
-"""Total contact-line length of an error-free involute pair (docs/stiffness.md,
-docs/eccentricity.md).
+"""Total contact-line length of an error-free involute pair.
 
-In the plane of action the field of contact is a rectangle: ``g_a`` (the transverse path of
-contact, from A to E) wide and ``B`` (face width) high. Contact lines are straight, inclined at the
-base helix angle ``b_b`` to the face-width direction, and follow each other at the transverse base
-pitch ``p_bt``. A line whose front-face end is at distance ``u`` from A covers the face coordinates
-``z`` (0..B) with ``0 <= u - z tan b_b <= g_a``; its length is that z-extent divided by
-``cos b_b``. For a spur pair (``b_b = 0``) each line in contact has length ``B``.
-
-Phase convention (same as :mod:`gear_dyn.stiffness.periodic`): at mesh phase ``p`` the lines sit at
-``u_j = (p + j) p_bt`` for every integer ``j``; phase 0 is the instant a line enters the field at A
-on the front face. The length ``L(p)`` is periodic with period 1, piecewise linear, with kinks
-(jumps for spur) at the phases where a line end crosses a corner of the rectangle:
-``frac(0), frac(eps_a), frac(eps_b), frac(eps_a + eps_b)``.
-
-Mean value (integrate each line over one passage, divide by ``p_bt``):
-``mean L = g_a B / (p_bt cos b_b) = B eps_a / cos b_b``.
+In the plane of action the field of contact is a rectangle ``g_a`` wide and ``B`` high; the lines
+are inclined at the base helix angle ``b_b`` and follow each other at ``p_bt``. At mesh phase
+``p`` they sit at ``u_j = (p + j) p_bt`` from A on the front face (the phase convention of
+:mod:`gear_dyn.stiffness.periodic`). ``L(p)`` is piecewise linear with kinks (jumps for spur) at
+``frac(0), frac(eps_a), frac(eps_b), frac(eps_a + eps_b)``, and ``mean L = B eps_a / cos b_b``.
 """
 
 from __future__ import annotations

@@ -7,21 +7,10 @@
     c_gamma = c' (0.75 eps_a + 0.25)        (c_gamma_alpha, for K_v and K_Halpha)
     c_gamma_beta = 0.85 c_gamma_alpha       (for the face load factor K_Hbeta)
 
-with C1..C9 = 0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182,
-C_M = 0.8 (solid disc), C_R = 1 (solid blank), h_fP = (ha* + c*) m_n the basic rack dedendum,
-zn = z / (cos^2(beta_b) cos(beta)) the virtual number of teeth (ISO 6336-1 definition, beta_b
-the base helix angle; the textbook z / cos^3(beta) gives q' 0.17 % off on the pair of ISO/TR
-6336-30 example 1 without profile shift: tests/physics/test_stiffness_iso6336.py),
-E_steel = 206 GPa.
-The load correction for F_t/b < 100 N/mm is applied only when a line load is given.
-
-Helical pairs: the helix enters through the virtual tooth numbers zn and the cos(beta) factor of
-c' (stiffness per unit face width of the inclined, longer teeth); the overlap spreads the contact
-lines over the face, which ISO accounts for in c_gamma only through eps_a (the mean of the total
-contact-line length is B eps_a / cos b_b whatever eps_b is). The time shape of a helical mesh
-stiffness is therefore left to the contact-line method, which uses c_gamma b as its mean.
-Validity (ISO 6336-1 method B): steel pairs, beta <= 45 deg, x1 >= x2, -0.5 <= x1 + x2 <= 2; the
-formula is applied as is outside that range.
+with C_M = 0.8, C_R = 1, h_fP = (ha* + c*) m_n, zn = z / (cos^2(beta_b) cos(beta)) (ISO's
+virtual number of teeth), E_steel = 206 GPa. The load correction for F_t/b < 100 N/mm is applied
+only when a line load is given. Validity: steel pairs, beta <= 45 deg, x1 >= x2,
+-0.5 <= x1 + x2 <= 2 (applied as is outside). Helical pairs: docs/stiffness.md.
 """
 
 from __future__ import annotations

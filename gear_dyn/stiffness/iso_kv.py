@@ -29,18 +29,8 @@ In SI units eq. 6 reads n_E1 = 60 / (2 pi z1) sqrt(c_gamma_alpha / m_red): the p
 which the mesh frequency z1 n1 / 60 equals the natural frequency of a single-DOF mesh oscillator
 of stiffness c_gamma_alpha b and mass m_red b.
 
-Deviations (ISO 1328-1) and running-in (ISO 6336-1, K_Halpha clause, y_alpha):
-
-- ``iso1328_deviations``: single pitch f_pt and profile form f_falpha tolerances of ISO 1328-1:1995
-  (grade 5: f_pt = 0.3 (m_n + 0.4 sqrt d) + 4, f_falpha = 2.5 sqrt m_n + 0.17 sqrt d + 0.5 um,
-  m_n and d in mm; a grade step is a factor sqrt 2), unrounded; the base pitch deviation is taken
-  as f_pb = f_pt cos a_t.
-- ``running_in_allowance``: y = 0.075 f (<= 3 um) for case-hardened or nitrided steel;
-  y = 160 f / sigma_Hlim (sigma_Hlim in N/mm^2; <= 12 800/sigma_Hlim um for 5 < v <= 10 m/s,
-  <= 6 400/sigma_Hlim um above 10 m/s) for through-hardened steel; y_p from f_pb, y_f from
-  f_falpha (the y_alpha rule with f_falpha for f_pb).
-- ``running_in_tip_relief``: C_ay = (sigma_Hlim/97 - 18.45)^2 / 18 + 1.5 um, the tip relief
-  running-in produces, for C_a when the flanks have no tip relief.
+Deviations (ISO 1328-1) and running-in (ISO 6336-1, y_alpha and C_ay):
+:func:`iso1328_deviations`, :func:`running_in_allowance`, :func:`running_in_tip_relief`.
 """
 
 from __future__ import annotations

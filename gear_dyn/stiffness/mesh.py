@@ -1,21 +1,13 @@
 """Mesh stiffness over a mesh cycle from a single-pair stiffness function (pairs add in parallel).
 
 At mesh phase ``p`` in [0, 1) the pairs in contact sit at
-``s_j = start_of_contact + (p + j) p_bt`` for ``j = 0, 1, ...`` while ``s_j <= end_of_contact``
-(phase 0: a new pair enters at A). With ``n = floor(eps_a)`` and ``f = eps_a - n``, the pairs
-``j = 0..n`` touch for ``p`` in [0, f] and ``j = 0..n-1`` for ``p`` in (f, 1): the switching phases
-are 0 (entry) and f (exit). The result is a :class:`PiecewiseStiffness` sampled on each segment and
-linear in between, with the jumps at the switching phases kept exact.
+``s_j = start_of_contact + (p + j) p_bt`` while ``s_j <= end_of_contact`` (phase 0: a new pair
+enters at A); the switching phases are 0 and ``eps_a - floor(eps_a)``. The result is a
+:class:`PiecewiseStiffness`, linear between samples, with the jumps kept exact.
 
-Helical pairs are handled by the thin-slice model: each transverse slice dz of the face lags by
-``eps_b z / B`` cycles and carries the transverse curve per unit face width (all the beam and
-contact compliances scale with 1/B); the slices add. By default the face is sliced continuously,
-
-    k(p) = (1/eps_b) int_0^eps_b k_t(p - l) dl = (C(p) - C(p - eps_b)) / eps_b,
-
-with ``C`` the antiderivative of the transverse curve ``k_t`` (exact for its linear pieces), so the
-result has no slice ripple; ``slices = n`` uses n discrete slices (lags ``eps_b (i + 1/2) / n``)
-instead. The switching phases are then the kinks of the contact-line length.
+Helical pairs: thin slices of the face, each lagging by ``eps_b z / B`` cycles, add; by default
+continuously, ``k(p) = (C(p) - C(p - eps_b)) / eps_b`` with ``C`` the antiderivative of the
+transverse curve (no slice ripple), or with ``slices = n`` discrete slices (docs/stiffness.md).
 """
 
 from __future__ import annotations

@@ -1,17 +1,11 @@
 """The one periodic mesh-stiffness type that every stiffness method returns.
 
-Stiffness is a function of the *mesh phase* ``p`` measured in mesh cycles (one cycle = one base
-pitch of roll = one mesh period ``1/f_m``). Phase 0 is the instant a new tooth pair enters contact.
-The model maps time to phase with ``p = f_m t + p0``.
-
-Two concrete forms:
-
-- :class:`PiecewiseStiffness`: piecewise linear between samples, with jumps allowed at the
-  switching phases (teeth entering or leaving contact). The rectangular wave is the special case of
-  constant pieces. Fourier coefficients are integrated exactly over the linear pieces.
-- :class:`FourierStiffness`: a truncated Fourier series ``k0 + sum a_n cos(2 pi n p) +
-  b_n sin(2 pi n p)`` (Jiang et al. 2018, eq. 13, with its printed second ``cos`` read as
-  ``sin``). Smooth, so it has no switching phases.
+Stiffness is a function of the *mesh phase* ``p`` in mesh cycles (one cycle = one base pitch of
+roll = one mesh period ``1/f_m``); phase 0 is the instant a new tooth pair enters contact, and a
+model maps time to phase with ``p = f_m t + p0``. Two forms: :class:`PiecewiseStiffness`
+(piecewise linear, jumps allowed at the switching phases; the rectangular wave has constant
+pieces) and :class:`FourierStiffness` (``k0 + sum a_n cos(2 pi n p) + b_n sin(2 pi n p)``,
+Jiang et al. 2018, eq. 13, its printed second ``cos`` read as ``sin``).
 """
 
 from __future__ import annotations

@@ -1,29 +1,14 @@
-"""Potential-energy (PEM) stiffness of a spur tooth pair (Wang et al. 2024, eqs. 5-6;
-docs/stiffness.md).
+"""Potential-energy (PEM) stiffness of a spur tooth pair (Wang et al. 2024, eqs. 5-6).
 
-The tooth is a cantilever of variable section clamped at the root chord (see
-:mod:`gear_dyn.stiffness.tooth`), loaded at the contact point by the normal force F along the line
-of action. With ``eta`` the distance from the root chord along the centre line, ``x(eta)`` the half
-thickness, ``eta_P, x_P`` the contact point and ``a1`` the load angle (between the force and the
-normal to the centre line, ``a1 = a_c - psi_c``: pressure angle at the contact radius minus the
-half tooth angle there), the strain energies give (Yang & Lin 1987, Tian 2004, Chaari et al. 2009):
-
-    1/k_b = int_0^eta_P [(eta_P - eta) cos a1 - x_P sin a1]^2 / (E I(eta)) d eta,  I = 2 x^3 B / 3
-    1/k_s = int_0^eta_P 1.2 cos^2 a1 / (G A(eta)) d eta,                           A = 2 x B
-    1/k_a = int_0^eta_P sin^2 a1 / (E A(eta)) d eta
-    1/k_f = cos^2 a1 / (E B) [L* (u_f/S_f)^2 + M* (u_f/S_f) + P* (1 + Q* tan^2 a1)]
-    1/k_h = 4 (1 - nu^2) / (pi E B)   (Yang & Sun 1985; 2 / (pi B E*) for unlike materials)
-
-with ``u_f`` the radial distance from the root circle to the point where the force line crosses the
-centre line, ``S_f = 2 r_f theta_f`` the root arc thickness, and ``L*, M*, P*, Q*`` the polynomials
-``X* = A/theta_f^2 + B h_fi^2 + C h_fi/theta_f + D/theta_f + E h_fi + F`` in ``h_fi = r_f / r_int``
-(the fillet-foundation term ``k_f`` of Sainsot et al. 2004, table 1). The single-pair stiffness is
+The tooth (:mod:`gear_dyn.stiffness.tooth`) is a cantilever of variable section clamped at the
+root chord, loaded at the contact point by the normal force along the line of action; bending,
+shear, axial (Yang & Lin 1987, Tian 2004, Chaari et al. 2009), fillet-foundation (Sainsot et al.
+2004) and Hertz (Yang & Sun 1985) compliances add:
 
     1/K = 1/k_h + sum over both gears (1/k_b + 1/k_s + 1/k_a + 1/k_f)
 
-and pairs in contact add in parallel (see :mod:`gear_dyn.stiffness.mesh`). Every term scales with
-1/B. The integrals are cumulative tables (cached per tooth), so a stiffness curve costs a few
-interpolations per contact position.
+(the terms are written out in docs/stiffness.md). Every term scales with 1/B. The integrals are
+cumulative tables (cached per tooth), so a curve costs a few interpolations per contact position.
 """
 
 from __future__ import annotations

@@ -1,18 +1,10 @@
 """One selector for every mesh-stiffness method: ``build_stiffness(pair, method, **options)``.
 
-Methods (all return a :class:`~gear_dyn.stiffness.periodic.PeriodicStiffness`):
-
-- ``"rectangular"``: rectangular wave; ``single``/``double`` in N/m if given, else from ISO 6336
-  (``k_single = c' b``, ``k_double = 1.75 c' b``, so that the mean is ``c_gamma b`` exactly for
-  ``1 <= eps_a < 2``; for ``eps_a >= 2`` n pairs give ``c' b (0.75 n + 0.25)``, same mean);
-- ``"iso6336"``: the same wave from ISO 6336 (``single``/``double`` not allowed);
-- ``"potential_energy"``: potential-energy method (Hertz, bending, shear, axial, fillet foundation);
-- ``"weber"``: Weber sliced cantilever + Hertz, as Jiang et al. (2018) give it;
-- ``"contact_line"``: ``k = k_l L(p)`` with ``L`` the total contact-line length and ``k_l`` chosen
-  so the mean equals ISO ``c_gamma b`` (or ``stiffness_per_length`` in N/m^2 if given).
-
-Any method accepts ``fourier_terms`` (int or None): the Fourier series truncated at that many
-harmonics replaces the curve. Unknown options are refused.
+Methods (each returns a :class:`~gear_dyn.stiffness.periodic.PeriodicStiffness`):
+``rectangular`` (``single``/``double`` in N/m, else from ISO 6336 with mean ``c_gamma b``),
+``iso6336``, ``potential_energy``, ``weber`` (Jiang et al. 2018) and ``contact_line``
+(``k_l L(p)`` with mean ``c_gamma b``, or ``stiffness_per_length`` in N/m^2). ``fourier_terms``
+replaces any curve by its truncated Fourier series. Unknown options are refused.
 """
 
 from __future__ import annotations

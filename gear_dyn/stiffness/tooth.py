@@ -1,26 +1,12 @@
 """Tooth geometry for the beam-type stiffness methods: involute flank, trochoid root fillet.
 
-The tooth is cut by the basic rack (ISO 53 style) of the pair: dedendum ``(ha* + c*) m_n``, tip
-rounding radius ``rho_fP = rho* m_n``. The default ``rho* = c* / (1 - sin a_n)`` is the largest
-rounding that fits the tip clearance (0.38 for c* = 0.25, a_n = 20 deg: ISO 53 profile A).
-
-Frame: the tooth centre line is the y axis (from the gear centre outwards), x is the half
-thickness. The generated profile is computed in the transverse plane:
-
-- involute (r_form <= r <= r_a): half angle ``psi(r) = s_t / (2 r) + inv a_t - inv a_r``;
-  point ``(r sin psi, r cos psi)``;
-- fillet (r_f <= r <= r_form): envelope of the rack tip rounding. With the gear turned by ``phi``
-  and the rack moved by ``r phi`` (rolling on the reference circle, r), the cutting point is on the
-  rounding circle along the line from the instantaneous pitch point I = (0, r) through the circle
-  centre C (the normal of an enveloped curve passes through I): ``P = C + rho (C - I)/|C - I|``,
-  then turned back by ``-phi`` into the gear frame.
-
-The fillet meets the root circle at polar angle ``theta_f`` from the centre line; the root chord is
-at ``y_root = r_f cos theta_f``. Beam methods clamp the tooth there (the foundation deflection below
-is the fillet-foundation term of Sainsot et al. 2004).
-
-For a helical pair the transverse section is used (transverse module and pressure angle, normal
-heights, rounding radius taken as rho* m_n in the transverse plane): a thin-slice approximation.
+The tooth is cut by the pair's basic rack (dedendum ``(ha* + c*) m_n``, tip rounding
+``rho_fP = rho* m_n``, default ``rho* = c* / (1 - sin a_n)``, ISO 53 profile A for 20 deg).
+Frame: the centre line is the y axis, x the half thickness, in the transverse plane. The flank
+is the involute, ``psi(r) = s_t / (2 r) + inv a_t - inv a_r`` for ``r_form <= r <= r_a``; the
+fillet is the envelope of the rack rounding (its normal passes through the instantaneous pitch
+point). Beam methods clamp the tooth at the root chord ``y_root = r_f cos theta_f``. Helical
+pairs use the transverse section (a thin-slice approximation; docs/stiffness.md).
 """
 
 from __future__ import annotations

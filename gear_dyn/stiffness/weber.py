@@ -1,30 +1,11 @@
 """Weber sliced-cantilever tooth stiffness with Hertz contact (Jiang et al. 2018, eqs. 9-12).
 
-Jiang et al. (2018) give the pair stiffness ``k = F / (d_a1 + d_a2 + d_h)`` (eq. 9): the bending
-deflections of both teeth along the load plus the Hertzian approach. Each tooth is a cantilever
-cut into n slices between the root chord and the contact point (eq. 10):
-
-    d_a = F cos^2 a_m sum_i x_i [ (d_i^2 + x_i d_i + x_i^2/3) / (E' Jbar_i)
-                                  + 1 / (s_h G Abar_i) + tan^2 a_m / (Abar_i E') ]
-
-with ``x_i`` the slice length, ``d_i`` the distance from the load point (where the force line
-crosses the tooth centre line) to the slice end nearer to it, ``a_m`` the load angle (between the
-force and the normal to the centre line), ``Jbar_i`` and ``Abar_i`` the harmonic means of the
-second moment ``B t^3 / 12`` and area ``B t`` at the two slice ends (eq. 11), and (eq. 11)
-``E' = E (1 - nu) / ((1 + nu)(1 - 2 nu))``. Hertz (eq. 12): ``d_h = 4 (1 - nu^2) F / (pi E B)``.
-
-Printed typos read here as intended (documented in docs/stiffness.md):
-
-- eq. 10 prints the bending bracket as ``d_i - x_i d_i + e_i^2/3``; the exact integral of the
-  squared lever arm over a slice of constant section is ``x_i (d_i^2 + x_i d_i + x_i^2 / 3)``;
-- eq. 11 calls ``J_i`` a polar moment; a bending deflection needs the second moment of area about
-  the neutral axis, ``B t^3 / 12``;
-- the shear factor ``s_h`` is not given: ``s_h = 5/6`` (rectangular section), i.e. the same 1.2
-  energy factor as the potential-energy method.
-
-Unlike the potential-energy method there is no fillet-foundation term (Jiang et al. 2018 have
-none), which makes the method as printed about 2.5 times stiffer than ISO 6336 c_gamma b
-(docs/stiffness.md); the option ``foundation=True`` adds the Sainsot et al. (2004) term.
+``k = F / (d_a1 + d_a2 + d_h)`` (eq. 9): the bending deflections of both teeth, each a cantilever
+cut into n slices between the root chord and the contact point (eqs. 10-11), plus the Hertzian
+approach ``d_h = 4 (1 - nu^2) F / (pi E B)`` (eq. 12). The paper's printed typos (bending bracket,
+polar moment, missing shear factor) are read as intended: docs/stiffness.md lists them. Without
+a fillet-foundation term the method as printed is about 2.5 times stiffer than ISO 6336
+c_gamma b; ``foundation=True`` adds the Sainsot et al. (2004) term.
 """
 
 from __future__ import annotations
