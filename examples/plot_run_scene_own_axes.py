@@ -37,6 +37,8 @@ def main(out: Path, fast: bool = False) -> dict[str, float]:
     for a in grid[2]:
         a.remove()
     plot_spectrum(result, ax=spec_ax, scale="log")               # one axes: the spectrum
+    fig.suptitle("helicopter_tail: your figure, your title and layout", fontsize=10)
+    fig.tight_layout()  # the plot functions leave a caller's figure layout alone
     out.mkdir(parents=True, exist_ok=True)
     save_figure(fig, out / "own_axes.png", dpi=100)
     return {"dynamic_factor": summary["dynamic_factor"],
