@@ -320,10 +320,10 @@ def report(rows: list[dict[str, Any]], start: dict[str, list[float]], repeats: i
         total = [sum(v) for v in zip(*table.values(), strict=True)]
         lines.append(f"| {who} | **whole process** | {spread(total)} |")
     lines += ["", "What the drawing choices of the run's figures save (`python "
-              "benchmarks/cli_phases.py --choices SCENE`: one process after a warm-up, median "
-              "over interleaved pairs of building, drawing and writing both figures the plain "
-              "way minus as the command does it; the share is of the command's time for both "
-              "figures, "
+              "benchmarks/cli_phases.py --choices SCENE [--periods N]`: one process after a "
+              "warm-up; building, drawing and writing both figures the plain way minus as the "
+              "command does it, each the least of interleaved runs; the share is of the "
+              "command's time for both figures, "
               + ", ".join(f"{k} {v['ours (both figures)']:.2f} s" for k, v in saved.items())
               + "; a positive figure is time the choice saves):", "",
               "| scene | done instead | costs |", "|---|---|---|"]
