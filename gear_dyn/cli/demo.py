@@ -43,8 +43,8 @@ def run(args: argparse.Namespace) -> int:
     print(f"  mean mesh stiffness {k_m:.4g} N/m ({s['stiffness_method']})")
     print(f"  static TE W/k_m     {s['static_transmission_error_m'] * 1e6:.4g} um")
     print(f"  dynamic factor      {s['dynamic_factor']:.4f} ({s['dynamic_factor_definition']})")
-    print("                      ISO 6336 rectangular-wave k(t); the relief table's 1.415 uses "
-          "the loaded-contact k(t) (docs/modification.md)")
+    print(f"  peak force / W      {s['peak_force_ratio']:.4f} = K_dyn x the stiffness-jump "
+          f"overshoot {s['stiffness_jump_factor']:.4f} of the rectangular-wave k(t)")
     iso = s.get("iso_6336_kv")
     if iso:
         from gear_dyn.scene.iso import iso_kv_lines
