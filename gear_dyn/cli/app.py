@@ -88,10 +88,13 @@ def limit_blas_threads() -> None:
     """One BLAS thread per process, unless the user chose otherwise (the command's decision).
 
     gear_dyn works with 2x2..8x8 matrices: BLAS worker threads only add overhead, and on a busy
-    machine they oversubscribe the cores. Measured on a shared two-core machine
-    (``benchmarks/results/cli.md``): BLAS_EFFECT. Only the ``gear-dyn``
-    process does this, and only takes effect when numpy is not loaded yet; importing the
-    library changes nothing.
+    machine they oversubscribe the cores. Measured (``python benchmarks/bench_cli.py``, BLAS
+    table of benchmarks/results/cli.md): ``gear-dyn run helicopter_tail`` and a serial
+    ``gear-dyn sweep`` of the backlash scene took 1.05x (0.90..1.25) and 1.03x (0.98..1.55) the
+    time with two threads as with one: within the shared machine's noise. It stays as the plain
+    guard against oversubscribed cores, not for a measured gain. Only the ``gear-dyn`` process
+    does this, and only takes effect when numpy is not loaded yet; importing the library
+    changes nothing.
     """
     for var in BLAS_THREAD_VARS:
         os.environ.setdefault(var, "1")

@@ -83,7 +83,9 @@ def fixed_layout(fig: Any, left: float, right: float, top: float, bottom: float,
     """Place the figure's subplot grid with margins and gaps in inches.
 
     The look of ``tight_layout`` for a figure whose labels are known in advance, without
-    measuring every text (FIXED_LAYOUT_EFFECT).
+    drawing every text once more to measure it: ``tight_layout`` would add 0.24 s (48 %) to
+    drawing the helicopter tail run's two figures and 0.45 s (50 %) to the eccentric pair's
+    (``python benchmarks/cli_phases.py --choices``, benchmarks/results/cli.md).
 
     Parameters
     ----------
