@@ -192,10 +192,45 @@ def _wine64() -> str | None:
          if p.is_file()), None)
 
 
+def _wine_env(wine: str, prefix: Path, tmp_path: Path) -> dict[str, str]:
+    """The environment of a wine run: `wine64` on PATH (fmpy looks for that name) and a wine
+    prefix kept in pytest's cache, so that only the first run pays for creating it. Skips, with
+    the reason, where wine cannot start a Windows program within 300 s."""
+    bindir = tmp_path / "bin"
+    bindir.mkdir()
+    (bindir / "wine64").symlink_to(wine)
+    env = {**os.environ, "PATH": f"{bindir}{os.pathsep}{os.environ.get('PATH', '')}",
+           "WINEPREFIX": str(prefix), "WINEDEBUG": "-all",
+           "WINEDLLOVERRIDES": "mscoree,mshtml="}  # no Mono/Gecko install dialog in a new prefix
+    try:
+        subprocess.run([wine, "wineboot", "-i"], env=env, capture_output=True, timeout=300)
+        probe = subprocess.run([wine, "cmd", "/c", "echo", "ready"], env=env,
+                               capture_output=True, text=True, timeout=300)
+    except subprocess.TimeoutExpired:
+        _stop_wineserver(wine, env)
+        pytest.skip(f"wine could not start a Windows program within 300 s (prefix {prefix}): "
+                    "no working Windows loader here")
+    if "ready" not in probe.stdout:
+        pytest.skip(f"wine cannot start a Windows program here (exit {probe.returncode}): "
+                    f"{probe.stderr.strip()[-200:]}")
+    return env
+
+
+def _stop_wineserver(wine: str, env: dict[str, str]) -> None:
+    """Stop the prefix's wine server and every Windows process in it (`wineserver -k`), so no
+    server_tcp.exe outlives the test."""
+    server = Path(wine).with_name("wineserver")
+    command = [str(server)] if server.is_file() else [shutil.which("wineserver") or "wineserver"]
+    try:
+        subprocess.run([*command, "-k"], env=env, capture_output=True, timeout=60)
+    except (OSError, subprocess.TimeoutExpired):
+        pass
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("fmi", [2, 3])
-def test_trivial_fmu_windows_binary(trivial: dict[int, Path], fmi: int,
-                                    tmp_path: Path) -> None:
+def test_trivial_fmu_windows_binary(trivial: dict[int, Path], fmi: int, tmp_path: Path,
+                                    request: pytest.FixtureRequest) -> None:
     """Where MinGW-w64 is installed the FMU carries an x86_64 Windows DLL that imports only
     Windows' own libraries (no libgcc, no libwinpthread); FMI 2: under wine it runs through
     fmpy's remoting (server_tcp.exe) and gives the exact outputs."""
@@ -215,13 +250,7 @@ def test_trivial_fmu_windows_binary(trivial: dict[int, Path], fmi: int,
     wine = _wine64()
     if wine is None:
         pytest.skip("wine64 not installed (apt-get install wine64): no Windows loader here")
-    bindir = tmp_path / "bin"
-    bindir.mkdir()
-    (bindir / "wine64").symlink_to(wine)  # fmpy looks for `wine64` on PATH
-    env = {**os.environ, "PATH": f"{bindir}{os.pathsep}{os.environ.get('PATH', '')}",
-           "WINEPREFIX": str(tmp_path / "prefix"), "WINEDEBUG": "-all",
-           "WINEDLLOVERRIDES": "mscoree,mshtml="}  # no Mono/Gecko install dialog in a new prefix
-    subprocess.run([wine, "wineboot", "-i"], env=env, capture_output=True, timeout=300)
+    env = _wine_env(wine, request.config.cache.mkdir("wine-prefix"), tmp_path)
     windows_only = tmp_path / "win.fmu"
     with zipfile.ZipFile(trivial[2]) as src, zipfile.ZipFile(windows_only, "w") as dst:
         for name in src.namelist():
@@ -233,8 +262,19 @@ def test_trivial_fmu_windows_binary(trivial: dict[int, Path], fmi: int,
              f"output_interval={H!r}, start_values={{'k': {K!r}}}, remote_platform='win64')\n"
              "np.savetxt(sys.argv[2], np.column_stack([r['time'], r['x']]))\n")
     out = tmp_path / "rows.txt"
-    proc = subprocess.run([sys.executable, "-c", child, str(windows_only), str(out)], env=env,
-                          capture_output=True, text=True, timeout=300)
+    # fmpy's client retries its TCP connection until server_tcp.exe listens; a wine server left
+    # half-started (seen once on a loaded machine: the client printed "Connection failed" for
+    # 300 s) is stopped and the run repeated once, in the same warm prefix.
+    for attempt in (1, 2):
+        try:
+            proc = subprocess.run([sys.executable, "-c", child, str(windows_only), str(out)],
+                                  env=env, capture_output=True, text=True, timeout=300)
+            break
+        except subprocess.TimeoutExpired:
+            if attempt == 2:
+                raise
+        finally:
+            _stop_wineserver(wine, env)
     assert proc.returncode == 0, proc.stderr[-2000:]
     rows = np.loadtxt(out)
     assert rows.shape == (N + 1, 2)
