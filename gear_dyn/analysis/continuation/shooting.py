@@ -1,0 +1,180 @@
+"""The shooting equations of a period-n orbit with the parameter as an unknown, their Jacobian,
+the Newton corrector and the branch tangent (Seydel 2010, ch. 4 and 7; Doedel's AUTO notes).
+
+Unknowns, scaled: ``z = (x / x_s, v / v_s, p / p_ref)``. Equations: ``G(z) = (P(y, p) - y) /
+y_s = 0`` (two equations, three unknowns: a curve of solutions, the branch), closed by one more
+linear equation ``r . z = rhs``: the pseudo-arclength condition ``t . (z - z_pred) = 0`` (Keller
+1977) or, to stop at a given parameter value, ``p = p_end``.
+
+The Jacobian ``[M - I | dP/dp]`` (scaled): ``M`` exact or variational (:mod:`.orbit`); the
+parameter derivative by a central difference of the map over ``p +- h``, ``h = fd_step |p|``
+(truncation O(h^2), rounding O(eps / h)), whose one-sided differences' disagreement is kept as
+an upper estimate of its error.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gear_dyn.analysis.continuation.orbit import map_only, period_map
+from gear_dyn.errors import SolverError
+from gear_dyn.models.base import MeshModel
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True, eq=False)
+class Evaluation:
+    """The shooting equations at one ``z``.
+
+    Attributes
+    ----------
+    z : ndarray (3,)
+        Scaled unknowns.
+    g : ndarray (2,)
+        Scaled residual ``(P(y) - y) / y_s``.
+    jac : ndarray (2, 3)
+        ``dG/dz`` (scaled).
+    monodromy : ndarray (2, 2)
+        ``M = dP/dy`` (SI).
+    dp_error : float
+        Upper estimate of the relative error of the parameter derivative.
+    model : MeshModel
+        The model at this parameter value.
+    """
+
+    z: FloatArray
+    g: FloatArray
+    jac: FloatArray
+    monodromy: FloatArray
+    dp_error: float
+    model: MeshModel
+
+
+class Shooting:
+    """The shooting equations of period-``periods`` orbits of ``family`` (see the module).
+
+    Parameters
+    ----------
+    family : callable
+        ``value -> MeshModel`` (SI value of the parameter).
+    periods : int
+        Mesh periods n of the orbits.
+    route : str
+        ``exact`` or ``variational``.
+    scale : ndarray (2,)
+        State scales (m, m/s).
+    p_ref : float
+        Parameter scale (> 0, SI).
+    rtol, fd_step : float
+        Variational tolerance; relative step of the parameter difference.
+    """
+
+    def __init__(self, family: Callable[[float], MeshModel], periods: int, route: str,
+                 scale: FloatArray, p_ref: float, rtol: float, fd_step: float) -> None:
+        self.family, self.periods, self.route = family, int(periods), route
+        self.scale = np.asarray(scale, dtype=float)
+        self.p_ref, self.rtol, self.fd_step = float(p_ref), float(rtol), float(fd_step)
+        self.n_maps = 0  #: n-period maps computed (cost counter)
+
+    def with_periods(self, periods: int) -> Shooting:
+        """The same problem for period-``periods`` orbits."""
+        return Shooting(self.family, periods, self.route, self.scale, self.p_ref, self.rtol,
+                        self.fd_step)
+
+    def state(self, z: FloatArray) -> FloatArray:
+        """SI state of scaled unknowns."""
+        return np.asarray(z[:2] * self.scale, dtype=float)
+
+    def param(self, z: FloatArray) -> float:
+        """SI parameter value of scaled unknowns."""
+        return float(z[2] * self.p_ref)
+
+    def scaled(self, y: FloatArray, p: float) -> FloatArray:
+        """Scaled unknowns of an SI state and parameter."""
+        return np.array([y[0] / self.scale[0], y[1] / self.scale[1], p / self.p_ref])
+
+    def residual_only(self, z: FloatArray) -> FloatArray:
+        """Scaled ``G(z)`` alone (no sensitivity)."""
+        y, p = self.state(z), self.param(z)
+        self.n_maps += 1
+        return (map_only(self.family(p), y, self.periods, self.route, self.rtol) - y) / self.scale
+
+    def evaluate(self, z: FloatArray) -> Evaluation:
+        """The residual, Jacobian and monodromy matrix at ``z``.
+
+        Raises
+        ------
+        SolverError
+            Integration failure (from the map).
+        InputError
+            The parameter left the family's valid range.
+        """
+        y, p = self.state(z), self.param(z)
+        model = self.family(p)
+        yt, mono = period_map(model, y, self.periods, self.route, self.rtol)
+        h = self.fd_step * max(abs(p), 1e-3 * self.p_ref)
+        y_plus = map_only(self.family(p + h), y, self.periods, self.route, self.rtol)
+        y_minus = map_only(self.family(p - h), y, self.periods, self.route, self.rtol)
+        self.n_maps += 3
+        dp = (y_plus - y_minus) / (2 * h)
+        fwd, bwd = (y_plus - yt) / h, (yt - y_minus) / h
+        dp_err = float(np.max(np.abs(fwd - bwd)) / max(float(np.max(np.abs(dp))), 1e-300))
+        s = self.scale
+        jac = np.empty((2, 3))
+        jac[:, :2] = (mono - np.eye(2)) * s[None, :] / s[:, None]
+        jac[:, 2] = dp * self.p_ref / s
+        return Evaluation(np.array(z, dtype=float), (yt - y) / s, jac, mono, dp_err, model)
+
+    def correct(self, z0: FloatArray, row: FloatArray, rhs: float, tol: float, max_iter: int
+                ) -> tuple[Evaluation, int] | None:
+        """Newton's method on ``G(z) = 0``, ``row . z = rhs`` from ``z0``.
+
+        Converged when the scaled residual and the last Newton step are both below ``tol``;
+        the returned evaluation is that of the last iterate (its residual is below ``tol``).
+
+        Returns
+        -------
+        (Evaluation, iterations) or None
+            None when Newton does not converge in ``max_iter`` iterations, diverges, meets a
+            singular system or the map fails (a chattering contact, a parameter out of range).
+        """
+        z = np.array(z0, dtype=float)
+        step_prev = math.inf
+        for it in range(1, max_iter + 1):
+            try:
+                ev = self.evaluate(z)
+            except (SolverError, ValueError):
+                return None
+            f = np.append(ev.g, float(row @ z) - rhs)
+            a = np.vstack([ev.jac, row])
+            try:
+                dz = np.linalg.solve(a, -f)
+            except np.linalg.LinAlgError:
+                return None
+            step = float(np.max(np.abs(dz)))
+            if not math.isfinite(step):
+                return None
+            if float(np.max(np.abs(ev.g))) <= tol and step <= tol:
+                return ev, it
+            if it >= 3 and step > 0.5 * step_prev:
+                return None  # not contracting: outside Newton's region
+            step_prev = step
+            z = z + dz
+        return None
+
+
+def tangent(jac: FloatArray) -> FloatArray:
+    """Unit null vector of the 2 x 3 Jacobian ``[M - I | dP/dp]`` (scaled): the branch
+    direction (the cross product of its rows; its sign is the caller's choice)."""
+    t = np.cross(jac[0], jac[1])
+    norm = float(np.linalg.norm(t))
+    if norm == 0.0 or not math.isfinite(norm):
+        raise SolverError("the branch tangent is undefined (Jacobian of rank < 2): a "
+                          "singular point of the shooting equations")
+    return np.asarray(t / norm, dtype=float)
