@@ -4,8 +4,8 @@ arclength condition, adaptive steps, and bifurcations detected and located on ev
 
 Step control: a step is rejected and halved when the corrector needs more than
 ``max_newton`` iterations, fails, or when the tangent turns by more than ``max_turn`` between
-the two points; an accepted step grows by ``grow`` after at most ``target_newton - 1``
-iterations and shrinks after more than ``target_newton``. A fold turns the tangent's parameter
+the two points; an accepted step grows by ``grow`` after at most ``target_newton`` iterations
+(and a turn below ``max_turn / 2``) and shrinks after more than ``target_newton + 2``. A fold turns the tangent's parameter
 component through zero, which the turn limit resolves over several steps, so no step reaches
 past a fold onto another part of the branch, and the sign change shows between two
 neighbouring points (where :mod:`.detect` locates it).
@@ -160,7 +160,8 @@ def follow(sh: Shooting, ev0: Evaluation, t0: FloatArray, window: tuple[float, f
     stop_reason = f"max_points ({settings.max_points}) reached"
     while len(points) < settings.max_points:
         zp = ev.z + ds * t
-        out = sh.correct(zp, t, float(t @ zp), settings.newton_tol, settings.max_newton)
+        out = sh.correct(zp, t, float(t @ zp), settings.newton_tol, settings.max_newton,
+                         dp_col=ev.jac[:, 2])
         t_b: FloatArray | None = None
         if out is not None:
             try:
@@ -199,9 +200,9 @@ def follow(sh: Shooting, ev0: Evaluation, t0: FloatArray, window: tuple[float, f
                 stop_reason = (f"merged with the period-{parent.periods} branch at "
                                f"{parameter} = {sh.param(ev.z):.10g}")
                 break
-        if it < settings.target_newton and turn < 0.5 * settings.max_turn:
+        if it <= settings.target_newton and turn < 0.5 * settings.max_turn:
             ds = min(ds * settings.grow, settings.step_max)
-        elif it > settings.target_newton:
+        elif it > settings.target_newton + 2:
             ds = max(ds / settings.grow, settings.step_min)
     bifs = [b for b in bifs if lo <= b.parameter <= hi]
     children: list[Branch] = []
@@ -238,11 +239,12 @@ def detect_step(sh: Shooting, ev_a: Evaluation, t_a: FloatArray, ev_b: Evaluatio
     located on the step (:mod:`.detect`), in order along the branch."""
     curve = StepCurve(sh, ev_a.z, t_a, settings)
     curve.cache[0.0], curve.cache[ds] = ev_a, ev_b
+    curve.dp_col = ev_a.jac[:, 2]
     found: list[tuple[float, Bifurcation]] = []
     stab = {True: "stable", False: "unstable"}
 
     def point(ev: Evaluation, s: float) -> OrbitPoint:
-        tt = tangent(ev.jac)
+        tt = tangent(sh.refresh(ev).jac)
         return make_point(sh, ev, settings, s0 + s, float(tt[2] if tt @ t_a >= 0 else -tt[2]))
 
     for test, kinds in ((fold_test, ("fold", "branch_point")),

@@ -51,6 +51,7 @@ class StepCurve:
                  settings: ContinuationSettings) -> None:
         self.sh, self.z_a, self.t_a, self.settings = sh, z_a, t_a, settings
         self.cache: dict[float, Evaluation] = {}
+        self.dp_col: FloatArray | None = None  #: chord for the parameter column
 
     def at(self, s: float) -> Evaluation | None:
         """The corrected point at arclength ``s`` along the step (None: no convergence)."""
@@ -59,7 +60,7 @@ class StepCurve:
             return hit
         zp = self.z_a + s * self.t_a
         out = self.sh.correct(zp, self.t_a, float(self.t_a @ zp), self.settings.newton_tol,
-                              self.settings.max_newton)
+                              self.settings.max_newton, dp_col=self.dp_col, fresh=False)
         if out is None:
             return None
         self.cache[s] = out[0]

@@ -151,8 +151,12 @@ def orbit_shape(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol
         ev = ev[(ev > 0.0) & (ev < t1)]
         edges = np.concatenate([[0.0], ev, [t1]])
         mids = 0.5 * (edges[:-1] + edges[1:])
-        ym, _ = propagate_contact_exact(model, np.concatenate([[0.0], mids]), y0=y0)
-        st = _states(model, mids, ym[0, 1:])
+        owner = np.searchsorted(edges, t[:-1], side="right") - 1
+        st = np.full(mids.size, 2, dtype=np.int64)  # 2: no sample in the spell
+        st[owner] = _states(model, t[:-1], y[0, :-1])
+        if np.any(st == 2):  # a spell shorter than a sample step: its midpoint's state
+            ym, _ = propagate_contact_exact(model, np.concatenate([[0.0], mids]), y0=y0)
+            st = _states(model, mids, ym[0, 1:])
         dur = np.diff(edges)
         pattern = _run_letters(st)
         sep = float(np.sum(dur[st == 0]) / t1)

@@ -43,7 +43,8 @@ class Evaluation:
     monodromy : ndarray (2, 2)
         ``M = dP/dy`` (SI).
     dp_error : float
-        Upper estimate of the relative error of the parameter derivative.
+        Upper estimate of the relative error of the parameter derivative (nan where the
+        column is a chord taken from another point).
     model : MeshModel
         The model at this parameter value.
     """
@@ -105,8 +106,11 @@ class Shooting:
         self.n_maps += 1
         return (map_only(self.family(p), y, self.periods, self.route, self.rtol) - y) / self.scale
 
-    def evaluate(self, z: FloatArray) -> Evaluation:
+    def evaluate(self, z: FloatArray, dp_col: FloatArray | None = None) -> Evaluation:
         """The residual, Jacobian and monodromy matrix at ``z``.
+
+        ``dp_col``: the scaled parameter column of the Jacobian to use (a chord: e.g. that of
+        the step's start point); None computes it here by the central difference.
 
         Raises
         ------
@@ -118,25 +122,46 @@ class Shooting:
         y, p = self.state(z), self.param(z)
         model = self.family(p)
         yt, mono = period_map(model, y, self.periods, self.route, self.rtol)
-        h = self.fd_step * max(abs(p), 1e-3 * self.p_ref)
-        y_plus = map_only(self.family(p + h), y, self.periods, self.route, self.rtol)
-        y_minus = map_only(self.family(p - h), y, self.periods, self.route, self.rtol)
-        self.n_maps += 3
-        dp = (y_plus - y_minus) / (2 * h)
-        fwd, bwd = (y_plus - yt) / h, (yt - y_minus) / h
-        dp_err = float(np.max(np.abs(fwd - bwd)) / max(float(np.max(np.abs(dp))), 1e-300))
+        self.n_maps += 1
         s = self.scale
         jac = np.empty((2, 3))
         jac[:, :2] = (mono - np.eye(2)) * s[None, :] / s[:, None]
-        jac[:, 2] = dp * self.p_ref / s
+        dp_err = float("nan")
+        if dp_col is None:
+            dp_col, dp_err = self._dp_column(y, p, yt)
+        jac[:, 2] = dp_col
         return Evaluation(np.array(z, dtype=float), (yt - y) / s, jac, mono, dp_err, model)
 
-    def correct(self, z0: FloatArray, row: FloatArray, rhs: float, tol: float, max_iter: int
+    def _dp_column(self, y: FloatArray, p: float, yt: FloatArray) -> tuple[FloatArray, float]:
+        """Scaled ``dP/dp`` by the central difference, and its error estimate."""
+        h = self.fd_step * max(abs(p), 1e-3 * self.p_ref)
+        y_plus = map_only(self.family(p + h), y, self.periods, self.route, self.rtol)
+        y_minus = map_only(self.family(p - h), y, self.periods, self.route, self.rtol)
+        self.n_maps += 2
+        dp = (y_plus - y_minus) / (2 * h)
+        fwd, bwd = (y_plus - yt) / h, (yt - y_minus) / h
+        dp_err = float(np.max(np.abs(fwd - bwd)) / max(float(np.max(np.abs(dp))), 1e-300))
+        return dp * self.p_ref / self.scale, dp_err
+
+    def refresh(self, ev: Evaluation) -> Evaluation:
+        """``ev`` with its parameter column computed at its own point (for the tangent)."""
+        if not np.isnan(ev.dp_error):
+            return ev
+        y, p = self.state(ev.z), self.param(ev.z)
+        col, err = self._dp_column(y, p, y + ev.g * self.scale)
+        jac = ev.jac.copy()
+        jac[:, 2] = col
+        return Evaluation(ev.z, ev.g, jac, ev.monodromy, err, ev.model)
+
+    def correct(self, z0: FloatArray, row: FloatArray, rhs: float, tol: float, max_iter: int,
+                dp_col: FloatArray | None = None, fresh: bool = True
                 ) -> tuple[Evaluation, int] | None:
         """Newton's method on ``G(z) = 0``, ``row . z = rhs`` from ``z0``.
 
         Converged when the scaled residual and the last Newton step are both below ``tol``;
         the returned evaluation is that of the last iterate (its residual is below ``tol``).
+        With ``dp_col`` (a chord for the parameter column) the iterations skip the difference
+        quotient; ``fresh`` then computes it once at the converged point.
 
         Returns
         -------
@@ -148,7 +173,7 @@ class Shooting:
         step_prev = math.inf
         for it in range(1, max_iter + 1):
             try:
-                ev = self.evaluate(z)
+                ev = self.evaluate(z, dp_col)
             except (SolverError, ValueError):
                 return None
             f = np.append(ev.g, float(row @ z) - rhs)
@@ -161,6 +186,11 @@ class Shooting:
             if not math.isfinite(step):
                 return None
             if float(np.max(np.abs(ev.g))) <= tol and step <= tol:
+                if fresh:
+                    try:
+                        ev = self.refresh(ev)
+                    except (SolverError, ValueError):
+                        return None
                 return ev, it
             if it >= 3 and step > 0.5 * step_prev:
                 return None  # not contracting: outside Newton's region
