@@ -228,8 +228,16 @@ def _end_point(sh: Shooting, ev_a: Evaluation, ev_b: Evaluation, bound: float,
     return make_point(sh, out[0], settings, float("nan"), float("nan"), out[1])
 
 
+#: test-function values below this are rounding, without a sign: a linear stretch of a branch
+#: (full contact) at a period doubling is a whole line of period-2n orbits, on which
+#: ``det(M^2 - I)`` is zero up to the corrector's tolerance
+TEST_NOISE = 1e-8
+
+
 def _sign_change(a: float, b: float) -> bool:
-    return (a < 0.0 <= b) or (b < 0.0 <= a)
+    if min(abs(a), abs(b)) <= TEST_NOISE:
+        return False
+    return (a < 0.0) != (b < 0.0)
 
 
 def detect_step(sh: Shooting, ev_a: Evaluation, t_a: FloatArray, ev_b: Evaluation,

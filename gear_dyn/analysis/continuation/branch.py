@@ -254,6 +254,6 @@ class Branch:
     def plot(self, ax: Any = None, **kwargs: Any) -> Any:
         """The response curve (:func:`gear_dyn.plots.continuation.plot_branch`): stable
         solid, unstable dashed, folds and period doublings marked with their parameter value;
-        returns the Axes."""
+        returns the Figure."""
         return importlib.import_module(PLOTS_MODULE).plot_branch(self, ax=ax, **kwargs)
 
