@@ -5,10 +5,10 @@ arclength condition, adaptive steps, and bifurcations detected and located on ev
 Step control: a step is rejected and halved when the corrector needs more than
 ``max_newton`` iterations, fails, or when the tangent turns by more than ``max_turn`` between
 the two points; an accepted step grows by ``grow`` after at most ``target_newton`` iterations
-(and a turn below ``max_turn / 2``) and shrinks after more than ``target_newton + 2``. A fold turns the tangent's parameter
-component through zero, which the turn limit resolves over several steps, so no step reaches
-past a fold onto another part of the branch, and the sign change shows between two
-neighbouring points (where :mod:`.detect` locates it).
+(and a turn below ``max_turn / 2``) and shrinks after more than ``target_newton + 2``. A fold
+turns the tangent's parameter component through zero, which the turn limit resolves over
+several steps, so no step reaches past a fold onto another part of the branch, and the sign
+change shows between two neighbouring points (where :mod:`.detect` locates it).
 
 Contact changes need no special treatment: the n-period map of each corrector iteration is
 computed from the state, with whatever contacts occur (located as they come), so a grazing
