@@ -37,6 +37,7 @@ from gear_dyn.analysis.continuation.orbit import map_only, resolve_route
 from gear_dyn.analysis.continuation.points import make_point
 from gear_dyn.analysis.continuation.settings import ContinuationSettings
 from gear_dyn.analysis.continuation.shooting import Evaluation, Shooting, tangent
+from gear_dyn.analysis.continuation.switch import switch_at_period_doubling
 from gear_dyn.analysis.stability import shoot
 from gear_dyn.errors import InputError, SolverError, check_range
 from gear_dyn.models.base import MeshModel
@@ -150,8 +151,6 @@ def follow(sh: Shooting, ev0: Evaluation, t0: FloatArray, window: tuple[float, f
 
     ``parent``: the period-n problem of a period-2n branch (its merging back is a stop).
     """
-    from gear_dyn.analysis.continuation.switch import switch_at_period_doubling  # cycle
-
     lo, hi = window
     ev, t = ev0, t0
     points = [make_point(sh, ev, settings, 0.0, float(t[2]), 0)]
@@ -210,7 +209,7 @@ def follow(sh: Shooting, ev0: Evaluation, t0: FloatArray, window: tuple[float, f
         for b in bifs:
             if b.kind == "period_doubling":
                 children.append(switch_at_period_doubling(sh, b, window, settings, parameter,
-                                                           doublings - 1))
+                                                           doublings - 1, follow))
     return Branch(parameter, PARAMETERS.get(parameter, ""), tuple(points), tuple(bifs),
                   tuple(children), sh.route, stop_reason, sh.n_maps)
 

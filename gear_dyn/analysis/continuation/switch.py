@@ -12,6 +12,8 @@ period-doubling point.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from gear_dyn.analysis.continuation.branch import Bifurcation, Branch
@@ -27,13 +29,12 @@ MIN_SPLIT = 1e-6
 
 
 def switch_at_period_doubling(sh: Shooting, bif: Bifurcation, window: tuple[float, float],
-                              settings: ContinuationSettings, parameter: str,
-                              doublings: int) -> Branch:
+                              settings: ContinuationSettings, parameter: str, doublings: int,
+                              follow: Callable[..., Branch]) -> Branch:
     """The period-2n branch born at the period doubling ``bif`` of the period-n problem
-    ``sh``, followed inside ``window`` (a branch without points and a ``stop_reason`` saying
-    why, when no period-2n orbit is found next to it)."""
-    from gear_dyn.analysis.continuation.arclength import follow  # cycle
-
+    ``sh``, followed inside ``window`` by ``follow`` (the continuation loop,
+    :func:`.arclength.follow`); a branch without points and a ``stop_reason`` saying why,
+    when no period-2n orbit is found next to it."""
     unit = PARAMETERS.get(parameter, "")
     p_star = bif.point.parameter
     z_star = sh.scaled(bif.point.state, p_star)
