@@ -29,15 +29,16 @@ class ContinuationSettings:
     max_points : int
         Largest number of points on one branch (1..100000).
     newton_tol : float
-        The corrector stops when the scaled Newton step and the scaled shooting residual are
-        below this (1e-14..1e-4).
+        The corrector stops when the scaled residual of the shooting equations and the
+        arclength condition is below this (1e-14..1e-4).
     max_newton : int
         Corrector iterations before the step is halved (2..50).
     target_newton : int
         Corrector iterations aimed at: at most this many grow the step by ``grow``, more than
-        ``target_newton + 2`` shrink it. The corrector holds the parameter column of the
-        Jacobian at the step's start (a chord), so it converges linearly but fast: 3-5
-        iterations to ``newton_tol`` on a smooth stretch.
+        ``target_newton + 2`` shrink it. The corrector starts from the parameter column of the
+        Jacobian at the step's start and corrects it by the secant condition of each Newton
+        step (the state columns are exact): 4-5 iterations to ``newton_tol`` on a smooth
+        stretch.
     grow : float
         Step growth factor after an easy corrector (1..4).
     max_turn : float

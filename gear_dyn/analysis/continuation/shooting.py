@@ -158,8 +158,10 @@ class Shooting:
                 ) -> tuple[Evaluation, int] | None:
         """Newton's method on ``G(z) = 0``, ``row . z = rhs`` from ``z0``.
 
-        Converged when the scaled residual and the last Newton step are both below ``tol``;
-        the returned evaluation is that of the last iterate (its residual is below ``tol``).
+        Converged when the scaled residual of all three equations is below ``tol`` at an
+        iterate; the returned evaluation is that iterate's. (The shooting residual bounds the
+        distance to the orbit by ``tol / (1 - |mu|)`` in scaled units, mu the multiplier
+        nearest 1.)
         With ``dp_col`` (a chord for the parameter column) the iterations skip the difference
         quotient; ``fresh`` then computes it once at the converged point.
 
@@ -171,12 +173,23 @@ class Shooting:
         """
         z = np.array(z0, dtype=float)
         step_prev = math.inf
+        prev: tuple[Evaluation, FloatArray] | None = None
         for it in range(1, max_iter + 1):
             try:
                 ev = self.evaluate(z, dp_col)
             except (SolverError, ValueError):
                 return None
+            if dp_col is not None and prev is not None:
+                dp_col = _secant_column(prev[0], ev, prev[1], dp_col)
+                ev.jac[:, 2] = dp_col
             f = np.append(ev.g, float(row @ z) - rhs)
+            if float(np.max(np.abs(f))) <= tol:
+                if fresh:
+                    try:
+                        ev = self.refresh(ev)
+                    except (SolverError, ValueError):
+                        return None
+                return ev, it
             a = np.vstack([ev.jac, row])
             try:
                 dz = np.linalg.solve(a, -f)
@@ -185,18 +198,25 @@ class Shooting:
             step = float(np.max(np.abs(dz)))
             if not math.isfinite(step):
                 return None
-            if float(np.max(np.abs(ev.g))) <= tol and step <= tol:
-                if fresh:
-                    try:
-                        ev = self.refresh(ev)
-                    except (SolverError, ValueError):
-                        return None
-                return ev, it
             if it >= 3 and step > 0.5 * step_prev:
                 return None  # not contracting: outside Newton's region
             step_prev = step
+            prev = (ev, dz)
             z = z + dz
         return None
+
+
+def _secant_column(ev0: Evaluation, ev1: Evaluation, dz: FloatArray, col: FloatArray
+                   ) -> FloatArray:
+    """The chord's parameter column corrected by the secant condition of the last step
+    (Broyden's update restricted to that column; the state columns are exact):
+    ``g1 - g0 = A_y dz_y + col dz_p``, ``A_y`` averaged over the two points (second order).
+    Unchanged when the step hardly moved the parameter."""
+    dzp = float(dz[2])
+    if abs(dzp) <= 1e-3 * float(np.max(np.abs(dz))):
+        return col
+    a_y = 0.5 * (ev0.jac[:, :2] + ev1.jac[:, :2])
+    return np.asarray((ev1.g - ev0.g - a_y @ dz[:2]) / dzp, dtype=float)
 
 
 def tangent(jac: FloatArray) -> FloatArray:
