@@ -9,7 +9,9 @@ linear equation ``r . z = rhs``: the pseudo-arclength condition ``t . (z - z_pre
 The Jacobian ``[M - I | dP/dp]`` (scaled): ``M`` exact or variational (:mod:`.orbit`); the
 parameter derivative by a central difference of the map over ``p +- h``, ``h = fd_step |p|``
 (truncation O(h^2), rounding O(eps / h)), whose one-sided differences' disagreement is kept as
-an upper estimate of its error.
+an upper estimate of its error; inside the corrector by the secant condition of each Newton
+step (a finite difference along the step, whose change from one step to the next is its error
+estimate).
 """
 
 from __future__ import annotations
@@ -26,6 +28,9 @@ from gear_dyn.errors import SolverError
 from gear_dyn.models.base import MeshModel
 
 FloatArray = NDArray[np.float64]
+#: two successive secant parameter columns that agree to this (relative) are taken as the
+#: parameter derivative at a converged point, without the central difference
+SECANT_AGREEMENT = 1e-4
 
 
 @dataclass(frozen=True, eq=False)
@@ -153,6 +158,20 @@ class Shooting:
         jac[:, 2] = col
         return Evaluation(ev.z, ev.g, jac, ev.monodromy, err, ev.model)
 
+    def _settled_column(self, ev: Evaluation, secants: list[FloatArray]) -> Evaluation | None:
+        """``ev`` with a parameter column good for the tangent: the last secant column where
+        the last two agree to :data:`SECANT_AGREEMENT` (their difference is its error
+        estimate), else the central difference (:meth:`refresh`)."""
+        if len(secants) >= 2:
+            a, b = secants[-1], secants[-2]
+            err = float(np.max(np.abs(a - b)) / max(float(np.max(np.abs(a))), 1e-300))
+            if err <= SECANT_AGREEMENT:
+                return Evaluation(ev.z, ev.g, ev.jac, ev.monodromy, err, ev.model)
+        try:
+            return self.refresh(ev)
+        except (SolverError, ValueError):
+            return None
+
     def correct(self, z0: FloatArray, row: FloatArray, rhs: float, tol: float, max_iter: int,
                 dp_col: FloatArray | None = None, fresh: bool = True
                 ) -> tuple[Evaluation, int] | None:
@@ -162,8 +181,11 @@ class Shooting:
         iterate; the returned evaluation is that iterate's. (The shooting residual bounds the
         distance to the orbit by ``tol / (1 - |mu|)`` in scaled units, mu the multiplier
         nearest 1.)
-        With ``dp_col`` (a chord for the parameter column) the iterations skip the difference
-        quotient; ``fresh`` then computes it once at the converged point.
+        With ``dp_col`` (the parameter column at the step's start) the iterations skip the
+        difference quotient and correct the column by the secant condition of each step;
+        ``fresh`` then makes sure the converged point's column is good for the tangent
+        (the last secant column if it agrees with the one before, else the central
+        difference).
 
         Returns
         -------
@@ -174,22 +196,25 @@ class Shooting:
         z = np.array(z0, dtype=float)
         step_prev = math.inf
         prev: tuple[Evaluation, FloatArray] | None = None
+        secants: list[FloatArray] = []  # the column after each secant update, in order
         for it in range(1, max_iter + 1):
             try:
                 ev = self.evaluate(z, dp_col)
             except (SolverError, ValueError):
                 return None
+            updated = False
             if dp_col is not None and prev is not None:
-                dp_col = _secant_column(prev[0], ev, prev[1], dp_col)
-                ev.jac[:, 2] = dp_col
+                new = _secant_column(prev[0], ev, prev[1])
+                if new is not None:
+                    dp_col, updated = new, True
+                    secants.append(new)
+                    ev.jac[:, 2] = dp_col
             f = np.append(ev.g, float(row @ z) - rhs)
             if float(np.max(np.abs(f))) <= tol:
-                if fresh:
-                    try:
-                        ev = self.refresh(ev)
-                    except (SolverError, ValueError):
-                        return None
-                return ev, it
+                if not fresh:
+                    return ev, it
+                settled = self._settled_column(ev, secants if updated else [])
+                return None if settled is None else (settled, it)
             a = np.vstack([ev.jac, row])
             try:
                 dz = np.linalg.solve(a, -f)
@@ -206,15 +231,14 @@ class Shooting:
         return None
 
 
-def _secant_column(ev0: Evaluation, ev1: Evaluation, dz: FloatArray, col: FloatArray
-                   ) -> FloatArray:
-    """The chord's parameter column corrected by the secant condition of the last step
-    (Broyden's update restricted to that column; the state columns are exact):
-    ``g1 - g0 = A_y dz_y + col dz_p``, ``A_y`` averaged over the two points (second order).
-    Unchanged when the step hardly moved the parameter."""
+def _secant_column(ev0: Evaluation, ev1: Evaluation, dz: FloatArray) -> FloatArray | None:
+    """The parameter column from the secant condition of the last Newton step (Broyden's
+    update restricted to that column; the state columns are exact):
+    ``g1 - g0 = A_y dz_y + col dz_p``, ``A_y`` averaged over the two points (second order in
+    the step). None when the step hardly moved the parameter."""
     dzp = float(dz[2])
     if abs(dzp) <= 1e-3 * float(np.max(np.abs(dz))):
-        return col
+        return None
     a_y = 0.5 * (ev0.jac[:, :2] + ev1.jac[:, :2])
     return np.asarray((ev1.g - ev0.g - a_y @ dz[:2]) / dzp, dtype=float)
 
