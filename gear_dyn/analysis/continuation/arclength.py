@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -40,7 +41,7 @@ from gear_dyn.analysis.continuation.shooting import Evaluation, Shooting, tangen
 from gear_dyn.analysis.continuation.switch import switch_at_period_doubling
 from gear_dyn.analysis.stability import shoot
 from gear_dyn.errors import InputError, SolverError, check_range
-from gear_dyn.models.base import MeshModel
+from gear_dyn.models.base import MeshModel, Model
 
 FloatArray = NDArray[np.float64]
 #: mesh periods integrated to settle onto an attracting orbit where shooting from the guess fails
@@ -50,7 +51,7 @@ SETTLE_PERIODS = 400
 MERGE_TOL = 1e-6
 
 
-def continue_orbits(family: Callable[[float], MeshModel], start: float, stop: float, *,
+def continue_orbits(family: Callable[[float], Model], start: float, stop: float, *,
                     periods: int = 1, y_guess: FloatArray | None = None,
                     parameter: str = "speed", route: str = "auto",
                     settings: ContinuationSettings | None = None,
@@ -91,7 +92,8 @@ def continue_orbits(family: Callable[[float], MeshModel], start: float, stop: fl
     Raises
     ------
     InputError
-        Bad range, periods, route or doublings.
+        Bad range, periods, route or doublings; a family whose models are not single-DOF
+        mesh models.
     SolverError
         No periodic orbit found at ``start``.
     """
@@ -103,9 +105,12 @@ def continue_orbits(family: Callable[[float], MeshModel], start: float, stop: fl
     check_range("doublings", doublings, "", low=0, high=4)
     settings = settings or ContinuationSettings()
     model0 = family(start)
+    if not (isinstance(model0, MeshModel) and model0.mesh_periodic):
+        raise InputError(f"continuation needs the single-DOF mesh model (sdof); got "
+                         f"{type(model0).__name__}")
     rroute = resolve_route(model0, route)
     p_ref = abs(start) if start != 0.0 else abs(stop)
-    sh = Shooting(family, periods, rroute, model0.state_scale, p_ref, settings.rtol,
+    sh = Shooting(cast(Callable[[float], MeshModel], family), periods, rroute, model0.state_scale, p_ref, settings.rtol,
                   settings.fd_step)
     y0 = start_orbit(model0, periods, rroute, settings, y_guess)
     e_p = np.array([0.0, 0.0, 1.0])
