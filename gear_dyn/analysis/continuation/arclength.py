@@ -110,7 +110,8 @@ def continue_orbits(family: Callable[[float], Model], start: float, stop: float,
                          f"{type(model0).__name__}")
     rroute = resolve_route(model0, route)
     p_ref = abs(start) if start != 0.0 else abs(stop)
-    sh = Shooting(cast(Callable[[float], MeshModel], family), periods, rroute, model0.state_scale, p_ref, settings.rtol,
+    mesh_family = cast(Callable[[float], MeshModel], family)  # checked on model0 above
+    sh = Shooting(mesh_family, periods, rroute, model0.state_scale, p_ref, settings.rtol,
                   settings.fd_step)
     y0 = start_orbit(model0, periods, rroute, settings, y_guess)
     e_p = np.array([0.0, 0.0, 1.0])
