@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import platform
 import statistics
 import time
@@ -102,7 +103,8 @@ def main(argv: list[str] | None = None) -> int:
         f"Produced by `python benchmarks/bench_continuation.py --repeats {args.repeats}` on "
         f"{platform.machine()} (Python {platform.python_version()}); {args.repeats} "
         "interleaved runs, times per point as median (min..max) in ms (shared 2-core "
-        "machine: other jobs ran beside it).", "",
+        f"machine: other jobs ran beside it; load average {os.getloadavg()[0]:.1f} at the "
+        "end).", "",
         f"Scene `helicopter_tail_backlash` (packaged), pinion speed {LO:.0f}..{HI:.0f} rpm, "
         f"period-1 orbits, exact route. The continuation has {n_pts} points (the whole curve: "
         f"stable and unstable branches, 6 folds), worst scaled closing residual "
