@@ -245,3 +245,34 @@ def test_bad_settings_and_family_are_refused() -> None:
         sdof_family(_model(), "speed")
     with pytest.raises(InputError, match="start = stop"):
         continue_orbits(sdof_family(_model(), "speed", teeth=TEETH), 10.0, 10.0)
+
+
+def test_variational_route_constant_stiffness_with_transmission_error_is_the_closed_form(
+        ) -> None:
+    """Kahraman & Singh's (1990) oscillator: constant stiffness, harmonic static transmission
+    error e = e1 cos(2 pi p), backlash. The exact route does not apply (a transmission error),
+    so the orbits come from the variational equations with located contacts. In full contact
+    ``m u'' + c u' + k u = c e' + k e`` with ``u = x - b - W/k``: the steady state is
+    ``u = Re[H e1 exp(i W t)]``, ``H = (k + i c W) / (k - m W^2 + i c W)``."""
+    from gear_dyn import FourierStiffness
+    from gear_dyn.excitation import HarmonicSignal
+
+    k0, e1 = 1e6, 2e-4
+    model = SDOFModel(1.0, FourierStiffness(k0, np.array([0.0]), np.array([0.0])), 0.05,
+                      1000.0, 100.0, backlash=B,
+                      transmission_error=HarmonicSignal(0.0, np.array([e1]), np.array([0.0])))
+    fam = sdof_family(model, "speed", teeth=TEETH)
+    wn = math.sqrt(k0)
+    br = continue_orbits(fam, 0.5 * wn / TEETH, 0.7 * wn / TEETH,
+                         settings=ContinuationSettings(max_points=5, step=0.05, step_max=0.1))
+    assert br.route == "variational" and len(br.points) == 5
+    for p in br.points:
+        m = fam(p.parameter)
+        om = 2 * math.pi * m.mesh_frequency
+        h = (k0 + 1j * m.damping * om) / (k0 - om**2 + 1j * m.damping * om)
+        closed = np.array([B + 1000.0 / k0 + (h * e1).real, (1j * om * h * e1).real])
+        assert p.pattern == "D"
+        # DOP853 at rtol 1e-10 over one mesh period, shooting to newton_tol 1e-10 (scaled):
+        # 1e-7 of the state scale is a wide margin
+        assert np.all(np.abs(p.state - closed) <= 1e-7 * m.state_scale)
+        assert p.liouville < 1e-7
