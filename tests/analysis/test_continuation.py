@@ -276,3 +276,19 @@ def test_variational_route_constant_stiffness_with_transmission_error_is_the_clo
         # 1e-7 of the state scale is a wide margin
         assert np.all(np.abs(p.state - closed) <= 1e-7 * m.state_scale)
         assert p.liouville < 1e-7
+
+
+def test_a_period1_orbit_continued_as_period2_has_the_squared_multipliers() -> None:
+    """Shooting over n = 2 mesh periods: a period-1 orbit is also a period-2 orbit, with the
+    period-1 orbit's multipliers squared (M2 = M1^2) and the same state."""
+    fam = sdof_family(_model(), "speed", teeth=TEETH)
+    st = ContinuationSettings(max_points=4)
+    one = continue_orbits(fam, _speed(0.6), _speed(0.7), settings=st)
+    two = continue_orbits(fam, _speed(0.6), _speed(0.7), periods=2, settings=st)
+    assert two.periods == 2 and two.points[0].periods == 2
+    p1, p2 = one.points[0], two.points[0]
+    assert p2.parameter == p1.parameter
+    assert np.all(np.abs(p2.state - p1.state) <= 1e-8 * _model().state_scale)
+    mu1 = np.sort_complex(p1.multipliers**2)
+    mu2 = np.sort_complex(p2.multipliers)
+    assert np.all(np.abs(mu2 - mu1) < 1e-9)
