@@ -77,7 +77,8 @@ def plot_branch(branch: Branch, ax: Any = None, y: str = "dte_rms", label_points
         shown.add(text)
         return text
 
-    for i, b in enumerate(branch.walk()):
+    n_labels = 0
+    for b in branch.walk():
         if not b.points:
             continue
         colour = _COLOURS[min(b.periods.bit_length() - 1, len(_COLOURS) - 1)]
@@ -100,10 +101,11 @@ def plot_branch(branch: Branch, ax: Any = None, y: str = "dte_rms", label_points
             marker, text = ("o", "fold") if bif.kind == "fold" else ("s", "PD")
             axis.plot([bx], [by], marker, color="k", mfc="none", ms=7,
                       label=once("fold" if bif.kind == "fold" else "period doubling"))
-            if label_points:
+            if label_points:  # alternate above and below: neighbouring folds stay legible
                 axis.annotate(f"{text} {_fmt(bif.parameter, branch)}", (bx, by),
-                              xytext=(4, 6 if i % 2 == 0 else -12),
+                              xytext=(5, 6 if n_labels % 2 == 0 else -13),
                               textcoords="offset points", fontsize=7)
+                n_labels += 1
         graze = [g for g in b.bifurcations if g.kind == "grazing"]
         if graze:
             axis.plot([g.parameter * fx for g in graze], [getattr(g.point, y) * fy for g in graze],

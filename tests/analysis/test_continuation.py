@@ -292,3 +292,23 @@ def test_a_period1_orbit_continued_as_period2_has_the_squared_multipliers() -> N
     mu1 = np.sort_complex(p1.multipliers**2)
     mu2 = np.sort_complex(p2.multipliers)
     assert np.all(np.abs(mu2 - mu1) < 1e-9)
+
+
+def test_period2_bubble_between_two_doublings_is_followed_once() -> None:
+    """The packaged backlash scene near f_m = 2 f_n: the period-1 orbit doubles its period at
+    two speeds (the parametric instability zone); the period-2 branch born at the first bends
+    far towards lower speeds (softening) and returns to the period-1 branch at the second. It
+    is followed once, and stops where it passes through the period-1 branch."""
+    from gear_dyn.scene import load_scene
+    from gear_dyn.scene.sweep import SceneModels
+
+    rpm = 2 * math.pi / 60
+    br = continue_orbits(SceneModels.of(load_scene("helicopter_tail_backlash")), 9500 * rpm,
+                         17000 * rpm, doublings=1)
+    pd = br.of_kind("period_doubling")
+    assert len(pd) == 2
+    (child,) = br.children
+    assert child.stop_reason.startswith("reached the period-1 branch")
+    assert child.points[0].parameter == pytest.approx(pd[0].parameter, rel=1e-8)
+    assert child.points[-1].parameter == pytest.approx(pd[1].parameter, rel=1e-8)
+    assert len(child.of_kind("fold")) >= 2  # the bent subharmonic resonance

@@ -47,7 +47,7 @@ FloatArray = NDArray[np.float64]
 #: mesh periods integrated to settle onto an attracting orbit where shooting from the guess fails
 SETTLE_PERIODS = 400
 #: a period-2n point closer than this (scaled) to closing after n periods lies on the period-n
-#: branch: the period-2n branch has merged back into it
+#: branch: the period-2n branch has reached it (it also stops where it passes through it)
 MERGE_TOL = 1e-6
 
 
@@ -162,6 +162,8 @@ def follow(sh: Shooting, ev0: Evaluation, t0: FloatArray, window: tuple[float, f
     points = [make_point(sh, ev, settings, 0.0, float(t[2]), 0)]
     bifs: list[Bifurcation] = []
     ds, s_total = settings.step, 0.0
+    z_first = ev0.z
+    d_prev = parent.residual_only(ev0.z) if parent is not None else np.zeros(2)
     stop_reason = f"max_points ({settings.max_points}) reached"
     while len(points) < settings.max_points:
         zp = ev.z + ds * t
@@ -199,12 +201,19 @@ def follow(sh: Shooting, ev0: Evaluation, t0: FloatArray, window: tuple[float, f
         points.append(point_b)
         s_total += ds
         ev, t = ev_b, t_b
+        if float(np.linalg.norm(ev.z - z_first)) < 0.5 * ds and len(points) > 3:
+            stop_reason = f"closed loop: back at its start after {len(points)} points"
+            break
         if parent is not None:
-            r1 = float(np.max(np.abs(parent.residual_only(ev.z))))
-            if r1 < MERGE_TOL:
-                stop_reason = (f"merged with the period-{parent.periods} branch at "
+            # on a period-2n branch, d = P_n(y) - y (scaled) is zero only on the period-n
+            # orbit and flips sign where the branch passes through it (a period doubling of
+            # the period-n branch; beyond it lie the same orbits shifted by n mesh periods)
+            d = parent.residual_only(ev.z)
+            if float(np.max(np.abs(d))) < MERGE_TOL or float(d @ d_prev) < 0.0:
+                stop_reason = (f"reached the period-{parent.periods} branch at "
                                f"{parameter} = {sh.param(ev.z):.10g}")
                 break
+            d_prev = d
         if it <= settings.target_newton and turn < 0.5 * settings.max_turn:
             ds = min(ds * settings.grow, settings.step_max)
         elif it > settings.target_newton + 2:
@@ -213,11 +222,22 @@ def follow(sh: Shooting, ev0: Evaluation, t0: FloatArray, window: tuple[float, f
     children: list[Branch] = []
     if doublings > 0:
         for b in bifs:
-            if b.kind == "period_doubling":
-                children.append(switch_at_period_doubling(sh, b, window, settings, parameter,
-                                                           doublings - 1, follow))
+            if b.kind != "period_doubling" or any(_ends_at(c, b) for c in children):
+                continue  # a period-2n branch from an earlier doubling already ended here
+            children.append(switch_at_period_doubling(sh, b, window, settings, parameter,
+                                                       doublings - 1, follow))
     return Branch(parameter, PARAMETERS.get(parameter, ""), tuple(points), tuple(bifs),
                   tuple(children), sh.route, stop_reason, sh.n_maps)
+
+
+def _ends_at(child: Branch, pd: Bifurcation) -> bool:
+    """True when ``child`` stopped by passing through the period-n branch at ``pd``: the
+    doubling's parameter lies between the child's last two points (1e-9 relative slack)."""
+    if len(child.points) < 2 or not child.stop_reason.startswith("reached"):
+        return False
+    a, b = child.points[-2].parameter, child.points[-1].parameter
+    slack = 1e-9 * abs(pd.parameter)
+    return min(a, b) - slack <= pd.parameter <= max(a, b) + slack
 
 
 def _end_point(sh: Shooting, ev_a: Evaluation, ev_b: Evaluation, bound: float,
