@@ -77,7 +77,7 @@ def plot_branch(branch: Branch, ax: Any = None, y: str = "dte_rms", label_points
         shown.add(text)
         return text
 
-    n_labels = 0
+    labels: list[tuple[float, float, str]] = []
     for b in branch.walk():
         if not b.points:
             continue
@@ -101,15 +101,15 @@ def plot_branch(branch: Branch, ax: Any = None, y: str = "dte_rms", label_points
             marker, text = ("o", "fold") if bif.kind == "fold" else ("s", "PD")
             axis.plot([bx], [by], marker, color="k", mfc="none", ms=7,
                       label=once("fold" if bif.kind == "fold" else "period doubling"))
-            if label_points:  # alternate above and below: neighbouring folds stay legible
-                axis.annotate(f"{text} {_fmt(bif.parameter, branch)}", (bx, by),
-                              xytext=(5, 6 if n_labels % 2 == 0 else -13),
-                              textcoords="offset points", fontsize=7)
-                n_labels += 1
+            labels.append((bx, by, f"{text} {_fmt(bif.parameter, branch)}"))
         graze = [g for g in b.bifurcations if g.kind == "grazing"]
         if graze:
             axis.plot([g.parameter * fx for g in graze], [getattr(g.point, y) * fy for g in graze],
                       "x", color="0.4", ms=5, label=once("grazing (contact pattern changes)"))
+    if label_points:  # in speed order, alternately above and below: neighbours stay legible
+        for j, (bx, by, text) in enumerate(sorted(labels)):
+            axis.annotate(text, (bx, by), xytext=(5, 6 if j % 2 == 0 else -13),
+                          textcoords="offset points", fontsize=7)
     axis.set_xlabel(xlabel)
     axis.set_ylabel(ylabel)
     axis.grid(True, alpha=0.3)
