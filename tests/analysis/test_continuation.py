@@ -221,6 +221,10 @@ def test_branch_rows_json_and_repr() -> None:
             "liouville_residual", "pattern"} <= set(rows[0])
     data = json.loads(json.dumps(br.to_dict()))
     assert data["parameter"] == "speed" and data["branches"][0]["n_points"] == len(br.points)
+    # the parameter derivative behind each tangent states its error: secant columns agree to
+    # SECANT_AGREEMENT = 1e-4, the central difference's one-sided quotients to O(fd_step)
+    errs = np.array([r["dp_error"] for r in rows[1:]], dtype=float)
+    assert np.all(np.isfinite(errs)) and np.all(errs < 1e-3)
     assert repr(br).startswith("Branch(period-1, speed ")
     assert "route exact" in repr(br)
 
