@@ -11,7 +11,7 @@ importing this module loads no matplotlib, and the analysis layer imports no plo
 from __future__ import annotations
 
 import importlib
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -193,7 +193,6 @@ class Branch:
     route: str = "exact"
     stop_reason: str = ""
     n_maps: int = 0
-    _cache: dict[str, Any] = field(default_factory=dict, repr=False)
 
     def __len__(self) -> int:
         return len(self.points)
