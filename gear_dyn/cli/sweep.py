@@ -151,11 +151,14 @@ def _print_summary(result: Any, scene: Any, summary: dict[str, Any], chart: str)
             lost = " (teeth in contact)"
         mark = " <- the larger" if (len(summary["curves"]) > 1
                                     and info["max_dynamic_factor"] == worst) else ""
-        print(f"  max dynamic factor, sweep {d}: {info['max_dynamic_factor']:.4f} at "
-              f"{info['max_dynamic_factor_speed_rpm']:.0f} rpm{lost}{mark}")
+        kv = info.get("iso_6336_kv_at_max")
+        beside = f", ISO K_v there {kv:.4f}" if kv is not None else ""
+        print(f"  max dynamic factor K_dyn, sweep {d}: {info['max_dynamic_factor']:.4f} at "
+              f"{info['max_dynamic_factor_speed_rpm']:.0f} rpm{beside}; peak force "
+              f"{info['max_peak_force_ratio']:.4f} W{lost}{mark}")
     if worst is not None:
-        print("  dynamic factor = peak dynamic mesh force / static load W = T1 / r_b1 "
-              "(steady window)")
+        for line in dynamic_factor_lines(summary):
+            print(f"  {line}")
     if "iso_6336_kv_max" in summary:
         print(f"  ISO 6336-1 method B K_v: max {summary['iso_6336_kv_max']:.4f} over the range "
               "(column iso_6336_kv in sweep.csv, dash-dot line in response.png)")
@@ -182,6 +185,21 @@ def _print_summary(result: Any, scene: Any, summary: dict[str, Any], chart: str)
         print("  Floquet stability charts around the scene: --chart both (stability.png)")
 
 
+def dynamic_factor_lines(summary: dict[str, Any]) -> list[str]:
+    """What the dynamic factor is, and the stiffness-jump factor beside it (not inside it)."""
+    lines = [f"dynamic factor: {summary['dynamic_factor_definition']}"]
+    qs = summary.get("quasi_static")
+    jump = summary.get("stiffness_jump_factor")
+    if qs and jump is not None:
+        name = ("stiffness-jump overshoot" if jump > 1 + qs["estimated_error"]
+                else "no stiffness-jump overshoot")
+        lines.append(f"stiffness-jump factor {jump:.4f} = quasi-static peak force / W ({name}: "
+                     "the force overshoot at the jumps of k(t), at any speed; one quasi-static "
+                     f"run at f_m = f_n x {qs['speed_ratio']:.3g}, error "
+                     f"{qs['estimated_error']:.1g}); peak force / W = K_dyn x {jump:.4f}")
+    return lines
+
+
 def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
                         ) -> dict[str, Any]:
     """Write plots, CSV and sweep.json of a sweep into ``out`` (whole or not at all)."""
@@ -203,6 +221,10 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
         dense = np.asarray(iso_kv_at(scene, rpm * RPM))
         iso_curve = (rpm, dense)
         summary["iso_6336_kv_max"] = float(np.max(dense))
+        for info in summary["curves"].values():  # K_v beside each peak K_dyn, at its speed
+            if "max_dynamic_factor_speed_rpm" in info:
+                at = iso_kv_at(scene, np.array([info["max_dynamic_factor_speed_rpm"] * RPM]))
+                info["iso_6336_kv_at_max"] = float(np.asarray(at)[0])
     charts: tuple[Any, ...] = ()
     model = build_model(scene) if chart != "none" else None
     if model is not None and model.mesh_periodic:
