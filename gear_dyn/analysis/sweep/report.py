@@ -202,7 +202,9 @@ def summarize_sweep(result: SweepResult) -> dict[str, Any]:
         "dynamic_factor_definition": DYNAMIC_FACTOR_DEFINITION,
         "stiffness_jump_factor": result.stiffness_jump_factor if qs is not None else None,
         "stiffness_jump_definition": STIFFNESS_JUMP_DEFINITION,
-        "quasi_static": dict(qs) if qs is not None else None,
+        # the reference run's figures (its time is part of the sweep's run_time_s)
+        "quasi_static": ({k: v for k, v in qs.items() if k != "run_time_s"}
+                         if qs is not None else None),
         "n_speeds": int(result.curves[0].speed.size),
         "speed_range_rpm": [float(np.min(result.curves[0].speed) / RPM),
                             float(np.max(result.curves[0].speed) / RPM)],

@@ -273,7 +273,7 @@ class SweepResult:
         speeds = np.concatenate([c.speed for c in self.curves]) / RPM
         dirs = "/".join(c.direction for c in self.curves)
         value, speed, direction = self.peak()
-        peak = (f"max dynamic factor {value:.4f} at {speed / RPM:.0f} rpm ({direction}, K_dyn)"
+        peak = (f"max dynamic factor {value:.4f} at {speed / RPM:.0f} rpm ({direction})"
                 if math.isfinite(value) else "no finite dynamic factor")
         if math.isfinite(self.stiffness_jump_factor):
             peak += f", stiffness-jump factor {self.stiffness_jump_factor:.4f}"
