@@ -143,7 +143,9 @@ def plot_sweep_response(result: SweepResult, ax: Any = None,
             unstable = np.array([s == "unstable" for s in c.status])
             _shade(ax, c.speed / RPM, unstable, row == 0 and c is result.curves[0])
         for k, (a, b) in enumerate(hyst):
-            step = (hi - lo) / max(all_rpm.size - 1, 1)
+            # half a speed step beyond the first and last speed of the range (the directions
+            # share the speeds: one curve's spacing)
+            step = (hi - lo) / max(result.curves[0].speed.size - 1, 1)
             ax.axvspan(a - step / 2, b + step / 2, color="tab:orange", alpha=0.15, lw=0,
                        label="hysteresis: up and down\non different orbits"
                        if row == 0 and k == 0 else None)
