@@ -109,13 +109,16 @@ def run(args: argparse.Namespace) -> int:
         save_figure(plot_compare(results, names, iso_kv=[_kv_curve(s, speeds) for s in scenes]),
                     tmp / "compare.png", dpi=110)
     width = max(len(n) for n in names)
-    print(f"{'scene':<{width}}  dir   max K_dyn  at rpm  ISO K_v there  F_max/W  stiffness "
-          "jump  max RMS DTE (um)  at rpm  f_m = f_n at")
+    heads = ("max K_dyn", "at rpm", "ISO K_v there", "F_max/W", "stiffness jump",
+             "max RMS DTE (um)", "at rpm")
+    print(f"{'scene':<{width}}  dir  " + "  ".join(heads) + "  f_m = f_n at")
     for r in rows:
-        print(f"{r['scene']:<{width}}  {r['direction']:<4} {r['max_dynamic_factor']:10.4f}  "
-              f"{r['max_dynamic_factor_speed_rpm']:6.0f}  {r['iso_6336_kv_at_max']:13.4f}  "
-              f"{r['max_peak_force_ratio']:7.4f}  {r['stiffness_jump_factor']:15.4f}  "
-              f"{r['max_rms_dte_m'] * 1e6:16.4g}  {r['max_rms_dte_speed_rpm']:6.0f}  "
+        values = (f"{r['max_dynamic_factor']:.4f}", f"{r['max_dynamic_factor_speed_rpm']:.0f}",
+                  f"{r['iso_6336_kv_at_max']:.4f}", f"{r['max_peak_force_ratio']:.4f}",
+                  f"{r['stiffness_jump_factor']:.4f}", f"{r['max_rms_dte_m'] * 1e6:.4g}",
+                  f"{r['max_rms_dte_speed_rpm']:.0f}")
+        cells = "  ".join(f"{v:>{len(h)}}" for v, h in zip(values, heads, strict=True))
+        print(f"{r['scene']:<{width}}  {r['direction']:<4} {cells}  "
               f"{r['resonance_speed_rpm']:.0f} rpm")
     print("K_dyn = peak dynamic mesh force / peak quasi-static mesh force of the same scene "
           "(tends to 1 at low speed, like ISO K_v); F_max/W = K_dyn x the stiffness-jump factor "

@@ -149,8 +149,10 @@ def _print_summary(result: Any, scene: Any, summary: dict[str, Any], chart: str)
             lost = f" - {what} over {share:.0%} of the mesh period there"
         else:
             lost = " (teeth in contact)"
-        mark = " <- the larger" if (len(summary["curves"]) > 1
-                                    and info["max_dynamic_factor"] == worst) else ""
+        others = [i["max_dynamic_factor"] for k, i in summary["curves"].items()
+                  if k != d and "max_dynamic_factor" in i]
+        # the larger of the directions' peaks (none where they are equal)
+        mark = " <- the larger" if others and info["max_dynamic_factor"] > max(others) else ""
         kv = info.get("iso_6336_kv_at_max")
         beside = f", ISO K_v there {kv:.4f}" if kv is not None else ""
         print(f"  max dynamic factor K_dyn, sweep {d}: {info['max_dynamic_factor']:.4f} at "

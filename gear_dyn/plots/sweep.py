@@ -13,7 +13,13 @@ from matplotlib.colors import LogNorm, TwoSlopeNorm
 
 from gear_dyn.analysis.chart import StabilityChart
 from gear_dyn.analysis.stability import UNIT_CIRCLE_TOL
-from gear_dyn.analysis.sweep import RPM, SweepCurve, SweepResult, hysteresis_ranges
+from gear_dyn.analysis.sweep import (
+    RPM,
+    SweepCurve,
+    SweepResult,
+    hysteresis_ranges,
+    periodic_response,
+)
 from gear_dyn.analysis.sweep.report import (
     RESONANCES,
     resonance_notes,
@@ -60,7 +66,9 @@ def _markers(ax: Any, c: SweepCurve, y: np.ndarray, legend: bool, nonlinear: boo
         return text if legend and text not in shown else None
     sep = np.nan_to_num(c.separation) > 0
     back = np.nan_to_num(c.backside) > 0
-    aper = np.array([s == "aperiodic" for s in c.status])
+    # no periodic orbit: steady method "aperiodic", transient method a window that does not
+    # repeat after one mesh period (unstable speeds are shaded instead)
+    aper = ~periodic_response(c) & np.array([s != "unstable" for s in c.status])
     if np.any(sep):  # a legend entry only for what the sweep shows
         text = ("teeth separate" if nonlinear else
                 "F < 0: linear model invalid here,\nadd [backlash]")
@@ -301,12 +309,13 @@ def plot_waterfall(result: SweepResult, direction: str | None = None, floor: flo
                     c=amp[keep], s=10, cmap="viridis", norm=LogNorm(vmin=floor * top, vmax=top))
     fig.colorbar(sc, ax=ax, label="DTE amplitude (µm)")
     fmax = float(np.max(freq)) / 1e3
+    span = float(rpm[-1] - rpm[0]) or 1.0
     for k in range(1, result.options.harmonics + 1):
         ax.plot(k * fm / 1e3, rpm, color="0.45", lw=0.7, ls="--",
                 label="mesh orders k f_m" if k == 1 else None)
         x_end = k * fm[-1] / 1e3
         if x_end <= fmax:
-            ax.text(x_end, rpm[-1], f" {k} f_m", fontsize=8, color="0.25", ha="left",
+            ax.text(x_end, rpm[-1] + 0.015 * span, f" {k} f_m", fontsize=8, color="0.25", ha="left",
                     va="bottom", rotation=0, clip_on=False)
     fn = result.natural_frequency
     if np.isfinite(fn):
@@ -314,8 +323,9 @@ def plot_waterfall(result: SweepResult, direction: str | None = None, floor: flo
     ax.legend(loc="lower right", fontsize=8)
     ax.set_xlabel("frequency (kHz)")
     ax.set_ylabel("pinion speed (rpm)")
-    ax.set_xlim(0, fmax * 1.04)
-    ax.set_ylim(rpm[0], rpm[-1] + 0.06 * (rpm[-1] - rpm[0] or 1.0))
+    ax.set_xlim(0, fmax * 1.1)  # room for the " 5 f_m" labels at the top ends
+    # whole dots at both ends, the order labels above the top row
+    ax.set_ylim(rpm[0] - 0.03 * span, rpm[-1] + 0.08 * span)
     ax.grid(alpha=0.3)
     ax.set_title(f"{result.scene_name}: DTE spectra over speed (sweep {c.direction}); "
                  f"orders k/{result.options.window_periods} of f_m", fontsize=10)
