@@ -309,7 +309,7 @@ def _mark_physics(ax: Any, marks: Marks, top: int, fmax: float) -> None:
     for label, fs in marks.shafts:
         ax.axvline(fs, color="tab:purple", ls="-.", lw=0.7)
         ax.text(fs, 0.55 if label == "f1" else 0.3, f" {label} = {fs:.3g} Hz", transform=trans,
-                color="tab:purple", fontsize=7)
+                color="tab:purple", fontsize=7, bbox=_BOX)  # legible over the curve
 
 
 def _sideband_zoom(ax: Any, f: Any, amp: Any, marks: Marks, scale: str,
