@@ -16,11 +16,15 @@ def register(sub: Any) -> None:
     p = sub.add_parser(
         "sweep", help="sweep a scene over pinion speeds: dynamic factor, DTE, jumps, stability",
         description="Evaluate SCENE at N pinion speeds from START to STOP and write into DIR: "
-        "response.png (dynamic factor, RMS and peak-to-peak DTE against speed and f_m/f_n; up "
+        "response.png (dynamic factor K_dyn beside ISO 6336-1 K_v, peak force / W on its right "
+        "axis, RMS and peak-to-peak DTE against speed and f_m/f_n; up "
         "and down sweeps for scenes with backlash; separation, back-side contact and "
         "instability marked), waterfall.png (DTE spectra over speed), with --chart stability.png "
         "(Floquet stability chart over f_m/f_n and stiffness variation or damping), "
-        "sweep.csv, spectra.csv and sweep.json. DIR is replaced as a whole only on success.",
+        "sweep.csv, spectra.csv and sweep.json. K_dyn = peak dynamic mesh force / peak "
+        "quasi-static mesh force, as gear-dyn run states it (one quasi-static run per sweep); "
+        "the stiffness-jump factor (peak force / W = K_dyn x that factor) is printed beside it. "
+        "DIR is replaced as a whole only on success.",
         epilog="examples: gear-dyn sweep scene.toml --speeds '500 rpm:12000 rpm:300' --out out; "
         "on a Dask cluster: --dask tcp://scheduler:8786",
     )

@@ -167,7 +167,7 @@ def plot_sweep_response(result: SweepResult, ax: Any = None,
             for d, v, s in sweep_peaks(result):
                 ax.plot([s], [v], "*", ms=11, mec="k", mew=0.6,
                         color=_STYLE.get(d, {}).get("color", "tab:blue"),
-                        label=f"peak {v:.3f} at {s:.0f} rpm" + (f" ({d})"
+                        label=f"peak K_dyn {v:.3f} at {s:.0f} rpm" + (f" ({d})"
                                                                  if len(result.curves) > 1
                                                                  else ""))
     axes[-1].set_xlabel("pinion speed (rpm)")
