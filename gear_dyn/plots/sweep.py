@@ -191,7 +191,7 @@ def plot_sweep_response(result: SweepResult, ax: Any = None,
         title += "\n" + "; ".join(notes)
     if own:  # a caller's figure keeps its own title
         fig.suptitle(title, fontsize=10)
-    _layout(fig, own, left=0.08, right=0.7, bottom=0.06, top=0.88, hspace=0.12)
+    _layout(fig, own, left=0.08, right=0.68, bottom=0.06, top=0.88, hspace=0.12)
     return fig
 
 
