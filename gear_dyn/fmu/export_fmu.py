@@ -129,8 +129,8 @@ def _attr(a: dict[str, str], keys: tuple[str, ...]) -> str:
     return " ".join(f"{k}={quoteattr(a[k])}" for k in keys if k in a)
 
 
-def model_description(nm: NativeModel | TorsionalNative, ident: str, scene_name: str, stop_time: float,
-                      step: float, fmi: int = 2) -> str:
+def model_description(nm: NativeModel | TorsionalNative, ident: str, scene_name: str,
+                      stop_time: float, step: float, fmi: int = 2) -> str:
     """The FMI 2.0 or 3.0 ``modelDescription.xml`` of a native model."""
     rows = _variables(nm)
     head = ("name", "valueReference", "causality", "variability")
