@@ -23,7 +23,13 @@ from typing import Any
 import numpy as np
 import pytest
 
-from gear_dyn.fmu.export_c import NATIVE_DIR, TORSIONAL_OUTPUTS, compile_shared, model_data_c
+from gear_dyn.fmu.export_c import (
+    KERNEL_SOURCES,
+    NATIVE_DIR,
+    TORSIONAL_OUTPUTS,
+    compile_shared,
+    model_data_c,
+)
 from gear_dyn.fmu.export_torsional import TorsionalNative, torsional_native
 from gear_dyn.scene import build_pair, build_plan, load_scene
 from gear_dyn.scene.packaged import resolve_scene
@@ -58,8 +64,8 @@ def reference(name: str) -> Any:
 
 def kernel(tmp: Path, nm: TorsionalNative) -> ctypes.CDLL:
     (tmp / "model_data.c").write_text(model_data_c(nm, "test"))
-    so = compile_shared([NATIVE_DIR / "gd_kernel.c", NATIVE_DIR / "gd_torsional.c",
-                         tmp / "model_data.c"], tmp / "kernel.so")
+    so = compile_shared([*(NATIVE_DIR / k for k in KERNEL_SOURCES), tmp / "model_data.c"],
+                        tmp / "kernel.so")
     lib = ctypes.CDLL(str(so))
     lib.gd_advance.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_double]
     lib.gd_start.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_double]
@@ -115,7 +121,7 @@ def test_kernel_under_sanitizers(tmp_path: Path) -> None:
         exe = tmp_path / f"drv{fmi}"
         cmd = [cc, "-std=c99", "-g", "-Wall", "-Wextra", "-Werror", "-pedantic",
                "-fsanitize=address,undefined", "-fno-sanitize-recover=all", f"-I{NATIVE_DIR}",
-               str(drv), str(NATIVE_DIR / "gd_kernel.c"), str(NATIVE_DIR / "gd_torsional.c"),
+               str(drv), *(str(NATIVE_DIR / k) for k in KERNEL_SOURCES),
                str(NATIVE_DIR / f"gd_fmi{fmi}.c"), str(tmp_path / "model_data.c"), "-o",
                str(exe), "-lm"]
         subprocess.run(cmd, check=True, capture_output=True)
