@@ -1,10 +1,10 @@
 """Build the native FMU of a scene: model description, C sources and the Linux binary in a zip.
 
-``build_native_fmu(scene, out)`` exports the single-DOF model as tables
-(:mod:`gear_dyn.fmu.export`), writes ``model_data.c`` (:mod:`gear_dyn.fmu.export_c`), compiles it
-with the fixed kernel and the FMI 2.0 or 3.0 glue by the system compiler and zips the FMU with its
-sources (FMI 2 ``<SourceFiles>``, FMI 3 ``sources/buildDescription.xml``), so that an importer
-can rebuild it for its own platform.
+``build_native_fmu(scene, out)`` exports the single-DOF model (:mod:`gear_dyn.fmu.export`) or
+the torsional model (:mod:`gear_dyn.fmu.export_torsional`) as tables, writes ``model_data.c``
+(:mod:`gear_dyn.fmu.export_c`), compiles it with the fixed kernel and the FMI 2.0 or 3.0 glue by
+the system compiler and zips the FMU with its sources (FMI 2 ``<SourceFiles>``, FMI 3
+``sources/buildDescription.xml``), so that an importer can rebuild it for its own platform.
 """
 
 from __future__ import annotations
