@@ -98,12 +98,8 @@ def run_build(args: argparse.Namespace) -> int:
           f"(FMI {args.fmi}.0 co-simulation) "
           f"(model identifier {built.model_identifier}; {n_par} parameters, {n_in} inputs, "
           f"{n_out} outputs)")
-    if built.c_host_missing is None:
-        print("C hosts: boot library libgear_dyn_pyboot_<id>.so added (runs in any "
-              "FMI host on this machine's Python, see docs/fmu.md)")
-    else:
-        print(f"C hosts: not supported by this FMU ({built.c_host_missing}); it runs in "
-              "Python hosts (fmpy) only")
+    print("hosts: Python hosts (fmpy) on this machine's Python; for other hosts build the "
+          "native FMU (docs/fmu.md)")
     if not args.no_validate:
         with Stages(["validate (fmpy)"], args.quiet):
             problems = _problems(built.path)
