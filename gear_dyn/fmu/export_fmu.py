@@ -243,10 +243,8 @@ def build_native_fmu(target: str | Path, out: Path, fmi: int = 2,
     scene = load_fmu_scene(target)
     plan = build_plan(scene)
     op = scene.get("operating")
-    from gear_dyn.models.torsional import TorsionalModel
-
     nm: NativeModel | TorsionalNative
-    if isinstance(plan.model, TorsionalModel):
+    if not plan.model.mesh_periodic:  # the torsional model (Model protocol: not one mesh eq.)
         nm = torsional_native(plan.model, build_pair(scene), tolerance)
     else:
         nm = native_model(plan.model, build_pair(scene), op["speed"], op["torque"], tolerance,

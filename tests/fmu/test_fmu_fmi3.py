@@ -171,8 +171,8 @@ def test_fmi3_bad_parameter_is_refused_and_instance_survives(
         vr = s.vars["gear.teeth_pinion"].valueReference
         with pytest.raises(FMICallException) as info:
             s.fmu.setInt32([vr], [0])
-        assert info.value.status == 4
-        assert len(s.messages) == 1 and s.messages[0][0] == 3
+        assert info.value.status == 4  # the slave's message, then pythonfmu3's technical one
+        assert s.messages[0][0] == 3 and len(s.messages) <= 2, s.messages
         assert re.search(r"gear\.teeth_pinion = '0'.*valid range 5 <= x <= 10000",
                          s.messages[0][1])
         assert s.fmu.getInt32([vr]) == [23]
@@ -184,7 +184,8 @@ def test_fmi3_bad_parameter_is_refused_and_instance_survives(
         s.set({"gear.addendum_coef": 0.5})  # valid alone, but the pair no longer meshes
         with pytest.raises(FMICallException) as info:
             s.fmu.exitInitializationMode()
-        assert info.value.status == 4 and "contact_ratio" in s.messages[-1][1]
+        assert info.value.status == 4
+        assert any("contact_ratio" in m[1] for m in s.messages[-2:] if m[0] == 3), s.messages
         s.set({"gear.addendum_coef": 1.0})
         s.fmu.exitInitializationMode()
         rows = [s.get(names)]
