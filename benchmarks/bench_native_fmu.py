@@ -149,7 +149,7 @@ def main() -> None:
         py_us: dict[str, list[float]] = {f: [] for f in fmus}
         for _ in range(args.repeats):
             for name, (fmu, kind) in fmus.items():
-                if kind != "python":  # the pythonfmu binary needs its boot library in C
+                if kind != "python":  # the pythonfmu FMU runs in Python hosts only
                     c_ns[name].append(_c_host_ns(exe, fmu, d, step_of(name)))
                 n = n_values if kind == "trivial" else len(hosts.describe(fmu).outputs)
                 py_us[name].append(_fmpy_us(fmu, d, n, step_of(name)))
