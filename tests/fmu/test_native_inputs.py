@@ -32,7 +32,7 @@ from gear_dyn.scene.packaged import resolve_scene
 from gear_dyn.solvers.integrate import integrate
 from gear_dyn.solvers.settings import SolverSettings
 
-pytestmark = [pytest.mark.fmu,
+pytestmark = [pytest.mark.fmu, pytest.mark.slow,  # builds five native FMUs (about 30 s)
               pytest.mark.skipif(shutil.which("cc") is None, reason="no C compiler (cc) on PATH")]
 fmpy = pytest.importorskip("fmpy")
 
