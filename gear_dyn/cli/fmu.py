@@ -32,10 +32,10 @@ def register(sub: Any) -> None:
                    help="FMI version: 2 (default) or 3 (the pythonfmu backend needs pythonfmu3: "
                    "pip install 'gear_dyn[fmi3]')")
     b.add_argument("--backend", default=None, choices=("native", "python"),
-                   help="native (the default for single-DOF scenes, FMI 2 and 3): C kernel "
-                   "compiled now, needs no Python on the importing machine; python: the "
-                   "pythonfmu FMU, every scene key a parameter (the default, with a note, for "
-                   "the torsional model, which has no native kernel yet)")
+                   help="native (the default, FMI 2 and 3): C kernel compiled now, needs no "
+                   "Python on the importing machine; python: the pythonfmu FMU, every scene "
+                   "key a parameter (the default, with a note, where no native FMU can be "
+                   "built: a torsional model with backlash or TE, or an FMU over 500 KB)")
     b.add_argument("--no-validate", action="store_true",
                    help="skip the fmpy validation of the built FMU")
     add_quiet_flag(b)
@@ -98,12 +98,8 @@ def run_build(args: argparse.Namespace) -> int:
           f"(FMI {args.fmi}.0 co-simulation) "
           f"(model identifier {built.model_identifier}; {n_par} parameters, {n_in} inputs, "
           f"{n_out} outputs)")
-    if built.c_host_missing is None:
-        print("C hosts: boot library libgear_dyn_pyboot_<id>.so added (runs in any "
-              "FMI host on this machine's Python, see docs/fmu.md)")
-    else:
-        print(f"C hosts: not supported by this FMU ({built.c_host_missing}); it runs in "
-              "Python hosts (fmpy) only")
+    print("hosts: Python hosts (fmpy) on this machine's Python; for other hosts build the "
+          "native FMU (docs/fmu.md)")
     if not args.no_validate:
         with Stages(["validate (fmpy)"], args.quiet):
             problems = _problems(built.path)

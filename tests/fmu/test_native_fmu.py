@@ -254,8 +254,9 @@ def test_relief_fmu_says_its_tables_are_fixed_at_the_build_torque(native_fmus) -
 def test_cli_builds_native_by_default_and_falls_back_for_torsional(
         tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     """`fmu build` of a single-DOF scene: the native FMU (FMI 3 here: x86_64-linux binary and
-    buildDescription.xml). Of a torsional scene: the pythonfmu FMU with one line naming the
-    backend and why; with --backend native explicitly: exit 2 naming --backend python."""
+    buildDescription.xml); of the error-free torsional scene too. Of the eccentric torsional
+    scene, whose table makes an FMU over the size limit: the pythonfmu FMU with one line naming
+    the backend and why; with --backend native explicitly: exit 2 naming --backend python."""
     import zipfile
 
     from gear_dyn.cli.app import main
@@ -267,6 +268,11 @@ def test_cli_builds_native_by_default_and_falls_back_for_torsional(
     assert "binaries/x86_64-linux/gd_helicopter_tail.so" in names
     assert "sources/buildDescription.xml" in names and "sources/gd_fmi3.c" in names
     assert "native FMU" in capsys.readouterr().out
+    ideal = tmp_path / "ideal.fmu"
+    assert main(["fmu", "build", "eccentric_helical_ideal", "--out", str(ideal),
+                 "--no-validate", "--quiet"]) == 0
+    assert capsys.readouterr().out.startswith("eccentric_helical_ideal: native FMU")
+    assert "binaries/linux64/gd_eccentric_helical_ideal.so" in zipfile.ZipFile(ideal).namelist()
     ecc = tmp_path / "ecc.fmu"
     assert main(["fmu", "build", "eccentric_helical", "--backend", "native", "--out", str(ecc),
                  "--quiet"]) == 2
@@ -275,6 +281,7 @@ def test_cli_builds_native_by_default_and_falls_back_for_torsional(
     assert main(["fmu", "build", "eccentric_helical", "--out", str(ecc), "--no-validate",
                  "--quiet"]) == 0
     lines = capsys.readouterr().out.splitlines()
-    assert lines[0] == ("backend: python (pythonfmu), because the TorsionalModel model has no "
-                        "native kernel yet (single-DOF scenes only)")
+    assert re.fullmatch(r"backend: python \(pythonfmu\), because its table \(3780 pieces over 630 "
+                        r"mesh cycles\) makes a native FMU of at least \d+ kB \(its "
+                        r"model_data.c alone\), over the 500 kB limit", lines[0]), lines[0]
     assert any(n.startswith("resources/pythonfmu/") for n in zipfile.ZipFile(ecc).namelist())
