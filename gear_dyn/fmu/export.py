@@ -55,7 +55,7 @@ RK_ERROR = 1e-6
 
 
 class NotNativeError(InputError):
-    """The scene has no native FMU (a part the kernel lacks, or a table over the size limit):
+    """The scene has no native FMU (a part the kernel lacks, or a table over a requested size):
     build the pythonfmu FMU instead.
 
     Attributes
