@@ -5,10 +5,13 @@ the torsional model (:mod:`gear_dyn.fmu.export_torsional`) as tables, writes ``m
 (:mod:`gear_dyn.fmu.export_c`), compiles it with the fixed kernel and the FMI 2.0 or 3.0 glue by
 the system compiler and zips the FMU with its sources (FMI 2 ``<SourceFiles>``, FMI 3
 ``sources/buildDescription.xml``), so that an importer can rebuild it for its own platform.
+``resources/gear_dyn_native.json`` records the scene it was built from (SI tables and the
+default experiment; :mod:`gear_dyn.fmu.fmu_info`): `gear-dyn cosim` runs it as the reference.
 """
 
 from __future__ import annotations
 
+import json
 import re
 import tempfile
 import uuid
@@ -34,7 +37,9 @@ from gear_dyn.fmu.export_c import (
     start_values,
 )
 from gear_dyn.fmu.export_torsional import TorsionalNative, torsional_native
+from gear_dyn.fmu.fmu_info import NATIVE_FILE
 from gear_dyn.fmu.toolchain import compile_binaries
+from gear_dyn.fmu.variables import scene_record
 from gear_dyn.io import write_bytes
 
 #: SI base-unit exponents of the units the FMU uses
@@ -282,6 +287,9 @@ def build_native_fmu(target: str | Path, out: Path, fmi: int = 2,
         buf = d / "fmu.zip"
         with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as z:
             z.writestr("modelDescription.xml", xml)
+            # the scene it was built from: what `gear-dyn cosim` runs as its reference
+            z.writestr(f"resources/{NATIVE_FILE}", json.dumps(scene_record(scene, plan),
+                                                             indent=1))
             for folder, library in binaries.items():
                 z.write(library, f"binaries/{folder}/{library.name}")
             for s in srcs:

@@ -153,15 +153,22 @@ def fmu_spec(scene: Scene) -> dict[str, Any]:
         unit, doc = OUTPUTS.get(name, ("", f"model output {name}"))
         variables.append({"name": name, "type": "Real", "causality": "output",
                           "variability": "continuous", "unit": unit, "description": doc})
-    f_m = model.mesh_frequency
+    return {**scene_record(scene, plan), "variables": variables}
+
+
+def scene_record(scene: Scene, plan: Any) -> dict[str, Any]:
+    """The scene an FMU was built from, as plain JSON: format, model, name, source, SI tables,
+    the default experiment and the mesh frequency (the FMU spec without its variables; the
+    native FMU stores this alone, :mod:`gear_dyn.fmu.fmu_info`). ``plan``: the scene's
+    ``build_plan``."""
+    f_m = plan.model.mesh_frequency
     spp = scene.get("solver")["samples_per_period"]
     return {
         "format": SPEC_FORMAT,
-        "model": kind,
+        "model": scene.get("scene")["model"],
         "scene_name": scene.name,
         "source": scene.source,
         "tables": _jsonable(scene.tables),
-        "variables": variables,
         "experiment": {"start_time": 0.0, "stop_time": float(plan.t_end),
                        "step_size": 1.0 / (f_m * spp), "tolerance": plan.settings.rtol,
                        "steady_start": float(plan.steady_start)},

@@ -23,7 +23,8 @@ def _label(name: str) -> tuple[str, str, float]:
 
 def overlay_figure(report: Any, periods: float = 5.0, ax: Any = None) -> Any:
     """FMU (finest communication step) over the solve_ivp reference for the last ``periods``
-    mesh periods, one row per output, with the difference below each.
+    mesh periods, one row per output, with the difference below each; the DTE difference with
+    the band the verdict allows (``report.bounds``, if any) and the verdict in the title.
 
     ``report``: a CosimReport; ``ax``: 2 Axes per output (overlay, difference) or None.
     """
@@ -45,17 +46,26 @@ def overlay_figure(report: Any, periods: float = 5.0, ax: Any = None) -> Any:
         a.set_ylabel(f"{title} ({unit})")
         a.legend(loc="upper right", fontsize=8)
         d.plot(tm, (report.fmu_y[i][keep] - report.ref_y[i][keep]) * f, color="tab:red", lw=0.8)
+        bounds = getattr(report, "bounds", None)
+        if name == "dte" and bounds is not None:
+            for sign in (1, -1):
+                d.axhline(sign * bounds.total * f, color="0.4", lw=0.8, ls=":",
+                          label="allowed (FMU + solve_ivp error)" if sign > 0 else None)
+            d.legend(loc="upper right", fontsize=7)
         d.set_ylabel(f"diff ({unit})")
     axes[-1].set_xlabel("time (ms)")
+    verdict = ""
+    if getattr(report, "bounds", None) is not None:
+        verdict = f": {'PASS' if report.passed else 'FAIL'}"
     axes[0].set_title(f"{report.scene_name}: FMU ({report.fmu_method}) against solve_ivp "
-                      f"(rtol {report.rtol:g})")
+                      f"(rtol {report.rtol:g}){verdict}")
     tidy(fig)
     return fig
 
 
 def convergence_figure(report: Any, ax: Any = None) -> Any:
     """Max and RMS difference (relative to each output's RMS) and FMU run time per step,
-    against the communication step.
+    against the communication step; the DTE difference the verdict allows, if any.
 
     ``report``: a CosimReport; ``ax``: 2 Axes (difference, run time) or None.
     """
@@ -68,6 +78,10 @@ def convergence_figure(report: Any, ax: Any = None) -> Any:
         a.loglog(hs, [max(s.rms_diff[name] / scale, 1e-17) for s in report.steps], "s--",
                  label=f"{name} RMS")
     a.axhline(report.rtol, color="0.5", lw=0.8, ls=":", label="rtol")
+    bounds = getattr(report, "bounds", None)
+    if bounds is not None and "dte" in report.scales:
+        a.axhline(bounds.total / report.scales["dte"], color="tab:blue", lw=1.0, ls="-.",
+                  label="allowed dte max (verdict)")
     a.set_xlabel("communication step (us)")
     a.set_ylabel("|FMU - solve_ivp| / RMS of the output")
     a.legend(fontsize=8)
