@@ -48,6 +48,11 @@ _EXPORTS: dict[str, str] = {
     "sweep_scene": "gear_dyn.scene.sweep",
     "SweepOptions": "gear_dyn.analysis.sweep.types",
     "SweepResult": "gear_dyn.analysis.sweep.types",
+    "BifurcationDiagram": "gear_dyn.analysis.motion.diagram",
+    "DiagramOptions": "gear_dyn.analysis.motion.diagram",
+    "bifurcation_diagram": "gear_dyn.analysis.motion.diagram",
+    "Motion": "gear_dyn.analysis.motion.classify",
+    "classify_motion": "gear_dyn.analysis.motion.classify",
     "Result": "gear_dyn.solvers.result",
     "SolverSettings": "gear_dyn.solvers.settings",
     "simulate": "gear_dyn.analysis.study",
@@ -62,6 +67,12 @@ _EXPORTS: dict[str, str] = {
 __all__ = sorted(_EXPORTS)
 
 if TYPE_CHECKING:  # what type checkers and IDEs see; at run time the names load lazily
+    from gear_dyn.analysis.motion.classify import Motion, classify_motion
+    from gear_dyn.analysis.motion.diagram import (
+        BifurcationDiagram,
+        DiagramOptions,
+        bifurcation_diagram,
+    )
     from gear_dyn.analysis.report import summarize
     from gear_dyn.analysis.study import simulate
     from gear_dyn.analysis.sweep.types import SweepOptions, SweepResult

@@ -51,6 +51,8 @@ def test_public_api_names_unchanged() -> None:
         "SolverSettings", "iso6336_stiffness", "load_scene", "mesh_frequency", "output_speed",
         "parse_scene", "rectangular_stiffness", "run_scene", "sdof_from_pair", "simulate",
         "summarize", "sweep_scene", "SweepOptions", "SweepResult",
+        "BifurcationDiagram", "DiagramOptions", "bifurcation_diagram", "Motion",
+        "classify_motion",
     }
     with pytest.raises(AttributeError, match="no attribute 'nope'"):
         gear_dyn.nope  # noqa: B018

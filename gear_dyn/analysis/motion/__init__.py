@@ -19,13 +19,21 @@ from gear_dyn.analysis.motion.classify import (
     classify_motion,
     classify_samples,
     confirm_period,
+    find_orbit,
+)
+from gear_dyn.analysis.motion.diagram import (
+    BifurcationDiagram,
+    DiagramCurve,
+    DiagramOptions,
+    bifurcation_diagram,
 )
 from gear_dyn.analysis.motion.lyapunov import LyapunovEstimate, largest_lyapunov
 from gear_dyn.analysis.motion.period import MAX_PERIOD, detect_period, repeat_errors
 from gear_dyn.analysis.motion.samples import flow_periods, propagator, stroboscopic
 
 __all__ = [
-    "KINDS", "MAX_PERIOD", "LyapunovEstimate", "Motion", "classify_motion", "classify_samples",
-    "confirm_period", "detect_period", "flow_periods", "largest_lyapunov", "propagator",
-    "repeat_errors", "stroboscopic",
+    "KINDS", "MAX_PERIOD", "BifurcationDiagram", "DiagramCurve", "DiagramOptions",
+    "LyapunovEstimate", "Motion", "bifurcation_diagram", "classify_motion", "classify_samples",
+    "confirm_period", "detect_period", "find_orbit", "flow_periods", "largest_lyapunov",
+    "propagator", "repeat_errors", "stroboscopic",
 ]

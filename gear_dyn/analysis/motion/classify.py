@@ -178,7 +178,7 @@ def classify_samples(model: MeshModel, samples: FloatArray, rtol: float = 1e-10,
     scale = np.asarray(model.state_scale, dtype=float)
     if not np.all(np.isfinite(samples)) or np.max(np.abs(samples) / scale) > UNBOUNDED:
         return Motion("unbounded", 0, "unbounded", samples[-1].copy(), samples)
-    found, iters = _find_orbit(model, samples, rtol, max_newton, 0)
+    found, iters = find_orbit(model, samples, rtol, max_newton)
     if found is not None:
         return found
     est = largest_lyapunov(model, samples[-1], lyapunov_periods, lyapunov_block, rtol=rtol,
@@ -193,7 +193,7 @@ def classify_samples(model: MeshModel, samples: FloatArray, rtol: float = 1e-10,
         label = f"chaotic, {lyapunov_label(est)}"
     else:  # still converging: on an orbit of more than 16 periods, or not there yet
         again = stroboscopic(model, est.y_end, 0, samples.shape[0], rtol)
-        found, iters = _find_orbit(model, again, rtol, max_newton, iters)
+        found, iters = find_orbit(model, again, rtol, max_newton, iters)
         if found is not None:
             return found
         kind = "not settled"
@@ -202,11 +202,29 @@ def classify_samples(model: MeshModel, samples: FloatArray, rtol: float = 1e-10,
                   repeat_errors(samples, scale), iters)
 
 
-def _find_orbit(model: MeshModel, samples: FloatArray, rtol: float, max_newton: int,
-                iters: int) -> tuple[Motion | None, int]:
-    """A stable orbit of n <= 16 mesh periods suggested by the samples and confirmed by
-    shooting from the last sample (the most settled), the periods tried in increasing order;
-    None if there is none. Also returns the Newton iterations spent, added to ``iters``."""
+def find_orbit(model: MeshModel, samples: FloatArray, rtol: float = 1e-10, max_newton: int = 15,
+               iters: int = 0) -> tuple[Motion | None, int]:
+    """A stable orbit of n <= 16 mesh periods that the samples suggest, confirmed by shooting.
+
+    The periods after which the samples repeat to :data:`TRY_TOL` state scales are tried in
+    increasing order (multiples of one tried already skipped), shooting from the last sample
+    (the most settled).
+
+    Parameters
+    ----------
+    model : MeshModel
+    samples : ndarray (n_samples, n_states)
+        Stroboscopic samples, at least 32, SI units.
+    rtol, max_newton
+        As :func:`confirm_period`.
+    iters : int
+        Newton iterations spent so far (added to).
+
+    Returns
+    -------
+    (Motion or None, int)
+        The periodic motion (None if no period was confirmed) and the Newton iterations.
+    """
     scale = np.asarray(model.state_scale, dtype=float)
     err = repeat_errors(samples, scale)
     tried = [n for n in range(1, MAX_PERIOD + 1) if err[n - 1] <= TRY_TOL]

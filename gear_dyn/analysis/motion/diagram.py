@@ -29,8 +29,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.analysis.executor import MapFn, task_map
-from gear_dyn.analysis.motion.classify import classify_samples
-from gear_dyn.analysis.motion.period import MAX_PERIOD, detect_period
+from gear_dyn.analysis.motion.classify import Motion, classify_samples, find_orbit
+from gear_dyn.analysis.motion.period import MAX_PERIOD
 from gear_dyn.analysis.motion.samples import stroboscopic
 from gear_dyn.errors import InputError, SolverError, check_range
 from gear_dyn.models.base import Model
@@ -56,9 +56,11 @@ class DiagramOptions:
     samples : int
         Stroboscopic samples kept per speed (32..1e5).
     classify : bool
-        Also classify each speed (:func:`gear_dyn.analysis.motion.classify_samples`: period-n
-        confirmed by shooting, else the Lyapunov exponent); False: the period only as the
-        samples suggest it (repeating to 1e-6 of the state scale), unconfirmed.
+        Where no orbit of 1..16 mesh periods is confirmed, classify the motion by its Lyapunov
+        exponent (:func:`gear_dyn.analysis.motion.classify_samples`: quasi-periodic or
+        chaotic); False: such speeds are left unlabelled. Periods are always confirmed by
+        shooting (:func:`gear_dyn.analysis.motion.find_orbit`), and a confirmed orbit's samples
+        are taken on the orbit itself.
     lyapunov_periods : int
         Mesh periods of each Lyapunov estimate where ``classify`` (20..1e6).
     rtol : float
@@ -111,18 +113,22 @@ def _run_task(task: _Task) -> tuple[list[_Speed], FloatArray | None]:
                               0, f"unbounded ({exc})", nan, nan))
             y = None
             continue
-        y = strobe[-1]
         if opts.classify:
-            motion = classify_samples(model, strobe, opts.rtol, opts.lyapunov_periods,
-                                      max(10, opts.lyapunov_periods // 10))
-            est = motion.lyapunov
-            out.append(_Speed(s, model.mesh_frequency, strobe, motion.period, motion.label,
-                              nan if est is None else est.value,
-                              nan if est is None else est.error))
-            y = motion.state
+            motion: Motion | None = classify_samples(
+                model, strobe, opts.rtol, opts.lyapunov_periods,
+                max(10, opts.lyapunov_periods // 10))
         else:
-            n = detect_period(strobe, model.state_scale, 1e-6)
-            out.append(_Speed(s, model.mesh_frequency, strobe, n, "", nan, nan))
+            motion, _iters = find_orbit(model, strobe, opts.rtol)
+        if motion is None:  # not classified, no orbit confirmed
+            out.append(_Speed(s, model.mesh_frequency, strobe, 0, "", nan, nan))
+            y = strobe[-1]
+            continue
+        if motion.periodic:  # the orbit itself, sampled: no settling remainder drawn
+            strobe = stroboscopic(model, motion.state, 0, opts.samples, opts.rtol)
+        est = motion.lyapunov
+        out.append(_Speed(s, model.mesh_frequency, strobe, motion.period, motion.label,
+                          nan if est is None else est.value, nan if est is None else est.error))
+        y = motion.state
     return out, y
 
 
@@ -141,12 +147,11 @@ class DiagramCurve:
     samples : ndarray (n, n_samples, n_states)
         Stroboscopic samples at each speed, SI units.
     period : ndarray of int (n,)
-        Period in mesh periods (0: none of 1..16): confirmed by shooting where the diagram
-        was classified, else as the samples suggest it.
+        Least period in mesh periods of the orbit confirmed by shooting (0: none of 1..16).
     label : tuple of str
-        The motion's label where classified (``period-4``, ``chaotic, lambda = ...``), else
-        "". Where the response diverged: ``unbounded (the solver's message)``, the samples NaN,
-        and the next speed starts from the static state.
+        The motion's label (``period-4``; where classified ``chaotic, lambda = ...``,
+        ``quasi-periodic, ...``), else "". Where the response diverged: ``unbounded (the
+        solver's message)``, the samples NaN, and the next speed starts from the static state.
     lyapunov, lyapunov_error : ndarray (n,)
         Largest Lyapunov exponent and its standard error in 1/s where computed, else NaN.
     """
