@@ -55,20 +55,26 @@ def plot_bifurcation(diagram: BifurcationDiagram, ax: Any = None, state: str = "
                 np.min(np.diff(np.sort(c.speed)))) / RPM
         axes.plot(rpm + shift, c.samples[:, :, i].ravel() * factor, ls="none", ms=2.5,
                   alpha=0.7, label=f"sweep {c.direction}", **_STYLE[c.direction])
+    gone = [c.speed[i] / RPM for c in diagram.curves for i in range(c.speed.size)
+            if c.label[i] == "unbounded"]
+    if gone:
+        axes.plot(gone, np.zeros(len(gone)), ls="none", marker="|", ms=10, color="0.4",
+                  transform=axes.get_xaxis_transform(), clip_on=False,
+                  label="unbounded (diverges)")
     axes.set_xlabel("pinion speed (rpm)")
     axes.set_ylabel(f"{state} at t = k T_m ({unit})")
     if title is None:
         name = f"{diagram.scene_name}: " if diagram.scene_name else ""
         title = (f"{name}bifurcation diagram ({diagram.options.samples} samples per speed "
                  f"after {diagram.options.settle} mesh periods)")
-    axes.set_title(title, fontsize=10, pad=24 if np.isfinite(diagram.natural_frequency) else 6)
+    axes.set_title(title, fontsize=10, pad=20 if np.isfinite(diagram.natural_frequency) else 6)
     fn = diagram.natural_frequency
     z1 = _teeth(diagram)
     if np.isfinite(fn) and z1:
         per = fn * 60.0 / z1  # rpm per unit f_m / f_n
         top = axes.secondary_xaxis("top", functions=(lambda r: r / per, lambda q: q * per))
         top.set_xlabel("f_m / f_n")
-    axes.legend(loc="best", fontsize=8, markerscale=3)
+    axes.legend(loc="best", fontsize=8, markerscale=2)
     axes.grid(alpha=0.3)
     tidy(fig)
     return fig

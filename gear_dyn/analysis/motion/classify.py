@@ -7,12 +7,15 @@ From the stroboscopic samples (one per mesh period after settling,
    confirmed by shooting over n mesh periods (:func:`gear_dyn.analysis.stability.shoot`):
    Newton closes the orbit and its Floquet multipliers are inside the unit circle. The label
    is ``period-n`` with n the orbit's least period;
-2. otherwise the largest Lyapunov exponent (:mod:`.lyapunov`) decides: significantly positive
-   (more than three standard errors and more than :data:`ZERO_BAND` per mesh period) is
-   ``chaotic``; zero within those bounds is ``quasi-periodic`` (the motion on a torus neither
-   grows nor shrinks along it: Parker & Chua 1989, sec. 6.3); significantly negative means the
-   trajectory still converges on an orbit: the samples after the Lyapunov run are tried
-   again for a period, and without one the label is ``not settled``. Samples beyond
+2. otherwise the largest Lyapunov exponent (:mod:`.lyapunov`) is computed, the samples after
+   its run tried once more for a period (a slow escape from an unstable orbit shows a positive
+   exponent while it lasts), and without one the exponent decides (:func:`lyapunov_kind`):
+   significantly positive is ``chaotic``; zero, resolved to :data:`ZERO_BAND` per mesh period,
+   is ``quasi-periodic`` (the motion on a torus neither grows nor shrinks along it: Parker &
+   Chua 1989, sec. 6.3); significantly negative is ``not settled`` (still converging);
+   otherwise ``undetermined`` (run longer). Samples that still repeat to :data:`TRY_TOL`
+   without a stable orbit sit near an unstable one (a slow escape): ``not settled``, whatever
+   the exponent (that of the unstable orbit while it lasts). Samples beyond
    :data:`UNBOUNDED` state scales are ``unbounded`` (a parametric instability that contact
    loss does not limit).
 """
@@ -36,7 +39,7 @@ FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
 
 #: kinds of motion
-KINDS = ("periodic", "quasi-periodic", "chaotic", "not settled", "unbounded")
+KINDS = ("periodic", "quasi-periodic", "chaotic", "not settled", "undetermined", "unbounded")
 #: a Lyapunov exponent within this many standard errors of zero counts as zero ...
 SIGMAS = 3.0
 #: ... and so does one below this per mesh period (|lambda T| <= ZERO_BAND): a stable orbit
@@ -45,7 +48,9 @@ ZERO_BAND = 2e-3
 #: samples further than this many state scales from zero: the response is unbounded
 UNBOUNDED = 1e6
 #: repeat error (relative to the state scale) below which a period is tried by shooting
-TRY_TOL = 1e-2
+TRY_TOL = 5e-2
+#: periods tried by shooting at most, per set of samples
+MAX_TRIES = 4
 
 
 @dataclass(frozen=True, eq=False)
@@ -98,6 +103,25 @@ class Motion:
 
     def __repr__(self) -> str:
         return f"Motion({self.label})"
+
+
+def lyapunov_kind(est: LyapunovEstimate) -> str:
+    """What the largest Lyapunov exponent says of a motion with no orbit of <= 16 periods.
+
+    ``chaotic``: positive by more than :data:`SIGMAS` standard errors and by more than
+    :data:`ZERO_BAND` per mesh period; ``quasi-periodic``: zero, i.e. within :data:`ZERO_BAND`
+    per mesh period with a standard error that resolves that band (:data:`SIGMAS` errors
+    inside it); ``not settled``: negative by more than :data:`SIGMAS` errors (still converging);
+    ``undetermined``: none of these (the estimate is too uncertain).
+    """
+    lam, err, period = est.value, est.error, est.mesh_period
+    if lam > SIGMAS * err and lam * period > ZERO_BAND:
+        return "chaotic"
+    if abs(lam * period) <= ZERO_BAND and SIGMAS * err * period <= ZERO_BAND:
+        return "quasi-periodic"
+    if lam < -SIGMAS * err:
+        return "not settled"
+    return "undetermined"
 
 
 def lyapunov_label(est: LyapunovEstimate) -> str:
@@ -183,21 +207,24 @@ def classify_samples(model: MeshModel, samples: FloatArray, rtol: float = 1e-10,
         return found
     est = largest_lyapunov(model, samples[-1], lyapunov_periods, lyapunov_block, rtol=rtol,
                            route=route)
-    per_period = est.value * est.mesh_period
-    zero = abs(est.value) <= SIGMAS * est.error or abs(per_period) <= ZERO_BAND
-    if zero:
-        kind = "quasi-periodic"
-        label = f"quasi-periodic, {lyapunov_label(est)}"
-    elif est.value > 0:
-        kind = "chaotic"
-        label = f"chaotic, {lyapunov_label(est)}"
-    else:  # still converging: on an orbit of more than 16 periods, or not there yet
-        again = stroboscopic(model, est.y_end, 0, samples.shape[0], rtol)
-        found, iters = find_orbit(model, again, rtol, max_newton, iters)
-        if found is not None:
-            return found
+    # the run may have ended a transient (a slow escape from an unstable orbit shows a
+    # positive exponent for a while): look for an orbit once more, from where it ended
+    again = stroboscopic(model, est.y_end, 0, samples.shape[0], rtol)
+    found, iters = find_orbit(model, again, rtol, max_newton, iters)
+    if found is not None:
+        return found
+    kind = lyapunov_kind(est)
+    near = repeat_errors(again, scale) <= TRY_TOL
+    if near.any():  # repeating, yet no stable orbit: a saddle orbit, left slowly
         kind = "not settled"
+        label = (f"not settled (near an unstable period-{int(np.argmax(near)) + 1} orbit), "
+                 f"{lyapunov_label(est)}")
+    elif kind == "not settled":
         label = f"not settled (no stable orbit of <= {MAX_PERIOD} periods), {lyapunov_label(est)}"
+    elif kind == "undetermined":
+        label = f"undetermined (exponent not resolved: run longer), {lyapunov_label(est)}"
+    else:
+        label = f"{kind}, {lyapunov_label(est)}"
     return Motion(kind, 0, label, est.y_end.copy(), samples, np.zeros(0, complex), est,
                   repeat_errors(samples, scale), iters)
 
@@ -207,8 +234,10 @@ def find_orbit(model: MeshModel, samples: FloatArray, rtol: float = 1e-10, max_n
     """A stable orbit of n <= 16 mesh periods that the samples suggest, confirmed by shooting.
 
     The periods after which the samples repeat to :data:`TRY_TOL` state scales are tried in
-    increasing order (multiples of one tried already skipped), shooting from the last sample
-    (the most settled).
+    increasing order, at most :data:`MAX_TRIES`, shooting from the last sample (the most
+    settled). Multiples of a period that failed are tried too: samples that leave an unstable
+    period-1 orbit repeat after one period for a while, and shooting over two periods reaches
+    the stable period-2 orbit they are heading for.
 
     Parameters
     ----------
@@ -227,10 +256,8 @@ def find_orbit(model: MeshModel, samples: FloatArray, rtol: float = 1e-10, max_n
     """
     scale = np.asarray(model.state_scale, dtype=float)
     err = repeat_errors(samples, scale)
-    tried = [n for n in range(1, MAX_PERIOD + 1) if err[n - 1] <= TRY_TOL]
+    tried = [n for n in range(1, MAX_PERIOD + 1) if err[n - 1] <= TRY_TOL][:MAX_TRIES]
     for n in tried:
-        if any(n % d == 0 for d in tried if d < n):
-            continue  # a multiple of a period tried already (it repeats too)
         sol, least = confirm_period(model, samples[-1], n, rtol, max_newton)
         iters += sol.iterations
         if least:

@@ -29,7 +29,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.analysis.executor import MapFn, task_map
-from gear_dyn.analysis.motion.classify import Motion, classify_samples, find_orbit
+from gear_dyn.analysis.motion.classify import (
+    UNBOUNDED,
+    Motion,
+    classify_samples,
+    find_orbit,
+)
 from gear_dyn.analysis.motion.period import MAX_PERIOD
 from gear_dyn.analysis.motion.samples import stroboscopic
 from gear_dyn.errors import InputError, SolverError, check_range
@@ -108,9 +113,15 @@ def _run_task(task: _Task) -> tuple[list[_Speed], FloatArray | None]:
         nan = math.nan
         try:
             strobe = stroboscopic(model, y0, opts.settle, opts.samples, opts.rtol)
-        except SolverError as exc:  # a diverging response: said, and the chain restarts
-            out.append(_Speed(s, model.mesh_frequency, np.full((opts.samples, y0.size), nan),
-                              0, f"unbounded ({exc})", nan, nan))
+        except SolverError as exc:
+            if "non-finite" not in str(exc):
+                raise
+            strobe = np.full((opts.samples, y0.size), math.inf)
+        if not np.all(np.abs(strobe) / model.state_scale <= UNBOUNDED):
+            # a diverging response (a parametric instability that contact loss does not
+            # bound): said, no samples drawn, and the chain restarts from the static state
+            out.append(_Speed(s, model.mesh_frequency, np.full_like(strobe, nan), 0,
+                              "unbounded", nan, nan))
             y = None
             continue
         if opts.classify:
@@ -150,8 +161,9 @@ class DiagramCurve:
         Least period in mesh periods of the orbit confirmed by shooting (0: none of 1..16).
     label : tuple of str
         The motion's label (``period-4``; where classified ``chaotic, lambda = ...``,
-        ``quasi-periodic, ...``), else "". Where the response diverged: ``unbounded (the
-        solver's message)``, the samples NaN, and the next speed starts from the static state.
+        ``quasi-periodic, ...``), else "". Where the response diverged (non-finite, or beyond
+        :data:`gear_dyn.analysis.motion.classify.UNBOUNDED` state scales): ``unbounded``, the
+        samples NaN, and the next speed starts from the static state.
     lyapunov, lyapunov_error : ndarray (n,)
         Largest Lyapunov exponent and its standard error in 1/s where computed, else NaN.
     """
