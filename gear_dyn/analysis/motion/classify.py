@@ -42,7 +42,7 @@ ComplexArray = NDArray[np.complex128]
 KINDS = ("periodic", "quasi-periodic", "chaotic", "not settled", "undetermined", "unbounded")
 #: a Lyapunov exponent within this many standard errors of zero counts as zero ...
 SIGMAS = 3.0
-#: ... and so does one below this per mesh period (|lambda T| <= ZERO_BAND): a stable orbit
+#: ... and so does one below this per mesh period (``abs(lambda T) <= ZERO_BAND``): a stable orbit
 #: whose multiplier modulus is within 0.2 % of 1 is not told from a torus by its exponent
 ZERO_BAND = 2e-3
 #: samples further than this many state scales from zero: the response is unbounded
