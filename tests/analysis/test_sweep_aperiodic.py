@@ -13,7 +13,8 @@ a second integrator) returns to it after six mesh periods and not after one, two
 Scene 2 (tests/analysis/motion_cases.py): rectangular stiffness 0.5e9 / 1.5e9 N/m, damping ratio
 0.02, at f_m / f_n = 1.98 and 2.02: chaos in both directions (positive Lyapunov exponents). Up
 and down differ, but neither is periodic: no hysteresis, the speeds are reported as aperiodic
-with their motion's label (sweep summary and terminal alike).
+with their motion's label (sweep summary and terminal alike). At 2.06..2.1 the same scene has a
+stable period-4 orbit, reported as such in both directions.
 """
 
 from __future__ import annotations
@@ -122,3 +123,27 @@ def test_terminal_summary_says_not_periodic(chaotic_sweep,
     assert "hysteresis" not in out
     lo, hi = (round(float(s / RPM)) for s in res.curve("up").speed)
     assert f"no period-1 or period-2 orbit (up): {lo}-{hi} rpm" in out
+
+
+def test_period_4_is_reported_as_period_4() -> None:
+    """Issue 25: where a stable period-4 orbit exists the sweep said "not periodic". On the
+    parametric scene at f_m / f_n = 2.06..2.1 both directions now report it (status and
+    orbit_periods 4, continued from speed to speed), and its figures are the orbit's: the RMS DTE
+    over four mesh periods of a DOP853 run from the sweep's state (rtol 1e-11, a second
+    integrator) agrees to 1e-6, and the f_m/4 order carries a large share of the spectrum."""
+    scene = parametric_scene()
+    res = sweep_scene(scene, [speed_of(scene, r) for r in (2.06, 2.08, 2.1)], si=True)
+    for c in res.curves:
+        assert c.status == ("period-4",) * 3 and c.orbit_periods.tolist() == [4, 4, 4]
+        assert c.motion == ("period-4",) * 3 and np.all(c.stable)
+        assert np.all(c.spectral_radius < 1.0)
+    up = res.curve("up")
+    model = model_at_speed(scene, float(up.speed[1]))
+    spp = res.settings.samples_per_period
+    t = np.arange(4 * spp + 1) / (model.mesh_frequency * spp)
+    y, _ = integrate(model, t, SolverSettings(method="DOP853", rtol=1e-11), up.state[1])
+    dte = model.outputs(t[:-1], y[:, :-1])["dte"]
+    assert float(np.std(dte)) == pytest.approx(up.rms_dte[1], rel=1e-6)
+    quarter = int(np.argmin(np.abs(res.orders - 0.25)))
+    assert up.spectrum[1, quarter] > 0.1 * np.max(up.spectrum[1])
+    assert hysteresis_ranges(res) == [] and aperiodic_ranges(res) == []
