@@ -185,7 +185,7 @@ def classify_samples(model: MeshModel, samples: FloatArray, rtol: float = 1e-10,
     max_newton : int
         Newton iterations per period tried.
     route : {"auto", "exact", "variational"}
-        Sensitivity route of shooting and of the Lyapunov exponent.
+        Sensitivity route of the Lyapunov exponent (shooting takes ``auto``).
 
     Returns
     -------
