@@ -31,6 +31,7 @@ from gear_dyn.analysis.sweep import (
     hysteresis_ranges,
     periodic_response,
     summarize_sweep,
+    sweep_columns,
 )
 from gear_dyn.scene import build_model, parse_scene
 from gear_dyn.scene.packaged import scene_path
@@ -111,6 +112,11 @@ def test_chaotic_speeds_are_not_hysteresis(chaotic_sweep) -> None:
     summary = summarize_sweep(res)
     assert summary["hysteresis_ranges_rpm"] == []
     assert summary["aperiodic_ranges_rpm"] == [[lo, hi]]
+    # sweep.json and sweep.csv carry the labels and exponents
+    labels = [m["label"] for m in summary["curves"]["up"]["motion"]]
+    assert labels == list(up.motion)
+    cols = sweep_columns(res)
+    assert np.array_equal(cols["lyapunov_1_s"][:2], up.lyapunov)
 
 
 def test_terminal_summary_says_not_periodic(chaotic_sweep,
