@@ -156,3 +156,19 @@ def test_stroboscopic_refuses_models_it_cannot_sample() -> None:
         stroboscopic(model, model.initial_state(), 0, 0)
     with pytest.raises(InputError, match="periods"):
         largest_lyapunov(model, model.initial_state(), periods=10, block=10)
+
+
+@pytest.mark.parametrize(("value", "error", "kind"), [
+    (2000.0, 100.0, "chaotic"),         # 0.2 per period, 20 errors above zero
+    (2000.0, 1000.0, "undetermined"),   # positive, but within three errors of zero
+    (5.0, 1.0, "quasi-periodic"),       # 5e-4 per period, resolved to 3e-4: zero
+    (5.0, 20.0, "undetermined"),        # zero within errors, but not resolved to 2e-3
+    (-400.0, 20.0, "not settled"),      # still converging
+])
+def test_lyapunov_kind_bounds(value: float, error: float, kind: str) -> None:
+    """The verdicts of the exponent at T = 1e-4 s (ZERO_BAND = 2e-3 per period: 20 1/s)."""
+    from gear_dyn.analysis.motion.classify import lyapunov_kind
+    from gear_dyn.analysis.motion.lyapunov import LyapunovEstimate
+
+    est = LyapunovEstimate(value, error, np.zeros(2), 100, 1e-4, "exact", np.zeros(2))
+    assert lyapunov_kind(est) == kind
