@@ -48,6 +48,10 @@ _EXPORTS: dict[str, str] = {
     "sweep_scene": "gear_dyn.scene.sweep",
     "SweepOptions": "gear_dyn.analysis.sweep.types",
     "SweepResult": "gear_dyn.analysis.sweep.types",
+    "continue_orbits": "gear_dyn.analysis.continuation.arclength",
+    "sdof_family": "gear_dyn.analysis.continuation.family",
+    "Branch": "gear_dyn.analysis.continuation.branch",
+    "ContinuationSettings": "gear_dyn.analysis.continuation.settings",
     "BifurcationDiagram": "gear_dyn.analysis.motion.diagram",
     "DiagramOptions": "gear_dyn.analysis.motion.diagram",
     "bifurcation_diagram": "gear_dyn.analysis.motion.diagram",
@@ -67,6 +71,10 @@ _EXPORTS: dict[str, str] = {
 __all__ = sorted(_EXPORTS)
 
 if TYPE_CHECKING:  # what type checkers and IDEs see; at run time the names load lazily
+    from gear_dyn.analysis.continuation.arclength import continue_orbits
+    from gear_dyn.analysis.continuation.branch import Branch
+    from gear_dyn.analysis.continuation.family import sdof_family
+    from gear_dyn.analysis.continuation.settings import ContinuationSettings
     from gear_dyn.analysis.motion.classify import Motion, classify_motion
     from gear_dyn.analysis.motion.diagram import (
         BifurcationDiagram,

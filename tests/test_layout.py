@@ -51,6 +51,7 @@ def test_public_api_names_unchanged() -> None:
         "SolverSettings", "iso6336_stiffness", "load_scene", "mesh_frequency", "output_speed",
         "parse_scene", "rectangular_stiffness", "run_scene", "sdof_from_pair", "simulate",
         "summarize", "sweep_scene", "SweepOptions", "SweepResult",
+        "Branch", "ContinuationSettings", "continue_orbits", "sdof_family",
         "BifurcationDiagram", "DiagramOptions", "bifurcation_diagram", "Motion",
         "classify_motion",
     }

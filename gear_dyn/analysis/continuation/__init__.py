@@ -1,0 +1,30 @@
+"""Continuation of periodic orbits of the single-DOF mesh model, with their bifurcations.
+
+:func:`continue_orbits` follows a branch of period-n orbits (backlash, any periodic stiffness,
+static transmission error) in pinion speed or another parameter (:func:`sdof_family`: torque,
+damping ratio, backlash) by pseudo-arclength continuation of the shooting equations, with the
+monodromy matrix from the exact flow of the backlash model where the stiffness is piecewise
+constant and from event-located variational integration otherwise. Every point carries its
+Floquet multipliers, a stability verdict and the Liouville check of its monodromy matrix; folds
+and period doublings are located by bracketing on test functions, contact-pattern changes
+(grazing) by bisection, and the period-2n branch born at a period doubling is switched to and
+followed. docs/response.md describes the method and its tests.
+
+Modules, one concern each: :mod:`.settings` (the knobs), :mod:`.family` (value -> model),
+:mod:`.orbit` (n-period map, Liouville, contact pattern), :mod:`.shooting` (the augmented
+equations, corrector, tangent), :mod:`.detect` (test functions, location), :mod:`.arclength`
+(the continuation loop), :mod:`.switch` (period-doubling branch switching), :mod:`.branch`
+(result objects), :mod:`.points` (a point from a converged evaluation).
+"""
+
+from gear_dyn.analysis.continuation.arclength import continue_orbits
+from gear_dyn.analysis.continuation.branch import Bifurcation, Branch, OrbitPoint
+from gear_dyn.analysis.continuation.detect import fold_test, pd_test
+from gear_dyn.analysis.continuation.family import PARAMETERS, SDOFFamily, sdof_family
+from gear_dyn.analysis.continuation.orbit import liouville_residual
+from gear_dyn.analysis.continuation.settings import ContinuationSettings
+
+__all__ = [
+    "PARAMETERS", "Bifurcation", "Branch", "ContinuationSettings", "OrbitPoint", "SDOFFamily",
+    "continue_orbits", "fold_test", "liouville_residual", "pd_test", "sdof_family",
+]

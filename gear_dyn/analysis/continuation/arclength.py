@@ -1,0 +1,300 @@
+"""Pseudo-arclength continuation of periodic orbits (Keller 1977; Seydel 2010, ch. 4;
+Doedel's AUTO notes): tangent predictor, Newton corrector on the shooting equations with the
+arclength condition, adaptive steps, and bifurcations detected and located on every step.
+
+Step control: a step is rejected and halved when the corrector needs more than
+``max_newton`` iterations, fails, or when the tangent turns by more than ``max_turn`` between
+the two points; an accepted step grows by ``grow`` after at most ``target_newton`` iterations
+(and a turn below ``max_turn / 2``) and shrinks after more than ``target_newton + 2``. A fold
+turns the tangent's parameter component through zero, which the turn limit resolves over
+several steps, so no step reaches past a fold onto another part of the branch, and the sign
+change shows between two neighbouring points (where :mod:`.detect` locates it).
+
+Contact changes need no special treatment: the n-period map of each corrector iteration is
+computed from the state, with whatever contacts occur (located as they come), so a grazing
+point on the branch shows as a change of the contact pattern between two points and is
+located there.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import cast
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gear_dyn.analysis.continuation.branch import Bifurcation, Branch, OrbitPoint
+from gear_dyn.analysis.continuation.detect import (
+    StepCurve,
+    fold_test,
+    locate_pattern_change,
+    locate_root,
+    pd_test,
+)
+from gear_dyn.analysis.continuation.family import PARAMETERS
+from gear_dyn.analysis.continuation.orbit import map_only, resolve_route
+from gear_dyn.analysis.continuation.points import make_point
+from gear_dyn.analysis.continuation.settings import ContinuationSettings
+from gear_dyn.analysis.continuation.shooting import Evaluation, Shooting, tangent
+from gear_dyn.analysis.continuation.switch import switch_at_period_doubling
+from gear_dyn.analysis.stability import shoot
+from gear_dyn.errors import InputError, SolverError, check_range
+from gear_dyn.models.base import MeshModel, Model
+
+FloatArray = NDArray[np.float64]
+#: mesh periods integrated to settle onto an attracting orbit where shooting from the guess fails
+SETTLE_PERIODS = 400
+#: a period-2n point closer than this (scaled) to closing after n periods lies on the period-n
+#: branch: the period-2n branch has reached it (it also stops where it passes through it)
+MERGE_TOL = 1e-6
+
+
+def continue_orbits(family: Callable[[float], Model], start: float, stop: float, *,
+                    periods: int = 1, y_guess: FloatArray | None = None,
+                    parameter: str = "speed", route: str = "auto",
+                    settings: ContinuationSettings | None = None,
+                    doublings: int = 1) -> Branch:
+    """Follow the branch of period-n orbits of ``family`` from ``start`` towards ``stop``.
+
+    Parameters
+    ----------
+    family : callable
+        ``value -> MeshModel`` (single-DOF mesh model, SI value of the parameter): e.g.
+        :func:`sdof_family` or the scene layer's ``SceneModels.of(scene)`` (speed in rad/s).
+    start, stop : float
+        The parameter range, SI (rad/s, N m, -, m). The branch starts at ``start`` and ends
+        where it leaves ``[min(start, stop), max(start, stop)]`` (after any folds).
+    periods : int
+        Mesh periods n of the orbits (period-n, 1..16).
+    y_guess : ndarray or None
+        State [m, m/s] to shoot from at ``start``; None: the static deflection. Where shooting
+        from it fails, the response is integrated for :data:`SETTLE_PERIODS` mesh periods
+        first (the attracting orbit).
+    parameter : str
+        Name of the parameter (for the result; ``speed``, ``torque``, ``damping_ratio``,
+        ``backlash`` carry their SI unit).
+    route : str
+        ``auto``, ``exact`` or ``variational`` (:func:`.orbit.resolve_route`).
+    settings : ContinuationSettings or None
+        Step control, tolerances, detection.
+    doublings : int
+        How many levels of period doubling to switch at (0: none; 1: period-2n branches from
+        this branch's period doublings; 2: also period-4n ...), 0..4.
+
+    Returns
+    -------
+    Branch
+        With its located folds, period doublings, branch points and grazing points, and the
+        switched period-2n branches as ``children``.
+
+    Raises
+    ------
+    InputError
+        Bad range, periods, route or doublings; a family whose models are not single-DOF
+        mesh models.
+    SolverError
+        No periodic orbit found at ``start``.
+    """
+    check_range("start", start, PARAMETERS.get(parameter, ""))
+    check_range("stop", stop, PARAMETERS.get(parameter, ""))
+    if start == stop:
+        raise InputError(f"start = stop = {start:.6g}: the range is empty")
+    check_range("periods", periods, "", low=1, high=16)
+    check_range("doublings", doublings, "", low=0, high=4)
+    settings = settings or ContinuationSettings()
+    model0 = family(start)
+    if not (isinstance(model0, MeshModel) and model0.mesh_periodic):
+        raise InputError(f"continuation needs the single-DOF mesh model (sdof); got "
+                         f"{type(model0).__name__}")
+    rroute = resolve_route(model0, route)
+    p_ref = abs(start) if start != 0.0 else abs(stop)
+    mesh_family = cast(Callable[[float], MeshModel], family)  # checked on model0 above
+    sh = Shooting(mesh_family, periods, rroute, model0.state_scale, p_ref, settings.rtol,
+                  settings.fd_step)
+    y0 = start_orbit(model0, periods, rroute, settings, y_guess)
+    e_p = np.array([0.0, 0.0, 1.0])
+    out = sh.correct(sh.scaled(y0, start), e_p, start / p_ref, settings.newton_tol,
+                     settings.max_newton)
+    if out is None:
+        raise SolverError(f"no period-{periods} orbit converged at {parameter} = {start:.6g}")
+    ev0, _it = out
+    t0 = tangent(ev0.jac)
+    if t0[2] * (stop - start) < 0:
+        t0 = -t0
+    window = (min(start, stop), max(start, stop))
+    return follow(sh, ev0, t0, window, settings, parameter, doublings)
+
+
+def start_orbit(model: MeshModel, periods: int, route: str, settings: ContinuationSettings,
+                y_guess: FloatArray | None) -> FloatArray:
+    """A state on a period-n orbit of ``model``: shooting from the guess, else after settling.
+
+    Raises
+    ------
+    SolverError
+        No orbit found.
+    """
+    guess = model.initial_state() if y_guess is None else np.asarray(y_guess, dtype=float)
+    sol = shoot(model, guess, settings.rtol, 30, periods, route)
+    if sol.converged:
+        return np.asarray(sol.y0, dtype=float)
+    y = guess
+    for _ in range(SETTLE_PERIODS // periods):
+        y = map_only(model, y, periods, route, settings.rtol)
+    sol = shoot(model, y, settings.rtol, 30, periods, route)
+    if not sol.converged:
+        raise SolverError(f"no period-{periods} orbit found (shooting from the guess and after "
+                          f"{SETTLE_PERIODS} mesh periods); give y_guess or another start")
+    return np.asarray(sol.y0, dtype=float)
+
+
+def follow(sh: Shooting, ev0: Evaluation, t0: FloatArray, window: tuple[float, float],
+           settings: ContinuationSettings, parameter: str, doublings: int,
+           parent: Shooting | None = None) -> Branch:
+    """The continuation loop from the converged ``ev0`` along the unit tangent ``t0``.
+
+    ``parent``: the period-n problem of a period-2n branch (its merging back is a stop).
+    """
+    lo, hi = window
+    ev, t = ev0, t0
+    points = [make_point(sh, ev, settings, 0.0, float(t[2]), 0)]
+    bifs: list[Bifurcation] = []
+    ds, s_total = settings.step, 0.0
+    z_first = ev0.z
+    d_prev = parent.residual_only(ev0.z) if parent is not None else np.zeros(2)
+    stop_reason = f"max_points ({settings.max_points}) reached"
+    while len(points) < settings.max_points:
+        zp = ev.z + ds * t
+        out = sh.correct(zp, t, float(t @ zp), settings.newton_tol, settings.max_newton,
+                         dp_col=ev.jac[:, 2])
+        t_b: FloatArray | None = None
+        if out is not None:
+            try:
+                t_b = tangent(out[0].jac)
+            except SolverError:
+                t_b = None
+        if out is not None and t_b is not None:
+            if float(t_b @ t) < 0.0:
+                t_b = -t_b
+            turn = math.acos(min(1.0, abs(float(t_b @ t))))
+        if out is None or t_b is None or turn > settings.max_turn:
+            ds *= 0.5
+            if ds < settings.step_min:
+                stop_reason = (f"the step fell below step_min = {settings.step_min:g} at "
+                               f"{parameter} = {sh.param(ev.z):.10g}")
+                break
+            continue
+        ev_b, it = out
+        p_b = sh.param(ev_b.z)
+        point_b = make_point(sh, ev_b, settings, s_total + ds, float(t_b[2]), it)
+        if settings.detect:
+            bifs.extend(detect_step(sh, ev, t, ev_b, t_b, ds, points[-1], point_b, settings,
+                                    s_total))
+        if p_b < lo or p_b > hi:
+            end = _end_point(sh, ev, ev_b, hi if p_b > hi else lo, settings)
+            if end is not None:
+                points.append(end)
+            stop_reason = f"left the range at {parameter} = {hi if p_b > hi else lo:.10g}"
+            break
+        points.append(point_b)
+        s_total += ds
+        ev, t = ev_b, t_b
+        if float(np.linalg.norm(ev.z - z_first)) < 0.5 * ds and len(points) > 3:
+            stop_reason = f"closed loop: back at its start after {len(points)} points"
+            break
+        if parent is not None:
+            # on a period-2n branch, d = P_n(y) - y (scaled) is zero only on the period-n
+            # orbit and flips sign where the branch passes through it (a period doubling of
+            # the period-n branch; beyond it lie the same orbits shifted by n mesh periods)
+            d = parent.residual_only(ev.z)
+            if float(np.max(np.abs(d))) < MERGE_TOL or float(d @ d_prev) < 0.0:
+                stop_reason = (f"reached the period-{parent.periods} branch at "
+                               f"{parameter} = {sh.param(ev.z):.10g}")
+                break
+            d_prev = d
+        if it <= settings.target_newton and turn < 0.5 * settings.max_turn:
+            ds = min(ds * settings.grow, settings.step_max)
+        elif it > settings.target_newton + 2:
+            ds = max(ds / settings.grow, settings.step_min)
+    bifs = [b for b in bifs if lo <= b.parameter <= hi]
+    children: list[Branch] = []
+    if doublings > 0:
+        for b in bifs:
+            if b.kind != "period_doubling" or any(_ends_at(c, b) for c in children):
+                continue  # a period-2n branch from an earlier doubling already ended here
+            children.append(switch_at_period_doubling(sh, b, window, settings, parameter,
+                                                       doublings - 1, follow))
+    return Branch(parameter, PARAMETERS.get(parameter, ""), tuple(points), tuple(bifs),
+                  tuple(children), sh.route, stop_reason, sh.n_maps)
+
+
+def _ends_at(child: Branch, pd: Bifurcation) -> bool:
+    """True when ``child`` stopped by passing through the period-n branch at ``pd``: the
+    doubling's parameter lies between the child's last two points (1e-9 relative slack)."""
+    if len(child.points) < 2 or not child.stop_reason.startswith("reached"):
+        return False
+    a, b = child.points[-2].parameter, child.points[-1].parameter
+    slack = 1e-9 * abs(pd.parameter)
+    return min(a, b) - slack <= pd.parameter <= max(a, b) + slack
+
+
+def _end_point(sh: Shooting, ev_a: Evaluation, ev_b: Evaluation, bound: float,
+               settings: ContinuationSettings) -> OrbitPoint | None:
+    """The orbit at the range's end ``bound``, between the points ``a`` and ``b``."""
+    p_a, p_b = sh.param(ev_a.z), sh.param(ev_b.z)
+    frac = (bound - p_a) / (p_b - p_a)
+    z = ev_a.z + frac * (ev_b.z - ev_a.z)
+    out = sh.correct(z, np.array([0.0, 0.0, 1.0]), bound / sh.p_ref, settings.newton_tol,
+                     settings.max_newton)
+    if out is None:
+        return None
+    return make_point(sh, out[0], settings, float("nan"), float("nan"), out[1])
+
+
+#: test-function values below this are rounding, without a sign: a linear stretch of a branch
+#: (full contact) at a period doubling is a whole line of period-2n orbits, on which
+#: ``det(M^2 - I)`` is zero up to the corrector's tolerance
+TEST_NOISE = 1e-8
+
+
+def _sign_change(a: float, b: float) -> bool:
+    if min(abs(a), abs(b)) <= TEST_NOISE:
+        return False
+    return (a < 0.0) != (b < 0.0)
+
+
+def detect_step(sh: Shooting, ev_a: Evaluation, t_a: FloatArray, ev_b: Evaluation,
+                t_b: FloatArray, ds: float, pt_a: OrbitPoint, pt_b: OrbitPoint,
+                settings: ContinuationSettings, s0: float) -> list[Bifurcation]:
+    """Folds, period doublings, branch points and grazing between two accepted points,
+    located on the step (:mod:`.detect`), in order along the branch."""
+    curve = StepCurve(sh, ev_a.z, t_a, settings)
+    curve.cache[0.0], curve.cache[ds] = ev_a, ev_b
+    curve.dp_col = ev_a.jac[:, 2]
+    found: list[tuple[float, Bifurcation]] = []
+    stab = {True: "stable", False: "unstable"}
+
+    def point(ev: Evaluation, s: float) -> OrbitPoint:
+        tt = tangent(sh.refresh(ev).jac)
+        return make_point(sh, ev, settings, s0 + s, float(tt[2] if tt @ t_a >= 0 else -tt[2]))
+
+    for test, kinds in ((fold_test, ("fold", "branch_point")),
+                        (pd_test, ("period_doubling", "period_doubling"))):
+        fa, fb = test(ev_a.monodromy), test(ev_b.monodromy)
+        if not _sign_change(fa, fb):
+            continue
+        hit = locate_root(curve, test, ds, fa, fb)
+        if hit is None:
+            continue
+        ev, s, err = hit
+        kind = kinds[0] if t_a[2] * t_b[2] < 0.0 else kinds[1]
+        found.append((s, Bifurcation(kind, point(ev, s), err, stab[pt_a.stable],
+                                     stab[pt_b.stable])))
+    if pt_a.pattern != pt_b.pattern:
+        ghit = locate_pattern_change(curve, ds, pt_a.pattern)
+        if ghit is not None:
+            ev, s, err, new = ghit
+            found.append((s, Bifurcation("grazing", point(ev, s), err, pt_a.pattern, new)))
+    return [b for _s, b in sorted(found, key=lambda x: x[0])]

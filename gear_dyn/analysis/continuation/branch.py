@@ -1,0 +1,263 @@
+"""Result objects of a continuation: points of a branch, located bifurcations, the branch.
+
+A :class:`Branch` is a sequence of :class:`OrbitPoint` (each with its Floquet multipliers,
+stability verdict, Liouville check and contact pattern) and the :class:`Bifurcation` points
+located on it; branches switched to at period doublings are its ``children``. Rows for CSV
+and JSON come from :meth:`Branch.rows`; the figure is :func:`gear_dyn.plots.continuation.
+plot_branch` (``branch.plot(ax=None)``, which looks the plots module up by name when called:
+importing this module loads no matplotlib, and the analysis layer imports no plots).
+"""
+
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gear_dyn.analysis.stability import UNIT_CIRCLE_TOL
+
+FloatArray = NDArray[np.float64]
+ComplexArray = NDArray[np.complex128]
+
+#: the module that draws a branch; looked up by name at call time
+PLOTS_MODULE = "gear_dyn.plots.continuation"
+#: kinds of located points
+KINDS = ("fold", "period_doubling", "branch_point", "grazing")
+
+
+@dataclass(frozen=True, eq=False)
+class OrbitPoint:
+    """One periodic orbit on a branch.
+
+    Attributes
+    ----------
+    parameter : float
+        Value of the continuation parameter (SI: rad/s, N m, -, m).
+    state : ndarray (2,)
+        Orbit state [x (m), v (m/s)] at t = 0 (mesh phase ``phase0``).
+    periods : int
+        Mesh periods n of the orbit (period-n).
+    multipliers : ndarray of complex (2,)
+        Floquet multipliers of the n-period map.
+    stable : bool
+        All multipliers inside the unit circle (up to ``UNIT_CIRCLE_TOL``).
+    liouville : float
+        ``|det M / exp(-c n T / m_e) - 1|`` (-).
+    liouville_ok : bool
+        ``liouville`` within the run's ``liouville_tol``; False flags a doubtful monodromy.
+    residual : float
+        Scaled closing residual of the shooting equations.
+    pattern : str
+        Contact pattern (``D`` drive, ``G`` gap, ``B`` back flank), e.g. ``DGD``.
+    separation, back : float
+        Shares of the period with the teeth apart and on the back flank.
+    dte_rms, dte_ptp, dte_mean : float
+        Standard deviation, peak-to-peak and mean of the DTE over the orbit (m).
+    mesh_frequency : float
+        Mesh frequency f_m of the model at this point (Hz).
+    arclength : float
+        Scaled arclength from the branch start.
+    tangent_p : float
+        Parameter component of the unit tangent (its sign change marks a fold).
+    iterations : int
+        Corrector iterations.
+    dp_error : float
+        Estimated relative error of the parameter derivative ``dP/dp`` the tangent was built
+        from (secant columns' agreement, or the central difference's one-sided disagreement;
+        nan where not computed).
+    """
+
+    parameter: float
+    state: FloatArray
+    periods: int
+    multipliers: ComplexArray
+    stable: bool
+    liouville: float
+    liouville_ok: bool
+    residual: float
+    pattern: str
+    separation: float
+    back: float
+    dte_rms: float
+    dte_ptp: float
+    dte_mean: float
+    mesh_frequency: float
+    arclength: float
+    tangent_p: float
+    iterations: int
+    dp_error: float = float("nan")
+
+    @property
+    def spectral_radius(self) -> float:
+        """Largest multiplier modulus."""
+        return float(np.max(np.abs(self.multipliers)))
+
+    def row(self) -> dict[str, Any]:
+        """Flat, JSON- and CSV-able fields (multipliers as real and imaginary parts)."""
+        mu = np.asarray(self.multipliers)
+        return {
+            "parameter": self.parameter, "mesh_frequency_hz": self.mesh_frequency,
+            "periods": self.periods, "x0_m": float(self.state[0]),
+            "v0_m_per_s": float(self.state[1]),
+            "mu1_re": float(mu[0].real), "mu1_im": float(mu[0].imag),
+            "mu2_re": float(mu[1].real), "mu2_im": float(mu[1].imag),
+            "spectral_radius": self.spectral_radius, "stable": self.stable,
+            "liouville_residual": self.liouville, "liouville_ok": self.liouville_ok,
+            "residual": self.residual, "pattern": self.pattern,
+            "separation_share": self.separation, "back_share": self.back,
+            "dte_rms_m": self.dte_rms, "dte_ptp_m": self.dte_ptp, "dte_mean_m": self.dte_mean,
+            "arclength": self.arclength, "tangent_p": self.tangent_p,
+            "iterations": self.iterations, "dp_error": self.dp_error,
+        }
+
+
+def is_stable(multipliers: ComplexArray) -> bool:
+    """All multipliers inside the unit circle, up to :data:`UNIT_CIRCLE_TOL`."""
+    return bool(np.max(np.abs(multipliers)) <= 1.0 + UNIT_CIRCLE_TOL)
+
+
+@dataclass(frozen=True, eq=False)
+class Bifurcation:
+    """A located special point of a branch.
+
+    Attributes
+    ----------
+    kind : str
+        ``fold`` (a real multiplier through +1 where the branch turns back in the
+        parameter), ``period_doubling`` (a multiplier through -1), ``branch_point`` (through
+        +1 without turning) or ``grazing`` (the contact pattern changes).
+    point : OrbitPoint
+        The orbit at the located point.
+    parameter_error : float
+        Estimated error of ``point.parameter`` (SI): the parameter's change over the final
+        bracket of the root finder.
+    before, after : str
+        Contact patterns on either side (grazing), else the stability before and after
+        (``stable`` / ``unstable``).
+    """
+
+    kind: str
+    point: OrbitPoint
+    parameter_error: float
+    before: str = ""
+    after: str = ""
+
+    @property
+    def parameter(self) -> float:
+        """Located parameter value (SI)."""
+        return self.point.parameter
+
+    def row(self) -> dict[str, Any]:
+        """Flat fields for JSON/CSV."""
+        return {"kind": self.kind, "parameter": self.parameter,
+                "parameter_error": self.parameter_error, "periods": self.point.periods,
+                "before": self.before, "after": self.after,
+                "mu1_re": float(self.point.multipliers[0].real),
+                "mu1_im": float(self.point.multipliers[0].imag),
+                "mu2_re": float(self.point.multipliers[1].real),
+                "mu2_im": float(self.point.multipliers[1].imag)}
+
+
+@dataclass(frozen=True, eq=False)
+class Branch:
+    """A branch of period-n orbits followed by pseudo-arclength continuation.
+
+    Attributes
+    ----------
+    parameter_name : str
+        ``speed`` (rad/s), ``torque`` (N m), ``damping_ratio`` or ``backlash`` (m), or the name
+        given for a custom family.
+    unit : str
+        SI unit of the parameter.
+    points : tuple of OrbitPoint
+    bifurcations : tuple of Bifurcation
+        In order along the branch.
+    children : tuple of Branch
+        Period-2n branches switched to at this branch's period doublings.
+    route : str
+        ``exact`` or ``variational``: how the monodromy matrices were computed.
+    stop_reason : str
+        Why the continuation ended (``left the range at ...``, ``max_points``, ...).
+    n_maps : int
+        n-period maps computed (with or without sensitivity), a cost measure.
+    """
+
+    parameter_name: str
+    unit: str
+    points: tuple[OrbitPoint, ...]
+    bifurcations: tuple[Bifurcation, ...]
+    children: tuple[Branch, ...] = ()
+    route: str = "exact"
+    stop_reason: str = ""
+    n_maps: int = 0
+
+    def __len__(self) -> int:
+        return len(self.points)
+
+    @property
+    def periods(self) -> int:
+        """Mesh periods n of the branch's orbits."""
+        return self.points[0].periods if self.points else 0
+
+    def array(self, name: str) -> FloatArray:
+        """One field of every point as an array, e.g. ``branch.array("parameter")``."""
+        return np.array([getattr(p, name) for p in self.points], dtype=float)
+
+    def of_kind(self, kind: str) -> list[Bifurcation]:
+        """The located points of one kind (:data:`KINDS`)."""
+        return [b for b in self.bifurcations if b.kind == kind]
+
+    @property
+    def liouville_failures(self) -> int:
+        """Points whose monodromy matrix fails the Liouville check."""
+        return sum(not p.liouville_ok for p in self.points)
+
+    def __repr__(self) -> str:
+        if not self.points:
+            return f"Branch({self.parameter_name}, no points; {self.stop_reason})"
+        p = self.array("parameter")
+        counts = ", ".join(f"{k} {len(self.of_kind(k))}" for k in KINDS if self.of_kind(k))
+        return (f"Branch(period-{self.periods}, {self.parameter_name} {p.min():.6g}.."
+                f"{p.max():.6g} {self.unit}, {len(self.points)} points, "
+                f"{sum(x.stable for x in self.points)} stable"
+                f"{', ' + counts if counts else ''}"
+                f"{', ' + str(len(self.children)) + ' child branches' if self.children else ''}"
+                f", route {self.route}; {self.stop_reason})")
+
+    def rows(self, recursive: bool = True) -> list[dict[str, Any]]:
+        """One row per point (children's after this branch's with ``recursive``), with the
+        branch's index in ``branch``."""
+        out: list[dict[str, Any]] = []
+        for i, b in enumerate(self.walk() if recursive else [self]):
+            out.extend({"branch": i, **p.row()} for p in b.points)
+        return out
+
+    def walk(self) -> list[Branch]:
+        """This branch and its children, depth first."""
+        out = [self]
+        for c in self.children:
+            out.extend(c.walk())
+        return out
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-able summary: parameter, route, stop reason, located points and all rows."""
+        return {
+            "parameter": self.parameter_name, "unit": self.unit,
+            "branches": [
+                {"index": i, "periods": b.periods, "route": b.route,
+                 "stop_reason": b.stop_reason, "n_points": len(b.points),
+                 "liouville_failures": b.liouville_failures,
+                 "bifurcations": [x.row() for x in b.bifurcations]}
+                for i, b in enumerate(self.walk())],
+            "points": self.rows(),
+        }
+
+    def plot(self, ax: Any = None, **kwargs: Any) -> Any:
+        """The response curve (:func:`gear_dyn.plots.continuation.plot_branch`): stable
+        solid, unstable dashed, folds and period doublings marked with their parameter value;
+        returns the Figure."""
+        return importlib.import_module(PLOTS_MODULE).plot_branch(self, ax=ax, **kwargs)
+

@@ -1,0 +1,172 @@
+"""One periodic orbit of a single-DOF mesh model: its n-period map, monodromy matrix, Floquet
+multipliers, Liouville check, contact pattern and response measures.
+
+The n-period map ``P(y0) = y(n T)`` and its derivative ``M = dP/dy0`` (the monodromy matrix of
+a period-n orbit) come from :func:`gear_dyn.analysis.stability.integrate_with_sensitivity`:
+the closed-form pieces and saltation matrices of the backlash propagator where the stiffness
+is piecewise constant and there is no transmission error (route ``exact``), else the
+variational equations integrated with located contact events (route ``variational``).
+
+Liouville's formula: for ``y' = f(t, y)`` the determinant of the fundamental matrix is
+``exp(int tr(df/dy) dt)``; here ``tr(df/dy) = -c / m_e`` in every contact state, so on any
+orbit ``det M = exp(-c n T / m_e)`` exactly (saltation matrices of the continuous dead zone are
+the identity). The relative mismatch checks the monodromy matrix of every point.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gear_dyn.analysis.stability import flow_on_grid, integrate_with_sensitivity
+from gear_dyn.errors import InputError
+from gear_dyn.models.base import MeshModel
+from gear_dyn.solvers.contact_exact import contact_exact_applies, propagate_contact_exact
+
+FloatArray = NDArray[np.float64]
+
+#: routes to the n-period map and its sensitivity
+ROUTES = ("auto", "exact", "variational")
+#: samples per mesh period for the response measures and the sampled contact pattern
+SAMPLES_PER_PERIOD = 256
+#: contact states as letters: drive flank, gap (teeth apart), back flank
+STATE_LETTERS = {1: "D", 0: "G", -1: "B"}
+
+
+def resolve_route(model: MeshModel, route: str) -> str:
+    """``exact`` or ``variational`` for ``route`` in :data:`ROUTES` and this model.
+
+    Raises
+    ------
+    InputError
+        An unknown route, or ``exact`` for a model it does not cover.
+    """
+    if route not in ROUTES:
+        raise InputError(f"route = {route!r}: valid choices are {', '.join(ROUTES)}")
+    applies = contact_exact_applies(model)
+    if route == "exact" and not applies:
+        raise InputError("route = 'exact' needs backlash, piecewise-constant stiffness and no "
+                         "transmission error; use route = 'variational'")
+    if route == "auto":
+        return "exact" if applies else "variational"
+    return route
+
+
+def period_map(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: float
+               ) -> tuple[FloatArray, FloatArray]:
+    """``(P(y0), M)``: the state after ``periods`` mesh periods and ``d P / d y0``.
+
+    ``route`` is ``exact`` or ``variational`` (:func:`resolve_route`); ``rtol`` is the
+    variational integration's relative tolerance.
+
+    Raises
+    ------
+    SolverError
+        Integration failure, a chattering contact or a diverging response.
+    """
+    return integrate_with_sensitivity(model, y0, periods / model.mesh_frequency, rtol, route)
+
+
+def map_only(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: float
+             ) -> FloatArray:
+    """``P(y0)`` without the sensitivity (the closed form, or DOP853 on the state alone)."""
+    t1 = periods / model.mesh_frequency
+    if route == "exact":
+        y, _stats = propagate_contact_exact(model, np.array([0.0, t1]), y0=y0)
+        return np.asarray(y[:, -1], dtype=float)
+    return np.asarray(flow_on_grid(model, y0, np.array([0.0, t1]), rtol=rtol)[:, -1])
+
+
+def liouville_residual(model: MeshModel, monodromy: FloatArray, periods: int) -> float:
+    """``|det M / exp(-c n T / m_e) - 1|``: the monodromy matrix's Liouville mismatch (-)."""
+    expected = math.exp(-model.damping * periods / (model.mass * model.mesh_frequency))
+    return abs(float(np.linalg.det(monodromy)) / expected - 1.0)
+
+
+@dataclass(frozen=True)
+class OrbitShape:
+    """What an orbit looks like over its n mesh periods.
+
+    Attributes
+    ----------
+    pattern : str
+        Contact states in time order from t = 0, one letter per spell: ``D`` drive flank,
+        ``G`` gap (teeth apart), ``B`` back flank; e.g. ``DGD``.
+    separation : float
+        Share of the orbit's period with the teeth apart (-).
+    back : float
+        Share of the period on the back flank (-).
+    dte_rms, dte_ptp, dte_mean : float
+        Standard deviation, peak-to-peak and mean of the dynamic transmission error x (m).
+    dte_min : float
+        Smallest x over the orbit (m).
+    """
+
+    pattern: str
+    separation: float
+    back: float
+    dte_rms: float
+    dte_ptp: float
+    dte_mean: float
+    dte_min: float
+
+
+def _states(model: MeshModel, t: FloatArray, x: FloatArray) -> NDArray[np.int64]:
+    u = x
+    if model.transmission_error is not None:
+        u = x - np.asarray(model.transmission_error.value(model.phase(t)), dtype=float)
+    b = float(model.backlash or 0.0)
+    if model.backlash is None:
+        return np.ones(x.size, dtype=np.int64)
+    return np.where(u > b, 1, np.where(u < -b, -1, 0)).astype(np.int64)
+
+
+def _run_letters(states: NDArray[np.int64]) -> str:
+    keep = np.concatenate([[True], states[1:] != states[:-1]])
+    return "".join(STATE_LETTERS[int(s)] for s in states[keep])
+
+
+def orbit_shape(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: float
+                ) -> OrbitShape:
+    """The contact pattern and response measures of the orbit through ``y0``.
+
+    On the exact route the pattern comes from the located contact changes (every spell is
+    seen, however short); on the variational route from :data:`SAMPLES_PER_PERIOD` samples
+    per mesh period (a spell shorter than a sample step can be missed). The response measures
+    use the samples.
+
+    Raises
+    ------
+    SolverError
+        Integration failure.
+    """
+    t1 = periods / model.mesh_frequency
+    t = np.linspace(0.0, t1, periods * SAMPLES_PER_PERIOD + 1)
+    if route == "exact":
+        y, stats = propagate_contact_exact(model, t, y0=y0)
+        ev = np.asarray(stats["event_times"], dtype=float)
+        ev = ev[(ev > 0.0) & (ev < t1)]
+        edges = np.concatenate([[0.0], ev, [t1]])
+        mids = 0.5 * (edges[:-1] + edges[1:])
+        owner = np.searchsorted(edges, t[:-1], side="right") - 1
+        st = np.full(mids.size, 2, dtype=np.int64)  # 2: no sample in the spell
+        st[owner] = _states(model, t[:-1], y[0, :-1])
+        if np.any(st == 2):  # a spell shorter than a sample step: its midpoint's state
+            ym, _ = propagate_contact_exact(model, np.concatenate([[0.0], mids]), y0=y0)
+            st = _states(model, mids, ym[0, 1:])
+        dur = np.diff(edges)
+        pattern = _run_letters(st)
+        sep = float(np.sum(dur[st == 0]) / t1)
+        back = float(np.sum(dur[st == -1]) / t1)
+    else:
+        y = flow_on_grid(model, y0, t, rtol=rtol)
+        st = _states(model, t[:-1], y[0, :-1])
+        pattern = _run_letters(st)
+        sep = float(np.mean(st == 0))
+        back = float(np.mean(st == -1))
+    x = y[0, :-1]
+    return OrbitShape(pattern, sep, back, float(np.std(x)), float(np.ptp(x)),
+                      float(np.mean(x)), float(np.min(x)))

@@ -1,0 +1,35 @@
+"""An :class:`~.branch.OrbitPoint` from a converged evaluation of the shooting equations."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from gear_dyn.analysis.continuation.branch import OrbitPoint, is_stable
+from gear_dyn.analysis.continuation.orbit import liouville_residual, orbit_shape
+from gear_dyn.analysis.continuation.settings import ContinuationSettings
+from gear_dyn.analysis.continuation.shooting import Evaluation, Shooting
+
+
+def make_point(sh: Shooting, ev: Evaluation, settings: ContinuationSettings,
+               arclength: float = 0.0, tangent_p: float = float("nan"), iterations: int = 0
+               ) -> OrbitPoint:
+    """The orbit point of ``ev``: multipliers, stability, Liouville check, contact pattern
+    and response measures (one more n-period map on a sample grid).
+
+    Raises
+    ------
+    SolverError
+        The sampling run failed.
+    """
+    y = sh.state(ev.z)
+    mu = np.linalg.eigvals(ev.monodromy).astype(np.complex128)
+    liou = liouville_residual(ev.model, ev.monodromy, sh.periods)
+    shape = orbit_shape(ev.model, y, sh.periods, sh.route, sh.rtol)
+    return OrbitPoint(
+        parameter=sh.param(ev.z), state=y, periods=sh.periods, multipliers=mu,
+        stable=is_stable(mu), liouville=liou, liouville_ok=liou <= settings.liouville_tol,
+        residual=float(np.max(np.abs(ev.g))), pattern=shape.pattern,
+        separation=shape.separation, back=shape.back, dte_rms=shape.dte_rms,
+        dte_ptp=shape.dte_ptp, dte_mean=shape.dte_mean,
+        mesh_frequency=float(ev.model.mesh_frequency), arclength=float(arclength),
+        tangent_p=float(tangent_p), iterations=int(iterations), dp_error=float(ev.dp_error))

@@ -1,0 +1,99 @@
+"""Continuation settings: one small immutable object (step bounds, tolerances, detection).
+
+As in BifurcationKit's ``ContinuationPar`` and AUTO-07p's constants file, the knobs of a
+continuation run live in one frozen dataclass, checked on construction.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from gear_dyn.errors import check_range
+
+
+@dataclass(frozen=True)
+class ContinuationSettings:
+    """How a branch of periodic orbits is followed (:func:`continue_orbits`).
+
+    Lengths are in the scaled space of the unknowns ``z = (x / x_s, v / v_s, p / p_ref)``
+    (``x_s, v_s`` the model's ``state_scale``, ``p_ref`` the start value of the parameter), so
+    a step of 0.01 moves the parameter by about 1 % where the branch runs along it.
+
+    Parameters
+    ----------
+    step : float
+        First arclength step (scaled, > 0).
+    step_min, step_max : float
+        Bounds of the adaptive step (scaled; ``0 < step_min <= step <= step_max``). The run
+        stops with a message when a step below ``step_min`` would be needed.
+    max_points : int
+        Largest number of points on one branch (1..100000).
+    newton_tol : float
+        The corrector stops when the scaled residual of the shooting equations and the
+        arclength condition is below this (1e-14..1e-4).
+    max_newton : int
+        Corrector iterations before the step is halved (2..50).
+    target_newton : int
+        Corrector iterations aimed at: at most this many grow the step by ``grow``, more than
+        ``target_newton + 2`` shrink it. The corrector starts from the parameter column of the
+        Jacobian at the step's start and corrects it by the secant condition of each Newton
+        step (the state columns are exact): 4-5 iterations to ``newton_tol`` on a smooth
+        stretch.
+    grow : float
+        Step growth factor after an easy corrector (1..4).
+    max_turn : float
+        Largest angle in rad between consecutive tangents (0..pi/2); a larger turn rejects the
+        step and halves it, so a fold is never stepped over and the corrector never lands on
+        another branch.
+    rtol : float
+        Relative tolerance of the variational integration (route ``variational``; unused by
+        the exact route), 1e-13..1e-6.
+    fd_step : float
+        Relative step of the central difference for the parameter derivative of the shooting
+        map (1e-9..1e-2); its error is O(fd_step**2) (truncation) plus O(eps / fd_step)
+        (rounding), both about 1e-10 at the default.
+    locate_tol : float
+        Scaled arclength to which bifurcation points are located (1e-14..1e-4); the parameter
+        is then known to about ``locate_tol`` relative, well inside 1e-8.
+    liouville_tol : float
+        Largest relative mismatch ``|det M / exp(-c nT / m) - 1|`` accepted on a point
+        (1e-14..1); a point over it is flagged (``liouville_ok`` False), not dropped.
+    detect : bool
+        Detect and locate folds, period doublings and grazing (contact-pattern changes).
+
+    Raises
+    ------
+    InputError
+        Any field outside its range.
+    """
+
+    step: float = 0.02
+    step_min: float = 1e-7
+    step_max: float = 0.1
+    max_points: int = 2000
+    newton_tol: float = 1e-10
+    max_newton: int = 8
+    target_newton: int = 4
+    grow: float = 1.5
+    max_turn: float = 0.3
+    rtol: float = 1e-10
+    fd_step: float = 1e-5
+    locate_tol: float = 1e-11
+    liouville_tol: float = 1e-6
+    detect: bool = True
+
+    def __post_init__(self) -> None:
+        check_range("step_max", self.step_max, "", low=0.0, low_open=True, high=10.0)
+        check_range("step_min", self.step_min, "", low=0.0, low_open=True, high=self.step_max)
+        check_range("step", self.step, "", low=self.step_min, high=self.step_max)
+        check_range("max_points", self.max_points, "", low=1, high=100000)
+        check_range("newton_tol", self.newton_tol, "", low=1e-14, high=1e-4)
+        check_range("max_newton", self.max_newton, "", low=2, high=50)
+        check_range("target_newton", self.target_newton, "", low=1, high=self.max_newton)
+        check_range("grow", self.grow, "", low=1.0, high=4.0)
+        check_range("max_turn", self.max_turn, "rad", low=0.0, high=1.5707963267948966,
+                    low_open=True)
+        check_range("rtol", self.rtol, "", low=1e-13, high=1e-6)
+        check_range("fd_step", self.fd_step, "", low=1e-9, high=1e-2)
+        check_range("locate_tol", self.locate_tol, "", low=1e-14, high=1e-4)
+        check_range("liouville_tol", self.liouville_tol, "", low=1e-14, high=1.0)

@@ -1,0 +1,254 @@
+"""The shooting equations of a period-n orbit with the parameter as an unknown, their Jacobian,
+the Newton corrector and the branch tangent (Seydel 2010, ch. 4 and 7; Doedel's AUTO notes).
+
+Unknowns, scaled: ``z = (x / x_s, v / v_s, p / p_ref)``. Equations: ``G(z) = (P(y, p) - y) /
+y_s = 0`` (two equations, three unknowns: a curve of solutions, the branch), closed by one more
+linear equation ``r . z = rhs``: the pseudo-arclength condition ``t . (z - z_pred) = 0`` (Keller
+1977) or, to stop at a given parameter value, ``p = p_end``.
+
+The Jacobian ``[M - I | dP/dp]`` (scaled): ``M`` exact or variational (:mod:`.orbit`); the
+parameter derivative by a central difference of the map over ``p +- h``, ``h = fd_step |p|``
+(truncation O(h^2), rounding O(eps / h)), whose one-sided differences' disagreement is kept as
+an upper estimate of its error; inside the corrector by the secant condition of each Newton
+step (a finite difference along the step, whose change from one step to the next is its error
+estimate).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gear_dyn.analysis.continuation.orbit import map_only, period_map
+from gear_dyn.errors import SolverError
+from gear_dyn.models.base import MeshModel
+
+FloatArray = NDArray[np.float64]
+#: two successive secant parameter columns that agree to this (relative) are taken as the
+#: parameter derivative at a converged point, without the central difference
+SECANT_AGREEMENT = 1e-4
+
+
+@dataclass(frozen=True, eq=False)
+class Evaluation:
+    """The shooting equations at one ``z``.
+
+    Attributes
+    ----------
+    z : ndarray (3,)
+        Scaled unknowns.
+    g : ndarray (2,)
+        Scaled residual ``(P(y) - y) / y_s``.
+    jac : ndarray (2, 3)
+        ``dG/dz`` (scaled).
+    monodromy : ndarray (2, 2)
+        ``M = dP/dy`` (SI).
+    dp_error : float
+        Upper estimate of the relative error of the parameter derivative (nan where the
+        column is a chord taken from another point).
+    model : MeshModel
+        The model at this parameter value.
+    """
+
+    z: FloatArray
+    g: FloatArray
+    jac: FloatArray
+    monodromy: FloatArray
+    dp_error: float
+    model: MeshModel
+
+
+class Shooting:
+    """The shooting equations of period-``periods`` orbits of ``family`` (see the module).
+
+    Parameters
+    ----------
+    family : callable
+        ``value -> MeshModel`` (SI value of the parameter).
+    periods : int
+        Mesh periods n of the orbits.
+    route : str
+        ``exact`` or ``variational``.
+    scale : ndarray (2,)
+        State scales (m, m/s).
+    p_ref : float
+        Parameter scale (> 0, SI).
+    rtol, fd_step : float
+        Variational tolerance; relative step of the parameter difference.
+    """
+
+    def __init__(self, family: Callable[[float], MeshModel], periods: int, route: str,
+                 scale: FloatArray, p_ref: float, rtol: float, fd_step: float) -> None:
+        self.family, self.periods, self.route = family, int(periods), route
+        self.scale = np.asarray(scale, dtype=float)
+        self.p_ref, self.rtol, self.fd_step = float(p_ref), float(rtol), float(fd_step)
+        self.n_maps = 0  #: n-period maps computed (cost counter)
+
+    def with_periods(self, periods: int) -> Shooting:
+        """The same problem for period-``periods`` orbits."""
+        return Shooting(self.family, periods, self.route, self.scale, self.p_ref, self.rtol,
+                        self.fd_step)
+
+    def state(self, z: FloatArray) -> FloatArray:
+        """SI state of scaled unknowns."""
+        return np.asarray(z[:2] * self.scale, dtype=float)
+
+    def param(self, z: FloatArray) -> float:
+        """SI parameter value of scaled unknowns."""
+        return float(z[2] * self.p_ref)
+
+    def scaled(self, y: FloatArray, p: float) -> FloatArray:
+        """Scaled unknowns of an SI state and parameter."""
+        return np.array([y[0] / self.scale[0], y[1] / self.scale[1], p / self.p_ref])
+
+    def residual_only(self, z: FloatArray) -> FloatArray:
+        """Scaled ``G(z)`` alone (no sensitivity)."""
+        y, p = self.state(z), self.param(z)
+        self.n_maps += 1
+        return (map_only(self.family(p), y, self.periods, self.route, self.rtol) - y) / self.scale
+
+    def evaluate(self, z: FloatArray, dp_col: FloatArray | None = None) -> Evaluation:
+        """The residual, Jacobian and monodromy matrix at ``z``.
+
+        ``dp_col``: the scaled parameter column of the Jacobian to use (a chord: e.g. that of
+        the step's start point); None computes it here by the central difference.
+
+        Raises
+        ------
+        SolverError
+            Integration failure (from the map).
+        InputError
+            The parameter left the family's valid range.
+        """
+        y, p = self.state(z), self.param(z)
+        model = self.family(p)
+        yt, mono = period_map(model, y, self.periods, self.route, self.rtol)
+        self.n_maps += 1
+        s = self.scale
+        jac = np.empty((2, 3))
+        jac[:, :2] = (mono - np.eye(2)) * s[None, :] / s[:, None]
+        dp_err = float("nan")
+        if dp_col is None:
+            dp_col, dp_err = self._dp_column(y, p, yt)
+        jac[:, 2] = dp_col
+        return Evaluation(np.array(z, dtype=float), (yt - y) / s, jac, mono, dp_err, model)
+
+    def _dp_column(self, y: FloatArray, p: float, yt: FloatArray) -> tuple[FloatArray, float]:
+        """Scaled ``dP/dp`` by the central difference, and its error estimate."""
+        h = self.fd_step * max(abs(p), 1e-3 * self.p_ref)
+        y_plus = map_only(self.family(p + h), y, self.periods, self.route, self.rtol)
+        y_minus = map_only(self.family(p - h), y, self.periods, self.route, self.rtol)
+        self.n_maps += 2
+        dp = (y_plus - y_minus) / (2 * h)
+        fwd, bwd = (y_plus - yt) / h, (yt - y_minus) / h
+        dp_err = float(np.max(np.abs(fwd - bwd)) / max(float(np.max(np.abs(dp))), 1e-300))
+        return dp * self.p_ref / self.scale, dp_err
+
+    def refresh(self, ev: Evaluation) -> Evaluation:
+        """``ev`` with its parameter column computed at its own point (for the tangent)."""
+        if not np.isnan(ev.dp_error):
+            return ev
+        y, p = self.state(ev.z), self.param(ev.z)
+        col, err = self._dp_column(y, p, y + ev.g * self.scale)
+        jac = ev.jac.copy()
+        jac[:, 2] = col
+        return Evaluation(ev.z, ev.g, jac, ev.monodromy, err, ev.model)
+
+    def _settled_column(self, ev: Evaluation, secants: list[FloatArray]) -> Evaluation | None:
+        """``ev`` with a parameter column good for the tangent: the last secant column where
+        the last two agree to :data:`SECANT_AGREEMENT` (their difference is its error
+        estimate), else the central difference (:meth:`refresh`)."""
+        if len(secants) >= 2:
+            a, b = secants[-1], secants[-2]
+            err = float(np.max(np.abs(a - b)) / max(float(np.max(np.abs(a))), 1e-300))
+            if err <= SECANT_AGREEMENT:
+                return Evaluation(ev.z, ev.g, ev.jac, ev.monodromy, err, ev.model)
+        try:
+            return self.refresh(ev)
+        except (SolverError, ValueError):
+            return None
+
+    def correct(self, z0: FloatArray, row: FloatArray, rhs: float, tol: float, max_iter: int,
+                dp_col: FloatArray | None = None, fresh: bool = True
+                ) -> tuple[Evaluation, int] | None:
+        """Newton's method on ``G(z) = 0``, ``row . z = rhs`` from ``z0``.
+
+        Converged when the scaled residual of all three equations is below ``tol`` at an
+        iterate; the returned evaluation is that iterate's. (The shooting residual bounds the
+        distance to the orbit by ``tol / (1 - |mu|)`` in scaled units, mu the multiplier
+        nearest 1.)
+        With ``dp_col`` (the parameter column at the step's start) the iterations skip the
+        difference quotient and correct the column by the secant condition of each step;
+        ``fresh`` then makes sure the converged point's column is good for the tangent
+        (the last secant column if it agrees with the one before, else the central
+        difference).
+
+        Returns
+        -------
+        (Evaluation, iterations) or None
+            None when Newton does not converge in ``max_iter`` iterations, diverges, meets a
+            singular system or the map fails (a chattering contact, a parameter out of range).
+        """
+        z = np.array(z0, dtype=float)
+        step_prev = math.inf
+        prev: tuple[Evaluation, FloatArray] | None = None
+        secants: list[FloatArray] = []  # the column after each secant update, in order
+        for it in range(1, max_iter + 1):
+            try:
+                ev = self.evaluate(z, dp_col)
+            except (SolverError, ValueError):
+                return None
+            updated = False
+            if dp_col is not None and prev is not None:
+                new = _secant_column(prev[0], ev, prev[1])
+                if new is not None:
+                    dp_col, updated = new, True
+                    secants.append(new)
+                    ev.jac[:, 2] = dp_col
+            f = np.append(ev.g, float(row @ z) - rhs)
+            if float(np.max(np.abs(f))) <= tol:
+                if not fresh:
+                    return ev, it
+                settled = self._settled_column(ev, secants if updated else [])
+                return None if settled is None else (settled, it)
+            a = np.vstack([ev.jac, row])
+            try:
+                dz = np.linalg.solve(a, -f)
+            except np.linalg.LinAlgError:
+                return None
+            step = float(np.max(np.abs(dz)))
+            if not math.isfinite(step):
+                return None
+            if it >= 3 and step > 0.5 * step_prev:
+                return None  # not contracting: outside Newton's region
+            step_prev = step
+            prev = (ev, dz)
+            z = z + dz
+        return None
+
+
+def _secant_column(ev0: Evaluation, ev1: Evaluation, dz: FloatArray) -> FloatArray | None:
+    """The parameter column from the secant condition of the last Newton step (Broyden's
+    update restricted to that column; the state columns are exact):
+    ``g1 - g0 = A_y dz_y + col dz_p``, ``A_y`` averaged over the two points (second order in
+    the step). None when the step hardly moved the parameter."""
+    dzp = float(dz[2])
+    if abs(dzp) <= 1e-3 * float(np.max(np.abs(dz))):
+        return None
+    a_y = 0.5 * (ev0.jac[:, :2] + ev1.jac[:, :2])
+    return np.asarray((ev1.g - ev0.g - a_y @ dz[:2]) / dzp, dtype=float)
+
+
+def tangent(jac: FloatArray) -> FloatArray:
+    """Unit null vector of the 2 x 3 Jacobian ``[M - I | dP/dp]`` (scaled): the branch
+    direction (the cross product of its rows; its sign is the caller's choice)."""
+    t = np.cross(jac[0], jac[1])
+    norm = float(np.linalg.norm(t))
+    if norm == 0.0 or not math.isfinite(norm):
+        raise SolverError("the branch tangent is undefined (Jacobian of rank < 2): a "
+                          "singular point of the shooting equations")
+    return np.asarray(t / norm, dtype=float)

@@ -1,0 +1,119 @@
+"""The response curve of a continuation: branches of periodic orbits against the parameter,
+stable solid, unstable dashed, folds and period doublings marked and labelled with their value
+(the figure of Kahraman & Singh 1990, fig. 7, with the unstable branch drawn).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from gear_dyn.analysis.continuation.branch import Branch
+from gear_dyn.plots._axes import axes_of, tidy
+
+#: y quantities: OrbitPoint field -> (axis label, factor to the plotted unit)
+QUANTITIES = {
+    "dte_rms": ("RMS DTE (um)", 1e6),
+    "dte_ptp": ("peak-to-peak DTE (um)", 1e6),
+    "dte_mean": ("mean DTE (um)", 1e6),
+    "separation": ("teeth apart (share of the period)", 1.0),
+}
+_RPM = 2 * math.pi / 60
+_COLOURS = ("tab:blue", "tab:red", "tab:green", "tab:purple", "tab:brown")
+
+
+def _x_of(branch: Branch) -> tuple[float, str]:
+    """Factor from the SI parameter to the plotted unit, and the axis label."""
+    if branch.parameter_name == "speed":
+        return 1.0 / _RPM, "pinion speed (rpm)"
+    if branch.parameter_name == "backlash":
+        return 1e6, "half gap (um)"
+    unit = f" ({branch.unit})" if branch.unit else ""
+    return 1.0, f"{branch.parameter_name}{unit}"
+
+
+def _fmt(value: float, branch: Branch) -> str:
+    fx, _ = _x_of(branch)
+    unit = {"speed": " rpm", "backlash": " um"}.get(branch.parameter_name,
+                                                     f" {branch.unit}" if branch.unit else "")
+    return f"{value * fx:.6g}{unit}"
+
+
+def plot_branch(branch: Branch, ax: Any = None, y: str = "dte_rms", label_points: bool = True
+                ) -> Any:
+    """Draw a branch and its children (period-2n branches) against the parameter.
+
+    Parameters
+    ----------
+    branch : Branch
+    ax : matplotlib Axes or None
+        None: a new figure.
+    y : str
+        Quantity on the y axis: ``dte_rms``, ``dte_ptp``, ``dte_mean`` or ``separation``.
+    label_points : bool
+        Write each fold's and period doubling's parameter value next to its mark.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Raises
+    ------
+    ValueError
+        An unknown ``y``.
+    """
+    if y not in QUANTITIES:
+        raise ValueError(f"y = {y!r}: valid choices are {', '.join(QUANTITIES)}")
+    fig, axis = axes_of(ax, figsize=(8, 4.5), name="plot_branch")
+    ylabel, fy = QUANTITIES[y]
+    fx, xlabel = _x_of(branch)
+    shown: set[str] = set()
+
+    def once(text: str) -> str | None:
+        if text in shown:
+            return None
+        shown.add(text)
+        return text
+
+    labels: list[tuple[float, float, str]] = []
+    for b in branch.walk():
+        if not b.points:
+            continue
+        colour = _COLOURS[min(b.periods.bit_length() - 1, len(_COLOURS) - 1)]
+        px = np.array([p.parameter for p in b.points]) * fx
+        py = np.array([getattr(p, y) for p in b.points]) * fy
+        stable = np.array([p.stable for p in b.points])
+        cuts = np.flatnonzero(stable[1:] != stable[:-1]) + 1
+        starts = np.concatenate([[0], cuts])
+        ends = np.concatenate([cuts, [len(px)]])
+        for a, e in zip(starts, ends, strict=True):
+            st = bool(stable[a])
+            sl = slice(max(a - 1, 0), e)  # joined to the previous piece
+            name = f"period-{b.periods} {'stable' if st else 'unstable'}"
+            axis.plot(px[sl], py[sl], color=colour, ls="-" if st else "--", lw=1.4,
+                      label=once(name))
+        for bif in b.bifurcations:
+            if bif.kind not in ("fold", "period_doubling"):
+                continue
+            bx, by = bif.parameter * fx, getattr(bif.point, y) * fy
+            marker, text = ("o", "fold") if bif.kind == "fold" else ("s", "PD")
+            axis.plot([bx], [by], marker, color="k", mfc="none", ms=7,
+                      label=once("fold" if bif.kind == "fold" else "period doubling"))
+            labels.append((bx, by, f"{text} {_fmt(bif.parameter, branch)}"))
+        graze = [g for g in b.bifurcations if g.kind == "grazing"]
+        if graze:
+            axis.plot([g.parameter * fx for g in graze], [getattr(g.point, y) * fy for g in graze],
+                      "x", color="0.4", ms=5, label=once("grazing (contact pattern changes)"))
+    if label_points:  # in speed order, alternately above and below: neighbours stay legible
+        for j, (bx, by, text) in enumerate(sorted(labels)):
+            axis.annotate(text, (bx, by), xytext=(5, 6 if j % 2 == 0 else -13),
+                          textcoords="offset points", fontsize=7)
+    axis.set_xlabel(xlabel)
+    axis.set_ylabel(ylabel)
+    axis.grid(True, alpha=0.3)
+    axis.legend(fontsize=7, loc="best")
+    if ax is None:
+        tidy(fig)
+    return fig
