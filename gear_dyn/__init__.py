@@ -52,6 +52,11 @@ _EXPORTS: dict[str, str] = {
     "sdof_family": "gear_dyn.analysis.continuation.family",
     "Branch": "gear_dyn.analysis.continuation.branch",
     "ContinuationSettings": "gear_dyn.analysis.continuation.settings",
+    "BifurcationDiagram": "gear_dyn.analysis.motion.diagram",
+    "DiagramOptions": "gear_dyn.analysis.motion.diagram",
+    "bifurcation_diagram": "gear_dyn.analysis.motion.diagram",
+    "Motion": "gear_dyn.analysis.motion.classify",
+    "classify_motion": "gear_dyn.analysis.motion.classify",
     "Result": "gear_dyn.solvers.result",
     "SolverSettings": "gear_dyn.solvers.settings",
     "simulate": "gear_dyn.analysis.study",
@@ -70,6 +75,12 @@ if TYPE_CHECKING:  # what type checkers and IDEs see; at run time the names load
     from gear_dyn.analysis.continuation.branch import Branch
     from gear_dyn.analysis.continuation.family import sdof_family
     from gear_dyn.analysis.continuation.settings import ContinuationSettings
+    from gear_dyn.analysis.motion.classify import Motion, classify_motion
+    from gear_dyn.analysis.motion.diagram import (
+        BifurcationDiagram,
+        DiagramOptions,
+        bifurcation_diagram,
+    )
     from gear_dyn.analysis.report import summarize
     from gear_dyn.analysis.study import simulate
     from gear_dyn.analysis.sweep.types import SweepOptions, SweepResult

@@ -27,6 +27,7 @@ COMMANDS: tuple[str, ...] = (
     "gear_dyn.cli.bench",
     "gear_dyn.cli.sweep",
     "gear_dyn.cli.response",
+    "gear_dyn.cli.bifurcation",
     "gear_dyn.cli.compare",
     "gear_dyn.cli.excitation",
     "gear_dyn.cli.fmu",

@@ -16,10 +16,8 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import math
-import multiprocessing
-import signal
 import time
-from collections.abc import Callable, Iterable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -27,6 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.analysis.dynamic_factor import quasi_static_model_of, quasi_static_reference
+from gear_dyn.analysis.executor import MapFn, check_workers, task_map
 from gear_dyn.analysis.sweep.batch import linear_block
 from gear_dyn.analysis.sweep.points import steady_point, transient_point
 from gear_dyn.analysis.sweep.types import (
@@ -103,11 +102,7 @@ def _checked(speeds: Sequence[float] | FloatArray, direction: str, block: int | 
         raise InputError(f"direction = {direction!r}: valid choices are {', '.join(DIRECTIONS)}")
     if block is not None:
         check_range("block", block, "", low=1, high=10_000)
-    if workers is not None:
-        check_range("workers", workers, "", low=1, high=4096)
-        if executor is not None:
-            raise InputError("sweep: give workers (a local process pool) or an executor, "
-                             "not both")
+    check_workers(workers, executor)
     sp = np.unique(np.asarray(speeds, dtype=float))
     if sp.size < 1:
         raise InputError("sweep: no speeds given")
@@ -133,10 +128,7 @@ def _directions(direction: str, nonlinear: bool) -> tuple[str, ...]:
     return (direction,)
 
 
-_Map = Callable[[Callable[[_Block], Any], Iterable[_Block]], Iterator[Any]]
-
-
-def _run_chains(run_map: _Map, template: dict[str, Any],
+def _run_chains(run_map: MapFn, template: dict[str, Any],
                 chains: dict[str, list[tuple[float, ...]]], continuation: bool,
                 progress: Callable[[int, int], None] | None) -> dict[str, list[Point]]:
     """Every block through ``run_map`` (the builtin ``map`` or an executor's).
@@ -172,33 +164,6 @@ def _run_chains(run_map: _Map, template: dict[str, Any],
             state[d] = end
             finished(d, pts)
     return points
-
-
-def _leave_ctrl_c_to_the_caller() -> None:
-    """Pool processes ignore Ctrl-C (SIGINT): the calling process gets it and stops them."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-
-
-def _on_pool(workers: int, template: dict[str, Any], chains: dict[str, list[tuple[float, ...]]],
-             continuation: bool, progress: Callable[[int, int], None] | None
-             ) -> dict[str, list[Point]]:
-    """:func:`_run_chains` on a process pool of ``workers`` processes, shut down at the end.
-
-    Interrupted (Ctrl-C, or SIGTERM turned into an exception by ``gear-dyn``) or failed, the
-    pool's processes are terminated at once rather than left to finish their blocks.
-    """
-    before = set(multiprocessing.active_children())
-    pool = cf.ProcessPoolExecutor(max_workers=workers,
-                                  mp_context=multiprocessing.get_context("spawn"),
-                                  initializer=_leave_ctrl_c_to_the_caller)
-    try:
-        return _run_chains(pool.map, template, chains, continuation, progress)
-    except BaseException:
-        for process in set(multiprocessing.active_children()) - before:
-            process.terminate()
-        raise
-    finally:
-        pool.shutdown(wait=True, cancel_futures=True)
 
 
 def sweep(
@@ -287,15 +252,8 @@ def sweep(
     n_steady = int(periods // 2 if steady_periods is None else steady_periods)
     template: dict[str, Any] = dict(factory=factory, settings=settings, options=opts,
                                     periods=int(periods), steady_periods=n_steady)
-    if executor is not None:
-        label = type(executor).__name__
-        points = _run_chains(executor.map, template, chains, nonlinear, progress)
-    elif workers is not None and workers > 1:
-        label = f"process pool, {workers} workers"
-        points = _on_pool(workers, template, chains, nonlinear, progress)
-    else:
-        label = "serial"
-        points = _run_chains(map, template, chains, nonlinear, progress)
+    with task_map(workers, executor) as (run_map, label):
+        points = _run_chains(run_map, template, chains, nonlinear, progress)
     # one quasi-static reference for the whole sweep: its peak force does not depend on speed
     qs_model = quasi_static_model_of(factory, float(sp[0]), model)
     reference = None if qs_model is None else quasi_static_reference(qs_model, settings)

@@ -9,6 +9,8 @@ from typing import cast
 import numpy as np
 from numpy.typing import NDArray
 
+from gear_dyn.analysis.motion.classify import Motion, classify_motion
+from gear_dyn.analysis.motion.period import MAX_PERIOD
 from gear_dyn.analysis.stability import (
     UNIT_CIRCLE_TOL,
     floquet_multipliers,
@@ -30,6 +32,16 @@ FloatArray = NDArray[np.float64]
 
 #: periods of settling transient between shooting attempts after an orbit is lost
 SETTLE_CHUNK = 25
+#: stroboscopic samples classified where no orbit of one or two mesh periods is found
+CLASSIFY_SAMPLES = 64
+
+
+def orbit_status(periods: int, continuing: bool = False) -> str:
+    """Status of a steady orbit of ``periods`` mesh periods: ``periodic`` (``settled`` where
+    found again after a settling transient), ``period-n`` for n >= 2."""
+    if periods == 1:
+        return "settled" if continuing else "periodic"
+    return f"period-{periods}"
 
 
 def _contact(model: Model, t: FloatArray, y: FloatArray, force: FloatArray
@@ -100,13 +112,18 @@ def _orbit_point(model: Model, speed: float, y0: FloatArray, settings: SolverSet
     t = np.arange(n + 1) / (fm * spp)
     y = _flow(model, t, settings, y0)
     if orbit_periods > 1:
-        # a period-1 orbit is a fixed point of the two-period map too: call it what it is
+        # a period-d orbit (d dividing n) is a fixed point of the n-period map too: call it
+        # what it is
         scale = np.maximum(np.asarray(model.state_scale, dtype=float), np.abs(y[:, 0]))
-        if np.max(np.abs(y[:, spp] - y[:, 0]) / scale) <= 1e3 * settings.rtol:
-            orbit_periods, n = 1, spp
-            t, y = t[: spp + 1], y[:, : spp + 1]
-            rho = math.sqrt(rho)  # multipliers of the two-period map are squares
-            status = "periodic" if status == "period-2" else status
+        for d in range(1, orbit_periods):
+            if (orbit_periods % d == 0
+                    and np.max(np.abs(y[:, d * spp] - y[:, 0]) / scale) <= 1e3 * settings.rtol):
+                rho = rho ** (d / orbit_periods)  # multipliers of the n-period map: powers
+                if status.startswith("period-"):
+                    status = orbit_status(d)
+                orbit_periods, n = d, d * spp
+                t, y = t[: n + 1], y[:, : n + 1]
+                break
     return _orbit_metrics(model, speed, t[:-1], y[:, :-1], opts, rho, stable, status,
                           iterations, orbit_periods, spp)
 
@@ -122,12 +139,12 @@ def _orbit_metrics(model: Model, speed: float, t: FloatArray, y: FloatArray, opt
     spec = _order_spectrum(dte_win, opts.window_periods, spp, opts.harmonics)
     return Point(speed, model.mesh_frequency, df, rms, ptp, mean, rho, stable,
                  orbit_periods == 1, status, sep, back, iterations, spec,
-                 np.array(y[:, 0], dtype=float), orbit_periods)
+                 np.array(y[:, 0], dtype=float), orbit_periods, f"period-{orbit_periods}")
 
 
 def _window_point(model: Model, speed: float, t: FloatArray, y: FloatArray, n_window: int,
                   settings: SolverSettings, opts: SweepOptions, rho: float, status: str,
-                  iterations: int) -> Point:
+                  iterations: int, motion: Motion | None = None) -> Point:
     """Metrics over the last ``n_window`` samples of a run (whole periods)."""
     spp = settings.samples_per_period
     tw, yw = t[-n_window:], y[:, -n_window:]
@@ -138,8 +155,11 @@ def _window_point(model: Model, speed: float, t: FloatArray, y: FloatArray, n_wi
     scale = np.asarray(model.state_scale, dtype=float)
     closing = np.abs(y[:, -1] - y[:, -1 - spp]) / np.maximum(scale, np.abs(y[:, -1]))
     periodic = bool(np.max(closing) <= 1e3 * settings.rtol)
+    est = None if motion is None else motion.lyapunov
     return Point(speed, model.mesh_frequency, df, rms, ptp, mean, rho, math.isfinite(rho) and
-                 rho <= 1.0, periodic, status, sep, back, iterations, spec, y[:, -1].copy())
+                 rho <= 1.0, periodic, status, sep, back, iterations, spec, y[:, -1].copy(),
+                 0, "" if motion is None else motion.label,
+                 math.nan if est is None else est.value, math.nan if est is None else est.error)
 
 
 def steady_point(model: Model, speed: float, settings: SolverSettings, opts: SweepOptions,
@@ -155,12 +175,11 @@ def steady_point(model: Model, speed: float, settings: SolverSettings, opts: Swe
     if mesh.backlash is None:
         return _linear_orbit_point(mesh, speed, settings, opts)
     guess = mesh.initial_state() if y_guess is None else np.asarray(y_guess, dtype=float)
-    first = n_prev if n_prev in (1, 2) else 1
+    first = n_prev if 1 <= n_prev <= MAX_PERIOD else 1
     sol = shoot(mesh, guess, settings.rtol, opts.max_newton, periods=first)
     if sol.converged and sol.stable:
         return _orbit_point(mesh, speed, sol.y0, settings, opts, sol.spectral_radius, True,
-                            "periodic" if first == 1 else "period-2", sol.iterations,
-                            first), sol.y0
+                            orbit_status(first), sol.iterations, first), sol.y0
     return _settle_and_shoot(mesh, speed, settings, opts, guess, sol.iterations,
                              continuing=y_guess is not None)
 
@@ -183,8 +202,12 @@ def _settle_and_shoot(model: MeshModel, speed: float, settings: SolverSettings,
 
     In chunks of SETTLE_CHUNK periods, shooting for a period-1, then a period-2 orbit after
     each. The settling run only has to reach the attractor's basin, so it runs at rtol >= 1e-6;
-    shooting (or the measured window) restores the full accuracy. With no such orbit, a window
-    of whole periods is measured at full accuracy (``aperiodic``).
+    shooting (or the measured window) restores the full accuracy. With no such orbit, the
+    motion is classified from CLASSIFY_SAMPLES stroboscopic samples
+    (:func:`gear_dyn.analysis.motion.classify_motion`): an orbit of n = 1..16 mesh periods
+    confirmed by shooting over n periods (``period-n``), else ``aperiodic`` with the motion's
+    label (quasi-periodic, chaotic with its Lyapunov exponent, or not settled), measured over
+    a window of whole periods at full accuracy from where the classification ended.
     """
     spp = settings.samples_per_period
     fm = model.mesh_frequency
@@ -199,14 +222,21 @@ def _settle_and_shoot(model: MeshModel, speed: float, settings: SolverSettings,
             sol = shoot(model, y_end, settings.rtol, opts.max_newton, periods=per)
             iters += sol.iterations
             if sol.converged and sol.spectral_radius <= 1.0 + UNIT_CIRCLE_TOL:
-                status = "period-2" if per == 2 else ("settled" if continuing else "periodic")
                 return _orbit_point(model, speed, sol.y0, settings, opts, sol.spectral_radius,
-                                    True, status, iters, per), sol.y0
+                                    True, orbit_status(per, continuing), iters, per), sol.y0
+    motion = classify_motion(model, y_end, 0, CLASSIFY_SAMPLES, settings.rtol,
+                             opts.lyapunov_periods, max(10, opts.lyapunov_periods // 10),
+                             opts.max_newton)
+    iters += motion.shooting_iterations
+    if motion.periodic:
+        return _orbit_point(model, speed, motion.state, settings, opts, motion.spectral_radius,
+                            True, orbit_status(motion.period, continuing), iters,
+                            motion.period), motion.state
     n_win = opts.window_periods * spp
     tw = np.arange(n_win + spp + 1) / (fm * spp)
-    yw = _flow(model, tw, settings, y_end)
+    yw = _flow(model, tw, settings, motion.state)
     return _window_point(model, speed, tw, yw, n_win, settings, opts, math.nan, "aperiodic",
-                         iters), yw[:, -1]
+                         iters, motion), yw[:, -1]
 
 
 def transient_point(model: Model, speed: float, settings: SolverSettings,

@@ -32,7 +32,7 @@ def sweep_columns(result: SweepResult) -> dict[str, Any]:
         "direction_down", "speed_rpm", "speed_rad_s", "mesh_frequency_hz", "frequency_ratio",
         "dynamic_factor", "peak_force_ratio", "rms_dte_m", "ptp_dte_m", "mean_dte_m",
         "max_floquet_modulus", "stable", "periodic", "orbit_periods", "separation_share",
-        "backside_share", "newton_iterations")}
+        "backside_share", "newton_iterations", "lyapunov_1_s", "lyapunov_error_1_s")}
     fn = result.natural_frequency
     for c in result.curves:
         n = c.speed.size
@@ -53,6 +53,10 @@ def sweep_columns(result: SweepResult) -> dict[str, Any]:
         cols["separation_share"] += list(c.separation)
         cols["backside_share"] += list(c.backside)
         cols["newton_iterations"] += list(c.iterations.astype(float))
+        nan = np.full(n, np.nan)  # a curve stacked without them (made by hand) has none
+        cols["lyapunov_1_s"] += list(c.lyapunov if c.lyapunov.size == n else nan)
+        cols["lyapunov_error_1_s"] += list(c.lyapunov_error if c.lyapunov_error.size == n
+                                           else nan)
     return {k: np.asarray(v, dtype=float) for k, v in cols.items()}
 
 
@@ -230,6 +234,9 @@ def summarize_sweep(result: SweepResult) -> dict[str, Any]:
             "aperiodic_ranges_rpm": _ranges(c.speed, _not_periodic(c)),
             "period2_ranges_rpm": _ranges(c.speed, c.orbit_periods == 2),
             "jumps": jumps(c),
+            # what the motion is where it is not period-1 (gear_dyn.analysis.motion)
+            "motion": [{"speed_rpm": float(c.speed[i] / RPM), "label": label}
+                       for i, label in enumerate(c.motion) if label not in ("", "period-1")],
         }
         if np.any(finite):
             # K_dyn is F_max / W over one constant: both peak at the same speed

@@ -5,7 +5,7 @@ from __future__ import annotations
 import importlib
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -38,6 +38,10 @@ class SweepOptions:
         previous orbit fails (10..100000).
     max_newton : int
         Shooting iterations per attempt (2..100).
+    lyapunov_periods : int
+        Steady method, where no orbit of 1..16 mesh periods is found after settling: mesh
+        periods of the largest Lyapunov exponent that tells quasi-periodic from chaotic motion
+        (20..1e6; :func:`gear_dyn.analysis.motion.classify_samples`).
     """
 
     method: str = "steady"
@@ -45,6 +49,7 @@ class SweepOptions:
     harmonics: int = 5
     settle_periods: int = 100
     max_newton: int = 12
+    lyapunov_periods: int = 200
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -54,6 +59,7 @@ class SweepOptions:
         check_range("harmonics", self.harmonics, "", low=1, high=64)
         check_range("settle_periods", self.settle_periods, "", low=10, high=100_000)
         check_range("max_newton", self.max_newton, "", low=2, high=100)
+        check_range("lyapunov_periods", self.lyapunov_periods, "", low=20, high=1_000_000)
 
 
 class Point(NamedTuple):
@@ -75,6 +81,9 @@ class Point(NamedTuple):
     spectrum: FloatArray
     state: FloatArray
     orbit_periods: int = 0
+    motion: str = ""
+    lyapunov: float = math.nan
+    lyapunov_error: float = math.nan
 
 
 @dataclass(frozen=True, eq=False)
@@ -106,9 +115,10 @@ class SweepCurve:
         Floquet-stable; response repeats every mesh period.
     status : tuple of str
         ``periodic``, ``settled`` (shooting from the previous orbit failed, the orbit was found
-        again after a settling transient: where the response jumps), ``period-2`` (a stable
-        orbit over two mesh periods: subharmonic response), ``aperiodic`` (no period-1 or -2
-        orbit: measured over a settled window), ``unstable`` (parametric instability),
+        again after a settling transient: where the response jumps), ``period-n`` (n = 2..16:
+        a stable orbit over n mesh periods, subharmonic response, confirmed by shooting over n
+        periods), ``aperiodic`` (no orbit of 1..16 periods: quasi-periodic or chaotic, see
+        ``motion``; measured over a settled window), ``unstable`` (parametric instability),
         ``transient`` (transient method).
     separation, backside : ndarray
         Share of the mesh period with the teeth apart (inside the backlash; for a linear model,
@@ -121,8 +131,15 @@ class SweepCurve:
         State on the periodic orbit at t = 0 (steady method) or at the end of the run
         (transient, aperiodic), SI; NaN where unstable.
     orbit_periods : ndarray of int
-        Mesh periods of the steady orbit: 1, 2 (period-2, subharmonic f_m/2 response) or 0
-        (not found: aperiodic, transient method, unstable).
+        Mesh periods of the steady orbit: 1, n = 2..16 (period-n, subharmonic f_m/n response)
+        or 0 (not found: aperiodic, transient method, unstable).
+    motion : tuple of str
+        Steady method with backlash: what the motion is (``period-1``, ``period-4``,
+        ``quasi-periodic, lambda = ...``, ``chaotic, lambda = 2054 +- 98 1/s``, ``not settled,
+        ...``; :mod:`gear_dyn.analysis.motion`); "" where not classified.
+    lyapunov, lyapunov_error : ndarray
+        Largest Lyapunov exponent and its standard error in 1/s where no orbit was found
+        (NaN elsewhere).
     """
 
     direction: str
@@ -143,6 +160,9 @@ class SweepCurve:
     spectrum: FloatArray
     state: FloatArray
     orbit_periods: NDArray[np.int_]
+    motion: tuple[str, ...] = ()
+    lyapunov: FloatArray = field(default_factory=lambda: np.zeros(0))
+    lyapunov_error: FloatArray = field(default_factory=lambda: np.zeros(0))
 
     @classmethod
     def from_points(cls, direction: str, points: Sequence[Point],
@@ -164,6 +184,8 @@ class SweepCurve:
             spectrum=np.array([p.spectrum for p in points], dtype=float),
             state=np.array([p.state for p in points], dtype=float),
             orbit_periods=arr("orbit_periods", int),
+            motion=tuple(p.motion for p in points), lyapunov=arr("lyapunov"),
+            lyapunov_error=arr("lyapunov_error"),
         )
 
 

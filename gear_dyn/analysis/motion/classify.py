@@ -1,0 +1,311 @@
+"""What kind of motion a trajectory settles on: period-n, quasi-periodic or chaotic.
+
+From the stroboscopic samples (one per mesh period after settling,
+:mod:`gear_dyn.analysis.motion.samples`):
+
+1. a period n = 1..16 after which the samples repeat (:func:`.period.detect_period`) is
+   confirmed by shooting over n mesh periods (:func:`gear_dyn.analysis.stability.shoot`):
+   Newton closes the orbit and its Floquet multipliers are inside the unit circle. The label
+   is ``period-n`` with n the orbit's least period;
+2. otherwise the largest Lyapunov exponent (:mod:`.lyapunov`) is computed, the samples after
+   its run tried once more for a period (a slow escape from an unstable orbit shows a positive
+   exponent while it lasts), and without one the exponent decides (:func:`lyapunov_kind`):
+   significantly positive is ``chaotic``; zero, resolved to :data:`ZERO_BAND` per mesh period,
+   is ``quasi-periodic`` (the motion on a torus neither grows nor shrinks along it: Parker &
+   Chua 1989, sec. 6.3); significantly negative is ``not settled`` (still converging);
+   otherwise ``undetermined`` (run longer). Samples that still repeat to :data:`TRY_TOL`
+   without a stable orbit sit near an unstable one (a slow escape): ``not settled``, whatever
+   the exponent (that of the unstable orbit while it lasts). Samples beyond
+   :data:`UNBOUNDED` state scales are ``unbounded`` (a parametric instability that contact
+   loss does not limit).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gear_dyn.analysis.motion.lyapunov import LyapunovEstimate, largest_lyapunov
+from gear_dyn.analysis.motion.period import MAX_PERIOD, repeat_errors
+from gear_dyn.analysis.motion.samples import flow_periods, stroboscopic
+from gear_dyn.analysis.stability import UNIT_CIRCLE_TOL, PeriodicSolution, shoot
+from gear_dyn.errors import check_range
+from gear_dyn.models.base import MeshModel
+
+FloatArray = NDArray[np.float64]
+ComplexArray = NDArray[np.complex128]
+
+#: kinds of motion
+KINDS = ("periodic", "quasi-periodic", "chaotic", "not settled", "undetermined", "unbounded")
+#: a Lyapunov exponent within this many standard errors of zero counts as zero ...
+SIGMAS = 3.0
+#: ... and so does one below this per mesh period (``abs(lambda T) <= ZERO_BAND``): a stable orbit
+#: whose multiplier modulus is within 0.2 % of 1 is not told from a torus by its exponent
+ZERO_BAND = 2e-3
+#: samples further than this many state scales from zero: the response is unbounded
+UNBOUNDED = 1e6
+#: repeat error (relative to the state scale) below which a period is tried by shooting
+TRY_TOL = 5e-2
+#: periods tried by shooting at most, per set of samples
+MAX_TRIES = 4
+
+
+@dataclass(frozen=True, eq=False)
+class Motion:
+    """The motion a trajectory settles on.
+
+    Attributes
+    ----------
+    kind : str
+        One of :data:`KINDS`.
+    period : int
+        Least period in mesh periods of a confirmed orbit (``kind == "periodic"``), else 0.
+    label : str
+        ``period-4``, ``quasi-periodic``, ``chaotic, lambda = 2054 +- 98 1/s`` ...
+    state : ndarray
+        On a confirmed orbit: its state at t = 0 (mesh phase 0); else the last state reached.
+        SI units.
+    samples : ndarray (n_samples, n_states)
+        The stroboscopic samples classified, SI units.
+    multipliers : ndarray of complex
+        Floquet multipliers of the orbit over its ``period`` mesh periods (empty if none).
+    lyapunov : LyapunovEstimate or None
+        Computed where no orbit was confirmed.
+    repeat_error : ndarray
+        Relative repeat error of the samples after n = 1..16 periods
+        (:func:`.period.repeat_errors`).
+    shooting_iterations : int
+        Newton iterations spent on confirming periods.
+    """
+
+    kind: str
+    period: int
+    label: str
+    state: FloatArray
+    samples: FloatArray
+    multipliers: ComplexArray = field(default_factory=lambda: np.zeros(0, complex))
+    lyapunov: LyapunovEstimate | None = None
+    repeat_error: FloatArray = field(default_factory=lambda: np.zeros(0))
+    shooting_iterations: int = 0
+
+    @property
+    def periodic(self) -> bool:
+        """A stable orbit of ``period`` mesh periods was confirmed by shooting."""
+        return self.kind == "periodic"
+
+    @property
+    def spectral_radius(self) -> float:
+        """Largest multiplier modulus of the orbit (NaN without an orbit)."""
+        return float(np.max(np.abs(self.multipliers))) if self.multipliers.size else math.nan
+
+    def __repr__(self) -> str:
+        return f"Motion({self.label})"
+
+
+def lyapunov_kind(est: LyapunovEstimate) -> str:
+    """What the largest Lyapunov exponent says of a motion with no orbit of <= 16 periods.
+
+    ``chaotic``: positive by more than :data:`SIGMAS` standard errors and by more than
+    :data:`ZERO_BAND` per mesh period; ``quasi-periodic``: zero, i.e. within :data:`ZERO_BAND`
+    per mesh period with a standard error that resolves that band (:data:`SIGMAS` errors
+    inside it); ``not settled``: negative by more than :data:`SIGMAS` errors (still converging);
+    ``undetermined``: none of these (the estimate is too uncertain).
+    """
+    lam, err, period = est.value, est.error, est.mesh_period
+    if lam > SIGMAS * err and lam * period > ZERO_BAND:
+        return "chaotic"
+    if abs(lam * period) <= ZERO_BAND and SIGMAS * err * period <= ZERO_BAND:
+        return "quasi-periodic"
+    if lam < -SIGMAS * err:
+        return "not settled"
+    return "undetermined"
+
+
+def lyapunov_label(est: LyapunovEstimate) -> str:
+    """``lambda = 2054 +- 98 1/s``: the estimate to the digits its error supports."""
+    return f"lambda = {est.value:.4g} +- {est.error:.2g} 1/s"
+
+
+def confirm_period(model: MeshModel, y: FloatArray, n: int, rtol: float = 1e-10,
+                   max_newton: int = 15) -> tuple[PeriodicSolution, int]:
+    """A stable orbit of ``n`` mesh periods near ``y`` by shooting, and its least period.
+
+    Parameters
+    ----------
+    model : MeshModel
+    y : ndarray
+        A stroboscopic sample near the orbit, SI units.
+    n : int
+        Mesh periods (1..16).
+    rtol : float
+        Tolerance of shooting (:func:`gear_dyn.analysis.stability.shoot`).
+    max_newton : int
+        Newton iterations.
+
+    Returns
+    -------
+    (PeriodicSolution, int)
+        The shooting result (``periods = n``) and the least d dividing n after which the orbit
+        repeats (to ``1000 rtol`` of the state scale); d = 0 where Newton did not converge or
+        the orbit is unstable.
+    """
+    check_range("n", n, "", low=1, high=MAX_PERIOD)
+    sol = shoot(model, y, rtol, max_newton, periods=n)
+    if not (sol.converged and sol.spectral_radius <= 1.0 + UNIT_CIRCLE_TOL):
+        return sol, 0
+    least = n
+    if n > 1:
+        orbit = flow_periods(model, sol.y0, n, rtol).T
+        scale = np.maximum(np.asarray(model.state_scale, dtype=float), np.abs(sol.y0))
+        for d in range(1, n):
+            if n % d == 0 and np.max(np.abs(orbit[d] - orbit[0]) / scale) <= 1e3 * rtol:
+                least = d
+                break
+    return sol, least
+
+
+def classify_samples(model: MeshModel, samples: FloatArray, rtol: float = 1e-10,
+                     lyapunov_periods: int = 400, lyapunov_block: int = 40,
+                     max_newton: int = 15, route: str = "auto") -> Motion:
+    """Classify the motion whose stroboscopic samples are ``samples`` (see the module text).
+
+    Parameters
+    ----------
+    model : MeshModel
+        Single-DOF mesh model.
+    samples : ndarray (n_samples, n_states)
+        Stroboscopic samples after settling, at least 32 (:data:`.period.MAX_PERIOD` x 2).
+    rtol : float
+        Tolerance of shooting and of the variational route.
+    lyapunov_periods, lyapunov_block : int
+        Mesh periods of the Lyapunov estimate and per block (:func:`.lyapunov.largest_lyapunov`).
+    max_newton : int
+        Newton iterations per period tried.
+    route : {"auto", "exact", "variational"}
+        Sensitivity route of the Lyapunov exponent (shooting takes ``auto``).
+
+    Returns
+    -------
+    Motion
+
+    Raises
+    ------
+    InputError
+        Too few samples or a bad argument.
+    SolverError
+        Integration failure.
+    """
+    samples = np.asarray(samples, dtype=float)
+    scale = np.asarray(model.state_scale, dtype=float)
+    if not np.all(np.isfinite(samples)) or np.max(np.abs(samples) / scale) > UNBOUNDED:
+        return Motion("unbounded", 0, "unbounded", samples[-1].copy(), samples)
+    found, iters = find_orbit(model, samples, rtol, max_newton)
+    if found is not None:
+        return found
+    est = largest_lyapunov(model, samples[-1], lyapunov_periods, lyapunov_block, rtol=rtol,
+                           route=route)
+    # the run may have ended a transient (a slow escape from an unstable orbit shows a
+    # positive exponent for a while): look for an orbit once more, from where it ended
+    again = stroboscopic(model, est.y_end, 0, samples.shape[0], rtol)
+    found, iters = find_orbit(model, again, rtol, max_newton, iters)
+    if found is not None:
+        return found
+    kind = lyapunov_kind(est)
+    near = repeat_errors(again, scale) <= TRY_TOL
+    if near.any():  # repeating, yet no stable orbit: a saddle orbit, left slowly
+        kind = "not settled"
+        label = (f"not settled (near an unstable period-{int(np.argmax(near)) + 1} orbit), "
+                 f"{lyapunov_label(est)}")
+    elif kind == "not settled":
+        label = f"not settled (no stable orbit of <= {MAX_PERIOD} periods), {lyapunov_label(est)}"
+    elif kind == "undetermined":
+        label = f"undetermined (exponent not resolved: run longer), {lyapunov_label(est)}"
+    else:
+        label = f"{kind}, {lyapunov_label(est)}"
+    return Motion(kind, 0, label, est.y_end.copy(), samples, np.zeros(0, complex), est,
+                  repeat_errors(samples, scale), iters)
+
+
+def find_orbit(model: MeshModel, samples: FloatArray, rtol: float = 1e-10, max_newton: int = 15,
+               iters: int = 0) -> tuple[Motion | None, int]:
+    """A stable orbit of n <= 16 mesh periods that the samples suggest, confirmed by shooting.
+
+    The periods after which the samples repeat to :data:`TRY_TOL` state scales are tried in
+    increasing order, at most :data:`MAX_TRIES`, shooting from the last sample (the most
+    settled). Multiples of a period that failed are tried too: samples that leave an unstable
+    period-1 orbit repeat after one period for a while, and shooting over two periods reaches
+    the stable period-2 orbit they are heading for.
+
+    Parameters
+    ----------
+    model : MeshModel
+    samples : ndarray (n_samples, n_states)
+        Stroboscopic samples, at least 32, SI units.
+    rtol, max_newton
+        As :func:`confirm_period`.
+    iters : int
+        Newton iterations spent so far (added to).
+
+    Returns
+    -------
+    (Motion or None, int)
+        The periodic motion (None if no period was confirmed) and the Newton iterations.
+    """
+    scale = np.asarray(model.state_scale, dtype=float)
+    err = repeat_errors(samples, scale)
+    tried = [n for n in range(1, MAX_PERIOD + 1) if err[n - 1] <= TRY_TOL][:MAX_TRIES]
+    for n in tried:
+        sol, least = confirm_period(model, samples[-1], n, rtol, max_newton)
+        iters += sol.iterations
+        if least:
+            mult = sol.multipliers if least == n else _multipliers(model, sol.y0, least, rtol)
+            return Motion("periodic", least, f"period-{least}", sol.y0.copy(), samples, mult,
+                          None, err, iters), iters
+    return None, iters
+
+
+def _multipliers(model: MeshModel, y0: FloatArray, n: int, rtol: float) -> ComplexArray:
+    """Floquet multipliers of the orbit through ``y0`` over its least period ``n``."""
+    sol = shoot(model, y0, rtol, 3, periods=n)
+    return sol.multipliers
+
+
+def classify_motion(model: MeshModel, y0: FloatArray, settle: int = 200, samples: int = 64,
+                    rtol: float = 1e-10, lyapunov_periods: int = 400,
+                    lyapunov_block: int = 40, max_newton: int = 15,
+                    route: str = "auto") -> Motion:
+    """Settle from ``y0`` and classify the motion (period-n, quasi-periodic, chaotic).
+
+    Parameters
+    ----------
+    model : MeshModel
+        Single-DOF mesh model (``mesh_periodic``), with or without backlash.
+    y0 : ndarray
+        Start state at t = 0, SI units (e.g. ``model.initial_state()`` or the state of a
+        neighbouring speed).
+    settle : int
+        Mesh periods run before sampling (0..1e6).
+    samples : int
+        Stroboscopic samples classified (32..1e6).
+    rtol, lyapunov_periods, lyapunov_block, max_newton, route
+        As :func:`classify_samples`.
+
+    Returns
+    -------
+    Motion
+
+    Raises
+    ------
+    InputError
+        A bad argument or a model that is not a mesh-periodic single-DOF model.
+    SolverError
+        Integration failure.
+
+    """
+    check_range("samples", samples, "", low=2 * MAX_PERIOD)
+    strobe = stroboscopic(model, y0, settle, samples, rtol)
+    return classify_samples(model, strobe, rtol, lyapunov_periods, lyapunov_block, max_newton,
+                            route)

@@ -1,0 +1,383 @@
+"""The bifurcation diagram: stroboscopic samples against speed, swept up and down.
+
+At each speed the model settles from the state where the previous speed ended (a slow physical
+sweep), then a number of stroboscopic samples are kept (:mod:`.samples`): one point for a
+period-1 orbit, n for period n, a cloud for chaos (Kahraman & Singh 1990; Parker & Chua 1989,
+ch. 6). Sweeping up and down shows coexisting attractors.
+
+Where it runs (:func:`gear_dyn.analysis.executor.task_map`): in the calling process, on a
+process pool (``workers``) or on any executor (Dask). Within one direction each speed starts from
+the previous speed's final state, so the chain is sequential: as the speed sweep does
+(:mod:`gear_dyn.analysis.sweep.driver`), each direction is cut into blocks of speeds and the i-th
+blocks of the up and the down chains run side by side, each starting where its chain's previous
+block ended. At most two tasks run at once; cutting a chain into independent pieces would
+start them from states the slow sweep never reaches, and the up and down diagrams would no
+longer show which attractor a sweep follows. The blocks and their starting states do not
+depend on the executor: the samples are the serial run's, bit for bit.
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gear_dyn.analysis.executor import MapFn, task_map
+from gear_dyn.analysis.motion.classify import (
+    UNBOUNDED,
+    Motion,
+    classify_samples,
+    find_orbit,
+)
+from gear_dyn.analysis.motion.period import MAX_PERIOD
+from gear_dyn.analysis.motion.samples import stroboscopic
+from gear_dyn.errors import InputError, SolverError, check_range
+from gear_dyn.models.base import Model
+
+FloatArray = NDArray[np.float64]
+ModelFactory = Callable[[float], Model]
+
+#: speeds per block of a direction's chain
+BLOCK = 8
+#: the module that draws a BifurcationDiagram, looked up by name when plotted
+PLOTS_MODULE = "gear_dyn.plots.bifurcation"
+RPM = 2 * math.pi / 60
+
+
+@dataclass(frozen=True)
+class DiagramOptions:
+    """How each speed of a bifurcation diagram is evaluated.
+
+    Parameters
+    ----------
+    settle : int
+        Mesh periods run before sampling at each speed (0..1e6).
+    samples : int
+        Stroboscopic samples kept per speed (32..1e5).
+    classify : bool
+        Where no orbit of 1..16 mesh periods is confirmed, classify the motion by its Lyapunov
+        exponent (:func:`gear_dyn.analysis.motion.classify_samples`: quasi-periodic or
+        chaotic); False: such speeds are left unlabelled. Periods are always confirmed by
+        shooting (:func:`gear_dyn.analysis.motion.find_orbit`), and a confirmed orbit's samples
+        are taken on the orbit itself.
+    lyapunov_periods : int
+        Mesh periods of each Lyapunov estimate where ``classify`` (20..1e6).
+    rtol : float
+        Relative tolerance where the exact flow does not apply (1e-13..1e-4).
+    """
+
+    settle: int = 200
+    samples: int = 64
+    classify: bool = False
+    lyapunov_periods: int = 200
+    rtol: float = 1e-10
+
+    def __post_init__(self) -> None:
+        check_range("settle", self.settle, "", low=0, high=1_000_000)
+        check_range("samples", self.samples, "", low=2 * MAX_PERIOD, high=100_000)
+        check_range("lyapunov_periods", self.lyapunov_periods, "", low=20, high=1_000_000)
+        check_range("rtol", self.rtol, "", low=1e-13, high=1e-4)
+
+
+class _Speed:
+    """One speed of a diagram (picklable, returned by the workers)."""
+
+    def __init__(self, speed: float, mesh_frequency: float, samples: FloatArray, period: int,
+                 label: str, lyapunov: float, lyapunov_error: float) -> None:
+        self.speed, self.mesh_frequency, self.samples = speed, mesh_frequency, samples
+        self.period, self.label = period, label
+        self.lyapunov, self.lyapunov_error = lyapunov, lyapunov_error
+
+
+@dataclass(frozen=True)
+class _Task:
+    factory: ModelFactory
+    options: DiagramOptions
+    speeds: tuple[float, ...]
+    y_start: FloatArray | None
+
+
+def _run_task(task: _Task) -> tuple[list[_Speed], FloatArray | None]:
+    """Evaluate a block of speeds in order, each from the previous speed's final state."""
+    opts, y = task.options, task.y_start
+    out = []
+    for s in task.speeds:
+        model: Any = task.factory(s)
+        y0 = model.initial_state() if y is None else y
+        nan = math.nan
+        try:
+            strobe = stroboscopic(model, y0, opts.settle, opts.samples, opts.rtol)
+        except SolverError as exc:
+            if "non-finite" not in str(exc):
+                raise
+            strobe = np.full((opts.samples, y0.size), math.inf)
+        if not np.all(np.abs(strobe) / model.state_scale <= UNBOUNDED):
+            # a diverging response (a parametric instability that contact loss does not
+            # bound): said, no samples drawn, and the chain restarts from the static state
+            out.append(_Speed(s, model.mesh_frequency, np.full_like(strobe, nan), 0,
+                              "unbounded", nan, nan))
+            y = None
+            continue
+        if opts.classify:
+            motion: Motion | None = classify_samples(
+                model, strobe, opts.rtol, opts.lyapunov_periods,
+                max(10, opts.lyapunov_periods // 10))
+        else:
+            motion, _iters = find_orbit(model, strobe, opts.rtol)
+        if motion is None:  # not classified, no orbit confirmed
+            out.append(_Speed(s, model.mesh_frequency, strobe, 0, "", nan, nan))
+            y = strobe[-1]
+            continue
+        if motion.periodic:  # the orbit itself, sampled: no settling remainder drawn
+            strobe = stroboscopic(model, motion.state, 0, opts.samples, opts.rtol)
+        est = motion.lyapunov
+        out.append(_Speed(s, model.mesh_frequency, strobe, motion.period, motion.label,
+                          nan if est is None else est.value, nan if est is None else est.error))
+        y = motion.state
+    return out, y
+
+
+@dataclass(frozen=True, eq=False)
+class DiagramCurve:
+    """One sweep direction of a bifurcation diagram, in sweep order.
+
+    Attributes
+    ----------
+    direction : str
+        ``up`` or ``down``.
+    speed : ndarray (n,)
+        Pinion speed in rad/s.
+    mesh_frequency : ndarray (n,)
+        Hz.
+    samples : ndarray (n, n_samples, n_states)
+        Stroboscopic samples at each speed, SI units.
+    period : ndarray of int (n,)
+        Least period in mesh periods of the orbit confirmed by shooting (0: none of 1..16).
+    label : tuple of str
+        The motion's label (``period-4``; where classified ``chaotic, lambda = ...``,
+        ``quasi-periodic, ...``), else "". Where the response diverged (non-finite, or beyond
+        :data:`gear_dyn.analysis.motion.classify.UNBOUNDED` state scales): ``unbounded``, the
+        samples NaN, and the next speed starts from the static state.
+    lyapunov, lyapunov_error : ndarray (n,)
+        Largest Lyapunov exponent and its standard error in 1/s where computed, else NaN.
+    """
+
+    direction: str
+    speed: FloatArray
+    mesh_frequency: FloatArray
+    samples: FloatArray
+    period: NDArray[np.int_]
+    label: tuple[str, ...]
+    lyapunov: FloatArray
+    lyapunov_error: FloatArray
+
+    @classmethod
+    def from_speeds(cls, direction: str, pts: Sequence[_Speed]) -> DiagramCurve:
+        def arr(name: str, dtype: Any = float) -> Any:
+            return np.array([getattr(p, name) for p in pts], dtype=dtype)
+
+        return cls(direction, arr("speed"), arr("mesh_frequency"),
+                   np.array([p.samples for p in pts], dtype=float), arr("period", int),
+                   tuple(p.label for p in pts), arr("lyapunov"), arr("lyapunov_error"))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class BifurcationDiagram:
+    """Stroboscopic samples against pinion speed, swept up and down.
+
+    Attributes
+    ----------
+    scene_name : str
+    curves : tuple of DiagramCurve
+        One per direction (``up`` first).
+    state_labels : tuple of str
+        Names of the state components (``x``, ``v``).
+    natural_frequency : float
+        f_n in Hz (NaN for models without it).
+    options : DiagramOptions
+    run_time_s : float
+        Wall time.
+    executor : str
+        Where it ran (``serial``, ``process pool, N workers``, or the executor's class name).
+    """
+
+    scene_name: str
+    curves: tuple[DiagramCurve, ...]
+    state_labels: tuple[str, ...]
+    natural_frequency: float
+    options: DiagramOptions
+    run_time_s: float
+    executor: str
+
+    def __repr__(self) -> str:
+        c = self.curves[0]
+        rpm = c.speed / RPM
+        periods = sorted({int(p) for cc in self.curves for p in cc.period})
+        return (f"BifurcationDiagram({self.scene_name!r}: {c.speed.size} speeds "
+                f"{rpm.min():.0f}-{rpm.max():.0f} rpm, "
+                f"{'/'.join(cc.direction for cc in self.curves)}, {self.options.samples} "
+                f"samples per speed; periods found {periods} (0: none); "
+                f"{self.run_time_s:.3g} s)")
+
+    def curve(self, direction: str) -> DiagramCurve:
+        """The curve of ``direction`` (``up`` or ``down``).
+
+        Raises
+        ------
+        InputError
+            No such direction in this diagram.
+        """
+        for c in self.curves:
+            if c.direction == direction:
+                return c
+        raise InputError(f"direction {direction!r} not in this diagram; available: "
+                         f"{', '.join(c.direction for c in self.curves)}")
+
+    def plot(self, ax: Any = None, **kwargs: Any) -> Any:
+        """Draw the diagram (:func:`gear_dyn.plots.bifurcation.plot_bifurcation`; ``ax`` None
+        or one Axes; ``kwargs`` as there, e.g. ``state``). Returns the Figure."""
+        plots = importlib.import_module(PLOTS_MODULE)
+        return plots.plot_bifurcation(self, ax=ax, **kwargs)
+
+    def columns(self) -> dict[str, FloatArray]:
+        """One row per sample: direction (+1 up, -1 down), speed (rad/s and rpm), f_m (Hz),
+        f_m / f_n, the sample index, each state component (SI), the period, the Lyapunov
+        exponent and its error (1/s; NaN where not computed). For ``io.write_csv``."""
+        cols: dict[str, list[float]] = {k: [] for k in (
+            "direction", "speed_rad_s", "speed_rpm", "mesh_frequency_hz", "fm_over_fn",
+            "sample", *self.state_labels, "period", "lyapunov_1_s", "lyapunov_error_1_s")}
+        for c in self.curves:
+            n_s = c.samples.shape[1]
+            rep = np.repeat
+            cols["direction"] += [1.0 if c.direction == "up" else -1.0] * c.speed.size * n_s
+            cols["speed_rad_s"] += rep(c.speed, n_s).tolist()
+            cols["speed_rpm"] += rep(c.speed / RPM, n_s).tolist()
+            cols["mesh_frequency_hz"] += rep(c.mesh_frequency, n_s).tolist()
+            cols["fm_over_fn"] += rep(c.mesh_frequency / self.natural_frequency, n_s).tolist()
+            cols["sample"] += np.tile(np.arange(n_s), c.speed.size).tolist()
+            for i, name in enumerate(self.state_labels):
+                cols[name] += c.samples[:, :, i].ravel().tolist()
+            cols["period"] += rep(c.period, n_s).tolist()
+            cols["lyapunov_1_s"] += rep(c.lyapunov, n_s).tolist()
+            cols["lyapunov_error_1_s"] += rep(c.lyapunov_error, n_s).tolist()
+        return {k: np.asarray(v, dtype=float) for k, v in cols.items()}
+
+    def summary(self) -> dict[str, Any]:
+        """Per direction and speed: speed (rad/s, rpm), f_m / f_n, period, label, Lyapunov
+        exponent and error (1/s; None where not computed). JSON-able with ``io.write_json``."""
+        return {
+            "scene": self.scene_name, "natural_frequency_hz": self.natural_frequency,
+            "settle_periods": self.options.settle, "samples": self.options.samples,
+            "executor": self.executor, "run_time_s": self.run_time_s,
+            "curves": {c.direction: [
+                {"speed_rad_s": float(c.speed[i]), "speed_rpm": float(c.speed[i] / RPM),
+                 "fm_over_fn": float(c.mesh_frequency[i] / self.natural_frequency),
+                 "period": int(c.period[i]), "label": c.label[i],
+                 "lyapunov_1_s": float(c.lyapunov[i]),
+                 "lyapunov_error_1_s": float(c.lyapunov_error[i])}
+                for i in range(c.speed.size)] for c in self.curves},
+        }
+
+
+def _chains(sp: FloatArray, direction: str, size: int) -> dict[str, list[tuple[float, ...]]]:
+    dirs = ("up", "down") if direction == "both" else (direction,)
+    return {d: [tuple(float(v) for v in order[i:i + size]) for i in range(0, order.size, size)]
+            for d in dirs for order in [sp if d == "up" else sp[::-1]]}
+
+
+def _run_rounds(run_map: MapFn, factory: ModelFactory, opts: DiagramOptions,
+                chains: dict[str, list[tuple[float, ...]]],
+                progress: Callable[[int, int], None] | None) -> dict[str, list[_Speed]]:
+    """Round i: the i-th block of every direction, each from its chain's last state."""
+    out: dict[str, list[_Speed]] = {d: [] for d in chains}
+    state: dict[str, FloatArray | None] = {d: None for d in chains}
+    total = sum(len(b) for c in chains.values() for b in c)
+    done = 0
+    for i in range(max(len(c) for c in chains.values())):
+        live = [d for d in chains if i < len(chains[d])]
+        tasks = [_Task(factory, opts, chains[d][i], state[d]) for d in live]
+        for d, (pts, end) in zip(live, run_map(_run_task, tasks), strict=True):
+            out[d] += pts
+            state[d] = end
+            done += len(pts)
+            if progress is not None:
+                progress(done, total)
+    return out
+
+
+def bifurcation_diagram(
+    factory: ModelFactory,
+    speeds: Sequence[float] | FloatArray,
+    *,
+    options: DiagramOptions | None = None,
+    direction: str = "both",
+    name: str = "",
+    workers: int | None = None,
+    executor: Any = None,
+    block: int | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> BifurcationDiagram:
+    """Stroboscopic samples against speed, each speed continuing from the previous one.
+
+    Parameters
+    ----------
+    factory : callable
+        ``factory(speed) -> Model`` (speed in rad/s): a single-DOF mesh model; picklable for
+        ``workers`` and ``executor`` (:class:`gear_dyn.scene.sweep.SceneModels` is).
+    speeds : sequence of float
+        Pinion speeds in rad/s (> 0, at most 1e5); sorted, duplicates removed.
+    options : DiagramOptions or None
+        Settling, samples, classification (default: :class:`DiagramOptions`).
+    direction : {"both", "up", "down"}
+        Sweep directions.
+    name : str
+        Stored in the result (the scene's name).
+    workers : int or None
+        Local processes (1..4096; None or 1: the calling process).
+    executor : concurrent.futures.Executor or None
+        Runs the blocks through its ``map`` (e.g. Dask's ``Client.get_executor()``).
+    block : int or None
+        Speeds per block (1..10000; default 8): the tasks and the steps of ``progress``.
+    progress : callable or None
+        ``progress(done, total)`` after each block.
+
+    Returns
+    -------
+    BifurcationDiagram
+
+    Raises
+    ------
+    InputError
+        Bad speeds, direction, block or workers; a model that is not mesh-periodic.
+    SolverError
+        An integration failed.
+    """
+    opts = options or DiagramOptions()
+    if direction not in ("both", "up", "down"):
+        raise InputError(f"direction = {direction!r}: valid choices are both, up, down")
+    size = BLOCK if block is None else int(check_range("block", block, "", low=1, high=10_000))
+    sp = np.unique(np.asarray(speeds, dtype=float))
+    if sp.size < 1:
+        raise InputError("bifurcation_diagram: no speeds given")
+    for s in (sp[0], sp[-1]):
+        check_range("speed", s, "rad/s", low=0.0, high=1e5, low_open=True)
+    model = factory(float(sp[0]))
+    if not model.mesh_periodic:
+        raise InputError(f"a bifurcation diagram needs the single-DOF mesh model; this model is "
+                         f"{type(model).__name__}")
+    start = time.perf_counter()
+    chains = _chains(sp, direction, size)
+    with task_map(workers, executor) as (run_map, label):
+        pts = _run_rounds(run_map, factory, opts, chains, progress)
+    fn = model.natural_frequency
+    return BifurcationDiagram(
+        scene_name=name, curves=tuple(DiagramCurve.from_speeds(d, pts[d]) for d in chains),
+        state_labels=tuple(model.state_labels),
+        natural_frequency=math.nan if fn is None else float(fn), options=opts,
+        run_time_s=time.perf_counter() - start, executor=label)
