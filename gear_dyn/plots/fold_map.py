@@ -47,7 +47,7 @@ def plot_fold_map(fold_map: FoldMap, ax: Any = None) -> Any:
                 xs = np.concatenate([pt_x, lo, hi[::-1]])
                 ts = np.concatenate([pt_t, t, t[::-1]])
         axis.fill(xs, ts, color=c, alpha=0.25, lw=0,
-                  label=f"jump region {i + 1}: two stable orbits")
+                  label=f"jump region {i + 1}")
         axis.plot(lo, t, "-", color=c, lw=1.5, marker=".", ms=4)
         axis.plot(hi, t, "--", color=c, lw=1.5, marker=".", ms=4)
         for cusp in r.cusps:
@@ -58,6 +58,7 @@ def plot_fold_map(fold_map: FoldMap, ax: Any = None) -> Any:
     if fold_map.reference_torque is not None:
         axis.axhline(fold_map.reference_torque, color="0.4", ls=":", lw=1,
                      label=f"scene torque {fold_map.reference_torque:.4g} N m")
+    axis.fill([], [], color="0.6", alpha=0.25, lw=0, label="shaded: coexisting stable orbits")
     axis.plot([], [], "k-", label="lower fold (sweep down jumps)")
     axis.plot([], [], "k--", label="upper fold (sweep up jumps)")
     axis.set_xlim(min(fold_map.speed_range) / _RPM, max(fold_map.speed_range) / _RPM)

@@ -8,7 +8,7 @@ located there, each to the continuation's ``locate_tol`` by bracketing on ``det(
 the branch (the first fold turns the branch from stable to unstable) are the two ends of one
 hysteresis loop: between their speeds two stable orbits coexist and a sweep jumps. The pairs
 are matched from one torque to the next (by their order along the branch, or by nearest
-midpoint where their number changes); a pair that vanishes between two torques ends at a cusp,
+fold speeds where their number changes); a pair that vanishes between two torques ends at a cusp,
 located by bisection in torque.
 
 Why not the augmented system ``P(y) - y = 0, det(M - I) = 0`` continued by pseudo-arclength
@@ -134,17 +134,20 @@ class _Tracer:
         return hit[0]
 
 
+def _distance(p: Pair, q: Pair) -> float:
+    """How far apart two loops are: the sum of their folds' speed differences (rad/s)."""
+    return abs(p[0] - q[0]) + abs(p[1] - q[1])
+
+
 def _match(prev: list[Pair], new: list[Pair], width: float) -> list[tuple[int, int]]:
     """Index pairs (prev, new) of the same loop: by order where the counts agree, else by
-    nearest midpoint (an assignment), refusing matches whose intervals are further apart than
-    ``width``."""
+    least fold-speed distance (an assignment), refusing matches further apart than ``width``.
+    (A midpoint would match a wide loop to a small one born inside it.)"""
     if len(prev) == len(new):
         return [(i, i) for i in range(len(prev))]
     if not prev or not new:
         return []
-    mid_p = np.array([0.5 * (p[0] + p[1]) for p in prev])
-    mid_n = np.array([0.5 * (q[0] + q[1]) for q in new])
-    cost = np.abs(mid_p[:, None] - mid_n[None, :])
+    cost = np.array([[_distance(p, q) for q in new] for p in prev])
     rows, cols = linear_sum_assignment(cost)
     return [(int(r), int(c)) for r, c in zip(rows, cols, strict=True) if cost[r, c] < width]
 
@@ -152,8 +155,7 @@ def _match(prev: list[Pair], new: list[Pair], width: float) -> list[tuple[int, i
 def _nearest(pairs: list[Pair], ref: Pair) -> Pair | None:
     if not pairs:
         return None
-    mid = 0.5 * (ref[0] + ref[1])
-    return min(pairs, key=lambda q: abs(0.5 * (q[0] + q[1]) - mid))
+    return min(pairs, key=lambda q: _distance(q, ref))
 
 
 def _cusp(tr: _Tracer, t_has: float, pair: Pair, t_not: float, count_has: int,
