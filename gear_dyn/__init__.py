@@ -52,6 +52,9 @@ _EXPORTS: dict[str, str] = {
     "sdof_family": "gear_dyn.analysis.continuation.family",
     "Branch": "gear_dyn.analysis.continuation.branch",
     "ContinuationSettings": "gear_dyn.analysis.continuation.settings",
+    "fold_map": "gear_dyn.analysis.continuation.fold_curve",
+    "SpeedTorqueFamily": "gear_dyn.analysis.continuation.fold_curve",
+    "FoldMap": "gear_dyn.analysis.continuation.jump_map",
     "Result": "gear_dyn.solvers.result",
     "SolverSettings": "gear_dyn.solvers.settings",
     "simulate": "gear_dyn.analysis.study",
@@ -69,6 +72,8 @@ if TYPE_CHECKING:  # what type checkers and IDEs see; at run time the names load
     from gear_dyn.analysis.continuation.arclength import continue_orbits
     from gear_dyn.analysis.continuation.branch import Branch
     from gear_dyn.analysis.continuation.family import sdof_family
+    from gear_dyn.analysis.continuation.fold_curve import SpeedTorqueFamily, fold_map
+    from gear_dyn.analysis.continuation.jump_map import FoldMap
     from gear_dyn.analysis.continuation.settings import ContinuationSettings
     from gear_dyn.analysis.report import summarize
     from gear_dyn.analysis.study import simulate

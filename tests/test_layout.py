@@ -52,6 +52,7 @@ def test_public_api_names_unchanged() -> None:
         "parse_scene", "rectangular_stiffness", "run_scene", "sdof_from_pair", "simulate",
         "summarize", "sweep_scene", "SweepOptions", "SweepResult",
         "Branch", "ContinuationSettings", "continue_orbits", "sdof_family",
+        "FoldMap", "SpeedTorqueFamily", "fold_map",
     }
     with pytest.raises(AttributeError, match="no attribute 'nope'"):
         gear_dyn.nope  # noqa: B018
