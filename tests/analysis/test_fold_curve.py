@@ -20,6 +20,7 @@ import pytest
 
 from gear_dyn import InputError, SDOFModel, rectangular_stiffness
 from gear_dyn.analysis.continuation import (
+    Branch,
     ContinuationSettings,
     FoldMap,
     SpeedTorqueFamily,
@@ -62,14 +63,20 @@ def fmap() -> FoldMap:
                     reference_torque=T0)
 
 
+@pytest.fixture(scope="module")
+def branch() -> Branch:
+    """The model's own speed branch at 52 N m (sdof_family of the unscaled model)."""
+    return continue_orbits(sdof_family(_model(), "speed", teeth=TEETH), *WINDOW,
+                           settings=SETTINGS, doublings=0)
+
+
 @pytest.mark.slow
-def test_at_the_reference_torque_the_fold_curves_are_the_speed_branch_folds(fmap) -> None:
-    """The folds of the map at 52 N m are those of the model's own speed branch (sdof_family
-    of the unscaled model, a separate run), to 1e-8 relative: the torque family reproduces the
-    model at its own torque and every fold is located by the same bracketing."""
-    br = continue_orbits(sdof_family(_model(), "speed", teeth=TEETH), *WINDOW,
-                         settings=SETTINGS, doublings=0)
-    pairs = fold_pairs(br)
+def test_at_the_reference_torque_the_fold_curves_are_the_speed_branch_folds(fmap, branch
+                                                                             ) -> None:
+    """The folds of the map at 52 N m are those of the model's own speed branch (a separate
+    run), to 1e-8 relative: the torque family reproduces the model at its own torque and
+    every fold is located by the same bracketing."""
+    pairs = fold_pairs(branch)
     assert len(pairs) == 2 == len(fmap.regions)
     for region, (lo, hi, _el, _eh) in zip(fmap.regions, pairs, strict=True):
         assert region.torque[0] == T0
@@ -92,6 +99,13 @@ def test_the_second_loop_ends_at_a_cusp_and_the_first_persists(fmap) -> None:
     assert second.low[-1] <= cusp.speed <= second.high[-1]
 
 
+def _stable_state(br: Branch, speed: float, upper: bool) -> np.ndarray:
+    """State of the stable point of ``br`` nearest ``speed`` on the lower branch (full
+    contact, below the grazing speed) or the upper one (teeth apart for part of the period)."""
+    side = [p for p in br.points if p.stable and (p.separation > 0) == upper]
+    return np.asarray(min(side, key=lambda p: abs(p.parameter - speed)).state)
+
+
 def _settled_orbit(model: SDOFModel, y: np.ndarray) -> np.ndarray:
     """The attracting orbit reached from ``y``: 400 mesh periods of the closed-form flow,
     then shooting; asserts convergence and stability."""
@@ -104,10 +118,11 @@ def _settled_orbit(model: SDOFModel, y: np.ndarray) -> np.ndarray:
 
 
 @pytest.mark.slow
-def test_two_stable_orbits_inside_a_region_and_one_outside(fmap) -> None:
-    """From the static deflection and from a state with the teeth far apart, integration and
-    shooting reach two different stable orbits inside the first region, and one orbit
-    outside every region."""
+def test_two_stable_orbits_inside_a_region_and_one_outside(fmap, branch) -> None:
+    """Two starts, the states of the stable branch points nearest the test speed below and
+    above the unstable stretch (lower and upper branch): integration and shooting from them
+    reach two different stable orbits inside the first region, and one orbit outside every
+    region."""
     fam = _family()
     torque = T0
     first, second = fmap.regions
@@ -118,7 +133,8 @@ def test_two_stable_orbits_inside_a_region_and_one_outside(fmap) -> None:
     assert not fmap.coexisting(outside, torque)
     for speed, n_orbits in ((inside, 2), (outside, 1)):
         model = fam(speed, torque)
-        starts = [model.initial_state(), np.array([-3 * B, 0.0])]
+        starts = [_stable_state(branch, inside, upper=False), _stable_state(branch, inside,
+                                                                          upper=True)]
         orbits = [_settled_orbit(model, y) for y in starts]
         apart = np.max(np.abs(orbits[0] - orbits[1]) / model.state_scale)
         # distinct orbits differ by O(1) in scaled units; one orbit by the shooting tolerance
@@ -157,7 +173,8 @@ def test_rows_json_repr_and_plot(fmap) -> None:
     assert repr(fmap).startswith("FoldMap(2 jump regions") and "cusp at" in repr(fmap)
     fig = fmap.plot()
     ax = fig.axes[0]
-    assert ax.get_xlabel() == "pinion speed (rpm)" and len(ax.patches) == 2
+    assert ax.get_xlabel() == "pinion speed (rpm)"
+    assert sum(p.get_label().startswith("jump region") for p in ax.patches) == 2
     assert any("cusp" in t.get_text() for t in ax.texts)
 
 

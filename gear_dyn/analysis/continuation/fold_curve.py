@@ -11,14 +11,15 @@ are matched from one torque to the next (by their order along the branch, or by 
 fold speeds where their number changes); a pair that vanishes between two torques ends at a cusp,
 located by bisection in torque.
 
-Why not the augmented system ``P(y) - y = 0, det(M - I) = 0`` continued by pseudo-arclength
-in (speed, torque): on the backlash flow the fold at the grazing speed of the full-contact
-branch is a non-smooth one, where ``det(M - I)`` has a square-root dependence on the
-parameters (the grazing correction of the map), and Newton on the augmented system loses its
-quadratic convergence there; following whole speed branches at each torque needs no
-derivative of ``det(M - I)`` and finds every fold of the branch, also folds that appear between
-two torques. Its cost is one speed branch per torque (about 100 points on the packaged backlash
-scene).
+Why not only the augmented system ``P(y) - y = 0, det(M - I) = 0`` in (state, speed) at each
+torque: on the packaged test model, MINPACK converges on it (also at the fold next to the
+grazing speed of the full-contact branch), but from the fold at one torque it lands on another
+fold curve at a torque 10 % away (the curves of one scene lie close together), and it finds
+neither the loops born between two torques (at a cusp) nor which two folds bound one loop.
+Following whole speed branches at each torque finds every fold of the branch, with its
+stability on either side, and needs no derivative of ``det(M - I)``. Its cost is one speed
+branch per torque (about 100 points on the packaged backlash scene, 2-10 s on a loaded
+2-core machine).
 """
 
 from __future__ import annotations
@@ -152,26 +153,21 @@ def _match(prev: list[Pair], new: list[Pair], width: float) -> list[tuple[int, i
     return [(int(r), int(c)) for r, c in zip(rows, cols, strict=True) if cost[r, c] < width]
 
 
-def _nearest(pairs: list[Pair], ref: Pair) -> Pair | None:
-    if not pairs:
-        return None
-    return min(pairs, key=lambda q: _distance(q, ref))
-
-
-def _cusp(tr: _Tracer, t_has: float, pair: Pair, t_not: float, count_has: int,
-          bisections: int, track: list[tuple[float, Pair]]) -> Cusp:
-    """Bisection in torque between ``t_has`` (the loop ``pair`` is there; ``count_has`` loops)
-    and ``t_not`` (it is gone): the loop is there at a torque with ``count_has`` loops.
+def _cusp(tr: _Tracer, t_has: float, pairs_has: list[Pair], index: int, t_not: float,
+          bisections: int, width: float, track: list[tuple[float, Pair]]) -> Cusp:
+    """Bisection in torque between ``t_has`` (the loop ``pairs_has[index]`` is there) and
+    ``t_not`` (it is gone): the loop is there at a torque where :func:`_match` matches it.
     Points found on the way are appended to ``track``."""
     for _ in range(bisections):
         t_mid = 0.5 * (t_has + t_not)
         pairs = tr.pairs(t_mid)
-        q = _nearest(pairs, pair) if len(pairs) >= count_has else None
-        if q is not None:
-            t_has, pair = t_mid, q
-            track.append((t_mid, q))
+        hit = [k for i, k in _match(pairs_has, pairs, width) if i == index]
+        if hit:
+            t_has, pairs_has, index = t_mid, pairs, hit[0]
+            track.append((t_mid, pairs[index]))
         else:
             t_not = t_mid
+    pair = pairs_has[index]
     return Cusp(speed=0.5 * (pair[0] + pair[1]), torque=0.5 * (t_has + t_not),
                 torque_error=0.5 * abs(t_has - t_not), speed_error=0.5 * (pair[1] - pair[0]))
 
@@ -251,12 +247,12 @@ def fold_map(family: SpeedTorqueFamily, speeds: tuple[float, float], torques: Se
             tracks[active[i]].append((t, new[k]))
         for i in set(range(len(prev))) - {i for i, _k in matched}:  # a loop ends: cusp
             tk = active[i]
-            cusps[tk].append(_cusp(tr, t_prev, prev[i], t, len(prev), cusp_bisections,
+            cusps[tk].append(_cusp(tr, t_prev, prev, i, t, cusp_bisections, width,
                                    tracks[tk]))
         for k in set(range(len(new))) - {k for _i, k in matched}:  # a loop begins: cusp
             nxt[k] = len(tracks)
             tracks.append([(t, new[k])])
-            cusps.append([_cusp(tr, t, new[k], t_prev, len(new), cusp_bisections,
+            cusps.append([_cusp(tr, t, new, k, t_prev, cusp_bisections, width,
                                 tracks[-1])])
         prev, active = new, nxt
     regions = []
