@@ -68,6 +68,7 @@ def run(args: argparse.Namespace) -> int:
     from gear_dyn.scene import load_scene
     from gear_dyn.scene.sweep import SceneModels
 
+    scene = load_scene(args.scene)
     lo, hi = _speeds(args.speeds)
     torques = None
     if args.torques is not None:
@@ -75,7 +76,6 @@ def run(args: argparse.Namespace) -> int:
 
         torques = parse_torques(args.torques)
     settings = ContinuationSettings(max_points=args.max_points)
-    scene = load_scene(args.scene)
     branch = continue_orbits(SceneModels.of(scene), lo, hi, settings=settings,
                              doublings=args.doublings)
     with staged_output(args.out) as tmp:
