@@ -183,7 +183,8 @@ def fold_map(family: SpeedTorqueFamily, speeds: tuple[float, float], torques: Se
         ``(speed, torque) -> model`` (rad/s, N m).
     speeds : (float, float)
         Speed window (rad/s) of the branch at every torque; it starts at ``speeds[0]``, which
-        should lie where the response has one orbit (below the jump region).
+        should lie where the response has one orbit (below the jump regions). A loop with a
+        fold outside the window is not reported (the branch leaves the window there).
     torques : sequence of float
         Torques (N m, > 0), at least 2; sorted here.
     periods : int
