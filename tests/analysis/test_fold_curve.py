@@ -145,8 +145,9 @@ def test_two_stable_orbits_inside_a_region_and_one_outside(fmap, branch) -> None
 def test_folds_of_torque_branches_at_fixed_speed_lie_on_the_fold_curves() -> None:
     """Second method: at a fixed speed, a branch in torque folds where the fixed speed
     crosses a fold curve. The speed branch at each of those torques has a fold at that
-    speed. Both folds are located to ~1e-11 relative in their own parameter; the fold curve's
-    slope d(speed)/d(torque) is O(speed / torque), so they agree to well inside 1e-7."""
+    speed. Both folds are located to ~1e-11 relative in their own parameter (locate_tol) and
+    the fold curve's relative slope (T / s) ds/dT is O(1) here, so they agree to 1e-9 with
+    room (measured: 6e-13)."""
     model = _model()
     speed = 0.9 * WN / TEETH
     fam_t = sdof_family(model.at_mesh_frequency(TEETH * speed / (2 * math.pi)), "torque",
@@ -159,7 +160,7 @@ def test_folds_of_torque_branches_at_fixed_speed_lie_on_the_fold_curves() -> Non
                   cusp_bisections=0)
     assert len(fm.folds) == 2  # the speed branches at the two fold torques, in order
     for speeds_at in fm.folds:
-        assert min(abs(s / speed - 1.0) for s in speeds_at) < 1e-7
+        assert min(abs(s / speed - 1.0) for s in speeds_at) < 1e-9
 
 
 @pytest.mark.slow
