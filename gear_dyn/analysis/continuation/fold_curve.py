@@ -39,7 +39,7 @@ from gear_dyn.errors import InputError, check_range
 from gear_dyn.models.base import Model
 
 #: a fold pair as (low speed, high speed, low error, high error), rad/s
-Pair = tuple[float, float, float, float]
+_Pair = tuple[float, float, float, float]
 
 
 @dataclass(frozen=True)
@@ -96,12 +96,12 @@ class TorqueSlice:
         return self.family(speed, self.torque)
 
 
-def fold_pairs(branch: Branch) -> list[Pair]:
+def fold_pairs(branch: Branch) -> list[_Pair]:
     """The hysteresis loops of a speed branch: consecutive folds whose first turns the branch
     from stable to unstable (``after == "unstable"``), as (low, high, low error, high error)
     speeds in order along the branch."""
     folds: list[Bifurcation] = branch.of_kind("fold")
-    out: list[Pair] = []
+    out: list[_Pair] = []
     i = 0
     while i + 1 < len(folds):
         a, b = folds[i], folds[i + 1]
@@ -121,10 +121,10 @@ class _Tracer:
     def __init__(self, family: SpeedTorqueFamily, speeds: tuple[float, float], periods: int,
                  settings: ContinuationSettings) -> None:
         self.family, self.speeds, self.periods, self.settings = family, speeds, periods, settings
-        self.cache: dict[float, tuple[list[Pair], tuple[float, ...]]] = {}
+        self.cache: dict[float, tuple[list[_Pair], tuple[float, ...]]] = {}
         self.n_maps = 0
 
-    def pairs(self, torque: float) -> list[Pair]:
+    def pairs(self, torque: float) -> list[_Pair]:
         hit = self.cache.get(torque)
         if hit is None:
             br = continue_orbits(self.family.at_torque(torque), self.speeds[0], self.speeds[1],
@@ -135,12 +135,12 @@ class _Tracer:
         return hit[0]
 
 
-def _distance(p: Pair, q: Pair) -> float:
+def _distance(p: _Pair, q: _Pair) -> float:
     """How far apart two loops are: the sum of their folds' speed differences (rad/s)."""
     return abs(p[0] - q[0]) + abs(p[1] - q[1])
 
 
-def _match(prev: list[Pair], new: list[Pair], width: float) -> list[tuple[int, int]]:
+def _match(prev: list[_Pair], new: list[_Pair], width: float) -> list[tuple[int, int]]:
     """Index pairs (prev, new) of the same loop: by order where the counts agree, else by
     least fold-speed distance (an assignment), refusing matches further apart than ``width``.
     (A midpoint would match a wide loop to a small one born inside it.)"""
@@ -153,8 +153,8 @@ def _match(prev: list[Pair], new: list[Pair], width: float) -> list[tuple[int, i
     return [(int(r), int(c)) for r, c in zip(rows, cols, strict=True) if cost[r, c] < width]
 
 
-def _cusp(tr: _Tracer, t_has: float, pairs_has: list[Pair], index: int, t_not: float,
-          bisections: int, width: float, track: list[tuple[float, Pair]]) -> Cusp:
+def _cusp(tr: _Tracer, t_has: float, pairs_has: list[_Pair], index: int, t_not: float,
+          bisections: int, width: float, track: list[tuple[float, _Pair]]) -> Cusp:
     """Bisection in torque between ``t_has`` (the loop ``pairs_has[index]`` is there) and
     ``t_not`` (it is gone): the loop is there at a torque where :func:`_match` matches it.
     Points found on the way are appended to ``track``."""
@@ -231,7 +231,7 @@ def fold_map(family: SpeedTorqueFamily, speeds: tuple[float, float], torques: Se
     ts = sorted(float(t) for t in torques)
     tr = _Tracer(family, (lo, hi), periods, settings or ContinuationSettings())
     width = abs(hi - lo)
-    tracks: list[list[tuple[float, Pair]]] = []  # each loop: (torque, pair) in any order
+    tracks: list[list[tuple[float, _Pair]]] = []  # each loop: (torque, pair) in any order
     cusps: list[list[Cusp]] = []
     active: dict[int, int] = {}  # index of a pair at the previous torque -> its track
     prev = tr.pairs(ts[0])
