@@ -57,6 +57,9 @@ _EXPORTS: dict[str, str] = {
     "bifurcation_diagram": "gear_dyn.analysis.motion.diagram",
     "Motion": "gear_dyn.analysis.motion.classify",
     "classify_motion": "gear_dyn.analysis.motion.classify",
+    "fold_map": "gear_dyn.analysis.continuation.fold_curve",
+    "SpeedTorqueFamily": "gear_dyn.analysis.continuation.fold_curve",
+    "FoldMap": "gear_dyn.analysis.continuation.jump_map",
     "Result": "gear_dyn.solvers.result",
     "SolverSettings": "gear_dyn.solvers.settings",
     "simulate": "gear_dyn.analysis.study",
@@ -74,6 +77,8 @@ if TYPE_CHECKING:  # what type checkers and IDEs see; at run time the names load
     from gear_dyn.analysis.continuation.arclength import continue_orbits
     from gear_dyn.analysis.continuation.branch import Branch
     from gear_dyn.analysis.continuation.family import sdof_family
+    from gear_dyn.analysis.continuation.fold_curve import SpeedTorqueFamily, fold_map
+    from gear_dyn.analysis.continuation.jump_map import FoldMap
     from gear_dyn.analysis.continuation.settings import ContinuationSettings
     from gear_dyn.analysis.motion.classify import Motion, classify_motion
     from gear_dyn.analysis.motion.diagram import (

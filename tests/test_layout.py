@@ -54,6 +54,7 @@ def test_public_api_names_unchanged() -> None:
         "Branch", "ContinuationSettings", "continue_orbits", "sdof_family",
         "BifurcationDiagram", "DiagramOptions", "bifurcation_diagram", "Motion",
         "classify_motion",
+        "FoldMap", "SpeedTorqueFamily", "fold_map",
     }
     with pytest.raises(AttributeError, match="no attribute 'nope'"):
         gear_dyn.nope  # noqa: B018

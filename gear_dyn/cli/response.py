@@ -40,6 +40,9 @@ def register(sub: Any) -> None:
     p.add_argument("--doublings", type=int, default=1,
                    help="levels of period doubling to switch branches at (default 1: the "
                    "period-2 branches; 0: none)")
+    p.add_argument("--torques", metavar="LO:HI:N", default=None,
+                   help="also the jump map: folds followed over N pinion torques LO..HI with "
+                   "units, e.g. '100 N*m:600 N*m:11' (writes jump_map.png and fold_curve.csv)")
     p.add_argument("--max-points", type=int, default=2000, help="points per branch (default "
                    "2000)")
     p.set_defaults(func=run)
@@ -67,6 +70,11 @@ def run(args: argparse.Namespace) -> int:
 
     scene = load_scene(args.scene)
     lo, hi = _speeds(args.speeds)
+    torques = None
+    if args.torques is not None:
+        from gear_dyn.cli.jump_map import parse_torques, write_jump_map
+
+        torques = parse_torques(args.torques)
     settings = ContinuationSettings(max_points=args.max_points)
     branch = continue_orbits(SceneModels.of(scene), lo, hi, settings=settings,
                              doublings=args.doublings)
@@ -74,11 +82,15 @@ def run(args: argparse.Namespace) -> int:
         save_figure(plot_branch(branch), tmp / "response.png", dpi=120)
         write_text(tmp / "branch.csv", _csv(branch.rows()))
         write_json(tmp / "branch.json", {"scene": scene.name, **branch.to_dict()})
+        if torques is not None:
+            fm = write_jump_map(scene, (lo, hi), torques, settings, tmp)
     for i, b in enumerate(branch.walk()):
         print(f"branch {i}: {b!r}")
         for x in b.bifurcations:
             if x.kind != "grazing":
                 print(f"  {x.kind} at {x.parameter / RPM:.10g} rpm ({x.before} -> {x.after})")
+    if torques is not None:
+        print(repr(fm))
     print(f"wrote {args.out}/")
     return 0
 

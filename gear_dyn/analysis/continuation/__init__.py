@@ -21,10 +21,13 @@ from gear_dyn.analysis.continuation.arclength import continue_orbits
 from gear_dyn.analysis.continuation.branch import Bifurcation, Branch, OrbitPoint
 from gear_dyn.analysis.continuation.detect import fold_test, pd_test
 from gear_dyn.analysis.continuation.family import PARAMETERS, SDOFFamily, sdof_family
+from gear_dyn.analysis.continuation.fold_curve import SpeedTorqueFamily, fold_map
+from gear_dyn.analysis.continuation.jump_map import Cusp, FoldMap, JumpRegion
 from gear_dyn.analysis.continuation.orbit import liouville_residual
 from gear_dyn.analysis.continuation.settings import ContinuationSettings
 
 __all__ = [
-    "PARAMETERS", "Bifurcation", "Branch", "ContinuationSettings", "OrbitPoint", "SDOFFamily",
+    "PARAMETERS", "Bifurcation", "Branch", "ContinuationSettings", "Cusp", "FoldMap",
+    "JumpRegion", "SpeedTorqueFamily", "fold_map", "OrbitPoint", "SDOFFamily",
     "continue_orbits", "fold_test", "liouville_residual", "pd_test", "sdof_family",
 ]
