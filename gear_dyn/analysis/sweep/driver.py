@@ -20,13 +20,14 @@ import multiprocessing
 import signal
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.analysis.sweep.batch import linear_block
+from gear_dyn.analysis.sweep.orbit_jumps import find_jumps
 from gear_dyn.analysis.sweep.points import steady_point, transient_point
 from gear_dyn.analysis.sweep.types import (
     DIRECTIONS,
@@ -293,7 +294,10 @@ def sweep(
     else:
         label = "serial"
         points = _run_chains(map, template, chains, nonlinear, progress)
-    curves = tuple(SweepCurve.from_points(d, points[d]) for d in dirs)
+    # jumps from the orbits: candidate pairs continued here, in the calling process
+    curves = tuple(replace(c, jumps=find_jumps(c, factory if opts.method == "steady" else None,
+                                               settings.rtol))
+                   for c in (SweepCurve.from_points(d, points[d]) for d in dirs))
     orders = np.arange(1, opts.window_periods * opts.harmonics + 1) / opts.window_periods
     fn = model.natural_frequency
     return SweepResult(

@@ -59,7 +59,7 @@ FALLBACK_REL = 0.3
 #: the continuation to 1e-10; distinct coexisting orbits differ by a sizeable share of it)
 SAME_ORBIT = 1e-4
 #: most continuation points spent on one pair (a fold is met within a few)
-MAX_POINTS = 40
+MAX_POINTS = 60
 
 
 def spell_counts(pattern: str) -> tuple[int, int]:
@@ -116,15 +116,19 @@ def check_pair(curve: SweepCurve, i: int, factory: Callable[[float], Model], rto
     s0, s1 = float(curve.speed[i]), float(curve.speed[i + 1])
     n0, n1 = int(curve.orbit_periods[i]), int(curve.orbit_periods[i + 1])
     span = abs(s1 - s0) / s0
-    settings = ContinuationSettings(step=min(0.02, span / 4), step_max=max(0.1, span),
+    model1 = cast(MeshModel, factory(s1))
+    route = resolve_route(model1, "auto")
+    settings = ContinuationSettings(step=min(0.02, span / 4), step_max=2.0,
                                     max_points=MAX_POINTS)
+    if route == "variational":
+        # the sweep's accuracy, not more: the maps are integrated to rtol, so the corrector
+        # closes the orbits to 100 rtol (as the sweep's shooting does)
+        tol = min(max(rtol, 1e-13), 1e-6)
+        settings = replace(settings, rtol=tol, newton_tol=min(100 * tol, 1e-4))
 
     def jump(kind: str, fold: float = math.nan, before: str = "", after: str = "") -> Jump:
         return Jump(kind, s0, s1, fold, float(curve.rms_dte[i]), float(curve.rms_dte[i + 1]),
                     float(curve.separation[i]), float(curve.separation[i + 1]), before, after)
-
-    model1 = cast(MeshModel, factory(s1))
-    route = resolve_route(model1, "auto")
 
     def pattern_at_1() -> str:
         return orbit_shape(model1, curve.state[i + 1], n1, route, rtol).pattern

@@ -11,6 +11,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from gear_dyn.analysis.sweep.jump import Jump
 from gear_dyn.errors import InputError, check_range
 from gear_dyn.solvers import SolverSettings
 
@@ -115,6 +116,9 @@ class SweepCurve:
     orbit_periods : ndarray of int
         Mesh periods of the steady orbit: 1, 2 (period-2, subharmonic f_m/2 response) or 0
         (not found: aperiodic, transient method, unstable).
+    jumps : tuple of Jump
+        Where the response jumps between neighbouring speeds, found from the orbits
+        (:func:`gear_dyn.analysis.sweep.orbit_jumps.find_jumps`; :func:`sweep` fills it in).
     """
 
     direction: str
@@ -134,6 +138,7 @@ class SweepCurve:
     spectrum: FloatArray
     state: FloatArray
     orbit_periods: NDArray[np.int_]
+    jumps: tuple[Jump, ...] = ()
 
     @classmethod
     def from_points(cls, direction: str, points: Sequence[Point]) -> SweepCurve:
