@@ -136,13 +136,13 @@ def methods_table(args: argparse.Namespace) -> str:
     rows = []
 
     def err(df: np.ndarray, rms: np.ndarray) -> str:
-        e_df = float(np.max(np.abs(df / ref.dynamic_factor - 1)))
+        e_df = float(np.max(np.abs(df / ref.peak_force_ratio - 1)))
         e_rms = float(np.max(np.abs(rms / ref.rms_dte - 1)))
         return f"{e_df:.1e} / {e_rms:.1e}"
 
     t_st, ts_st, res = _timed(lambda: sweep_scene(scene, speeds, si=True), args.repeats)
     c = res.curves[0]
-    rows.append(("steady (monodromy, expm)", t_st, ts_st, err(c.dynamic_factor, c.rms_dte),
+    rows.append(("steady (monodromy, expm)", t_st, ts_st, err(c.peak_force_ratio, c.rms_dte),
                  "measured"))
     t_run, ts_run, out = _timed(lambda: transient(scene, speeds, "run"), args.repeats)
     rows.append(("transient as `gear-dyn run` (200 periods, exact)", t_run, ts_run,
@@ -154,7 +154,7 @@ def methods_table(args: argparse.Namespace) -> str:
     sub = speeds[::25]
     t_dop, ts_dop, out = _timed(lambda: transient(scene, sub, "adaptive", "DOP853"), 1)
     ref_sub = ref
-    e_df = float(np.max(np.abs(out[0] / ref_sub.dynamic_factor[::25] - 1)))
+    e_df = float(np.max(np.abs(out[0] / ref_sub.peak_force_ratio[::25] - 1)))
     e_rms = float(np.max(np.abs(out[1] / ref_sub.rms_dte[::25] - 1)))
     scale = speeds.size / sub.size
     rows.append(("transient until converged (DOP853, rtol 1e-10)", t_dop * scale,

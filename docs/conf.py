@@ -91,22 +91,3 @@ html_theme_options = {
 html_sidebars = {"index": []}
 html_show_sourcelink = False
 
-
-def _signature_of_callables_only(app, what, name, obj, options, sig, retann):  # noqa: ANN001
-    """numpydoc's signature hook, not for data: a type alias (``tuple[...]``) is callable, so
-    numpydoc offers tuple's signature, which Sphinx 9 cannot attach to a data item."""
-    import numpydoc.numpydoc
-
-    if what in ("data", "attribute"):
-        return None
-    return numpydoc.numpydoc.mangle_signature(app, what, name, obj, options, sig, retann)
-
-
-def setup(app):  # noqa: ANN001, ANN201
-    import numpydoc.numpydoc
-
-    for listener in list(app.events.listeners["autodoc-process-signature"]):
-        if listener.handler is numpydoc.numpydoc.mangle_signature:
-            app.disconnect(listener.id)
-            app.connect("autodoc-process-signature", _signature_of_callables_only,
-                        priority=listener.priority)

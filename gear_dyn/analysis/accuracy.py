@@ -53,7 +53,7 @@ REFERENCE_SHARE = 1e-2
 ComplexArray = NDArray[np.complex128]
 StepMaps = tuple[FloatArray, FloatArray]
 #: monodromy matrices of the Gauss-Legendre reference of a periodic run: (finer, coarser)
-Monodromies = tuple[FloatArray, FloatArray]
+_Monodromies = tuple[FloatArray, FloatArray]
 
 
 def error_scale(model: Model) -> float:
@@ -121,7 +121,7 @@ def estimate_error(
 def estimate_with_reference(
     model: Model, t_grid: FloatArray, y: FloatArray, settings: Any, stats: dict[str, Any],
     steady_start: float | None = None, series: FloatArray | None = None,
-) -> tuple[dict[str, Any], Monodromies | None]:
+) -> tuple[dict[str, Any], _Monodromies | None]:
     """:func:`estimate_error`, and for a periodic run the monodromy matrices of the
     Gauss-Legendre reference it used, ``(finer, coarser)`` (None otherwise), for
     :func:`floquet_check`."""
@@ -154,7 +154,7 @@ def estimate_with_reference(
 
 def _periodic_estimate(model: Model, t_grid: FloatArray, y: FloatArray, x: FloatArray,
                        run_maps: StepMaps, floor: float, steady_start: float | None
-                       ) -> tuple[dict[str, Any], Monodromies] | None:
+                       ) -> tuple[dict[str, Any], _Monodromies] | None:
     """The periodic run against the same fill with Gauss-Legendre step maps (module
     docstring), or None where no reference passes its own check."""
     start = time.perf_counter()
@@ -362,7 +362,7 @@ def stiffness_check(model: Model, method: str, samples: int = 16) -> dict[str, A
 
 
 def floquet_check(model: Model, step_maps: StepMaps | None = None,
-                  reference: Monodromies | None = None, exact: bool = False
+                  reference: _Monodromies | None = None, exact: bool = False
                   ) -> dict[str, Any] | None:
     """Parametric stability of a linear single-DOF model: its largest Floquet multiplier.
 
@@ -423,7 +423,7 @@ def multiplier_distance(mu: ComplexArray, nu: ComplexArray) -> float:
 
 
 def _floquet_reused(model: MeshModel, step_maps: StepMaps,
-                    reference: Monodromies | None) -> tuple[float, float, str]:
+                    reference: _Monodromies | None) -> tuple[float, float, str]:
     """Spectral radius of the run's own period map, the error of its multipliers against the
     Gauss-Legendre maps' and the basis (see :func:`floquet_check`)."""
     s_per = step_maps[0].shape[0]

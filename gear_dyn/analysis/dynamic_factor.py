@@ -32,6 +32,7 @@ ring-down left from one jump at the next, ``exp(-zeta 2 pi f_n dt_jump)``, at mo
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import replace
 from typing import Any
 
@@ -67,6 +68,23 @@ def quasi_static_model(model: Model) -> Model | None:
     if fn is None or not math.isfinite(fn) or fn <= 0:
         return None
     return model.at_mesh_frequency(QS_SPEED_RATIO * fn)
+
+
+def quasi_static_model_of(factory: Callable[[float], Model], speed: float,
+                          model: Model) -> Model | None:
+    """The quasi-static model of a model factory ``speed -> Model`` (a sweep's): ``model``
+    (``factory(speed)``, ``speed`` in rad/s) at the mesh frequency ``QS_SPEED_RATIO f_n``, or,
+    where the model cannot change its speed alone (eccentric kinematics change with it), the
+    factory's model at the pinion speed of that mesh frequency; None without f_n.
+
+    The quasi-static peak force does not depend on the speed the model was built at, so one
+    reference serves every speed of a sweep.
+    """
+    qs = quasi_static_model(model)
+    fn = model.natural_frequency
+    if qs is not None or fn is None or not math.isfinite(fn) or fn <= 0:
+        return qs
+    return factory(speed * QS_SPEED_RATIO * fn / model.mesh_frequency)
 
 
 def quasi_static_reference(model: Model, settings: SolverSettings) -> dict[str, Any]:

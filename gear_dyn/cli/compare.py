@@ -15,10 +15,12 @@ def register(sub: Any) -> None:
     p = sub.add_parser(
         "compare", help="sweep several scenes over the same speeds and compare their peaks",
         description="Sweep every SCENE over the same pinion speeds (as gear-dyn sweep) and "
-        "write into DIR: compare.png (dynamic factor and RMS DTE of all scenes against speed, "
-        "each peak starred), compare.csv and compare.json (per scene and direction: peak "
-        "dynamic factor and its speed, peak RMS DTE, f_n, the speed where f_m = f_n). DIR is "
-        "replaced as a whole only on success.",
+        "write into DIR: compare.png (dynamic factor K_dyn of all scenes against speed beside "
+        "their ISO 6336-1 K_v, and RMS DTE; each peak starred), compare.csv and compare.json "
+        "(per scene and direction: peak K_dyn and its speed, ISO K_v there, the peak force / W "
+        "and the stiffness-jump factor beside it, peak RMS DTE, f_n, the speed where "
+        "f_m = f_n). K_dyn = peak dynamic force / peak quasi-static force, as gear-dyn run "
+        "states it. DIR is replaced as a whole only on success.",
         epilog="example: gear-dyn compare plain.toml relief.toml --speeds "
         "'1000 rpm:10000 rpm:181' --out cmp",
     )
@@ -32,20 +34,32 @@ def register(sub: Any) -> None:
     p.set_defaults(func=run)
 
 
-def compare_rows(name: str, result: Any) -> list[dict[str, Any]]:
-    """One row per sweep direction: peak dynamic factor and RMS DTE with their speeds."""
+def compare_rows(name: str, result: Any, scene: Any = None) -> list[dict[str, Any]]:
+    """One row per sweep direction: peak dynamic factor K_dyn with its speed, ISO 6336-1 K_v
+    there (with ``scene``; NaN without it or at zero load), the peak force / W and the
+    stiffness-jump factor beside it, and the peak RMS DTE with its speed."""
     import numpy as np
 
-    from gear_dyn.analysis.sweep import summarize_sweep
+    from gear_dyn.analysis.sweep import RPM, summarize_sweep
 
     summary = summarize_sweep(result)
+    jump = summary["stiffness_jump_factor"]
     rows = []
     for d, info in summary["curves"].items():
+        at = info.get("max_dynamic_factor_speed_rpm", float("nan"))
+        kv = float("nan")
+        if scene is not None and np.isfinite(at):
+            from gear_dyn.scene.iso import iso_kv_at
+
+            k = iso_kv_at(scene, np.array([at * RPM]))
+            kv = float("nan") if k is None else float(np.asarray(k)[0])
         rows.append({
             "scene": name, "direction": d,
             "max_dynamic_factor": info.get("max_dynamic_factor", float("nan")),
-            "max_dynamic_factor_speed_rpm": info.get("max_dynamic_factor_speed_rpm",
-                                                     float("nan")),
+            "max_dynamic_factor_speed_rpm": at,
+            "iso_6336_kv_at_max": kv,
+            "max_peak_force_ratio": info.get("max_peak_force_ratio", float("nan")),
+            "stiffness_jump_factor": float("nan") if jump is None else jump,
             "max_rms_dte_m": info.get("max_rms_dte_m", float("nan")),
             "max_rms_dte_speed_rpm": info.get("max_rms_dte_speed_rpm", float("nan")),
             "natural_frequency_hz": summary["natural_frequency_hz"],
@@ -80,7 +94,8 @@ def run(args: argparse.Namespace) -> int:
         show = counter(f"{name} speed", args.quiet)
         results.append(sweep_scene(scene, speeds, si=True, workers=args.workers,
                                    progress=show))
-    rows = [r for name, res in zip(names, results, strict=True) for r in compare_rows(name, res)]
+    rows = [r for name, res, scene in zip(names, results, scenes, strict=True)
+            for r in compare_rows(name, res, scene)]
     cols = {"scene_index": [float(names.index(r["scene"])) for r in rows],
             "direction_down": [float(r["direction"] == "down") for r in rows]}
     cols |= {k: [float(r[k]) for r in rows] for k in rows[0] if k not in ("scene", "direction")}
@@ -91,15 +106,37 @@ def run(args: argparse.Namespace) -> int:
             "scenes": names, "files": [str(p) for p in args.scenes],
             "speed_range_rpm": [float(speeds[0] / RPM), float(speeds[-1] / RPM)],
             "n_speeds": int(speeds.size), "peaks": rows})
-        save_figure(plot_compare(results, names), tmp / "compare.png", dpi=110)
+        save_figure(plot_compare(results, names, iso_kv=[_kv_curve(s, speeds) for s in scenes]),
+                    tmp / "compare.png", dpi=110)
     width = max(len(n) for n in names)
-    print(f"{'scene':<{width}}  dir   max DF  at rpm   max RMS DTE (um)  at rpm   f_m = f_n at")
+    heads = ("max K_dyn", "at rpm", "ISO K_v there", "F_max/W", "stiffness jump",
+             "max RMS DTE (um)", "at rpm")
+    print(f"{'scene':<{width}}  dir  " + "  ".join(heads) + "  f_m = f_n at")
     for r in rows:
-        print(f"{r['scene']:<{width}}  {r['direction']:<4} {r['max_dynamic_factor']:7.4f}  "
-              f"{r['max_dynamic_factor_speed_rpm']:6.0f}   {r['max_rms_dte_m'] * 1e6:16.4g}  "
-              f"{r['max_rms_dte_speed_rpm']:6.0f}   {r['resonance_speed_rpm']:.0f} rpm")
+        values = (f"{r['max_dynamic_factor']:.4f}", f"{r['max_dynamic_factor_speed_rpm']:.0f}",
+                  f"{r['iso_6336_kv_at_max']:.4f}", f"{r['max_peak_force_ratio']:.4f}",
+                  f"{r['stiffness_jump_factor']:.4f}", f"{r['max_rms_dte_m'] * 1e6:.4g}",
+                  f"{r['max_rms_dte_speed_rpm']:.0f}")
+        cells = "  ".join(f"{v:>{len(h)}}" for v, h in zip(values, heads, strict=True))
+        print(f"{r['scene']:<{width}}  {r['direction']:<4} {cells}  "
+              f"{r['resonance_speed_rpm']:.0f} rpm")
+    print("K_dyn = peak dynamic mesh force / peak quasi-static mesh force of the same scene "
+          "(tends to 1 at low speed, like ISO K_v); F_max/W = K_dyn x the stiffness-jump factor "
+          "(the quasi-static force overshoot at the jumps of k(t))")
     print(f"wrote {args.out}/ (compare.png, compare.csv, compare.json)")
     return 0
+
+
+def _kv_curve(scene: Any, speeds: Any) -> tuple[Any, Any] | None:
+    """(rpm, ISO 6336-1 K_v) on a dense grid over the swept range, or None at zero load."""
+    import numpy as np
+
+    from gear_dyn.analysis.sweep import RPM
+    from gear_dyn.scene.iso import iso_kv_at
+
+    rpm = np.linspace(float(speeds[0] / RPM), float(speeds[-1] / RPM), 400)
+    kv = iso_kv_at(scene, rpm * RPM)
+    return None if kv is None else (rpm, np.asarray(kv))
 
 
 __all__ = ["compare_rows", "register", "run"]

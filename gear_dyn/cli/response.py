@@ -65,9 +65,9 @@ def run(args: argparse.Namespace) -> int:
     from gear_dyn.scene import load_scene
     from gear_dyn.scene.sweep import SceneModels
 
+    scene = load_scene(args.scene)
     lo, hi = _speeds(args.speeds)
     settings = ContinuationSettings(max_points=args.max_points)
-    scene = load_scene(args.scene)
     branch = continue_orbits(SceneModels.of(scene), lo, hi, settings=settings,
                              doublings=args.doublings)
     with staged_output(args.out) as tmp:

@@ -90,7 +90,7 @@ def run(args: argparse.Namespace) -> int:
         f"({summary['solver']['method']}, {summary['solver']['run_time_s']:.3g} s)",
         file=sys.stdout,
     )
-    print(f"  dynamic factor = {summary['dynamic_factor_definition']}", file=sys.stdout)
+    print(f"  dynamic factor: {summary['dynamic_factor_definition']}", file=sys.stdout)
     for line in jump_lines(summary):
         print(f"  {line}", file=sys.stdout)
     if summary.get("iso_6336_kv"):

@@ -158,6 +158,7 @@ def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = No
     axes[-1, 0].axhline(result.static_load / 1e3, color="k", ls="--", lw=0.7,
                         label=f"static load W = {result.static_load / 1e3:.4g} kN")
     for r in range(nrows):
+        _legend_headroom(axes[r, 0])
         axes[r, 0].legend(loc="upper right", fontsize=7)
     if ax is not None:
         return fig  # the caller's figure: its titles and layout are the caller's
@@ -169,6 +170,14 @@ def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = No
     # margins in inches: the look of tight_layout without measuring twice
     fixed_layout(fig, left=0.72, right=0.15, top=0.62, bottom=0.55, wgap=0.75, hgap=0.25)
     return fig
+
+
+def _legend_headroom(ax: Any) -> None:
+    """Raise the top of ``ax`` so its upper-right legend sits above the curves, not on them
+    (a whole run fills its panel from end to end): about 7 % of the panel per legend entry."""
+    n = len(ax.get_legend_handles_labels()[1])
+    lo, hi = ax.get_ylim()
+    ax.set_ylim(lo, hi + (hi - lo) * (0.05 + 0.1 * n) / (0.95 - 0.1 * n))
 
 
 def _mark_negative(ax: Any, xs: Any, ys: Any, label: bool) -> None:
@@ -294,12 +303,13 @@ def _mark_physics(ax: Any, marks: Marks, top: int, fmax: float) -> None:
                     fontsize=7, ha="center", va="top", bbox=_BOX)
     if marks.natural is not None and marks.natural <= fmax:
         ax.axvline(marks.natural, color="tab:green", ls="--", lw=1.0)
-        ax.text(marks.natural, 0.75, f"f_n = {marks.natural:.0f} Hz", transform=trans,
-                color="tab:green", fontsize=8, ha="center", va="top", bbox=_BOX)
+        # beside its line, not across it
+        ax.text(marks.natural, 0.75, f" f_n = {marks.natural:.0f} Hz", transform=trans,
+                color="tab:green", fontsize=8, ha="left", va="top", bbox=_BOX)
     for label, fs in marks.shafts:
         ax.axvline(fs, color="tab:purple", ls="-.", lw=0.7)
         ax.text(fs, 0.55 if label == "f1" else 0.3, f" {label} = {fs:.3g} Hz", transform=trans,
-                color="tab:purple", fontsize=7)
+                color="tab:purple", fontsize=7, bbox=_BOX)  # legible over the curve
 
 
 def _sideband_zoom(ax: Any, f: Any, amp: Any, marks: Marks, scale: str,

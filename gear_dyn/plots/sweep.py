@@ -13,7 +13,13 @@ from matplotlib.colors import LogNorm, TwoSlopeNorm
 
 from gear_dyn.analysis.chart import StabilityChart
 from gear_dyn.analysis.stability import UNIT_CIRCLE_TOL
-from gear_dyn.analysis.sweep import RPM, SweepCurve, SweepResult, hysteresis_ranges
+from gear_dyn.analysis.sweep import (
+    RPM,
+    SweepCurve,
+    SweepResult,
+    hysteresis_ranges,
+    periodic_response,
+)
 from gear_dyn.analysis.sweep.report import (
     RESONANCES,
     resonance_notes,
@@ -60,7 +66,9 @@ def _markers(ax: Any, c: SweepCurve, y: np.ndarray, legend: bool, nonlinear: boo
         return text if legend and text not in shown else None
     sep = np.nan_to_num(c.separation) > 0
     back = np.nan_to_num(c.backside) > 0
-    aper = np.array([s == "aperiodic" for s in c.status])
+    # no periodic orbit: steady method "aperiodic", transient method a window that does not
+    # repeat after one mesh period (unstable speeds are shaded instead)
+    aper = ~periodic_response(c) & np.array([s != "unstable" for s in c.status])
     if np.any(sep):  # a legend entry only for what the sweep shows
         text = ("teeth separate" if nonlinear else
                 "F < 0: linear model invalid here,\nadd [backlash]")
@@ -75,6 +83,24 @@ def _markers(ax: Any, c: SweepCurve, y: np.ndarray, legend: bool, nonlinear: boo
     if np.any(p2):
         ax.plot(rpm[p2], y[p2], "D", color="tab:green", ms=3.5, mfc="none",
                 label=label("period-2 (f_m/2)"))
+
+
+#: left edge of the legends right of the panels, in axes fractions: clear of the right axis
+#: of the peak force (its tick labels and its label)
+LEGEND_X = 1.1
+
+
+def _peak_force_axis(ax: Any, jump: float) -> Any:
+    """A right axis reading K_dyn as the peak force F_max / W = K_dyn x ``jump`` (the
+    stiffness-jump factor F_qs,max / W), named with its value; None where ``jump`` is not
+    finite (no quasi-static reference)."""
+    if not (np.isfinite(jump) and jump > 0):
+        return None
+    right = ax.secondary_yaxis("right", functions=(lambda k: k * jump, lambda f: f / jump))
+    right.set_ylabel(f"peak force F_max / W\n= K_dyn x {jump:.3f} (stiffness jump)",
+                     fontsize=8)
+    right.tick_params(labelsize=8)
+    return right
 
 
 def _jump_marks(ax: Any, result: SweepResult, legend: bool) -> None:
@@ -99,8 +125,12 @@ def _jump_marks(ax: Any, result: SweepResult, legend: bool) -> None:
 
 def plot_sweep_response(result: SweepResult, ax: Any = None,
                         iso_kv: tuple[Any, Any] | None = None) -> Any:
-    """Dynamic factor, RMS and peak-to-peak DTE against speed (top axis: f_m / f_n).
+    """Dynamic factor K_dyn, RMS and peak-to-peak DTE against speed (top axis: f_m / f_n).
 
+    The top panel draws K_dyn = F_max / F_qs,max (:mod:`gear_dyn.analysis.dynamic_factor`),
+    the figure that compares like for like with ISO 6336-1 K_v (``iso_kv``, dash-dot); its
+    right axis reads the same curves as the peak force F_max / W = K_dyn x the stiffness-jump
+    factor, which the axis label names with its value.
     Up and down sweeps are drawn (solid, dashed) so jumps and hysteresis show; thin dotted
     vertical lines mark the jumps found from the orbits (at the located fold); crosses mark
     tooth separation (on a linear model: a negative mesh force, where the model does not
@@ -115,7 +145,8 @@ def plot_sweep_response(result: SweepResult, ax: Any = None,
     ax : sequence of 3 Axes or None
         Dynamic factor, RMS DTE, peak-to-peak DTE (None: a new figure).
     iso_kv : (array, array) or None
-        (pinion speeds in rpm, ISO 6336-1 K_v) drawn beside the simulated dynamic factor.
+        (pinion speeds in rpm, ISO 6336-1 K_v) drawn beside the simulated dynamic factor
+        K_dyn.
 
     Returns
     -------
@@ -123,7 +154,8 @@ def plot_sweep_response(result: SweepResult, ax: Any = None,
     """
     own = ax is None
     fig, axes = axes_of(ax, 3, 1, figsize=(11, 9), name="plot_sweep_response", sharex=True)
-    quantities = (("dynamic_factor", 1.0, "dynamic factor"), ("rms_dte", 1e6, "RMS DTE (µm)"),
+    quantities = (("dynamic_factor", 1.0, "dynamic factor K_dyn"),
+                  ("rms_dte", 1e6, "RMS DTE (µm)"),
                   ("ptp_dte", 1e6, "peak-to-peak DTE (µm)"))
     all_rpm = np.concatenate([c.speed for c in result.curves]) / RPM
     lo, hi = float(np.min(all_rpm)), float(np.max(all_rpm))
@@ -133,14 +165,16 @@ def plot_sweep_response(result: SweepResult, ax: Any = None,
         for c in result.curves:
             y = getattr(c, name) * scale
             style = _STYLE.get(c.direction, {})
-            lab = (f"sweep {c.direction}" if len(result.curves) > 1
-                   else "simulated (steady state)") if row == 0 else None
+            lab = (f"K_dyn, sweep {c.direction}" if len(result.curves) > 1
+                   else "K_dyn, simulated") if row == 0 else None
             ax.plot(c.speed / RPM, y, lw=1.1, marker=".", ms=2.5, label=lab, **style)
             _markers(ax, c, y, legend=row == 0, nonlinear=result.nonlinear)
             unstable = np.array([s == "unstable" for s in c.status])
             _shade(ax, c.speed / RPM, unstable, row == 0 and c is result.curves[0])
         for k, (a, b) in enumerate(hyst):
-            step = (hi - lo) / max(all_rpm.size - 1, 1)
+            # half a speed step beyond the first and last speed of the range (the directions
+            # share the speeds: one curve's spacing)
+            step = (hi - lo) / max(result.curves[0].speed.size - 1, 1)
             ax.axvspan(a - step / 2, b + step / 2, color="tab:orange", alpha=0.15, lw=0,
                        label="hysteresis: up and down\non different orbits"
                        if row == 0 and k == 0 else None)
@@ -151,14 +185,15 @@ def plot_sweep_response(result: SweepResult, ax: Any = None,
             _resonance_marks(ax, result, lo, hi)
             if iso_kv is not None:
                 ax.plot(*iso_kv, color="k", lw=1.0, ls="-.", label="ISO 6336-1 K_v (method B)")
+            _peak_force_axis(ax, result.stiffness_jump_factor)
             for d, v, s in sweep_peaks(result):
                 ax.plot([s], [v], "*", ms=11, mec="k", mew=0.6,
                         color=_STYLE.get(d, {}).get("color", "tab:blue"),
-                        label=f"peak {v:.3f} at {s:.0f} rpm" + (f" ({d})"
+                        label=f"peak K_dyn {v:.3f} at {s:.0f} rpm" + (f" ({d})"
                                                                  if len(result.curves) > 1
                                                                  else ""))
     axes[-1].set_xlabel("pinion speed (rpm)")
-    axes[0].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8,
+    axes[0].legend(loc="upper left", bbox_to_anchor=(LEGEND_X, 1.0), fontsize=8,
                    borderaxespad=0.0)
     fn = result.natural_frequency
     if np.isfinite(fn):
@@ -178,12 +213,18 @@ def plot_sweep_response(result: SweepResult, ax: Any = None,
         title += "\n" + "; ".join(notes)
     if own:  # a caller's figure keeps its own title
         fig.suptitle(title, fontsize=10)
-    _layout(fig, own, left=0.08, right=0.76, bottom=0.06, top=0.88, hspace=0.08)
+    _layout(fig, own, left=0.08, right=0.68, bottom=0.06, top=0.88, hspace=0.12)
     return fig
 
 
-def plot_compare(results: Sequence[SweepResult], names: Sequence[str], ax: Any = None) -> Any:
-    """Dynamic factor and RMS DTE of several sweeps against speed, each peak starred.
+def plot_compare(results: Sequence[SweepResult], names: Sequence[str], ax: Any = None,
+                 iso_kv: Sequence[tuple[Any, Any] | None] | None = None) -> Any:
+    """Dynamic factor K_dyn and RMS DTE of several sweeps against speed, each peak starred.
+
+    K_dyn = F_max / F_qs,max (:mod:`gear_dyn.analysis.dynamic_factor`) compares like for like
+    with ISO 6336-1 K_v (``iso_kv``: dash-dot, in each scene's colour); each scene's
+    stiffness-jump factor F_qs,max / W (peak force / W = K_dyn x that factor) is named in the
+    legend beside its curve.
 
     Parameters
     ----------
@@ -192,6 +233,8 @@ def plot_compare(results: Sequence[SweepResult], names: Sequence[str], ax: Any =
         One label per result.
     ax : sequence of 2 Axes or None
         Dynamic factor, RMS DTE (None: a new figure).
+    iso_kv : sequence of ((array, array) or None) or None
+        Per result, (pinion speeds in rpm, ISO 6336-1 K_v) or None (no K_v for that scene).
 
     Returns
     -------
@@ -200,26 +243,35 @@ def plot_compare(results: Sequence[SweepResult], names: Sequence[str], ax: Any =
     own = ax is None
     fig, axes = axes_of(ax, 2, 1, figsize=(11, 7), name="plot_compare", sharex=True)
     colors = [f"C{i}" for i in range(10)]
-    for i, (res, name) in enumerate(zip(results, names, strict=True)):
+    kvs = list(iso_kv) if iso_kv is not None else [None] * len(results)
+    for i, (res, name, kv) in enumerate(zip(results, names, kvs, strict=True)):
         col = colors[i % len(colors)]
+        jump = res.stiffness_jump_factor
+        tail = (f"\n  stiffness-jump factor {jump:.3f}: F_max / W = K_dyn x {jump:.3f}"
+                if np.isfinite(jump) else "")
         for c in res.curves:
             ls = "--" if c.direction == "down" else "-"
             lab = name if len(res.curves) == 1 else f"{name} ({c.direction})"
-            axes[0].plot(c.speed / RPM, c.dynamic_factor, color=col, ls=ls, lw=1.1, label=lab)
+            axes[0].plot(c.speed / RPM, c.dynamic_factor, color=col, ls=ls, lw=1.1,
+                         label=lab + (tail if c is res.curves[0] else ""))
             axes[1].plot(c.speed / RPM, c.rms_dte * 1e6, color=col, ls=ls, lw=1.1)
+        if kv is not None:
+            axes[0].plot(*kv, color=col, lw=1.0, ls="-.", label=f"{name}: ISO 6336-1 K_v")
         for d, v, s in sweep_peaks(res):
             tag = "" if len(res.curves) == 1 else f" {d}"
             axes[0].plot([s], [v], "*", ms=11, color=col, mec="k", mew=0.6,
-                         label=f"peak{tag} {v:.3f} at {s:.0f} rpm")
-    axes[0].set_ylabel("dynamic factor")
+                         label=f"peak{tag} K_dyn {v:.3f} at {s:.0f} rpm")
+    axes[0].set_ylabel("dynamic factor K_dyn")
     axes[1].set_ylabel("RMS DTE (µm)")
     axes[1].set_xlabel("pinion speed (rpm)")
     for a in axes:
         a.grid(alpha=0.3)
     axes[0].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0)
     if own:
-        fig.suptitle("comparison: " + " / ".join(names), fontsize=10)
-    _layout(fig, own, left=0.08, right=0.7, bottom=0.08, top=0.92, hspace=0.08)
+        fig.suptitle("comparison: " + " / ".join(names) + "\nK_dyn = peak dynamic force / "
+                     "peak quasi-static force of the same scene (tends to 1 at low speed, "
+                     "like K_v)", fontsize=10)
+    _layout(fig, own, left=0.08, right=0.66, bottom=0.08, top=0.9, hspace=0.08)
     return fig
 
 
@@ -279,12 +331,13 @@ def plot_waterfall(result: SweepResult, direction: str | None = None, floor: flo
                     c=amp[keep], s=10, cmap="viridis", norm=LogNorm(vmin=floor * top, vmax=top))
     fig.colorbar(sc, ax=ax, label="DTE amplitude (µm)")
     fmax = float(np.max(freq)) / 1e3
+    span = float(rpm[-1] - rpm[0]) or 1.0
     for k in range(1, result.options.harmonics + 1):
         ax.plot(k * fm / 1e3, rpm, color="0.45", lw=0.7, ls="--",
                 label="mesh orders k f_m" if k == 1 else None)
         x_end = k * fm[-1] / 1e3
         if x_end <= fmax:
-            ax.text(x_end, rpm[-1], f" {k} f_m", fontsize=8, color="0.25", ha="left",
+            ax.text(x_end, rpm[-1] + 0.015 * span, f" {k} f_m", fontsize=8, color="0.25", ha="left",
                     va="bottom", rotation=0, clip_on=False)
     fn = result.natural_frequency
     if np.isfinite(fn):
@@ -292,8 +345,9 @@ def plot_waterfall(result: SweepResult, direction: str | None = None, floor: flo
     ax.legend(loc="lower right", fontsize=8)
     ax.set_xlabel("frequency (kHz)")
     ax.set_ylabel("pinion speed (rpm)")
-    ax.set_xlim(0, fmax * 1.04)
-    ax.set_ylim(rpm[0], rpm[-1] + 0.06 * (rpm[-1] - rpm[0] or 1.0))
+    ax.set_xlim(0, fmax * 1.1)  # room for the " 5 f_m" labels at the top ends
+    # whole dots at both ends, the order labels above the top row
+    ax.set_ylim(rpm[0] - 0.03 * span, rpm[-1] + 0.08 * span)
     ax.grid(alpha=0.3)
     ax.set_title(f"{result.scene_name}: DTE spectra over speed (sweep {c.direction}); "
                  f"orders k/{result.options.window_periods} of f_m", fontsize=10)

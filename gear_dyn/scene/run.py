@@ -6,10 +6,9 @@ and the ISO 6336-1 K_v beside it (:mod:`.iso`).
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
-from gear_dyn.analysis.dynamic_factor import QS_SPEED_RATIO, quasi_static_model
+from gear_dyn.analysis.dynamic_factor import quasi_static_model_of
 from gear_dyn.analysis.study import simulate
 from gear_dyn.errors import InputError
 from gear_dyn.models.base import Model
@@ -28,14 +27,11 @@ RUN_KEYWORDS = ("speed", "torque", "si", *RUN_SOLVER_OVERRIDES)
 
 def _quasi_static_model(scene: Scene, model: Model) -> Model | None:
     """The scene's model at the quasi-static speed of the dynamic factor's reference
-    (:mod:`gear_dyn.analysis.dynamic_factor`): the model itself where only f_m depends on speed,
-    else the scene rebuilt at that speed (eccentric models: the kinematics change with it)."""
-    qs = quasi_static_model(model)
-    fn = model.natural_frequency
-    if qs is not None or fn is None or not math.isfinite(fn) or fn <= 0:
-        return qs
-    speed = scene.tables["operating"]["speed"] * QS_SPEED_RATIO * fn / model.mesh_frequency
-    return build_model(with_operating(scene, speed, si=True))
+    (:func:`gear_dyn.analysis.dynamic_factor.quasi_static_model_of`, as a sweep takes it): the
+    model itself where only f_m depends on speed, else the scene rebuilt at that speed
+    (eccentric models: the kinematics change with it)."""
+    return quasi_static_model_of(lambda s: build_model(with_operating(scene, s, si=True)),
+                                 scene.tables["operating"]["speed"], model)
 
 
 def run_scene(scene: Scene, speed: Any = None, torque: Any = None, *, si: bool = False,

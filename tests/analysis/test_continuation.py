@@ -221,6 +221,10 @@ def test_branch_rows_json_and_repr() -> None:
             "liouville_residual", "pattern"} <= set(rows[0])
     data = json.loads(json.dumps(br.to_dict()))
     assert data["parameter"] == "speed" and data["branches"][0]["n_points"] == len(br.points)
+    # the parameter derivative behind each tangent states its error: secant columns agree to
+    # SECANT_AGREEMENT = 1e-4, the central difference's one-sided quotients to O(fd_step)
+    errs = np.array([r["dp_error"] for r in rows[1:]], dtype=float)
+    assert np.all(np.isfinite(errs)) and np.all(errs < 1e-3)
     assert repr(br).startswith("Branch(period-1, speed ")
     assert "route exact" in repr(br)
 
@@ -312,3 +316,39 @@ def test_period2_bubble_between_two_doublings_is_followed_once() -> None:
     assert child.points[0].parameter == pytest.approx(pd[0].parameter, rel=1e-8)
     assert child.points[-1].parameter == pytest.approx(pd[1].parameter, rel=1e-8)
     assert len(child.of_kind("fold")) >= 2  # the bent subharmonic resonance
+
+
+@pytest.mark.slow
+def test_fold_on_the_variational_route_agrees_with_the_extended_system() -> None:
+    """Kahraman & Singh's oscillator (constant stiffness, harmonic transmission error) in
+    separation: the fold located by continuation on the variational route (DOP853 with
+    located contacts) against the minimally extended system solved by MINPACK on the same
+    route. Both use the map at rtol 1e-10, whose step-size selection makes it smooth only to
+    about that; 1e-7 relative in speed is the margin for it."""
+    from gear_dyn import FourierStiffness
+    from gear_dyn.analysis.stability import integrate_with_sensitivity
+    from gear_dyn.excitation import HarmonicSignal
+
+    k0, e1 = 1e6, 6e-4
+    model = SDOFModel(1.0, FourierStiffness(k0, np.array([0.0]), np.array([0.0])), 0.05,
+                      1000.0, 100.0, backlash=B,
+                      transmission_error=HarmonicSignal(0.0, np.array([e1]), np.array([0.0])))
+    fam = sdof_family(model, "speed", teeth=TEETH)
+    wn = math.sqrt(k0)
+    br = continue_orbits(fam, 0.8 * wn / TEETH, 0.81 * wn / TEETH,
+                         settings=ContinuationSettings(max_points=40))
+    assert br.route == "variational"
+    (fold,) = br.of_kind("fold")
+    scale = model.state_scale
+
+    def eqs(u: np.ndarray) -> np.ndarray:
+        yy, ww = u[:2] * scale, u[2] * fold.parameter
+        m = fam(ww)
+        yt, mono = integrate_with_sensitivity(m, yy, 1.0 / m.mesh_frequency, 1e-10,
+                                              "variational")
+        return np.append((yt - yy) / scale, fold_test(mono))
+
+    sol = root(eqs, np.append(fold.point.state / scale * (1 + 1e-3), 1.0 + 1e-3),
+               method="hybr", options={"xtol": 1e-12})
+    assert np.max(np.abs(sol.fun)) < 1e-9, sol.message
+    assert fold.parameter == pytest.approx(sol.x[2] * fold.parameter, rel=1e-7)

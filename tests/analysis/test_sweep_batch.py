@@ -15,7 +15,7 @@ from gear_dyn.scene.sweep import SceneModels
 SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
 TAIL = SCENES / "helicopter_tail.toml"
 BACKLASH = SCENES / "helicopter_tail_backlash.toml"
-FIELDS = ("dynamic_factor", "rms_dte", "ptp_dte", "mean_dte", "spectral_radius", "separation")
+FIELDS = ("peak_force_ratio", "rms_dte", "ptp_dte", "mean_dte", "spectral_radius", "separation")
 
 
 def test_linear_block_equals_per_speed_path() -> None:

@@ -38,7 +38,7 @@ from gear_dyn.solvers.contact_exact import propagate_contact_exact, rounding_bou
 BACKLASH = Path(__file__).resolve().parents[2] / "gear_dyn" / "scenes" / \
     "helicopter_tail_backlash.toml"
 SPEEDS = np.linspace(3000.0, 9000.0, 24) * RPM
-FIGURES = ("dynamic_factor", "rms_dte", "ptp_dte", "mean_dte")
+FIGURES = ("peak_force_ratio", "rms_dte", "ptp_dte", "mean_dte")
 
 
 @pytest.fixture(scope="module")
@@ -100,7 +100,7 @@ def test_sweep_figures_equal_dop853_route(sweeps) -> None:
     scene, runs = sweeps
     model = SceneModels.of(scene)(float(SPEEDS[0]))
     x_s = float(model.state_scale[0])
-    scale = {"dynamic_factor": 1.0, "spectrum": x_s, "state": np.asarray(model.state_scale)}
+    scale = {"peak_force_ratio": 1.0, "spectrum": x_s, "state": np.asarray(model.state_scale)}
     for d in ("up", "down"):
         new, old, tight = (runs[k].curve(d) for k in ("auto", "dop", "dop_tight"))
         assert new.status == old.status

@@ -11,6 +11,7 @@ import pytest
 from gear_dyn.analysis.sweep import RPM
 from gear_dyn.cli.app import main
 from gear_dyn.scene import load_scene
+from gear_dyn.scene.iso import iso_kv_at
 from gear_dyn.scene.sweep import sweep_scene
 
 SCENES = Path(__file__).resolve().parents[2] / "gear_dyn" / "scenes"
@@ -32,11 +33,24 @@ def test_compare_table_equals_separate_sweeps(tmp_path: Path, capsys: pytest.Cap
     assert data["scenes"] == ["helicopter_tail", "damped"]
     assert (out / "compare.png").stat().st_size > 0 and (out / "compare.csv").exists()
     for path, row in zip((a, b), data["peaks"], strict=True):
-        c = sweep_scene(load_scene(path), speeds).curves[0]
+        scene = load_scene(path)
+        res = sweep_scene(scene, speeds)
+        c = res.curves[0]
         i = int(np.nanargmax(c.dynamic_factor))
+        # K_dyn, as gear-dyn run and sweep state it; the peak force / W and the stiffness-jump
+        # factor beside it, and ISO K_v at the same speed
         assert row["max_dynamic_factor"] == c.dynamic_factor[i]
         assert row["max_dynamic_factor_speed_rpm"] == pytest.approx(c.speed[i] / RPM)
-        assert f"{row['max_dynamic_factor']:.4f}" in text
+        assert row["max_peak_force_ratio"] == c.peak_force_ratio[i]
+        assert row["stiffness_jump_factor"] == res.stiffness_jump_factor
+        assert row["max_peak_force_ratio"] == pytest.approx(
+            row["max_dynamic_factor"] * row["stiffness_jump_factor"], rel=1e-12)
+        assert row["iso_6336_kv_at_max"] == pytest.approx(
+            float(iso_kv_at(scene, c.speed[i:i + 1])[0]), rel=1e-12)
+        for key in ("max_dynamic_factor", "iso_6336_kv_at_max", "max_peak_force_ratio",
+                    "stiffness_jump_factor"):
+            assert f"{row[key]:.4f}" in text
+    assert "max K_dyn" in text and "ISO K_v there" in text
     # more damping, lower peak: the table says which design is better
     assert data["peaks"][1]["max_dynamic_factor"] < data["peaks"][0]["max_dynamic_factor"]
 

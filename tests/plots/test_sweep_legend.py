@@ -19,7 +19,7 @@ def _labels(speeds_rpm: np.ndarray) -> list[str]:
 def test_legend_without_separation_names_only_the_curve_and_its_peak() -> None:
     # the peak of this range is at its lower end: the dynamic factor falls above resonance
     labels = _labels(np.linspace(10000, 12000, 5))
-    assert labels[0] == "simulated (steady state)"
+    assert labels[0] == "K_dyn, simulated"
     assert len(labels) == 2 and labels[1].startswith("peak ")
     assert labels[1].endswith(" at 10000 rpm")
 
@@ -31,4 +31,4 @@ def test_legend_with_separation_marks_it_once_and_no_absent_kind() -> None:
     assert "teeth separate" not in labels
     assert "back-side contact" not in labels  # no backlash in this scene
     assert sum(lab.startswith("peak ") for lab in labels) == 1
-    assert labels[0] == "simulated (steady state)"
+    assert labels[0] == "K_dyn, simulated"

@@ -11,7 +11,7 @@ importing this module loads no matplotlib, and the analysis layer imports no plo
 from __future__ import annotations
 
 import importlib
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -64,6 +64,10 @@ class OrbitPoint:
         Parameter component of the unit tangent (its sign change marks a fold).
     iterations : int
         Corrector iterations.
+    dp_error : float
+        Estimated relative error of the parameter derivative ``dP/dp`` the tangent was built
+        from (secant columns' agreement, or the central difference's one-sided disagreement;
+        nan where not computed).
     """
 
     parameter: float
@@ -84,6 +88,7 @@ class OrbitPoint:
     arclength: float
     tangent_p: float
     iterations: int
+    dp_error: float = float("nan")
 
     @property
     def spectral_radius(self) -> float:
@@ -105,7 +110,7 @@ class OrbitPoint:
             "separation_share": self.separation, "back_share": self.back,
             "dte_rms_m": self.dte_rms, "dte_ptp_m": self.dte_ptp, "dte_mean_m": self.dte_mean,
             "arclength": self.arclength, "tangent_p": self.tangent_p,
-            "iterations": self.iterations,
+            "iterations": self.iterations, "dp_error": self.dp_error,
         }
 
 
@@ -188,7 +193,6 @@ class Branch:
     route: str = "exact"
     stop_reason: str = ""
     n_maps: int = 0
-    _cache: dict[str, Any] = field(default_factory=dict, repr=False)
 
     def __len__(self) -> int:
         return len(self.points)

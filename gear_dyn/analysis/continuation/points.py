@@ -32,4 +32,4 @@ def make_point(sh: Shooting, ev: Evaluation, settings: ContinuationSettings,
         separation=shape.separation, back=shape.back, dte_rms=shape.dte_rms,
         dte_ptp=shape.dte_ptp, dte_mean=shape.dte_mean,
         mesh_frequency=float(ev.model.mesh_frequency), arclength=float(arclength),
-        tangent_p=float(tangent_p), iterations=int(iterations))
+        tangent_p=float(tangent_p), iterations=int(iterations), dp_error=float(ev.dp_error))

@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from gear_dyn.analysis.dynamic_factor import quasi_static_model_of, quasi_static_reference
 from gear_dyn.analysis.sweep.batch import linear_block
 from gear_dyn.analysis.sweep.orbit_jumps import find_jumps
 from gear_dyn.analysis.sweep.points import steady_point, transient_point
@@ -260,6 +261,8 @@ def sweep(
     Returns
     -------
     SweepResult
+        With the dynamic factor K_dyn of every speed against one quasi-static run of the model
+        (:mod:`gear_dyn.analysis.dynamic_factor`), as ``gear-dyn run`` computes it.
 
     Raises
     ------
@@ -294,10 +297,15 @@ def sweep(
     else:
         label = "serial"
         points = _run_chains(map, template, chains, nonlinear, progress)
-    # jumps from the orbits: candidate pairs continued here, in the calling process
+    # one quasi-static reference for the whole sweep: its peak force does not depend on speed
+    qs_model = quasi_static_model_of(factory, float(sp[0]), model)
+    reference = None if qs_model is None else quasi_static_reference(qs_model, settings)
+    jump = math.nan if reference is None else float(reference["peak_force_ratio"])
+    # jumps of the response from the orbits: candidate pairs continued here, in the calling
+    # process
     curves = tuple(replace(c, jumps=find_jumps(c, factory if opts.method == "steady" else None,
                                                settings.rtol))
-                   for c in (SweepCurve.from_points(d, points[d]) for d in dirs))
+                   for c in (SweepCurve.from_points(d, points[d], jump) for d in dirs))
     orders = np.arange(1, opts.window_periods * opts.harmonics + 1) / opts.window_periods
     fn = model.natural_frequency
     return SweepResult(
@@ -305,4 +313,5 @@ def sweep(
         natural_frequency=math.nan if fn is None else float(fn),
         static_load=float(model.static_load), nonlinear=nonlinear, options=opts,
         settings=settings, run_time_s=time.perf_counter() - start, executor=label,
+        quasi_static=reference,
     )

@@ -1,5 +1,10 @@
 """Tables and summaries of a sweep: CSV columns, ranges, jumps, hysteresis, sweep.json.
 
+The dynamic factor is K_dyn = F_max / F_qs,max, as ``gear-dyn run`` states it
+(:mod:`gear_dyn.analysis.dynamic_factor`): it compares like for like with ISO 6336-1 K_v. The
+peak force ratio F_max / W and the stiffness-jump factor F_qs,max / W (their ratio) are reported
+beside it, each under its own name.
+
 The jumps themselves are found from the orbits when the sweep runs
 (:mod:`gear_dyn.analysis.sweep.orbit_jumps`); here they are only listed.
 
@@ -14,18 +19,23 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from gear_dyn.analysis.dynamic_factor import (
+    DYNAMIC_FACTOR_DEFINITION,
+    STIFFNESS_JUMP_DEFINITION,
+)
 from gear_dyn.analysis.sweep.types import RPM, SweepCurve, SweepResult
 
 FloatArray = NDArray[np.float64]
 
 
 def sweep_columns(result: SweepResult) -> dict[str, Any]:
-    """CSV columns: one row per (direction, speed); direction coded 0 = up, 1 = down."""
+    """CSV columns: one row per (direction, speed); direction coded 0 = up, 1 = down;
+    ``dynamic_factor`` is K_dyn, ``peak_force_ratio`` F_max / W."""
     cols: dict[str, list[float]] = {k: [] for k in (
         "direction_down", "speed_rpm", "speed_rad_s", "mesh_frequency_hz", "frequency_ratio",
-        "dynamic_factor", "rms_dte_m", "ptp_dte_m", "mean_dte_m", "max_floquet_modulus",
-        "stable", "periodic", "orbit_periods", "separation_share", "backside_share",
-        "newton_iterations")}
+        "dynamic_factor", "peak_force_ratio", "rms_dte_m", "ptp_dte_m", "mean_dte_m",
+        "max_floquet_modulus", "stable", "periodic", "orbit_periods", "separation_share",
+        "backside_share", "newton_iterations")}
     fn = result.natural_frequency
     for c in result.curves:
         n = c.speed.size
@@ -35,6 +45,7 @@ def sweep_columns(result: SweepResult) -> dict[str, Any]:
         cols["mesh_frequency_hz"] += list(c.mesh_frequency)
         cols["frequency_ratio"] += list(c.mesh_frequency / fn)
         cols["dynamic_factor"] += list(c.dynamic_factor)
+        cols["peak_force_ratio"] += list(c.peak_force_ratio)
         cols["rms_dte_m"] += list(c.rms_dte)
         cols["ptp_dte_m"] += list(c.ptp_dte)
         cols["mean_dte_m"] += list(c.mean_dte)
@@ -160,7 +171,8 @@ def resonance_notes(result: SweepResult) -> list[str]:
 
 
 def sweep_peaks(result: SweepResult) -> list[tuple[str, float, float]]:
-    """(direction, largest dynamic factor, its speed in rpm) of each curve with finite values."""
+    """(direction, largest dynamic factor K_dyn, its speed in rpm) of each curve with finite
+    values."""
     out = []
     for c in result.curves:
         df = np.where(np.isfinite(c.dynamic_factor), c.dynamic_factor, -np.inf)
@@ -172,7 +184,14 @@ def sweep_peaks(result: SweepResult) -> list[tuple[str, float, float]]:
 
 
 def summarize_sweep(result: SweepResult) -> dict[str, Any]:
-    """Summary of a sweep for sweep.json (SI units in the key names, speeds in rpm)."""
+    """Summary of a sweep for sweep.json (SI units in the key names, speeds in rpm).
+
+    ``dynamic_factor_definition`` and ``stiffness_jump_definition`` state the figures;
+    ``stiffness_jump_factor`` (F_qs,max / W) and ``quasi_static`` (the reference run) are the
+    sweep's, once; per curve ``max_dynamic_factor`` (K_dyn) and, at the same speed,
+    ``max_peak_force_ratio`` (F_max / W = K_dyn x stiffness-jump factor).
+    """
+    qs = result.quasi_static
     out: dict[str, Any] = {
         "scene": result.scene_name,
         "method": result.options.method,
@@ -181,6 +200,12 @@ def summarize_sweep(result: SweepResult) -> dict[str, Any]:
         "resonance_speed_rpm": _resonance_rpm(result),
         "resonances_outside_range": resonance_notes(result),
         "static_load_n": result.static_load,
+        "dynamic_factor_definition": DYNAMIC_FACTOR_DEFINITION,
+        "stiffness_jump_factor": result.stiffness_jump_factor if qs is not None else None,
+        "stiffness_jump_definition": STIFFNESS_JUMP_DEFINITION,
+        # the reference run's figures (its time is part of the sweep's run_time_s)
+        "quasi_static": ({k: v for k, v in qs.items() if k != "run_time_s"}
+                         if qs is not None else None),
         "n_speeds": int(result.curves[0].speed.size),
         "speed_range_rpm": [float(np.min(result.curves[0].speed) / RPM),
                             float(np.max(result.curves[0].speed) / RPM)],
@@ -197,7 +222,7 @@ def summarize_sweep(result: SweepResult) -> dict[str, Any]:
         "aperiodic_ranges_rpm": aperiodic_ranges(result),
     }
     for c in result.curves:
-        finite = np.isfinite(c.dynamic_factor)
+        finite = np.isfinite(c.peak_force_ratio)  # K_dyn is NaN too without a reference
         info: dict[str, Any] = {
             "unstable_ranges_rpm": _ranges(c.speed, np.array([s == "unstable"
                                                                for s in c.status])),
@@ -208,9 +233,11 @@ def summarize_sweep(result: SweepResult) -> dict[str, Any]:
             "jumps": jumps(c),
         }
         if np.any(finite):
-            i = int(np.nanargmax(np.where(finite, c.dynamic_factor, -np.inf)))
+            # K_dyn is F_max / W over one constant: both peak at the same speed
+            i = int(np.nanargmax(np.where(finite, c.peak_force_ratio, -np.inf)))
             info["max_dynamic_factor"] = float(c.dynamic_factor[i])
             info["max_dynamic_factor_speed_rpm"] = float(c.speed[i] / RPM)
+            info["max_peak_force_ratio"] = float(c.peak_force_ratio[i])
             # share of the period with the teeth out of contact at that speed (0: in contact)
             info["max_dynamic_factor_separation_share"] = float(np.nan_to_num(c.separation[i]))
             j = int(np.nanargmax(np.where(finite, c.rms_dte, -np.inf)))

@@ -62,7 +62,7 @@ class Point(NamedTuple):
 
     speed: float
     mesh_frequency: float
-    dynamic_factor: float
+    peak_force_ratio: float
     rms_dte: float
     ptp_dte: float
     mean_dte: float
@@ -90,8 +90,16 @@ class SweepCurve:
         Pinion speed in rad/s.
     mesh_frequency : ndarray
         Hz.
-    dynamic_factor, rms_dte, ptp_dte, mean_dte : ndarray
-        Peak mesh force / W; DTE RMS (mean removed), peak-to-peak and mean in m. NaN where the
+    dynamic_factor : ndarray
+        K_dyn = F_max / F_qs,max: the peak dynamic mesh force over the peak quasi-static mesh
+        force of the same model (one quasi-static run per sweep,
+        :attr:`SweepResult.quasi_static`), like ``gear-dyn run``'s; tends to 1 at low speed,
+        like ISO 6336-1 K_v. NaN without a quasi-static reference.
+    peak_force_ratio : ndarray
+        F_max / W: the peak dynamic mesh force over the static load W = T1 / r_b1, the dynamic
+        factor times the stiffness-jump factor (:attr:`SweepResult.stiffness_jump_factor`).
+    rms_dte, ptp_dte, mean_dte : ndarray
+        DTE RMS (mean removed), peak-to-peak and mean in m. NaN (as the factors) where the
         linear model is parametrically unstable.
     spectral_radius : ndarray
         Largest Floquet multiplier modulus of the steady orbit (NaN where not computed).
@@ -125,6 +133,7 @@ class SweepCurve:
     speed: FloatArray
     mesh_frequency: FloatArray
     dynamic_factor: FloatArray
+    peak_force_ratio: FloatArray
     rms_dte: FloatArray
     ptp_dte: FloatArray
     mean_dte: FloatArray
@@ -141,14 +150,18 @@ class SweepCurve:
     jumps: tuple[Jump, ...] = ()
 
     @classmethod
-    def from_points(cls, direction: str, points: Sequence[Point]) -> SweepCurve:
-        """Stack per-speed points."""
+    def from_points(cls, direction: str, points: Sequence[Point],
+                    stiffness_jump_factor: float = math.nan) -> SweepCurve:
+        """Stack per-speed points; ``stiffness_jump_factor`` (F_qs,max / W of the quasi-static
+        reference; NaN: none) turns their peak force ratios into dynamic factors."""
         def arr(name: str, dtype: Any = float) -> Any:
             return np.array([getattr(p, name) for p in points], dtype=dtype)
 
+        ratio = arr("peak_force_ratio")
         return cls(
             direction=direction, speed=arr("speed"), mesh_frequency=arr("mesh_frequency"),
-            dynamic_factor=arr("dynamic_factor"), rms_dte=arr("rms_dte"), ptp_dte=arr("ptp_dte"),
+            dynamic_factor=ratio / stiffness_jump_factor, peak_force_ratio=ratio,
+            rms_dte=arr("rms_dte"), ptp_dte=arr("ptp_dte"),
             mean_dte=arr("mean_dte"), spectral_radius=arr("spectral_radius"),
             stable=arr("stable", bool), periodic=arr("periodic", bool),
             status=tuple(p.status for p in points), separation=arr("separation"),
@@ -215,6 +228,12 @@ class SweepResult:
     executor : str
         Where it ran: ``serial`` (the calling process), ``process pool, N workers``
         (``workers=N``) or the class name of the executor given (``ClientExecutor`` for Dask).
+    quasi_static : dict or None
+        The quasi-static reference of the dynamic factor, one run for the whole sweep (the
+        quasi-static peak force does not depend on speed):
+        :func:`gear_dyn.analysis.dynamic_factor.quasi_static_reference` (``peak_force_ratio``
+        F_qs,max / W, ``speed_ratio``, ``estimated_error`` ...); None where the model states no
+        natural frequency (the dynamic factors are then NaN).
     """
 
     scene_name: str
@@ -227,6 +246,15 @@ class SweepResult:
     settings: SolverSettings
     run_time_s: float
     executor: str
+    quasi_static: dict[str, Any] | None = None
+
+    @property
+    def stiffness_jump_factor(self) -> float:
+        """F_qs,max / W: the peak quasi-static mesh force over W, the force overshoot at the
+        jumps of k(t) present at any speed (1 for a smooth k(t)); NaN without a reference.
+        The peak force ratio of every speed is the dynamic factor times this."""
+        qs = self.quasi_static
+        return math.nan if qs is None else float(qs["peak_force_ratio"])
 
     @property
     def plot(self) -> SweepPlots:
@@ -235,8 +263,8 @@ class SweepResult:
         return SweepPlots(self)
 
     def peak(self) -> tuple[float, float, str]:
-        """(largest dynamic factor, its pinion speed in rad/s, its direction) over all curves;
-        NaN where no speed has a finite factor."""
+        """(largest dynamic factor K_dyn, its pinion speed in rad/s, its direction) over all
+        curves; NaN where no speed has a finite factor."""
         best = (math.nan, math.nan, "")
         for c in self.curves:
             finite = np.isfinite(c.dynamic_factor)
@@ -252,6 +280,8 @@ class SweepResult:
         value, speed, direction = self.peak()
         peak = (f"max dynamic factor {value:.4f} at {speed / RPM:.0f} rpm ({direction})"
                 if math.isfinite(value) else "no finite dynamic factor")
+        if math.isfinite(self.stiffness_jump_factor):
+            peak += f", stiffness-jump factor {self.stiffness_jump_factor:.4f}"
         return (f"SweepResult({self.scene_name!r}: {len(self.curves[0].speed)} speeds "
                 f"{speeds.min():.0f}-{speeds.max():.0f} rpm, {dirs}, {self.options.method}\n"
                 f"  {peak}; f_n = {self.natural_frequency:.1f} Hz; {self.run_time_s:.3g} s)")
