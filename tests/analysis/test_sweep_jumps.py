@@ -141,7 +141,8 @@ def test_constant_stiffness_jumps_bracket_the_folds_found_by_continuation() -> N
     step = 0.04 * w1
     res = sweep(fam, np.array([0.86, 0.90, 0.94]) * w1, direction="both")
     branch = continue_orbits(fam, 0.86 * w1, 0.94 * w1, doublings=0,
-                             settings=ContinuationSettings(rtol=1e-8, newton_tol=1e-6))
+                             settings=ContinuationSettings(rtol=1e-8, newton_tol=1e-6,
+                                                           locate_tol=1e-6))
     folds = [f.parameter for f in branch.of_kind("fold")]
     assert len(folds) == 2
     up, down = jumps(res.curve("up")), jumps(res.curve("down"))

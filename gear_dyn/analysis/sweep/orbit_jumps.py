@@ -122,9 +122,11 @@ def check_pair(curve: SweepCurve, i: int, factory: Callable[[float], Model], rto
                                     max_points=MAX_POINTS)
     if route == "variational":
         # the sweep's accuracy, not more: the maps are integrated to rtol, so the corrector
-        # closes the orbits to 100 rtol (as the sweep's shooting does)
+        # closes the orbits to 100 rtol (as the sweep's shooting does) and a fold is known to
+        # about as much
         tol = min(max(rtol, 1e-13), 1e-6)
-        settings = replace(settings, rtol=tol, newton_tol=min(100 * tol, 1e-4))
+        settings = replace(settings, rtol=tol, newton_tol=min(100 * tol, 1e-4),
+                           locate_tol=min(100 * tol, 1e-4))
 
     def jump(kind: str, fold: float = math.nan, before: str = "", after: str = "") -> Jump:
         return Jump(kind, s0, s1, fold, float(curve.rms_dte[i]), float(curve.rms_dte[i + 1]),
