@@ -58,6 +58,10 @@ FALLBACK_REL = 0.3
 #: scale (the sweep closes its orbits to 100 rtol = 1e-6 of the scale at its default rtol 1e-8,
 #: the continuation to 1e-10; distinct coexisting orbits differ by a sizeable share of it)
 SAME_ORBIT = 1e-4
+#: scaled arclength to which a fold is located: near a fold the speed is quadratic in the
+#: arclength, so the fold's speed is known far better than this (continuation's default, 1e-11,
+#: costs more bisection steps for digits no jump needs)
+LOCATE_TOL = 1e-7
 #: most continuation points spent on one pair (a fold is met within a few)
 MAX_POINTS = 60
 
@@ -119,7 +123,7 @@ def check_pair(curve: SweepCurve, i: int, factory: Callable[[float], Model], rto
     model1 = cast(MeshModel, factory(s1))
     route = resolve_route(model1, "auto")
     settings = ContinuationSettings(step=min(0.02, span / 4), step_max=2.0,
-                                    max_points=MAX_POINTS)
+                                    max_points=MAX_POINTS, locate_tol=LOCATE_TOL)
     if route == "variational":
         # the sweep's accuracy, not more: the maps are integrated to rtol, so the corrector
         # closes the orbits to 100 rtol (as the sweep's shooting does) and a fold is known to
