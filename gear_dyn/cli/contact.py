@@ -12,11 +12,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from gear_dyn.choices import PAIR_STIFFNESS_METHODS, RELIEF_CURVES
 from gear_dyn.errors import InputError, SceneError
-
-#: relief curve names of ``gear_dyn.modification.relief.CURVES``, spelt out so that building the
-#: parser imports no physics (tests/cli/test_cli_startup.py checks they agree)
-CURVES: tuple[str, ...] = ("linear", "yoshio", "walker", "parabolic", "sine")
 
 
 def register(sub: Any) -> None:
@@ -28,10 +25,10 @@ def register(sub: Any) -> None:
     )
     p.add_argument("scene", type=Path, help="scene file (TOML)")
     p.add_argument("--out", type=Path, required=True, help="output folder")
-    p.add_argument("--curve", choices=CURVES, default=None,
+    p.add_argument("--curve", choices=RELIEF_CURVES, default=None,
                    help="relief curve for the rules (default: the scene's tip_relief.curve, "
                    "else linear)")
-    p.add_argument("--pair-stiffness", choices=("potential_energy", "weber"), default=None,
+    p.add_argument("--pair-stiffness", choices=PAIR_STIFFNESS_METHODS, default=None,
                    help="unmodified single-pair stiffness (default: the scene's "
                    "tip_relief.pair_stiffness, else potential_energy)")
     p.add_argument("--dynamics", action="store_true",

@@ -21,10 +21,10 @@ def register(sub: Any) -> None:
     b = fsub.add_parser(
         "build", help="build the FMU of a scene",
         description="Build FILE.fmu from SCENE: a scene file, a packaged scene name "
-        "(helicopter_tail, eccentric_helical, ...) or a model name (sdof, torsional). A "
-        "single-DOF scene gives a native FMU (compiled C, needs no Python on the importing "
-        "side; docs/native_fmu.md); a torsional scene, or --backend python, the pythonfmu FMU "
-        "(needs Python with numpy and scipy on the importing side).",
+        "(helicopter_tail, eccentric_helical, ...) or a model name (sdof, torsional). By "
+        "default a native FMU (compiled C, needs no Python on the importing side; "
+        "docs/native_fmu.md); a torsional scene with backlash or TE, or --backend python, the "
+        "pythonfmu FMU (needs Python with numpy and scipy on the importing side).",
     )
     b.add_argument("scene", help="scene file (TOML), packaged scene name or model name")
     b.add_argument("--out", type=Path, required=True, help="FMU file to write (.fmu)")
@@ -32,10 +32,10 @@ def register(sub: Any) -> None:
                    help="FMI version: 2 (default) or 3 (the pythonfmu backend needs pythonfmu3: "
                    "pip install 'gear_dyn[fmi3]')")
     b.add_argument("--backend", default=None, choices=("native", "python"),
-                   help="native (the default for single-DOF scenes, FMI 2 and 3): C kernel "
-                   "compiled now, needs no Python on the importing machine; python: the "
-                   "pythonfmu FMU, every scene key a parameter (the default, with a note, for "
-                   "the torsional model, which has no native kernel yet)")
+                   help="native (the default, FMI 2 and 3): C kernel compiled now, needs no "
+                   "Python on the importing machine; python: the pythonfmu FMU, every scene "
+                   "key a parameter (the default, with a note, where no native FMU can be "
+                   "built: a torsional model with backlash or TE)")
     b.add_argument("--no-validate", action="store_true",
                    help="skip the fmpy validation of the built FMU")
     add_quiet_flag(b)
@@ -98,12 +98,8 @@ def run_build(args: argparse.Namespace) -> int:
           f"(FMI {args.fmi}.0 co-simulation) "
           f"(model identifier {built.model_identifier}; {n_par} parameters, {n_in} inputs, "
           f"{n_out} outputs)")
-    if built.c_host_missing is None:
-        print("C hosts: boot library libgear_dyn_pyboot_<id>.so added (runs in any "
-              "FMI host on this machine's Python, see docs/fmu.md)")
-    else:
-        print(f"C hosts: not supported by this FMU ({built.c_host_missing}); it runs in "
-              "Python hosts (fmpy) only")
+    print("hosts: Python hosts (fmpy) on this machine's Python; for other hosts build the "
+          "native FMU (docs/fmu.md)")
     if not args.no_validate:
         with Stages(["validate (fmpy)"], args.quiet):
             problems = _problems(built.path)
@@ -123,7 +119,7 @@ def _run_build_native(args: argparse.Namespace) -> int:
     t = built.model.table
     print(f"{built.scene_name}: native FMU -> {built.path} (FMI {args.fmi}.0 co-simulation, "
           f"model identifier {built.model_identifier}; {t.flat.size} table pieces, "
-          f"{'exact' if t.exact else 'fitted'})")
+          f"{'exact' if t.exact else 'fitted'}; {built.path.stat().st_size // 1000} kB)")
     if not args.no_validate:
         with Stages(["validate (fmpy)"], args.quiet):
             problems = _problems(built.path)

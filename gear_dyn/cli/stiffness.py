@@ -11,12 +11,9 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from gear_dyn.choices import STIFFNESS_METHODS as METHODS
 from gear_dyn.cli.progress import Stages, add_quiet_flag
 from gear_dyn.errors import InputError
-
-#: stiffness methods of ``gear_dyn.stiffness.select.METHODS``, spelt out so that building the
-#: parser imports no physics (tests/cli/test_cli_startup.py checks they agree)
-METHODS: tuple[str, ...] = ("rectangular", "iso6336", "potential_energy", "weber", "contact_line")
 
 
 def register(sub: Any) -> None:
@@ -39,8 +36,6 @@ def register(sub: Any) -> None:
 
 
 def _methods(text: str, scene_method: str) -> list[str]:
-    from gear_dyn.stiffness.select import METHODS
-
     out: list[str] = []
     for raw in text.split(","):
         name = raw.strip()

@@ -27,7 +27,6 @@ from xml.etree import ElementTree as ET
 
 from gear_dyn.errors import InputError
 from gear_dyn.fmu.build3 import build_fmu3
-from gear_dyn.fmu.native import boot_binaries, unsupported_reason
 from gear_dyn.fmu.staging import PATH_SETUP, BuiltFmu, build_names, fmu_target, staged_build
 from gear_dyn.fmu.variables import SPEC_FILE, UNITS, check_spec
 from gear_dyn.io import write_bytes
@@ -91,31 +90,21 @@ def build_fmu(target: str | Path | Scene, out: str | Path, fmi: int = 2) -> Buil
         raw = tmp / "raw.fmu"
         FmuBuilder.build_FMU(script, dest=raw, project_files=files,
                              canGetAndSetFMUstate=True, canSerializeFMUstate=True)
-        missing = unsupported_reason()
-        data = _finish(raw.read_bytes(), spec, None if missing else class_name)
+        data = _finish(raw.read_bytes(), spec)
     write_bytes(out, data)
-    return BuiltFmu(out, class_name, package, spec, missing)
+    return BuiltFmu(out, class_name, package, spec)
 
 
 # ---------------------------------------------------------------------- modelDescription
-def _finish(fmu: bytes, spec: dict[str, Any], boot_id: str | None) -> bytes:
-    """The FMU zip with units, initial unknowns and a version note in its modelDescription;
-    with ``boot_id`` (the model identifier) the Linux binary also gets the boot library."""
+def _finish(fmu: bytes, spec: dict[str, Any]) -> bytes:
+    """The FMU zip with units, initial unknowns and a version note in its modelDescription."""
     src = zipfile.ZipFile(io.BytesIO(fmu))
     xml = complete_model_description(src.read("modelDescription.xml"), spec)
-    native: dict[str, bytes] = {}
-    if boot_id is not None:
-        so = f"binaries/linux64/{boot_id}.so"
-        native = {f"binaries/linux64/{k}": v
-                  for k, v in boot_binaries(src.read(so), boot_id).items()}
     buf = io.BytesIO()
     with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as dst:
         for info in src.infolist():
             name = info.filename
-            data = xml if name == "modelDescription.xml" else native.pop(name, None)
-            dst.writestr(info, src.read(name) if data is None else data)
-        for name, data in native.items():
-            dst.writestr(name, data)
+            dst.writestr(info, xml if name == "modelDescription.xml" else src.read(name))
     return buf.getvalue()
 
 

@@ -3,12 +3,12 @@
 The same FMU as :mod:`gear_dyn.fmu.build` makes for FMI 2, with pythonfmu3 in place of
 pythonfmu: the generated script's class derives from
 :class:`gear_dyn.fmu.slave3.GearDynSlave3` (which steps the model with the FMI 2 slave's
-:class:`~gear_dyn.fmu.stepper.Stepper`), the private gear_dyn copy leaves out the FMI 2 slave,
-and on Linux the binary ``binaries/x86_64-linux/<id>.so`` gets the same boot library
-(:mod:`gear_dyn.fmu.native`) so it loads in C hosts. pythonfmu3 writes neither units, bounds
-nor enumeration types, so the modelDescription is completed afterwards: UnitDefinitions,
-``unit``/``min``/``max``/``nominal`` from the scene fields, Enumerations with their
-EnumerationTypes, and ``dependencies=""`` on every Output (no direct feedthrough).
+:class:`~gear_dyn.fmu.stepper.Stepper`), the private gear_dyn copy leaves out the FMI 2 slave.
+Like the FMI 2 FMU it runs in Python hosts only (the native FMU runs anywhere). pythonfmu3
+writes neither units, bounds nor enumeration types, so the modelDescription is completed
+afterwards: UnitDefinitions, ``unit``/``min``/``max``/``nominal`` from the scene fields,
+Enumerations with their EnumerationTypes, and ``dependencies=""`` on every Output (no direct
+feedthrough).
 """
 
 from __future__ import annotations
@@ -20,14 +20,10 @@ from typing import Any
 from xml.etree import ElementTree as ET
 
 from gear_dyn.errors import InputError
-from gear_dyn.fmu.native import boot_binaries, unsupported_reason
 from gear_dyn.fmu.staging import PATH_SETUP, BuiltFmu, build_names, fmu_target, staged_build
 from gear_dyn.fmu.variables import UNITS
 from gear_dyn.io import write_bytes
 from gear_dyn.scene import Scene
-
-#: folder of the Linux binary in an FMI 3 FMU
-LINUX_DIR = "binaries/x86_64-linux"
 
 
 def _script3(package: str, class_name: str, spec: dict[str, Any]) -> str:
@@ -75,33 +71,23 @@ def build_fmu3(target: str | Path | Scene, out: str | Path) -> BuiltFmu:
                       skip=("fmu/slave.py",)) as (tmp, script, files):
         raw = FmuBuilder.build_FMU(script, dest=tmp / "raw", project_files=files,
                                    canGetAndSetFMUState=True, canSerializeFMUState=True)
-        missing = unsupported_reason()
-        data = _finish3(Path(raw).read_bytes(), spec, None if missing else class_name)
+        data = _finish3(Path(raw).read_bytes(), spec)
     write_bytes(out, data)
-    return BuiltFmu(out, class_name, package, spec, missing)
+    return BuiltFmu(out, class_name, package, spec)
 
 
-def _finish3(fmu: bytes, spec: dict[str, Any], boot_id: str | None) -> bytes:
-    """The FMU zip with the completed modelDescription and, with ``boot_id``, the boot
-    library next to the patched Linux binary; without pythonfmu3's C++ sources (the FMI 2
-    FMU carries none either)."""
+def _finish3(fmu: bytes, spec: dict[str, Any]) -> bytes:
+    """The FMU zip with the completed modelDescription; without pythonfmu3's C++ sources (the
+    FMI 2 FMU carries none either)."""
     src = zipfile.ZipFile(io.BytesIO(fmu))
     xml = complete_model_description3(src.read("modelDescription.xml"), spec)
-    native: dict[str, bytes] = {}
-    if boot_id is not None:
-        so = f"{LINUX_DIR}/{boot_id}.so"
-        native = {f"{LINUX_DIR}/{k}": v
-                  for k, v in boot_binaries(src.read(so), boot_id, fmi=3).items()}
     buf = io.BytesIO()
     with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as dst:
         for info in src.infolist():
             name = info.filename
             if name.startswith("sources/"):
-                continue  # pythonfmu3's loader sources: not what the (patched) binary runs
-            data = xml if name == "modelDescription.xml" else native.pop(name, None)
-            dst.writestr(info, src.read(name) if data is None else data)
-        for name, data in native.items():
-            dst.writestr(name, data)
+                continue  # pythonfmu3's loader sources
+            dst.writestr(info, xml if name == "modelDescription.xml" else src.read(name))
     return buf.getvalue()
 
 

@@ -55,12 +55,13 @@ RK_ERROR = 1e-6
 
 
 class NotNativeError(InputError):
-    """The scene's model has no native kernel (yet): build the pythonfmu FMU instead.
+    """The scene has no native FMU (a part the kernel lacks, or a table over a requested size):
+    build the pythonfmu FMU instead.
 
     Attributes
     ----------
     reason : str
-        Why, in a few words ("the TorsionalModel model has no native kernel yet").
+        Why, in a few words ("the torsional kernel has no backlash").
     """
 
     def __init__(self, reason: str) -> None:
@@ -260,13 +261,12 @@ def native_model(model: Any, pair: GearPair, speed: float, torque: float,
     Raises
     ------
     NotNativeError
-        Not a single-DOF mesh model (the torsional model has no native kernel yet).
+        Not a single-DOF mesh model (the torsional model: :mod:`gear_dyn.fmu.export_torsional`).
     InputError
         A stiffness the table cannot represent.
     """
     if np.size(getattr(model, "state_scale", ())) != 2:  # the single-DOF model's (x, x')
-        raise NotNativeError(f"the {type(model).__name__} model has no native kernel yet "
-                             "(single-DOF scenes only)")
+        raise NotNativeError(f"the {type(model).__name__} model is not a single-DOF model")
     return NativeModel(
         table=phase_table(model), mass=model.mass, mean_stiffness=model.mean_stiffness,
         rb1=pair.rb1, rb2=pair.rb2, z1=int(pair.z1), phase0=float(model.phase0),

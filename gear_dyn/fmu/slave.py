@@ -12,11 +12,12 @@ Errors
 A refused call logs its reason (status error, category logStatusError; pythonfmu forwards it
 when debug logging is on) and raises; the importer sees the call fail with ``fmi2Error`` and
 one message naming the FMI call and the reason; the instance stays usable (fmi2Reset, an FMU
-state, a corrected value). The boot library (``pyboot.c``) turns pythonfmu's ``fmi2Fatal``
-into ``fmi2Error`` when the slave logged a status-error message during the call. Any other
-failure (e.g. inside pythonfmu) stays ``fmi2Fatal``, and so does every failure of an FMU
-without the boot library (where it cannot be built, e.g. on Windows). A refused parameter
-keeps its previous value.
+state, a corrected value). pythonfmu reports the failed call as ``fmi2Fatal`` (it maps every
+exception to it), although the instance stays valid. A refused parameter keeps its previous
+value.
+
+At the first instantiation by the binary, :func:`gear_dyn.fmu.clean_exit.release_at_exit`
+registers the Python host's clean exit (pythonfmu's exit-time use-after-free).
 
 pythonfmu's loader also releases, at every instantiation, a reference to the slave script's
 module dict that it does not own; :meth:`GearDynSlave.__init__` hands it one back (a reset adds
@@ -37,6 +38,7 @@ from pythonfmu.default_experiment import DefaultExperiment
 from pythonfmu.enums import Fmi2Status
 
 from gear_dyn.errors import InputError
+from gear_dyn.fmu.clean_exit import release_at_exit
 from gear_dyn.fmu.slave_core import FmuCallError, SlaveCore, fmi_call
 from gear_dyn.fmu.variables import SPEC_FILE, check_spec
 
@@ -73,6 +75,8 @@ class GearDynSlave(SlaveCore, Fmi2Slave):
             if module is not None:
                 ctypes.pythonapi.Py_IncRef(ctypes.py_object(vars(module)))
         super().__init__(**kwargs)
+        if native:
+            release_at_exit(str(self.resources), type(self).__name__, 2)
         spec = check_spec(json.loads(Path(str(self.resources), SPEC_FILE).read_text("utf-8")))
         self._init_core(spec, native)
         self.description = (f"gear_dyn {spec['model']} model of scene '{spec['scene_name']}' "

@@ -21,9 +21,10 @@ What pythonfmu3 (0.3.4) passes on, and what follows
 - A Python exception in any call is ``fmi3Fatal`` and pythonfmu3 then drops its references to
   the class, the instance and the log queue (yet frees them again later): a refused call logs
   its reason (status error), hands those references back and raises, as the FMI 2 slave does.
-  The instance stays valid, so the boot library (``pyboot3.c``, Linux) reports such a refusal
-  (fmi3Set*, fmi3GetFloat64, fmi3Enter/ExitInitializationMode, fmi3DoStep, fmi3Terminate,
-  the FMU state calls) as ``fmi3Error``, one message naming the FMI call.
+  The instance stays valid, but the importer sees ``fmi3Fatal`` with one message naming the FMI
+  call.
+- Exit: at the first instantiation by the binary,
+  :func:`gear_dyn.fmu.clean_exit.release_at_exit` registers the Python host's clean exit.
 - FMU state: get/set/serialize keep the whole integrator state, as in FMI 2 (pickled with
   builtins and numpy arrays only).
 """
@@ -39,6 +40,7 @@ from pythonfmu3 import String as String3
 from pythonfmu3.default_experiment import DefaultExperiment
 from pythonfmu3.enums import Fmi3Status
 
+from gear_dyn.fmu.clean_exit import release_at_exit
 from gear_dyn.fmu.slave_core import FmuCallError, SlaveCore
 from gear_dyn.fmu.variables import SPEC_FILE, check_spec
 
@@ -70,8 +72,11 @@ class GearDynSlave3(SlaveCore, Fmi3Slave):
 
     def __init__(self, **kwargs: Any) -> None:
         super().__init__(**kwargs)
+        native = "logger" in kwargs  # the native wrapper passes its logger
+        if native:
+            release_at_exit(str(self.resources), type(self).__name__, 3)
         spec = check_spec(json.loads(Path(str(self.resources), SPEC_FILE).read_text("utf-8")))
-        self._init_core(spec, "logger" in kwargs)  # the native wrapper passes its logger
+        self._init_core(spec, native)
         self.author = "gear_dyn"
         self.license = "MIT"
         self.description = (f"gear_dyn {spec['model']} model of scene '{spec['scene_name']}' "

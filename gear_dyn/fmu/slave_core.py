@@ -32,9 +32,8 @@ pythonfmu (0.7) and pythonfmu3 (0.3) turn any Python exception raised into an FM
 status Fatal and drop one reference to the class, the instance and its log queue, although
 later calls (and freeing the instance) still use them. A refused call here therefore logs the
 reason (status error), gives the native wrapper the references it is about to drop (so the
-instance stays valid and freeing it is safe), and raises. The boot library (``pyboot.c``,
-``pyboot3.c``) turns that Fatal into Error when the slave logged a status-error message during
-the call: only a refusal here logs one.
+instance stays valid and freeing it is safe), and raises: the importer sees Fatal with the
+logged message, and the instance stays usable.
 """
 
 from __future__ import annotations
@@ -207,8 +206,7 @@ class SlaveCore:
 
     # ------------------------------------------------------------------ refusal
     def _refuse(self, message: str) -> NoReturn:
-        """Log ``message`` (status error: the boot library takes it as the sign of a refusal
-        that kept the instance valid) and raise so the FMI call fails; see module doc."""
+        """Log ``message`` (status error) and raise so the FMI call fails; see module doc."""
         text = " ".join(str(message).split())
         self._log_error(text)
         if self._native:

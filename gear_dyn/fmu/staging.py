@@ -17,6 +17,7 @@ import re
 import secrets
 import shutil
 import sys
+import sysconfig
 import tempfile
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -24,7 +25,6 @@ from pathlib import Path
 from typing import Any
 
 from gear_dyn.errors import InputError
-from gear_dyn.fmu.native import PYTHON_FILE, python_info
 from gear_dyn.fmu.variables import SPEC_FILE, fmu_spec
 from gear_dyn.scene import Scene, load_scene
 from gear_dyn.scene.packaged import scene_path
@@ -32,6 +32,20 @@ from gear_dyn.scene.packaged import scene_path
 PACKAGE_ROOT = Path(__file__).resolve().parent.parent
 #: ``gear-dyn fmu build MODEL``: the packaged scene each model name stands for
 MODEL_SCENES = {"sdof": "helicopter_tail", "torsional": "eccentric_helical"}
+
+#: the build interpreter's facts in the FMU's resources (its import path is the FMU's fallback)
+PYTHON_FILE = "gear_dyn_python.json"
+
+
+def python_info() -> dict[str, Any]:
+    """The build interpreter: executable, version, libpython and the import path."""
+    libdir = sysconfig.get_config_var("LIBDIR") or ""
+    soname = sysconfig.get_config_var("INSTSONAME") or ""
+    return {"executable": sys.executable, "version": list(sys.version_info[:2]),
+            "prefix": sys.prefix, "base_prefix": sys.base_prefix,
+            "libpython": str(Path(libdir, soname)) if libdir and soname else None,
+            "path": [p for p in sys.path if p and Path(p).is_dir()]}
+
 
 _IMPORT_RE = re.compile(r"^([ \t]*)(from|import)([ \t]+)gear_dyn\b", re.MULTILINE)
 _STRING_RE = re.compile(r"""(["'])gear_dyn\.""")
@@ -45,8 +59,6 @@ class BuiltFmu:
     model_identifier: str
     package: str
     spec: dict[str, Any]
-    #: why the FMU runs only in Python hosts (None: it runs in C hosts too, see .native)
-    c_host_missing: str | None = None
 
 
 def load_fmu_scene(target: str | Path) -> Scene:
@@ -71,7 +83,7 @@ def load_fmu_scene(target: str | Path) -> Scene:
 #: gear_dyn sources the FMU never runs (the slim FMU leaves them out): the CLI, plots, the FMU
 #: build and co-simulation side, file output, and the studies beyond a run's own checks
 NOT_IN_FMU = ("cli/", "plots/", "fmu/build.py", "fmu/build3.py", "fmu/staging.py",
-              "fmu/check.py", "fmu/cosim.py", "fmu/native.py", "io.py",
+              "fmu/check.py", "fmu/cosim.py", "fmu/export", "io.py",
               "scene/packaged.py", "scene/sweep.py", "scenes/", "analysis/sweep/",
               "analysis/bench.py", "analysis/chart.py", "analysis/excitation.py",
               "analysis/report.py", "analysis/spectrum.py", "analysis/spectrum_labels.py",

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from gear_dyn.choices import PAIR_STIFFNESS_METHODS
 from gear_dyn.errors import InputError
 from gear_dyn.geometry import GearPair
 from gear_dyn.models.sdof import SDOFModel, sdof_from_pair
@@ -31,7 +32,7 @@ from gear_dyn.stiffness.periodic import PeriodicStiffness
 FloatArray = NDArray[np.float64]
 
 #: single-pair stiffness methods usable for the loaded contact
-PAIR_METHODS: tuple[str, ...] = ("potential_energy", "weber")
+PAIR_METHODS = PAIR_STIFFNESS_METHODS
 LINEARISATIONS: tuple[str, ...] = ("tangent", "secant")
 
 

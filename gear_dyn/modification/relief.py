@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from gear_dyn.choices import RELIEF_CURVES
 from gear_dyn.errors import InputError, check_range, warn_old_name
 from gear_dyn.geometry import GearPair
 
@@ -29,7 +30,7 @@ CURVE_EXPONENTS: dict[str, float] = {
     "parabolic": 2.0,
 }
 #: All relief curve names.
-CURVES: tuple[str, ...] = (*CURVE_EXPONENTS, "sine")
+CURVES = RELIEF_CURVES
 
 #: Relief rules of :func:`recommended_relief`.
 RULES: tuple[str, ...] = ("handbook", "dudley", "niemann", "wang2024")

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+from gear_dyn.choices import STIFFNESS_METHODS
 from gear_dyn.scene.fields import REQUIRED, Field, Section
 from gear_dyn.scene.registry import register_section
 from gear_dyn.stiffness.weber import MODULI, current_modulus
@@ -54,7 +55,7 @@ INERTIA = register_section(Section("inertia", (
 
 STIFFNESS = register_section(Section("stiffness", (
     Field("method", kind="str", default="iso6336",
-          choices=("iso6336", "rectangular", "potential_energy", "weber", "contact_line"),
+          choices=STIFFNESS_METHODS,
           doc="how k(t) is computed"),
     Field("single", "N/m", default=None, low=0.0, high=1e13, low_open=True,
           doc="single-pair stiffness (rectangular method)"),

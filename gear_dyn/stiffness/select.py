@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from gear_dyn.choices import STIFFNESS_METHODS
 from gear_dyn.errors import InputError
 from gear_dyn.geometry import GearPair
 from gear_dyn.stiffness.contact_line import (
@@ -37,7 +38,7 @@ from gear_dyn.stiffness.tooth import ToothOptions
 from gear_dyn.stiffness.weber import MODULI, current_modulus, weber_pair_stiffness
 
 #: the methods of :func:`build_stiffness` (``[stiffness] method``)
-METHODS = ("rectangular", "iso6336", "potential_energy", "weber", "contact_line")
+METHODS = STIFFNESS_METHODS
 
 #: ISO 6336: c_gamma = c' (0.75 eps_a + 0.25). A rectangular wave with k_double = 1.75 k_single
 #: and k_single = c' b has mean c' b (1 + 0.75 (eps_a - 1)) = c_gamma b for 1 <= eps_a < 2.

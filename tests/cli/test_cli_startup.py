@@ -5,15 +5,6 @@ from __future__ import annotations
 import subprocess
 import sys
 
-from gear_dyn.cli import contact, stiffness
-from gear_dyn.modification.relief import CURVES
-from gear_dyn.stiffness.select import METHODS
-
-
-def test_spelt_out_choices_agree_with_their_sources() -> None:
-    assert contact.CURVES == CURVES
-    assert stiffness.METHODS == METHODS
-
 
 def test_help_imports_no_heavy_module() -> None:
     code = (

@@ -3,8 +3,9 @@
 pythonfmu 0.7's binary, and pythonfmu3's alike, destroys its static interpreter state at exit
 and then touches it again from its ELF destructor (a use-after-free found with valgrind); in
 about 1 fmpy process in 15 to 30 the write corrupted glibc's heap and the process aborted at
-exit ("corrupted double-linked list"). The boot library releases that state first (pyboot.c,
-release_pystate; pyboot3.c includes it).
+exit ("corrupted double-linked list"). The FMU's own Python code releases that state first
+(gear_dyn.fmu.clean_exit: a Python exit handler, which runs before the C exit handlers). Without
+it, 6 of 40 fresh processes aborted here (FMI 2); with it 0 of 40 (FMI 2 and FMI 3 each).
 """
 
 from __future__ import annotations
@@ -42,9 +43,6 @@ def test_fmpy_exits_cleanly_20_fresh_processes(tmp_path: Path, fmi: int) -> None
     if fmi == 3:
         pytest.importorskip("pythonfmu3", reason="FMI 3 export needs pythonfmu3 (extra fmi3)")
     built = build_fmu(SCENES / "helicopter_tail.toml", tmp_path / "heli.fmu", fmi=fmi)
-    if built.c_host_missing is not None:
-        pytest.skip(f"the FMU has no boot library here ({built.c_host_missing}): pythonfmu's "
-                    "exit bug is not worked around in it")
     for k in range(20):
         proc = subprocess.run([sys.executable, "-c", CHILD, str(built.path), repr(H)],
                               capture_output=True, text=True, timeout=300)

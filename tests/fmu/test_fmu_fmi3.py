@@ -4,8 +4,6 @@ variables and outputs as the FMI 2 FMU of the same scene, slim, loadable outside
 from __future__ import annotations
 
 import re
-import shutil
-import subprocess
 import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
@@ -69,8 +67,7 @@ def _md(fmu: Path) -> ET.Element:
 def test_fmi3_gives_the_fmi2_outputs(fmus: dict[str, dict[int, Path]], name: str) -> None:
     """Same scene, same grid (96 steps, 16 per mesh period): the FMI 3 outputs equal the FMI 2
     outputs to 1e-12 of each output's largest value, without a stop time, with one announced
-    (both FMUs), and with an input change after 40 steps. Both FMUs run in this one process
-    (each has its own boot library)."""
+    (both FMUs), and with an input change after 40 steps. Both FMUs run in this one process."""
     f2, f3 = fmus[name][2], fmus[name][3]
     assert fmi_version(f3) == "3.0" and fmi_version(f2) == "2.0"
     names, h, _ = _spec_outputs(f3)
@@ -157,26 +154,25 @@ def test_fmi3_fmu_is_slim(fmus: dict[str, dict[int, Path]]) -> None:
     assert not any(f.startswith("sources/") for f in files)
 
 
-def test_fmi3_bad_parameter_is_fmi3_error_and_instance_survives(
+def test_fmi3_bad_parameter_is_refused_and_instance_survives(
         fmus: dict[str, dict[int, Path]]) -> None:
-    """A bad value: fmi3Set* returns fmi3Error (3, not fmi3Fatal; boot library wrappers), the
-    host gets one message naming the parameter, its value and the valid range, the old value
-    stays; a pair that cannot mesh is fmi3Error at exitInitializationMode; afterwards the
-    same instance runs and gives a fresh instance's outputs bit for bit."""
+    """A bad value: fmi3Set* fails (fmi3Fatal, pythonfmu3's status of a raised exception; the
+    instance stays valid), the host gets one message (status Error) naming the parameter, its
+    value and the valid range, the old value stays; a pair that cannot mesh fails at
+    exitInitializationMode; afterwards the same instance runs and gives a fresh instance's
+    outputs bit for bit."""
     from fmpy.fmi1 import FMICallException
 
     f3 = fmus["helicopter_tail"][3]
     names, h, _ = _spec_outputs(f3)
-    if not any("/libgear_dyn_pyboot_" in f for f in zipfile.ZipFile(f3).namelist()):
-        pytest.skip("this build made no boot library (no compiler or patchelf): fmi3Fatal")
     fresh = _rows(f3, names, None, h, 6)
     with Fmu3Session(f3) as s:
         s.instantiate()
         vr = s.vars["gear.teeth_pinion"].valueReference
         with pytest.raises(FMICallException) as info:
             s.fmu.setInt32([vr], [0])
-        assert info.value.status == 3
-        assert len(s.messages) == 1 and s.messages[0][0] == 3
+        assert info.value.status == 4  # the slave's message, then pythonfmu3's technical one
+        assert s.messages[0][0] == 3 and len(s.messages) <= 2, s.messages
         assert re.search(r"gear\.teeth_pinion = '0'.*valid range 5 <= x <= 10000",
                          s.messages[0][1])
         assert s.fmu.getInt32([vr]) == [23]
@@ -188,7 +184,8 @@ def test_fmi3_bad_parameter_is_fmi3_error_and_instance_survives(
         s.set({"gear.addendum_coef": 0.5})  # valid alone, but the pair no longer meshes
         with pytest.raises(FMICallException) as info:
             s.fmu.exitInitializationMode()
-        assert info.value.status == 3 and "contact_ratio" in s.messages[-1][1]
+        assert info.value.status == 4
+        assert any("contact_ratio" in m[1] for m in s.messages[-2:] if m[0] == 3), s.messages
         s.set({"gear.addendum_coef": 1.0})
         s.fmu.exitInitializationMode()
         rows = [s.get(names)]
@@ -212,59 +209,10 @@ def test_fmi3_refuses_a_start_time_it_cannot_honour(fmus: dict[str, dict[int, Pa
             s.step(0.5, h)
 
 
-@pytest.mark.skipif(shutil.which("ldd") is None, reason="ldd not available")
-def test_fmi3_binary_loads_libpython_through_its_boot_library(
-        fmus: dict[str, dict[int, Path]], tmp_path: Path) -> None:
-    """The FMI 3 binary needs the FMU's own boot library (run path $ORIGIN), which needs
-    libpython: the dynamic loader resolves both, so a host without Python can load it."""
-    f3 = fmus["helicopter_tail"][3]
-    with zipfile.ZipFile(f3) as z:
-        boots = [f for f in z.namelist() if "/libgear_dyn_pyboot_" in f]
-        if not boots:
-            pytest.skip("this build made no boot library (no compiler or patchelf)")
-        z.extractall(tmp_path)
-    md = _md(f3)
-    cs = md.find("CoSimulation")
-    assert cs is not None
-    so = tmp_path / "binaries" / "x86_64-linux" / f"{cs.get('modelIdentifier')}.so"
-    out = subprocess.run(["ldd", str(so)], capture_output=True, text=True, check=True).stdout
-    assert "not found" not in out
-    assert Path(boots[0]).name in out and "libpython" in out
-
-
-@pytest.mark.parametrize("stop", [None, "end"])
-def test_fmi3_runs_in_a_plain_c_host(fmus: dict[str, dict[int, Path]], tmp_path: Path,
-                                     stop: str | None) -> None:
-    """fmi3_host.c (dlopen RTLD_LOCAL, empty environment, no Python in the process) gives
-    fmpy's outputs to 1e-12 and every FMI call returns fmi3OK; 3 runs in a row exit with 0."""
-    from gear_dyn.fmu.check import compile_host, fmpy_rows, run_c_host
-    from gear_dyn.fmu.native import unsupported_reason
-
-    reason = unsupported_reason()
-    if reason:
-        pytest.skip(f"the FMU cannot run in a C host here: {reason}")
-    exe = compile_host(tmp_path, fmi=3)
-    if exe is None:
-        pytest.skip("no C compiler (cc/gcc/clang) on PATH: the C host cannot be compiled")
-    f3 = fmus["helicopter_tail_backlash"][3]
-    names, h, _ = _spec_outputs(f3)
-    n = 40
-    t_stop = None if stop is None else n * h
-    with zipfile.ZipFile(f3) as z:
-        z.extractall(tmp_path / "fmu")
-    ref = fmpy_rows(f3, names, t_stop, h, n)
-    scale = np.max(np.abs(ref), axis=0) + 1e-300
-    for _ in range(3):
-        proc, rows = run_c_host(exe, tmp_path / "fmu", names, t_stop, h, n)
-        assert proc.returncode == 0, proc.stderr[-2000:]
-        assert rows.shape == ref.shape == (n + 1, len(names) + 1)
-        assert np.all(np.abs(rows - ref) <= AGREEMENT * scale)
-
-
 def test_fmu_check_cli_on_fmi3(fmus: dict[str, dict[int, Path]],
                                capsys: pytest.CaptureFixture[str]) -> None:
     """`gear-dyn fmu check` recognises the FMI 3 FMU: every line runs and passes (the C host
-    line is reported as not run only where no compiler exists)."""
+    line is skipped: a pythonfmu FMU runs in Python hosts only)."""
     from gear_dyn.cli import main
 
     code = main(["fmu", "check", str(fmus["helicopter_tail"][3]), "--steps", "16"])

@@ -102,15 +102,13 @@ def test_torsional_state_restore_and_input(ecc_fmu: Path) -> None:
 
 def test_packaged_eccentric_fmu_passes_its_own_check(tmp_path: Path) -> None:
     """The eccentric scene as shipped (method auto: LSODA inside the FMU), built and checked as
-    a user would: validation, fmpy, stop-time independence and the C host (RTLD_LOCAL, empty
-    environment but the BLAS settings) agreeing with fmpy to 1e-12. With the caller's
-    OPENBLAS_CORETYPE missing in the host, the two differed by 2e-12 (different BLAS kernels)."""
+    a user would: validation, fmpy and stop-time independence pass; the C host line is skipped
+    (a pythonfmu FMU runs in Python hosts only) and says so."""
     from gear_dyn.fmu.check import check_fmu, verdict
 
     built = build_fmu("eccentric_helical", tmp_path / "ecc_auto.fmu")
     lines = {ln.name: ln for ln in check_fmu(built.path)}  # 64 steps, as the command
     host = lines["C host"]
-    if host.ok is None:
-        pytest.skip(f"C host not run here: {host.detail}")
+    assert host.ok is None and "Python hosts only" in host.detail, host.detail
     assert verdict(list(lines.values())), [ln.detail for ln in lines.values()]
-    assert host.ok, host.detail
+    assert all(ln.ok for name, ln in lines.items() if name != "C host"), lines

@@ -7,7 +7,8 @@ The hosts run the same binary; they differ only in how they form the communicati
 (t_k = k h or a running sum), which moves an output by far less than the FMU's stated error
 (1e-9 of the static deflection where the pieces are exact): the hosts must agree with fmpy to
 1e-9 of each output's largest magnitude. Skipped, with the reason, while the native build
-(gear_dyn.fmu.export_fmu) is absent.
+(gear_dyn.fmu.export_fmu) is absent. The eccentric torsional scene's FMU is larger than the
+500 KB size target (3.2 MB) and runs in every host all the same.
 """
 
 from __future__ import annotations

@@ -251,11 +251,12 @@ def test_relief_fmu_says_its_tables_are_fixed_at_the_build_torque(native_fmus) -
         assert ("changes the load W = T1/r_b1 only" in (md.description or "")) == fixed
 
 
-def test_cli_builds_native_by_default_and_falls_back_for_torsional(
+def test_cli_builds_every_packaged_kind_natively(
         tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     """`fmu build` of a single-DOF scene: the native FMU (FMI 3 here: x86_64-linux binary and
-    buildDescription.xml). Of a torsional scene: the pythonfmu FMU with one line naming the
-    backend and why; with --backend native explicitly: exit 2 naming --backend python."""
+    buildDescription.xml); of both torsional scenes too, the eccentric one although its table
+    (3780 pieces over 630 mesh cycles) makes it larger than the benchmark's 500 kB size target:
+    the build line states its size."""
     import zipfile
 
     from gear_dyn.cli.app import main
@@ -267,14 +268,13 @@ def test_cli_builds_native_by_default_and_falls_back_for_torsional(
     assert "binaries/x86_64-linux/gd_helicopter_tail.so" in names
     assert "sources/buildDescription.xml" in names and "sources/gd_fmi3.c" in names
     assert "native FMU" in capsys.readouterr().out
-    ecc = tmp_path / "ecc.fmu"
-    assert main(["fmu", "build", "eccentric_helical", "--backend", "native", "--out", str(ecc),
-                 "--quiet"]) == 2
-    err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "--backend python" in err and not ecc.exists()
-    assert main(["fmu", "build", "eccentric_helical", "--out", str(ecc), "--no-validate",
-                 "--quiet"]) == 0
-    lines = capsys.readouterr().out.splitlines()
-    assert lines[0] == ("backend: python (pythonfmu), because the TorsionalModel model has no "
-                        "native kernel yet (single-DOF scenes only)")
-    assert any(n.startswith("resources/pythonfmu/") for n in zipfile.ZipFile(ecc).namelist())
+    for scene in ("eccentric_helical_ideal", "eccentric_helical"):
+        fmu = tmp_path / f"{scene}.fmu"
+        assert main(["fmu", "build", scene, "--out", str(fmu), "--no-validate", "--quiet"]) == 0
+        line = capsys.readouterr().out.strip()
+        size = re.search(r"; (\d+) kB\)$", line)
+        assert line.startswith(f"{scene}: native FMU") and size, line
+        assert int(size.group(1)) == fmu.stat().st_size // 1000
+        names = zipfile.ZipFile(fmu).namelist()
+        assert f"binaries/linux64/gd_{scene}.so" in names
+        assert not any(n.startswith("resources/pythonfmu/") for n in names)

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from gear_dyn.fmu.export import native_model
-from gear_dyn.fmu.export_c import NATIVE_DIR, compile_shared, model_data_c
+from gear_dyn.fmu.export_c import KERNEL_SOURCES, NATIVE_DIR, compile_shared, model_data_c
 from gear_dyn.models.sdof import sdof_from_pair
 from gear_dyn.scene import build_pair, build_plan, load_scene
 from gear_dyn.scene.packaged import resolve_scene
@@ -55,7 +55,7 @@ def fourier_case():
 
 def kernel(tmp_path: Path, nm) -> ctypes.CDLL:
     (tmp_path / "model_data.c").write_text(model_data_c(nm, "test"))
-    so = compile_shared([NATIVE_DIR / "gd_kernel.c", tmp_path / "model_data.c"],
+    so = compile_shared([*(NATIVE_DIR / k for k in KERNEL_SOURCES), tmp_path / "model_data.c"],
                         tmp_path / "kernel.so")
     lib = ctypes.CDLL(str(so))
     lib.gd_advance.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_double]
@@ -150,7 +150,7 @@ int main(void) {
             exe = tmp_path / f"drv_{case}_{glue[:-2]}"
             cmd = [cc, "-std=c99", "-g", "-Wall", "-Wextra", "-Werror", "-pedantic",
                    "-fsanitize=address,undefined", "-fno-sanitize-recover=all",
-                   f"-I{NATIVE_DIR}", str(drv), str(NATIVE_DIR / "gd_kernel.c"),
+                   f"-I{NATIVE_DIR}", str(drv), *(str(NATIVE_DIR / k) for k in KERNEL_SOURCES),
                    str(NATIVE_DIR / glue), str(tmp_path / "model_data.c"), "-o", str(exe), "-lm"]
             subprocess.run(cmd, check=True, capture_output=True)
             proc = subprocess.run([str(exe)], capture_output=True, text=True, check=False)

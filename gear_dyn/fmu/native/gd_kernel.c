@@ -297,6 +297,10 @@ void gd_start(gd_state *s, const gd_model *m, double t0)
     double fm = m->z1 * s->par[GD_SPEED] / (2.0 * PI), k[3];
     double b = m->has_backlash ? s->par[GD_HALF_GAP] : 0.0;
     ctx q;
+    if (m->tors) {
+        gd_tors_start(s, m, t0);
+        return;
+    }
     s->t = t0;
     s->cycles = floor(m->phase0);
     s->frac = m->phase0 - s->cycles;
@@ -313,6 +317,7 @@ void gd_start(gd_state *s, const gd_model *m, double t0)
 int gd_advance(gd_state *s, const gd_model *m, double t_end)
 {
     ctx q;
+    if (m->tors) return gd_tors_advance(s, m, t_end);
     q.m = m;
     q.fm = m->z1 * s->par[GD_SPEED] / (2.0 * PI);
     q.c = 2.0 * s->par[GD_ZETA] * sqrt(m->mass * m->k_mean);
@@ -353,6 +358,10 @@ void gd_outputs(const gd_state *s, const gd_model *m, double *out)
     double k[3], u, ud, f;
     double fm = m->z1 * s->par[GD_SPEED] / (2.0 * PI), b = s->par[GD_HALF_GAP];
     ctx q;
+    if (m->tors) {
+        gd_tors_outputs(s, m, out);
+        return;
+    }
     q.m = m; q.i = s->piece; q.t0 = s->t; q.frac0 = s->frac; q.fm = fm;
     coeffs(&q, s->t, k);
     u = s->x - k[1];
@@ -367,13 +376,14 @@ void gd_outputs(const gd_state *s, const gd_model *m, double *out)
 
 int gd_get(const gd_state *s, const gd_model *m, const unsigned *vr, size_t n, double *v)
 {
-    double out[GD_NOUT];
+    double out[GD_MAX_OUT];
+    unsigned n_out = m->tors ? GT_NOUT : GD_NOUT;
     size_t k;
     gd_outputs(s, m, out);
     for (k = 0; k < n; k++) {
         if (vr[k] == 0) v[k] = s->t;   /* FMI 3's independent variable */
         else if (vr[k] <= GD_NPAR) v[k] = s->par[vr[k] - 1];
-        else if (vr[k] > GD_NPAR && vr[k] <= GD_NPAR + GD_NOUT) v[k] = out[vr[k] - GD_NPAR - 1];
+        else if (vr[k] > GD_NPAR && vr[k] <= GD_NPAR + n_out) v[k] = out[vr[k] - GD_NPAR - 1];
         else return GD_ERR_VR;
     }
     return GD_OK;

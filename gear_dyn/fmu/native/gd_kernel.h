@@ -1,28 +1,42 @@
-/* gear_dyn native FMU kernel: the single-DOF gear mesh model stepped from tables in mesh phase.
+/* gear_dyn native FMU kernel: the single-DOF gear mesh model (gd_kernel.c) and the two-DOF
+ * torsional model (gd_torsional.c) stepped from tables in mesh phase. The single-DOF model:
  *
  *   m x'' + c (x' - f_m e'(p)) + k(p) f(x - e(p)) = W,   p' = f_m = z1 w1 / (2 pi),  W = T1 / r_b1
  *
  * f is the identity, or the backlash dead zone of half gap b. k, e and de/dp are polynomials of
  * the phase on each piece of one mesh cycle (data in model_data.c, written by gear_dyn). C99,
- * libm only. The kernel version is GD_KERNEL_VERSION; model_data.c states the table format. */
+ * libm only. The kernel version is GD_KERNEL_VERSION; model_data.c states the table format.
+ * The torsional model (gd_model.tors not NULL) is described in gd_torsional.c. */
 #ifndef GD_KERNEL_H
 #define GD_KERNEL_H
 
 #include <stddef.h>
 
-#define GD_KERNEL_VERSION "1.0.0"
-#define GD_TABLE_FORMAT 1
+#define GD_KERNEL_VERSION "1.1.0"
+#define GD_TABLE_FORMAT 2
 
 /* parameters and inputs, in this order (value references 1..5) */
 enum { GD_SPEED, GD_TORQUE, GD_ZETA, GD_HALF_GAP, GD_TOL, GD_NPAR };
 /* outputs (value references 6..11) */
 enum { GD_X, GD_V, GD_DTE, GD_FORCE, GD_K, GD_DRIVEN, GD_NOUT };
+/* outputs of the torsional model (value references 6..18) */
+enum { GT_Q1, GT_Q2, GT_V1, GT_V2, GT_DTE, GT_DELTA, GT_FORCE, GT_K, GT_W1, GT_W2, GT_ECC,
+       GT_TF1, GT_TF2, GT_NOUT };
+#define GD_MAX_OUT GT_NOUT
 
 typedef struct {
     const char *name, *unit;
     double low, high;   /* valid range */
     int low_open;       /* 1: low itself is refused */
 } gd_param;
+
+typedef struct {                /* the torsional model's constants (gd_torsional.c) */
+    double inertia[2];          /* I1, I2 (kg m^2) */
+    double z2;                  /* gear teeth (nominal w2 = w1 z1 / z2) */
+    double arm[2];              /* mean friction arms (m): W = T1 / (r_b1 - arm1) */
+    double load_fixed;          /* T2 (N m); < 0: T2 = W (r_b2 + arm2) */
+    double q_scale[4];          /* state scales of the error control (rad, rad/s) */
+} gd_tors;
 
 typedef struct {
     int format;                 /* GD_TABLE_FORMAT */
@@ -34,6 +48,9 @@ typedef struct {
     const gd_param *params;     /* GD_NPAR names, units and ranges */
     double start[GD_NPAR];      /* start values of the parameters and inputs */
     double mass, k_mean, rb1, rb2, z1, phase0, x_scale;
+    const gd_tors *tors;        /* NULL: the single-DOF model; else the torsional model, whose
+                                 * coef holds [e, de/dp, k, phi1, phi2] per piece and whose
+                                 * breaks run from 0 to the table period (cycles) */
 } gd_model;
 
 extern const gd_model gd_model_data;
@@ -43,6 +60,7 @@ typedef struct {
     double t, x, v;             /* time (s), DTE (m) and its rate (m/s) */
     double cycles, frac;        /* mesh phase = cycles + frac, frac in [0, 1) */
     double h;                   /* next Runge-Kutta step (s) */
+    double q[4];                /* torsional states q1, q2 (rad), q1', q2' (rad/s) */
     int piece, regime;          /* table piece; contact 1 drive, 0 gap, -1 back flank */
     long n_events;
 } gd_state;
@@ -58,6 +76,11 @@ int gd_check(const gd_model *m, int i, double value);
 void gd_start(gd_state *s, const gd_model *m, double t0);
 int gd_advance(gd_state *s, const gd_model *m, double t_end);
 void gd_outputs(const gd_state *s, const gd_model *m, double *out);
+/* the torsional model (gd_torsional.c), called by the functions above */
+void gd_tors_start(gd_state *s, const gd_model *m, double t0);
+int gd_tors_advance(gd_state *s, const gd_model *m, double t_end);
+void gd_tors_outputs(const gd_state *s, const gd_model *m, double *out);
+
 /* the FMI glue of both versions: values by value reference (0 time, 1..GD_NPAR the parameters
  * and inputs, then the outputs); gd_set writes one message into msg on a refused value */
 int gd_get(const gd_state *s, const gd_model *m, const unsigned *vr, size_t n, double *v);

@@ -1,0 +1,201 @@
+/* gear_dyn native FMU kernel: the two-DOF torsional model with eccentricity and friction
+ * (gear_dyn.models.torsional), states y = [q1, q2, q1', q2'] about the nominal rotation:
+ *
+ *   I1 q1'' = T1 - r_b1 F + max(F, 0) phi1(p),   I2 q2'' = r_b2 F - T2 + max(F, 0) phi2(p)
+ *   F = k(p) (r_b1 q1 - r_b2 q2 + e(p)) + c (r_b1 q1' - r_b2 q2' + f_m de/dp),
+ *   p' = f_m = z1 w1 / (2 pi),  c = 2 xi sqrt(m_e k_m)
+ *
+ * e, de/dp, k, phi1, phi2 are polynomials of the mesh phase p on each piece of the table (its
+ * breaks are the switching instants; data in model_data.c, written by gear_dyn). Each piece is
+ * stepped by the Dormand-Prince 5(4) pair with error control (Hairer, Norsett & Wanner 1993);
+ * piece edges are time events and a communication point ends the last step exactly. */
+#include <math.h>
+#include <string.h>
+#include "gd_kernel.h"
+
+#define PI 3.14159265358979323846
+#define NQ 5
+
+typedef struct {                 /* one piece at constant inputs */
+    const gd_model *m;
+    const double *c;             /* the piece's coefficients [NQ][degree + 1] */
+    double a, b;                 /* its phase edges */
+    double t0, p0, fm, cd, t1, t2;
+} tctx;
+
+static void tcoef(const tctx *q, double t, double v[NQ])
+{
+    int d = q->m->degree, k, j;
+    double p = q->p0 + q->fm * (t - q->t0), s = (2.0 * p - q->a - q->b) / (q->b - q->a);
+    const double *c = q->c;
+    for (k = 0; k < NQ; k++, c += d + 1) {
+        double acc = c[0];
+        for (j = 1; j <= d; j++) acc = acc * s + c[j];
+        v[k] = acc;
+    }
+}
+
+static double force(const tctx *q, const double *v, const double *y)
+{
+    const gd_model *m = q->m;
+    return v[2] * (m->rb1 * y[0] - m->rb2 * y[1] + v[0])
+        + q->cd * (m->rb1 * y[2] - m->rb2 * y[3] + q->fm * v[1]);
+}
+
+static void trhs(const tctx *q, double t, const double *y, double *dy)
+{
+    const gd_model *m = q->m;
+    double v[NQ], f, n;
+    tcoef(q, t, v);
+    f = force(q, v, y);
+    n = f > 0.0 ? f : 0.0;
+    dy[0] = y[2];
+    dy[1] = y[3];
+    dy[2] = (q->t1 - m->rb1 * f + n * v[3]) / m->tors->inertia[0];
+    dy[3] = (m->rb2 * f - q->t2 + n * v[4]) / m->tors->inertia[1];
+}
+
+/* Dormand-Prince 5(4): nodes, stages and the error weights (5th minus 4th order) */
+static const double A[7][6] = {
+    {0, 0, 0, 0, 0, 0},
+    {1.0 / 5, 0, 0, 0, 0, 0},
+    {3.0 / 40, 9.0 / 40, 0, 0, 0, 0},
+    {44.0 / 45, -56.0 / 15, 32.0 / 9, 0, 0, 0},
+    {19372.0 / 6561, -25360.0 / 2187, 64448.0 / 6561, -212.0 / 729, 0, 0},
+    {9017.0 / 3168, -355.0 / 33, 46732.0 / 5247, 49.0 / 176, -5103.0 / 18656, 0},
+    {35.0 / 384, 0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84}};
+static const double C[7] = {0, 1.0 / 5, 3.0 / 10, 4.0 / 5, 8.0 / 9, 1, 1};
+static const double ER[7] = {71.0 / 57600, 0, -71.0 / 16695, 71.0 / 1920, -17253.0 / 339200,
+                             22.0 / 525, -1.0 / 40};
+
+/* advance y over dt (s) on one piece; s->h carries the step size from one call to the next */
+static int rk_piece(const tctx *q, gd_state *s, double *y, double dt)
+{
+    const double *sc = q->m->tors->q_scale;
+    double tol = s->par[GD_TOL], t = 0.0, h = s->h, k[7][4], yt[4];
+    int st, j, l;
+    long steps = 0;
+    trhs(q, q->t0, y, k[0]);
+    while (t < dt) {
+        double err = 0.0;
+        int last = 0;
+        if (++steps > 10000000L) return GD_ERR_STEP;
+        if (!(h > 0.0) || h >= dt - t) { h = dt - t; last = 1; }
+        for (st = 1; st < 7; st++) {
+            for (j = 0; j < 4; j++) {
+                double acc = y[j];
+                for (l = 0; l < st; l++) acc += h * A[st][l] * k[l][j];
+                yt[j] = acc;
+            }
+            trhs(q, q->t0 + t + C[st] * h, yt, k[st]);
+        }
+        for (j = 0; j < 4; j++) {
+            double e = 0.0, w = tol * (sc[j] + fmax(fabs(y[j]), fabs(yt[j])));
+            for (st = 0; st < 7; st++) e += ER[st] * k[st][j];
+            err += (h * e / w) * (h * e / w) / 4.0;
+        }
+        err = sqrt(err);
+        if (!(err == err) || (!last && h < 1e-15 * (fabs(q->t0) + dt))) return GD_ERR_STEP;
+        if (err > 1.0) {
+            h *= fmax(0.2, 0.9 * pow(err, -0.2));
+            continue;
+        }
+        t = last ? dt : t + h;
+        memcpy(y, yt, sizeof yt);
+        memcpy(k[0], k[6], sizeof k[0]);
+        h *= fmin(5.0, fmax(0.2, 0.9 * pow(fmax(err, 1e-10), -0.2)));
+        if (!last || h > s->h) s->h = h;   /* a step cut short by dt keeps the longer one */
+        h = s->h;
+    }
+    return GD_OK;
+}
+
+static void setup(tctx *q, const gd_state *s, const gd_model *m)
+{
+    const gd_tors *g = m->tors;
+    double w = s->par[GD_TORQUE] / (m->rb1 - g->arm[0]);
+    q->m = m;
+    q->c = m->coef + (long)s->piece * NQ * (m->degree + 1);
+    q->a = m->breaks[s->piece];
+    q->b = m->breaks[s->piece + 1];
+    q->t0 = s->t;
+    q->p0 = s->frac;
+    q->fm = m->z1 * s->par[GD_SPEED] / (2.0 * PI);
+    q->cd = 2.0 * s->par[GD_ZETA] * sqrt(m->mass * m->k_mean);
+    q->t1 = s->par[GD_TORQUE];
+    q->t2 = g->load_fixed >= 0.0 ? g->load_fixed : w * (m->rb2 + g->arm[1]);
+}
+
+/* static deflection with delta' = 0 and no rigid-body momentum (TorsionalModel.initial_state) */
+void gd_tors_start(gd_state *s, const gd_model *m, double t0)
+{
+    const gd_tors *g = m->tors;
+    double v[NQ], i1 = g->inertia[0], i2 = g->inertia[1], rb1 = m->rb1, rb2 = m->rb2, ed;
+    tctx q;
+    s->t = t0;
+    s->cycles = 0.0;
+    s->frac = 0.0;
+    s->piece = 0;
+    setup(&q, s, m);
+    tcoef(&q, t0, v);
+    ed = q.fm * v[1];
+    s->q[0] = 0.0;
+    s->q[1] = (v[0] - s->par[GD_TORQUE] / (rb1 - g->arm[0]) / m->k_mean) / rb2;
+    s->q[2] = -ed * i2 * rb1 / (i2 * rb1 * rb1 + i1 * rb2 * rb2);
+    s->q[3] = -i1 * s->q[2] * rb2 / (i2 * rb1);
+    s->h = 2.0 * PI * sqrt(m->mass / m->k_mean) / 64.0;
+    s->regime = 1;
+    s->n_events = 0;
+}
+
+int gd_tors_advance(gd_state *s, const gd_model *m, double t_end)
+{
+    while (s->t < t_end) {
+        tctx q;
+        double dt = t_end - s->t, to_edge;
+        int hit = 0, rc;
+        setup(&q, s, m);
+        to_edge = (q.b - s->frac) / q.fm;
+        if (to_edge <= dt) { dt = to_edge; hit = 1; }
+        else if ((to_edge - dt) * q.fm < 1e-12) hit = 1;   /* an edge at t_end: take it */
+        rc = rk_piece(&q, s, s->q, dt);
+        if (rc != GD_OK) return rc;
+        if (hit) {
+            s->t = dt == t_end - s->t ? t_end : s->t + dt;
+            s->frac = m->breaks[++s->piece];
+            if (s->piece == m->n_pieces) {
+                s->piece = 0;
+                s->frac = 0.0;
+                s->cycles += m->breaks[m->n_pieces];
+            }
+        } else {
+            s->t = t_end;
+            s->frac = fmin(s->frac + q.fm * dt, q.b);
+        }
+    }
+    return GD_OK;
+}
+
+void gd_tors_outputs(const gd_state *s, const gd_model *m, double *out)
+{
+    double v[NQ], f, n;
+    const double *y = s->q;
+    tctx q;
+    setup(&q, s, m);
+    tcoef(&q, s->t, v);
+    f = force(&q, v, y);
+    n = f > 0.0 ? f : 0.0;
+    out[GT_Q1] = y[0];
+    out[GT_Q2] = y[1];
+    out[GT_V1] = y[2];
+    out[GT_V2] = y[3];
+    out[GT_DTE] = m->rb1 * y[0] - m->rb2 * y[1];
+    out[GT_DELTA] = out[GT_DTE] + v[0];
+    out[GT_FORCE] = f;
+    out[GT_K] = v[2];
+    out[GT_W1] = s->par[GD_SPEED] + y[2];
+    out[GT_W2] = s->par[GD_SPEED] * m->z1 / m->tors->z2 + y[3];
+    out[GT_ECC] = v[0];
+    out[GT_TF1] = n * v[3];
+    out[GT_TF2] = n * v[4];
+}

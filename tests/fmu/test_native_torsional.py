@@ -1,0 +1,355 @@
+"""The native FMU's torsional kernel against gear_dyn's own solver: through ctypes, as FMI 2 and 3
+FMUs through fmpy (steps that do and do not divide the mesh period, with and without an
+announced stop time), under AddressSanitizer and UBSan, and its parameter range error.
+
+Bounds: the FMU's stated error (its modelDescription), 1e-6 of the static deflection W/k_m for
+the torsional model (Runge-Kutta pieces on a fitted table; issue 23). The reference is DOP853 at
+rtol 1e-12 on the model's own table (stated table error below 1e-10 of W/k_m), far below the
+bound. The eccentric scene's FMU is larger than the benchmark's 500 kB size target (see
+``test_size_limit_names_the_table``); the build has no size limit unless asked for one.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import functools
+import math
+import re
+import shutil
+import subprocess
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from gear_dyn.fmu.export_c import (
+    KERNEL_SOURCES,
+    NATIVE_DIR,
+    TORSIONAL_OUTPUTS,
+    compile_shared,
+    model_data_c,
+)
+from gear_dyn.fmu.export_torsional import TorsionalNative, torsional_native
+from gear_dyn.scene import build_pair, build_plan, load_scene
+from gear_dyn.scene.packaged import resolve_scene
+from gear_dyn.solvers.settings import SolverSettings
+from gear_dyn.solvers.simulate_bare import simulate_bare
+
+pytestmark = [pytest.mark.fmu,
+              pytest.mark.skipif(shutil.which("cc") is None, reason="no C compiler (cc) on PATH")]
+
+SCENES = ("eccentric_helical", "eccentric_helical_ideal")
+SAMPLES = 160
+PERIODS = 24
+STEPS = {"divides": 10, "does_not_divide": 21}  # reference samples per communication step
+STATED = 1e-6
+OUT = [o[0] for o in TORSIONAL_OUTPUTS]
+
+
+@functools.cache
+def case(name: str) -> tuple[Any, TorsionalNative]:
+    scene = load_scene(resolve_scene(name))
+    model = build_plan(scene).model
+    return model, torsional_native(model, build_pair(scene), tolerance=1e-11)
+
+
+@functools.cache
+def reference(name: str) -> Any:
+    model, _ = case(name)
+    return simulate_bare(model, PERIODS / model.mesh_frequency,
+                         SolverSettings(method="DOP853", rtol=1e-12, samples_per_period=SAMPLES,
+                                        estimate_error=False))
+
+
+def kernel(tmp: Path, nm: TorsionalNative) -> ctypes.CDLL:
+    (tmp / "model_data.c").write_text(model_data_c(nm, "test"))
+    so = compile_shared([*(NATIVE_DIR / k for k in KERNEL_SOURCES), tmp / "model_data.c"],
+                        tmp / "kernel.so")
+    lib = ctypes.CDLL(str(so))
+    lib.gd_advance.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_double]
+    lib.gd_start.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_double]
+    lib.gd_outputs.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]
+    return lib
+
+
+@pytest.mark.parametrize("name", SCENES)
+def test_kernel_matches_solver(tmp_path: Path, name: str) -> None:
+    """Kernel through ctypes at every reference sample: DTE, states, force and speeds."""
+    model, nm = case(name)
+    ref = reference(name)
+    lib = kernel(tmp_path, nm)
+    md = ctypes.addressof(ctypes.c_char.in_dll(lib, "gd_model_data"))
+    state = ctypes.create_string_buffer(2048)  # larger than gd_state
+    lib.gd_defaults(state, ctypes.c_void_p(md))
+    lib.gd_start(state, md, 0.0)
+    out = (ctypes.c_double * len(OUT))()
+    rows = []
+    for t in ref.t:
+        assert lib.gd_advance(state, md, float(t)) == 0
+        lib.gd_outputs(state, md, out)
+        rows.append(list(out))
+    got = dict(zip(OUT, np.array(rows).T, strict=True))
+    x_s = nm.static_deflection
+    assert max(nm.table.max_error.values()) < 1e-3 * STATED
+    assert np.max(np.abs(got["dte"] - ref.outputs["dte"])) / x_s < STATED
+    for k, label in enumerate(("q1", "q2")):
+        scale = x_s / (nm.rb1 if k == 0 else nm.rb2)
+        assert np.max(np.abs(got[f"state.{label}"] - ref.y[k])) / scale < STATED
+    f_ref = ref.outputs["mesh_force"]
+    # |dF| <= k_max |d delta| + c |d delta'|: a few times the DTE bound, relative to W
+    assert np.max(np.abs(got["mesh_force"] - f_ref)) / model.static_load < 10 * STATED
+    om = 2 * math.pi * model.natural_frequency
+    for key in ("w1", "w2"):
+        assert np.max(np.abs(got[key] - ref.outputs[key])) < 10 * STATED * x_s * om / nm.rb2
+    if name == "eccentric_helical":  # the eccentric table really is in play
+        assert np.ptp(got["e_ecc"]) > 10 * x_s
+        assert nm.table.period == 630
+
+
+def test_kernel_under_sanitizers(tmp_path: Path) -> None:
+    """Kernel and FMI 2 and 3 glue under AddressSanitizer and UBSan on the torsional table: a
+    refused value, reset, dividing and non-dividing steps over several table periods, state
+    get/serialize/deserialize/set."""
+    cc = shutil.which("cc")
+    assert cc is not None
+    _, nm = case("eccentric_helical_ideal")
+    (tmp_path / "model_data.c").write_text(model_data_c(nm, "asan"))
+    for fmi, text in ((2, DRIVER2), (3, DRIVER3)):
+        drv = tmp_path / f"driver{fmi}.c"
+        drv.write_text(text)
+        exe = tmp_path / f"drv{fmi}"
+        cmd = [cc, "-std=c99", "-g", "-Wall", "-Wextra", "-Werror", "-pedantic",
+               "-fsanitize=address,undefined", "-fno-sanitize-recover=all", f"-I{NATIVE_DIR}",
+               str(drv), *(str(NATIVE_DIR / k) for k in KERNEL_SOURCES),
+               str(NATIVE_DIR / f"gd_fmi{fmi}.c"), str(tmp_path / "model_data.c"), "-o",
+               str(exe), "-lm"]
+        subprocess.run(cmd, check=True, capture_output=True)
+        proc = subprocess.run([str(exe)], capture_output=True, text=True, check=False)
+        assert proc.returncode == 0, f"FMI {fmi}: {proc.stdout}{proc.stderr}"
+        assert "runtime error" not in proc.stderr and "ERROR" not in proc.stderr
+        dte, force = map(float, proc.stdout.split())
+        assert abs(dte) < 10 * nm.static_deflection and force > 0
+
+
+#: FMI 2 driver: value references 10 (dte) and 12 (mesh_force), 3 (damping.ratio)
+DRIVER2 = r"""
+#include <stdio.h>
+#include "fmi2/fmi2Functions.h"
+static void lg(fmi2ComponentEnvironment e, fmi2String n, fmi2Status s, fmi2String c,
+               fmi2String m, ...) { (void)e; (void)n; (void)s; (void)c; (void)m; }
+int main(void) {
+    fmi2CallbackFunctions cb = {lg, 0, 0, 0, 0};
+    fmi2ValueReference vr[2] = {10, 12}, zeta = 3;
+    fmi2Real v[2], bad = 50.0, t = 0.0, h = 1.0 / 450.0 / 7.3;
+    fmi2FMUstate s = 0, s2 = 0;
+    fmi2Byte buf[4096];
+    size_t size = 0;
+    int i;
+    fmi2Component c = fmi2Instantiate("a", fmi2CoSimulation, "", "", &cb, 0, 0);
+    if (!c || fmi2SetReal(c, &zeta, 1, &bad) != fmi2Error) return 2;
+    fmi2Reset(c);
+    fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0);
+    fmi2EnterInitializationMode(c);
+    fmi2ExitInitializationMode(c);
+    for (i = 0; i < 400; i++, t += h) {
+        if (fmi2DoStep(c, t, h, 1) != fmi2OK) return 3;
+        if (i == 100) fmi2GetFMUstate(c, &s);
+    }
+    if (fmi2SerializedFMUstateSize(c, s, &size) != fmi2OK || size > sizeof buf) return 4;
+    fmi2SerializeFMUstate(c, s, buf, size);
+    fmi2DeSerializeFMUstate(c, buf, size, &s2);
+    fmi2SetFMUstate(c, s2);
+    fmi2FreeFMUstate(c, &s);
+    fmi2FreeFMUstate(c, &s2);
+    fmi2GetReal(c, vr, 2, v);
+    printf("%.17g %.17g\n", v[0], v[1]);
+    fmi2FreeInstance(c);
+    return 0;
+}
+"""
+
+#: the FMI 3 twin of DRIVER2
+DRIVER3 = r"""
+#include <stdio.h>
+#include "fmi3/fmi3Functions.h"
+static void lg(fmi3InstanceEnvironment e, fmi3Status s, fmi3String c, fmi3String m)
+{ (void)e; (void)s; (void)c; (void)m; }
+int main(void) {
+    fmi3ValueReference vr[2] = {10, 12}, zeta = 3;
+    fmi3Float64 v[2], bad = 50.0, t = 0.0, h = 1.0 / 450.0 / 7.3, last;
+    fmi3Boolean ev, term, early;
+    fmi3FMUState s = 0, s2 = 0;
+    fmi3Byte buf[4096];
+    size_t size = 0;
+    int i;
+    fmi3Instance c = fmi3InstantiateCoSimulation("a", "", "", 0, 1, 0, 0, 0, 0, 0, lg, 0);
+    if (!c || fmi3SetFloat64(c, &zeta, 1, &bad, 1) != fmi3Error) return 2;
+    fmi3Reset(c);
+    fmi3EnterInitializationMode(c, 0, 0.0, 0.0, 0, 0.0);
+    fmi3ExitInitializationMode(c);
+    for (i = 0; i < 400; i++, t += h) {
+        if (fmi3DoStep(c, t, h, 1, &ev, &term, &early, &last) != fmi3OK) return 3;
+        if (i == 100) fmi3GetFMUState(c, &s);
+    }
+    if (fmi3SerializedFMUStateSize(c, s, &size) != fmi3OK || size > sizeof buf) return 4;
+    fmi3SerializeFMUState(c, s, buf, size);
+    fmi3DeserializeFMUState(c, buf, size, &s2);
+    fmi3SetFMUState(c, s2);
+    fmi3FreeFMUState(c, &s);
+    fmi3FreeFMUState(c, &s2);
+    fmi3GetFloat64(c, vr, 2, v, 2);
+    printf("%.17g %.17g\n", v[0], v[1]);
+    fmi3FreeInstance(c);
+    return 0;
+}
+"""
+
+
+fmpy = pytest.importorskip("fmpy")
+
+
+@pytest.fixture(scope="session")
+def torsional_fmus(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[str, int], Path]:
+    """Both torsional packaged scenes as native FMUs, FMI 2 and 3 (without the size limit)."""
+    from gear_dyn.fmu.export_fmu import build_native_fmu
+
+    d = tmp_path_factory.mktemp("native_torsional")
+    return {(name, fmi): build_native_fmu(name, d / f"{name}_{fmi}.fmu", fmi=fmi,
+                                          max_size=None).path
+            for name in SCENES for fmi in (2, 3)}
+
+
+def stated_error(path: Path) -> float:
+    desc = fmpy.read_model_description(str(path)).description or ""
+    found = re.search(r"Stated error of the DTE: ([0-9.e+-]+) of the static deflection", desc)
+    assert found, desc
+    return float(found[1])
+
+
+class Slave:
+    """One instance of a native FMU through fmpy's FMU2Slave / FMU3Slave."""
+
+    def __init__(self, path: Path, fmi: int) -> None:
+        self.fmi = fmi
+        md = fmpy.read_model_description(str(path))
+        self.vr = {v.name: v.valueReference for v in md.modelVariables}
+        self.log: list[str] = []
+        kw = dict(guid=md.guid, unzipDirectory=fmpy.extract(str(path)),
+                  modelIdentifier=md.coSimulation.modelIdentifier, instanceName="a")
+        if fmi == 2:
+            from fmpy.fmi2 import FMU2Slave
+
+            self.fmu: Any = FMU2Slave(**kw)
+            self.fmu.instantiate(loggingOn=True)
+        else:
+            from fmpy.fmi3 import FMU3Slave
+
+            self.fmu = FMU3Slave(**kw)
+            self.fmu.instantiate(loggingOn=True, logMessage=lambda env, status, cat, msg:
+                                 self.log.append(msg.decode()))
+
+    def set(self, name: str, value: float) -> None:
+        setter = self.fmu.setReal if self.fmi == 2 else self.fmu.setFloat64
+        setter([self.vr[name]], [value])
+
+    def get(self, name: str) -> float:
+        getter = self.fmu.getReal if self.fmi == 2 else self.fmu.getFloat64
+        return float(getter([self.vr[name]])[0])
+
+    def start(self, stop: float | None) -> None:
+        if self.fmi == 2:
+            self.fmu.setupExperiment(startTime=0.0, stopTime=stop)
+            self.fmu.enterInitializationMode()
+        else:
+            self.fmu.enterInitializationMode(startTime=0.0, stopTime=stop)
+        self.fmu.exitInitializationMode()
+
+    def steps(self, h: float, n: int, k0: int = 0, name: str = "dte") -> list[float]:
+        """``name`` after each of n steps from k0 h (times k h computed as such)."""
+        out = []
+        for k in range(k0, k0 + n):
+            self.fmu.doStep(k * h, (k + 1) * h - k * h)
+            out.append(self.get(name))
+        return out
+
+    def close(self) -> None:
+        self.fmu.terminate()
+        self.fmu.freeInstance()
+
+
+@pytest.mark.slow  # the torsional_fmus fixture builds four FMUs (about 25 s, once)
+@pytest.mark.parametrize("announce_stop", [True, False], ids=["stop_time", "no_stop_time"])
+@pytest.mark.parametrize("step", sorted(STEPS))
+@pytest.mark.parametrize("fmi", [2, 3])
+@pytest.mark.parametrize("name", SCENES)
+def test_native_fmu_matches_solver(torsional_fmus, name: str, fmi: int, step: str,
+                                   announce_stop: bool) -> None:
+    model, nm = case(name)
+    ref = reference(name)
+    every = STEPS[step]
+    idx = np.arange(0, ref.t.size, every)
+    h = every / (SAMPLES * model.mesh_frequency)
+    n = idx.size - 1
+    run = Slave(torsional_fmus[name, fmi], fmi)
+    run.start(n * h if announce_stop else None)
+    x = np.array([run.get("dte"), *run.steps(h, n)])
+    run.close()
+    bound = stated_error(torsional_fmus[name, fmi])
+    assert bound == STATED
+    assert np.allclose(ref.t[idx], np.arange(n + 1) * h, rtol=1e-12, atol=0)
+    err = float(np.max(np.abs(x - ref.outputs["dte"][idx]))) / nm.static_deflection
+    assert err < bound, f"{name} FMI {fmi} {step}: {err:.3g} W/k_m (stated {bound:g})"
+
+
+@pytest.mark.slow  # the torsional_fmus fixture
+@pytest.mark.parametrize("fmi", [2, 3])
+def test_out_of_range_parameter_then_reset(torsional_fmus, fmi: int) -> None:
+    """fmi2Error/fmi3Error naming parameter, value and range; no backlash parameter; the
+    instance runs after reset."""
+    path = torsional_fmus["eccentric_helical_ideal", fmi]
+    run = Slave(path, fmi)
+    assert "backlash.half_gap" not in run.vr
+    with pytest.raises(Exception, match="failed"):
+        run.set("damping.ratio", 12.0)
+    if fmi == 3:
+        assert run.log == ["damping.ratio = 12 is out of range: valid range [0, 10]"]
+    run.fmu.reset()
+    run.set("damping.ratio", 0.1)
+    run.start(None)
+    assert all(math.isfinite(v) for v in run.steps(1e-4, 10))
+    run.close()
+
+
+def test_size_limit_names_the_table(tmp_path: Path) -> None:
+    """Asked for a size limit (``max_size``, the benchmark's 500 kB target here), the eccentric
+    scene is refused (NotNativeError naming its table and size); the error-free twin fits with
+    room."""
+    from gear_dyn.fmu.export import NotNativeError
+    from gear_dyn.fmu.export_fmu import MAX_SIZE, build_native_fmu
+
+    with pytest.raises(NotNativeError, match=r"3780 pieces over 630 mesh cycles\) makes a "
+                       r"native FMU of at least \d+ kB \(its model_data.c alone\), over the "
+                       r"500 kB limit"):
+        build_native_fmu("eccentric_helical", tmp_path / "e.fmu", max_size=MAX_SIZE)
+    assert not (tmp_path / "e.fmu").exists()
+    ideal = build_native_fmu("eccentric_helical_ideal", tmp_path / "i.fmu", max_size=MAX_SIZE)
+    assert ideal.path.stat().st_size < MAX_SIZE
+
+
+@pytest.mark.parametrize("name", SCENES)
+def test_table_is_in_phase(name: str) -> None:
+    """The table does not depend on the build speed (a speed input needs no new table): the
+    model rebuilt at 1.7 times the speed gives the same values at the same phases."""
+    import dataclasses
+
+    model, nm = case(name)
+    fast = dataclasses.replace(model, speed=1.7 * model.speed)
+    p = np.linspace(0.0, 3.0, 97) + 0.013
+    direct = fast.excitations(p / fast.mesh_frequency)
+    tab = nm.table.evaluate(p)
+    x_s = nm.static_deflection
+    assert np.max(np.abs(tab[0] - direct["e_ecc"])) < 1e-9 * x_s
+    assert np.max(np.abs(tab[1] * fast.mesh_frequency - direct["e_ecc_rate"])) < \
+        1e-9 * x_s * fast.mesh_frequency
+    assert np.max(np.abs(tab[2] - direct["stiffness"])) < 1e-9 * nm.mean_stiffness
