@@ -126,7 +126,7 @@ def test_spell_counts_are_cyclic() -> None:
     assert spell_counts("G") == (1, 0)
 
 
-@pytest.mark.slow  # variational route (transmission error): 1-3 min on a loaded 2-core machine
+@pytest.mark.slow  # variational route (transmission error): 45 s, up to 3 min under load
 def test_constant_stiffness_jumps_bracket_the_folds_found_by_continuation() -> None:
     """Kahraman & Singh's (1990) oscillator: constant stiffness, a harmonic transmission error
     and backlash (variational route). Sweeping up it jumps at the upper fold, down at the
