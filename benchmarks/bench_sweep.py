@@ -1,6 +1,7 @@
 """Speed sweeps: fixed cost, per-speed cost against the steady-state kernel, what workers buy.
 
 Run:  python benchmarks/bench_sweep.py [--repeats 5] [--out DIR] [--record] [--no-dask] [--methods]
+      [--jumps]
 
 Scene `helicopter_tail.toml` (linear, piecewise-constant stiffness) and
 `helicopter_tail_backlash.toml` (shooting with continuation up and down). Every repeat runs all
@@ -27,7 +28,10 @@ default threads, on a loaded machine, scipy's ``expm`` of a 3x3 matrix took 10-3
 
 Writes ``sweep.md`` into ``--out`` (default ``benchmarks/out/``, git-ignored); ``--record``
 writes into ``benchmarks/results/``. ``--methods`` runs instead the slow comparison of the
-steady method with transient integration (``sweep_methods.md``, minutes).
+steady method with transient integration (``sweep_methods.md``, minutes). ``--jumps`` runs
+instead the cost of finding the jumps from the orbits (``sweep_jumps.md``): the backlash example
+sweep (71 speeds up and down) and one on a grid twice as fine, whole (``sweep_scene``, the jumps
+included) against the jump check alone (``find_jumps`` on its curves), with the pairs continued.
 """
 
 from __future__ import annotations
@@ -372,6 +376,51 @@ def report(args: argparse.Namespace, cli: dict[str, list[float]],
     return "\n".join(lines) + "\n"
 
 
+def jumps_table(args: argparse.Namespace) -> str:
+    """The cost of the jumps from the orbits on the backlash example sweep (``--jumps``)."""
+    from gear_dyn.analysis.sweep import find_jumps
+    from gear_dyn.analysis.sweep.orbit_jumps import candidates
+
+    scene = load_scene(BACKLASH)
+    factory = SceneModels.of(scene)
+    rows = []
+    for n in (71, 141):
+        speeds = np.linspace(3000.0, 10000.0, n) * RPM
+        whole, check = [], []
+        for _ in range(args.repeats):
+            t_all, res = timed(lambda sp=speeds: sweep_scene(scene, sp, si=True, workers=1))
+            t_j, _ = timed(lambda r=res: [find_jumps(c, factory, r.settings.rtol)
+                                          for c in r.curves])
+            whole.append(t_all)
+            check.append(t_j)
+        scale = factory(float(speeds[0])).state_scale
+        cand = sum(len(candidates(c, scale)) for c in res.curves)
+        found = "; ".join(f"{c.direction}: " + ", ".join(f"{j.fold_speed / RPM:.1f}"
+                                                          for j in c.jumps)
+                          for c in res.curves)
+        share = [c / w for c, w in zip(check, whole, strict=True)]
+        rows.append(f"| {n} up and down | {spread(whole)} | {spread(check)} | "
+                    f"{spread(share, '.2f')} | {cand} of {2 * (n - 1)} | {found} |")
+    load = ", ".join(f"{x:.1f}" for x in os.getloadavg())
+    return "\n".join([
+        "# Sweep jumps from the orbits: what the check costs",
+        "",
+        f"Command: `python benchmarks/bench_sweep.py --jumps --repeats {args.repeats}"
+        f"{' --record' if args.record else ''}`. Median of {args.repeats} repeats (min..max).",
+        "",
+        f"Machine: {platform.machine()}, 2 cores shared with other jobs (load average at the "
+        f"end: {load}), Python {platform.python_version()}.",
+        "",
+        "helicopter_tail_backlash, 3000..10000 rpm. The sweep (`sweep_scene`, serial) includes "
+        "the jump check; the check alone is `find_jumps` run again on the sweep's curves. "
+        "Only candidate pairs are continued (docs/sweep.md, How jumps are found).",
+        "",
+        "| speeds | sweep with jumps (s) | jump check alone (s) | check / sweep "
+        "| pairs continued | folds of the jumps (rpm) |",
+        "|---|---|---|---|---|---|",
+        *rows, ""])
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=5)
@@ -383,10 +432,18 @@ def main() -> None:
     ap.add_argument("--methods", action="store_true",
                     help="instead: the slow steady-vs-transient comparison (sweep_methods.md)")
     ap.add_argument("--speeds", type=int, default=500, help="speeds of --methods")
+    ap.add_argument("--jumps", action="store_true",
+                    help="instead: the cost of the jumps from the orbits (sweep_jumps.md)")
     args = ap.parse_args()
     ENV.update(as_installed(ROOT / "gear_dyn"))
     out_dir = ROOT / "benchmarks" / "results" if args.record else args.out
     out_dir.mkdir(parents=True, exist_ok=True)
+    if args.jumps:
+        text = jumps_table(args)
+        print(text)
+        (out_dir / "sweep_jumps.md").write_text(text)
+        print(f"wrote {out_dir / 'sweep_jumps.md'}")
+        return
     if args.methods:
         text = methods_table(args)
         print(text)

@@ -133,6 +133,15 @@ def _ranges(ranges: list[tuple[float, float]]) -> str:
                      for a, b in ranges)
 
 
+def _jump_text(j: dict[str, Any]) -> str:
+    """One jump as ``6100 -> 6200 rpm (fold at 6111.8 rpm)``."""
+    what = {"fold": f"fold at {j['fold_rpm']:.1f} rpm" if j["fold_rpm"] is not None else "fold",
+            "contact_pattern": "onto an orbit with another contact pattern",
+            "branch": "onto another branch", "unresolved": "continuation did not resolve it",
+            "rms_fallback": "no orbit: RMS DTE changes > 30 %"}.get(j["kind"], j["kind"])
+    return f"{j['from_rpm']:.0f} -> {j['to_rpm']:.0f} rpm ({what})"
+
+
 def _print_summary(result: Any, scene: Any, summary: dict[str, Any], chart: str) -> None:
     """The sweep's terminal report: range, resonance, maximum dynamic factor, K_v, warnings."""
     print(f"{scene.name}: {summary['n_speeds']} speeds {summary['speed_range_rpm'][0]:.0f}-"
@@ -180,6 +189,8 @@ def _print_summary(result: Any, scene: Any, summary: dict[str, Any], chart: str)
         if info["unstable_ranges_rpm"]:
             rng = _ranges(info["unstable_ranges_rpm"])
             print(f"  parametric instability ({d}): {rng} rpm")
+        if info["jumps"]:
+            print(f"  jumps ({d}): " + "; ".join(_jump_text(j) for j in info["jumps"]))
         if info["aperiodic_ranges_rpm"]:
             rng = _ranges(info["aperiodic_ranges_rpm"])
             print(f"  no period-1 or period-2 orbit ({d}): {rng} rpm (aperiodic: not "

@@ -103,6 +103,26 @@ def _peak_force_axis(ax: Any, jump: float) -> Any:
     return right
 
 
+def _jump_marks(ax: Any, result: SweepResult, legend: bool) -> None:
+    """A thin dotted vertical line per jump, in its direction's colour: at the located fold,
+    else midway between the two speeds; one legend entry per direction."""
+    for c in result.curves:
+        color = _STYLE.get(c.direction, {}).get("color", "tab:blue")
+        names = []
+        for j in c.jumps:
+            row = j.row()
+            fold = row["fold_rpm"]
+            x = fold if fold is not None else 0.5 * (row["from_rpm"] + row["to_rpm"])
+            names.append(f"{x:.0f}" if j.kind == "fold" else
+                         f"{x:.0f} ({j.kind.replace('_', ' ')})")
+            ax.axvline(x, color=color, lw=0.9, ls=(0, (1, 2)), alpha=0.9)
+        if legend and names:
+            ax.plot([], [], color=color, lw=0.9, ls=(0, (1, 2)),
+                    label=f"jumps {c.direction}"
+                    + (" (folds)" if all(j.kind == "fold" for j in c.jumps) else "")
+                    + " at\n" + ", ".join(names) + " rpm")
+
+
 def plot_sweep_response(result: SweepResult, ax: Any = None,
                         iso_kv: tuple[Any, Any] | None = None) -> Any:
     """Dynamic factor K_dyn, RMS and peak-to-peak DTE against speed (top axis: f_m / f_n).
@@ -111,7 +131,8 @@ def plot_sweep_response(result: SweepResult, ax: Any = None,
     the figure that compares like for like with ISO 6336-1 K_v (``iso_kv``, dash-dot); its
     right axis reads the same curves as the peak force F_max / W = K_dyn x the stiffness-jump
     factor, which the axis label names with its value.
-    Up and down sweeps are drawn (solid, dashed) so jumps and hysteresis show; crosses mark
+    Up and down sweeps are drawn (solid, dashed) so jumps and hysteresis show; thin dotted
+    vertical lines mark the jumps found from the orbits (at the located fold); crosses mark
     tooth separation (on a linear model: a negative mesh force, where the model does not
     hold), open triangles back-side contact, red bands parametric instability, orange bands
     hysteresis. The peak of each direction is starred and named in the legend (value, speed,
@@ -157,6 +178,7 @@ def plot_sweep_response(result: SweepResult, ax: Any = None,
             ax.axvspan(a - step / 2, b + step / 2, color="tab:orange", alpha=0.15, lw=0,
                        label="hysteresis: up and down\non different orbits"
                        if row == 0 and k == 0 else None)
+        _jump_marks(ax, result, legend=row == 0)
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
         if row == 0:

@@ -26,12 +26,18 @@ round per block, the up and down chains side by side, each block starting where 
 previous block ended. Blocks and their starting states do not depend on the executor, so the
 results are identical to the serial run.
 
+Jumps between neighbouring speeds are found from the orbits, not from a threshold on RMS: the
+orbit at one speed is continued towards the next (:mod:`.orbit_jumps`), and a fold between
+them, or another orbit reached there, is a :class:`Jump` on the curve (``SweepCurve.jumps``).
+
 Up and down sweeps that differ are hysteresis only where both directions found a periodic orbit
 (:func:`hysteresis_ranges`); where either direction's response is not periodic the two are not
 compared (:func:`aperiodic_ranges`).
 """
 
 from gear_dyn.analysis.sweep.driver import ModelFactory, sweep
+from gear_dyn.analysis.sweep.jump import JUMP_KINDS, Jump
+from gear_dyn.analysis.sweep.orbit_jumps import find_jumps
 from gear_dyn.analysis.sweep.report import (
     aperiodic_ranges,
     hysteresis_ranges,
@@ -51,7 +57,8 @@ from gear_dyn.analysis.sweep.types import (
 )
 
 __all__ = [
-    "DIRECTIONS", "METHODS", "RPM", "ModelFactory", "Point", "SweepCurve", "SweepOptions",
-    "SweepResult", "aperiodic_ranges", "hysteresis_ranges", "jumps", "periodic_response",
+    "DIRECTIONS", "JUMP_KINDS", "METHODS", "RPM", "Jump", "ModelFactory", "Point", "SweepCurve",
+    "SweepOptions", "SweepResult", "aperiodic_ranges", "find_jumps", "hysteresis_ranges",
+    "jumps", "periodic_response",
     "summarize_sweep", "sweep", "sweep_columns",
 ]

@@ -18,7 +18,7 @@ import concurrent.futures as cf
 import math
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -27,6 +27,7 @@ from numpy.typing import NDArray
 from gear_dyn.analysis.dynamic_factor import quasi_static_model_of, quasi_static_reference
 from gear_dyn.analysis.executor import MapFn, check_workers, task_map
 from gear_dyn.analysis.sweep.batch import linear_block
+from gear_dyn.analysis.sweep.orbit_jumps import find_jumps
 from gear_dyn.analysis.sweep.points import steady_point, transient_point
 from gear_dyn.analysis.sweep.types import (
     DIRECTIONS,
@@ -258,7 +259,11 @@ def sweep(
     qs_model = quasi_static_model_of(factory, float(sp[0]), model)
     reference = None if qs_model is None else quasi_static_reference(qs_model, settings)
     jump = math.nan if reference is None else float(reference["peak_force_ratio"])
-    curves = tuple(SweepCurve.from_points(d, points[d], jump) for d in dirs)
+    # jumps of the response from the orbits: candidate pairs continued here, in the calling
+    # process
+    curves = tuple(replace(c, jumps=find_jumps(c, factory if opts.method == "steady" else None,
+                                               settings.rtol))
+                   for c in (SweepCurve.from_points(d, points[d], jump) for d in dirs))
     orders = np.arange(1, opts.window_periods * opts.harmonics + 1) / opts.window_periods
     fn = model.natural_frequency
     return SweepResult(

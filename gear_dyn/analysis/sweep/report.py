@@ -5,6 +5,9 @@ The dynamic factor is K_dyn = F_max / F_qs,max, as ``gear-dyn run`` states it
 peak force ratio F_max / W and the stiffness-jump factor F_qs,max / W (their ratio) are reported
 beside it, each under its own name.
 
+The jumps themselves are found from the orbits when the sweep runs
+(:mod:`gear_dyn.analysis.sweep.orbit_jumps`); here they are only listed.
+
 Hysteresis is claimed only where both directions found a periodic orbit and the two differ;
 where either direction's response is not periodic the summary says so (``aperiodic``) instead.
 """
@@ -133,17 +136,15 @@ def hysteresis_ranges(result: SweepResult, rel: float = 0.05) -> list[list[float
     return _ranges(up.speed, differ & np.isfinite(ref) & both)
 
 
-def jumps(curve: SweepCurve, rel: float = 0.3) -> list[dict[str, float]]:
-    """Adjacent speeds whose RMS DTE changes by more than ``rel`` of the larger value."""
-    r = curve.rms_dte
-    out = []
-    for i in range(r.size - 1):
-        a, b = r[i], r[i + 1]
-        if np.isfinite(a) and np.isfinite(b) and abs(b - a) > rel * max(abs(a), abs(b)):
-            out.append({"from_rpm": float(curve.speed[i] / RPM),
-                        "to_rpm": float(curve.speed[i + 1] / RPM),
-                        "rms_dte_before_m": float(a), "rms_dte_after_m": float(b)})
-    return out
+def jumps(curve: SweepCurve) -> list[dict[str, Any]]:
+    """The curve's jumps between neighbouring speeds, as found from its orbits
+    (:func:`gear_dyn.analysis.sweep.orbit_jumps.find_jumps`), one dict each (:meth:`Jump.row
+    <gear_dyn.analysis.sweep.jump.Jump.row>`): ``kind`` (``fold``, ``contact_pattern``,
+    ``branch``, ``unresolved``; ``rms_fallback`` where one of the speeds has no periodic orbit
+    and the RMS DTE changes by more than 30 %), ``from_rpm``, ``to_rpm``, ``fold_rpm`` (the
+    located fold, None for other kinds), RMS DTE and separation share before and after, and
+    the two orbits' contact patterns."""
+    return [j.row() for j in curve.jumps]
 
 
 #: f_m / f_n of the resonances marked: super-harmonic (f_n/3, f_n/2), main, parametric

@@ -11,6 +11,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from gear_dyn.analysis.sweep.jump import Jump
 from gear_dyn.errors import InputError, check_range
 from gear_dyn.solvers import SolverSettings
 
@@ -140,6 +141,9 @@ class SweepCurve:
     lyapunov, lyapunov_error : ndarray
         Largest Lyapunov exponent and its standard error in 1/s where no orbit was found
         (NaN elsewhere).
+    jumps : tuple of Jump
+        Where the response jumps between neighbouring speeds, found from the orbits
+        (:func:`gear_dyn.analysis.sweep.orbit_jumps.find_jumps`; :func:`sweep` fills it in).
     """
 
     direction: str
@@ -163,6 +167,7 @@ class SweepCurve:
     motion: tuple[str, ...] = ()
     lyapunov: FloatArray = field(default_factory=lambda: np.zeros(0))
     lyapunov_error: FloatArray = field(default_factory=lambda: np.zeros(0))
+    jumps: tuple[Jump, ...] = ()
 
     @classmethod
     def from_points(cls, direction: str, points: Sequence[Point],
