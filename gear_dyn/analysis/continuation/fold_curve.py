@@ -29,7 +29,6 @@ from dataclasses import dataclass, fields, is_dataclass, replace
 from typing import Any
 
 import numpy as np
-from scipy.optimize import linear_sum_assignment
 
 from gear_dyn.analysis.continuation.arclength import continue_orbits
 from gear_dyn.analysis.continuation.branch import Bifurcation, Branch
@@ -148,6 +147,8 @@ def _match(prev: list[_Pair], new: list[_Pair], width: float) -> list[tuple[int,
         return [(i, i) for i in range(len(prev))]
     if not prev or not new:
         return []
+    from scipy.optimize import linear_sum_assignment  # here: a sweep imports this package
+
     cost = np.array([[_distance(p, q) for q in new] for p in prev])
     rows, cols = linear_sum_assignment(cost)
     return [(int(r), int(c)) for r, c in zip(rows, cols, strict=True) if cost[r, c] < width]
