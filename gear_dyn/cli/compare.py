@@ -110,7 +110,7 @@ def run(args: argparse.Namespace) -> int:
                     tmp / "compare.png", dpi=110)
     width = max(len(n) for n in names)
     heads = ("max K_dyn", "at rpm", "ISO K_v there", "F_max/W", "stiffness jump",
-             "max RMS DTE (um)", "at rpm")
+             "max RMS DTE (µm)", "at rpm")
     print(f"{'scene':<{width}}  dir  " + "  ".join(heads) + "  f_m = f_n at")
     for r in rows:
         values = (f"{r['max_dynamic_factor']:.4f}", f"{r['max_dynamic_factor_speed_rpm']:.0f}",

@@ -12,7 +12,7 @@ from gear_dyn.plots._axes import axes_of, tidy
 
 _STYLE = {"up": dict(color="tab:blue", marker="."), "down": dict(color="tab:orange", marker="x")}
 #: display unit of each state component: (scale from SI, unit text)
-_UNITS = {"x": (1e6, "um"), "v": (1.0, "m/s")}
+_UNITS = {"x": (1e6, "µm"), "v": (1.0, "m/s")}
 
 
 def plot_bifurcation(diagram: BifurcationDiagram, ax: Any = None, state: str = "x",

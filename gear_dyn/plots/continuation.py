@@ -15,9 +15,9 @@ from gear_dyn.plots._axes import axes_of, tidy
 
 #: y quantities: OrbitPoint field -> (axis label, factor to the plotted unit)
 QUANTITIES = {
-    "dte_rms": ("RMS DTE (um)", 1e6),
-    "dte_ptp": ("peak-to-peak DTE (um)", 1e6),
-    "dte_mean": ("mean DTE (um)", 1e6),
+    "dte_rms": ("RMS DTE (µm)", 1e6),
+    "dte_ptp": ("peak-to-peak DTE (µm)", 1e6),
+    "dte_mean": ("mean DTE (µm)", 1e6),
     "separation": ("teeth apart (share of the period)", 1.0),
 }
 _RPM = 2 * math.pi / 60
@@ -29,7 +29,7 @@ def _x_of(branch: Branch) -> tuple[float, str]:
     if branch.parameter_name == "speed":
         return 1.0 / _RPM, "pinion speed (rpm)"
     if branch.parameter_name == "backlash":
-        return 1e6, "half gap (um)"
+        return 1e6, "half gap (µm)"
     unit = f" ({branch.unit})" if branch.unit else ""
     return 1.0, f"{branch.parameter_name}{unit}"
 

@@ -13,7 +13,7 @@ from matplotlib.ticker import NullFormatter, ScalarFormatter
 
 from gear_dyn.plots._axes import axes_of, tidy
 
-_LABELS = {"dte": ("DTE", "um", 1e6), "mesh_force": ("mesh force", "kN", 1e-3),
+_LABELS = {"dte": ("DTE", "µm", 1e6), "mesh_force": ("mesh force", "kN", 1e-3),
            "driven_speed": ("driven speed", "rad/s", 1.0)}
 
 
