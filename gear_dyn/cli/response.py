@@ -13,6 +13,7 @@ import math
 from pathlib import Path
 from typing import Any
 
+from gear_dyn.cli.progress import Stages, add_quiet_flag
 from gear_dyn.errors import InputError
 
 RPM = 2 * math.pi / 60
@@ -45,6 +46,7 @@ def register(sub: Any) -> None:
                    "units, e.g. '100 N*m:600 N*m:11' (writes jump_map.png and fold_curve.csv)")
     p.add_argument("--max-points", type=int, default=2000, help="points per branch (default "
                    "2000)")
+    add_quiet_flag(p)
     p.set_defaults(func=run)
 
 
@@ -76,14 +78,20 @@ def run(args: argparse.Namespace) -> int:
 
         torques = parse_torques(args.torques)
     settings = ContinuationSettings(max_points=args.max_points)
-    branch = continue_orbits(SceneModels.of(scene), lo, hi, settings=settings,
-                             doublings=args.doublings)
-    with staged_output(args.out) as tmp:
-        save_figure(plot_branch(branch), tmp / "response.png", dpi=120)
-        write_text(tmp / "branch.csv", _csv(branch.rows()))
-        write_json(tmp / "branch.json", {"scene": scene.name, **branch.to_dict()})
-        if torques is not None:
-            fm = write_jump_map(scene, (lo, hi), torques, settings, tmp)
+    stages = ["continue the speed branch", "write response.png, branch.csv/json"]
+    if torques is not None:
+        stages.append(f"jump map over {len(torques)} torques")
+    with Stages(stages, args.quiet) as st:
+        branch = continue_orbits(SceneModels.of(scene), lo, hi, settings=settings,
+                                 doublings=args.doublings)
+        st.next()
+        with staged_output(args.out) as tmp:
+            save_figure(plot_branch(branch), tmp / "response.png", dpi=120)
+            write_text(tmp / "branch.csv", _csv(branch.rows()))
+            write_json(tmp / "branch.json", {"scene": scene.name, **branch.to_dict()})
+            if torques is not None:
+                st.next()
+                fm = write_jump_map(scene, (lo, hi), torques, settings, tmp)
     for i, b in enumerate(branch.walk()):
         print(f"branch {i}: {b!r}")
         for x in b.bifurcations:
