@@ -81,6 +81,16 @@ BLAS_SWEEP_SPEEDS = "2000 rpm:6000 rpm:24"
 ENV: dict[str, str] = {}
 
 
+
+def _environment() -> str:
+    """What the timed interpreter has installed that changes the command's start-up: the unit
+    parser pint imports Dask at start-up when Dask is installed (the ``dask`` extra)."""
+    import importlib.util
+
+    dask = importlib.util.find_spec("dask") is not None
+    return (f"Dask {'installed (pint imports it at start-up)' if dask else 'not installed'} "
+            "- the README's demo install, `pip install .`, has no Dask")
+
 def timed(cmd: list[str], env: dict[str, str] | None = None) -> float:
     """Wall time of one whole process in s (its output discarded; a failure raises);
     ``env``: variables set on top of :data:`ENV`."""
@@ -269,6 +279,7 @@ def report(rows: list[dict[str, Any]], start: dict[str, list[float]], repeats: i
         f"(min..max). The machine is shared ({os.cpu_count()} cores, 1-minute load average "
         f"{os.getloadavg()[0]:.1f} at the end): the ratios, measured pair by pair, are the "
         "figures to quote.", "",
+        f"Installed packages: {_environment()}.", "",
         "`gear-dyn run` works in its own process only: it reads the scene, solves, writes the "
         "CSV and JSON, then draws and writes the two figures, one after the other.", "",
         "Naive script: `benchmarks/naive_run.py` (one `solve_ivp(RK45)` call, plain Python "
