@@ -81,7 +81,6 @@ BLAS_SWEEP_SPEEDS = "2000 rpm:6000 rpm:24"
 ENV: dict[str, str] = {}
 
 
-
 def _environment() -> str:
     """What the timed interpreter has installed that changes the command's start-up: the unit
     parser pint imports Dask at start-up when Dask is installed (the ``dask`` extra)."""
@@ -90,6 +89,7 @@ def _environment() -> str:
     dask = importlib.util.find_spec("dask") is not None
     return (f"Dask {'installed (pint imports it at start-up)' if dask else 'not installed'} "
             "- the README's demo install, `pip install .`, has no Dask")
+
 
 def timed(cmd: list[str], env: dict[str, str] | None = None) -> float:
     """Wall time of one whole process in s (its output discarded; a failure raises);
