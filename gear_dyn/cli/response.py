@@ -46,6 +46,9 @@ def register(sub: Any) -> None:
                    "units, e.g. '100 N*m:600 N*m:11' (writes jump_map.png and fold_curve.csv)")
     p.add_argument("--max-points", type=int, default=2000, help="points per branch (default "
                    "2000)")
+    p.add_argument("--sweep", type=int, default=0, metavar="N",
+                   help="also sweep N speeds over the range, up and down, and draw the sweep's "
+                   "periodic points and its jumps over the branch (default 0: no sweep)")
     add_quiet_flag(p)
     p.set_defaults(func=run)
 
@@ -78,15 +81,27 @@ def run(args: argparse.Namespace) -> int:
 
         torques = parse_torques(args.torques)
     settings = ContinuationSettings(max_points=args.max_points)
+    if args.sweep == 1 or not 0 <= args.sweep <= 100_000:
+        raise InputError(f"--sweep {args.sweep}: valid range 2..100000 speeds, or 0 (no sweep)")
     stages = ["continue the speed branch", "write response.png, branch.csv/json"]
+    if args.sweep:
+        stages.insert(1, f"sweep {args.sweep} speeds up and down")
     if torques is not None:
         stages.append(f"jump map over {len(torques)} torques")
     with Stages(stages, args.quiet) as st:
         branch = continue_orbits(SceneModels.of(scene), lo, hi, settings=settings,
                                  doublings=args.doublings)
+        swept = None
+        if args.sweep:
+            import numpy as np
+
+            from gear_dyn.scene.sweep import sweep_scene
+
+            st.next()
+            swept = sweep_scene(scene, np.linspace(lo, hi, args.sweep), si=True)
         st.next()
         with staged_output(args.out) as tmp:
-            save_figure(plot_branch(branch), tmp / "response.png", dpi=120)
+            save_figure(plot_branch(branch, sweep=swept), tmp / "response.png", dpi=120)
             write_text(tmp / "branch.csv", _csv(branch.rows()))
             write_json(tmp / "branch.json", {"scene": scene.name, **branch.to_dict()})
             if torques is not None:

@@ -41,8 +41,8 @@ def _fmt(value: float, branch: Branch) -> str:
     return f"{value * fx:.6g}{unit}"
 
 
-def plot_branch(branch: Branch, ax: Any = None, y: str = "dte_rms", label_points: bool = True
-                ) -> Any:
+def plot_branch(branch: Branch, ax: Any = None, y: str = "dte_rms", label_points: bool = True,
+                sweep: Any = None) -> Any:
     """Draw a branch and its children (period-2n branches) against the parameter.
 
     Parameters
@@ -54,6 +54,11 @@ def plot_branch(branch: Branch, ax: Any = None, y: str = "dte_rms", label_points
         Quantity on the y axis: ``dte_rms``, ``dte_ptp``, ``dte_mean`` or ``separation``.
     label_points : bool
         Write each fold's and period doubling's parameter value next to its mark.
+    sweep : SweepResult or None
+        A speed sweep of the same scene (:func:`gear_dyn.sweep_scene`) drawn over the branch:
+        its periodic points up and down, and its jumps as arrows from the speed before to the
+        speed after (``y`` ``dte_rms``, ``dte_ptp``, ``dte_mean`` or ``separation``; speed
+        branches only).
 
     Returns
     -------
@@ -106,6 +111,8 @@ def plot_branch(branch: Branch, ax: Any = None, y: str = "dte_rms", label_points
         if graze:
             axis.plot([g.parameter * fx for g in graze], [getattr(g.point, y) * fy for g in graze],
                       "x", color="0.4", ms=5, label=once("grazing (contact pattern changes)"))
+    if sweep is not None:
+        _overlay_sweep(axis, sweep, y, fx, fy)
     if label_points:  # in speed order, alternately above and below: neighbours stay legible
         for j, (bx, by, text) in enumerate(sorted(labels)):
             axis.annotate(text, (bx, by), xytext=(5, 6 if j % 2 == 0 else -13),
@@ -117,3 +124,23 @@ def plot_branch(branch: Branch, ax: Any = None, y: str = "dte_rms", label_points
     if ax is None:
         tidy(fig)
     return fig
+
+
+#: OrbitPoint field -> SweepCurve field
+_SWEEP_FIELDS = {"dte_rms": "rms_dte", "dte_ptp": "ptp_dte", "dte_mean": "mean_dte",
+                 "separation": "separation"}
+
+
+def _overlay_sweep(axis: Any, sweep: Any, y: str, fx: float, fy: float) -> None:
+    """The sweep's periodic points (up: triangles up, down: triangles down) and its jumps."""
+    for curve in sweep.curves:
+        values = getattr(curve, _SWEEP_FIELDS[y]) * fy
+        keep = np.asarray(curve.periodic, bool)
+        marker = "^" if curve.direction == "up" else "v"
+        axis.plot(curve.speed[keep] * fx, values[keep], marker, ms=3.5, mfc="none",
+                  color="0.35", ls="none", label=f"sweep {curve.direction} (periodic orbits)")
+        for jump in curve.jumps:
+            i = int(np.argmin(np.abs(curve.speed - jump.from_speed)))
+            j = int(np.argmin(np.abs(curve.speed - jump.to_speed)))
+            axis.annotate("", (curve.speed[j] * fx, values[j]), (curve.speed[i] * fx, values[i]),
+                          arrowprops={"arrowstyle": "->", "color": "0.35", "lw": 0.8})

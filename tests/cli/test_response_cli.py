@@ -41,6 +41,8 @@ def test_response_writes_the_curve_the_branch_and_its_folds(tmp_path: Path,
     (["helicopter_tail_backlash", "--speeds", "3000 rpm"], "expected LO:HI"),
     (["helicopter_tail_backlash", "--speeds", "3000:4000"], "give a unit"),
     (["eccentric_helical", "--speeds", "3000 rpm:4000 rpm"], "single-DOF mesh model"),
+    (["helicopter_tail_backlash", "--speeds", "3000 rpm:4000 rpm", "--sweep", "1"],
+     "--sweep 1: valid range 2..100000"),
 ])
 def test_user_mistakes_are_one_line_and_exit_2(tmp_path: Path, argv: list[str], match: str,
                                                capsys: pytest.CaptureFixture[str]) -> None:
@@ -49,3 +51,30 @@ def test_user_mistakes_are_one_line_and_exit_2(tmp_path: Path, argv: list[str], 
     assert rc == 2
     assert match in err and err.count("\n") == 1
     assert not (tmp_path / "o").exists()
+
+
+def test_sweep_overlay_jumps_across_the_located_fold(tmp_path: Path) -> None:
+    """``--sweep N``: the sweep's points and jumps drawn over the branch; the sweep up jumps
+    between the two speeds that bracket the fold the continuation located (the sweep's own
+    jump finder and the branch agree on where the jump is)."""
+    import matplotlib.pyplot as plt
+
+    from gear_dyn.analysis.continuation import continue_orbits
+    from gear_dyn.plots.continuation import plot_branch
+    from gear_dyn.scene import load_scene
+    from gear_dyn.scene.sweep import SceneModels, sweep_scene
+
+    out = tmp_path / "resp"
+    assert main(["response", "helicopter_tail_backlash", "--speeds", "5800 rpm:6300 rpm",
+                 "--doublings", "0", "--sweep", "11", "--quiet", "--out", str(out)]) == 0
+    data = json.loads((out / "branch.json").read_text())
+    fold = next(b["parameter"] for b in data["branches"][0]["bifurcations"] if b["kind"] == "fold")
+    scene = load_scene("helicopter_tail_backlash")
+    swept = sweep_scene(scene, "5800 rpm:6300 rpm:11")
+    up = next(c for c in swept.curves if c.direction == "up")
+    assert [(j.from_speed < fold < j.to_speed) for j in up.jumps] == [True]
+    branch = continue_orbits(SceneModels.of(scene), 5800 * RPM, 6300 * RPM, doublings=0)
+    fig = plot_branch(branch, sweep=swept)
+    arrows = [a for a in fig.axes[0].texts if getattr(a, "arrow_patch", None) is not None]
+    assert len(arrows) == sum(len(c.jumps) for c in swept.curves) >= 1
+    plt.close(fig)
