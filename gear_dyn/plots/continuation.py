@@ -56,9 +56,8 @@ def plot_branch(branch: Branch, ax: Any = None, y: str = "dte_rms", label_points
         Write each fold's and period doubling's parameter value next to its mark.
     sweep : SweepResult or None
         A speed sweep of the same scene (:func:`gear_dyn.sweep_scene`) drawn over the branch:
-        its periodic points up and down, and its jumps as arrows from the speed before to the
-        speed after (``y`` ``dte_rms``, ``dte_ptp``, ``dte_mean`` or ``separation``; speed
-        branches only).
+        its periodic points up and down, and its jumps between two periodic points as arrows
+        from the speed before to the speed after (speed branches only).
 
     Returns
     -------
@@ -142,5 +141,7 @@ def _overlay_sweep(axis: Any, sweep: Any, y: str, fx: float, fy: float) -> None:
         for jump in curve.jumps:
             i = int(np.argmin(np.abs(curve.speed - jump.from_speed)))
             j = int(np.argmin(np.abs(curve.speed - jump.to_speed)))
+            if not (keep[i] and keep[j]):  # from or to a speed with no periodic orbit drawn
+                continue
             axis.annotate("", (curve.speed[j] * fx, values[j]), (curve.speed[i] * fx, values[i]),
                           arrowprops={"arrowstyle": "->", "color": "0.35", "lw": 0.8})
