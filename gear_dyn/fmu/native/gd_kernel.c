@@ -182,8 +182,9 @@ static double flat_advance(ctx *q, double *y, double dt, int *event)
     return dt;
 }
 
-/* Dormand-Prince 5(4) */
-static const double A[7][6] = {
+/* Dormand-Prince 5(4): nodes, stages and the error weights (5th minus 4th order); the torsional
+   kernel (gd_torsional.c) steps with the same pair */
+const double gd_dp_a[7][6] = {
     {0, 0, 0, 0, 0, 0},
     {1.0 / 5, 0, 0, 0, 0, 0},
     {3.0 / 40, 9.0 / 40, 0, 0, 0, 0},
@@ -191,8 +192,8 @@ static const double A[7][6] = {
     {19372.0 / 6561, -25360.0 / 2187, 64448.0 / 6561, -212.0 / 729, 0, 0},
     {9017.0 / 3168, -355.0 / 33, 46732.0 / 5247, 49.0 / 176, -5103.0 / 18656, 0},
     {35.0 / 384, 0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84}};
-static const double C[7] = {0, 1.0 / 5, 3.0 / 10, 4.0 / 5, 8.0 / 9, 1, 1};
-static const double ER[7] = {71.0 / 57600, 0, -71.0 / 16695, 71.0 / 1920, -17253.0 / 339200,
+const double gd_dp_c[7] = {0, 1.0 / 5, 3.0 / 10, 4.0 / 5, 8.0 / 9, 1, 1};
+const double gd_dp_err[7] = {71.0 / 57600, 0, -71.0 / 16695, 71.0 / 1920, -17253.0 / 339200,
                              22.0 / 525, -1.0 / 40};
 static const double D[7] = {-12715105075.0 / 11282082432.0, 0, 87487479700.0 / 32700410799.0,
                             -10690763975.0 / 1880347072.0, 701980252875.0 / 199316789632.0,
@@ -214,16 +215,16 @@ static int rk_advance(ctx *q, gd_state *s, double *y, double dt, double *done, i
         for (st = 1; st < 7; st++) {
             for (j = 0; j < 2; j++) {
                 double acc = y[j];
-                for (l = 0; l < st; l++) acc += h * A[st][l] * k[l][j];
+                for (l = 0; l < st; l++) acc += h * gd_dp_a[st][l] * k[l][j];
                 yt[j] = acc;
             }
-            rhs(q, q->t0 + t + C[st] * h, yt, k[st]);
+            rhs(q, q->t0 + t + gd_dp_c[st] * h, yt, k[st]);
         }
         yn[0] = yt[0];
         yn[1] = yt[1];
         for (j = 0; j < 2; j++) {
             double e = 0.0, w = tol * (sc[j] + fmax(fabs(y[j]), fabs(yn[j])));
-            for (st = 0; st < 7; st++) e += ER[st] * k[st][j];
+            for (st = 0; st < 7; st++) e += gd_dp_err[st] * k[st][j];
             err += (h * e / w) * (h * e / w) / 2.0;
         }
         err = sqrt(err);

@@ -78,6 +78,9 @@ int gd_advance(gd_state *s, const gd_model *m, double t_end);
 void gd_outputs(const gd_state *s, const gd_model *m, double *out);
 /* the torsional model (gd_torsional.c), called by the functions above */
 void gd_tors_start(gd_state *s, const gd_model *m, double t0);
+/* the Dormand-Prince 5(4) pair both kernels step with (gd_kernel.c) */
+extern const double gd_dp_a[7][6], gd_dp_c[7], gd_dp_err[7];
+
 int gd_tors_advance(gd_state *s, const gd_model *m, double t_end);
 void gd_tors_outputs(const gd_state *s, const gd_model *m, double *out);
 

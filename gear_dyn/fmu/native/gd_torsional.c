@@ -55,18 +55,6 @@ static void trhs(const tctx *q, double t, const double *y, double *dy)
     dy[3] = (m->rb2 * f - q->t2 + n * v[4]) / m->tors->inertia[1];
 }
 
-/* Dormand-Prince 5(4): nodes, stages and the error weights (5th minus 4th order) */
-static const double A[7][6] = {
-    {0, 0, 0, 0, 0, 0},
-    {1.0 / 5, 0, 0, 0, 0, 0},
-    {3.0 / 40, 9.0 / 40, 0, 0, 0, 0},
-    {44.0 / 45, -56.0 / 15, 32.0 / 9, 0, 0, 0},
-    {19372.0 / 6561, -25360.0 / 2187, 64448.0 / 6561, -212.0 / 729, 0, 0},
-    {9017.0 / 3168, -355.0 / 33, 46732.0 / 5247, 49.0 / 176, -5103.0 / 18656, 0},
-    {35.0 / 384, 0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84}};
-static const double C[7] = {0, 1.0 / 5, 3.0 / 10, 4.0 / 5, 8.0 / 9, 1, 1};
-static const double ER[7] = {71.0 / 57600, 0, -71.0 / 16695, 71.0 / 1920, -17253.0 / 339200,
-                             22.0 / 525, -1.0 / 40};
 
 /* advance y over dt (s) on one piece; s->h carries the step size from one call to the next */
 static int rk_piece(const tctx *q, gd_state *s, double *y, double dt)
@@ -84,14 +72,14 @@ static int rk_piece(const tctx *q, gd_state *s, double *y, double dt)
         for (st = 1; st < 7; st++) {
             for (j = 0; j < 4; j++) {
                 double acc = y[j];
-                for (l = 0; l < st; l++) acc += h * A[st][l] * k[l][j];
+                for (l = 0; l < st; l++) acc += h * gd_dp_a[st][l] * k[l][j];
                 yt[j] = acc;
             }
-            trhs(q, q->t0 + t + C[st] * h, yt, k[st]);
+            trhs(q, q->t0 + t + gd_dp_c[st] * h, yt, k[st]);
         }
         for (j = 0; j < 4; j++) {
             double e = 0.0, w = tol * (sc[j] + fmax(fabs(y[j]), fabs(yt[j])));
-            for (st = 0; st < 7; st++) e += ER[st] * k[st][j];
+            for (st = 0; st < 7; st++) e += gd_dp_err[st] * k[st][j];
             err += (h * e / w) * (h * e / w) / 4.0;
         }
         err = sqrt(err);
