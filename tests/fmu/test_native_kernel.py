@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from native_drivers import driver as native_driver
 
 from gear_dyn.fmu.export import native_model
 from gear_dyn.fmu.export_c import KERNEL_SOURCES, NATIVE_DIR, compile_shared, model_data_c
@@ -108,41 +109,12 @@ def test_kernel_matches_solver(tmp_path: Path, case: str) -> None:
 def test_kernel_under_sanitizers(tmp_path: Path) -> None:
     """Kernel and FMI 2 and 3 glue under AddressSanitizer and UBSan: every model kind, a C driver
     that instantiates, steps (dividing and non-dividing steps), copies the state, resets."""
-    driver = tmp_path / "driver.c"
-    driver.write_text(r"""
-#include <stdio.h>
-#include <string.h>
-#include "fmi2/fmi2Functions.h"
-static void lg(fmi2ComponentEnvironment e, fmi2String n, fmi2Status s, fmi2String c,
-               fmi2String m, ...) { (void)e; (void)n; (void)s; (void)c; (void)m; }
-int main(void) {
-    fmi2CallbackFunctions cb = {lg, 0, 0, 0, 0};
-    fmi2ValueReference vr[2] = {6, 9}, zeta = 3;
-    fmi2Real v[2], bad = 50.0, t = 0.0, h = 1.0 / 1272.28 / 7.0;
-    fmi2FMUstate s = 0;
-    int i;
-    fmi2Component c = fmi2Instantiate("a", fmi2CoSimulation, "", "", &cb, 0, 0);
-    if (fmi2SetReal(c, &zeta, 1, &bad) != fmi2Error) return 2;
-    fmi2Reset(c);
-    fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0);
-    fmi2EnterInitializationMode(c);
-    fmi2ExitInitializationMode(c);
-    for (i = 0; i < 400; i++, t += h) {
-        if (fmi2DoStep(c, t, h, 1) != fmi2OK) return 3;
-        if (i == 100) fmi2GetFMUstate(c, &s);
-    }
-    fmi2SetFMUstate(c, s);
-    fmi2FreeFMUstate(c, &s);
-    fmi2GetReal(c, vr, 2, v);
-    printf("%.6g %.6g\n", v[0], v[1]);
-    fmi2FreeInstance(c);
-    return 0;
-}
-""")
+    driver = tmp_path / "driver.c"  # outputs 6 and 9, 7 steps per mesh period of 1272.28 Hz
+    driver.write_text(native_driver(2, (6, 9), "1.0 / 1272.28 / 7.0"))
     cc = shutil.which("cc")
     assert cc is not None
     driver3 = tmp_path / "driver3.c"
-    driver3.write_text(DRIVER3)
+    driver3.write_text(native_driver(3, (6, 9), "1.0 / 1272.28 / 7.0"))
     for case in sorted(CASES):
         model, nm = CASES[case][0]()
         (tmp_path / "model_data.c").write_text(model_data_c(nm, case))
@@ -158,42 +130,6 @@ int main(void) {
             assert "runtime error" not in proc.stderr and "ERROR" not in proc.stderr
 
 
-#: the FMI 3 twin of the FMI 2 driver above: a refused value, reset, steps, state
-#: get/serialize/deserialize/set
-DRIVER3 = r"""
-#include <stdio.h>
-#include "fmi3/fmi3Functions.h"
-static void lg(fmi3InstanceEnvironment e, fmi3Status s, fmi3String c, fmi3String m)
-{ (void)e; (void)s; (void)c; (void)m; }
-int main(void) {
-    fmi3ValueReference vr[2] = {6, 9}, zeta = 3;
-    fmi3Float64 v[2], bad = 50.0, t = 0.0, h = 1.0 / 1272.28 / 7.0, last;
-    fmi3Boolean ev, term, early;
-    fmi3FMUState s = 0, s2 = 0;
-    fmi3Byte buf[4096];
-    size_t size = 0;
-    int i;
-    fmi3Instance c = fmi3InstantiateCoSimulation("a", "", "", 0, 1, 0, 0, 0, 0, 0, lg, 0);
-    if (!c || fmi3SetFloat64(c, &zeta, 1, &bad, 1) != fmi3Error) return 2;
-    fmi3Reset(c);
-    fmi3EnterInitializationMode(c, 0, 0.0, 0.0, 0, 0.0);
-    fmi3ExitInitializationMode(c);
-    for (i = 0; i < 400; i++, t += h) {
-        if (fmi3DoStep(c, t, h, 1, &ev, &term, &early, &last) != fmi3OK) return 3;
-        if (i == 100) fmi3GetFMUState(c, &s);
-    }
-    if (fmi3SerializedFMUStateSize(c, s, &size) != fmi3OK || size > sizeof buf) return 4;
-    fmi3SerializeFMUState(c, s, buf, size);
-    fmi3DeserializeFMUState(c, buf, size, &s2);
-    fmi3SetFMUState(c, s2);
-    fmi3FreeFMUState(c, &s);
-    fmi3FreeFMUState(c, &s2);
-    fmi3GetFloat64(c, vr, 2, v, 2);
-    printf("%.6g %.6g\n", v[0], v[1]);
-    fmi3FreeInstance(c);
-    return 0;
-}
-"""
 
 
 fmpy = pytest.importorskip("fmpy")

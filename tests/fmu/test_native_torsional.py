@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from native_drivers import driver
 
 from gear_dyn.fmu.export_c import (
     KERNEL_SOURCES,
@@ -115,9 +116,9 @@ def test_kernel_under_sanitizers(tmp_path: Path) -> None:
     assert cc is not None
     _, nm = case("eccentric_helical_ideal")
     (tmp_path / "model_data.c").write_text(model_data_c(nm, "asan"))
-    for fmi, text in ((2, DRIVER2), (3, DRIVER3)):
-        drv = tmp_path / f"driver{fmi}.c"
-        drv.write_text(text)
+    for fmi in (2, 3):
+        drv = tmp_path / f"driver{fmi}.c"  # outputs 10 (dte), 12 (mesh_force)
+        drv.write_text(driver(fmi, (10, 12), "1.0 / 450.0 / 7.3"))
         exe = tmp_path / f"drv{fmi}"
         cmd = [cc, "-std=c99", "-g", "-Wall", "-Wextra", "-Werror", "-pedantic",
                "-fsanitize=address,undefined", "-fno-sanitize-recover=all", f"-I{NATIVE_DIR}",
@@ -130,80 +131,6 @@ def test_kernel_under_sanitizers(tmp_path: Path) -> None:
         assert "runtime error" not in proc.stderr and "ERROR" not in proc.stderr
         dte, force = map(float, proc.stdout.split())
         assert abs(dte) < 10 * nm.static_deflection and force > 0
-
-
-#: FMI 2 driver: value references 10 (dte) and 12 (mesh_force), 3 (damping.ratio)
-DRIVER2 = r"""
-#include <stdio.h>
-#include "fmi2/fmi2Functions.h"
-static void lg(fmi2ComponentEnvironment e, fmi2String n, fmi2Status s, fmi2String c,
-               fmi2String m, ...) { (void)e; (void)n; (void)s; (void)c; (void)m; }
-int main(void) {
-    fmi2CallbackFunctions cb = {lg, 0, 0, 0, 0};
-    fmi2ValueReference vr[2] = {10, 12}, zeta = 3;
-    fmi2Real v[2], bad = 50.0, t = 0.0, h = 1.0 / 450.0 / 7.3;
-    fmi2FMUstate s = 0, s2 = 0;
-    fmi2Byte buf[4096];
-    size_t size = 0;
-    int i;
-    fmi2Component c = fmi2Instantiate("a", fmi2CoSimulation, "", "", &cb, 0, 0);
-    if (!c || fmi2SetReal(c, &zeta, 1, &bad) != fmi2Error) return 2;
-    fmi2Reset(c);
-    fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0);
-    fmi2EnterInitializationMode(c);
-    fmi2ExitInitializationMode(c);
-    for (i = 0; i < 400; i++, t += h) {
-        if (fmi2DoStep(c, t, h, 1) != fmi2OK) return 3;
-        if (i == 100) fmi2GetFMUstate(c, &s);
-    }
-    if (fmi2SerializedFMUstateSize(c, s, &size) != fmi2OK || size > sizeof buf) return 4;
-    fmi2SerializeFMUstate(c, s, buf, size);
-    fmi2DeSerializeFMUstate(c, buf, size, &s2);
-    fmi2SetFMUstate(c, s2);
-    fmi2FreeFMUstate(c, &s);
-    fmi2FreeFMUstate(c, &s2);
-    fmi2GetReal(c, vr, 2, v);
-    printf("%.17g %.17g\n", v[0], v[1]);
-    fmi2FreeInstance(c);
-    return 0;
-}
-"""
-
-#: the FMI 3 twin of DRIVER2
-DRIVER3 = r"""
-#include <stdio.h>
-#include "fmi3/fmi3Functions.h"
-static void lg(fmi3InstanceEnvironment e, fmi3Status s, fmi3String c, fmi3String m)
-{ (void)e; (void)s; (void)c; (void)m; }
-int main(void) {
-    fmi3ValueReference vr[2] = {10, 12}, zeta = 3;
-    fmi3Float64 v[2], bad = 50.0, t = 0.0, h = 1.0 / 450.0 / 7.3, last;
-    fmi3Boolean ev, term, early;
-    fmi3FMUState s = 0, s2 = 0;
-    fmi3Byte buf[4096];
-    size_t size = 0;
-    int i;
-    fmi3Instance c = fmi3InstantiateCoSimulation("a", "", "", 0, 1, 0, 0, 0, 0, 0, lg, 0);
-    if (!c || fmi3SetFloat64(c, &zeta, 1, &bad, 1) != fmi3Error) return 2;
-    fmi3Reset(c);
-    fmi3EnterInitializationMode(c, 0, 0.0, 0.0, 0, 0.0);
-    fmi3ExitInitializationMode(c);
-    for (i = 0; i < 400; i++, t += h) {
-        if (fmi3DoStep(c, t, h, 1, &ev, &term, &early, &last) != fmi3OK) return 3;
-        if (i == 100) fmi3GetFMUState(c, &s);
-    }
-    if (fmi3SerializedFMUStateSize(c, s, &size) != fmi3OK || size > sizeof buf) return 4;
-    fmi3SerializeFMUState(c, s, buf, size);
-    fmi3DeserializeFMUState(c, buf, size, &s2);
-    fmi3SetFMUState(c, s2);
-    fmi3FreeFMUState(c, &s);
-    fmi3FreeFMUState(c, &s2);
-    fmi3GetFloat64(c, vr, 2, v, 2);
-    printf("%.17g %.17g\n", v[0], v[1]);
-    fmi3FreeInstance(c);
-    return 0;
-}
-"""
 
 
 fmpy = pytest.importorskip("fmpy")
