@@ -270,9 +270,7 @@ def detect_step(sh: Shooting, ev_a: Evaluation, t_a: FloatArray, ev_b: Evaluatio
                 settings: ContinuationSettings, s0: float) -> list[Bifurcation]:
     """Folds, period doublings, branch points and grazing between two accepted points,
     located on the step (:mod:`.detect`), in order along the branch."""
-    curve = StepCurve(sh, ev_a.z, t_a, settings)
-    curve.cache[0.0], curve.cache[ds] = ev_a, ev_b
-    curve.dp_col = ev_a.jac[:, 2]
+    curve = StepCurve(sh, ev_a, ev_b, t_a, t_b, ds, settings)
     found: list[tuple[float, Bifurcation]] = []
     stab = {True: "stable", False: "unstable"}
 
@@ -285,7 +283,7 @@ def detect_step(sh: Shooting, ev_a: Evaluation, t_a: FloatArray, ev_b: Evaluatio
         fa, fb = test(ev_a.monodromy), test(ev_b.monodromy)
         if not _sign_change(fa, fb):
             continue
-        hit = locate_root(curve, test, ds, fa, fb)
+        hit = locate_root(curve, test, fa, fb)
         if hit is None:
             continue
         ev, s, err = hit
@@ -293,7 +291,7 @@ def detect_step(sh: Shooting, ev_a: Evaluation, t_a: FloatArray, ev_b: Evaluatio
         found.append((s, Bifurcation(kind, point(ev, s), err, stab[pt_a.stable],
                                      stab[pt_b.stable])))
     if pt_a.pattern != pt_b.pattern:
-        ghit = locate_pattern_change(curve, ds, pt_a.pattern)
+        ghit = locate_pattern_change(curve, pt_a.pattern, pt_b.pattern)
         if ghit is not None:
             ev, s, err, new = ghit
             found.append((s, Bifurcation("grazing", point(ev, s), err, pt_a.pattern, new)))

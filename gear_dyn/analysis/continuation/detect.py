@@ -6,32 +6,51 @@ With the monodromy matrix M of the n-period map:
 - ``fold_test = det(M - I)``: changes sign where a real multiplier passes +1 (a fold, where the
   branch turns back in the parameter and the tangent's parameter component changes sign too,
   or a branch point, where it does not);
-- ``pd_test = det(M + I)``: changes sign where a multiplier passes -1 (period doubling).
+- ``pd_test = det(M + I)``: changes sign where a multiplier passes -1 (period doubling);
+- the grazing test (:mod:`.graze`): the signed distance of the orbit's extremum that touches a
+  contact boundary where the contact pattern changes.
 
 The single-DOF model has no Neimark-Sacker point: two complex multipliers have the modulus
 ``sqrt(det M) = exp(-c n T / (2 m_e)) < 1`` (Liouville), so they never reach the unit circle.
 
 A step of the branch from ``z_a`` along the tangent ``t_a`` is the one-parameter curve
 ``s -> corrector(z_a + s t_a)`` with the hyperplane ``t_a . (z - z_a - s t_a) = 0``; the
-accepted step is its value at ``s = ds``, so the bracket ``[0, ds]`` holds both end values, and
-a root finder on the test function along ``s`` (:func:`gear_dyn.solvers.contact_exact.
-find_root`, Illinois false position with bisection safeguards) locates the point. Contact
-pattern changes (grazing) are located by bisection on the pattern.
+accepted step is its value at ``s = ds``, so the bracket ``[0, ds]`` holds both end values.
+Each trial point is a corrector solve started from the interpolant of the points already
+found on the step (cubic Hermite between the ends with their tangents, then quadratic through
+the three nearest), so near the root it takes one or two maps; no point is computed twice.
+
+The bracket is narrowed by :func:`bracket_root`: secant steps on the test function
+(superlinear), regula falsi where the secant leaves the bracket, bisection where no test
+value is known or the steps do not halve every second trial (Brent 1973, ch. 4, whose step "by at
+least the tolerance" is kept: a trial next to an end is moved the tolerated width inside, so the
+bracket itself collapses). It stops when the parameter is known to ``locate_tol`` relative:
+the parameter's largest change over the final bracket, from the quadratic through its two
+ends and the nearest third point, is the located point's stated ``parameter_error``. Near a
+fold the parameter is stationary along the branch, so a bracket of width ``w`` in arclength
+fixes it to about ``p'' w^2 / 2``; at a period doubling or a graze to about ``p' w``.
+The contact pattern (not the grazing test's sign) decides on which side of a graze a point
+lies; where the grazing test is not available, the bracket is bisected.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import numpy as np
 from numpy.typing import NDArray
 
+from gear_dyn.analysis.continuation.graze import graze_test
 from gear_dyn.analysis.continuation.orbit import orbit_shape
 from gear_dyn.analysis.continuation.settings import ContinuationSettings
 from gear_dyn.analysis.continuation.shooting import Evaluation, Shooting
-from gear_dyn.solvers.contact_exact import find_root
 
 FloatArray = NDArray[np.float64]
+#: trial points of one location at most (bisection from a scaled step of 10 to 1e-14 needs 50)
+MAX_TRIALS = 80
+#: a trial next to a bracket end is moved this share of the tolerated width inside
+NUDGE = 0.5
 
 
 def fold_test(monodromy: FloatArray) -> float:
@@ -45,91 +64,266 @@ def pd_test(monodromy: FloatArray) -> float:
 
 
 class StepCurve:
-    """Points of one accepted step, ``s -> corrected point`` for ``0 <= s <= ds``."""
+    """Points of one accepted step, ``s -> corrected point`` for ``0 <= s <= ds``.
 
-    def __init__(self, sh: Shooting, z_a: FloatArray, t_a: FloatArray,
-                 settings: ContinuationSettings) -> None:
-        self.sh, self.z_a, self.t_a, self.settings = sh, z_a, t_a, settings
-        self.cache: dict[float, Evaluation] = {}
-        self.dp_col: FloatArray | None = None  #: chord for the parameter column
+    Parameters
+    ----------
+    sh : Shooting
+    ev_a, ev_b : Evaluation
+        The converged points at ``s = 0`` and ``s = ds``.
+    t_a, t_b : ndarray (3,)
+        Their unit tangents (``t_b`` oriented along ``t_a``).
+    ds : float
+        The step (scaled arclength along ``t_a``).
+    settings : ContinuationSettings
+    """
+
+    def __init__(self, sh: Shooting, ev_a: Evaluation, ev_b: Evaluation, t_a: FloatArray,
+                 t_b: FloatArray, ds: float, settings: ContinuationSettings) -> None:
+        self.sh, self.t_a, self.ds, self.settings = sh, t_a, ds, settings
+        self.z_a = ev_a.z
+        self.cache: dict[float, Evaluation] = {0.0: ev_a, ds: ev_b}
+        # dz/ds at the ends: s is the projection on t_a, so t / (t . t_a)
+        self.slope = {0.0: t_a, ds: t_b / float(t_b @ t_a)}
+
+    def predict(self, s: float) -> FloatArray:
+        """The interpolant of the points found so far, at ``s``."""
+        if len(self.cache) == 2:  # cubic Hermite between the ends
+            h = self.ds
+            u = s / h
+            z0, z1 = self.cache[0.0].z, self.cache[h].z
+            d0, d1 = self.slope[0.0], self.slope[h]
+            return np.asarray((2 * u**3 - 3 * u**2 + 1) * z0 + (u**3 - 2 * u**2 + u) * h * d0
+                              + (-2 * u**3 + 3 * u**2) * z1 + (u**3 - u**2) * h * d1)
+        near = sorted(self.cache, key=lambda x: abs(x - s))[:3]
+        z = np.zeros(3)
+        for i, si in enumerate(near):
+            w = 1.0
+            for j, sj in enumerate(near):
+                if j != i:
+                    w *= (s - sj) / (si - sj)
+            z = z + w * self.cache[si].z
+        return z
 
     def at(self, s: float) -> Evaluation | None:
         """The corrected point at arclength ``s`` along the step (None: no convergence)."""
         hit = self.cache.get(s)
         if hit is not None:
             return hit
-        zp = self.z_a + s * self.t_a
-        out = self.sh.correct(zp, self.t_a, float(self.t_a @ zp), self.settings.newton_tol,
-                              self.settings.max_newton, dp_col=self.dp_col, fresh=False)
+        nearest = min(self.cache, key=lambda x: abs(x - s))
+        out = self.sh.correct(self.predict(s), self.t_a, float(self.t_a @ self.z_a) + s,
+                              self.settings.newton_tol, self.settings.max_newton,
+                              dp_col=self.cache[nearest].jac[:, 2], fresh=False)
         if out is None:
             return None
         self.cache[s] = out[0]
         return out[0]
 
+    def newton_error(self, s: float) -> float:
+        """The parameter's first-order error (SI) at the cached point ``s``: the parameter
+        component of the Newton step its residual would still take (the corrector stops
+        once the residual is below ``newton_tol``)."""
+        ev = self.cache[s]
+        f = np.append(ev.g, float(self.t_a @ (ev.z - self.z_a)) - s)
+        try:
+            dz = np.linalg.solve(np.vstack([ev.jac, self.t_a]), -f)
+        except np.linalg.LinAlgError:
+            return math.nan
+        return self.sh.p_ref * abs(float(dz[2]))
 
-def locate_root(curve: StepCurve, test: Callable[[FloatArray], float], ds: float,
-                f_a: float, f_b: float) -> tuple[Evaluation, float, float] | None:
+    def located_error(self, lo: float, hi: float, r: float) -> float:
+        """Stated error (SI) of the parameter of the point ``r`` located in ``[lo, hi]``:
+        the bracket's (:meth:`parameter_error`) plus the corrector's (:meth:`newton_error`)."""
+        return self.parameter_error(lo, hi, r) + self.newton_error(r)
+
+    def p(self, s: float) -> float:
+        """Scaled parameter of the cached point at ``s``."""
+        return float(self.cache[s].z[2])
+
+    def _quadratic(self, lo: float, hi: float) -> tuple[float, float, float, float]:
+        """``(s0, q0, q1, q2)``: ``p(s) ~ q0 + q1 (s - s0) + q2 (s - s0)^2`` through the
+        bracket ends and the nearest third point (with only the ends: their tangents)."""
+        others = [x for x in self.cache if x not in (lo, hi)]
+        pl, ph = self.p(lo), self.p(hi)
+        d1 = (ph - pl) / (hi - lo)
+        if others:
+            x3 = min(others, key=lambda x: min(abs(x - lo), abs(x - hi)))
+            d2 = ((self.p(x3) - pl) / (x3 - lo) - d1) / (x3 - hi)
+        else:
+            d2 = float(self.slope[hi][2] - self.slope[lo][2]) / (2 * (hi - lo))
+        # Newton form p = pl + d1 (s - lo) + d2 (s - lo)(s - hi), about lo
+        return lo, pl, d1 - d2 * (hi - lo), d2
+
+    def parameter_error(self, lo: float, hi: float, r: float) -> float:
+        """Largest change of the parameter (SI) over ``[lo, hi]`` from its value at ``r``,
+        on the quadratic model of :meth:`_quadratic`."""
+        s0, q0, q1, q2 = self._quadratic(lo, hi)
+
+        def q(s: float) -> float:
+            return q0 + q1 * (s - s0) + q2 * (s - s0) ** 2
+
+        cands = [lo, hi]
+        if q2 != 0.0:
+            sv = s0 - q1 / (2 * q2)
+            if lo < sv < hi:
+                cands.append(sv)
+        return self.sh.p_ref * max(abs(q(s) - q(r)) for s in cands)
+
+    def tolerated_width(self, lo: float, hi: float, r: float) -> float:
+        """Bracket width (scaled arclength) over which the parameter, on the quadratic model,
+        changes by ``locate_tol`` relative at most, next to ``r``."""
+        s0, _q0, q1, q2 = self._quadratic(lo, hi)
+        d1 = abs(q1 + 2 * q2 * (r - s0))
+        tol = self.settings.locate_tol * abs(self.p(r))
+        return 2 * tol / (d1 + math.sqrt(d1 * d1 + 4 * abs(q2) * tol) + 1e-300)
+
+
+Probe = Callable[[float], "tuple[bool, float | None] | None"]
+
+
+def bracket_root(curve: StepCurve, probe: Probe, v_lo: float | None, v_hi: float | None,
+                 report_hi: bool) -> tuple[float, float, float] | None:
+    """Narrow ``[0, ds]`` onto the point where ``probe`` changes side (module docstring).
+
+    Parameters
+    ----------
+    curve : StepCurve
+    probe : callable
+        ``s -> (on_hi_side, test value or None)``, or None where the corrector fails.
+    v_lo, v_hi : float or None
+        Test values at the ends (opposite signs), or None (bisection).
+    report_hi : bool
+        Report the bracket's ``hi`` end (a graze: the first point with the new pattern);
+        else the end with the smaller test value.
+
+    Returns
+    -------
+    (s, lo, hi) or None
+        The reported point and the final bracket; None when a trial's corrector fails.
+    """
+    lo, hi = 0.0, curve.ds
+    vals: dict[float, float | None] = {lo: v_lo, hi: v_hi}
+    recent: list[float] = [lo, hi]
+    steps: list[float] = []  # distance of each trial from the one before
+    for _ in range(MAX_TRIALS):
+        a, b = vals[lo], vals[hi]
+        if report_hi or a is None or b is None:
+            r = hi
+        else:
+            r = lo if abs(a) < abs(b) else hi
+        if curve.parameter_error(lo, hi, r) <= curve.settings.locate_tol * abs(
+                curve.sh.p_ref * curve.p(r)):
+            return r, lo, hi
+        w_ok = curve.tolerated_width(lo, hi, r)
+        s = math.nan
+        known = [x for x in recent if vals[x] is not None]
+        if len(known) >= 2:  # secant through the two latest values
+            x0, x1 = known[-2], known[-1]
+            f0, f1 = vals[x0], vals[x1]
+            assert f0 is not None and f1 is not None
+            if f1 != f0:
+                s = x1 - f1 * (x1 - x0) / (f1 - f0)
+        if not lo < s < hi and a is not None and b is not None and a != b:
+            s = lo - a * (hi - lo) / (b - a)  # regula falsi on the bracket
+        if not lo < s < hi or (len(steps) >= 2 and abs(s - recent[-1]) > 0.5 * steps[-2]):
+            s = 0.5 * (lo + hi)  # no value, or the steps do not shrink fast enough: bisect
+        if hi - lo <= 2 * w_ok:
+            s = 0.5 * (lo + hi)
+        else:  # at least NUDGE * w_ok from either end (Brent's step by the tolerance)
+            s = min(max(s, lo + NUDGE * w_ok), hi - NUDGE * w_ok)
+        res = probe(s)
+        if res is None:
+            return None
+        side, val = res
+        vals[s] = val
+        steps.append(abs(s - recent[-1]))
+        recent.append(s)
+        if side:
+            hi = s
+        else:
+            lo = s
+    return (hi if report_hi else lo), lo, hi
+
+
+def locate_root(curve: StepCurve, test: Callable[[FloatArray], float], f_a: float, f_b: float
+                ) -> tuple[Evaluation, float, float] | None:
     """The point of the step where ``test(M)`` changes sign.
 
     Returns
     -------
     (Evaluation, s, parameter_error) or None
-        ``parameter_error``: the parameter's change (SI) between the points at ``s`` and at
-        ``s + locate_tol`` (the root finder's final bracket width). None when the corrector
-        fails inside the bracket.
+        ``parameter_error``: the stated error (SI), the parameter's largest change over the
+        final bracket and the corrector's error (:meth:`StepCurve.located_error`). None when
+        the corrector fails inside the bracket.
     """
-    failed = False
+    hi_positive = f_b > 0.0
 
-    def f(s: float) -> float:
-        nonlocal failed
+    def probe(s: float) -> tuple[bool, float | None] | None:
         ev = curve.at(s)
         if ev is None:
-            failed = True
-            return 0.0  # ends the root finder; the result is discarded
-        return test(ev.monodromy)
+            return None
+        v = test(ev.monodromy)
+        return (v > 0.0) == hi_positive, v
 
-    s = find_root(f, 0.0, ds, f_a, f_b, curve.settings.locate_tol)
-    ev = curve.at(s)
-    if failed or ev is None:
+    hit = bracket_root(curve, probe, f_a, f_b, report_hi=False)
+    if hit is None:
         return None
-    s2 = min(s + curve.settings.locate_tol, ds)
-    ev2 = curve.at(s2)
-    err = abs(curve.sh.param(ev2.z) - curve.sh.param(ev.z)) if ev2 is not None else np.nan
-    return ev, s, float(err)
+    s, lo, hi = hit
+    return curve.cache[s], s, curve.located_error(lo, hi, s)
 
 
-def locate_pattern_change(curve: StepCurve, ds: float, pattern_a: str
+def locate_pattern_change(curve: StepCurve, pattern_a: str, pattern_b: str
                           ) -> tuple[Evaluation, float, float, str] | None:
-    """The first point of the step where the contact pattern differs from ``pattern_a``, by
-    bisection on ``s`` to ``locate_tol``.
+    """The first point of the step where the contact pattern differs from ``pattern_a``.
+
+    With the grazing test (:mod:`.graze`) of the step's ends, the bracket is narrowed on its
+    sign, and the final bracket's ends are checked on the contact pattern (``pattern_a`` at
+    the lower end, another at the upper); where the test is not available, or the check fails
+    (a second contact change inside the step), the bracket is bisected on the pattern.
 
     Returns
     -------
     (Evaluation, s, parameter_error, new pattern) or None (the corrector failed)
     """
     sh = curve.sh
+    patterns = {0.0: pattern_a, curve.ds: pattern_b}
 
-    def pattern(s: float) -> str | None:
-        ev = curve.at(s)
-        if ev is None:
-            return None
-        return orbit_shape(ev.model, sh.state(ev.z), sh.periods, sh.route, sh.rtol).pattern
+    def pattern(s: float) -> str:
+        if s not in patterns:
+            ev = curve.cache[s]
+            patterns[s] = orbit_shape(ev.model, sh.state(ev.z), sh.periods, sh.route,
+                                      sh.rtol).pattern
+        return patterns[s]
 
-    lo, hi = 0.0, ds
-    new = pattern(hi)
-    if new is None:
-        return None
-    while hi - lo > curve.settings.locate_tol:
-        mid = 0.5 * (lo + hi)
-        pm = pattern(mid)
-        if pm is None:
+    def on_pattern(s: float) -> tuple[bool, float | None] | None:
+        if curve.at(s) is None:
             return None
-        if pm == pattern_a:
-            lo = mid
-        else:
-            hi, new = mid, pm
-    ev_hi, ev_lo = curve.at(hi), curve.at(lo)
-    if ev_hi is None or ev_lo is None:
+        return pattern(s) != pattern_a, None
+
+    hit: tuple[float, float, float] | None = None
+    ev_a, ev_b = curve.cache[0.0], curve.cache[curve.ds]
+    made = graze_test(ev_a.model, sh.state(ev_a.z), ev_b.model, sh.state(ev_b.z), sh.periods,
+                      sh.route, sh.rtol)
+    if made is not None:
+        test, v_a, v_b = made
+
+        def on_test(s: float) -> tuple[bool, float | None] | None:
+            nonlocal test
+            ev = curve.at(s)
+            if ev is None:
+                return None
+            got = test.margin(ev.model, sh.state(ev.z), sh.periods, sh.route, sh.rtol)
+            if got is None:
+                return pattern(s) != pattern_a, None
+            val, test = got
+            return (val > 0.0) == (v_b > 0.0), val
+
+        hit = bracket_root(curve, on_test, v_a, v_b, report_hi=True)
+        if hit is not None and (pattern(hit[1]) != pattern_a or pattern(hit[2]) == pattern_a):
+            hit = None
+    if hit is None:
+        hit = bracket_root(curve, on_pattern, None, None, report_hi=True)
+    if hit is None:
         return None
-    err = abs(sh.param(ev_hi.z) - sh.param(ev_lo.z))
-    return ev_hi, hi, err, new
+    s, lo, hi = hit
+    return curve.cache[s], s, curve.located_error(lo, hi, s), pattern(s)

@@ -53,8 +53,12 @@ class ContinuationSettings:
         map (1e-9..1e-2); its error is O(fd_step**2) (truncation) plus O(eps / fd_step)
         (rounding), both about 1e-10 at the default.
     locate_tol : float
-        Scaled arclength to which bifurcation points are located (1e-14..1e-4); the parameter
-        is then known to about ``locate_tol`` relative, well inside 1e-8.
+        Relative error of the parameter to which folds, period doublings and grazing points
+        are located (1e-14..1e-4): the bracketing stops when the parameter changes by at most
+        ``locate_tol |p|`` over the final bracket (:mod:`.detect`). The default is a
+        hundredth of the 1e-8 asked for, which leaves room for the corrector's own error
+        (each point closes to ``newton_tol``); both make up a located point's stated
+        ``parameter_error``.
     liouville_tol : float
         Largest relative mismatch ``|det M / exp(-c nT / m) - 1|`` accepted on a point
         (1e-14..1); a point over it is flagged (``liouville_ok`` False), not dropped.
@@ -78,7 +82,7 @@ class ContinuationSettings:
     max_turn: float = 0.3
     rtol: float = 1e-10
     fd_step: float = 1e-5
-    locate_tol: float = 1e-11
+    locate_tol: float = 1e-10
     liouville_tol: float = 1e-6
     detect: bool = True
 

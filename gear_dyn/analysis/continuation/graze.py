@@ -1,0 +1,221 @@
+"""The grazing test function: how far the orbit's extremum that touches a contact boundary lies
+from it (di Bernardo et al. 2008, sec. 2.3 and ch. 7).
+
+A contact spell appears or vanishes on a branch where a local extremum of the relative
+displacement ``x(t)`` touches a contact boundary ``x = +-b`` (a grazing orbit: ``x = +-b`` and
+``x' = 0`` at one instant). The signed distance ``x_e - level`` of that extremum is continuous
+along the branch and changes sign there, so a root finder brackets on it as on the fold and
+period-doubling tests (:mod:`.detect`); the contact pattern still decides on which side of
+the graze a point lies.
+
+The extremum is found on the orbit sampled at :data:`~.orbit.SAMPLES_PER_PERIOD` points per
+mesh period (a sign change of ``x'``) and refined by Newton's method on ``x'(t) = 0`` with the
+acceleration from the model's right-hand side, each iterate's state propagated from the sample
+before it (closed form on the exact route, DOP853 to ``rtol`` on the variational one); its
+value is then exact to rounding on the exact route, to ``rtol`` on the variational one.
+Models with a transmission error (where the contact coordinate is ``x - e(t)``) have no test
+function here: the caller bisects on the contact pattern.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gear_dyn.analysis.continuation.orbit import SAMPLES_PER_PERIOD
+from gear_dyn.analysis.stability import flow_on_grid
+from gear_dyn.errors import SolverError
+from gear_dyn.models.base import MeshModel
+from gear_dyn.solvers.contact_exact import propagate_contact_exact
+
+FloatArray = NDArray[np.float64]
+#: Newton iterations on x'(t) = 0 (quadratic convergence from a sample step's secant guess)
+NEWTON_ITERATIONS = 6
+#: Newton stops when its time step is below this share of the sample step: the Taylor step to
+#: the stationary point then errs by x''' dt^3 / 6, ~1e-20 of the amplitude at 256 samples per
+#: mesh period
+NEWTON_STOP = 1e-4
+
+
+@dataclass(frozen=True)
+class Extremum:
+    """A local extremum of ``x(t)`` on an orbit.
+
+    Attributes
+    ----------
+    t : float
+        Time from the orbit's start (s).
+    x : float
+        Value (m).
+    kind : int
+        +1 a maximum, -1 a minimum.
+    """
+
+    t: float
+    x: float
+    kind: int
+
+
+def _advance(model: MeshModel, y: FloatArray, t0: float, t1: float, route: str, rtol: float
+             ) -> FloatArray:
+    """State at ``t1`` from ``y`` at ``t0`` (``t1 >= t0``)."""
+    if t1 <= t0:
+        return np.asarray(y, dtype=float)
+    grid = np.array([t0, t1])
+    if route == "exact":
+        out, _stats = propagate_contact_exact(model, grid, y0=y)
+    else:
+        out = flow_on_grid(model, y, grid, rtol=rtol)
+    return np.asarray(out[:, -1], dtype=float)
+
+
+def _samples(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: float
+             ) -> tuple[FloatArray, FloatArray]:
+    t = np.linspace(0.0, periods / model.mesh_frequency, periods * SAMPLES_PER_PERIOD + 1)
+    if route == "exact":
+        y, _stats = propagate_contact_exact(model, t, y0=y0)
+    else:
+        y = flow_on_grid(model, y0, t, rtol=rtol)
+    return t, np.asarray(y, dtype=float)
+
+
+def _refine(model: MeshModel, t: FloatArray, y: FloatArray, j: int, route: str, rtol: float
+            ) -> Extremum:
+    """The extremum between samples ``j`` and ``j + 1`` (where ``x'`` changes sign)."""
+    ta, tb = float(t[j]), float(t[j + 1])
+    va, vb = float(y[1, j]), float(y[1, j + 1])
+    kind = 1 if va > 0.0 else -1
+    tt = ta + (tb - ta) * va / (va - vb)  # secant on x'
+    ya = y[:, j]
+    x_e = float("nan")
+    for _ in range(NEWTON_ITERATIONS):
+        yt = _advance(model, ya, ta, tt, route, rtol)
+        acc = float(model.rhs(tt, yt)[1])
+        if acc == 0.0:
+            x_e = float(yt[0])
+            break
+        dt = -float(yt[1]) / acc
+        x_e = float(yt[0] + yt[1] * dt + 0.5 * acc * dt * dt)  # Taylor to the stationary point
+        if abs(dt) <= NEWTON_STOP * (tb - ta):
+            break
+        tt = min(max(tt + dt, ta), tb)
+    return Extremum(tt, x_e, kind)
+
+
+def _turns(v: FloatArray) -> NDArray[np.int64]:
+    """Sample indices ``j`` where ``x'`` changes sign between ``j`` and ``j + 1``."""
+    return np.flatnonzero(((v[:-1] > 0.0) & (v[1:] <= 0.0)) | ((v[:-1] < 0.0) & (v[1:] >= 0.0)))
+
+
+def extrema(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: float,
+            near: tuple[float, int] | None = None) -> list[Extremum]:
+    """Local extrema of ``x(t)`` over the n-period orbit through ``y0``.
+
+    Parameters
+    ----------
+    model : MeshModel
+    y0 : ndarray
+        Orbit state at t = 0 [m, m/s].
+    periods : int
+        Mesh periods n.
+    route : str
+        ``exact`` or ``variational``.
+    rtol : float
+        Variational tolerance.
+    near : (float, int) or None
+        ``(time, kind)``: only the extremum of that kind nearest that time (s); None: all.
+
+    Returns
+    -------
+    list of Extremum
+        In time order (empty where there is none of the kind asked for).
+
+    Raises
+    ------
+    SolverError
+        The propagation failed.
+    """
+    t, y = _samples(model, y0, periods, route, rtol)
+    idx = _turns(y[1])
+    if near is not None:
+        t_near, kind = near
+        idx = idx[(y[1, idx] > 0.0) == (kind > 0)]
+        if idx.size == 0:
+            return []
+        idx = idx[[int(np.argmin(np.abs(t[idx] - t_near)))]]
+    return [_refine(model, t, y, int(j), route, rtol) for j in idx]
+
+
+@dataclass(frozen=True)
+class GrazeTest:
+    """The extremum tracked across a graze: its kind, the boundary it crosses and where it was
+    last seen.
+
+    Attributes
+    ----------
+    kind : int
+        +1 a maximum, -1 a minimum.
+    level : float
+        The contact boundary (+b or -b, m).
+    t : float
+        Time of the extremum on the orbit last seen (s).
+    """
+
+    kind: int
+    level: float
+    t: float
+
+    def margin(self, model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: float
+               ) -> tuple[float, GrazeTest] | None:
+        """``x_e - level`` on the orbit through ``y0`` (m), and the test moved to where the
+        extremum is now; None where the orbit has no extremum of the kind."""
+        try:
+            found = extrema(model, y0, periods, route, rtol, near=(self.t, self.kind))
+        except SolverError:
+            return None
+        if not found:
+            return None
+        e = found[0]
+        return e.x - self.level, GrazeTest(self.kind, self.level, e.t)
+
+
+def graze_test(model_a: MeshModel, y_a: FloatArray, model_b: MeshModel, y_b: FloatArray,
+               periods: int, route: str, rtol: float) -> tuple[GrazeTest, float, float] | None:
+    """The grazing test between the orbits through ``y_a`` and ``y_b`` (either end of a step
+    where the contact pattern changes), with its values at both ends.
+
+    An extremum of ``a`` and the extremum of the same kind of ``b`` nearest it in time form a
+    pair when one contact boundary lies between their values (the sampled values pick the
+    pair, the refined values confirm it); the test follows the one pair found. None when there
+    is no such pair, more than one, or the model has a transmission error.
+    """
+    if model_a.transmission_error is not None or model_a.backlash is None:
+        return None
+    b = float(model_a.backlash)
+    try:
+        ta, ya = _samples(model_a, y_a, periods, route, rtol)
+        tb, yb = _samples(model_b, y_b, periods, route, rtol)
+    except SolverError:
+        return None
+    ia, ib = _turns(ya[1]), _turns(yb[1])
+    pairs: list[tuple[int, int, float]] = []
+    for j in ia:
+        same = ib[(yb[1, ib] > 0.0) == (ya[1, j] > 0.0)]
+        if not same.size:
+            continue
+        k = int(same[np.argmin(np.abs(tb[same] - ta[j]))])
+        xa, xb = 0.5 * (ya[0, j] + ya[0, j + 1]), 0.5 * (yb[0, k] + yb[0, k + 1])
+        pairs.extend((int(j), k, level) for level in (b, -b) if (xa - level) * (xb - level) < 0)
+    if len(pairs) != 1:
+        return None
+    j, k, level = pairs[0]
+    try:
+        ea = _refine(model_a, ta, ya, j, route, rtol)
+        eb = _refine(model_b, tb, yb, k, route, rtol)
+    except SolverError:
+        return None
+    if (ea.x - level) * (eb.x - level) >= 0.0:
+        return None
+    return GrazeTest(ea.kind, level, ea.t), ea.x - level, eb.x - level
