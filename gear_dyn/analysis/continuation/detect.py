@@ -247,7 +247,10 @@ def bracket_root(curve: StepCurve, probe: Probe, v_lo: float | None, v_hi: float
 
 def locate_root(curve: StepCurve, test: Callable[[FloatArray], float], f_a: float, f_b: float
                 ) -> tuple[Evaluation, float, float] | None:
-    """The point of the step where ``test(M)`` changes sign.
+    """The point of the step where ``test(M)`` changes sign: bracketed until the parameter
+    is known to ``locate_tol`` relative, then the point at the secant root of the final
+    bracket (near a fold the bracket is wide in arclength, and the multiplier at its ends
+    still some way from +1; at the secant root the test is zero to second order in it).
 
     Returns
     -------
@@ -269,6 +272,11 @@ def locate_root(curve: StepCurve, test: Callable[[FloatArray], float], f_a: floa
     if hit is None:
         return None
     s, lo, hi = hit
+    f_lo, f_hi = test(curve.cache[lo].monodromy), test(curve.cache[hi].monodromy)
+    if f_lo != f_hi:  # the point itself at the secant root inside the final bracket
+        s_root = lo - f_lo * (hi - lo) / (f_hi - f_lo)
+        if lo < s_root < hi and curve.at(s_root) is not None:
+            s = s_root
     return curve.cache[s], s, curve.located_error(lo, hi, s)
 
 
