@@ -37,6 +37,8 @@ NEWTON_ITERATIONS = 6
 #: the stationary point then errs by x''' dt^3 / 6, ~1e-20 of the amplitude at 256 samples per
 #: mesh period
 NEWTON_STOP = 1e-4
+#: sample steps either side of the extremum's last time searched first for it
+WINDOW = 4
 
 
 @dataclass(frozen=True)
@@ -71,14 +73,20 @@ def _advance(model: MeshModel, y: FloatArray, t0: float, t1: float, route: str, 
     return np.asarray(out[:, -1], dtype=float)
 
 
-def _samples(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: float
-             ) -> tuple[FloatArray, FloatArray]:
-    t = np.linspace(0.0, periods / model.mesh_frequency, periods * SAMPLES_PER_PERIOD + 1)
+def _on(model: MeshModel, y0: FloatArray, t: FloatArray, route: str, rtol: float
+        ) -> FloatArray:
+    """States on the increasing grid ``t`` (``t[0] = 0``) from ``y0``."""
     if route == "exact":
         y, _stats = propagate_contact_exact(model, t, y0=y0)
     else:
         y = flow_on_grid(model, y0, t, rtol=rtol)
-    return t, np.asarray(y, dtype=float)
+    return np.asarray(y, dtype=float)
+
+
+def _samples(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: float
+             ) -> tuple[FloatArray, FloatArray]:
+    t = np.linspace(0.0, periods / model.mesh_frequency, periods * SAMPLES_PER_PERIOD + 1)
+    return t, _on(model, y0, t, route, rtol)
 
 
 def _refine(model: MeshModel, t: FloatArray, y: FloatArray, j: int, route: str, rtol: float
@@ -171,8 +179,20 @@ class GrazeTest:
                ) -> tuple[float, GrazeTest] | None:
         """``x_e - level`` on the orbit through ``y0`` (m), and the test moved to where the
         extremum is now; None where the orbit has no extremum of the kind."""
+        h = 1.0 / (model.mesh_frequency * SAMPLES_PER_PERIOD)
+        t1 = periods / model.mesh_frequency
         try:
-            found = extrema(model, y0, periods, route, rtol, near=(self.t, self.kind))
+            # first the samples next to where it was (the orbit moved little), else all
+            t = self.t + h * np.arange(-WINDOW, WINDOW + 1)
+            t = np.concatenate([[0.0], t[(t > 0.0) & (t < t1)]])
+            y = _on(model, y0, t, route, rtol)
+            idx = _turns(y[1])[1:]  # not the interval from t = 0
+            idx = idx[(y[1, idx] > 0.0) == (self.kind > 0)]
+            if idx.size:
+                j = int(idx[np.argmin(np.abs(t[idx] - self.t))])
+                found = [_refine(model, t, y, j, route, rtol)]
+            else:
+                found = extrema(model, y0, periods, route, rtol, near=(self.t, self.kind))
         except SolverError:
             return None
         if not found:
