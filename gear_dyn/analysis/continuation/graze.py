@@ -184,7 +184,7 @@ class GrazeTest:
         try:
             # first the samples next to where it was (the orbit moved little), else all
             t = self.t + h * np.arange(-WINDOW, WINDOW + 1)
-            t = np.concatenate([[0.0], t[(t > 0.0) & (t < t1)]])
+            t = np.concatenate([[0.0], t[(t > 0.0) & (t < t1)]]).astype(np.float64)
             y = _on(model, y0, t, route, rtol)
             idx = _turns(y[1])[1:]  # not the interval from t = 0
             idx = idx[(y[1, idx] > 0.0) == (self.kind > 0)]
