@@ -183,10 +183,11 @@ class GrazeTest:
         t1 = periods / model.mesh_frequency
         try:
             # first the samples next to where it was (the orbit moved little), else all
-            t = self.t + h * np.arange(-WINDOW, WINDOW + 1)
-            t = np.concatenate([[0.0], t[(t > 0.0) & (t < t1)]]).astype(np.float64)
+            near = self.t + h * np.arange(-WINDOW, WINDOW + 1)
+            t: FloatArray = np.concatenate([[0.0], near[(near > 0.0) & (near < t1)]])
             y = _on(model, y0, t, route, rtol)
-            idx = _turns(y[1])[1:]  # not the interval from t = 0
+            idx = _turns(y[1])
+            idx = idx[idx >= 1]  # not the interval from t = 0 to the window
             idx = idx[(y[1, idx] > 0.0) == (self.kind > 0)]
             if idx.size:
                 j = int(idx[np.argmin(np.abs(t[idx] - self.t))])
