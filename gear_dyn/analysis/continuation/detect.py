@@ -51,6 +51,9 @@ FloatArray = NDArray[np.float64]
 MAX_TRIALS = 80
 #: a trial next to a bracket end is moved this share of the tolerated width inside
 NUDGE = 0.5
+#: a grazing test value within this share of the half gap is left to the contact pattern to
+#: place on either side (the exact flow sees a spell down to rounding, ~1e-16 of it)
+GRAZE_BAND = 1e-10
 
 
 def fold_test(monodromy: FloatArray) -> float:
@@ -285,9 +288,11 @@ def locate_pattern_change(curve: StepCurve, pattern_a: str, pattern_b: str
     """The first point of the step where the contact pattern differs from ``pattern_a``.
 
     With the grazing test (:mod:`.graze`) of the step's ends, the bracket is narrowed on its
-    sign, and the final bracket's ends are checked on the contact pattern (``pattern_a`` at
-    the lower end, another at the upper); where the test is not available, or the check fails
-    (a second contact change inside the step), the bracket is bisected on the pattern.
+    sign (on the pattern where it is within :data:`GRAZE_BAND` of the half gap), and the
+    final bracket's ends are checked on the contact pattern (``pattern_a`` at the lower end,
+    another at the upper); where the test is not available, or the check fails (a second
+    contact change inside the step, or a pattern sampled coarser than the test on the
+    variational route), the bracket is bisected on the pattern.
 
     Returns
     -------
@@ -314,6 +319,7 @@ def locate_pattern_change(curve: StepCurve, pattern_a: str, pattern_b: str
                       sh.route, sh.rtol)
     if made is not None:
         test, v_a, v_b = made
+        band = abs(test.level)
 
         def on_test(s: float) -> tuple[bool, float | None] | None:
             nonlocal test
@@ -324,6 +330,8 @@ def locate_pattern_change(curve: StepCurve, pattern_a: str, pattern_b: str
             if got is None:
                 return pattern(s) != pattern_a, None
             val, test = got
+            if abs(val) <= GRAZE_BAND * band:  # the pattern's own resolution: it decides
+                return pattern(s) != pattern_a, val
             return (val > 0.0) == (v_b > 0.0), val
 
         hit = bracket_root(curve, on_test, v_a, v_b, report_hi=True)
