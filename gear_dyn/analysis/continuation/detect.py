@@ -51,6 +51,9 @@ FloatArray = NDArray[np.float64]
 MAX_TRIALS = 80
 #: a trial next to a bracket end is moved this share of the tolerated width inside
 NUDGE = 0.5
+#: parameter values below this share of the start value count as this share in the
+#: relative location tolerance
+MIN_SCALE = 1e-3
 #: a grazing test value within this share of the half gap is left to the contact pattern to
 #: place on either side (the exact flow sees a spell down to rounding, ~1e-16 of it)
 GRAZE_BAND = 1e-10
@@ -172,12 +175,17 @@ class StepCurve:
                 cands.append(sv)
         return self.sh.p_ref * max(abs(q(s) - q(r)) for s in cands)
 
+    def target(self, r: float) -> float:
+        """The tolerated parameter error at ``r`` (scaled): ``locate_tol`` relative, of at
+        least a thousandth of the start value (a parameter through zero, e.g. a torque)."""
+        return self.settings.locate_tol * max(abs(self.p(r)), MIN_SCALE)
+
     def tolerated_width(self, lo: float, hi: float, r: float) -> float:
         """Bracket width (scaled arclength) over which the parameter, on the quadratic model,
         changes by ``locate_tol`` relative at most, next to ``r``."""
         s0, _q0, q1, q2 = self._quadratic(lo, hi)
         d1 = abs(q1 + 2 * q2 * (r - s0))
-        tol = self.settings.locate_tol * abs(self.p(r))
+        tol = self.target(r)
         return 2 * tol / (d1 + math.sqrt(d1 * d1 + 4 * abs(q2) * tol) + 1e-300)
 
 
@@ -214,8 +222,7 @@ def bracket_root(curve: StepCurve, probe: Probe, v_lo: float | None, v_hi: float
             r = hi
         else:
             r = lo if abs(a) < abs(b) else hi
-        if curve.parameter_error(lo, hi, r) <= curve.settings.locate_tol * abs(
-                curve.sh.p_ref * curve.p(r)):
+        if curve.parameter_error(lo, hi, r) <= curve.sh.p_ref * curve.target(r):
             return r, lo, hi
         w_ok = curve.tolerated_width(lo, hi, r)
         s = math.nan
