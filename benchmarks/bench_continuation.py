@@ -45,6 +45,7 @@ ROOT = Path(__file__).resolve().parents[1]
 RPM = 2 * math.pi / 60
 LO, HI = 3000.0, 9500.0
 MAX_PERIODS = 20000
+KINDS = {"fold": "folds", "period_doubling": "period doublings", "grazing": "grazing points"}
 
 
 def brute_force(factory: Any, speeds: np.ndarray, tol: float) -> tuple[float, list[int]]:
@@ -95,8 +96,8 @@ def main(argv: list[str] | None = None) -> int:
         dt, brd = timed(lambda: continue_orbits(factory, LO * RPM, HI * RPM, settings=settings))
         t_on.append(dt / len(brd))
         n_special = len(brd.bifurcations)
-        kinds = ", ".join(f"{len(brd.of_kind(k))} {k.replace('_', ' ')}"
-                          for k in ("fold", "period_doubling", "grazing") if brd.of_kind(k))
+        kinds = ", ".join(f"{len(brd.of_kind(k))} {name}" for k, name in KINDS.items()
+                          if brd.of_kind(k))
         worst_error = max(b.parameter_error / b.parameter for b in brd.bifurcations)
         maps_on = brd.n_maps / len(brd)
         speeds = np.linspace(LO, HI, n_pts) * RPM

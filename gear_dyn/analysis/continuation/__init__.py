@@ -7,14 +7,16 @@ monodromy matrix from the exact flow of the backlash model where the stiffness i
 constant and from event-located variational integration otherwise. Every point carries its
 Floquet multipliers, a stability verdict and the Liouville check of its monodromy matrix; folds
 and period doublings are located by bracketing on test functions, contact-pattern changes
-(grazing) by bisection, and the period-2n branch born at a period doubling is switched to and
-followed. docs/response.md describes the method and its tests.
+(grazing) on the gap margin of the extremum that touches a contact boundary, and the period-2n
+branch born at a period doubling is switched to and followed. docs/response.md describes the
+method and its tests.
 
 Modules, one concern each: :mod:`.settings` (the knobs), :mod:`.family` (value -> model),
 :mod:`.orbit` (n-period map, Liouville, contact pattern), :mod:`.shooting` (the augmented
-equations, corrector, tangent), :mod:`.detect` (test functions, location), :mod:`.arclength`
-(the continuation loop), :mod:`.switch` (period-doubling branch switching), :mod:`.branch`
-(result objects), :mod:`.points` (a point from a converged evaluation).
+equations, corrector, tangent), :mod:`.detect` (test functions, location), :mod:`.graze` (the
+grazing test), :mod:`.arclength` (the continuation loop), :mod:`.switch` (period-doubling branch
+switching), :mod:`.branch` (result objects), :mod:`.points` (a point from a converged
+evaluation).
 """
 
 from gear_dyn.analysis.continuation.arclength import continue_orbits
