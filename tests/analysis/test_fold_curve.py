@@ -145,7 +145,7 @@ def test_two_stable_orbits_inside_a_region_and_one_outside(fmap, branch) -> None
 def test_folds_of_torque_branches_at_fixed_speed_lie_on_the_fold_curves() -> None:
     """Second method: at a fixed speed, a branch in torque folds where the fixed speed
     crosses a fold curve. The speed branch at each of those torques has a fold at that
-    speed. Both folds are located to ~1e-11 relative in their own parameter (locate_tol) and
+    speed. Both folds are located to 1e-10 relative in their own parameter (locate_tol) and
     the fold curve's relative slope (T / s) ds/dT is O(1) here, so they agree to 1e-9 with
     room (measured: 6e-13)."""
     model = _model()

@@ -4,8 +4,8 @@ operating map (Seydel 2010, sec. 5.7; Kuznetsov 2004, sec. 8.2 and 10.2).
 Method: natural-parameter continuation in torque. At each torque of a sequence the speed
 branch is followed by :func:`continue_orbits` over the whole speed window and its folds are
 located there, each to the continuation's ``locate_tol`` by bracketing on ``det(M - I)``
-(about 1e-11 relative, well inside 1e-8). Consecutive folds that bound an unstable stretch of
-the branch (the first fold turns the branch from stable to unstable) are the two ends of one
+(1e-10 relative by default, well inside 1e-8). Consecutive folds that bound an unstable stretch
+of the branch (the first fold turns the branch from stable to unstable) are the two ends of one
 hysteresis loop: between their speeds two stable orbits coexist and a sweep jumps. The pairs
 are matched from one torque to the next (by their order along the branch, or by nearest
 fold speeds where their number changes); a pair that vanishes between two torques ends at a cusp,

@@ -58,10 +58,9 @@ FALLBACK_REL = 0.3
 #: scale (the sweep closes its orbits to 100 rtol = 1e-6 of the scale at its default rtol 1e-8,
 #: the continuation to 1e-10; distinct coexisting orbits differ by a sizeable share of it)
 SAME_ORBIT = 1e-4
-#: scaled arclength to which a fold is located: near a fold the speed is quadratic in the
-#: arclength, so the fold's speed is known far better than this (continuation's default, 1e-11,
-#: costs more bisection steps for digits no jump needs)
-LOCATE_TOL = 1e-7
+#: relative error to which a fold's speed is located (the continuation's default, 1e-10,
+#: costs a trial or two more for digits no jump needs)
+LOCATE_TOL = 1e-9
 #: most continuation points spent on one pair (a fold is met within a few)
 MAX_POINTS = 60
 
