@@ -116,10 +116,14 @@ class StepCurve:
         hit = self.cache.get(s)
         if hit is not None:
             return hit
-        nearest = min(self.cache, key=lambda x: abs(x - s))
+        # the parameter column interpolated between the two nearest points (a chord, which
+        # the corrector's secant updates refine)
+        x0, x1 = sorted(self.cache, key=lambda x: abs(x - s))[:2]
+        u = (s - x0) / (x1 - x0)
+        col = (1 - u) * self.cache[x0].jac[:, 2] + u * self.cache[x1].jac[:, 2]
         out = self.sh.correct(self.predict(s), self.t_a, float(self.t_a @ self.z_a) + s,
                               self.settings.newton_tol, self.settings.max_newton,
-                              dp_col=self.cache[nearest].jac[:, 2], fresh=False)
+                              dp_col=col, fresh=False)
         if out is None:
             return None
         self.cache[s] = out[0]
