@@ -85,8 +85,8 @@ def test_branch_in_full_contact_is_the_linear_response_and_grazes_where_it_separ
     assert [g.before + ">" + g.after for g in grazes][:1] == ["D>DGD"]
     w_graze = brentq(lambda w: _linear_orbit_min(lin_fam(w)), _speed(0.8), _speed(0.86),
                      xtol=1e-14)
-    # located by bisection to locate_tol = 1e-11 in scaled arclength (the parameter to about
-    # 1e-11 relative); the reference to brentq's 1e-14: agreement to 1e-9 is a wide margin
+    # located to locate_tol = 1e-10 relative (its stated error, with the corrector's); the
+    # reference to brentq's 1e-14: agreement to 1e-9 is a wide margin
     assert grazes[0].parameter == pytest.approx(w_graze, rel=1e-9)
     assert grazes[0].parameter_error < 1e-9 * w_graze
 

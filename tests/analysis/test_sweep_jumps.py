@@ -61,7 +61,7 @@ def test_every_jump_of_the_backlash_scene_brackets_a_fold_found_by_continuation(
             for j in js:
                 assert _brackets(j, folds, step * RPM), (step, c.direction, j)
                 # the fold the jump reports is the one continuation located (the two runs
-                # start from different orbits; both locate to 1e-11 scaled arclength)
+                # start from different orbits; they locate to 1e-9 and 1e-10 relative)
                 assert min(abs(j["fold_rpm"] * RPM - f) for f in folds) < 1e-8 * j["fold_rpm"]
 
 
@@ -140,8 +140,8 @@ def test_constant_stiffness_jumps_bracket_the_folds_found_by_continuation() -> N
     w1 = math.sqrt(k0) / 20  # pinion speed of f_m = f_n, rad/s
     step = 0.04 * w1
     res = sweep(fam, np.array([0.86, 0.90, 0.94]) * w1, direction="both")
-    # at the sweep's tolerance; the folds to 1e-4 (scaled arclength) are ample to decide which
-    # 4 % speed step brackets them
+    # at the sweep's tolerance; the folds to 1e-4 (relative) are ample to decide which 4 %
+    # speed step brackets them
     branch = continue_orbits(fam, 0.86 * w1, 0.94 * w1, doublings=0,
                              settings=ContinuationSettings(rtol=1e-8, newton_tol=1e-6,
                                                            locate_tol=1e-4, step=0.05,
