@@ -132,8 +132,9 @@ class Bifurcation:
     point : OrbitPoint
         The orbit at the located point.
     parameter_error : float
-        Estimated error of ``point.parameter`` (SI): the parameter's change over the final
-        bracket of the root finder.
+        Stated error of ``point.parameter`` (SI): the parameter's largest change over the
+        final bracket of the root finder plus the corrector's remaining Newton step
+        (:meth:`.detect.StepCurve.located_error`); at most about ``locate_tol`` relative.
     before, after : str
         Contact patterns on either side (grazing), else the stability before and after
         (``stable`` / ``unstable``).
