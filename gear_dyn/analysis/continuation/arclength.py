@@ -34,7 +34,7 @@ from gear_dyn.analysis.continuation.detect import (
     pd_test,
 )
 from gear_dyn.analysis.continuation.family import PARAMETERS
-from gear_dyn.analysis.continuation.orbit import map_only, resolve_route
+from gear_dyn.analysis.continuation.orbit import OrbitShape, map_only, resolve_route
 from gear_dyn.analysis.continuation.points import make_point
 from gear_dyn.analysis.continuation.settings import ContinuationSettings
 from gear_dyn.analysis.continuation.shooting import Evaluation, Shooting, tangent
@@ -274,9 +274,12 @@ def detect_step(sh: Shooting, ev_a: Evaluation, t_a: FloatArray, ev_b: Evaluatio
     found: list[tuple[float, Bifurcation]] = []
     stab = {True: "stable", False: "unstable"}
 
-    def point(ev: Evaluation, s: float) -> OrbitPoint:
-        tt = tangent(sh.refresh(ev).jac)
-        return make_point(sh, ev, settings, s0 + s, float(tt[2] if tt @ t_a >= 0 else -tt[2]))
+    def point(ev: Evaluation, s: float, shape: OrbitShape | None = None) -> OrbitPoint:
+        # the tangent from the point's own parameter column: interpolated between its
+        # neighbours on the step and refined by the corrector's secant updates
+        tt = tangent(ev.jac)
+        return make_point(sh, ev, settings, s0 + s, float(tt[2] if tt @ t_a >= 0 else -tt[2]),
+                          shape=shape)
 
     for test, kinds in ((fold_test, ("fold", "branch_point")),
                         (pd_test, ("period_doubling", "period_doubling"))):
@@ -293,6 +296,7 @@ def detect_step(sh: Shooting, ev_a: Evaluation, t_a: FloatArray, ev_b: Evaluatio
     if pt_a.pattern != pt_b.pattern:
         ghit = locate_pattern_change(curve, pt_a.pattern, pt_b.pattern)
         if ghit is not None:
-            ev, s, err, new = ghit
-            found.append((s, Bifurcation("grazing", point(ev, s), err, pt_a.pattern, new)))
+            ev, s, err, shape = ghit
+            found.append((s, Bifurcation("grazing", point(ev, s, shape), err, pt_a.pattern,
+                                         shape.pattern)))
     return [b for _s, b in sorted(found, key=lambda x: x[0])]

@@ -42,7 +42,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.analysis.continuation.graze import graze_test
-from gear_dyn.analysis.continuation.orbit import orbit_shape
+from gear_dyn.analysis.continuation.orbit import OrbitShape, orbit_shape
 from gear_dyn.analysis.continuation.settings import ContinuationSettings
 from gear_dyn.analysis.continuation.shooting import Evaluation, Shooting
 
@@ -295,7 +295,7 @@ def locate_root(curve: StepCurve, test: Callable[[FloatArray], float], f_a: floa
 
 
 def locate_pattern_change(curve: StepCurve, pattern_a: str, pattern_b: str
-                          ) -> tuple[Evaluation, float, float, str] | None:
+                          ) -> tuple[Evaluation, float, float, OrbitShape] | None:
     """The first point of the step where the contact pattern differs from ``pattern_a``.
 
     With the grazing test (:mod:`.graze`) of the step's ends, the bracket is narrowed on its
@@ -307,17 +307,21 @@ def locate_pattern_change(curve: StepCurve, pattern_a: str, pattern_b: str
 
     Returns
     -------
-    (Evaluation, s, parameter_error, new pattern) or None (the corrector failed)
+    (Evaluation, s, parameter_error, OrbitShape) or None (the corrector failed)
+        The shape (with the new pattern) of the located point.
     """
     sh = curve.sh
-    patterns = {0.0: pattern_a, curve.ds: pattern_b}
+    ends = {0.0: pattern_a, curve.ds: pattern_b}
+    shapes: dict[float, OrbitShape] = {}
+
+    def shape(s: float) -> OrbitShape:
+        if s not in shapes:
+            ev = curve.cache[s]
+            shapes[s] = orbit_shape(ev.model, sh.state(ev.z), sh.periods, sh.route, sh.rtol)
+        return shapes[s]
 
     def pattern(s: float) -> str:
-        if s not in patterns:
-            ev = curve.cache[s]
-            patterns[s] = orbit_shape(ev.model, sh.state(ev.z), sh.periods, sh.route,
-                                      sh.rtol).pattern
-        return patterns[s]
+        return ends[s] if s in ends else shape(s).pattern
 
     def on_pattern(s: float) -> tuple[bool, float | None] | None:
         if curve.at(s) is None:
@@ -353,4 +357,4 @@ def locate_pattern_change(curve: StepCurve, pattern_a: str, pattern_b: str
     if hit is None:
         return None
     s, lo, hi = hit
-    return curve.cache[s], s, curve.located_error(lo, hi, s), pattern(s)
+    return curve.cache[s], s, curve.located_error(lo, hi, s), shape(s)

@@ -5,16 +5,17 @@ from __future__ import annotations
 import numpy as np
 
 from gear_dyn.analysis.continuation.branch import OrbitPoint, is_stable
-from gear_dyn.analysis.continuation.orbit import liouville_residual, orbit_shape
+from gear_dyn.analysis.continuation.orbit import OrbitShape, liouville_residual, orbit_shape
 from gear_dyn.analysis.continuation.settings import ContinuationSettings
 from gear_dyn.analysis.continuation.shooting import Evaluation, Shooting
 
 
 def make_point(sh: Shooting, ev: Evaluation, settings: ContinuationSettings,
-               arclength: float = 0.0, tangent_p: float = float("nan"), iterations: int = 0
-               ) -> OrbitPoint:
+               arclength: float = 0.0, tangent_p: float = float("nan"), iterations: int = 0,
+               shape: OrbitShape | None = None) -> OrbitPoint:
     """The orbit point of ``ev``: multipliers, stability, Liouville check, contact pattern
-    and response measures (one more n-period map on a sample grid).
+    and response measures (one more n-period map on a sample grid, unless its ``shape`` is
+    given).
 
     Raises
     ------
@@ -24,7 +25,8 @@ def make_point(sh: Shooting, ev: Evaluation, settings: ContinuationSettings,
     y = sh.state(ev.z)
     mu = np.linalg.eigvals(ev.monodromy).astype(np.complex128)
     liou = liouville_residual(ev.model, ev.monodromy, sh.periods)
-    shape = orbit_shape(ev.model, y, sh.periods, sh.route, sh.rtol)
+    if shape is None:
+        shape = orbit_shape(ev.model, y, sh.periods, sh.route, sh.rtol)
     return OrbitPoint(
         parameter=sh.param(ev.z), state=y, periods=sh.periods, multipliers=mu,
         stable=is_stable(mu), liouville=liou, liouville_ok=liou <= settings.liouville_tol,
