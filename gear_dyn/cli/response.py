@@ -144,7 +144,7 @@ def run(args: argparse.Namespace) -> int:
             with staged_output(args.out) as tmp:
                 save_figure(plot_branch(branch, sweep=swept), tmp / "response.png", dpi=120)
                 title = (f"{scene.name}: the continued orbits' states once per mesh period"
-                         + (f", over brute force at {args.diagram} speeds" if diagram else ""))
+                         + (f"\ngrey: brute force at {args.diagram} speeds" if diagram else ""))
                 save_figure(plot_branch_samples(strobe, diagram=diagram, title=title),
                             tmp / "bifurcation.png", dpi=120)
                 write_text(tmp / "branch.csv", _csv(branch.rows()))

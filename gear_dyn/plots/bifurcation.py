@@ -155,12 +155,13 @@ def plot_branch_samples(samples: BranchSamples, ax: Any = None, state: str = "x"
         shown.add(text)
         return text
 
-    if diagram is not None:
-        for c in diagram.curves:
-            n_s = c.samples.shape[1]
-            axes.plot(np.repeat(c.speed, n_s) * fx, c.samples[:, :, i].ravel() * factor,
-                      ls="none", marker=".", ms=1.5, color="0.6", zorder=1,
-                      label=once(f"brute force, up and down ({n_s} samples per speed)"))
+    if diagram is not None and diagram.curves:  # both directions as one artist
+        n_s = diagram.curves[0].samples.shape[1]
+        dx = np.concatenate([np.repeat(c.speed, n_s) for c in diagram.curves])
+        dy = np.concatenate([c.samples[:, :, i].ravel() for c in diagram.curves])
+        axes.plot(dx * fx, dy * factor, ls="none", marker=".", ms=2.5, color="0.6", zorder=1,
+                  label=f"brute force, {'/'.join(c.direction for c in diagram.curves)} "
+                  f"({n_s} samples per speed)")
     labels: list[tuple[float, FloatArray, str]] = []
     for curve in samples.curves:
         b = curve.branch
@@ -193,6 +194,7 @@ def plot_branch_samples(samples: BranchSamples, ax: Any = None, state: str = "x"
                           fontsize=7)
     if title is not None:
         axes.set_title(title, fontsize=10)
+    axes.margins(y=0.08)  # room for the labels below the lowest and above the highest mark
     axes.set_xlabel(xlabel)
     axes.set_ylabel(f"{state} at t = k T_m ({unit})")
     axes.grid(alpha=0.3)
