@@ -16,7 +16,7 @@ from gear_dyn.analysis.continuation.strobe import BranchSamples
 from gear_dyn.analysis.motion.diagram import RPM, BifurcationDiagram
 from gear_dyn.errors import InputError
 from gear_dyn.plots._axes import axes_of, tidy
-from gear_dyn.plots.continuation import _COLOURS, _fmt, _x_of
+from gear_dyn.plots.continuation import _COLOURS, _fmt, _stretches, _x_of
 
 FloatArray = NDArray[np.float64]
 _STYLE = {"up": dict(color="tab:blue", marker="."), "down": dict(color="tab:orange", marker="x")}
@@ -168,25 +168,24 @@ def plot_branch_samples(samples: BranchSamples, ax: Any = None, state: str = "x"
         if not b.points:
             continue
         colour = _COLOURS[min(b.periods.bit_length() - 1, len(_COLOURS) - 1)]
-        px = curve.parameter * fx
-        stable = curve.stable
-        cuts = np.flatnonzero(stable[1:] != stable[:-1]) + 1
-        for a, e in zip(np.concatenate([[0], cuts]), np.concatenate([cuts, [px.size]]),
-                        strict=True):
-            st = bool(stable[a])
-            sl = slice(max(a - 1, 0), e)  # joined to the previous piece
+        items, pieces = _stretches(b)  # the located folds and doublings end the stretches
+        px = np.array([curve.parameter[j] if kind == "point" else curve.marks[j][1]
+                       for kind, j in items]) * fx
+        ys = np.array([curve.samples[j] if kind == "point" else curve.marks[j][2]
+                       for kind, j in items])
+        for st, sl in pieces:
             name = once(f"period-{b.periods} {'stable' if st else 'unstable'}")
-            for k in range(curve.samples.shape[1]):
-                axes.plot(px[sl], curve.samples[sl, k, i] * factor, color=colour,
+            for k in range(ys.shape[1]):
+                axes.plot(px[sl], ys[sl, k, i] * factor, color=colour,
                           ls="-" if st else "--", lw=1.4 if st else 0.9,
                           alpha=1.0 if st else 0.55, zorder=3 if st else 2,
                           label=name if k == 0 else None)
-        for kind, par, ys in curve.marks:
+        for kind, par, at in curve.marks:
             marker, text = ("o", "fold") if kind == "fold" else ("s", "PD")
-            axes.plot(np.full(len(ys), par * fx), ys[:, i] * factor, marker, color="k",
+            axes.plot(np.full(len(at), par * fx), at[:, i] * factor, marker, color="k",
                       mfc="none", ms=7, ls="none", zorder=4,
                       label=once("fold" if kind == "fold" else "period doubling"))
-            labels.append((par * fx, ys[:, i] * factor, f"{text} {_fmt(par, b)}"))
+            labels.append((par * fx, at[:, i] * factor, f"{text} {_fmt(par, b)}"))
     if label_points:  # in parameter order, alternately below and above: neighbours stay legible
         for j, (bx, ys, text) in enumerate(sorted(labels, key=lambda t: t[0])):
             axes.annotate(text, (bx, float(ys.min() if j % 2 == 0 else ys.max())),

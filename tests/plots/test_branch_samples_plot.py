@@ -71,13 +71,20 @@ def test_a_period1_stable_sample_is_the_orbits_start_state(samples) -> None:
     fig = samples.plot()
     (line,) = _lines(fig, "period-1 stable")
     assert line.get_linestyle() == "-"
+    # the stable stretch: the stable points in branch order, then the located period
+    # doubling where it ends; the same numbers, scaled for display only
+    (pd,) = c0.branch.of_kind("period_doubling")
     stable = [p for p in c0.branch.points if p.stable]
-    x = np.asarray(line.get_xdata())
-    y = np.asarray(line.get_ydata())
-    # the first stable stretch, in branch order: same numbers, scaled for display only
-    n = x.size
-    np.testing.assert_allclose(x, [p.parameter / RPM for p in stable[:n]], rtol=1e-15)
-    np.testing.assert_allclose(y, [p.state[0] * 1e6 for p in stable[:n]], rtol=1e-15)
+    assert all(p.arclength < pd.point.arclength for p in stable)
+    want = [*stable, pd.point]
+    np.testing.assert_allclose(line.get_xdata(), [p.parameter / RPM for p in want],
+                               rtol=1e-15)
+    np.testing.assert_allclose(line.get_ydata(), [p.state[0] * 1e6 for p in want],
+                               rtol=1e-15)
+    # the unstable stretch starts at the doubling: the two meet there, not at a point
+    (dashed,) = _lines(fig, "period-1 unstable")
+    assert dashed.get_linestyle() == "--"
+    assert np.asarray(dashed.get_xdata())[0] == np.asarray(line.get_xdata())[-1]
 
 
 def test_a_period2_branch_has_two_samples_the_map_sends_to_each_other(samples) -> None:
