@@ -169,3 +169,38 @@ def test_bad_state_and_a_diagram_over_another_parameter_are_refused(samples) -> 
         plot_branch_samples(torque, diagram=diag)
     with pytest.raises(InputError, match="rtol"):
         branch_samples(tb, FAMILY, rtol=1.0)
+
+
+@pytest.mark.slow
+def test_period2_samples_on_the_variational_route() -> None:
+    """(Slow: about 15 s, DOP853 throughout.) The constant-stiffness scene of issue 25 (1e9 N/m, 10 um transmission error: no exact
+    flow) at f_m / f_n = 1.24, where a stable period-2 orbit exists (docs/motion.md): the
+    second sample comes from DOP853 at the continuation's rtol (1e-10); DOP853 at rtol 1e-12
+    takes it back to the first over one mesh period, to 1e-6 of the state scale (the orbit
+    closes to 1e-10 scaled; 1e-6 leaves 1e4 times the integration tolerance for the error
+    carried along the period), and the two samples are distinct states."""
+    import tomllib
+
+    import gear_dyn as gd
+    from gear_dyn.analysis.stability import flow_on_grid
+    from gear_dyn.scene.packaged import scene_path
+    from gear_dyn.scene.sweep import SceneModels
+
+    data = tomllib.loads(scene_path("helicopter_tail_backlash").read_text())
+    data["stiffness"] = {"method": "rectangular", "single": "1e9 N/m", "double": "1e9 N/m"}
+    data["transmission_error"] = {"cos": ["10 um"]}
+    fam = SceneModels.of(gd.parse_scene(data, "const_te.toml"))
+    probe = fam(1000.0)
+    speed = 1.24 * probe.natural_frequency * 1000.0 / probe.mesh_frequency  # f_m ~ speed
+    model = fam(speed)
+    motion = gd.classify_motion(model, model.initial_state(), settle=60, samples=32)
+    assert motion.period == 2
+    br = continue_orbits(fam, speed, 1.005 * speed, periods=2, y_guess=motion.state,
+                         doublings=0, settings=ContinuationSettings(max_points=2))
+    assert br.route == "variational"
+    c = branch_samples(br, fam).curves[0]
+    for p, s in zip(br.points, c.samples, strict=True):
+        m = fam(p.parameter)
+        back = flow_on_grid(m, s[1], np.array([0.0, 1.0 / m.mesh_frequency]), rtol=1e-12)
+        assert np.all(np.abs(back[:, -1] - s[0]) <= 1e-6 * m.state_scale)
+        assert np.max(np.abs(s[1] - s[0]) / m.state_scale) > 0.1
