@@ -7,16 +7,17 @@ a brute-force diagram behind them.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.analysis.continuation.strobe import BranchSamples
 from gear_dyn.analysis.motion.diagram import RPM, BifurcationDiagram
 from gear_dyn.errors import InputError
 from gear_dyn.plots._axes import axes_of, tidy
-from gear_dyn.plots.continuation import _COLOURS, _fmt, _stretches, _x_of
+
+if TYPE_CHECKING:
+    from gear_dyn.analysis.continuation.strobe import BranchSamples
 
 FloatArray = NDArray[np.float64]
 _STYLE = {"up": dict(color="tab:blue", marker="."), "down": dict(color="tab:orange", marker="x")}
@@ -137,6 +138,10 @@ def plot_branch_samples(samples: BranchSamples, ax: Any = None, state: str = "x"
         ``state`` not ``x`` or ``v``; a ``diagram`` with a branch in another parameter than
         speed.
     """
+    # the response curve's styles; imported here: the brute-force diagram alone loads no
+    # continuation modules
+    from gear_dyn.plots.continuation import _COLOURS, _fmt, _stretches, _x_of
+
     if state not in _UNITS:
         raise InputError(f"state = {state!r}: valid choices are {', '.join(_UNITS)}")
     if diagram is not None and samples.parameter_name != "speed":
