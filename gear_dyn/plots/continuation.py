@@ -53,15 +53,16 @@ def _stretches(branch: Branch) -> tuple[list[tuple[str, int]], list[tuple[bool, 
     ``branch.points[i]`` and ``("mark", j)`` for the j-th fold or period doubling of
     ``branch.bifurcations`` (inserted by arclength); ``pieces`` as ``(stable, slice of
     items)``. A stretch ends at the located point where the stability changes, which it
-    shares with the next stretch; where none was located (detection off) it is joined to the
-    previous stretch's last point, as the points alone allow.
+    shares with the next stretch; where none was located (detection off, or a located point
+    without an arclength) it is joined to the previous stretch's last point, as the points
+    alone allow.
     """
     s = np.array([p.arclength for p in branch.points], dtype=float)
     s = np.where(np.isfinite(s), s, np.inf)  # the last point, clipped at the range end
     marks = [x for x in branch.bifurcations if x.kind in _LOCATED]
     keyed = [((i, 1), ("point", i)) for i in range(len(branch.points))]
     keyed += [((int(np.searchsorted(s, x.point.arclength, side="right")), 0), ("mark", j))
-              for j, x in enumerate(marks)]
+              for j, x in enumerate(marks) if np.isfinite(x.point.arclength)]
     items = [it for _, it in sorted(keyed)]
     regular = [k for k, (kind, _) in enumerate(items) if kind == "point"]
     stable = [branch.points[items[k][1]].stable for k in regular]
