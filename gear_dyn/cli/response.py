@@ -26,7 +26,9 @@ def register(sub: Any) -> None:
         description="Follow the periodic orbits of SCENE (single-DOF model) over pinion speeds "
         "LO..HI by pseudo-arclength continuation, through folds, and write into DIR: "
         "response.png (RMS DTE against speed: stable solid, unstable dashed, folds and period "
-        "doublings marked with their speeds), branch.csv (every point with its Floquet "
+        "doublings marked with their speeds), bifurcation.png (the orbits' stroboscopic "
+        "samples, one per mesh period, against speed; with --diagram a brute-force diagram "
+        "behind them), branch.csv (every point with its Floquet "
         "multipliers, stability, Liouville check and contact pattern) and branch.json (the "
         "located folds, period doublings and grazing points, and every point). DIR is replaced "
         "as a whole only on success.",
@@ -49,6 +51,16 @@ def register(sub: Any) -> None:
     p.add_argument("--sweep", type=int, default=0, metavar="N",
                    help="also sweep N speeds over the range, up and down, and draw the sweep's "
                    "periodic points and its jumps over the branch (default 0: no sweep)")
+    p.add_argument("--diagram", type=int, default=0, metavar="N",
+                   help="also the brute-force bifurcation diagram over N speeds, up and down "
+                   "(gear-dyn bifurcation's defaults: 200 mesh periods settled, 64 samples), "
+                   "drawn in grey dots behind the orbits on bifurcation.png (default 0: none)")
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, default=None, metavar="N",
+                       help="run the sweep and the diagram on N local processes (default: "
+                       "serial); the results are the same")
+    where.add_argument("--dask", metavar="ADDRESS", default=None,
+                       help="run the sweep and the diagram on the Dask scheduler at ADDRESS")
     add_quiet_flag(p)
     p.set_defaults(func=run)
 
@@ -67,8 +79,15 @@ def _speeds(text: str) -> tuple[float, float]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from gear_dyn.analysis.continuation import ContinuationSettings, continue_orbits
+    import numpy as np
+
+    from gear_dyn.analysis.continuation import (
+        ContinuationSettings,
+        branch_samples,
+        continue_orbits,
+    )
     from gear_dyn.io import save_figure, staged_output, write_json, write_text
+    from gear_dyn.plots.bifurcation import plot_branch_samples
     from gear_dyn.plots.continuation import plot_branch
     from gear_dyn.scene import load_scene
     from gear_dyn.scene.sweep import SceneModels
@@ -83,30 +102,59 @@ def run(args: argparse.Namespace) -> int:
     settings = ContinuationSettings(max_points=args.max_points)
     if args.sweep == 1 or not 0 <= args.sweep <= 100_000:
         raise InputError(f"--sweep {args.sweep}: valid range 2..100000 speeds, or 0 (no sweep)")
-    stages = ["continue the speed branch", "write response.png, branch.csv/json"]
+    if args.diagram == 1 or not 0 <= args.diagram <= 100_000:
+        raise InputError(f"--diagram {args.diagram}: valid range 2..100000 speeds, or 0 (no "
+                         "diagram)")
+    if args.workers is not None and not 1 <= args.workers <= 4096:
+        raise InputError(f"--workers = {args.workers}: valid range 1..4096 processes")
+    stages = ["continue the speed branch",
+              "write response.png, bifurcation.png, branch.csv/json"]
+    if args.diagram:
+        stages.insert(1, f"bifurcation diagram over {args.diagram} speeds up and down")
     if args.sweep:
         stages.insert(1, f"sweep {args.sweep} speeds up and down")
     if torques is not None:
         stages.append(f"jump map over {len(torques)} torques")
-    with Stages(stages, args.quiet) as st:
-        branch = continue_orbits(SceneModels.of(scene), lo, hi, settings=settings,
-                                 doublings=args.doublings)
-        swept = None
-        if args.sweep:
-            import numpy as np
+    family = SceneModels.of(scene)
+    client = None
+    if args.dask and (args.sweep or args.diagram):
+        from gear_dyn.cli.sweep import _dask_client
 
-            from gear_dyn.scene.sweep import sweep_scene
+        client = _dask_client(args.dask)
+    where = {"workers": args.workers,
+             "executor": None if client is None else client.get_executor()}
+    try:
+        with Stages(stages, args.quiet) as st:
+            branch = continue_orbits(family, lo, hi, settings=settings,
+                                     doublings=args.doublings)
+            swept = diagram = None
+            if args.sweep:
+                from gear_dyn.scene.sweep import sweep_scene
 
-            st.next()
-            swept = sweep_scene(scene, np.linspace(lo, hi, args.sweep), si=True)
-        st.next()
-        with staged_output(args.out) as tmp:
-            save_figure(plot_branch(branch, sweep=swept), tmp / "response.png", dpi=120)
-            write_text(tmp / "branch.csv", _csv(branch.rows()))
-            write_json(tmp / "branch.json", {"scene": scene.name, **branch.to_dict()})
-            if torques is not None:
                 st.next()
-                fm = write_jump_map(scene, (lo, hi), torques, settings, tmp)
+                swept = sweep_scene(scene, np.linspace(lo, hi, args.sweep), si=True, **where)
+            if args.diagram:
+                from gear_dyn.scene.bifurcation import bifurcation_scene
+
+                st.next()
+                diagram = bifurcation_scene(scene, np.linspace(lo, hi, args.diagram), si=True,
+                                            **where)
+            st.next()
+            strobe = branch_samples(branch, family, settings.rtol)
+            with staged_output(args.out) as tmp:
+                save_figure(plot_branch(branch, sweep=swept), tmp / "response.png", dpi=120)
+                title = (f"{scene.name}: the continued orbits' states once per mesh period"
+                         + (f"\ngrey: brute force at {args.diagram} speeds" if diagram else ""))
+                save_figure(plot_branch_samples(strobe, diagram=diagram, title=title),
+                            tmp / "bifurcation.png", dpi=120)
+                write_text(tmp / "branch.csv", _csv(branch.rows()))
+                write_json(tmp / "branch.json", {"scene": scene.name, **branch.to_dict()})
+                if torques is not None:
+                    st.next()
+                    fm = write_jump_map(scene, (lo, hi), torques, settings, tmp)
+    finally:
+        if client is not None:
+            client.close()
     for i, b in enumerate(branch.walk()):
         print(f"branch {i}: {b!r}")
         for x in b.bifurcations:

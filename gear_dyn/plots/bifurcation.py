@@ -1,15 +1,25 @@
-"""The bifurcation diagram: stroboscopic samples against speed (a pyplot-free Figure)."""
+"""Bifurcation diagrams: stroboscopic samples against speed (pyplot-free Figures).
+
+:func:`plot_bifurcation` draws a brute-force diagram (settled samples, up and down);
+:func:`plot_branch_samples` the samples of a continuation's orbits, stable and unstable, with
+a brute-force diagram behind them.
+"""
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from gear_dyn.analysis.motion.diagram import RPM, BifurcationDiagram
 from gear_dyn.errors import InputError
 from gear_dyn.plots._axes import axes_of, tidy
 
+if TYPE_CHECKING:
+    from gear_dyn.analysis.continuation.strobe import BranchSamples
+
+FloatArray = NDArray[np.float64]
 _STYLE = {"up": dict(color="tab:blue", marker="."), "down": dict(color="tab:orange", marker="x")}
 #: display unit of each state component: (scale from SI, unit text)
 _UNITS = {"x": (1e6, "µm"), "v": (1.0, "m/s")}
@@ -86,3 +96,113 @@ def _teeth(diagram: BifurcationDiagram) -> float:
     if c.speed.size == 0 or c.speed[0] <= 0:
         return 0.0
     return float(c.mesh_frequency[0] * 2 * np.pi / c.speed[0])
+
+
+def plot_branch_samples(samples: BranchSamples, ax: Any = None, state: str = "x",
+                        diagram: BifurcationDiagram | None = None, label_points: bool = True,
+                        title: str | None = None) -> Any:
+    """The continuation's bifurcation diagram: each orbit's stroboscopic samples against the
+    parameter, with a brute-force diagram behind it.
+
+    A period-n branch draws n curves (its orbits' states at t = k T_m, k < n): stable stretches
+    solid, unstable ones dashed and light; folds (circles) and period doublings (squares) are
+    marked on every sample of the located orbit and, with ``label_points``, labelled with their
+    parameter value, as on the response curve (:func:`gear_dyn.plots.continuation.
+    plot_branch`).
+
+    Parameters
+    ----------
+    samples : BranchSamples
+        From :func:`gear_dyn.analysis.continuation.branch_samples`.
+    ax : Axes or None
+        Where to draw (None: a new Figure of 8 x 4.5 in).
+    state : str
+        State component drawn: ``x`` (mesh deflection, um) or ``v`` (its rate, m/s).
+    diagram : BifurcationDiagram or None
+        A brute-force diagram over speed (:func:`gear_dyn.analysis.motion.
+        bifurcation_diagram`) drawn behind the branches in small grey dots (up and down
+        alike): attractors the branches do not carry (chaos, period-n windows) show there.
+    label_points : bool
+        Write each fold's and period doubling's parameter value next to a mark (alternately
+        below its lowest and above its highest sample, in parameter order).
+    title : str or None
+        Axes title (None: none).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Raises
+    ------
+    InputError
+        ``state`` not ``x`` or ``v``; a ``diagram`` with a branch in another parameter than
+        speed.
+    """
+    # the response curve's styles; imported here: the brute-force diagram alone loads no
+    # continuation modules
+    from gear_dyn.plots.continuation import _COLOURS, _fmt, _stretches, _x_of
+
+    if state not in _UNITS:
+        raise InputError(f"state = {state!r}: valid choices are {', '.join(_UNITS)}")
+    if diagram is not None and samples.parameter_name != "speed":
+        raise InputError(f"diagram: a brute-force diagram is over speed; this branch is in "
+                         f"{samples.parameter_name}")
+    i = ("x", "v").index(state)
+    factor, unit = _UNITS[state]
+    fig, axes = axes_of(ax, figsize=(8, 4.5), name="plot_branch_samples")
+    first = samples.curves[0].branch if samples.curves else None
+    fx, xlabel = _x_of(first) if first is not None else (1.0, samples.parameter_name)
+    shown: set[str] = set()
+
+    def once(text: str) -> str | None:
+        if text in shown:
+            return None
+        shown.add(text)
+        return text
+
+    if diagram is not None and diagram.curves:  # both directions as one artist
+        n_s = diagram.curves[0].samples.shape[1]
+        dx = np.concatenate([np.repeat(c.speed, n_s) for c in diagram.curves])
+        dy = np.concatenate([c.samples[:, :, i].ravel() for c in diagram.curves])
+        axes.plot(dx * fx, dy * factor, ls="none", marker=".", ms=2.5, color="0.6", zorder=1,
+                  label=f"brute force, {'/'.join(c.direction for c in diagram.curves)} "
+                  f"({n_s} samples per speed)")
+    labels: list[tuple[float, FloatArray, str]] = []
+    for curve in samples.curves:
+        b = curve.branch
+        if not b.points:
+            continue
+        colour = _COLOURS[min(b.periods.bit_length() - 1, len(_COLOURS) - 1)]
+        items, pieces = _stretches(b)  # the located folds and doublings end the stretches
+        px = np.array([curve.parameter[j] if kind == "point" else curve.marks[j][1]
+                       for kind, j in items]) * fx
+        ys = np.array([curve.samples[j] if kind == "point" else curve.marks[j][2]
+                       for kind, j in items])
+        for st, sl in pieces:
+            name = once(f"period-{b.periods} {'stable' if st else 'unstable'}")
+            for k in range(ys.shape[1]):
+                axes.plot(px[sl], ys[sl, k, i] * factor, color=colour,
+                          ls="-" if st else "--", lw=1.4 if st else 0.9,
+                          alpha=1.0 if st else 0.55, zorder=3 if st else 2,
+                          label=name if k == 0 else None)
+        for kind, par, at in curve.marks:
+            marker, text = ("o", "fold") if kind == "fold" else ("s", "PD")
+            axes.plot(np.full(len(at), par * fx), at[:, i] * factor, marker, color="k",
+                      mfc="none", ms=7, ls="none", zorder=4,
+                      label=once("fold" if kind == "fold" else "period doubling"))
+            labels.append((par * fx, at[:, i] * factor, f"{text} {_fmt(par, b)}"))
+    if label_points:  # in parameter order, alternately below and above: neighbours stay legible
+        for j, (bx, ys, text) in enumerate(sorted(labels, key=lambda t: t[0])):
+            axes.annotate(text, (bx, float(ys.min() if j % 2 == 0 else ys.max())),
+                          xytext=(5, -13 if j % 2 == 0 else 6), textcoords="offset points",
+                          fontsize=7)
+    if title is not None:
+        axes.set_title(title, fontsize=10)
+    axes.margins(y=0.08)  # room for the labels below the lowest and above the highest mark
+    axes.set_xlabel(xlabel)
+    axes.set_ylabel(f"{state} at t = k T_m ({unit})")
+    axes.grid(alpha=0.3)
+    axes.legend(loc="best", fontsize=7)
+    if ax is None:
+        tidy(fig)
+    return fig

@@ -41,6 +41,46 @@ def _fmt(value: float, branch: Branch) -> str:
     return f"{value * fx:.6g}{unit}"
 
 
+#: located points a branch's stretches end at (its stability changes there)
+_LOCATED = ("fold", "period_doubling")
+
+
+def _stretches(branch: Branch) -> tuple[list[tuple[str, int]], list[tuple[bool, slice]]]:
+    """The branch's points with its located folds and period doublings in between, and its
+    stable and unstable stretches.
+
+    Returns ``(items, pieces)``: ``items`` in order along the branch, ``("point", i)`` for
+    ``branch.points[i]`` and ``("mark", j)`` for the j-th fold or period doubling of
+    ``branch.bifurcations`` (inserted by arclength); ``pieces`` as ``(stable, slice of
+    items)``. A stretch ends at the located point where the stability changes, which it
+    shares with the next stretch; where none was located (detection off, or a located point
+    without an arclength) it is joined to the previous stretch's last point, as the points
+    alone allow.
+    """
+    s = np.array([p.arclength for p in branch.points], dtype=float)
+    s = np.where(np.isfinite(s), s, np.inf)  # the last point, clipped at the range end
+    marks = [x for x in branch.bifurcations if x.kind in _LOCATED]
+    keyed = [((i, 1), ("point", i)) for i in range(len(branch.points))]
+    keyed += [((int(np.searchsorted(s, x.point.arclength, side="right")), 0), ("mark", j))
+              for j, x in enumerate(marks) if np.isfinite(x.point.arclength)]
+    items = [it for _, it in sorted(keyed)]
+    regular = [k for k, (kind, _) in enumerate(items) if kind == "point"]
+    stable = [branch.points[items[k][1]].stable for k in regular]
+    pieces: list[tuple[bool, slice]] = []
+    a = 0
+    for e in range(1, len(regular) + 1):
+        if e < len(regular) and stable[e] == stable[a]:
+            continue
+        lo, hi = regular[a], regular[e - 1]
+        if lo > 0:  # the located point before, or the previous stretch's last point
+            lo -= 1
+        if hi + 1 < len(items) and items[hi + 1][0] == "mark":
+            hi += 1
+        pieces.append((stable[a], slice(lo, hi + 1)))
+        a = e
+    return items, pieces
+
+
 def plot_branch(branch: Branch, ax: Any = None, y: str = "dte_rms", label_points: bool = True,
                 sweep: Any = None) -> Any:
     """Draw a branch and its children (period-2n branches) against the parameter.
@@ -86,15 +126,12 @@ def plot_branch(branch: Branch, ax: Any = None, y: str = "dte_rms", label_points
         if not b.points:
             continue
         colour = _COLOURS[min(b.periods.bit_length() - 1, len(_COLOURS) - 1)]
-        px = np.array([p.parameter for p in b.points]) * fx
-        py = np.array([getattr(p, y) for p in b.points]) * fy
-        stable = np.array([p.stable for p in b.points])
-        cuts = np.flatnonzero(stable[1:] != stable[:-1]) + 1
-        starts = np.concatenate([[0], cuts])
-        ends = np.concatenate([cuts, [len(px)]])
-        for a, e in zip(starts, ends, strict=True):
-            st = bool(stable[a])
-            sl = slice(max(a - 1, 0), e)  # joined to the previous piece
+        items, pieces = _stretches(b)
+        located = [x.point for x in b.bifurcations if x.kind in _LOCATED]
+        orbits = [b.points[i] if kind == "point" else located[i] for kind, i in items]
+        px = np.array([p.parameter for p in orbits]) * fx
+        py = np.array([getattr(p, y) for p in orbits]) * fy
+        for st, sl in pieces:
             name = f"period-{b.periods} {'stable' if st else 'unstable'}"
             axis.plot(px[sl], py[sl], color=colour, ls="-" if st else "--", lw=1.4,
                       label=once(name))

@@ -20,9 +20,12 @@ def test_response_writes_the_curve_the_branch_and_its_folds(tmp_path: Path,
     out = tmp_path / "resp"
     # across the upper fold of the packaged backlash scene's resonance (about 6112 rpm)
     rc = main(["response", "helicopter_tail_backlash", "--speeds", "5800 rpm:6300 rpm",
-               "--out", str(out), "--doublings", "0"])
+               "--out", str(out), "--doublings", "0", "--diagram", "3"])
     assert rc == 0
     assert (out / "response.png").stat().st_size > 10_000
+    # the orbits' stroboscopic samples over a brute-force diagram of 3 speeds (the figure's
+    # artists: tests/plots/test_branch_samples_plot.py)
+    assert (out / "bifurcation.png").stat().st_size > 10_000
     rows = list(csv.DictReader((out / "branch.csv").read_text().splitlines()))
     assert {"mu1_re", "mu1_im", "mu2_re", "mu2_im", "stable", "liouville_ok"} <= set(rows[0])
     assert all(r["liouville_ok"] == "True" for r in rows)
@@ -43,6 +46,10 @@ def test_response_writes_the_curve_the_branch_and_its_folds(tmp_path: Path,
     (["eccentric_helical", "--speeds", "3000 rpm:4000 rpm"], "single-DOF mesh model"),
     (["helicopter_tail_backlash", "--speeds", "3000 rpm:4000 rpm", "--sweep", "1"],
      "--sweep 1: valid range 2..100000"),
+    (["helicopter_tail_backlash", "--speeds", "3000 rpm:4000 rpm", "--diagram", "1"],
+     "--diagram 1: valid range 2..100000"),
+    (["helicopter_tail_backlash", "--speeds", "3000 rpm:4000 rpm", "--workers", "0"],
+     "--workers = 0: valid range 1..4096"),
 ])
 def test_user_mistakes_are_one_line_and_exit_2(tmp_path: Path, argv: list[str], match: str,
                                                capsys: pytest.CaptureFixture[str]) -> None:
@@ -67,6 +74,7 @@ def test_sweep_overlay_jumps_across_the_located_fold(tmp_path: Path) -> None:
     out = tmp_path / "resp"
     assert main(["response", "helicopter_tail_backlash", "--speeds", "5800 rpm:6300 rpm",
                  "--doublings", "0", "--sweep", "11", "--quiet", "--out", str(out)]) == 0
+    assert (out / "bifurcation.png").is_file()  # without --diagram too
     data = json.loads((out / "branch.json").read_text())
     fold = next(b["parameter"] for b in data["branches"][0]["bifurcations"] if b["kind"] == "fold")
     scene = load_scene("helicopter_tail_backlash")

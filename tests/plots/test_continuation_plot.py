@@ -46,3 +46,19 @@ def test_draws_into_the_callers_axes_and_refuses_unknown_quantities(branch) -> N
     assert ax.get_ylabel().startswith("teeth apart")
     with pytest.raises(ValueError, match="y = 'force'"):
         branch.plot(y="force")
+
+
+def test_stretches_meet_at_the_located_fold(branch) -> None:
+    """A stable and an unstable stretch end at the located fold itself (its speed and RMS
+    DTE, exactly), not at the branch point just past it."""
+    (fold,) = branch.of_kind("fold")
+    ax = branch.plot().axes[0]
+    at = (fold.parameter * 60 / (2 * math.pi), fold.point.dte_rms * 1e6)
+    ends = {}
+    for line in ax.lines:
+        x, y = np.asarray(line.get_xdata()), np.asarray(line.get_ydata())
+        if x.size > 1:
+            for i in (0, -1):
+                if (x[i], y[i]) == at:
+                    ends[line.get_linestyle()] = True
+    assert ends == {"-": True, "--": True}

@@ -16,7 +16,8 @@ Modules, one concern each: :mod:`.settings` (the knobs), :mod:`.family` (value -
 equations, corrector, tangent), :mod:`.detect` (test functions, location), :mod:`.graze` (the
 grazing test), :mod:`.arclength` (the continuation loop), :mod:`.switch` (period-doubling branch
 switching), :mod:`.branch` (result objects), :mod:`.points` (a point from a converged
-evaluation).
+evaluation), :mod:`.strobe` (the orbits' stroboscopic samples: the continuation's bifurcation
+diagram).
 """
 
 from gear_dyn.analysis.continuation.arclength import continue_orbits
@@ -27,9 +28,11 @@ from gear_dyn.analysis.continuation.fold_curve import SpeedTorqueFamily, fold_ma
 from gear_dyn.analysis.continuation.jump_map import Cusp, FoldMap, JumpRegion
 from gear_dyn.analysis.continuation.orbit import liouville_residual
 from gear_dyn.analysis.continuation.settings import ContinuationSettings
+from gear_dyn.analysis.continuation.strobe import BranchSamples, branch_samples
 
 __all__ = [
-    "PARAMETERS", "Bifurcation", "Branch", "ContinuationSettings", "Cusp", "FoldMap",
-    "JumpRegion", "SpeedTorqueFamily", "fold_map", "OrbitPoint", "SDOFFamily",
-    "continue_orbits", "fold_test", "liouville_residual", "pd_test", "sdof_family",
+    "PARAMETERS", "Bifurcation", "Branch", "BranchSamples", "ContinuationSettings", "Cusp",
+    "FoldMap", "JumpRegion", "SpeedTorqueFamily", "fold_map", "OrbitPoint", "SDOFFamily",
+    "branch_samples", "continue_orbits", "fold_test", "liouville_residual", "pd_test",
+    "sdof_family",
 ]
