@@ -21,16 +21,20 @@ found on the step (cubic Hermite between the ends with their tangents, then quad
 the three nearest), so near the root it takes one or two maps; no point is computed twice.
 
 The bracket is narrowed by :func:`bracket_root`: secant steps on the test function
-(superlinear), regula falsi where the secant leaves the bracket, bisection where no test
-value is known or the steps do not halve every second trial (Brent 1973, ch. 4, whose step "by at
-least the tolerance" is kept: a trial next to an end is moved the tolerated width inside, so the
-bracket itself collapses). It stops when the parameter is known to ``locate_tol`` relative:
-the parameter's largest change over the final bracket, from the quadratic through its two
-ends and the nearest third point, is the located point's stated ``parameter_error``. Near a
-fold the parameter is stationary along the branch, so a bracket of width ``w`` in arclength
-fixes it to about ``p'' w^2 / 2``; at a period doubling or a graze to about ``p' w``.
-The contact pattern (not the grazing test's sign) decides on which side of a graze a point
-lies; where the grazing test is not available, the bracket is bisected.
+(superlinear), regula falsi where the secant leaves the bracket, bisection where no test value
+is known or the steps do not halve every second trial (Brent 1973, ch. 4, whose step "by at
+least the tolerance" is kept: a trial next to an end is moved the tolerated width inside, so
+the bracket itself collapses). It stops when the parameter is known to ``locate_tol``
+relative: its largest change over the final bracket, from the quadratic through the bracket's
+ends and the nearest third point. Near a fold the parameter is stationary along the branch, so
+a bracket of width ``w`` in arclength fixes it to about ``p'' w^2 / 2``; at a period doubling
+or a graze to about ``p' w``. A located point's stated ``parameter_error`` is that change plus
+the parameter component of the Newton step its own residual would still take (the corrector
+stops at ``newton_tol``). A fold or period doubling is reported at the secant root of the final
+bracket, a graze at the bracket's end with the new contact pattern. The contact pattern
+decides on which side of a graze a point lies where the grazing test is within
+:data:`GRAZE_BAND` of zero, and checks the final bracket's ends; where the test is not
+available, the bracket is bisected on the pattern.
 """
 
 from __future__ import annotations
