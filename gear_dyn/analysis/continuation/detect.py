@@ -16,9 +16,9 @@ The single-DOF model has no Neimark-Sacker point: two complex multipliers have t
 A step of the branch from ``z_a`` along the tangent ``t_a`` is the one-parameter curve
 ``s -> corrector(z_a + s t_a)`` with the hyperplane ``t_a . (z - z_a - s t_a) = 0``; the
 accepted step is its value at ``s = ds``, so the bracket ``[0, ds]`` holds both end values.
-Each trial point is a corrector solve started from the interpolant of the points already
-found on the step (cubic Hermite between the ends with their tangents, then quadratic through
-the three nearest), so near the root it takes one or two maps; no point is computed twice.
+Each trial point is a corrector solve started from the cubic Hermite interpolant between the
+points already found on either side of it, with their tangents (from each point's own
+Jacobian), so near the root it takes one or two maps; no point is computed twice.
 
 The bracket is narrowed by :func:`bracket_root`: secant steps on the test function
 (superlinear), regula falsi where the secant leaves the bracket, bisection where no test value
@@ -48,7 +48,8 @@ from numpy.typing import NDArray
 from gear_dyn.analysis.continuation.graze import graze_test
 from gear_dyn.analysis.continuation.orbit import OrbitShape, orbit_shape
 from gear_dyn.analysis.continuation.settings import ContinuationSettings
-from gear_dyn.analysis.continuation.shooting import Evaluation, Shooting
+from gear_dyn.analysis.continuation.shooting import Evaluation, Shooting, tangent
+from gear_dyn.errors import SolverError
 
 FloatArray = NDArray[np.float64]
 #: trial points of one location at most (bisection from a scaled step of 10 to 1e-14 needs 50)
@@ -96,24 +97,31 @@ class StepCurve:
         # dz/ds at the ends: s is the projection on t_a, so t / (t . t_a)
         self.slope = {0.0: t_a, ds: t_b / float(t_b @ t_a)}
 
+    def _slope(self, x: float) -> FloatArray | None:
+        """``dz/ds`` at the cached point ``x``: its tangent (from its own Jacobian at a trial
+        point) over the tangent's component along ``t_a``; None where the Jacobian has no
+        unique tangent (a branch point)."""
+        if x not in self.slope:
+            try:
+                t = tangent(self.cache[x].jac)
+            except SolverError:
+                return None
+            self.slope[x] = t / float(t @ self.t_a)
+        return self.slope[x]
+
     def predict(self, s: float) -> FloatArray:
-        """The interpolant of the points found so far, at ``s``."""
-        if len(self.cache) == 2:  # cubic Hermite between the ends
-            h = self.ds
-            u = s / h
-            z0, z1 = self.cache[0.0].z, self.cache[h].z
-            d0, d1 = self.slope[0.0], self.slope[h]
-            return np.asarray((2 * u**3 - 3 * u**2 + 1) * z0 + (u**3 - 2 * u**2 + u) * h * d0
-                              + (-2 * u**3 + 3 * u**2) * z1 + (u**3 - u**2) * h * d1)
-        near = sorted(self.cache, key=lambda x: abs(x - s))[:3]
-        z = np.zeros(3)
-        for i, si in enumerate(near):
-            w = 1.0
-            for j, sj in enumerate(near):
-                if j != i:
-                    w *= (s - sj) / (si - sj)
-            z = z + w * self.cache[si].z
-        return z
+        """The cubic Hermite interpolant between the cached points on either side of ``s``
+        (their values and slopes), at ``s``."""
+        x0 = max(x for x in self.cache if x < s)
+        x1 = min(x for x in self.cache if x > s)
+        h = x1 - x0
+        u = (s - x0) / h
+        z0, z1 = self.cache[x0].z, self.cache[x1].z
+        d0, d1 = self._slope(x0), self._slope(x1)
+        if d0 is None or d1 is None:  # the chord: linear interpolation
+            d0 = d1 = (z1 - z0) / h
+        return np.asarray((2 * u**3 - 3 * u**2 + 1) * z0 + (u**3 - 2 * u**2 + u) * h * d0
+                          + (-2 * u**3 + 3 * u**2) * z1 + (u**3 - u**2) * h * d1)
 
     def at(self, s: float) -> Evaluation | None:
         """The corrected point at arclength ``s`` along the step (None: no convergence)."""
