@@ -76,8 +76,19 @@ def _problems(path: Path) -> list[str]:
         raise InputError(f"{path}: not a readable FMU ({exc.__class__.__name__}: {exc})") from None
 
 
-def run_build(args: argparse.Namespace) -> int:
+def _validate(path: Path, quiet: bool) -> None:
+    """fmpy's validation of a built FMU: one line, or SolverError naming the problems."""
     from gear_dyn.errors import SolverError
+
+    with Stages(["validate (fmpy)"], quiet):
+        problems = _problems(path)
+    if problems:
+        raise SolverError(f"{path}: fmpy validation found {len(problems)} problem(s): "
+                          + "; ".join(problems))
+    print("fmpy validation: no problems")
+
+
+def run_build(args: argparse.Namespace) -> int:
     from gear_dyn.fmu.build import build_fmu
 
     if args.backend != "python":
@@ -101,17 +112,11 @@ def run_build(args: argparse.Namespace) -> int:
     print("hosts: Python hosts (fmpy) on this machine's Python; for other hosts build the "
           "native FMU (docs/fmu.md)")
     if not args.no_validate:
-        with Stages(["validate (fmpy)"], args.quiet):
-            problems = _problems(built.path)
-        if problems:
-            raise SolverError(f"{built.path}: fmpy validation found {len(problems)} problem(s): "
-                              + "; ".join(problems))
-        print("fmpy validation: no problems")
+        _validate(built.path, args.quiet)
     return 0
 
 
 def _run_build_native(args: argparse.Namespace) -> int:
-    from gear_dyn.errors import SolverError
     from gear_dyn.fmu.export_fmu import build_native_fmu
 
     with Stages(["build native FMU"], args.quiet):
@@ -121,12 +126,7 @@ def _run_build_native(args: argparse.Namespace) -> int:
           f"model identifier {built.model_identifier}; {t.flat.size} table pieces, "
           f"{'exact' if t.exact else 'fitted'}; {built.path.stat().st_size // 1000} kB)")
     if not args.no_validate:
-        with Stages(["validate (fmpy)"], args.quiet):
-            problems = _problems(built.path)
-        if problems:
-            raise SolverError(f"{built.path}: fmpy validation found {len(problems)} problem(s): "
-                              + "; ".join(problems))
-        print("fmpy validation: no problems")
+        _validate(built.path, args.quiet)
     return 0
 
 
