@@ -23,18 +23,17 @@ propagates it in closed form.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.polynomial import chebyshev as cheb
 from numpy.typing import NDArray
 
 from gear_dyn.errors import InputError
 from gear_dyn.excitation import SampledSignal
 from gear_dyn.geometry import GearPair
 from gear_dyn.models.sdof import SDOFModel
+from gear_dyn.models.torsional_table import node_matrix
 from gear_dyn.stiffness.periodic import PiecewiseStiffness
 
 FloatArray = NDArray[np.float64]
@@ -190,20 +189,6 @@ def _knots(part: Any) -> tuple[FloatArray, bool] | None:
     return np.asarray(sw, dtype=float), False
 
 
-def _fit_matrix(degree: int) -> tuple[FloatArray, FloatArray]:
-    """Chebyshev points on [-1, 1] and the matrix from values there to monomial coefficients
-    (highest power first)."""
-    n = degree + 1
-    s = np.cos(np.pi * (np.arange(n) + 0.5) / n)
-    to_cheb = np.linalg.inv(cheb.chebvander(s, degree))
-    to_mono = np.zeros((n, n))
-    for k in range(n):
-        unit = np.zeros(n)
-        unit[k] = 1.0
-        to_mono[: k + 1, k] = cheb.cheb2poly(unit)
-    return s, (to_mono @ to_cheb)[::-1]
-
-
 def phase_table(model: SDOFModel) -> PhaseTable:
     """Tabulate ``k``, ``e`` and ``de/dp`` of a single-DOF model over one mesh cycle.
 
@@ -224,7 +209,7 @@ def phase_table(model: SDOFModel) -> PhaseTable:
     if not np.all(np.isfinite(br)):
         raise InputError("native FMU table: non-finite switching phases")
     degree = 1 if linear else SMOOTH_DEGREE
-    s, to_mono = _fit_matrix(degree)
+    s, to_mono = node_matrix(degree)
     a, b = br[:-1], br[1:]
     mid, half = 0.5 * (a + b), 0.5 * (b - a)
     te = model.transmission_error
@@ -276,8 +261,3 @@ def native_model(model: Any, pair: GearPair, speed: float, torque: float,
         transmission_error=model.transmission_error is not None,
         load_tables=load_tables,
     )
-
-
-def speed_of(model: SDOFModel, pair: GearPair) -> float:
-    """Pinion speed in rad/s of a model (from its mesh frequency)."""
-    return 2 * math.pi * model.mesh_frequency / pair.z1

@@ -24,8 +24,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.errors import InputError
-from gear_dyn.fmu.export import CHECK_POINTS, RK_ERROR, NotNativeError, _fit_matrix
+from gear_dyn.fmu.export import CHECK_POINTS, RK_ERROR, NotNativeError
 from gear_dyn.geometry import GearPair
+from gear_dyn.models.torsional_table import node_matrix
 
 FloatArray = NDArray[np.float64]
 
@@ -191,7 +192,7 @@ def torsional_table(model: Any) -> TorsionalTable:
     chk = (mid[:, None] + half[:, None] * u[None, :]).ravel()
     exact = direct(chk)
     for degree in range(MIN_DEGREE, MAX_DEGREE + 1):
-        s, to_mono = _fit_matrix(degree)
+        s, to_mono = node_matrix(degree)
         vals = direct((mid[:, None] + half[:, None] * s[None, :]).ravel())
         coef = np.einsum("ij,qpj->pqi", to_mono, vals.reshape(5, a.size, s.size))
         table = TorsionalTable(br, degree, coef, period, {})
