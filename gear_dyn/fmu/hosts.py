@@ -34,6 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from gear_dyn.errors import InputError
+from gear_dyn.fmu.toolchain import linux_compiler
 
 #: the C host's source, compiled for FMI 2 (``fmi2_host``) or, with ``-DFMI_VERSION=3``, FMI 3
 HOST_SOURCE = Path(__file__).with_name("fmi_host.c")
@@ -239,7 +240,7 @@ def compile_c_host(dest: str | Path, fmi: int = 2) -> Path:
     HostMissing
         No C compiler on PATH.
     """
-    cc = shutil.which("cc") or shutil.which("gcc") or shutil.which("clang")
+    cc = linux_compiler()
     if cc is None:
         raise HostMissing("no C compiler (cc, gcc or clang) on PATH to build the C host")
     exe = Path(dest) / f"fmi{fmi}_host"
