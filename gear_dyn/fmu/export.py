@@ -68,6 +68,22 @@ class NotNativeError(InputError):
         self.reason = reason
 
 
+def piecewise_values(breaks: FloatArray, coef: FloatArray, phase: FloatArray,
+                     period: float = 1.0) -> FloatArray:
+    """Piecewise polynomials at phases (cycles, any real; ``period`` cycles per table),
+    vectorised: array (quantities, n). ``coef`` (pieces, quantities, degree + 1) in
+    ``s = (2 p - a - b) / (b - a)`` on the piece ``[a, b]`` of ``breaks``, highest power first."""
+    p = np.mod(np.asarray(phase, dtype=float), period)
+    i = np.clip(np.searchsorted(breaks, p, side="right") - 1, 0, breaks.size - 2)
+    a, b = breaks[i], breaks[i + 1]
+    s = (2 * p - a - b) / (b - a)
+    c = coef[i]
+    acc = c[:, :, 0].copy()
+    for j in range(1, c.shape[2]):  # Horner
+        acc = acc * s[:, None] + c[:, :, j]
+    return acc.T
+
+
 @dataclass(frozen=True)
 class PhaseTable:
     """Piecewise polynomials of ``k``, ``e`` and ``de/dp`` over one mesh cycle.
@@ -99,15 +115,7 @@ class PhaseTable:
 
     def evaluate(self, phase: FloatArray) -> FloatArray:
         """``(k, e, de/dp)`` at phases (cycles, any real), vectorised: array (3, n)."""
-        p = np.mod(np.asarray(phase, dtype=float), 1.0)
-        i = np.clip(np.searchsorted(self.breaks, p, side="right") - 1, 0, self.flat.size - 1)
-        a, b = self.breaks[i], self.breaks[i + 1]
-        s = (2 * p - a - b) / (b - a)
-        c = self.coef[i]  # (n, 3, degree + 1)
-        acc = c[:, :, 0].copy()
-        for j in range(1, self.degree + 1):
-            acc = acc * s[:, None] + c[:, :, j]
-        return acc.T
+        return piecewise_values(self.breaks, self.coef, phase)
 
 
 @dataclass(frozen=True)

@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.errors import InputError
-from gear_dyn.fmu.export import CHECK_POINTS, RK_ERROR, NotNativeError
+from gear_dyn.fmu.export import CHECK_POINTS, RK_ERROR, NotNativeError, piecewise_values
 from gear_dyn.geometry import GearPair
 from gear_dyn.models.torsional_table import node_matrix
 
@@ -74,16 +74,7 @@ class TorsionalTable:
 
     def evaluate(self, phase: FloatArray) -> FloatArray:
         """The five quantities at phases (cycles, any real), vectorised: array (5, n)."""
-        p = np.mod(np.asarray(phase, dtype=float), float(self.period))
-        n = self.breaks.size - 1
-        i = np.clip(np.searchsorted(self.breaks, p, side="right") - 1, 0, n - 1)
-        a, b = self.breaks[i], self.breaks[i + 1]
-        s = (2 * p - a - b) / (b - a)
-        c = self.coef[i]
-        acc = c[:, :, 0].copy()
-        for j in range(1, self.degree + 1):
-            acc = acc * s[:, None] + c[:, :, j]
-        return acc.T
+        return piecewise_values(self.breaks, self.coef, phase, float(self.period))
 
 
 @dataclass(frozen=True)
