@@ -18,16 +18,15 @@ completed afterwards: UnitDefinitions (SI base units, display units such as rpm,
 
 from __future__ import annotations
 
-import json
-import zipfile
 from pathlib import Path
 from typing import Any
 from xml.etree import ElementTree as ET
 
 from gear_dyn.errors import InputError
 from gear_dyn.fmu.build3 import build_fmu3
+from gear_dyn.fmu.fmu_info import read_fmu
 from gear_dyn.fmu.staging import BuiltFmu, build_with, unit_definitions
-from gear_dyn.fmu.variables import SPEC_FILE, UNITS, check_spec
+from gear_dyn.fmu.variables import SPEC_FILE, UNITS
 from gear_dyn.scene import Scene
 
 
@@ -130,25 +129,16 @@ def _enumerations(root: ET.Element, mv: ET.Element, by_name: dict[str, Any]) -> 
 
 
 def read_spec(fmu: str | Path) -> dict[str, Any]:
-    """The gear_dyn spec (scene, variables, experiment) stored in an FMU built here.
+    """The gear_dyn spec (scene, variables, experiment) stored in a pythonfmu FMU built here
+    (:func:`gear_dyn.fmu.fmu_info.read_fmu`, which reads native FMUs too).
 
     Raises
     ------
     InputError
-        Not a readable FMU, or not one built by gear_dyn.
+        Not a readable FMU, or not a pythonfmu FMU built by gear_dyn.
     """
-    p = Path(fmu)
-    try:
-        with zipfile.ZipFile(p) as z:
-            text = z.read(f"resources/{SPEC_FILE}").decode("utf-8")
-    except FileNotFoundError:
-        raise InputError(f"{p}: FMU file not found") from None
-    except (zipfile.BadZipFile, OSError):
-        raise InputError(f"{p}: not a readable FMU (zip) file") from None
-    except KeyError:
-        raise InputError(f"{p}: not an FMU built by gear_dyn (no resources/{SPEC_FILE})") from None
-    try:
-        data = json.loads(text)
-    except ValueError:
-        raise InputError(f"{p}: resources/{SPEC_FILE} is not valid JSON") from None
-    return check_spec(data)
+    info = read_fmu(fmu)
+    if info.backend != "python":
+        raise InputError(f"{fmu}: not a pythonfmu FMU built by gear_dyn (no "
+                         f"resources/{SPEC_FILE}: a native FMU)")
+    return info.spec
