@@ -67,11 +67,8 @@ def check_fmu(fmu: str | Path, n_steps: int = 64) -> list[CheckLine]:
     """
     from fmpy.validation import validate_fmu
 
-    from gear_dyn.fmu.session3 import fmi_version
-
     path = Path(fmu)
     facts = describe(path)
-    version = fmi_version(path)
     names = facts.outputs
     if facts.step is None:
         raise InputError(f"{path}: no DefaultExperiment stepSize to check the FMU with")
@@ -79,7 +76,7 @@ def check_fmu(fmu: str | Path, n_steps: int = 64) -> list[CheckLine]:
     lines = []
     problems = list(validate_fmu(str(path)))
     lines.append(CheckLine("validation", not problems,
-                           f"fmpy, FMI {version}: no problems" if not problems
+                           f"fmpy, FMI {facts.fmi}.0: no problems" if not problems
                            else "; ".join(problems)[:200]))
     try:
         free = fmpy_rows(path, names, h, n_steps)
@@ -94,8 +91,7 @@ def check_fmu(fmu: str | Path, n_steps: int = 64) -> list[CheckLine]:
     lines.append(CheckLine("stop-time independence", d <= AGREEMENT,
                            f"with vs without stop time: max diff {d:.2e} of each output's "
                            f"largest value (required <= {AGREEMENT:g})"))
-    lines.append(_c_host_line(path, names, h, n_steps, free, 3 if version.startswith("3")
-                              else 2))
+    lines.append(_c_host_line(path, names, h, n_steps, free, facts.fmi))
     return lines
 
 
