@@ -51,8 +51,9 @@ def sweep_columns(result: SweepResult) -> dict[str, Any]:
     return {k: np.concatenate([np.asarray(p[k], dtype=float) for p in parts]) for k in parts[0]}
 
 
-def _ranges(speed: FloatArray, mask: NDArray[np.bool_]) -> list[list[float]]:
-    """Contiguous speed ranges (rpm, sorted) where ``mask`` holds."""
+def speed_ranges(speed: FloatArray, mask: NDArray[np.bool_]) -> list[list[float]]:
+    """Contiguous ranges of the speeds ``speed`` (rad/s) where ``mask`` holds: [first, last]
+    in rpm, sorted."""
     order = np.argsort(speed)
     s = speed[order] / RPM
     edges = np.diff(np.concatenate([[0], mask[order].astype(int), [0]]))  # +1 start, -1 past end
@@ -89,7 +90,7 @@ def aperiodic_ranges(result: SweepResult) -> list[list[float]]:
     for c in result.curves:
         m = _not_periodic(c)
         mask |= m if c.direction == "up" else m[::-1]
-    return _ranges(_up_speeds(result), mask)
+    return speed_ranges(_up_speeds(result), mask)
 
 
 def _up_speeds(result: SweepResult) -> FloatArray:
@@ -112,7 +113,7 @@ def hysteresis_ranges(result: SweepResult, rel: float = 0.05) -> list[list[float
     with np.errstate(invalid="ignore"):
         differ = np.abs(up.rms_dte - d) > rel * ref
     both = periodic_response(up) & periodic_response(down)[::-1]
-    return _ranges(up.speed, differ & np.isfinite(ref) & both)
+    return speed_ranges(up.speed, differ & np.isfinite(ref) & both)
 
 
 def jumps(curve: SweepCurve) -> list[dict[str, Any]]:
@@ -207,12 +208,12 @@ def summarize_sweep(result: SweepResult) -> dict[str, Any]:
     for c in result.curves:
         finite = np.isfinite(c.peak_force_ratio)  # K_dyn is NaN too without a reference
         info: dict[str, Any] = {
-            "unstable_ranges_rpm": _ranges(c.speed, np.array([s == "unstable"
+            "unstable_ranges_rpm": speed_ranges(c.speed, np.array([s == "unstable"
                                                                for s in c.status])),
-            "separation_ranges_rpm": _ranges(c.speed, np.nan_to_num(c.separation) > 0),
-            "backside_ranges_rpm": _ranges(c.speed, np.nan_to_num(c.backside) > 0),
-            "aperiodic_ranges_rpm": _ranges(c.speed, _not_periodic(c)),
-            "period2_ranges_rpm": _ranges(c.speed, c.orbit_periods == 2),
+            "separation_ranges_rpm": speed_ranges(c.speed, np.nan_to_num(c.separation) > 0),
+            "backside_ranges_rpm": speed_ranges(c.speed, np.nan_to_num(c.backside) > 0),
+            "aperiodic_ranges_rpm": speed_ranges(c.speed, _not_periodic(c)),
+            "period2_ranges_rpm": speed_ranges(c.speed, c.orbit_periods == 2),
             "jumps": jumps(c),
             # what the motion is where it is not period-1 (gear_dyn.analysis.motion)
             "motion": [{"speed_rpm": float(c.speed[i] / RPM), "label": label}
