@@ -59,17 +59,11 @@ def build_fmu(target: str | Path | Scene, out: str | Path, fmi: int = 2) -> Buil
 
 
 # ---------------------------------------------------------------------- modelDescription
-def complete_model_description(xml: bytes, spec: dict[str, Any]) -> bytes:
-    """Add UnitDefinitions, units and InitialUnknowns to pythonfmu's modelDescription.xml."""
-    root = ET.fromstring(xml)
-    from gear_dyn import __version__
-
-    root.set("generationTool", f"gear_dyn {__version__} ({root.get('generationTool', '')})")
-    by_name = {v["name"]: v for v in spec["variables"]}
+def complete_model_description(root: ET.Element, mv: ET.Element, by_name: dict[str, Any]
+                               ) -> None:
+    """Add UnitDefinitions, units and InitialUnknowns to pythonfmu's modelDescription.xml
+    (``root``, its ModelVariables ``mv``; ``by_name``: the spec's variables by name)."""
     used: dict[str, str] = {}
-    mv = root.find("ModelVariables")
-    if mv is None:
-        raise InputError("modelDescription.xml without ModelVariables")
     outputs: list[int] = []
     for index, sv in enumerate(mv.findall("ScalarVariable"), start=1):
         v = by_name.get(sv.get("name", ""))
@@ -103,8 +97,6 @@ def complete_model_description(xml: bytes, spec: dict[str, Any]) -> bytes:
         iu = ET.SubElement(ms, "InitialUnknowns")
         for index in outputs:
             ET.SubElement(iu, "Unknown", {"index": str(index)})
-    ET.indent(root, space="  ")
-    return ET.tostring(root, encoding="UTF-8", xml_declaration=True)
 
 
 def _enumerations(root: ET.Element, mv: ET.Element, by_name: dict[str, Any]) -> None:

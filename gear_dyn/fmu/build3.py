@@ -42,17 +42,11 @@ def build_fmu3(target: str | Path | Scene, out: str | Path) -> BuiltFmu:
                       canGetAndSetFMUState=True, canSerializeFMUState=True)
 
 
-def complete_model_description3(xml: bytes, spec: dict[str, Any]) -> bytes:
+def complete_model_description3(root: ET.Element, mv: ET.Element, by_name: dict[str, Any]
+                                ) -> None:
     """Add units, bounds, enumeration types and output dependencies to pythonfmu3's
-    modelDescription.xml (FMI 3.0)."""
-    root = ET.fromstring(xml)
-    from gear_dyn import __version__
-
-    root.set("generationTool", f"gear_dyn {__version__} ({root.get('generationTool', '')})")
-    by_name = {v["name"]: v for v in spec["variables"]}
-    mv = root.find("ModelVariables")
-    if mv is None:
-        raise InputError("modelDescription.xml without ModelVariables")
+    modelDescription.xml (FMI 3.0; arguments as
+    :func:`gear_dyn.fmu.build.complete_model_description`)."""
     used: dict[str, str] = {}
     enums = ET.Element("TypeDefinitions")
     for el in mv:
@@ -93,5 +87,3 @@ def complete_model_description3(xml: bytes, spec: dict[str, Any]) -> bytes:
     # no direct feedthrough: outputs change only at doStep and exitInitializationMode
     for output in [] if ms is None else ms.findall("Output"):
         output.set("dependencies", "")
-    ET.indent(root, space="  ")
-    return ET.tostring(root, encoding="UTF-8", xml_declaration=True)

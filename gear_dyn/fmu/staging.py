@@ -166,11 +166,13 @@ def slave_script(package: str, class_name: str, spec: dict[str, Any], fmi: int) 
 
 
 def build_with(builder: Any, target: str | Path | Scene, out: str | Path, fmi: int,
-               complete: Callable[[bytes, dict[str, Any]], bytes], **options: bool) -> BuiltFmu:
+               complete: Callable[[ET.Element, ET.Element, dict[str, Any]], None],
+               **options: bool) -> BuiltFmu:
     """Build the FMU of ``target`` with pythonfmu's (``fmi=2``) or pythonfmu3's (``fmi=3``)
     ``FmuBuilder`` (``options``: its FMU-state flags), complete its modelDescription.xml with
-    ``complete(xml, spec)`` and write it to ``out`` whole or not at all. pythonfmu3's C++ loader
-    sources are left out (the FMI 2 FMU carries none either).
+    ``complete(root, model_variables, variables_by_name)`` (after the gear_dyn version is added
+    to its generationTool) and write it to ``out`` whole or not at all. pythonfmu3's C++
+    loader sources are left out (the FMI 2 FMU carries none either).
 
     Raises
     ------
@@ -188,7 +190,16 @@ def build_with(builder: Any, target: str | Path | Scene, out: str | Path, fmi: i
                       skip=(other,)) as (tmp, script, files):
         raw = builder.build_FMU(script, dest=tmp / "raw.fmu", project_files=files, **options)
         src = zipfile.ZipFile(io.BytesIO(Path(raw).read_bytes()))
-    xml = complete(src.read("modelDescription.xml"), spec)
+    root = ET.fromstring(src.read("modelDescription.xml"))
+    from gear_dyn import __version__
+
+    root.set("generationTool", f"gear_dyn {__version__} ({root.get('generationTool', '')})")
+    mv = root.find("ModelVariables")
+    if mv is None:
+        raise InputError("modelDescription.xml without ModelVariables")
+    complete(root, mv, {v["name"]: v for v in spec["variables"]})
+    ET.indent(root, space="  ")
+    xml = ET.tostring(root, encoding="UTF-8", xml_declaration=True)
     buf = io.BytesIO()
     with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as dst:
         for info in src.infolist():
