@@ -42,18 +42,10 @@ def register(sub: Any) -> None:
 
 def overrides(args: argparse.Namespace) -> dict[str, Any]:
     """Solver overrides from the flags, validated."""
-    ov: dict[str, Any] = {}
-    if args.method is not None:
-        ov["method"] = args.method
-    if args.rtol is not None:
-        ov["rtol"] = args.rtol
-    if args.atol is not None:
-        ov["atol"] = args.atol
-    if args.periods is not None:
-        if args.periods < 2:
-            raise InputError(f"--periods = {args.periods}: valid range >= 2 mesh periods")
-        ov["periods"] = args.periods
-    return ov
+    if args.periods is not None and args.periods < 2:
+        raise InputError(f"--periods = {args.periods}: valid range >= 2 mesh periods")
+    return {k: getattr(args, k) for k in ("method", "rtol", "atol", "periods")
+            if getattr(args, k) is not None}
 
 
 def operating_flags(args: argparse.Namespace) -> tuple[float | None, float | None]:
