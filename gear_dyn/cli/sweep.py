@@ -59,13 +59,7 @@ def register(sub: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    import os
-
-    # a sweep multiplies 2x2 and 3x3 matrices: BLAS threads never help there, and on a busy
-    # machine their spin-waits made scipy's expm of a 3x3 matrix 10-30 ms instead of 0.1 ms
-    # (measured, benchmarks/bench_sweep.py); the pool's workers inherit it. An explicit
-    # setting wins; it takes effect when numpy is first loaded, just below.
-    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+    # one BLAS thread per process (and pool worker): gear_dyn.cli.app.limit_blas_threads
     result, scene = _sweep(args)
     summary = write_sweep_outputs(result, scene, args.out, args.chart)
     _print_summary(result, scene, summary, args.chart)
