@@ -8,7 +8,6 @@ pair, the scene's ``[tip_relief]`` if any, and every relief rule (docs/modificat
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 from typing import Any
 
@@ -148,12 +147,11 @@ def run(args: argparse.Namespace) -> int:
             fig = plot_dynamic_comparison(results)
             save_figure(fig, tmp / "dynamics.png", dpi=120)
             write_json(tmp / "dynamics.json", dyn)
-    out = sys.stdout
     print(f"{scene.name}: loaded contact at T1 = {res['torque']:.6g} N m "
-          f"({res['pair_stiffness']} pair stiffness, rules with {res['curve']} relief)", file=out)
+          f"({res['pair_stiffness']} pair stiffness, rules with {res['curve']} relief)")
     head = (f"{'case':<14} {'C_a1 um':>8} {'C_a2 um':>8} {'peak MPa':>9} {'ptp TE um':>10} "
             f"{'single zone from A (mm)':>24}" + (f" {'F_max/W':>8}" if dyn else ""))
-    print(head, file=out)
+    print(head)
     for row in report["cases"]:
         z0, z1 = row["single_contact_start_from_a_m"], row["single_contact_end_from_a_m"]
         zone = "none" if z0 is None else f"{z0 * 1e3:.3f} .. {z1 * 1e3:.3f}"
@@ -162,6 +160,6 @@ def run(args: argparse.Namespace) -> int:
                 f"{row['peak_to_peak_static_te_m'] * 1e6:10.3f} {zone:>24}")
         if dyn:
             line += f" {dyn[row['case']]['peak_force_ratio']:8.3f}"
-        print(line, file=out)
-    print(f"wrote {args.out}/", file=out)
+        print(line)
+    print(f"wrote {args.out}/")
     return 0
