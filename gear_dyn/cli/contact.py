@@ -80,9 +80,8 @@ def _dynamics(scene: Any, res: dict[str, Any]) -> tuple[dict[str, Any], dict[str
                                   samples_per_period=sv["samples_per_period"])
     except InputError as exc:
         raise InputError(f"{scene.source}: {exc}") from None
-    inertias = None
-    if scene.has("inertia"):
-        inertias = (scene.tables["inertia"]["pinion"], scene.tables["inertia"]["gear"])
+    inertia = scene.tables.get("inertia")
+    inertias = None if inertia is None else (inertia["pinion"], inertia["gear"])
     periods = sv["periods"]
     steady = sv["steady_periods"] or periods // 2
     dyn: dict[str, Any] = {}
@@ -103,7 +102,6 @@ def _dynamics(scene: Any, res: dict[str, Any]) -> tuple[dict[str, Any], dict[str
 
 
 def run(args: argparse.Namespace) -> int:
-
     from gear_dyn.io import save_figure, staged_output, write_csv, write_json
     from gear_dyn.plots.contact import plot_load_sharing, plot_loaded_stiffness
     from gear_dyn.scene import load_scene
@@ -120,10 +118,7 @@ def run(args: argparse.Namespace) -> int:
         "positions": "m from T1 along the line of action (*_from_a_m: from the start of contact)",
         "cases": [c.row() for c in cases.values()],
     }
-    dyn: dict[str, Any] = {}
-    results: dict[str, Any] = {}
-    if args.dynamics:
-        dyn, results = _dynamics(scene, res)
+    dyn, results = _dynamics(scene, res) if args.dynamics else ({}, {})
     cols: dict[str, Any] = {}
     for name, c in cases.items():
         key = name.replace(" ", "_")
@@ -135,17 +130,14 @@ def run(args: argparse.Namespace) -> int:
 
     cols = {k: np.concatenate([v, np.full(n - len(v), np.nan)]) for k, v in cols.items()}
     with staged_output(args.out) as tmp:
-        fig = plot_load_sharing(cases)
-        save_figure(fig, tmp / "load_sharing.png", dpi=120)
-        fig = plot_loaded_stiffness(cases)
-        save_figure(fig, tmp / "stiffness.png", dpi=120)
+        save_figure(plot_load_sharing(cases), tmp / "load_sharing.png", dpi=120)
+        save_figure(plot_loaded_stiffness(cases), tmp / "stiffness.png", dpi=120)
         write_csv(tmp / "path.csv", cols)
         write_json(tmp / "contact.json", report)
         if results:
             from gear_dyn.plots.contact import plot_dynamic_comparison
 
-            fig = plot_dynamic_comparison(results)
-            save_figure(fig, tmp / "dynamics.png", dpi=120)
+            save_figure(plot_dynamic_comparison(results), tmp / "dynamics.png", dpi=120)
             write_json(tmp / "dynamics.json", dyn)
     print(f"{scene.name}: loaded contact at T1 = {res['torque']:.6g} N m "
           f"({res['pair_stiffness']} pair stiffness, rules with {res['curve']} relief)")
