@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from collections import Counter
 from pathlib import Path
 from typing import Any
 
@@ -102,13 +103,10 @@ def run_build(args: argparse.Namespace) -> int:
             print(f"backend: python (pythonfmu), because {exc.reason}")
     with Stages(["build FMU"], args.quiet):
         built = build_fmu(args.scene, args.out, fmi=args.fmi)
-    n_par = sum(v["causality"] == "parameter" for v in built.spec["variables"])
-    n_in = sum(v["causality"] == "input" for v in built.spec["variables"])
-    n_out = sum(v["causality"] == "output" for v in built.spec["variables"])
+    n = Counter(v["causality"] for v in built.spec["variables"])
     print(f"{built.spec['scene_name']}: {built.spec['model']} model -> {built.path} "
-          f"(FMI {args.fmi}.0 co-simulation) "
-          f"(model identifier {built.model_identifier}; {n_par} parameters, {n_in} inputs, "
-          f"{n_out} outputs)")
+          f"(FMI {args.fmi}.0 co-simulation) (model identifier {built.model_identifier}; "
+          f"{n['parameter']} parameters, {n['input']} inputs, {n['output']} outputs)")
     print("hosts: Python hosts (fmpy) on this machine's Python; for other hosts build the "
           "native FMU (docs/fmu.md)")
     if not args.no_validate:
