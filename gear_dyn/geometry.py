@@ -359,9 +359,7 @@ class GearPair:
                 f"({min(gap1, gap2) * 1e3:.3g} mm); valid range >= "
                 f"{(self.a_w - min(gap1, gap2)) * 1e3:.6g} mm"
             )
-        if self.tip_reach2 > self.line_of_action_length or self.tip_reach1 > (
-            self.line_of_action_length
-        ):
+        if max(self.tip_reach1, self.tip_reach2) > self.line_of_action_length:
             raise InputError(
                 f"z1 = {self.z1}, z2 = {self.z2}: involute interference (a tip reaches past the "
                 "mating base-circle tangent point); add positive profile shift to the pinion"

@@ -202,13 +202,10 @@ class PiecewiseStiffness(PeriodicStiffness):
         return v_list[j] + (v_list[j + 1] - v_list[j]) * (u - u0) / (u1 - u0)
 
     def segments(self) -> tuple[FloatArray, FloatArray] | None:
-        vals = []
-        for _ph, v in self.samples:
-            v = np.asarray(v, dtype=float)
-            if np.ptp(v) > 0:
-                return None
-            vals.append(float(v[0]))
-        return self.edges.copy(), np.asarray(vals)
+        vals = [np.asarray(v, dtype=float) for _ph, v in self.samples]
+        if any(np.ptp(v) > 0 for v in vals):
+            return None
+        return self.edges.copy(), np.array([float(v[0]) for v in vals])
 
     def fourier_coefficients(self, n: int) -> tuple[float, FloatArray, FloatArray]:
         e = self.edges
