@@ -299,12 +299,9 @@ class GearPair:
     # ------------------------------------------------------------------ thickness, backlash
     def tooth_thickness(self, gear: int, radius: float) -> float:
         """Transverse circular tooth thickness (arc) of gear 1 or 2 at ``radius`` in m."""
-        z, x = (self.z1, self.x1) if gear == 1 else (self.z2, self.x2)
-        r = self.r1 if gear == 1 else self.r2
-        rb = self.rb1 if gear == 1 else self.rb2
+        x, r, rb = (self.x1, self.r1, self.rb1) if gear == 1 else (self.x2, self.r2, self.rb2)
         s = self.transverse_module * (math.pi / 2 + 2 * x * math.tan(self.pressure_angle))
         a_y = math.acos(min(1.0, rb / radius))
-        del z
         return 2 * radius * (s / (2 * r) + involute(self.alpha_t) - involute(a_y))
 
     @property
@@ -362,9 +359,7 @@ class GearPair:
                 f"({min(gap1, gap2) * 1e3:.3g} mm); valid range >= "
                 f"{(self.a_w - min(gap1, gap2)) * 1e3:.6g} mm"
             )
-        if self.tip_reach2 > self.line_of_action_length or self.tip_reach1 > (
-            self.line_of_action_length
-        ):
+        if max(self.tip_reach1, self.tip_reach2) > self.line_of_action_length:
             raise InputError(
                 f"z1 = {self.z1}, z2 = {self.z2}: involute interference (a tip reaches past the "
                 "mating base-circle tangent point); add positive profile shift to the pinion"

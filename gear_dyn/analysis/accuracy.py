@@ -298,11 +298,8 @@ def growth_per_period(t: FloatArray, d: FloatArray, mesh_frequency: float) -> fl
 def figure_errors(result_figures: dict[str, float], tight_figures: dict[str, float]
                   ) -> dict[str, float]:
     """Stated relative errors of summary figures: ``SAFETY |F - F_tight| / |F_tight|``."""
-    out = {}
-    for name, value in result_figures.items():
-        ref = tight_figures[name]
-        out[name] = (SAFETY * abs(value - ref) / abs(ref)) if ref != 0 else math.inf
-    return out
+    return {name: SAFETY * abs(value - tight_figures[name]) / abs(tight_figures[name])
+            if tight_figures[name] != 0 else math.inf for name, value in result_figures.items()}
 
 
 #: explicit solve_ivp methods (stability-limited on stiff or very fast problems)

@@ -25,7 +25,7 @@ from gear_dyn.errors import InputError, SolverError, check_range
 from gear_dyn.models.base import MeshModel, Model
 from gear_dyn.solvers.contact_exact import contact_exact_applies, flow_with_sensitivity
 from gear_dyn.solvers.events import solve_piece_with_events
-from gear_dyn.solvers.matexp import expm
+from gear_dyn.solvers.exact import propagate_pieces
 from gear_dyn.solvers.periodic import step_products
 from gear_dyn.solvers.pieces import pieces
 
@@ -132,20 +132,12 @@ def one_period_map(model: MeshModel, rtol: float = 1e-10) -> tuple[FloatArray, F
     if model.backlash is not None:
         raise InputError("one_period_map: the model has backlash (nonlinear); use shoot()")
     period = 1.0 / model.mesh_frequency
-    pieces = model.linear_segments(0.0, period)
-    n = len(model.state_labels)
-    if pieces is not None:
-        mats = []
-        for ta, tb, a, g in pieces:
-            m = np.zeros((n + 1, n + 1))
-            m[:n, :n] = a
-            m[:n, n] = g
-            mats.append(m * (tb - ta))
-        props = expm(np.stack(mats))
-        total = np.eye(n + 1)
-        for p in props:
-            total = p @ total
-        return total[:n, :n], total[:n, n], "expm"
+    segments = model.linear_segments(0.0, period)
+    if segments is not None:  # the exact propagator's piece maps, composed
+        _, stats = propagate_pieces(segments, np.array([0.0, period]),
+                                    np.zeros(len(model.state_labels)))
+        f, h, _ends = stats["piece_maps"]
+        return (*period_map(f, h), "expm")
     return (*_variational_linear(model, period, rtol), "variational")
 
 

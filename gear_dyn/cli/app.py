@@ -96,7 +96,9 @@ def limit_blas_threads() -> None:
     time with two threads as with one: within the shared machine's noise. It stays as the plain
     guard against oversubscribed cores, not for a measured gain. Only the ``gear-dyn`` process
     does this, and only takes effect when numpy is not loaded yet; importing the library
-    changes nothing.
+    changes nothing. A sweep's pool workers inherit it (on a loaded machine, with OpenBLAS's
+    own threads scipy's expm of a 3x3 matrix took 10-30 ms instead of 0.1 ms:
+    benchmarks/bench_sweep.py).
     """
     for var in BLAS_THREAD_VARS:
         os.environ.setdefault(var, "1")

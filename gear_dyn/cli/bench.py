@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from gear_dyn.cli.progress import counter
+from gear_dyn.cli.progress import add_quiet_flag, counter
 from gear_dyn.errors import InputError
 
 TARGETS = (1e-4, 1e-6, 1e-8)
@@ -39,8 +39,7 @@ def register(sub: Any) -> None:
                    "are skipped (default 20)")
     p.add_argument("--target", type=float, default=1e-6,
                    help="target max error for the headline recommendation (default 1e-6)")
-    p.add_argument("--quiet", action="store_true",
-                   help="no progress bar on stderr (there is none when stderr is not a terminal)")
+    add_quiet_flag(p)
     p.set_defaults(func=run)
 
 

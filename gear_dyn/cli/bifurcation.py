@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import itertools
 from pathlib import Path
 from typing import Any
 
@@ -94,14 +95,12 @@ def _print_summary(diagram: Any) -> None:
 
     print(repr(diagram))
     for c in diagram.curves:
-        parts: list[str] = []
         names = [lab.split(",")[0] if lab else (f"period-{p}" if p else "no orbit <= 16")
                  for lab, p in zip(c.label, c.period, strict=True)]
-        start = 0
-        for i in range(1, len(names) + 1):
-            if i == len(names) or names[i] != names[start]:
-                lo, hi = c.speed[start] / RPM, c.speed[i - 1] / RPM
-                span = f"{lo:.0f}" if i - 1 == start else f"{lo:.0f}-{hi:.0f}"
-                parts.append(f"{names[start]} {span} rpm")
-                start = i
+        parts = []
+        for name, run in itertools.groupby(zip(names, c.speed / RPM, strict=True),
+                                           key=lambda item: item[0]):
+            rpm = [r for _, r in run]
+            span = f"{rpm[0]:.0f}" if len(rpm) == 1 else f"{rpm[0]:.0f}-{rpm[-1]:.0f}"
+            parts.append(f"{name} {span} rpm")
         print(f"  {c.direction}: " + "; ".join(parts))

@@ -72,9 +72,6 @@ def compare_rows(name: str, result: Any, scene: Any = None) -> list[dict[str, An
 
 
 def run(args: argparse.Namespace) -> int:
-    import os
-
-    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     from gear_dyn.analysis.sweep import RPM
     from gear_dyn.cli.progress import counter
     from gear_dyn.io import save_figure, staged_output, write_csv, write_json

@@ -8,7 +8,6 @@ pair, the scene's ``[tip_relief]`` if any, and every relief rule (docs/modificat
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 from typing import Any
 
@@ -81,9 +80,8 @@ def _dynamics(scene: Any, res: dict[str, Any]) -> tuple[dict[str, Any], dict[str
                                   samples_per_period=sv["samples_per_period"])
     except InputError as exc:
         raise InputError(f"{scene.source}: {exc}") from None
-    inertias = None
-    if scene.has("inertia"):
-        inertias = (scene.tables["inertia"]["pinion"], scene.tables["inertia"]["gear"])
+    inertia = scene.tables.get("inertia")
+    inertias = None if inertia is None else (inertia["pinion"], inertia["gear"])
     periods = sv["periods"]
     steady = sv["steady_periods"] or periods // 2
     dyn: dict[str, Any] = {}
@@ -104,7 +102,6 @@ def _dynamics(scene: Any, res: dict[str, Any]) -> tuple[dict[str, Any], dict[str
 
 
 def run(args: argparse.Namespace) -> int:
-
     from gear_dyn.io import save_figure, staged_output, write_csv, write_json
     from gear_dyn.plots.contact import plot_load_sharing, plot_loaded_stiffness
     from gear_dyn.scene import load_scene
@@ -121,10 +118,7 @@ def run(args: argparse.Namespace) -> int:
         "positions": "m from T1 along the line of action (*_from_a_m: from the start of contact)",
         "cases": [c.row() for c in cases.values()],
     }
-    dyn: dict[str, Any] = {}
-    results: dict[str, Any] = {}
-    if args.dynamics:
-        dyn, results = _dynamics(scene, res)
+    dyn, results = _dynamics(scene, res) if args.dynamics else ({}, {})
     cols: dict[str, Any] = {}
     for name, c in cases.items():
         key = name.replace(" ", "_")
@@ -136,24 +130,20 @@ def run(args: argparse.Namespace) -> int:
 
     cols = {k: np.concatenate([v, np.full(n - len(v), np.nan)]) for k, v in cols.items()}
     with staged_output(args.out) as tmp:
-        fig = plot_load_sharing(cases)
-        save_figure(fig, tmp / "load_sharing.png", dpi=120)
-        fig = plot_loaded_stiffness(cases)
-        save_figure(fig, tmp / "stiffness.png", dpi=120)
+        save_figure(plot_load_sharing(cases), tmp / "load_sharing.png", dpi=120)
+        save_figure(plot_loaded_stiffness(cases), tmp / "stiffness.png", dpi=120)
         write_csv(tmp / "path.csv", cols)
         write_json(tmp / "contact.json", report)
         if results:
             from gear_dyn.plots.contact import plot_dynamic_comparison
 
-            fig = plot_dynamic_comparison(results)
-            save_figure(fig, tmp / "dynamics.png", dpi=120)
+            save_figure(plot_dynamic_comparison(results), tmp / "dynamics.png", dpi=120)
             write_json(tmp / "dynamics.json", dyn)
-    out = sys.stdout
     print(f"{scene.name}: loaded contact at T1 = {res['torque']:.6g} N m "
-          f"({res['pair_stiffness']} pair stiffness, rules with {res['curve']} relief)", file=out)
+          f"({res['pair_stiffness']} pair stiffness, rules with {res['curve']} relief)")
     head = (f"{'case':<14} {'C_a1 um':>8} {'C_a2 um':>8} {'peak MPa':>9} {'ptp TE um':>10} "
             f"{'single zone from A (mm)':>24}" + (f" {'F_max/W':>8}" if dyn else ""))
-    print(head, file=out)
+    print(head)
     for row in report["cases"]:
         z0, z1 = row["single_contact_start_from_a_m"], row["single_contact_end_from_a_m"]
         zone = "none" if z0 is None else f"{z0 * 1e3:.3f} .. {z1 * 1e3:.3f}"
@@ -162,6 +152,6 @@ def run(args: argparse.Namespace) -> int:
                 f"{row['peak_to_peak_static_te_m'] * 1e6:10.3f} {zone:>24}")
         if dyn:
             line += f" {dyn[row['case']]['peak_force_ratio']:8.3f}"
-        print(line, file=out)
-    print(f"wrote {args.out}/", file=out)
+        print(line)
+    print(f"wrote {args.out}/")
     return 0

@@ -87,18 +87,12 @@ def _run(args: argparse.Namespace, st: Stages) -> int:
     st.next()
     report = compare(args.fmu, scene, steps=args.step, stop_time=stop, outputs=outputs,
                      fmu_values=_parse_set(args.set))
-    rows: dict[str, list[float]] = {"step_s": [], "n_steps": [], "fmu_run_time_s": [],
-                                    "fmu_time_per_step_s": []}
+    steps = [s.as_dict() for s in report.steps]
+    rows = {key: [d[key] for d in steps]
+            for key in ("step_s", "n_steps", "fmu_run_time_s", "fmu_time_per_step_s")}
     for name in report.outputs:
-        rows[f"max_diff_{name}"] = []
-        rows[f"rms_diff_{name}"] = []
-    for s in report.steps:
-        d = s.as_dict()
-        for key in ("step_s", "n_steps", "fmu_run_time_s", "fmu_time_per_step_s"):
-            rows[key].append(d[key])
-        for name in report.outputs:
-            rows[f"max_diff_{name}"].append(s.max_diff[name])
-            rows[f"rms_diff_{name}"].append(s.rms_diff[name])
+        rows[f"max_diff_{name}"] = [d["max_diff"][name] for d in steps]
+        rows[f"rms_diff_{name}"] = [d["rms_diff"][name] for d in steps]
     series: dict[str, Any] = {"t_s": report.t}
     for i, name in enumerate(report.outputs):
         series[f"{name}_fmu"] = report.fmu_y[i]

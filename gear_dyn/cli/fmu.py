@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from collections import Counter
 from pathlib import Path
 from typing import Any
 
@@ -76,8 +77,19 @@ def _problems(path: Path) -> list[str]:
         raise InputError(f"{path}: not a readable FMU ({exc.__class__.__name__}: {exc})") from None
 
 
-def run_build(args: argparse.Namespace) -> int:
+def _validate(path: Path, quiet: bool) -> None:
+    """fmpy's validation of a built FMU: one line, or SolverError naming the problems."""
     from gear_dyn.errors import SolverError
+
+    with Stages(["validate (fmpy)"], quiet):
+        problems = _problems(path)
+    if problems:
+        raise SolverError(f"{path}: fmpy validation found {len(problems)} problem(s): "
+                          + "; ".join(problems))
+    print("fmpy validation: no problems")
+
+
+def run_build(args: argparse.Namespace) -> int:
     from gear_dyn.fmu.build import build_fmu
 
     if args.backend != "python":
@@ -91,27 +103,18 @@ def run_build(args: argparse.Namespace) -> int:
             print(f"backend: python (pythonfmu), because {exc.reason}")
     with Stages(["build FMU"], args.quiet):
         built = build_fmu(args.scene, args.out, fmi=args.fmi)
-    n_par = sum(v["causality"] == "parameter" for v in built.spec["variables"])
-    n_in = sum(v["causality"] == "input" for v in built.spec["variables"])
-    n_out = sum(v["causality"] == "output" for v in built.spec["variables"])
+    n = Counter(v["causality"] for v in built.spec["variables"])
     print(f"{built.spec['scene_name']}: {built.spec['model']} model -> {built.path} "
-          f"(FMI {args.fmi}.0 co-simulation) "
-          f"(model identifier {built.model_identifier}; {n_par} parameters, {n_in} inputs, "
-          f"{n_out} outputs)")
+          f"(FMI {args.fmi}.0 co-simulation) (model identifier {built.model_identifier}; "
+          f"{n['parameter']} parameters, {n['input']} inputs, {n['output']} outputs)")
     print("hosts: Python hosts (fmpy) on this machine's Python; for other hosts build the "
           "native FMU (docs/fmu.md)")
     if not args.no_validate:
-        with Stages(["validate (fmpy)"], args.quiet):
-            problems = _problems(built.path)
-        if problems:
-            raise SolverError(f"{built.path}: fmpy validation found {len(problems)} problem(s): "
-                              + "; ".join(problems))
-        print("fmpy validation: no problems")
+        _validate(built.path, args.quiet)
     return 0
 
 
 def _run_build_native(args: argparse.Namespace) -> int:
-    from gear_dyn.errors import SolverError
     from gear_dyn.fmu.export_fmu import build_native_fmu
 
     with Stages(["build native FMU"], args.quiet):
@@ -121,12 +124,7 @@ def _run_build_native(args: argparse.Namespace) -> int:
           f"model identifier {built.model_identifier}; {t.flat.size} table pieces, "
           f"{'exact' if t.exact else 'fitted'}; {built.path.stat().st_size // 1000} kB)")
     if not args.no_validate:
-        with Stages(["validate (fmpy)"], args.quiet):
-            problems = _problems(built.path)
-        if problems:
-            raise SolverError(f"{built.path}: fmpy validation found {len(problems)} problem(s): "
-                              + "; ".join(problems))
-        print("fmpy validation: no problems")
+        _validate(built.path, args.quiet)
     return 0
 
 

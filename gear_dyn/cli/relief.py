@@ -8,7 +8,6 @@ supplies the handbook constants and Dudley's C_m. ``--json PATH`` also writes th
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 from typing import Any
 
@@ -37,18 +36,12 @@ def table(scene: Any) -> dict[str, Any]:
 
     pair = build_pair(scene)
     torque = scene.get("operating")["torque"]
-    opts: dict[str, float] = {}
-    if scene.has("tip_relief"):
-        t = scene.tables["tip_relief"]
-        opts = rule_options(t)
-    rows = []
-    for rec in recommended_reliefs(pair, torque, **opts):
-        rows.append({
-            "rule": rec.rule, "source": rec.source,
-            "amount_pinion_m": rec.amount_pinion, "amount_gear_m": rec.amount_gear,
-            "height_pinion_m": rec.height_pinion, "height_gear_m": rec.height_gear,
-            "length_pinion_m": rec.length_pinion, "length_gear_m": rec.length_gear,
-        })
+    opts = rule_options(scene.tables["tip_relief"]) if scene.has("tip_relief") else {}
+    rows = [{"rule": rec.rule, "source": rec.source,
+             "amount_pinion_m": rec.amount_pinion, "amount_gear_m": rec.amount_gear,
+             "height_pinion_m": rec.height_pinion, "height_gear_m": rec.height_gear,
+             "length_pinion_m": rec.length_pinion, "length_gear_m": rec.length_gear}
+            for rec in recommended_reliefs(pair, torque, **opts)]
     return {
         "scene": scene.name,
         "torque_n_m": torque,
@@ -68,22 +61,21 @@ def run(args: argparse.Namespace) -> int:
         scene = load_scene(args.scene)
         st.next()
         tab = table(scene)
-    out = sys.stdout
     print(f"{tab['scene']}: T1 = {tab['torque_n_m']:.6g} N m, F_t = {tab['tangential_force_n']:.6g}"
           f" N, w_t = F_t/B = {tab['load_per_width_n_per_mm']:.6g} N/mm, eps_a = "
-          f"{tab['contact_ratio']:.4f}", file=out)
+          f"{tab['contact_ratio']:.4f}")
     head = (f"{'rule':<10} {'C_a1 um':>8} {'C_a2 um':>8} {'h1 mm':>7} {'h2 mm':>7} "
             f"{'L1 mm':>7} {'L2 mm':>7}")
-    print(head, file=out)
-    print("-" * len(head), file=out)
+    print(head)
+    print("-" * len(head))
     for r in tab["rules"]:
         print(f"{r['rule']:<10} {r['amount_pinion_m'] * 1e6:8.2f} {r['amount_gear_m'] * 1e6:8.2f} "
               f"{r['height_pinion_m'] * 1e3:7.3f} {r['height_gear_m'] * 1e3:7.3f} "
-              f"{r['length_pinion_m'] * 1e3:7.3f} {r['length_gear_m'] * 1e3:7.3f}", file=out)
-    print("h: radial height from the tip; L: length along the line of action", file=out)
+              f"{r['length_pinion_m'] * 1e3:7.3f} {r['length_gear_m'] * 1e3:7.3f}")
+    print("h: radial height from the tip; L: length along the line of action")
     for r in tab["rules"]:
-        print(f"  {r['rule']}: {r['source']}", file=out)
+        print(f"  {r['rule']}: {r['source']}")
     if args.json is not None:
         write_json(args.json, tab)
-        print(f"wrote {args.json}", file=out)
+        print(f"wrote {args.json}")
     return 0

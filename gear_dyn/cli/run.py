@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 from typing import Any
 
@@ -42,18 +41,10 @@ def register(sub: Any) -> None:
 
 def overrides(args: argparse.Namespace) -> dict[str, Any]:
     """Solver overrides from the flags, validated."""
-    ov: dict[str, Any] = {}
-    if args.method is not None:
-        ov["method"] = args.method
-    if args.rtol is not None:
-        ov["rtol"] = args.rtol
-    if args.atol is not None:
-        ov["atol"] = args.atol
-    if args.periods is not None:
-        if args.periods < 2:
-            raise InputError(f"--periods = {args.periods}: valid range >= 2 mesh periods")
-        ov["periods"] = args.periods
-    return ov
+    if args.periods is not None and args.periods < 2:
+        raise InputError(f"--periods = {args.periods}: valid range >= 2 mesh periods")
+    return {k: getattr(args, k) for k in ("method", "rtol", "atol", "periods")
+            if getattr(args, k) is not None}
 
 
 def operating_flags(args: argparse.Namespace) -> tuple[float | None, float | None]:
@@ -83,25 +74,21 @@ def run(args: argparse.Namespace) -> int:
     speed, torque = operating_flags(args)
     result = run_scene(scene, speed=speed, torque=torque, si=True, **overrides(args))
     summary = write_run_outputs(result, args.out, spectrum_scale=args.spectrum_scale)
-    print(
-        f"{scene.name}: f_m = {summary['mesh_frequency_hz']:.1f} Hz{_fn(summary)}, "
-        f"dynamic factor "
-        f"{summary['dynamic_factor']:.4f}, RMS DTE {summary['rms_dte_m'] * 1e6:.4g} um "
-        f"({summary['solver']['method']}, {summary['solver']['run_time_s']:.3g} s)",
-        file=sys.stdout,
-    )
-    print(f"  dynamic factor: {summary['dynamic_factor_definition']}", file=sys.stdout)
+    print(f"{scene.name}: f_m = {summary['mesh_frequency_hz']:.1f} Hz{_fn(summary)}, dynamic "
+          f"factor {summary['dynamic_factor']:.4f}, RMS DTE {summary['rms_dte_m'] * 1e6:.4g} "
+          f"um ({summary['solver']['method']}, {summary['solver']['run_time_s']:.3g} s)")
+    print(f"  dynamic factor: {summary['dynamic_factor_definition']}")
     for line in jump_lines(summary):
-        print(f"  {line}", file=sys.stdout)
+        print(f"  {line}")
     if summary.get("iso_6336_kv"):
         from gear_dyn.scene.iso import iso_kv_lines
 
         for line in iso_kv_lines(summary["iso_6336_kv"]):
-            print(f"  {line}", file=sys.stdout)
-    print(f"  {summary['dte_definition']}", file=sys.stdout)
+            print(f"  {line}")
+    print(f"  {summary['dte_definition']}")
     for line in self_assessment_lines(summary):
-        print(line, file=sys.stdout)
-    print(f"wrote {args.out}/", file=sys.stdout)
+        print(line)
+    print(f"wrote {args.out}/")
     return 0
 
 

@@ -7,7 +7,6 @@ Writes ``stiffness.png``, ``components.png``, ``stiffness.csv`` and ``stiffness.
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 from typing import Any
 
@@ -63,9 +62,6 @@ def compute(scene: Any, methods: list[str]) -> tuple[Any, dict[str, Any], dict[s
     table = dict(scene.get("stiffness"))
     try:
         scene_method, scene_opts = stiffness_options_from_table(table)
-    except InputError as exc:
-        raise InputError(f"{scene.source}: {exc}") from None
-    try:
         curves, report = compare_methods(pair, methods, scene_method, scene_opts,
                                          table.get("fourier_terms"))
     except InputError as exc:
@@ -89,13 +85,11 @@ def run(args: argparse.Namespace) -> int:
         _write(args, pair, curves, report)
     op = report["operating"]
     print(f"{report['scene']}: eps_a = {op['contact_ratio']:.4f}, single-contact share "
-          f"{op['single_contact_share']:.3f}, backlash {_um(op['backlash_m'])} um",
-          file=sys.stdout)
+          f"{op['single_contact_share']:.3f}, backlash {_um(op['backlash_m'])} um")
     for name, s in report["methods"].items():
         print(f"  {name:17s} mean {s['mean_n_per_m']:.4g}  min {s['min_n_per_m']:.4g}  "
-              f"max {s['max_n_per_m']:.4g} N/m  ({s['build_time_s'] * 1e3:.3g} ms)",
-              file=sys.stdout)
-    print(f"wrote {args.out}/", file=sys.stdout)
+              f"max {s['max_n_per_m']:.4g} N/m  ({s['build_time_s'] * 1e3:.3g} ms)")
+    print(f"wrote {args.out}/")
     return 0
 
 

@@ -3,9 +3,8 @@
 from __future__ import annotations
 
 import argparse
-from collections.abc import Callable
 from pathlib import Path
-from typing import Any, TextIO, cast
+from typing import Any, cast
 
 from gear_dyn.cli.progress import counter
 from gear_dyn.cli.run import add_solver_flags, overrides
@@ -59,29 +58,8 @@ def register(sub: Any) -> None:
     p.set_defaults(func=run)
 
 
-def progress_bar(stream: TextIO, width: int = 40, unit: str = "speeds"
-                 ) -> Callable[[int, int], None]:
-    """A plain text progress bar redrawn in place on ``stream`` (``[####....] 12/200 speeds``).
-
-    The commands draw tqdm bars (:func:`gear_dyn.cli.progress.counter`); this one stays for
-    callers that want a dependency-free bar on any stream."""
-    def show(done: int, total: int) -> None:
-        n = int(width * done / max(total, 1))
-        stream.write(f"\r[{'#' * n}{'.' * (width - n)}] {done}/{total} {unit}")
-        if done >= total:
-            stream.write("\n")
-        stream.flush()
-    return show
-
-
 def run(args: argparse.Namespace) -> int:
-    import os
-
-    # a sweep multiplies 2x2 and 3x3 matrices: BLAS threads never help there, and on a busy
-    # machine their spin-waits made scipy's expm of a 3x3 matrix 10-30 ms instead of 0.1 ms
-    # (measured, benchmarks/bench_sweep.py); the pool's workers inherit it. An explicit
-    # setting wins; it takes effect when numpy is first loaded, just below.
-    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+    # one BLAS thread per process (and pool worker): gear_dyn.cli.app.limit_blas_threads
     result, scene = _sweep(args)
     summary = write_sweep_outputs(result, scene, args.out, args.chart)
     _print_summary(result, scene, summary, args.chart)
@@ -111,7 +89,6 @@ def _sweep(args: argparse.Namespace) -> tuple[Any, Any]:
         if client is not None:
             client.close()
     return result, scene
-
 
 
 def _dask_client(address: str) -> Any:
@@ -293,4 +270,4 @@ def draw_sweep_figures(result: Any, tmp: Path, iso_curve: Any, charts: tuple[Any
                     tmp / "stability.png", dpi=110)
 
 
-__all__ = ["draw_sweep_figures", "progress_bar", "register", "run", "write_sweep_outputs"]
+__all__ = ["draw_sweep_figures", "register", "run", "write_sweep_outputs"]

@@ -3,22 +3,18 @@ pythonfmu; the outputs and the step come from the modelDescription, so any co-si
 can be checked).
 
 Four checks, each a line of the report, for FMI 2 and FMI 3 FMUs: fmpy's validation of the
-modelDescription, a run in fmpy (a Python host), a run in a plain C host (``fmi2_host.c``,
-or its FMI 3 twin ``fmi3_host.c``, compiled with the system compiler, loading the binary
-``RTLD_LOCAL`` in an empty environment) that must give fmpy's outputs to 1e-12, and stop-time
-independence (the same run with and without a stop time announced at initialization must
-agree to 1e-12). For an FMU that needs no Python (native) the C host line also says that no
-libpython was mapped into the host process; a pythonfmu FMU runs in Python hosts only, so its C
-host line is skipped.
+modelDescription, a run in fmpy (a Python host), a run in the plain C host of
+:func:`gear_dyn.fmu.hosts.c_host_rows` (``fmi_host.c``, compiled with the system compiler,
+loading the binary ``RTLD_LOCAL`` in an empty environment) that must give fmpy's outputs to
+1e-12, and stop-time independence (the same run with and without a stop time announced at
+initialization must agree to 1e-12). For an FMU that needs no Python (native) the C host line
+also says that no libpython was mapped into the host process; a pythonfmu FMU runs in Python
+hosts only, so its C host line is skipped.
 """
 
 from __future__ import annotations
 
 import os
-import shutil
-import subprocess
-import tempfile
-import xml.etree.ElementTree as ET
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -26,10 +22,8 @@ from pathlib import Path
 import numpy as np
 
 from gear_dyn.errors import InputError
+from gear_dyn.fmu.hosts import HostMissing, c_host_rows, describe, fmpy_rows
 
-HOST_SOURCE = Path(__file__).with_name("fmi2_host.c")
-#: the FMI 3 twin (same arguments and output)
-HOST3_SOURCE = Path(__file__).with_name("fmi3_host.c")
 #: agreement required between hosts and between stop-time settings (relative to each
 #: output's largest value): the same code runs, so only rounding may differ
 AGREEMENT = 1e-12
@@ -44,19 +38,6 @@ class CheckLine:
     detail: str
 
 
-def compile_host(dest: Path, fmi: int = 2) -> Path | None:
-    """Compile the FMI 2 (or, ``fmi=3``, the FMI 3) C host into ``dest``; None when no C
-    compiler is on PATH."""
-    cc = shutil.which("cc") or shutil.which("gcc") or shutil.which("clang")
-    if cc is None:
-        return None
-    exe = dest / f"fmi{fmi}_host"
-    source = HOST3_SOURCE if fmi == 3 else HOST_SOURCE
-    subprocess.run([cc, "-O1", "-o", str(exe), str(source), "-ldl"], check=True,
-                   capture_output=True)
-    return exe
-
-
 #: environment variables that select the BLAS kernels and threads (not needed to run an FMU,
 #: but they change the last bits of linear algebra: with OPENBLAS_CORETYPE set in the caller
 #: and absent in the host, the eccentric scene's FMU differed from fmpy by 2e-12)
@@ -69,45 +50,6 @@ def numerics_environment() -> dict[str, str]:
     host needs) except the caller's BLAS kernel and thread settings, so that the C host and
     fmpy do the same arithmetic."""
     return {k: os.environ[k] for k in NUMERICS_VARIABLES if k in os.environ}
-
-
-def run_c_host(exe: Path, unzipped: Path, names: list[str], stop: float | None, step: float,
-               n: int) -> tuple[subprocess.CompletedProcess[str], np.ndarray]:
-    """Run the C host (empty environment but the BLAS settings, :func:`numerics_environment`)
-    on an unzipped FMU: the process and the printed rows (t, outputs...)."""
-    root = ET.parse(unzipped / "modelDescription.xml").getroot()
-    fmi3 = str(root.get("fmiVersion", "")).startswith("3")
-    mv = root.find("ModelVariables")
-    variables = list(mv if mv is not None else []) if fmi3 else root.iter("ScalarVariable")
-    vr = {sv.get("name"): sv.get("valueReference") for sv in variables}
-    cs = root.find("CoSimulation")
-    if cs is None:
-        raise InputError(f"{unzipped}: not a co-simulation FMU")
-    token = root.get("instantiationToken") if fmi3 else root.get("guid")
-    argv = [str(exe), str(unzipped.resolve()), str(cs.get("modelIdentifier")),
-            str(token), "none" if stop is None else repr(stop), repr(step), str(n),
-            ",".join(str(vr[k]) for k in names)]
-    proc = subprocess.run(argv, capture_output=True, text=True, env=numerics_environment(),
-                          timeout=600)
-    rows = [[float(v) for v in line.split()] for line in proc.stdout.splitlines()]
-    return proc, np.array(rows)
-
-
-def fmpy_rows(fmu: Path, names: list[str], stop: float | None, step: float,
-              n: int) -> np.ndarray:
-    """The same run through fmpy (FMI 2 or 3): rows (t, outputs...) after initialization and
-    each step."""
-    from gear_dyn.fmu.session3 import open_session
-
-    with open_session(fmu) as s:
-        s.instantiate()
-        s.initialize(0.0, stop)
-        rows = [[0.0, *s.get(names)]]
-        for k in range(n):
-            s.step(k * step, step)
-            rows.append([(k + 1) * step, *s.get(names)])
-        s.terminate()
-    return np.array(rows)
 
 
 def _rel(a: np.ndarray, b: np.ndarray) -> float:
@@ -125,12 +67,8 @@ def check_fmu(fmu: str | Path, n_steps: int = 64) -> list[CheckLine]:
     """
     from fmpy.validation import validate_fmu
 
-    from gear_dyn.fmu.hosts import describe
-    from gear_dyn.fmu.session3 import fmi_version
-
     path = Path(fmu)
     facts = describe(path)
-    version = fmi_version(path)
     names = facts.outputs
     if facts.step is None:
         raise InputError(f"{path}: no DefaultExperiment stepSize to check the FMU with")
@@ -138,11 +76,11 @@ def check_fmu(fmu: str | Path, n_steps: int = 64) -> list[CheckLine]:
     lines = []
     problems = list(validate_fmu(str(path)))
     lines.append(CheckLine("validation", not problems,
-                           f"fmpy, FMI {version}: no problems" if not problems
+                           f"fmpy, FMI {facts.fmi}.0: no problems" if not problems
                            else "; ".join(problems)[:200]))
     try:
-        free = fmpy_rows(path, names, None, h, n_steps)
-        announced = fmpy_rows(path, names, n_steps * h, h, n_steps)
+        free = fmpy_rows(path, names, h, n_steps)
+        announced = fmpy_rows(path, names, h, n_steps, stop=n_steps * h)
     except Exception as exc:  # the report says why the run failed
         lines.append(CheckLine("fmpy run", False, str(exc)[:200]))
         return lines
@@ -153,8 +91,7 @@ def check_fmu(fmu: str | Path, n_steps: int = 64) -> list[CheckLine]:
     lines.append(CheckLine("stop-time independence", d <= AGREEMENT,
                            f"with vs without stop time: max diff {d:.2e} of each output's "
                            f"largest value (required <= {AGREEMENT:g})"))
-    lines.append(_c_host_line(path, names, h, n_steps, free, 3 if version.startswith("3")
-                              else 2))
+    lines.append(_c_host_line(path, names, h, n_steps, free, facts.fmi))
     return lines
 
 
@@ -167,25 +104,21 @@ def _c_host_line(path: Path, names: list[str], h: float, n: int,
     if python_fmu:
         return CheckLine("C host", None, "skipped: a pythonfmu FMU runs in Python hosts only "
                          "(build the native FMU for other hosts)")
-    with tempfile.TemporaryDirectory(prefix="gear_dyn_check_") as tmp:
-        d = Path(tmp)
-        exe = compile_host(d, fmi)
-        if exe is None:
-            return CheckLine("C host", None, "skipped: no C compiler (cc) to build the host")
-        with zipfile.ZipFile(path) as z:
-            z.extractall(d / "fmu")
-        proc, rows = run_c_host(exe, d / "fmu", names, None, h, n)
-    if proc.returncode != 0:
-        tail = proc.stderr.strip().splitlines()[-1:] or [""]
-        return CheckLine("C host", False, f"exit code {proc.returncode}: {tail[0][:160]}")
+    try:
+        run = c_host_rows(path, names, h, n, env=numerics_environment())
+    except HostMissing:
+        return CheckLine("C host", None, "skipped: no C compiler (cc) to build the host")
+    rows = run.rows
+    if run.returncode != 0:
+        tail = run.stderr.strip().splitlines()[-1:] or [""]
+        return CheckLine("C host", False, f"exit code {run.returncode}: {tail[0][:160]}")
     if rows.shape != ref.shape:
         return CheckLine("C host", False, f"{rows.shape[0]} rows, expected {ref.shape[0]}")
     d_c = _rel(rows, ref)
-    marker = f"fmi{fmi}_host: mapped "
-    python = [x for x in proc.stderr.splitlines() if x.startswith(marker) and "python" in x]
+    python = [x for x in run.mapped if "python" in x]
     return CheckLine("C host", d_c <= AGREEMENT and not python,
                      f"fmi{fmi}_host: empty environment, exit 0, "
-                     + (f"libpython mapped ({python[0][len(marker):]})" if python
+                     + (f"libpython mapped ({python[0]})" if python
                         else "no libpython in the process")
                      + f"; vs fmpy max diff {d_c:.2e} (required <= {AGREEMENT:g})")
 

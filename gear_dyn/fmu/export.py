@@ -23,18 +23,17 @@ propagates it in closed form.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.polynomial import chebyshev as cheb
 from numpy.typing import NDArray
 
 from gear_dyn.errors import InputError
 from gear_dyn.excitation import SampledSignal
 from gear_dyn.geometry import GearPair
 from gear_dyn.models.sdof import SDOFModel
+from gear_dyn.models.torsional_table import node_matrix
 from gear_dyn.stiffness.periodic import PiecewiseStiffness
 
 FloatArray = NDArray[np.float64]
@@ -69,6 +68,22 @@ class NotNativeError(InputError):
         self.reason = reason
 
 
+def piecewise_values(breaks: FloatArray, coef: FloatArray, phase: FloatArray,
+                     period: float = 1.0) -> FloatArray:
+    """Piecewise polynomials at phases (cycles, any real; ``period`` cycles per table),
+    vectorised: array (quantities, n). ``coef`` (pieces, quantities, degree + 1) in
+    ``s = (2 p - a - b) / (b - a)`` on the piece ``[a, b]`` of ``breaks``, highest power first."""
+    p = np.mod(np.asarray(phase, dtype=float), period)
+    i = np.clip(np.searchsorted(breaks, p, side="right") - 1, 0, breaks.size - 2)
+    a, b = breaks[i], breaks[i + 1]
+    s = (2 * p - a - b) / (b - a)
+    c = coef[i]
+    acc = c[:, :, 0].copy()
+    for j in range(1, c.shape[2]):  # Horner
+        acc = acc * s[:, None] + c[:, :, j]
+    return acc.T
+
+
 @dataclass(frozen=True)
 class PhaseTable:
     """Piecewise polynomials of ``k``, ``e`` and ``de/dp`` over one mesh cycle.
@@ -100,15 +115,7 @@ class PhaseTable:
 
     def evaluate(self, phase: FloatArray) -> FloatArray:
         """``(k, e, de/dp)`` at phases (cycles, any real), vectorised: array (3, n)."""
-        p = np.mod(np.asarray(phase, dtype=float), 1.0)
-        i = np.clip(np.searchsorted(self.breaks, p, side="right") - 1, 0, self.flat.size - 1)
-        a, b = self.breaks[i], self.breaks[i + 1]
-        s = (2 * p - a - b) / (b - a)
-        c = self.coef[i]  # (n, 3, degree + 1)
-        acc = c[:, :, 0].copy()
-        for j in range(1, self.degree + 1):
-            acc = acc * s[:, None] + c[:, :, j]
-        return acc.T
+        return piecewise_values(self.breaks, self.coef, phase)
 
 
 @dataclass(frozen=True)
@@ -190,20 +197,6 @@ def _knots(part: Any) -> tuple[FloatArray, bool] | None:
     return np.asarray(sw, dtype=float), False
 
 
-def _fit_matrix(degree: int) -> tuple[FloatArray, FloatArray]:
-    """Chebyshev points on [-1, 1] and the matrix from values there to monomial coefficients
-    (highest power first)."""
-    n = degree + 1
-    s = np.cos(np.pi * (np.arange(n) + 0.5) / n)
-    to_cheb = np.linalg.inv(cheb.chebvander(s, degree))
-    to_mono = np.zeros((n, n))
-    for k in range(n):
-        unit = np.zeros(n)
-        unit[k] = 1.0
-        to_mono[: k + 1, k] = cheb.cheb2poly(unit)
-    return s, (to_mono @ to_cheb)[::-1]
-
-
 def phase_table(model: SDOFModel) -> PhaseTable:
     """Tabulate ``k``, ``e`` and ``de/dp`` of a single-DOF model over one mesh cycle.
 
@@ -224,7 +217,7 @@ def phase_table(model: SDOFModel) -> PhaseTable:
     if not np.all(np.isfinite(br)):
         raise InputError("native FMU table: non-finite switching phases")
     degree = 1 if linear else SMOOTH_DEGREE
-    s, to_mono = _fit_matrix(degree)
+    s, to_mono = node_matrix(degree)
     a, b = br[:-1], br[1:]
     mid, half = 0.5 * (a + b), 0.5 * (b - a)
     te = model.transmission_error
@@ -276,8 +269,3 @@ def native_model(model: Any, pair: GearPair, speed: float, torque: float,
         transmission_error=model.transmission_error is not None,
         load_tables=load_tables,
     )
-
-
-def speed_of(model: SDOFModel, pair: GearPair) -> float:
-    """Pinion speed in rad/s of a model (from its mesh frequency)."""
-    return 2 * math.pi * model.mesh_frequency / pair.z1

@@ -24,8 +24,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.errors import InputError
-from gear_dyn.fmu.export import CHECK_POINTS, RK_ERROR, NotNativeError, _fit_matrix
+from gear_dyn.fmu.export import CHECK_POINTS, RK_ERROR, NotNativeError, piecewise_values
 from gear_dyn.geometry import GearPair
+from gear_dyn.models.torsional_table import node_matrix
 
 FloatArray = NDArray[np.float64]
 
@@ -73,16 +74,7 @@ class TorsionalTable:
 
     def evaluate(self, phase: FloatArray) -> FloatArray:
         """The five quantities at phases (cycles, any real), vectorised: array (5, n)."""
-        p = np.mod(np.asarray(phase, dtype=float), float(self.period))
-        n = self.breaks.size - 1
-        i = np.clip(np.searchsorted(self.breaks, p, side="right") - 1, 0, n - 1)
-        a, b = self.breaks[i], self.breaks[i + 1]
-        s = (2 * p - a - b) / (b - a)
-        c = self.coef[i]
-        acc = c[:, :, 0].copy()
-        for j in range(1, self.degree + 1):
-            acc = acc * s[:, None] + c[:, :, j]
-        return acc.T
+        return piecewise_values(self.breaks, self.coef, phase, float(self.period))
 
 
 @dataclass(frozen=True)
@@ -191,7 +183,7 @@ def torsional_table(model: Any) -> TorsionalTable:
     chk = (mid[:, None] + half[:, None] * u[None, :]).ravel()
     exact = direct(chk)
     for degree in range(MIN_DEGREE, MAX_DEGREE + 1):
-        s, to_mono = _fit_matrix(degree)
+        s, to_mono = node_matrix(degree)
         vals = direct((mid[:, None] + half[:, None] * s[None, :]).ravel())
         coef = np.einsum("ij,qpj->pqi", to_mono, vals.reshape(5, a.size, s.size))
         table = TorsionalTable(br, degree, coef, period, {})

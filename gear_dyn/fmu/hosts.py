@@ -8,7 +8,7 @@ the hosts can be compared with each other and with a reference:
 - :func:`libcosimpy_rows`: libcosim (Open Simulation Platform) through libcosimpy, FMI 2 only;
   its clock counts integer nanoseconds, so the step must be a whole number of nanoseconds;
 - :func:`ecospy_rows`: Ecos through ecospy, FMI 2 and 3;
-- :func:`c_host_rows`: the project's C hosts (``fmi2_host.c``, ``fmi3_host.c``), compiled with
+- :func:`c_host_rows`: the project's C host (``fmi_host.c``, for FMI 2 or 3), compiled with
   ``cc``, run with an empty environment (no Python anywhere in the process); the libraries
   mapped into that process are returned as well.
 
@@ -34,9 +34,10 @@ from pathlib import Path
 import numpy as np
 
 from gear_dyn.errors import InputError
+from gear_dyn.fmu.toolchain import linux_compiler
 
-HOST_SOURCES = {2: Path(__file__).with_name("fmi2_host.c"),
-                3: Path(__file__).with_name("fmi3_host.c")}
+#: the C host's source, compiled for FMI 2 (``fmi2_host``) or, with ``-DFMI_VERSION=3``, FMI 3
+HOST_SOURCE = Path(__file__).with_name("fmi_host.c")
 #: the Linux binaries folder, by FMI version
 LINUX_DIR = {2: "linux64", 3: "x86_64-linux"}
 #: what a native FMU binary may need (besides the loader and the kernel's vDSO)
@@ -239,12 +240,12 @@ def compile_c_host(dest: str | Path, fmi: int = 2) -> Path:
     HostMissing
         No C compiler on PATH.
     """
-    cc = shutil.which("cc") or shutil.which("gcc") or shutil.which("clang")
+    cc = linux_compiler()
     if cc is None:
         raise HostMissing("no C compiler (cc, gcc or clang) on PATH to build the C host")
     exe = Path(dest) / f"fmi{fmi}_host"
-    subprocess.run([cc, "-O1", "-o", str(exe), str(HOST_SOURCES[fmi]), "-ldl"], check=True,
-                   capture_output=True)
+    subprocess.run([cc, "-O1", f"-DFMI_VERSION={fmi}", "-o", str(exe), str(HOST_SOURCE), "-ldl"],
+                   check=True, capture_output=True)
     return exe
 
 

@@ -268,16 +268,15 @@ class TorsionalModel:
         (friction torque per unit normal load, m), ``w2_kinematic`` (rad/s)."""
         t = np.asarray(t, dtype=float)
         kin = self._mesh.kinematics(t) if self.eccentric else None
-        out: dict[str, FloatArray] = {}
         zero = np.zeros_like(t)
+        out: dict[str, FloatArray]
         if kin is not None:
-            out["e_ecc"] = np.asarray(kin.e_ecc, dtype=float)
-            out["e_ecc_rate"] = np.asarray(kin.e_ecc_rate, dtype=float)
-            out["w2_kinematic"] = np.asarray(kin.w2, dtype=float)
+            out = {"e_ecc": np.asarray(kin.e_ecc, dtype=float),
+                   "e_ecc_rate": np.asarray(kin.e_ecc_rate, dtype=float),
+                   "w2_kinematic": np.asarray(kin.w2, dtype=float)}
         else:
-            out["e_ecc"] = zero
-            out["e_ecc_rate"] = zero
-            out["w2_kinematic"] = np.full_like(t, self.speed * self.pair.z1 / self.pair.z2)
+            out = {"e_ecc": zero, "e_ecc_rate": zero,
+                   "w2_kinematic": np.full_like(t, self.speed * self.pair.z1 / self.pair.z2)}
         lay = self._layout
         kin_lines = kin if kin is not None else self._mesh.kinematics(t) if lay is not None \
             else None

@@ -35,7 +35,7 @@ MAX_BLOCKS = 64
 
 
 @functools.lru_cache(maxsize=8)
-def _node_matrix(degree: int) -> tuple[FloatArray, FloatArray]:
+def node_matrix(degree: int) -> tuple[FloatArray, FloatArray]:
     """Chebyshev points (first kind) on [-1, 1] and the matrix taking values there to monomial
     coefficients in s, highest power first (Horner order)."""
     n = degree + 1
@@ -88,11 +88,11 @@ class ExcitationTable:
         edges = np.concatenate([[t0], self.cuts(t0, t1), [t1]])
         mid = 0.5 * (edges[1:] + edges[:-1])
         half = 0.5 * (edges[1:] - edges[:-1])
-        s, to_mono = _node_matrix(DEGREE)
+        s, to_mono = node_matrix(DEGREE)
         vals = self.values((mid[:, None] + half[:, None] * s[None, :]).ravel())
         vals = vals.reshape(5, mid.size, s.size)
         coefs = np.einsum("ij,qpj->piq", to_mono, vals)  # (pieces, DEGREE + 1, 5)
-        s_chk, _ = _node_matrix(DEGREE + 1)
+        s_chk, _ = node_matrix(DEGREE + 1)
         exact = self.values((mid[:, None] + half[:, None] * s_chk[None, :]).ravel())
         approx = np.zeros((5, mid.size, s_chk.size))
         for k in range(DEGREE + 1):

@@ -24,6 +24,7 @@ from gear_dyn.analysis.sweep.report import (
     RESONANCES,
     resonance_notes,
     rpm_per_ratio,
+    speed_ranges,
     sweep_peaks,
 )
 from gear_dyn.plots._axes import axes_of, tidy
@@ -276,22 +277,11 @@ def plot_compare(results: Sequence[SweepResult], names: Sequence[str], ax: Any =
 
 
 def _shade(ax: Any, rpm: np.ndarray, mask: np.ndarray, label: bool) -> None:
-    order = np.argsort(rpm)
-    r, m = rpm[order], mask[order]
-    step = float(np.median(np.diff(r))) if r.size > 1 else 0.0
-    first = True
-    i = 0
-    while i < r.size:
-        if m[i]:
-            j = i
-            while j + 1 < r.size and m[j + 1]:
-                j += 1
-            ax.axvspan(r[i] - step / 2, r[j] + step / 2, color="tab:red", alpha=0.12,
-                       label="parametric instability" if (label and first) else None)
-            first = False
-            i = j + 1
-        else:
-            i += 1
+    """Red bands over the speed ranges (rpm) where ``mask`` holds (parametric instability)."""
+    step = float(np.median(np.diff(np.sort(rpm)))) if rpm.size > 1 else 0.0
+    for k, (lo, hi) in enumerate(speed_ranges(rpm * RPM, mask)):
+        ax.axvspan(lo - step / 2, hi + step / 2, color="tab:red", alpha=0.12,
+                   label="parametric instability" if label and k == 0 else None)
 
 
 def plot_waterfall(result: SweepResult, direction: str | None = None, floor: float = 1e-4,

@@ -93,6 +93,24 @@ def scene_stiffness(scene: Scene, pair: GearPair) -> PeriodicStiffness:
         raise _wrap(scene, exc) from None
 
 
+def scene_transmission_error(scene: Scene) -> HarmonicSignal | None:
+    """The ``[transmission_error]`` harmonics as a signal of the mesh phase (None without it).
+
+    Raises
+    ------
+    SceneError
+        ``sin`` and ``cos`` of different lengths.
+    """
+    if not scene.has("transmission_error"):
+        return None
+    t = scene.tables["transmission_error"]
+    sin = t["sin"] if t["sin"] is not None else [0.0] * len(t["cos"])
+    if len(sin) != len(t["cos"]):
+        raise SceneError(f"{scene.source}: transmission_error.sin has {len(sin)} entries, cos "
+                         f"has {len(t['cos'])}: they must match")
+    return HarmonicSignal(0.0, np.asarray(t["cos"], dtype=float), np.asarray(sin, dtype=float))
+
+
 def build_sdof(scene: Scene) -> Model:
     """Single-DOF model of the scene (backlash and transmission error only when present)."""
     pair = build_pair(scene)
@@ -102,16 +120,7 @@ def build_sdof(scene: Scene) -> Model:
     if scene.has("inertia"):
         inertias = (scene.tables["inertia"]["pinion"], scene.tables["inertia"]["gear"])
     backlash = scene.tables["backlash"]["half_gap"] if scene.has("backlash") else None
-    te = None
-    if scene.has("transmission_error"):
-        t = scene.tables["transmission_error"]
-        sin = t["sin"] if t["sin"] is not None else [0.0] * len(t["cos"])
-        if len(sin) != len(t["cos"]):
-            raise SceneError(
-                f"{scene.source}: transmission_error.sin has {len(sin)} entries, cos has "
-                f"{len(t['cos'])}: they must match"
-            )
-        te = HarmonicSignal(0.0, np.asarray(t["cos"], dtype=float), np.asarray(sin, dtype=float))
+    te = scene_transmission_error(scene)
     try:
         return sdof_from_pair(
             pair, op["speed"], op["torque"], k, damping_ratio=scene.get("damping")["ratio"],

@@ -10,14 +10,11 @@ from __future__ import annotations
 import math
 from typing import Any
 
-import numpy as np
-
 from gear_dyn.eccentricity.kinematics import Eccentricity
 from gear_dyn.errors import InputError, SceneError
-from gear_dyn.excitation import HarmonicSignal
 from gear_dyn.models.base import Model
 from gear_dyn.models.torsional import ContactLineStiffness, TorsionalModel
-from gear_dyn.scene.build import build_pair, scene_stiffness
+from gear_dyn.scene.build import build_pair, scene_stiffness, scene_transmission_error
 from gear_dyn.scene.fields import REQUIRED, Field, Section
 from gear_dyn.scene.registry import register_model, register_section
 from gear_dyn.scene.validated import Scene, scene_error
@@ -84,18 +81,10 @@ def build_torsional(scene: Scene) -> Model:
     inertias = pair.blank_inertias()
     if scene.has("inertia"):
         inertias = (scene.tables["inertia"]["pinion"], scene.tables["inertia"]["gear"])
-    te = None
-    if scene.has("transmission_error"):
-        t = scene.tables["transmission_error"]
-        sin = t["sin"] if t["sin"] is not None else [0.0] * len(t["cos"])
-        if len(sin) != len(t["cos"]):
-            raise SceneError(f"{scene.source}: transmission_error.sin has {len(sin)} entries, "
-                             f"cos has {len(t['cos'])}: they must match")
-        te = HarmonicSignal(0.0, np.asarray(t["cos"], dtype=float), np.asarray(sin, dtype=float))
     kw: dict[str, Any] = dict(
         eccentricity=scene_eccentricity(scene), friction=scene_friction(scene),
         backlash=scene.tables["backlash"]["half_gap"] if scene.has("backlash") else None,
-        transmission_error=te, load_torque=tors.get("load_torque"),
+        transmission_error=scene_transmission_error(scene), load_torque=tors.get("load_torque"),
     )
     try:
         return TorsionalModel(pair=pair, speed=op["speed"], torque=op["torque"], stiffness=stiff,

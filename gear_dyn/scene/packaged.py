@@ -29,11 +29,9 @@ def packaged_names() -> list[str]:
 
 def packaged_scenes() -> list[tuple[str, str]]:
     """(name, description) of every packaged scene (the ``[scene] description`` line)."""
-    out = []
-    for name in packaged_names():
-        data = tomllib.loads(scene_path(name).read_text(encoding="utf-8"))
-        out.append((name, str(data.get("scene", {}).get("description", ""))))
-    return out
+    tables = {name: tomllib.loads(scene_path(name).read_text(encoding="utf-8"))
+              for name in packaged_names()}
+    return [(name, str(t.get("scene", {}).get("description", ""))) for name, t in tables.items()]
 
 
 def resolve_scene(target: str | Path) -> Path:

@@ -2,7 +2,11 @@
 
 The run path of ``gear-dyn run`` needs ``expm`` of 2x2..9x9 matrices and a diagonal balancing;
 ``scipy.linalg`` costs ~0.13 s to import (its array-API layer loads numpy.f2py, numpy.testing,
-numpy.ma...), more than the whole solve. These are the textbook algorithms:
+numpy.ma...), more than the whole solve. It stays for that hot path: ``gear-dyn run
+helicopter_tail`` (the demo; exact route) imports no scipy.linalg and takes 1.35 s in all
+(benchmarks/results/cli.md), so ``scipy.linalg.expm`` and ``matrix_balance``, which do the same
+job, would add about 10 % to the command (import measured 0.12..0.26 s with numpy, scipy and
+gear_dyn loaded; issue 22). These are the textbook algorithms:
 
 - :func:`balance`: diagonal similarity ``D^-1 A D`` with ``D`` powers of 2 (exact in floating
   point) making row and column norms alike (Parlett & Reinsch 1969, as LAPACK ``gebal`` without

@@ -288,7 +288,7 @@ def iso_dynamic_factor(pair: GearPair, speed: ArrayLike, torque: float,
     b_p = iso.c_single * f_pb_eff / w
     b_f = iso.c_single * f_f_eff / w
     b_k = abs(1.0 - iso.c_single * tip_relief / w)
-    eps_g = pair.contact_ratio + pair.overlap_ratio
+    eps_g = pair.total_contact_ratio
     cv = cv_coefficients(eps_g)
     n_s = lower_resonance_limit(w)
     ratio = n1 / n_e1

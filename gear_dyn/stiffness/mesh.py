@@ -125,12 +125,9 @@ def _helical(pair: GearPair, pair_fn: PairFunction, samples_per_cycle: int, name
     edges = np.append(bp, 1.0)
     if edges[0] != 0.0:
         edges = np.insert(edges, 0, 0.0)
-    samples = []
-    for lo, hi in zip(edges[:-1], edges[1:], strict=True):
-        m = max(2, int(math.ceil(samples_per_cycle * (hi - lo))) + 1)
-        ph = np.linspace(lo, hi, m)
-        samples.append((ph, values(ph)))
-    return PiecewiseStiffness(edges, tuple(samples), name=name)
+    phases = (np.linspace(lo, hi, max(2, int(math.ceil(samples_per_cycle * (hi - lo))) + 1))
+              for lo, hi in zip(edges[:-1], edges[1:], strict=True))
+    return PiecewiseStiffness(edges, tuple((ph, values(ph)) for ph in phases), name=name)
 
 
 def _continuous_average(curve: PiecewiseStiffness,

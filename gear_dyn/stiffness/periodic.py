@@ -202,29 +202,19 @@ class PiecewiseStiffness(PeriodicStiffness):
         return v_list[j] + (v_list[j + 1] - v_list[j]) * (u - u0) / (u1 - u0)
 
     def segments(self) -> tuple[FloatArray, FloatArray] | None:
-        vals = []
-        for _ph, v in self.samples:
-            v = np.asarray(v, dtype=float)
-            if np.ptp(v) > 0:
-                return None
-            vals.append(float(v[0]))
-        return self.edges.copy(), np.asarray(vals)
+        vals = [np.asarray(v, dtype=float) for _ph, v in self.samples]
+        if any(np.ptp(v) > 0 for v in vals):
+            return None
+        return self.edges.copy(), np.array([float(v[0]) for v in vals])
 
     def fourier_coefficients(self, n: int) -> tuple[float, FloatArray, FloatArray]:
         e = self.edges
-        # linear pieces in absolute phase
-        p_lo, p_hi, v_lo, v_hi = [], [], [], []
-        for i, (ph, v) in enumerate(self.samples):
-            ph = np.clip(np.asarray(ph, dtype=float), e[i], e[i + 1])
-            v = np.asarray(v, dtype=float)
-            p_lo.append(ph[:-1])
-            p_hi.append(ph[1:])
-            v_lo.append(v[:-1])
-            v_hi.append(v[1:])
-        p0 = np.concatenate(p_lo)
-        p1 = np.concatenate(p_hi)
-        v0 = np.concatenate(v_lo)
-        v1 = np.concatenate(v_hi)
+        # linear pieces in absolute phase: from (p0, v0) to (p1, v1)
+        ph = [np.clip(np.asarray(p, dtype=float), e[i], e[i + 1])
+              for i, (p, _v) in enumerate(self.samples)]
+        v = [np.asarray(v, dtype=float) for _p, v in self.samples]
+        p0, p1 = np.concatenate([q[:-1] for q in ph]), np.concatenate([q[1:] for q in ph])
+        v0, v1 = np.concatenate([q[:-1] for q in v]), np.concatenate([q[1:] for q in v])
         w = p1 - p0
         keep = w > 0
         p0, p1, v0, v1, w = p0[keep], p1[keep], v0[keep], v1[keep], w[keep]

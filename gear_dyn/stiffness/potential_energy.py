@@ -184,7 +184,7 @@ def potential_energy_compliances(pair: GearPair, s: ArrayLike,
     sv = _check_positions(pair, s)
     radii = contact_radii(pair, sv)
     b = pair.face_width
-    out: dict[str, list[FloatArray]] = {"bending": [], "shear": [], "axial": [], "fillet": []}
+    per_gear = []  # (bending, shear, axial, fillet) of each gear
     for gear, rc in ((1, radii[0]), (2, radii[1])):
         e = pair.youngs_modulus1 if gear == 1 else pair.youngs_modulus2
         nu = pair.poisson1 if gear == 1 else pair.poisson2
@@ -193,18 +193,12 @@ def potential_energy_compliances(pair: GearPair, s: ArrayLike,
             e, g = e / (1 - nu**2), g  # G is unchanged in plane strain
         t = tooth_table(pair, gear, options)
         y_p, x_p, a1 = tooth_load_geometry(pair, gear, rc)
-        bend, shear, axial = _compliances_from_tables(
+        per_gear.append((*_compliances_from_tables(
             t.eta, t.j0, t.j1, t.j2, t.k0, y_p - t.y_root, x_p, a1, e, g, b
-        )
-        fillet = fillet_compliance(pair, gear, rc, options)
-        out["bending"].append(bend)
-        out["shear"].append(shear)
-        out["axial"].append(axial)
-        out["fillet"].append(fillet)
-    hertz = np.full_like(sv, hertz_compliance(pair))
-    return PairCompliance(hertz=hertz, bending=np.array(out["bending"]),
-                          shear=np.array(out["shear"]), axial=np.array(out["axial"]),
-                          fillet=np.array(out["fillet"]))
+        ), fillet_compliance(pair, gear, rc, options)))
+    bending, shear, axial, fillet = (np.array(c) for c in zip(*per_gear, strict=True))
+    return PairCompliance(hertz=np.full_like(sv, hertz_compliance(pair)), bending=bending,
+                          shear=shear, axial=axial, fillet=fillet)
 
 
 def fillet_compliance(pair: GearPair, gear: int, radius: ArrayLike,

@@ -311,19 +311,6 @@ def test_backlash_inside_parametric_tongue_period_two() -> None:
     assert np.max(np.abs(y[:, -spp:] - y[:, -2 * spp:-spp]) / scale) > 0.1
 
 
-def test_progress_bar_text() -> None:
-    import io
-
-    from gear_dyn.cli.sweep import progress_bar
-
-    buf = io.StringIO()
-    show = progress_bar(buf, width=10)
-    show(3, 10)
-    show(10, 10)
-    # redrawn in place (carriage return), a newline only when done
-    assert buf.getvalue() == "\r[###.......] 3/10 speeds\r[##########] 10/10 speeds\n"
-
-
 def test_cli_where_the_sweep_runs_flags(tmp_path: Path, capsys: pytest.CaptureFixture[str],
                                         monkeypatch: pytest.MonkeyPatch) -> None:
     out = str(tmp_path / "o")

@@ -31,54 +31,34 @@ FloatArray = NDArray[np.float64]
 def sweep_columns(result: SweepResult) -> dict[str, Any]:
     """CSV columns: one row per (direction, speed); direction coded 0 = up, 1 = down;
     ``dynamic_factor`` is K_dyn, ``peak_force_ratio`` F_max / W."""
-    cols: dict[str, list[float]] = {k: [] for k in (
-        "direction_down", "speed_rpm", "speed_rad_s", "mesh_frequency_hz", "frequency_ratio",
-        "dynamic_factor", "peak_force_ratio", "rms_dte_m", "ptp_dte_m", "mean_dte_m",
-        "max_floquet_modulus", "stable", "periodic", "orbit_periods", "separation_share",
-        "backside_share", "newton_iterations", "lyapunov_1_s", "lyapunov_error_1_s")}
     fn = result.natural_frequency
+    parts = []
     for c in result.curves:
         n = c.speed.size
-        cols["direction_down"] += [float(c.direction == "down")] * n
-        cols["speed_rpm"] += list(c.speed / RPM)
-        cols["speed_rad_s"] += list(c.speed)
-        cols["mesh_frequency_hz"] += list(c.mesh_frequency)
-        cols["frequency_ratio"] += list(c.mesh_frequency / fn)
-        cols["dynamic_factor"] += list(c.dynamic_factor)
-        cols["peak_force_ratio"] += list(c.peak_force_ratio)
-        cols["rms_dte_m"] += list(c.rms_dte)
-        cols["ptp_dte_m"] += list(c.ptp_dte)
-        cols["mean_dte_m"] += list(c.mean_dte)
-        cols["max_floquet_modulus"] += list(c.spectral_radius)
-        cols["stable"] += list(c.stable.astype(float))
-        cols["periodic"] += list(c.periodic.astype(float))
-        cols["orbit_periods"] += list(c.orbit_periods.astype(float))
-        cols["separation_share"] += list(c.separation)
-        cols["backside_share"] += list(c.backside)
-        cols["newton_iterations"] += list(c.iterations.astype(float))
-        nan = np.full(n, np.nan)  # a curve stacked without them (made by hand) has none
-        cols["lyapunov_1_s"] += list(c.lyapunov if c.lyapunov.size == n else nan)
-        cols["lyapunov_error_1_s"] += list(c.lyapunov_error if c.lyapunov_error.size == n
-                                           else nan)
-    return {k: np.asarray(v, dtype=float) for k, v in cols.items()}
+        nan = np.full(n, np.nan)  # a curve stacked without Lyapunov exponents (made by hand)
+        parts.append({
+            "direction_down": np.full(n, float(c.direction == "down")), "speed_rpm": c.speed / RPM,
+            "speed_rad_s": c.speed, "mesh_frequency_hz": c.mesh_frequency,
+            "frequency_ratio": c.mesh_frequency / fn, "dynamic_factor": c.dynamic_factor,
+            "peak_force_ratio": c.peak_force_ratio, "rms_dte_m": c.rms_dte,
+            "ptp_dte_m": c.ptp_dte, "mean_dte_m": c.mean_dte,
+            "max_floquet_modulus": c.spectral_radius, "stable": c.stable,
+            "periodic": c.periodic, "orbit_periods": c.orbit_periods,
+            "separation_share": c.separation, "backside_share": c.backside,
+            "newton_iterations": c.iterations,
+            "lyapunov_1_s": c.lyapunov if c.lyapunov.size == n else nan,
+            "lyapunov_error_1_s": c.lyapunov_error if c.lyapunov_error.size == n else nan})
+    return {k: np.concatenate([np.asarray(p[k], dtype=float) for p in parts]) for k in parts[0]}
 
 
-def _ranges(speed: FloatArray, mask: NDArray[np.bool_]) -> list[list[float]]:
-    """Contiguous speed ranges (rpm, sorted) where ``mask`` holds."""
+def speed_ranges(speed: FloatArray, mask: NDArray[np.bool_]) -> list[list[float]]:
+    """Contiguous ranges of the speeds ``speed`` (rad/s) where ``mask`` holds: [first, last]
+    in rpm, sorted."""
     order = np.argsort(speed)
-    s, m = speed[order] / RPM, mask[order]
-    out: list[list[float]] = []
-    i = 0
-    while i < s.size:
-        if m[i]:
-            j = i
-            while j + 1 < s.size and m[j + 1]:
-                j += 1
-            out.append([float(s[i]), float(s[j])])
-            i = j + 1
-        else:
-            i += 1
-    return out
+    s = speed[order] / RPM
+    edges = np.diff(np.concatenate([[0], mask[order].astype(int), [0]]))  # +1 start, -1 past end
+    return [[float(s[i]), float(s[j - 1])]
+            for i, j in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1), strict=True)]
 
 
 def periodic_response(curve: SweepCurve) -> NDArray[np.bool_]:
@@ -110,7 +90,7 @@ def aperiodic_ranges(result: SweepResult) -> list[list[float]]:
     for c in result.curves:
         m = _not_periodic(c)
         mask |= m if c.direction == "up" else m[::-1]
-    return _ranges(_up_speeds(result), mask)
+    return speed_ranges(_up_speeds(result), mask)
 
 
 def _up_speeds(result: SweepResult) -> FloatArray:
@@ -133,7 +113,7 @@ def hysteresis_ranges(result: SweepResult, rel: float = 0.05) -> list[list[float
     with np.errstate(invalid="ignore"):
         differ = np.abs(up.rms_dte - d) > rel * ref
     both = periodic_response(up) & periodic_response(down)[::-1]
-    return _ranges(up.speed, differ & np.isfinite(ref) & both)
+    return speed_ranges(up.speed, differ & np.isfinite(ref) & both)
 
 
 def jumps(curve: SweepCurve) -> list[dict[str, Any]]:
@@ -228,12 +208,12 @@ def summarize_sweep(result: SweepResult) -> dict[str, Any]:
     for c in result.curves:
         finite = np.isfinite(c.peak_force_ratio)  # K_dyn is NaN too without a reference
         info: dict[str, Any] = {
-            "unstable_ranges_rpm": _ranges(c.speed, np.array([s == "unstable"
+            "unstable_ranges_rpm": speed_ranges(c.speed, np.array([s == "unstable"
                                                                for s in c.status])),
-            "separation_ranges_rpm": _ranges(c.speed, np.nan_to_num(c.separation) > 0),
-            "backside_ranges_rpm": _ranges(c.speed, np.nan_to_num(c.backside) > 0),
-            "aperiodic_ranges_rpm": _ranges(c.speed, _not_periodic(c)),
-            "period2_ranges_rpm": _ranges(c.speed, c.orbit_periods == 2),
+            "separation_ranges_rpm": speed_ranges(c.speed, np.nan_to_num(c.separation) > 0),
+            "backside_ranges_rpm": speed_ranges(c.speed, np.nan_to_num(c.backside) > 0),
+            "aperiodic_ranges_rpm": speed_ranges(c.speed, _not_periodic(c)),
+            "period2_ranges_rpm": speed_ranges(c.speed, c.orbit_periods == 2),
             "jumps": jumps(c),
             # what the motion is where it is not period-1 (gear_dyn.analysis.motion)
             "motion": [{"speed_rpm": float(c.speed[i] / RPM), "label": label}
