@@ -448,8 +448,8 @@ def propagate_contact_exact(
     Parameters
     ----------
     model : Model
-        Single-DOF mesh model with backlash, piecewise-constant stiffness, no transmission error
-        (:func:`contact_exact_applies`).
+        Single-DOF mesh model with backlash, piecewise-constant stiffness, no or a damped
+        harmonic transmission error (:func:`contact_exact_applies`).
     t_grid : ndarray
         Increasing output times in s; the first is the initial time.
     settings : SolverSettings, unused
@@ -475,7 +475,8 @@ def propagate_contact_exact(
     if not contact_exact_applies(model):
         raise InputError(
             "solver.method = 'exact_contact' needs the single-DOF model with backlash, "
-            "piecewise-constant stiffness and no transmission error; use DOP853 or LSODA")
+            "piecewise-constant stiffness and no or a damped harmonic transmission error; "
+            "use DOP853 or LSODA")
     mm: Any = model
     t_grid = np.asarray(t_grid, dtype=float)
     x, v = (float(u) for u in (model.initial_state() if y0 is None else y0))
@@ -573,7 +574,8 @@ def flow_with_sensitivity(model: Model, y0: FloatArray, t1: float, t0: float = 0
     """
     if not contact_exact_applies(model):
         raise InputError("flow_with_sensitivity (exact_contact) needs the single-DOF model with "
-                         "backlash, piecewise-constant stiffness and no transmission error")
+                         "backlash, piecewise-constant stiffness and no or a damped harmonic "
+                         "transmission error")
     x0, v0 = (float(u) for u in y0)
     segs, (x, v) = _walk(model, float(t0), float(t1), x0, v0)
     mats = np.empty((len(segs), 2, 2))
