@@ -1,10 +1,13 @@
 """Exact propagation of the single-DOF model with backlash and piecewise-constant stiffness.
 
-``m x'' + c x' + k(t) f(x) = W`` with the dead zone f (half gap b) is linear with constant
-coefficients between a stiffness switch and a contact change, in one of three contact states
-(drive flank x > b, gap ``|x| <= b``, back flank x < -b), so each piece is closed-form
-(:func:`flow`). Contact changes ``x = +-b`` are bracketed on that closed form (samples at most a
-quarter damped period apart, extrema checked too) and closed by :func:`find_root`; pieces that
+``m x'' + c (x' - e') + k(t) f(x - e) = W`` with the dead zone f (half gap b) and no or a
+harmonic transmission error e is, in ``u = x - e``, ``m u'' + c u' + k(t) f(u) = W - m e''``:
+linear with constant coefficients between a stiffness switch and a contact change, in one of
+three contact states (drive flank u > b, gap ``|u| <= b``, back flank u < -b), so each piece is
+closed-form (:func:`flow` plus the harmonic particular solution of
+:mod:`gear_dyn.solvers.harmonic_forcing`). Contact changes ``u = +-b`` are bracketed on that
+closed form with a curvature bound that proves each sample interval free of a crossing or
+monotone, else halves it (:func:`_first_crossing`), and closed by :func:`find_root`; pieces that
 provably stay in their contact state (:meth:`_Piece.stays_inside`) are not searched. What is
 left is rounding (:func:`rounding_bound`). Method ``exact_contact``; ``auto`` takes it where
 :func:`contact_exact_applies`. The flow's exact sensitivity (:func:`flow_with_sensitivity`,
@@ -42,7 +45,8 @@ def contact_exact_applies(model: Model) -> bool:
     if not getattr(model, "mesh_periodic", False) or model.backlash is None:
         return False
     te = getattr(model, "transmission_error", None)
-    if te is not None and not (isinstance(te, HarmonicSignal) and float(model.damping) > 0.0):
+    if te is not None and not (isinstance(te, HarmonicSignal)
+                                 and float(getattr(model, "damping", 0.0)) > 0.0):
         return False
     stiffness = getattr(model, "stiffness", None)
     return stiffness is not None and stiffness.segments() is not None
@@ -298,7 +302,7 @@ def _first_crossing(pc: _Piece, t0: float, x0: float, v0: float, length: float, 
     pu, pv = pc.part.at(t0 + s)
     d = float(s[1] - s[0])
     curv = pc.curvature_bound(zx, zv, d)
-    zargs = (pc.state, pc.k, pc.m, pc.c, pc.w, pc.b, z0, zv0)
+    zargs = (z0, zv0)
     best: float | None = None
     for level in pc.levels():
         inside = 1.0 if pc.state == DRIVE or (pc.state == GAP and level < 0) else -1.0
@@ -319,14 +323,14 @@ def _first_crossing(pc: _Piece, t0: float, x0: float, v0: float, length: float, 
     return best
 
 
-def _refine(pc: _Piece, zargs: tuple[Any, ...], t0: float, level: float, inside: float,
+def _refine(pc: _Piece, zargs: tuple[float, float], t0: float, level: float, inside: float,
             s0: float, s1: float, g0: float, dg0: float, curv0: float, g1: float, xtol: float
             ) -> float | None:
     """First zero of ``g`` in ``[s0, s1]`` by the proofs of :func:`_first_crossing`, or None."""
     part = pc.part
 
     def gv(s: float) -> tuple[float, float, float, float]:
-        zx, zv = flow_scalar(*zargs, s)
+        zx, zv = flow_scalar(pc.state, pc.k, pc.m, pc.c, pc.w, pc.b, zargs[0], zargs[1], s)
         pu, pv = part.at_scalar(t0 + s)
         return (zx + pu - level) * inside, (zv + pv) * inside, zx, zv
 
