@@ -6,8 +6,10 @@ linear with constant coefficients between a stiffness switch and a contact chang
 three contact states (drive flank u > b, gap ``|u| <= b``, back flank u < -b), so each piece is
 closed-form (:func:`flow` plus the harmonic particular solution of
 :mod:`gear_dyn.solvers.harmonic_forcing`). Contact changes ``u = +-b`` are bracketed on that
-closed form with a curvature bound that proves each sample interval free of a crossing or
-monotone, else halves it (:func:`_first_crossing`), and closed by :func:`find_root`; pieces that
+closed form (without a transmission error: samples a quarter damped period apart and their
+extrema, :func:`_first_crossing_unforced`; with one: a curvature bound that proves each sample
+interval free of a crossing or monotone, else halves it, :func:`_first_crossing`) and closed
+by :func:`find_root`; pieces that
 provably stay in their contact state (:meth:`_Piece.stays_inside`) are not searched. What is
 left is rounding (:func:`rounding_bound`). Method ``exact_contact``; ``auto`` takes it where
 :func:`contact_exact_applies`. The flow's exact sensitivity (:func:`flow_with_sensitivity`,
@@ -293,6 +295,8 @@ def _first_crossing(pc: _Piece, t0: float, x0: float, v0: float, length: float, 
     tangential graze (``g`` touching zero) is bisected down to ``xtol``; a dip shallower than
     rounding is not a contact change. Proofs hold up to the rounding of ``g`` (~ eps |u|).
     """
+    if not pc.part.n.size:
+        return _first_crossing_unforced(pc, x0, v0, length, xtol)
     if pc.stays_inside(x0, v0, t0):
         return None
     n = max(2, math.ceil(length / pc.h)) if math.isfinite(pc.h) else 4
@@ -357,6 +361,56 @@ def _refine(pc: _Piece, zargs: tuple[float, float], t0: float, level: float, ins
         stack.append((mid, b, gm, dgm, cm, gb))
         stack.append((a, mid, ga, dga, ca, gm))
     return None
+
+
+def _first_crossing_unforced(pc: _Piece, x0: float, v0: float, length: float, xtol: float
+                             ) -> float | None:
+    """:func:`_first_crossing` without a transmission error: the motion about each contact
+    state's equilibrium is a damped oscillation (or, in the gap, has one extremum at most), so
+    samples a quarter damped period apart hold at most one extremum each; a sign change is
+    closed by :func:`find_root`, an extremum below the boundary by the root of the velocity
+    first. Kept for the unforced model: it needs fewer evaluations than the bounded search,
+    and trajectories through chaotic transients depend on the roots' last bits."""
+    if pc.stays_inside(x0, v0):
+        return None
+    n = max(2, math.ceil(length / pc.h)) if math.isfinite(pc.h) else 4
+    s = np.linspace(0.0, length, n + 1)
+    x, v = pc.at(x0, v0, s)
+    best: float | None = None
+    for level in pc.levels():
+        inside = 1.0 if pc.state == DRIVE or (pc.state == GAP and level < 0) else -1.0
+        g = (x - level) * inside  # >= 0 while in this state
+        g[0] = abs(g[0])  # the piece starts on or inside the boundary
+        hit = _bracket_unforced(pc, x0, v0, s, g, v * inside, level, inside, xtol)
+        if hit is not None and (best is None or hit < best):
+            best = hit
+    return best
+
+
+def _bracket_unforced(pc: _Piece, x0: float, v0: float, s: FloatArray, g: FloatArray,
+                      dg: FloatArray, level: float, inside: float, xtol: float) -> float | None:
+    """First zero of ``g`` (sampled on ``s``, slope ``dg``) by sign change or by extremum."""
+    def gf(t: float) -> float:
+        return (flow_scalar(pc.state, pc.k, pc.m, pc.c, pc.w, pc.b, x0, v0, t)[0] - level) * inside
+
+    def dgf(t: float) -> float:
+        return flow_scalar(pc.state, pc.k, pc.m, pc.c, pc.w, pc.b, x0, v0, t)[1] * inside
+
+    neg = np.flatnonzero(g[1:] < 0.0)
+    turn = np.flatnonzero((dg[:-1] < 0.0) & (dg[1:] > 0.0))  # a minimum of g inside
+    j_cross = int(neg[0]) if neg.size else None
+    for j in turn:
+        if j_cross is not None and j >= j_cross:
+            break
+        sm = find_root(dgf, float(s[j]), float(s[j + 1]), float(dg[j]), float(dg[j + 1]),
+                       xtol)
+        gm = gf(sm)
+        if gm < 0.0:  # dips below the boundary and returns inside the interval
+            return find_root(gf, float(s[j]), sm, float(g[j]), gm, xtol)
+    if j_cross is None:
+        return None
+    lo, hi = float(s[j_cross]), float(s[j_cross + 1])
+    return find_root(gf, lo, hi, float(g[j_cross]), float(g[j_cross + 1]), xtol)
 
 
 def _state_at(x: float, v: float, b: float) -> int:
