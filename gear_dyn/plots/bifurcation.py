@@ -15,6 +15,7 @@ from numpy.typing import NDArray
 from gear_dyn.analysis.motion.diagram import RPM, BifurcationDiagram
 from gear_dyn.errors import InputError
 from gear_dyn.plots._axes import axes_of, tidy
+from gear_dyn.plots._labels import place_labels
 
 if TYPE_CHECKING:
     from gear_dyn.analysis.continuation.strobe import BranchSamples
@@ -191,14 +192,11 @@ def plot_branch_samples(samples: BranchSamples, ax: Any = None, state: str = "x"
                       mfc="none", ms=7, ls="none", zorder=4,
                       label=once("fold" if kind == "fold" else "period doubling"))
             labels.append((par * fx, at[:, i] * factor, f"{text} {_fmt(par, b)}"))
-    if label_points:  # in parameter order, alternately below and above: neighbours stay legible
-        for j, (bx, ys, text) in enumerate(sorted(labels, key=lambda t: t[0])):
-            axes.annotate(text, (bx, float(ys.min() if j % 2 == 0 else ys.max())),
-                          xytext=(5, -13 if j % 2 == 0 else 6), textcoords="offset points",
-                          fontsize=7)
     if title is not None:
         axes.set_title(title, fontsize=10)
     axes.margins(y=0.08)  # room for the labels below the lowest and above the highest mark
+    if label_points:  # beside the located orbit's highest sample
+        place_labels(axes, [(bx, float(ys.max()), text) for bx, ys, text in labels])
     axes.set_xlabel(xlabel)
     axes.set_ylabel(f"{state} at t = k T_m ({unit})")
     axes.grid(alpha=0.3)

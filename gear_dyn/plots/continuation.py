@@ -12,6 +12,7 @@ import numpy as np
 
 from gear_dyn.analysis.continuation.branch import Branch
 from gear_dyn.plots._axes import axes_of, tidy
+from gear_dyn.plots._labels import place_labels
 
 #: y quantities: OrbitPoint field -> (axis label, factor to the plotted unit)
 QUANTITIES = {
@@ -149,13 +150,11 @@ def plot_branch(branch: Branch, ax: Any = None, y: str = "dte_rms", label_points
                       "x", color="0.4", ms=5, label=once("grazing (contact pattern changes)"))
     if sweep is not None:
         _overlay_sweep(axis, sweep, y, fx, fy)
-    if label_points:  # in speed order, alternately above and below: neighbours stay legible
-        for j, (bx, by, text) in enumerate(sorted(labels)):
-            axis.annotate(text, (bx, by), xytext=(5, 6 if j % 2 == 0 else -13),
-                          textcoords="offset points", fontsize=7)
     axis.set_xlabel(xlabel)
     axis.set_ylabel(ylabel)
     axis.grid(True, alpha=0.3)
+    if label_points:
+        place_labels(axis, labels)
     axis.legend(fontsize=7, loc="best")
     if ax is None:
         tidy(fig)

@@ -1,10 +1,15 @@
 """Exact propagation of the single-DOF model with backlash and piecewise-constant stiffness.
 
-``m x'' + c x' + k(t) f(x) = W`` with the dead zone f (half gap b) is linear with constant
-coefficients between a stiffness switch and a contact change, in one of three contact states
-(drive flank x > b, gap ``|x| <= b``, back flank x < -b), so each piece is closed-form
-(:func:`flow`). Contact changes ``x = +-b`` are bracketed on that closed form (samples at most a
-quarter damped period apart, extrema checked too) and closed by :func:`find_root`; pieces that
+``m x'' + c (x' - e') + k(t) f(x - e) = W`` with the dead zone f (half gap b) and no or a
+harmonic transmission error e is, in ``u = x - e``, ``m u'' + c u' + k(t) f(u) = W - m e''``:
+linear with constant coefficients between a stiffness switch and a contact change, in one of
+three contact states (drive flank u > b, gap ``|u| <= b``, back flank u < -b), so each piece is
+closed-form (:func:`flow` plus the harmonic particular solution of
+:mod:`gear_dyn.solvers.harmonic_forcing`). Contact changes ``u = +-b`` are bracketed on that
+closed form (without a transmission error: samples a quarter damped period apart and their
+extrema, :func:`_first_crossing_unforced`; with one: a curvature bound that proves each sample
+interval free of a crossing or monotone, else halves it, :func:`_first_crossing`) and closed
+by :func:`find_root`; pieces that
 provably stay in their contact state (:meth:`_Piece.stays_inside`) are not searched. What is
 left is rounding (:func:`rounding_bound`). Method ``exact_contact``; ``auto`` takes it where
 :func:`contact_exact_applies`. The flow's exact sensitivity (:func:`flow_with_sensitivity`,
@@ -22,7 +27,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.errors import InputError, SolverError
+from gear_dyn.excitation import HarmonicSignal
 from gear_dyn.models.base import Model
+from gear_dyn.solvers.harmonic_forcing import Forcing
 
 FloatArray = NDArray[np.float64]
 
@@ -33,10 +40,15 @@ MAX_EVENTS_PER_PIECE = 1000
 
 
 def contact_exact_applies(model: Model) -> bool:
-    """True for a mesh-periodic model with backlash, piecewise-constant stiffness and no TE."""
+    """True for a mesh-periodic model with backlash, piecewise-constant stiffness and no
+    transmission error or a harmonic one (:class:`~gear_dyn.excitation.HarmonicSignal`, with
+    damping: an undamped resonance has no periodic particular solution). A sampled
+    transmission error (piecewise-linear e, impulsive e'') is not covered."""
     if not getattr(model, "mesh_periodic", False) or model.backlash is None:
         return False
-    if getattr(model, "transmission_error", None) is not None:
+    te = getattr(model, "transmission_error", None)
+    if te is not None and not (isinstance(te, HarmonicSignal)
+                                 and float(getattr(model, "damping", 0.0)) > 0.0):
         return False
     stiffness = getattr(model, "stiffness", None)
     return stiffness is not None and stiffness.segments() is not None
@@ -167,48 +179,94 @@ def find_root(f: Callable[[float], float], lo: float, hi: float, f_lo: float, f_
 
 
 class _Piece:
-    """The constants of one contact state in one stiffness piece."""
+    """The constants of one contact state in one stiffness piece, in ``u = x - e(t)``.
 
-    def __init__(self, model: Any, k: float, state: int) -> None:
+    The solution from ``(u0, v0)`` at ``t0`` is the particular part ``u_p(t)`` of the
+    transmission error's forcing (:mod:`gear_dyn.solvers.harmonic_forcing`; zero without one)
+    plus the closed form :func:`flow` of ``z = u - u_p`` (homogeneous and static load).
+    """
+
+    def __init__(self, model: Any, k: float, state: int, forcing: Forcing | None = None
+                 ) -> None:
         self.m, self.c, self.w = float(model.mass), float(model.damping), float(model.static_load)
         self.b, self.k, self.state = float(model.backlash), float(k), state
-        a = self.c / self.m
-        w2 = self.k / self.m if state != GAP else 0.0
+        self.a = a = self.c / self.m
+        self.w2 = w2 = self.k / self.m if state != GAP else 0.0
         wd2 = w2 - 0.25 * a * a
-        # sampling step: a quarter of the damped period (one extremum per interval at most)
-        self.h = 0.25 * 2 * math.pi / math.sqrt(wd2) if wd2 > 0 else math.inf
+        forcing = Forcing.of(model) if forcing is None else forcing
+        self.part = forcing.particular(w2, a)
+        # sampling step: a quarter of the damped period and of the top harmonic's period
+        om = max(math.sqrt(wd2) if wd2 > 0 else 0.0, forcing.top_frequency)
+        self.h = 0.25 * 2 * math.pi / om if om > 0 else math.inf
         self.q = math.sqrt(wd2) if state != GAP and wd2 > 0 else 0.0  # damped rad/s; 0: none
+        self.x_eq = state * self.b + self.w / self.k if state != GAP else 0.0
 
-    def at(self, x0: float, v0: float, s: FloatArray) -> tuple[FloatArray, FloatArray]:
-        return flow(self.state, self.k, self.m, self.c, self.w, self.b, x0, v0, s)
+    def _z(self, u0: float, v0: float, t0: float) -> tuple[float, float]:
+        """The state of ``z = u - u_p`` at ``t0``."""
+        pu, pv = self.part.at_scalar(t0)
+        return u0 - pu, v0 - pv
 
-    def stays_inside(self, x0: float, v0: float) -> bool:
-        """True when the oscillation from ``(x0, v0)`` provably never reaches the boundary.
+    def hom(self, z0: float, zv0: float, s: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """``z(s), z'(s)``: :func:`flow` of this state (m, m/s)."""
+        return flow(self.state, self.k, self.m, self.c, self.w, self.b, z0, zv0, s)
+
+    def at(self, x0: float, v0: float, s: FloatArray, t0: float = 0.0
+           ) -> tuple[FloatArray, FloatArray]:
+        """``u, u'`` (m, m/s) at ``t0 + s`` from ``(x0, v0)`` at ``t0`` (s)."""
+        z0, zv0 = self._z(x0, v0, t0)
+        zx, zv = self.hom(z0, zv0, s)
+        pu, pv = self.part.at(t0 + np.asarray(s, dtype=float))
+        return zx + pu, zv + pv
+
+    def stays_inside(self, x0: float, v0: float, t0: float = 0.0) -> bool:
+        """True when the motion from ``(x0, v0)`` at ``t0`` provably never reaches the boundary.
 
         In a contact state with damped frequency ``q`` the closed form of :func:`flow` is
-        ``u(s) = e^(-a s / 2) (cos(q s) u0 + sin(q s) (v0 + a u0 / 2) / q)`` about the
-        equilibrium ``x_eq``, so ``|u(s)| <= A = hypot(u0, (v0 + a u0 / 2) / q)`` for all
-        ``s >= 0`` (Cauchy-Schwarz). When ``x_eq`` lies inside the state at a distance above
-        ``A`` from the boundary, no contact change can occur in this piece. The margin
-        ``1e-6 A`` covers rounding. This spares the search where the response has settled, e.g.
-        at very low speed, where a stiffness piece spans thousands of natural periods and the
-        velocity is rounding noise whose every sign change would otherwise be checked.
+        ``z(s) - x_eq = e^(-a s / 2) (cos(q s) z0 + sin(q s) (zv0 + a z0 / 2) / q)`` about
+        the equilibrium ``x_eq`` (``z0`` relative to it), so ``|z - x_eq| <= A =
+        hypot(z0, (zv0 + a z0 / 2) / q)`` for all ``s >= 0`` (Cauchy-Schwarz), and the
+        particular part ``|u_p| <= sum_n hypot(A_n, B_n)``. When ``x_eq`` lies inside the state
+        at a distance above the sum of both from the boundary, no contact change can occur in
+        this piece. The margin ``1e-6`` of it covers rounding. This spares the search where
+        the response has settled, e.g. at very low speed, where a stiffness piece spans
+        thousands of natural periods.
         """
         if self.q == 0.0:
             return False
-        x_eq = self.state * self.b + self.w / self.k
-        u0 = x0 - x_eq
-        amp = math.hypot(u0, (v0 + 0.5 * (self.c / self.m) * u0) / self.q)
-        return self.state * (x_eq - self.state * self.b) > amp * (1.0 + 1e-6)
+        z0, zv0 = self._z(x0, v0, t0)
+        u0 = z0 - self.x_eq
+        amp = math.hypot(u0, (zv0 + 0.5 * self.a * u0) / self.q) + self.part.amplitude
+        return self.state * (self.x_eq - self.state * self.b) > amp * (1.0 + 1e-6)
+
+    def curvature_bound(self, z: FloatArray, zv: FloatArray, h: float) -> FloatArray:
+        """A bound on ``|u''|`` over ``[s, s + h]`` from the state ``(z, zv)`` of ``z`` at s.
+
+        Gap: ``z'' = (w/m - a zv) e^(-a s)``, so ``|w/m - a zv|``. Contact:
+        ``z'' = -a z' - w2 (z - x_eq)`` with ``|z - x_eq|`` and ``|z'|`` bounded as in
+        :meth:`stays_inside` (underdamped: ``hypot`` amplitudes, for all later s; overdamped or
+        critical: ``e^(-a s/2) cosh(q s) <= 1`` and ``e^(-a s/2) sinh(q s) / q <= s <= h``). Plus
+        the particular part's ``sum_n W_n^2 hypot(A_n, B_n)``.
+        """
+        a, w2 = self.a, self.w2
+        if self.state == GAP:
+            return np.abs(self.w / self.m - a * zv) + self.part.curvature
+        u = z - self.x_eq
+        cu, cv = zv + 0.5 * a * u, w2 * u + 0.5 * a * zv
+        if self.q > 0.0:
+            amp_u, amp_v = np.hypot(u, cu / self.q), np.hypot(zv, cv / self.q)
+        else:
+            amp_u, amp_v = np.abs(u) + h * np.abs(cu), np.abs(zv) + h * np.abs(cv)
+        return a * amp_v + w2 * amp_u + self.part.curvature
 
     def levels(self) -> tuple[float, ...]:
         """The contact boundaries this state can leave through."""
         return (self.b, -self.b) if self.state == GAP else (self.state * self.b,)
 
-    def field(self, x: float, v: float) -> FloatArray:
-        """The vector field ``[x', v']`` of this contact state at ``(x, v)`` (m/s, m/s^2)."""
+    def field(self, x: float, v: float, t: float = 0.0) -> FloatArray:
+        """The vector field ``[u', u'']`` of this contact state at ``(u, u')`` and t
+        (m/s, m/s^2), the transmission error's forcing included."""
         spring = 0.0 if self.state == GAP else self.k * (x - self.state * self.b)
-        return np.array([v, (self.w - self.c * v - spring) / self.m])
+        return np.array([v, (self.w - self.c * v - spring) / self.m + self.part.forcing.value(t)])
 
     def transition(self, s: FloatArray) -> FloatArray:
         """``exp(A s)`` of this contact state's homogeneous part, shape ``(len(s), 2, 2)``:
@@ -219,9 +277,100 @@ class _Piece:
         return np.stack([np.stack([xx, xv], axis=-1), np.stack([vx, vv], axis=-1)], axis=-2)
 
 
-def _first_crossing(pc: _Piece, x0: float, v0: float, length: float, xtol: float
+def _first_crossing(pc: _Piece, t0: float, x0: float, v0: float, length: float, xtol: float
                     ) -> float | None:
-    """Time of the first contact change after the piece start within ``length``, or None."""
+    """Time after ``t0`` of the first contact change within ``length``, or None.
+
+    The piece's solution is sampled ``pc.h`` apart (a quarter of the damped and of the top
+    harmonic's period). For each sample interval ``[s0, s1]`` (width ``d``) of the distance
+    ``g`` to a boundary (positive inside) the curvature bound ``G >= |g''|`` of
+    :meth:`_Piece.curvature_bound` proves one of:
+
+    - no zero: ``g(s0), g(s1) > 0`` and ``min(g(s0), g(s1)) > G d^2 / 8`` (g lies above its
+      chord less ``G (s - s0)(s1 - s) / 2``);
+    - ``g`` monotone: ``|g'(s0)| > G d`` (g' cannot change sign); then a sign change at the
+      ends is the only zero, closed by :func:`find_root`;
+
+    else the interval is halved, left half first, so the first zero is the one found. A
+    tangential graze (``g`` touching zero) is bisected down to ``xtol``; a dip shallower than
+    rounding is not a contact change. Proofs hold up to the rounding of ``g`` (~ eps |u|).
+    """
+    if not pc.part.n.size:
+        return _first_crossing_unforced(pc, x0, v0, length, xtol)
+    if pc.stays_inside(x0, v0, t0):
+        return None
+    n = max(2, math.ceil(length / pc.h)) if math.isfinite(pc.h) else 4
+    s = np.linspace(0.0, length, n + 1)
+    z0, zv0 = pc._z(x0, v0, t0)
+    zx, zv = pc.hom(z0, zv0, s)
+    pu, pv = pc.part.at(t0 + s)
+    d = float(s[1] - s[0])
+    curv = pc.curvature_bound(zx, zv, d)
+    zargs = (z0, zv0)
+    best: float | None = None
+    for level in pc.levels():
+        inside = 1.0 if pc.state == DRIVE or (pc.state == GAP and level < 0) else -1.0
+        g = (zx + pu - level) * inside  # >= 0 while in this state
+        dg = (zv + pv) * inside
+        g[0] = abs(g[0])  # the piece starts on or inside the boundary
+        lo, hi = g[:-1], g[1:]
+        clear = (lo > 0.0) & (hi > 0.0) & (np.minimum(lo, hi) > curv[:-1] * d * d / 8)
+        clear |= (np.abs(dg[:-1]) > curv[:-1] * d) & (hi >= 0.0)
+        for j in np.flatnonzero(~clear).tolist():
+            if best is not None and s[j] >= best:
+                break
+            hit = _refine(pc, zargs, t0, level, inside, float(s[j]), float(s[j + 1]),
+                          float(g[j]), float(dg[j]), float(curv[j]), float(g[j + 1]), xtol)
+            if hit is not None:
+                best = hit if best is None else min(best, hit)
+                break
+    return best
+
+
+def _refine(pc: _Piece, zargs: tuple[float, float], t0: float, level: float, inside: float,
+            s0: float, s1: float, g0: float, dg0: float, curv0: float, g1: float, xtol: float
+            ) -> float | None:
+    """First zero of ``g`` in ``[s0, s1]`` by the proofs of :func:`_first_crossing`, or None."""
+    part = pc.part
+
+    def gv(s: float) -> tuple[float, float, float, float]:
+        zx, zv = flow_scalar(pc.state, pc.k, pc.m, pc.c, pc.w, pc.b, zargs[0], zargs[1], s)
+        pu, pv = part.at_scalar(t0 + s)
+        return (zx + pu - level) * inside, (zv + pv) * inside, zx, zv
+
+    def gf(s: float) -> float:
+        return gv(s)[0]
+
+    stack = [(s0, s1, g0, dg0, curv0, g1)]
+    while stack:
+        a, b, ga, dga, ca, gb = stack.pop()
+        wd = b - a
+        if ga > 0.0 and gb > 0.0 and min(ga, gb) > ca * wd * wd / 8:
+            continue
+        if abs(dga) > ca * wd:  # monotone on [a, b]
+            if gb < 0.0:
+                return find_root(gf, a, b, ga, gb, xtol)
+            continue
+        if wd <= xtol:
+            if gb < 0.0:
+                return b
+            continue
+        mid = 0.5 * (a + b)
+        gm, dgm, zx, zv = gv(mid)
+        cm = float(pc.curvature_bound(np.array([zx]), np.array([zv]), b - mid)[0])
+        stack.append((mid, b, gm, dgm, cm, gb))
+        stack.append((a, mid, ga, dga, ca, gm))
+    return None
+
+
+def _first_crossing_unforced(pc: _Piece, x0: float, v0: float, length: float, xtol: float
+                             ) -> float | None:
+    """:func:`_first_crossing` without a transmission error: the motion about each contact
+    state's equilibrium is a damped oscillation (or, in the gap, has one extremum at most), so
+    samples a quarter damped period apart hold at most one extremum each; a sign change is
+    closed by :func:`find_root`, an extremum below the boundary by the root of the velocity
+    first. Kept for the unforced model: it needs fewer evaluations than the bounded search,
+    and trajectories through chaotic transients depend on the roots' last bits."""
     if pc.stays_inside(x0, v0):
         return None
     n = max(2, math.ceil(length / pc.h)) if math.isfinite(pc.h) else 4
@@ -232,22 +381,20 @@ def _first_crossing(pc: _Piece, x0: float, v0: float, length: float, xtol: float
         inside = 1.0 if pc.state == DRIVE or (pc.state == GAP and level < 0) else -1.0
         g = (x - level) * inside  # >= 0 while in this state
         g[0] = abs(g[0])  # the piece starts on or inside the boundary
-        hit = _bracket(pc, x0, v0, s, g, v * inside, level, inside, xtol)
+        hit = _bracket_unforced(pc, x0, v0, s, g, v * inside, level, inside, xtol)
         if hit is not None and (best is None or hit < best):
             best = hit
     return best
 
 
-def _bracket(pc: _Piece, x0: float, v0: float, s: FloatArray, g: FloatArray, dg: FloatArray,
-             level: float, inside: float, xtol: float) -> float | None:
+def _bracket_unforced(pc: _Piece, x0: float, v0: float, s: FloatArray, g: FloatArray,
+                      dg: FloatArray, level: float, inside: float, xtol: float) -> float | None:
     """First zero of ``g`` (sampled on ``s``, slope ``dg``) by sign change or by extremum."""
-    args = (pc.state, pc.k, pc.m, pc.c, pc.w, pc.b, x0, v0)
-
     def gf(t: float) -> float:
-        return (flow_scalar(*args, t)[0] - level) * inside
+        return (flow_scalar(pc.state, pc.k, pc.m, pc.c, pc.w, pc.b, x0, v0, t)[0] - level) * inside
 
     def dgf(t: float) -> float:
-        return flow_scalar(*args, t)[1] * inside
+        return flow_scalar(pc.state, pc.k, pc.m, pc.c, pc.w, pc.b, x0, v0, t)[1] * inside
 
     neg = np.flatnonzero(g[1:] < 0.0)
     turn = np.flatnonzero((dg[:-1] < 0.0) & (dg[1:] > 0.0))  # a minimum of g inside
@@ -292,13 +439,24 @@ class _Segment(NamedTuple):
     event: bool  #: ends at a contact change (else at a stiffness switch or the end time)
 
 
+def _te_shift(mm: Any, t: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """``e(t), e'(t)`` of the model's transmission error (m, m/s; zeros without one)."""
+    t = np.asarray(t, dtype=float)
+    te = getattr(mm, "transmission_error", None)
+    if te is None:
+        return np.zeros_like(t), np.zeros_like(t)
+    p = mm.phase(t)
+    return (np.asarray(te.value(p), dtype=float),
+            float(mm.mesh_frequency) * np.asarray(te.slope(p), dtype=float))
+
+
 def _walk(mm: Any, t0: float, t1: float, x: float, v: float
           ) -> tuple[list[_Segment], tuple[float, float]]:
-    """The closed-form pieces from ``(x, v)`` at ``t0`` to ``t1`` and the end state.
+    """The closed-form pieces from ``(x, v)`` at ``t0`` to ``t1`` and the end state ``(x, v)``.
 
-    Cut at the stiffness switches; within a stiffness piece, each located contact change ends a
-    segment, its state is put exactly on the boundary it crossed and the next contact state
-    starts there.
+    The pieces are in ``u = x - e(t)``, ``u'``. Cut at the stiffness switches; within a
+    stiffness piece, each located contact change ends a segment, its state is put exactly on
+    the boundary it crossed and the next contact state starts there.
 
     Raises
     ------
@@ -309,21 +467,25 @@ def _walk(mm: Any, t0: float, t1: float, x: float, v: float
     kts = mm.stiffness(mm.phase(0.5 * (cuts[:-1] + cuts[1:])))
     b = float(mm.backlash)
     xtol = 4 * float(np.spacing(max(abs(t0), abs(t1), 1e-300)))
+    forcing = Forcing.of(mm)
     cache: dict[tuple[float, int], _Piece] = {}
     segs: list[_Segment] = []
+    e0, ed0 = _te_shift(mm, np.array([t0]))
+    x, v = x - float(e0[0]), v - float(ed0[0])
     state = _state_at(x, v, b)
     for ta, tb, kt in zip(cuts[:-1].tolist(), cuts[1:].tolist(), kts.tolist(), strict=True):
         t, n_ev = ta, 0
         while t < tb:
-            pc = cache.get((kt, state)) or cache.setdefault((kt, state), _Piece(mm, kt, state))
-            hit = _first_crossing(pc, x, v, tb - t, xtol)
+            pc = cache.get((kt, state)) or cache.setdefault((kt, state),
+                                                            _Piece(mm, kt, state, forcing))
+            hit = _first_crossing(pc, t, x, v, tb - t, xtol)
             if hit is None or t + hit >= tb:
                 segs.append(_Segment(t, pc, x, v, tb - t, False))
-                xs, vs = pc.at(x, v, np.array([tb - t]))
+                xs, vs = pc.at(x, v, np.array([tb - t]), t)
                 x, v, t = float(xs[0]), float(vs[0]), tb
                 break
             segs.append(_Segment(t, pc, x, v, hit, True))
-            xs, vs = pc.at(x, v, np.array([hit]))
+            xs, vs = pc.at(x, v, np.array([hit]), t)
             x, v, t = float(xs[0]), float(vs[0]), t + hit
             x = b if abs(x - b) < abs(x + b) else -b  # exactly on the boundary it crossed
             state = _next_state(state, x, v, b)
@@ -332,7 +494,8 @@ def _walk(mm: Any, t0: float, t1: float, x: float, v: float
                 raise SolverError(
                     f"exact_contact: more than {MAX_EVENTS_PER_PIECE} contact changes in one "
                     f"stiffness piece at t = {t:.6g} s (a chattering graze); use LSODA")
-    return segs, (x, v)
+    e1, ed1 = _te_shift(mm, np.array([t1]))
+    return segs, (x + float(e1[0]), v + float(ed1[0]))
 
 
 def propagate_contact_exact(
@@ -343,8 +506,8 @@ def propagate_contact_exact(
     Parameters
     ----------
     model : Model
-        Single-DOF mesh model with backlash, piecewise-constant stiffness, no transmission error
-        (:func:`contact_exact_applies`).
+        Single-DOF mesh model with backlash, piecewise-constant stiffness, no or a damped
+        harmonic transmission error (:func:`contact_exact_applies`).
     t_grid : ndarray
         Increasing output times in s; the first is the initial time.
     settings : SolverSettings, unused
@@ -370,7 +533,8 @@ def propagate_contact_exact(
     if not contact_exact_applies(model):
         raise InputError(
             "solver.method = 'exact_contact' needs the single-DOF model with backlash, "
-            "piecewise-constant stiffness and no transmission error; use DOP853 or LSODA")
+            "piecewise-constant stiffness and no or a damped harmonic transmission error; "
+            "use DOP853 or LSODA")
     mm: Any = model
     t_grid = np.asarray(t_grid, dtype=float)
     x, v = (float(u) for u in (model.initial_state() if y0 is None else y0))
@@ -379,6 +543,9 @@ def propagate_contact_exact(
     rows = [(sg.piece, sg.x, sg.v) for sg in segs]
     events = [sg.t + sg.s for sg in segs if sg.event]
     out = _on_grid(t_grid, starts, rows)
+    shift = _te_shift(mm, t_grid)
+    out[0] += shift[0]
+    out[1] += shift[1]
     if not np.all(np.isfinite(out)):
         raise SolverError("exact_contact produced non-finite states: the response diverges")
     stats = {"nfev": 0, "njev": 0, "nlu": 0, "n_segments": len(rows),
@@ -465,7 +632,8 @@ def flow_with_sensitivity(model: Model, y0: FloatArray, t1: float, t0: float = 0
     """
     if not contact_exact_applies(model):
         raise InputError("flow_with_sensitivity (exact_contact) needs the single-DOF model with "
-                         "backlash, piecewise-constant stiffness and no transmission error")
+                         "backlash, piecewise-constant stiffness and no or a damped harmonic "
+                         "transmission error")
     x0, v0 = (float(u) for u in y0)
     segs, (x, v) = _walk(model, float(t0), float(t1), x0, v0)
     mats = np.empty((len(segs), 2, 2))
@@ -479,8 +647,8 @@ def flow_with_sensitivity(model: Model, y0: FloatArray, t1: float, t0: float = 0
         phi = mats[i] @ phi
         if sg.event:  # the next segment starts on the boundary, in the new contact state
             nxt = segs[i + 1]
-            phi = saltation(sg.piece.field(nxt.x, nxt.v), nxt.piece.field(nxt.x, nxt.v),
-                            _CONTACT_NORMAL) @ phi
+            phi = saltation(sg.piece.field(nxt.x, nxt.v, nxt.t),
+                            nxt.piece.field(nxt.x, nxt.v, nxt.t), _CONTACT_NORMAL) @ phi
     y = np.array([x, v])
     if not (np.all(np.isfinite(y)) and np.all(np.isfinite(phi))):
         raise SolverError("exact_contact produced non-finite states: the response diverges")
@@ -489,19 +657,24 @@ def flow_with_sensitivity(model: Model, y0: FloatArray, t1: float, t0: float = 0
 
 def _on_grid(t_grid: FloatArray, starts: FloatArray, rows: list[tuple[_Piece, float, float]]
              ) -> FloatArray:
-    """The closed form of each grid point's piece, evaluated piece group by piece group."""
+    """``u, u'`` on ``t_grid``: each grid point's piece, evaluated piece group by piece group."""
     owner = np.clip(np.searchsorted(starts, t_grid, side="right") - 1, 0, len(rows) - 1)
     tau = t_grid - starts[owner]
     out = np.empty((2, t_grid.size))
     pcs = [r[0] for r in rows]
     ids = {id(p): p for p in pcs}
     pid = np.array([id(p) for p in pcs])[owner]
-    x0 = np.array([r[1] for r in rows])[owner]
-    v0 = np.array([r[2] for r in rows])[owner]
+    z0 = np.empty(len(rows))
+    zv0 = np.empty(len(rows))
+    for i, (pc, u0, v0) in enumerate(rows):  # the state of z = u - u_p at each piece start
+        z0[i], zv0[i] = pc._z(u0, v0, float(starts[i]))
+    z0, zv0 = z0[owner], zv0[owner]
     for key, pc in ids.items():
         sel = np.flatnonzero(pid == key)
         if sel.size:
-            out[0, sel], out[1, sel] = _flow_many(pc, x0[sel], v0[sel], tau[sel])
+            zx, zv = _flow_many(pc, z0[sel], zv0[sel], tau[sel])
+            pu, pv = pc.part.at(t_grid[sel])
+            out[0, sel], out[1, sel] = zx + pu, zv + pv
     return out
 
 

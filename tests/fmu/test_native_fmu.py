@@ -35,6 +35,7 @@ fmpy = pytest.importorskip("fmpy")
 
 #: the single-DOF packaged scenes and their reference methods
 SCENES = {"helicopter_tail": "exact", "helicopter_tail_backlash": "exact_contact",
+          "backlash_constant_stiffness": "exact_contact",
           "helicopter_tail_relief": "DOP853"}
 SAMPLES = 160
 PERIODS = 24

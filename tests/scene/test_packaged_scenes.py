@@ -31,7 +31,7 @@ def test_unknown_name_lists_the_packaged_scenes(tmp_path: Path,
                                                 monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.chdir(tmp_path)
     with pytest.raises(SceneError, match=r"did you mean 'helicopter_tail'\?.*packaged scenes: "
-                                         r"eccentric_helical"):
+                                         r"backlash_constant_stiffness, eccentric_helical"):
         gd.load_scene("helicoptr_tail")
 
 

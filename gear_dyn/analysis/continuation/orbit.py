@@ -4,8 +4,9 @@ multipliers, Liouville check, contact pattern and response measures.
 The n-period map ``P(y0) = y(n T)`` and its derivative ``M = dP/dy0`` (the monodromy matrix of
 a period-n orbit) come from :func:`gear_dyn.analysis.stability.integrate_with_sensitivity`:
 the closed-form pieces and saltation matrices of the backlash propagator where the stiffness
-is piecewise constant and there is no transmission error (route ``exact``), else the
-variational equations integrated with located contact events (route ``variational``).
+is piecewise constant and the transmission error, if any, harmonic (route ``exact``,
+:func:`gear_dyn.solvers.contact_exact.contact_exact_applies`), else the variational equations
+integrated with located contact events (route ``variational``).
 
 Liouville's formula: for ``y' = f(t, y)`` the determinant of the fundamental matrix is
 ``exp(int tr(df/dy) dt)``; here ``tr(df/dy) = -c / m_e`` in every contact state, so on any
@@ -48,8 +49,8 @@ def resolve_route(model: MeshModel, route: str) -> str:
         raise InputError(f"route = {route!r}: valid choices are {', '.join(ROUTES)}")
     applies = contact_exact_applies(model)
     if route == "exact" and not applies:
-        raise InputError("route = 'exact' needs backlash, piecewise-constant stiffness and no "
-                         "transmission error; use route = 'variational'")
+        raise InputError("route = 'exact' needs backlash, piecewise-constant stiffness and no or "
+                         "a damped harmonic transmission error; use route = 'variational'")
     if route == "auto":
         return "exact" if applies else "variational"
     return route

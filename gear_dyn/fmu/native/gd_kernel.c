@@ -245,19 +245,22 @@ static int rk_advance(ctx *q, gd_state *s, double *y, double dt, double *done, i
                 rc[4][j] = h * dd;
             }
             for (st = 1; st <= 4; st++) {       /* dense samples at h/4 .. h */
-                double tb = h * st / 4.0;
-                q->t0 += t;
+                double tb = h * st / 4.0, t0 = q->t0, frac0 = q->frac0;
+                q->t0 += t;                     /* time origin at the step start: the */
+                q->frac0 += q->fm * t;          /* mesh phase moves with it */
                 state_at(q, y, rc, h, tb, y4);
                 if (gfun(q, q->t0 + tb, y4) < 0.0) {
                     double te = locate(q, y, rc, h, h * (st - 1) / 4.0, tb);
                     state_at(q, y, rc, h, te, y);
-                    q->t0 -= t;
+                    q->t0 = t0;
+                    q->frac0 = frac0;
                     *done = t + te;
                     *event = 1;
                     s->h = h;
                     return GD_OK;
                 }
-                q->t0 -= t;
+                q->t0 = t0;
+                q->frac0 = frac0;
             }
         }
         t = last ? dt : t + h;

@@ -1,0 +1,45 @@
+"""Text labels beside marked points that do not cover one another."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from matplotlib.text import Text
+
+#: offsets (points) and horizontal alignment tried in turn: beside the mark above and below,
+#: then further up and down on the right and the left; from the third on, a thin leader line
+#: joins the label to its mark
+_OFFSETS = ((5, 3, "left"), (5, -3, "left"), (8, 20, "left"), (8, -20, "left"),
+            (-8, 20, "right"), (-8, -20, "right"), (8, 34, "left"), (8, -34, "left"),
+            (-8, 34, "right"), (-8, -34, "right"), (8, 48, "left"), (8, -48, "left"))
+_LEADER = {"arrowstyle": "-", "lw": 0.5, "color": "0.45", "shrinkA": 0, "shrinkB": 3}
+
+
+def place_labels(axis: Any, marks: list[tuple[float, float, str]], fontsize: float = 7) -> None:
+    """Write each mark's text beside its point (data coordinates), in x order, at the first
+    offset of a fixed list where its text overlaps no label placed before it, else at the
+    offset with the fewest overlaps (greedy; text extents from the figure's renderer once the
+    axis limits are settled).
+    """
+    axis.get_xlim(), axis.get_ylim()  # settle the pending autoscaling: final data transform
+    placed: list[Any] = []
+    for x, y, text in sorted(marks, key=lambda m: (m[0], m[1])):
+        best: tuple[int, int, Any] | None = None
+        for i, (dx, dy, ha) in enumerate(_OFFSETS):
+            ann = axis.annotate(text, (x, y), xytext=(dx, dy), textcoords="offset points",
+                                fontsize=fontsize, ha=ha, va="bottom" if dy > 0 else "top",
+                                arrowprops=_LEADER if i >= 2 else None)
+            ann.get_window_extent()  # places the text (and its leader)
+            box = Text.get_window_extent(ann).expanded(1.04, 1.15)  # the text alone
+            hits = sum(box.overlaps(b) for b in placed)
+            ann.remove()
+            if best is None or hits < best[0]:
+                best = (hits, i, box)
+            if hits == 0:
+                break
+        assert best is not None
+        dx, dy, ha = _OFFSETS[best[1]]
+        axis.annotate(text, (x, y), xytext=(dx, dy), textcoords="offset points",
+                      fontsize=fontsize, ha=ha, va="bottom" if dy > 0 else "top",
+                      arrowprops=_LEADER if best[1] >= 2 else None)
+        placed.append(best[2])
