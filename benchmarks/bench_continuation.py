@@ -19,7 +19,8 @@ interleaved per repeat:
    time per speed, with the mesh periods it needed.
 
 The model (scene plan, pint) is built before timing. Writes ``continuation.md`` into ``--out``
-(default ``benchmarks/out/``); ``--record`` writes into ``benchmarks/results/``.
+(default ``benchmarks/out/``); ``--record`` writes into ``benchmarks/results/``. Sections of
+other measurements in that file (from a line ``## ...`` on) are kept after this one.
 """
 
 from __future__ import annotations
@@ -161,7 +162,13 @@ def main(argv: list[str] | None = None) -> int:
     ]
     out_dir = ROOT / "benchmarks" / "results" if args.record else args.out
     out_dir.mkdir(parents=True, exist_ok=True)
-    (out_dir / "continuation.md").write_text("\n".join(lines) + "\n")
+    path = out_dir / "continuation.md"
+    kept = ""  # sections of other measurements recorded in the same file ("## ..."), kept
+    if path.exists():
+        text = path.read_text()
+        at = text.find("\n## ")
+        kept = text[at:] if at >= 0 else ""
+    path.write_text("\n".join(lines) + "\n" + kept)
     print("\n".join(lines))
     return 0
 
