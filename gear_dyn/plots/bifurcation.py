@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 from gear_dyn.analysis.motion.diagram import RPM, BifurcationDiagram
 from gear_dyn.errors import InputError
 from gear_dyn.plots._axes import axes_of, tidy
-from gear_dyn.plots._labels import place_labels
+from gear_dyn.plots._labels import legend_beside, place_labels
 
 if TYPE_CHECKING:
     from gear_dyn.analysis.continuation.strobe import BranchSamples
@@ -150,7 +150,7 @@ def plot_branch_samples(samples: BranchSamples, ax: Any = None, state: str = "x"
                          f"{samples.parameter_name}")
     i = ("x", "v").index(state)
     factor, unit = _UNITS[state]
-    fig, axes = axes_of(ax, figsize=(8, 4.5), name="plot_branch_samples")
+    fig, axes = axes_of(ax, figsize=(10, 4.5), name="plot_branch_samples")
     first = samples.curves[0].branch if samples.curves else None
     fx, xlabel = _x_of(first) if first is not None else (1.0, samples.parameter_name)
     shown: set[str] = set()
@@ -200,7 +200,7 @@ def plot_branch_samples(samples: BranchSamples, ax: Any = None, state: str = "x"
     axes.set_xlabel(xlabel)
     axes.set_ylabel(f"{state} at t = k T_m ({unit})")
     axes.grid(alpha=0.3)
-    axes.legend(loc="best", fontsize=7)
+    legend_beside(axes, own_figure=ax is None, fontsize=7)
     if ax is None:
         tidy(fig)
     return fig
