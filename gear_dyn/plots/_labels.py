@@ -1,4 +1,4 @@
-"""Text labels beside marked points that do not cover one another."""
+"""Text labels beside marked points that do not cover one another; a legend beside the axes."""
 
 from __future__ import annotations
 
@@ -43,3 +43,13 @@ def place_labels(axis: Any, marks: list[tuple[float, float, str]], fontsize: flo
                       fontsize=fontsize, ha=ha, va="bottom" if dy > 0 else "top",
                       arrowprops=_LEADER if best[1] >= 2 else None)
         placed.append(best[2])
+
+
+def legend_beside(axis: Any, own_figure: bool, fontsize: float = 7) -> None:
+    """The legend right of the axes on a figure of our own (curves, marks and labels stay
+    uncovered), at the best place inside a caller's axes (whose figure layout is theirs)."""
+    if own_figure:
+        axis.legend(fontsize=fontsize, loc="upper left", bbox_to_anchor=(1.01, 1.0),
+                    borderaxespad=0.0)
+    else:
+        axis.legend(fontsize=fontsize, loc="best")

@@ -10,12 +10,13 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from matplotlib.axes import Axes
 from numpy.typing import NDArray
 
 from gear_dyn.analysis.motion.diagram import RPM, BifurcationDiagram
 from gear_dyn.errors import InputError
 from gear_dyn.plots._axes import axes_of, tidy
-from gear_dyn.plots._labels import place_labels
+from gear_dyn.plots._labels import legend_beside, place_labels
 
 if TYPE_CHECKING:
     from gear_dyn.analysis.continuation.strobe import BranchSamples
@@ -33,8 +34,12 @@ def plot_bifurcation(diagram: BifurcationDiagram, ax: Any = None, state: str = "
     Parameters
     ----------
     diagram : BifurcationDiagram
-    ax : Axes or None
-        Where to draw (None: a new Figure of 8 x 4.5 in).
+    ax : Axes, two Axes or None
+        Where to draw. None: a new figure of 8 x 4.5 in, or, where the diagram was classified
+        (some speed has a Lyapunov exponent), of 8 x 6 in with a second panel below: the
+        largest Lyapunov exponent with its error bar at the speeds where no periodic orbit
+        was found (positive: chaos). A
+        caller's single Axes gets the samples only; two Axes get both panels.
     state : str
         State component to draw (``x``: mesh deflection in um; ``v``: its rate in m/s).
     title : str or None
@@ -54,7 +59,13 @@ def plot_bifurcation(diagram: BifurcationDiagram, ax: Any = None, state: str = "
                          f"{', '.join(diagram.state_labels)}")
     i = diagram.state_labels.index(state)
     factor, unit = _UNITS.get(state, (1.0, "SI"))
-    fig, axes = axes_of(ax, figsize=(8, 4.5), name="plot_bifurcation")
+    classified = any(np.isfinite(c.lyapunov).any() for c in diagram.curves)
+    panels = 2 if classified and (ax is None or not isinstance(ax, Axes)) else 1
+    if panels == 2:
+        fig, (axes, lower) = axes_of(ax, nrows=2, figsize=(8, 6), name="plot_bifurcation",
+                                     sharex=True, gridspec_kw={"height_ratios": (3, 1)})
+    else:
+        fig, axes = axes_of(ax, figsize=(8, 4.5), name="plot_bifurcation")
     both = len(diagram.curves) > 1
     for c in diagram.curves:
         n_s = c.samples.shape[1]
@@ -72,7 +83,10 @@ def plot_bifurcation(diagram: BifurcationDiagram, ax: Any = None, state: str = "
         axes.plot(gone, np.zeros(len(gone)), ls="none", marker="|", ms=10, color="0.4",
                   transform=axes.get_xaxis_transform(), clip_on=False,
                   label="unbounded (diverges)")
-    axes.set_xlabel("pinion speed (rpm)")
+    if panels == 2:
+        _plot_lyapunov(lower, diagram)
+    else:
+        axes.set_xlabel("pinion speed (rpm)")
     axes.set_ylabel(f"{state} at t = k T_m ({unit})")
     if title is None:
         name = f"{diagram.scene_name}: " if diagram.scene_name else ""
@@ -89,6 +103,21 @@ def plot_bifurcation(diagram: BifurcationDiagram, ax: Any = None, state: str = "
     axes.grid(alpha=0.3)
     tidy(fig)
     return fig
+
+
+def _plot_lyapunov(axes: Any, diagram: BifurcationDiagram) -> None:
+    """Largest Lyapunov exponent (1/s) with its error bar, per direction, where classified."""
+    for c in diagram.curves:
+        ok = np.isfinite(c.lyapunov)
+        if ok.any():
+            err = np.where(np.isfinite(c.lyapunov_error), c.lyapunov_error, 0.0)[ok]
+            axes.errorbar(c.speed[ok] / RPM, c.lyapunov[ok], yerr=err, ls="none", ms=3,
+                          capsize=2, lw=0.8, color=_STYLE[c.direction]["color"],
+                          marker=_STYLE[c.direction]["marker"], label=f"sweep {c.direction}")
+    axes.axhline(0.0, color="0.3", lw=0.8)
+    axes.set_ylabel("largest Lyapunov\nexponent (1/s)", fontsize=9)
+    axes.set_xlabel("pinion speed (rpm)")
+    axes.grid(alpha=0.3)
 
 
 def _teeth(diagram: BifurcationDiagram) -> float:
@@ -115,8 +144,12 @@ def plot_branch_samples(samples: BranchSamples, ax: Any = None, state: str = "x"
     ----------
     samples : BranchSamples
         From :func:`gear_dyn.analysis.continuation.branch_samples`.
-    ax : Axes or None
-        Where to draw (None: a new Figure of 8 x 4.5 in).
+    ax : Axes, two Axes or None
+        Where to draw. None: a new figure of 8 x 4.5 in, or, where the diagram was classified
+        (some speed has a Lyapunov exponent), of 8 x 6 in with a second panel below: the
+        largest Lyapunov exponent with its error bar at the speeds where no periodic orbit
+        was found (positive: chaos). A
+        caller's single Axes gets the samples only; two Axes get both panels.
     state : str
         State component drawn: ``x`` (mesh deflection, um) or ``v`` (its rate, m/s).
     diagram : BifurcationDiagram or None
@@ -150,7 +183,7 @@ def plot_branch_samples(samples: BranchSamples, ax: Any = None, state: str = "x"
                          f"{samples.parameter_name}")
     i = ("x", "v").index(state)
     factor, unit = _UNITS[state]
-    fig, axes = axes_of(ax, figsize=(8, 4.5), name="plot_branch_samples")
+    fig, axes = axes_of(ax, figsize=(10, 4.5), name="plot_branch_samples")
     first = samples.curves[0].branch if samples.curves else None
     fx, xlabel = _x_of(first) if first is not None else (1.0, samples.parameter_name)
     shown: set[str] = set()
@@ -200,7 +233,7 @@ def plot_branch_samples(samples: BranchSamples, ax: Any = None, state: str = "x"
     axes.set_xlabel(xlabel)
     axes.set_ylabel(f"{state} at t = k T_m ({unit})")
     axes.grid(alpha=0.3)
-    axes.legend(loc="best", fontsize=7)
+    legend_beside(axes, own_figure=ax is None, fontsize=7)
     if ax is None:
         tidy(fig)
     return fig

@@ -12,7 +12,7 @@ import numpy as np
 
 from gear_dyn.analysis.continuation.branch import Branch
 from gear_dyn.plots._axes import axes_of, tidy
-from gear_dyn.plots._labels import place_labels
+from gear_dyn.plots._labels import legend_beside, place_labels
 
 #: y quantities: OrbitPoint field -> (axis label, factor to the plotted unit)
 QUANTITIES = {
@@ -111,7 +111,7 @@ def plot_branch(branch: Branch, ax: Any = None, y: str = "dte_rms", label_points
     """
     if y not in QUANTITIES:
         raise ValueError(f"y = {y!r}: valid choices are {', '.join(QUANTITIES)}")
-    fig, axis = axes_of(ax, figsize=(8, 4.5), name="plot_branch")
+    fig, axis = axes_of(ax, figsize=(10, 4.5), name="plot_branch")
     ylabel, fy = QUANTITIES[y]
     fx, xlabel = _x_of(branch)
     shown: set[str] = set()
@@ -155,7 +155,7 @@ def plot_branch(branch: Branch, ax: Any = None, y: str = "dte_rms", label_points
     axis.grid(True, alpha=0.3)
     if label_points:
         place_labels(axis, labels)
-    axis.legend(fontsize=7, loc="best")
+    legend_beside(axis, own_figure=ax is None, fontsize=7)
     if ax is None:
         tidy(fig)
     return fig

@@ -203,6 +203,8 @@ class _Piece:
 
     def _z(self, u0: float, v0: float, t0: float) -> tuple[float, float]:
         """The state of ``z = u - u_p`` at ``t0``."""
+        if not self.part.active:
+            return u0, v0
         pu, pv = self.part.at_scalar(t0)
         return u0 - pu, v0 - pv
 
@@ -213,6 +215,8 @@ class _Piece:
     def at(self, x0: float, v0: float, s: FloatArray, t0: float = 0.0
            ) -> tuple[FloatArray, FloatArray]:
         """``u, u'`` (m, m/s) at ``t0 + s`` from ``(x0, v0)`` at ``t0`` (s)."""
+        if not self.part.active:
+            return self.hom(x0, v0, s)
         z0, zv0 = self._z(x0, v0, t0)
         zx, zv = self.hom(z0, zv0, s)
         pu, pv = self.part.at(t0 + np.asarray(s, dtype=float))

@@ -92,6 +92,8 @@ class Forcing:
             An undamped state at exact resonance with a harmonic (``D = 0``); the callers
             refuse undamped models with a transmission error first.
         """
+        if not self.n.size:
+            return Particular(self, self.n, self.n, self.n)
         om = 2 * math.pi * self.n * self.fm
         det = (w2 - om**2) ** 2 + (a * om) ** 2
         if np.any(det == 0.0):
@@ -113,11 +115,16 @@ class Particular:
         self.forcing = forcing
         self.fm, self.p0, self.n = forcing.fm, forcing.p0, forcing.n
         self.om, self.ca, self.cb = om, ca, cb
-        amp = np.hypot(ca, cb)
-        self.amplitude = float(np.sum(amp))
-        self.curvature = float(np.sum(amp * om**2))
-        self._terms = list(zip((2 * math.pi * self.n).tolist(), om.tolist(), ca.tolist(),
-                               cb.tolist(), strict=True))
+        #: False without harmonics: u_p = 0 and the pieces skip it (the unforced hot path)
+        self.active = om.size > 0
+        self.amplitude = self.curvature = 0.0
+        self._terms: list[tuple[float, float, float, float]] = []
+        if self.active:
+            amp = np.hypot(ca, cb)
+            self.amplitude = float(np.sum(amp))
+            self.curvature = float(np.sum(amp * om**2))
+            self._terms = list(zip((2 * math.pi * self.n).tolist(), om.tolist(), ca.tolist(),
+                                   cb.tolist(), strict=True))
 
     def at(self, t: FloatArray) -> tuple[FloatArray, FloatArray]:
         """``u_p(t), u_p'(t)`` at times ``t`` in s (vectorised)."""

@@ -93,3 +93,38 @@ def test_bad_arguments_are_refused() -> None:
     scene = parametric_scene()
     with pytest.raises(InputError, match="direction"):
         bifurcation_diagram(SceneModels.of(scene), [100.0], direction="sideways")
+
+
+def test_classified_diagram_draws_its_lyapunov_exponents(diagram) -> None:
+    """A diagram with Lyapunov exponents gets a second panel: each drawn exponent and error
+    bar is the diagram's own, at its speed; a caller's single Axes gets the samples only."""
+    import dataclasses
+
+    from matplotlib.figure import Figure
+
+    from gear_dyn.analysis.motion.diagram import RPM
+    from gear_dyn.plots.bifurcation import plot_bifurcation
+
+    _factory, speeds, res = diagram
+    rng = np.random.default_rng(1)
+    curves = []
+    for c in res.curves:  # exponents at the first and the last speed only, as classified
+        lam = np.full(c.speed.size, np.nan)
+        err = np.full(c.speed.size, np.nan)
+        lam[[0, -1]], err[[0, -1]] = rng.uniform(100, 1000, 2), rng.uniform(10, 50, 2)
+        curves.append(dataclasses.replace(c, lyapunov=lam, lyapunov_error=err))
+    classified = dataclasses.replace(res, curves=tuple(curves))
+    fig = plot_bifurcation(classified)
+    assert len(fig.axes) == 2  # samples, Lyapunov panel
+    lower = fig.axes[1]
+    assert "Lyapunov" in lower.get_ylabel()
+    for c, bars in zip(classified.curves, lower.containers, strict=True):
+        line, _caps, (segments,) = bars
+        ok = np.isfinite(c.lyapunov)
+        assert np.allclose(line.get_xdata(), c.speed[ok] / RPM)
+        assert np.allclose(line.get_ydata(), c.lyapunov[ok])
+        spans = np.array([seg[:, 1] for seg in segments.get_segments()])
+        assert np.allclose(spans[:, 1] - spans[:, 0], 2 * c.lyapunov_error[ok])
+    ax = Figure().subplots()
+    plot_bifurcation(classified, ax=ax)
+    assert len(ax.figure.axes) == 1  # the caller's Axes only
