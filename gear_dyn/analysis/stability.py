@@ -395,8 +395,8 @@ def integrate_with_sensitivity(model: MeshModel, y0: FloatArray, t1: float, rtol
     route : str
         ``exact``: the closed-form pieces and saltation matrices of the backlash propagator
         (:func:`gear_dyn.solvers.contact_exact.flow_with_sensitivity`; single-DOF model with
-        backlash, piecewise-constant stiffness and at most a harmonic transmission error), exact up to
-        rounding; ``variational``: the variational equations with DOP853 (any single-DOF
+        backlash, piecewise-constant stiffness and at most a harmonic transmission error),
+        exact up to rounding; ``variational``: the variational equations with DOP853 (any single-DOF
         model; imports scipy.integrate); ``auto``: ``exact`` where it applies.
 
     Returns

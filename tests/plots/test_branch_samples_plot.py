@@ -173,10 +173,11 @@ def test_bad_state_and_a_diagram_over_another_parameter_are_refused(samples) -> 
 
 @pytest.mark.slow
 def test_period2_samples_on_the_variational_route() -> None:
-    """(Slow: about 15 s, DOP853 throughout.) The constant-stiffness scene of issue 25
-    (1e9 N/m, 10 um transmission error: no exact flow) at f_m / f_n = 1.24, where a stable
-    period-2 orbit exists (docs/motion.md): the second sample comes from DOP853 at the
-    continuation's rtol (1e-10); DOP853 at rtol 1e-12 takes it back to the first over one
+    """(Slow: about 15 s.) The constant-stiffness scene of issue 25 (1e9 N/m, 10 um
+    transmission error) at f_m / f_n = 1.24, where a stable period-2 orbit exists
+    (docs/motion.md), continued on the variational route (asked for: the exact flow applies
+    too); its samples come from the exact flow; DOP853 at rtol 1e-12 takes the second back to
+    the first over one
     mesh period, to 1e-6 of the state scale (the orbit closes to 1e-10 scaled; 1e-6 leaves
     1e4 times the integration tolerance for the error carried along the period), and the
     two samples are distinct states."""
@@ -197,7 +198,8 @@ def test_period2_samples_on_the_variational_route() -> None:
     motion = gd.classify_motion(model, model.initial_state(), settle=60, samples=32)
     assert motion.period == 2
     br = continue_orbits(fam, speed, 1.005 * speed, periods=2, y_guess=motion.state,
-                         doublings=0, settings=ContinuationSettings(max_points=2))
+                         doublings=0, settings=ContinuationSettings(max_points=2),
+                         route="variational")
     assert br.route == "variational"
     c = branch_samples(br, fam).curves[0]
     for p, s in zip(br.points, c.samples, strict=True):
