@@ -212,12 +212,7 @@ class LoadedContact:
 
     # ------------------------------------------------------------------ over one mesh cycle
     def _piecewise(self, values: FloatArray, name: str) -> PiecewiseStiffness:
-        samples = []
-        for i in range(self.edges.size - 1):
-            sel = self.segment == i
-            ph = self.cycle.phase[sel].copy()
-            ph[0], ph[-1] = self.edges[i], self.edges[i + 1]
-            samples.append((ph, values[sel]))
+        samples = _segment_samples(self.edges, self.segment, self.cycle.phase, values)
         return PiecewiseStiffness(self.edges, tuple(samples), name=name)
 
     def mesh_stiffness(self) -> PiecewiseStiffness:
@@ -288,6 +283,18 @@ class LoadedContact:
         return float(view.position[single].min()), float(view.position[single].max())
 
 
+def _segment_samples(edges: FloatArray, segment: NDArray[np.int_], phase: FloatArray,
+                     values: FloatArray) -> list[tuple[FloatArray, FloatArray]]:
+    """(phases, values) of each segment, its first and last phase moved onto its edges."""
+    out = []
+    for i in range(edges.size - 1):
+        sel = segment == i
+        ph = phase[sel].copy()
+        ph[0], ph[-1] = edges[i], edges[i + 1]
+        out.append((ph, np.asarray(values[sel], dtype=float)))
+    return out
+
+
 @dataclass(frozen=True)
 class PathView:
     """Quantities of one tooth pair as its contact point travels from A to E.
@@ -354,13 +361,7 @@ class PiecewiseSignal(SampledSignal):
     def from_segments(cls, edges: FloatArray, segment: NDArray[np.int_], phase: FloatArray,
                       values: FloatArray) -> PiecewiseSignal:
         """Build from samples tagged with their segment (samples span each segment)."""
-        sp, sv = [], []
-        for i in range(edges.size - 1):
-            sel = segment == i
-            ph = phase[sel].copy()
-            ph[0], ph[-1] = edges[i], edges[i + 1]
-            sp.append(ph)
-            sv.append(np.asarray(values[sel], dtype=float))
+        sp, sv = zip(*_segment_samples(edges, segment, phase, values), strict=True)
         allp = np.concatenate([p[:-1] for p in sp])
         allv = np.concatenate([v[:-1] for v in sv])
         keep = np.concatenate([[True], np.diff(allp) > 0])
