@@ -166,19 +166,10 @@ class SDOFModel:
         if self.backlash is None:
             return []
         te, fm, p0, bb = self.transmission_error, self.mesh_frequency, self.phase0, self.backlash
-        if te is None:
-            def upper(t: float, y: FloatArray) -> float:
-                return float(y[0]) - bb
 
-            def lower(t: float, y: FloatArray) -> float:
-                return float(y[0]) + bb
-        else:
-            def upper(t: float, y: FloatArray) -> float:
-                return float(y[0]) - float(te.value(fm * t + p0)) - bb
-
-            def lower(t: float, y: FloatArray) -> float:
-                return float(y[0]) - float(te.value(fm * t + p0)) + bb
-        return [upper, lower]
+        def u(t: float, y: FloatArray) -> float:  # x - e
+            return float(y[0]) - (0.0 if te is None else float(te.value(fm * t + p0)))
+        return [lambda t, y: u(t, y) - bb, lambda t, y: u(t, y) + bb]
 
     @property
     def static_deflection(self) -> float:
