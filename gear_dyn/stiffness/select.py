@@ -15,7 +15,6 @@ from functools import lru_cache, partial
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 from gear_dyn.choices import PAIR_STIFFNESS_METHODS, STIFFNESS_METHODS
 from gear_dyn.errors import InputError
@@ -119,8 +118,6 @@ def tooth_options(opts: Mapping[str, Any]) -> ToothOptions:
     return ToothOptions(**kw)
 
 
-_tooth_options = tooth_options
-
 
 def _int_opt(opts: Mapping[str, Any], key: str, default: int, low: int) -> int:
     v = opts.get(key, default)
@@ -170,14 +167,15 @@ def _build_cached(key: _Key) -> PeriodicStiffness:
 def _pair_fn(method: str, opts: Mapping[str, Any]) -> Any:
     """``K(pair, s)`` of the single-pair method ``potential_energy`` or ``weber`` with its
     tooth (and Weber) options."""
-    tooth = _tooth_options(opts)
+    tooth = tooth_options(opts)
     if method == "potential_energy":
-        return partial(_pem_fn, options=tooth)
+        return partial(potential_energy_pair_stiffness, options=tooth)
     modulus = current_modulus(opts.get("weber_modulus") or "jiang2018", "weber_modulus")
     if modulus not in MODULI:
         raise InputError(f"weber_modulus = {modulus!r}: valid values are {', '.join(MODULI)}")
-    return partial(_weber_fn, options=tooth, slices=_int_opt(opts, "weber_slices", 20, 1),
-                   modulus=modulus, foundation=bool(opts.get("weber_foundation", False)))
+    return partial(weber_pair_stiffness, options=tooth,
+                   slices=_int_opt(opts, "weber_slices", 20, 1), modulus=modulus,
+                   foundation=bool(opts.get("weber_foundation", False)))
 
 
 def pair_stiffness_function(pair: GearPair, method: str = "potential_energy",
@@ -211,15 +209,6 @@ def pair_stiffness_function(pair: GearPair, method: str = "potential_energy",
         raise InputError(f"unknown option(s) {', '.join(unknown)} for pair stiffness method "
                          f"{method!r}; valid: {', '.join(METHOD_OPTIONS[method])}")
     return partial(_pair_fn(method, opts), pair)
-
-
-def _pem_fn(pair: GearPair, s: ArrayLike, options: ToothOptions) -> FloatArray:
-    return potential_energy_pair_stiffness(pair, s, options)
-
-
-def _weber_fn(pair: GearPair, s: ArrayLike, options: ToothOptions, slices: int,
-              modulus: str, foundation: bool) -> FloatArray:
-    return weber_pair_stiffness(pair, s, slices, options, modulus, foundation)
 
 
 def build_stiffness(pair: GearPair, method: str = "iso6336", *,
