@@ -138,7 +138,10 @@ def one_period_map(model: MeshModel, rtol: float = 1e-10) -> tuple[FloatArray, F
                                     np.zeros(len(model.state_labels)))
         f, h, _ends = stats["piece_maps"]
         return (*period_map(f, h), "expm")
-    return (*_variational_linear(model, period, rtol), "variational")
+    # from rest at zero: y(T) = q, and d y(T) / d y(0) = Phi
+    q, phi = integrate_with_sensitivity(model, np.zeros(len(model.state_labels)), period, rtol,
+                                        route="variational")
+    return phi, q, "variational"
 
 
 def period_map(f: FloatArray, h: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -146,31 +149,6 @@ def period_map(f: FloatArray, h: FloatArray) -> tuple[FloatArray, FloatArray]:
     of one mesh period (e.g. ``Result.step_maps`` of a ``periodic`` run)."""
     q, r = step_products(f, h)
     return q[-1], r[-1]
-
-
-def _variational_linear(model: MeshModel, period: float, rtol: float
-                        ) -> tuple[FloatArray, FloatArray]:
-    n = len(model.state_labels)
-    zero = np.zeros(n)
-
-    def rhs_on(ta: float, tb: float) -> Any:
-        f, jac = _piece_functions(model, ta, tb)
-
-        def rhs(t: float, z: FloatArray) -> FloatArray:
-            zz = z.reshape(n, n + 1)
-            out = jac(t, zero) @ zz
-            out[:, n] += f(t, zero)
-            return out.ravel()
-        return rhs
-
-    z0 = np.hstack([np.eye(n), zero[:, None]]).ravel()
-    scale = np.asarray(model.state_scale, dtype=float)
-    # column j of Phi maps y_j to y: entry (i, j) has the unit scale_i / scale_j; q has scale_i
-    col_scale = np.append(1.0 / scale, 1.0)
-    atol = rtol * (scale[:, None] * col_scale[None, :]).ravel()
-    z = _integrate_cut(model, rhs_on, z0, 0.0, period, rtol, atol)
-    zz = z.reshape(n, n + 1)
-    return zz[:, :n].copy(), zz[:, n].copy()
 
 
 def _integrate_cut(model: MeshModel, rhs: Any, z0: FloatArray, t0: float, t1: float,

@@ -25,8 +25,6 @@ def _method_curves(pair: GearPair, methods: list[str], scene_method: str,
     per_method: dict[str, Any] = {}
     for m in methods:
         opts = {k: v for k, v in scene_opts.items() if k in METHOD_OPTIONS[m]}
-        if m == "iso6336" and ("single" in opts or "double" in opts):
-            opts = {k: v for k, v in opts.items() if k not in ("single", "double")}
         t0 = time.perf_counter()
         try:
             k = build_stiffness(pair, m, **opts)

@@ -7,14 +7,9 @@ stepping, outputs, FMU state, refusals; lifecycle and error handling described t
 :class:`gear_dyn.fmu.slave_core.SlaveCore`; this module adds pythonfmu's variable
 registration, fmi2SetupExperiment (start time, stop time, tolerance) and a fast fmi2GetReal.
 
-Errors
-------
-A refused call logs its reason (status error, category logStatusError; pythonfmu forwards it
-when debug logging is on) and raises; the importer sees the call fail with ``fmi2Error`` and
-one message naming the FMI call and the reason; the instance stays usable (fmi2Reset, an FMU
-state, a corrected value). pythonfmu reports the failed call as ``fmi2Fatal`` (it maps every
-exception to it), although the instance stays valid. A refused parameter keeps its previous
-value.
+A refused call logs its reason (status error) and raises; pythonfmu reports it as
+``fmi2Fatal`` although the instance stays usable, and a refused parameter keeps its previous
+value (docs/fmu.md, "Lifecycle and errors").
 
 At the first instantiation by the binary, :func:`gear_dyn.fmu.clean_exit.release_at_exit`
 registers the Python host's clean exit (pythonfmu's exit-time use-after-free).

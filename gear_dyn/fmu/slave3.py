@@ -8,25 +8,11 @@ exporter's glue is shared with the FMI 2 slave in :class:`gear_dyn.fmu.slave_cor
 same communication grid. This module
 does not import pythonfmu (the FMI 3 FMU carries pythonfmu3 only).
 
-What pythonfmu3 (0.3.4) passes on, and what follows
----------------------------------------------------
-- ``fmi3EnterInitializationMode`` reaches Python without its arguments: the start time is
-  0 s, the tolerance is the scene's ``solver.rtol`` and an announced stop time is never seen
-  (the outputs cannot depend on it). A first doStep from another time is refused.
-- Enumerations: pythonfmu3's ``Enumeration`` variable cannot be read or written (it lacks the
-  size and dimensions pythonfmu3's ``get_int64`` and ``set_int64`` use), so choice parameters
-  are registered as Int64 and the build turns them into ``<Enumeration>`` with an
-  EnumerationType (item k = choice k), as for FMI 2; ``fmi3GetInt64``/``fmi3SetInt64`` reach
-  them.
-- A Python exception in any call is ``fmi3Fatal`` and pythonfmu3 then drops its references to
-  the class, the instance and the log queue (yet frees them again later): a refused call logs
-  its reason (status error), hands those references back and raises, as the FMI 2 slave does.
-  The instance stays valid, but the importer sees ``fmi3Fatal`` with one message naming the FMI
-  call.
-- Exit: at the first instantiation by the binary,
-  :func:`gear_dyn.fmu.clean_exit.release_at_exit` registers the Python host's clean exit.
-- FMU state: get/set/serialize keep the whole integrator state, as in FMI 2 (pickled with
-  builtins and numpy arrays only).
+pythonfmu3 (0.3.4) limits and how the slave meets them (docs/fmu.md, "FMI 3.0"):
+fmi3EnterInitializationMode passes no start time, stop time or tolerance (the FMU starts at
+0 s with the scene's ``solver.rtol``); its ``Enumeration`` variable cannot be read or written
+(choices are Int64, made Enumerations by the build); a refused call is fmi3Fatal (handled as
+in FMI 2); the host's exit is made clean by :func:`gear_dyn.fmu.clean_exit.release_at_exit`.
 """
 
 from __future__ import annotations

@@ -13,9 +13,8 @@ from __future__ import annotations
 
 import copy
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from functools import partial
 from typing import Any
 
 import numpy as np
@@ -28,63 +27,15 @@ from gear_dyn.models.sdof import SDOFModel, sdof_from_pair
 from gear_dyn.modification.contact import LoadedContact, loaded_contact
 from gear_dyn.modification.relief import ProfileModification
 from gear_dyn.stiffness.periodic import PeriodicStiffness
+from gear_dyn.stiffness.select import (  # re-exported: the function's first home
+    pair_stiffness_function as pair_stiffness_function,
+)
 
 FloatArray = NDArray[np.float64]
 
 #: single-pair stiffness methods usable for the loaded contact
 PAIR_METHODS = PAIR_STIFFNESS_METHODS
 LINEARISATIONS: tuple[str, ...] = ("tangent", "secant")
-
-
-#: options of :func:`pair_stiffness_function` (names as in ``build_stiffness``)
-TOOTH_KEYS: tuple[str, ...] = ("fillet_radius_coef", "bore_radius1", "bore_radius2",
-                               "plane_strain", "grid_points")
-WEBER_KEYS: tuple[str, ...] = ("weber_slices", "weber_modulus", "weber_foundation")
-#: mesh-building options that do not apply to a single pair (accepted and unused)
-MESH_ONLY_KEYS: tuple[str, ...] = ("samples_per_cycle", "slices")
-
-
-def pair_stiffness_function(pair: GearPair, method: str = "potential_energy",
-                            options: Mapping[str, Any] | None = None) -> Callable[
-        [FloatArray], FloatArray]:
-    """The unmodified single-pair stiffness ``K(s)`` (N/m, s in m from T1) of a method.
-
-    Parameters
-    ----------
-    pair : GearPair
-    method : str
-        ``"potential_energy"`` (Hertz, bending, shear, axial, fillet foundation; Wang et al.
-        2024, eq. 5) or ``"weber"`` (Jiang et al. 2018).
-    options : mapping or None
-        Tooth options as for ``build_stiffness``: ``fillet_radius_coef``, ``bore_radius1``,
-        ``bore_radius2`` (m), ``plane_strain``, ``grid_points``; Weber also ``weber_slices``,
-        ``weber_modulus``, ``weber_foundation``. ``samples_per_cycle`` and ``slices`` (mesh
-        options) are accepted and unused.
-
-    Raises
-    ------
-    InputError
-        Unknown method or option, bad option values.
-    """
-    from gear_dyn.stiffness.potential_energy import potential_energy_pair_stiffness
-    from gear_dyn.stiffness.tooth import ToothOptions
-    from gear_dyn.stiffness.weber import weber_pair_stiffness
-
-    if method not in PAIR_METHODS:
-        raise InputError(
-            f"pair stiffness method = {method!r}: valid values are {', '.join(PAIR_METHODS)}")
-    opts = {k: v for k, v in (options or {}).items() if v is not None}
-    valid = TOOTH_KEYS + MESH_ONLY_KEYS + (WEBER_KEYS if method == "weber" else ())
-    unknown = sorted(set(opts) - set(valid))
-    if unknown:
-        raise InputError(f"unknown option(s) {', '.join(unknown)} for pair stiffness method "
-                         f"{method!r}; valid: {', '.join(valid)}")
-    tooth = ToothOptions(**{k: opts[k] for k in TOOTH_KEYS if k in opts})
-    if method == "potential_energy":
-        return partial(potential_energy_pair_stiffness, pair, options=tooth)
-    return partial(weber_pair_stiffness, pair, slices=int(opts.get("weber_slices", 20)),
-                   options=tooth, modulus=str(opts.get("weber_modulus") or "jiang2018"),
-                   foundation=bool(opts.get("weber_foundation", False)))
 
 
 def relief_sdof(

@@ -14,6 +14,7 @@ With both off the equation is exactly that of Jiang et al. (2018).
 
 from __future__ import annotations
 
+import bisect
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
@@ -55,8 +56,8 @@ def scalar_stiffness(k: PeriodicStiffness) -> Callable[[float], float]:
     """A fast scalar ``k(p)`` for the solver's right-hand side (same values as ``k``).
 
     A Fourier series is summed with ``math.cos``/``math.sin`` (no array set-up per call: about
-    20x cheaper than the vectorised ``__call__`` for one phase); other kinds use their own
-    scalar path where they have one.
+    20x cheaper than the vectorised ``__call__`` for one phase), a piecewise-constant stiffness
+    is a bisection of its segments; other kinds use their own scalar path where they have one.
     """
     if isinstance(k, FourierStiffness):
         k0 = float(k.k0)
@@ -70,6 +71,11 @@ def scalar_stiffness(k: PeriodicStiffness) -> Callable[[float], float]:
                 s += an * cos(om * p) + bn * sin(om * p)
             return s
         return k_fourier
+    seg = k.segments()
+    if seg is not None:
+        edges, values = seg[0].tolist(), seg[1].tolist()
+        last = len(values) - 1
+        return lambda p: values[min(bisect.bisect_right(edges, p % 1.0) - 1, last)]
     fast = getattr(k, "_scalar", None)  # PiecewiseStiffness's scalar path (skips dispatch)
     if callable(fast):
         return fast
@@ -160,19 +166,10 @@ class SDOFModel:
         if self.backlash is None:
             return []
         te, fm, p0, bb = self.transmission_error, self.mesh_frequency, self.phase0, self.backlash
-        if te is None:
-            def upper(t: float, y: FloatArray) -> float:
-                return float(y[0]) - bb
 
-            def lower(t: float, y: FloatArray) -> float:
-                return float(y[0]) + bb
-        else:
-            def upper(t: float, y: FloatArray) -> float:
-                return float(y[0]) - float(te.value(fm * t + p0)) - bb
-
-            def lower(t: float, y: FloatArray) -> float:
-                return float(y[0]) - float(te.value(fm * t + p0)) + bb
-        return [upper, lower]
+        def u(t: float, y: FloatArray) -> float:  # x - e
+            return float(y[0]) - (0.0 if te is None else float(te.value(fm * t + p0)))
+        return [lambda t, y: u(t, y) - bb, lambda t, y: u(t, y) + bb]
 
     @property
     def static_deflection(self) -> float:

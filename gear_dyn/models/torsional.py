@@ -463,13 +463,7 @@ class TorsionalModel:
             if te is not None:
                 d -= float(te.value(fm * t))
             return d
-
-        def drive(t: float, y: FloatArray) -> float:
-            return deflection(t, y) - bg
-
-        def back(t: float, y: FloatArray) -> float:
-            return deflection(t, y) + bg
-        return [drive, back]
+        return [lambda t, y: deflection(t, y) - bg, lambda t, y: deflection(t, y) + bg]
 
     def linear_segments(self, t0: float, t1: float) -> list[tuple[float, float, FloatArray,
                                                                    FloatArray]] | None:

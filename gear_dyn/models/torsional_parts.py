@@ -1,9 +1,8 @@
 """Parts of the torsional model: the contact-line stiffness law, the error-free field of
-contact, and two numerical helpers (scalar stiffness lookup, level crossings)."""
+contact, and the level crossings of the switching instants."""
 
 from __future__ import annotations
 
-import bisect
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -15,6 +14,7 @@ from numpy.typing import NDArray
 from gear_dyn.eccentricity.contact_lines import total_length_scalar
 from gear_dyn.eccentricity.friction import line_state_scalar
 from gear_dyn.errors import check_range
+from gear_dyn.models.sdof import scalar_stiffness
 from gear_dyn.stiffness.periodic import PeriodicStiffness
 
 FloatArray = NDArray[np.float64]
@@ -48,21 +48,6 @@ class _Place:
     l_cp: float
     foot1: float
     foot2: float
-
-
-def _fast_periodic(stiff: PeriodicStiffness) -> Callable[[float], float]:
-    """Scalar k(p) for right-hand sides: a bisection for piecewise-constant stiffness (numpy's
-    per-call cost dominates there), the stiffness itself otherwise."""
-    seg = stiff.segments()
-    if seg is None:
-        return lambda p: float(stiff(p))
-    edges = [float(e) for e in seg[0]]
-    values = [float(v) for v in seg[1]]
-    last = len(values) - 1
-
-    def k_of(p: float) -> float:
-        return values[min(bisect.bisect_right(edges, p % 1.0) - 1, last)]
-    return k_of
 
 
 def _levels(h: Callable[[FloatArray], FloatArray], rate: float, t0: float, t1: float,
@@ -103,13 +88,13 @@ def excite_closure(stiff: Any, lay: Any, mu: float | None, ecc: bool,
     mesh frequency (Hz), ``pitch`` the base pitch (m), ``l_ac0`` the nominal L_AC (m)."""
 
     if isinstance(stiff, PeriodicStiffness) and mu is None and not ecc:
-        pst = _fast_periodic(stiff)
+        pst = scalar_stiffness(stiff)
 
         def excite_plain(t: float) -> tuple[float, float, float, float, float]:
             return 0.0, 0.0, pst(fm * t), 0.0, 0.0
         return excite_plain
 
-    fast_k = _fast_periodic(stiff) if isinstance(stiff, PeriodicStiffness) else None
+    fast_k = scalar_stiffness(stiff) if isinstance(stiff, PeriodicStiffness) else None
 
     def periodic_k(t: float, kin: Any) -> float:
         assert fast_k is not None

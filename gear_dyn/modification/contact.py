@@ -212,12 +212,7 @@ class LoadedContact:
 
     # ------------------------------------------------------------------ over one mesh cycle
     def _piecewise(self, values: FloatArray, name: str) -> PiecewiseStiffness:
-        samples = []
-        for i in range(self.edges.size - 1):
-            sel = self.segment == i
-            ph = self.cycle.phase[sel].copy()
-            ph[0], ph[-1] = self.edges[i], self.edges[i + 1]
-            samples.append((ph, values[sel]))
+        samples = _segment_samples(self.edges, self.segment, self.cycle.phase, values)
         return PiecewiseStiffness(self.edges, tuple(samples), name=name)
 
     def mesh_stiffness(self) -> PiecewiseStiffness:
@@ -288,6 +283,18 @@ class LoadedContact:
         return float(view.position[single].min()), float(view.position[single].max())
 
 
+def _segment_samples(edges: FloatArray, segment: NDArray[np.int_], phase: FloatArray,
+                     values: FloatArray) -> list[tuple[FloatArray, FloatArray]]:
+    """(phases, values) of each segment, its first and last phase moved onto its edges."""
+    out = []
+    for i in range(edges.size - 1):
+        sel = segment == i
+        ph = phase[sel].copy()
+        ph[0], ph[-1] = edges[i], edges[i + 1]
+        out.append((ph, np.asarray(values[sel], dtype=float)))
+    return out
+
+
 @dataclass(frozen=True)
 class PathView:
     """Quantities of one tooth pair as its contact point travels from A to E.
@@ -324,10 +331,8 @@ class PiecewiseSignal(SampledSignal):
     _u: FloatArray = field(init=False, repr=False)
     _v: FloatArray = field(init=False, repr=False)
     _slope: FloatArray = field(init=False, repr=False)
-    _edges_list: list[float] = field(init=False, repr=False)
-    _u_list: list[float] = field(init=False, repr=False)
-    _v_list: list[float] = field(init=False, repr=False)
-    _slope_list: list[float] = field(init=False, repr=False)
+    #: edges, u, values and slopes as plain lists (the scalar path)
+    _lists: tuple[list[float], ...] = field(init=False, repr=False)
     _last: list[float] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -344,23 +349,15 @@ class PiecewiseSignal(SampledSignal):
         object.__setattr__(self, "_u", np.concatenate(us))
         object.__setattr__(self, "_v", np.concatenate(vs))
         object.__setattr__(self, "_slope", np.concatenate(ss))
-        object.__setattr__(self, "_edges_list", [float(x) for x in e])
-        object.__setattr__(self, "_u_list", [float(x) for x in self._u])
-        object.__setattr__(self, "_v_list", [float(x) for x in self._v])
-        object.__setattr__(self, "_slope_list", [float(x) for x in self._slope])
+        object.__setattr__(self, "_lists", tuple(a.tolist() for a in (e, self._u, self._v,
+                                                                        self._slope)))
         object.__setattr__(self, "_last", [math.nan, 0.0, 0.0])
 
     @classmethod
     def from_segments(cls, edges: FloatArray, segment: NDArray[np.int_], phase: FloatArray,
                       values: FloatArray) -> PiecewiseSignal:
         """Build from samples tagged with their segment (samples span each segment)."""
-        sp, sv = [], []
-        for i in range(edges.size - 1):
-            sel = segment == i
-            ph = phase[sel].copy()
-            ph[0], ph[-1] = edges[i], edges[i + 1]
-            sp.append(ph)
-            sv.append(np.asarray(values[sel], dtype=float))
+        sp, sv = zip(*_segment_samples(edges, segment, phase, values), strict=True)
         allp = np.concatenate([p[:-1] for p in sp])
         allv = np.concatenate([v[:-1] for v in sv])
         keep = np.concatenate([[True], np.diff(allp) > 0])
@@ -379,18 +376,16 @@ class PiecewiseSignal(SampledSignal):
         last = self._last
         if phase == last[0]:
             return last[1], last[2]
-        e = self._edges_list
+        e, us, v, slopes = self._lists
         p = phase % 1.0
         i = min(max(bisect.bisect_right(e, p) - 1, 0), len(e) - 2)
         u = 2 * i + (p - e[i]) / (e[i + 1] - e[i])
-        us = self._u_list
         k = min(max(bisect.bisect_right(us, u) - 1, 0), len(us) - 2)
-        v = self._v_list
         if us[k + 1] > us[k]:
             val = v[k] + (v[k + 1] - v[k]) * (u - us[k]) / (us[k + 1] - us[k])
         else:
             val = v[k]
-        last[0], last[1], last[2] = phase, val, self._slope_list[k]
+        last[0], last[1], last[2] = phase, val, slopes[k]
         return val, last[2]
 
     def value(self, phase: ArrayLike) -> FloatArray:

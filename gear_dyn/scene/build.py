@@ -20,15 +20,10 @@ from gear_dyn.scene.registry import MODEL_BUILDERS, register_model
 from gear_dyn.scene.validated import Scene, scene_error
 from gear_dyn.solvers import SolverSettings
 from gear_dyn.stiffness.periodic import PeriodicStiffness
+from gear_dyn.stiffness.select import (  # ISO_DOUBLE_FACTOR re-exported: its earlier home
+    ISO_DOUBLE_FACTOR as ISO_DOUBLE_FACTOR,
+)
 from gear_dyn.stiffness.select import build_stiffness, stiffness_options_from_table
-
-#: ISO 6336 gives c_gamma = c' (0.75 eps_a + 0.25); a rectangular wave with k_single = c' b and
-#: k_double = 1.75 c' b has exactly the mean c_gamma b, so that is the wave built from ISO values.
-ISO_DOUBLE_FACTOR = 1.75
-
-
-def _wrap(scene: Scene, exc: InputError) -> SceneError:
-    return scene_error(scene.source, exc)  # file name in front, Python names -> key paths
 
 
 def build_pair(scene: Scene) -> GearPair:
@@ -51,7 +46,7 @@ def build_pair(scene: Scene) -> GearPair:
             base = GearPair(**kw).a_w
         return GearPair(**kw, center_distance=base + g["center_distance_offset"])
     except InputError as exc:
-        raise _wrap(scene, exc) from None
+        raise scene_error(scene.source, exc) from None
 
 
 def scene_facts(scene: Scene) -> dict[str, Any]:
@@ -90,7 +85,7 @@ def scene_stiffness(scene: Scene, pair: GearPair) -> PeriodicStiffness:
         method, options = stiffness_options_from_table(s)
         return build_stiffness(pair, method, fourier_terms=s["fourier_terms"], **options)
     except InputError as exc:
-        raise _wrap(scene, exc) from None
+        raise scene_error(scene.source, exc) from None
 
 
 def scene_transmission_error(scene: Scene) -> HarmonicSignal | None:
@@ -127,7 +122,7 @@ def build_sdof(scene: Scene) -> Model:
             inertias=inertias, backlash=backlash, transmission_error=te,
         )
     except InputError as exc:
-        raise _wrap(scene, exc) from None
+        raise scene_error(scene.source, exc) from None
 
 
 register_model("sdof", build_sdof)
@@ -168,7 +163,7 @@ def build_plan(scene: Scene, **overrides: Any) -> RunPlan:
             samples_per_period=sv["samples_per_period"],
         )
     except InputError as exc:
-        raise _wrap(scene, exc) from None
+        raise scene_error(scene.source, exc) from None
     periods = sv["periods"]
     steady = sv["steady_periods"] if sv["steady_periods"] is not None else periods // 2
     if steady > periods:

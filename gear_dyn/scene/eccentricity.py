@@ -11,7 +11,7 @@ import math
 from typing import Any
 
 from gear_dyn.eccentricity.kinematics import Eccentricity
-from gear_dyn.errors import InputError, SceneError
+from gear_dyn.errors import InputError
 from gear_dyn.models.base import Model
 from gear_dyn.models.torsional import ContactLineStiffness, TorsionalModel
 from gear_dyn.scene.build import build_pair, scene_stiffness, scene_transmission_error
@@ -44,10 +44,6 @@ TORSIONAL = register_section(Section("torsional", (
 ), doc="options of the two-DOF torsional model", models=("torsional",)))
 
 
-def _wrap(scene: Scene, exc: InputError) -> SceneError:
-    return scene_error(scene.source, exc)  # file name in front, Python names -> key paths
-
-
 def scene_eccentricity(scene: Scene) -> Eccentricity | None:
     """The scene's eccentricity, or None without an ``[eccentricity]`` table."""
     if not scene.has("eccentricity"):
@@ -56,7 +52,7 @@ def scene_eccentricity(scene: Scene) -> Eccentricity | None:
     try:
         return Eccentricity(e["pinion"], e["gear"], e["phase_pinion"], e["phase_gear"])
     except InputError as exc:
-        raise _wrap(scene, exc) from None
+        raise scene_error(scene.source, exc) from None
 
 
 def scene_friction(scene: Scene) -> float | None:
@@ -90,7 +86,7 @@ def build_torsional(scene: Scene) -> Model:
         return TorsionalModel(pair=pair, speed=op["speed"], torque=op["torque"], stiffness=stiff,
                               inertias=inertias, damping_ratio=scene.get("damping")["ratio"], **kw)
     except InputError as exc:
-        raise _wrap(scene, exc) from None
+        raise scene_error(scene.source, exc) from None
 
 
 register_model("torsional", build_torsional)

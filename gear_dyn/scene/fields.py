@@ -116,7 +116,7 @@ class Field:
                 f"{where} = {raw!r}: expected {_dim_text(self.unit)}; valid range {rng}"
             )
         if isinstance(raw, str):
-            value = self._parse_quantity(raw, where, rng)
+            value = parse_quantity(raw, self.unit, where, rng, SceneError, self._in_range)
         else:
             value = float(raw)
             if not si and is_dimensional(self.unit) and value != 0.0 and math.isfinite(value):
@@ -141,9 +141,6 @@ class Field:
         if ok and self.high is not None:
             ok = value < self.high if self.high_open else value <= self.high
         return ok
-
-    def _parse_quantity(self, raw: str, where: str, rng: str) -> float:
-        return parse_quantity(raw, self.unit, where, rng, SceneError, self._in_range)
 
 
 @dataclass(frozen=True)

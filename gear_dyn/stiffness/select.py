@@ -9,15 +9,14 @@ replaces any curve by its truncated Fourier series. Unknown options are refused.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from functools import lru_cache, partial
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike
 
-from gear_dyn.choices import STIFFNESS_METHODS
+from gear_dyn.choices import PAIR_STIFFNESS_METHODS, STIFFNESS_METHODS
 from gear_dyn.errors import InputError
 from gear_dyn.geometry import GearPair
 from gear_dyn.stiffness.contact_line import (
@@ -119,8 +118,6 @@ def tooth_options(opts: Mapping[str, Any]) -> ToothOptions:
     return ToothOptions(**kw)
 
 
-_tooth_options = tooth_options
-
 
 def _int_opt(opts: Mapping[str, Any], key: str, default: int, low: int) -> int:
     v = opts.get(key, default)
@@ -163,27 +160,55 @@ def _build_cached(key: _Key) -> PeriodicStiffness:
     slices = opts.get("slices")
     if slices is not None:
         slices = _int_opt(opts, "slices", 1, 1)
-    tooth = _tooth_options(opts)
-    fn: Any
+    return mesh_stiffness_from_pair(pair, _pair_fn(method, opts), samples_per_cycle=samples,
+                                    name=method, slices=slices)
+
+
+def _pair_fn(method: str, opts: Mapping[str, Any]) -> Any:
+    """``K(pair, s)`` of the single-pair method ``potential_energy`` or ``weber`` with its
+    tooth (and Weber) options."""
+    tooth = tooth_options(opts)
     if method == "potential_energy":
-        fn = partial(_pem_fn, options=tooth)
-    else:
-        modulus = current_modulus(opts.get("weber_modulus") or "jiang2018", "weber_modulus")
-        if modulus not in MODULI:
-            raise InputError(f"weber_modulus = {modulus!r}: valid values are {', '.join(MODULI)}")
-        fn = partial(_weber_fn, options=tooth, slices=_int_opt(opts, "weber_slices", 20, 1),
-                     modulus=modulus, foundation=bool(opts.get("weber_foundation", False)))
-    return mesh_stiffness_from_pair(pair, fn, samples_per_cycle=samples, name=method,
-                                    slices=slices)
+        return partial(potential_energy_pair_stiffness, options=tooth)
+    modulus = current_modulus(opts.get("weber_modulus") or "jiang2018", "weber_modulus")
+    if modulus not in MODULI:
+        raise InputError(f"weber_modulus = {modulus!r}: valid values are {', '.join(MODULI)}")
+    return partial(weber_pair_stiffness, options=tooth,
+                   slices=_int_opt(opts, "weber_slices", 20, 1), modulus=modulus,
+                   foundation=bool(opts.get("weber_foundation", False)))
 
 
-def _pem_fn(pair: GearPair, s: ArrayLike, options: ToothOptions) -> FloatArray:
-    return potential_energy_pair_stiffness(pair, s, options)
+def pair_stiffness_function(pair: GearPair, method: str = "potential_energy",
+                            options: Mapping[str, Any] | None = None) -> Callable[
+        [FloatArray], FloatArray]:
+    """The unmodified single-pair stiffness ``K(s)`` (N/m, s in m from T1) of a method.
 
+    Parameters
+    ----------
+    pair : GearPair
+    method : str
+        ``"potential_energy"`` (Hertz, bending, shear, axial, fillet foundation; Wang et al.
+        2024, eq. 5) or ``"weber"`` (Jiang et al. 2018).
+    options : mapping or None
+        Tooth options as for :func:`build_stiffness`: ``fillet_radius_coef``,
+        ``bore_radius1``, ``bore_radius2`` (m), ``plane_strain``, ``grid_points``; Weber also
+        ``weber_slices``, ``weber_modulus``, ``weber_foundation``. ``samples_per_cycle`` and
+        ``slices`` (mesh options) are accepted and unused.
 
-def _weber_fn(pair: GearPair, s: ArrayLike, options: ToothOptions, slices: int,
-              modulus: str, foundation: bool) -> FloatArray:
-    return weber_pair_stiffness(pair, s, slices, options, modulus, foundation)
+    Raises
+    ------
+    InputError
+        Unknown method or option, bad option values.
+    """
+    if method not in PAIR_STIFFNESS_METHODS:
+        raise InputError(f"pair stiffness method = {method!r}: valid values are "
+                         f"{', '.join(PAIR_STIFFNESS_METHODS)}")
+    opts = {k: v for k, v in (options or {}).items() if v is not None}
+    unknown = sorted(set(opts) - set(METHOD_OPTIONS[method]))
+    if unknown:
+        raise InputError(f"unknown option(s) {', '.join(unknown)} for pair stiffness method "
+                         f"{method!r}; valid: {', '.join(METHOD_OPTIONS[method])}")
+    return partial(_pair_fn(method, opts), pair)
 
 
 def build_stiffness(pair: GearPair, method: str = "iso6336", *,

@@ -18,21 +18,12 @@ them (for the single-DOF model only the mesh frequency ``f_m = z1 w / 2 pi``). M
 are swept up and down (the two curves differ where the response has coexisting orbits: the jumps of
 Kahraman & Singh 1990).
 
-Where it runs: in the calling process, unless the caller asks for ``workers=N`` (a process pool
-of N processes) or passes an ``executor`` (any :class:`concurrent.futures.Executor`; a Dask
-``distributed.Client(...).get_executor()`` runs the same sweep on a cluster). Then blocks of speeds
-go out through the executor's ``map``: linear sweeps all blocks at once; continuation sweeps one
-round per block, the up and down chains side by side, each block starting where its direction's
-previous block ended. Blocks and their starting states do not depend on the executor, so the
-results are identical to the serial run.
-
-Jumps between neighbouring speeds are found from the orbits, not from a threshold on RMS: the
-orbit at one speed is continued towards the next (:mod:`.orbit_jumps`), and a fold between
-them, or another orbit reached there, is a :class:`Jump` on the curve (``SweepCurve.jumps``).
-
-Up and down sweeps that differ are hysteresis only where both directions found a periodic orbit
-(:func:`hysteresis_ranges`); where either direction's response is not periodic the two are not
-compared (:func:`aperiodic_ranges`).
+It runs in the calling process unless the caller asks for ``workers=N`` (a process pool) or
+passes an ``executor`` (any :class:`concurrent.futures.Executor`, e.g. a Dask client's): blocks
+of speeds then go out through its ``map``, with results identical to the serial run. Jumps are
+found from the orbits (:mod:`.orbit_jumps`); up and down sweeps that differ are hysteresis only
+where both found a periodic orbit (:func:`hysteresis_ranges`, :func:`aperiodic_ranges`).
+docs/sweep.md, "Parallel runs" and "How jumps are found", gives the details.
 """
 
 from gear_dyn.analysis.sweep.driver import ModelFactory, sweep

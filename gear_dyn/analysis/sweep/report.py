@@ -166,7 +166,6 @@ def sweep_peaks(result: SweepResult) -> list[tuple[str, float, float]]:
     return out
 
 
-
 def summarize_sweep(result: SweepResult) -> dict[str, Any]:
     """Summary of a sweep for sweep.json (SI units in the key names, speeds in rpm).
 
@@ -181,7 +180,7 @@ def summarize_sweep(result: SweepResult) -> dict[str, Any]:
         "method": result.options.method,
         "nonlinear": result.nonlinear,
         "natural_frequency_hz": result.natural_frequency,
-        "resonance_speed_rpm": _resonance_rpm(result),
+        "resonance_speed_rpm": rpm_per_ratio(result),  # f_m = f_n
         "resonances_outside_range": resonance_notes(result),
         "static_load_n": result.static_load,
         "dynamic_factor_definition": DYNAMIC_FACTOR_DEFINITION,
@@ -232,9 +231,3 @@ def summarize_sweep(result: SweepResult) -> dict[str, Any]:
             info["max_rms_dte_speed_rpm"] = float(c.speed[j] / RPM)
         out["curves"][c.direction] = info
     return out
-
-
-def _resonance_rpm(result: SweepResult) -> float:
-    """Speed (rpm) at which f_m equals f_n, from the sweep's own speed-to-f_m ratio."""
-    c = result.curves[0]
-    return float(result.natural_frequency / (c.mesh_frequency[0] / c.speed[0]) / RPM)

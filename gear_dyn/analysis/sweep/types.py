@@ -174,24 +174,14 @@ class SweepCurve:
                     stiffness_jump_factor: float = math.nan) -> SweepCurve:
         """Stack per-speed points; ``stiffness_jump_factor`` (F_qs,max / W of the quasi-static
         reference; NaN: none) turns their peak force ratios into dynamic factors."""
-        def arr(name: str, dtype: Any = float) -> Any:
-            return np.array([getattr(p, name) for p in points], dtype=dtype)
-
-        ratio = arr("peak_force_ratio")
-        return cls(
-            direction=direction, speed=arr("speed"), mesh_frequency=arr("mesh_frequency"),
-            dynamic_factor=ratio / stiffness_jump_factor, peak_force_ratio=ratio,
-            rms_dte=arr("rms_dte"), ptp_dte=arr("ptp_dte"),
-            mean_dte=arr("mean_dte"), spectral_radius=arr("spectral_radius"),
-            stable=arr("stable", bool), periodic=arr("periodic", bool),
-            status=tuple(p.status for p in points), separation=arr("separation"),
-            backside=arr("backside"), iterations=arr("iterations", int),
-            spectrum=np.array([p.spectrum for p in points], dtype=float),
-            state=np.array([p.state for p in points], dtype=float),
-            orbit_periods=arr("orbit_periods", int),
-            motion=tuple(p.motion for p in points), lyapunov=arr("lyapunov"),
-            lyapunov_error=arr("lyapunov_error"),
-        )
+        kinds = {"stable": bool, "periodic": bool, "iterations": int, "orbit_periods": int}
+        cols: dict[str, Any] = {}
+        for name in Point._fields:  # every Point field is a SweepCurve field of that name
+            values = [getattr(p, name) for p in points]
+            cols[name] = (tuple(values) if name in ("status", "motion")
+                          else np.array(values, dtype=kinds.get(name, float)))
+        return cls(direction=direction,
+                   dynamic_factor=cols["peak_force_ratio"] / stiffness_jump_factor, **cols)
 
 
 #: the module that draws a SweepResult; looked up by name at call time (never imported on load,
