@@ -47,6 +47,7 @@ ADDED_BY_LATER_ISSUES = {
         "gear_dyn/cli/bifurcation.py", "gear_dyn/cli/jump_map.py",
         "gear_dyn/plots/bifurcation.py", "gear_dyn/plots/continuation.py",
         "gear_dyn/plots/fold_map.py", "gear_dyn/scene/bifurcation.py",
+        "gear_dyn/solvers/harmonic_forcing.py", "gear_dyn/plots/_labels.py",
     ],
 }
 
