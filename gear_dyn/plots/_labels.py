@@ -17,11 +17,12 @@ _LEADER = {"arrowstyle": "-", "lw": 0.5, "color": "0.45", "shrinkA": 0, "shrinkB
 
 def place_labels(axis: Any, marks: list[tuple[float, float, str]], fontsize: float = 7) -> None:
     """Write each mark's text beside its point (data coordinates), in x order, at the first
-    offset of a fixed list where its text overlaps no label placed before it, else at the
-    offset with the fewest overlaps (greedy; text extents from the figure's renderer once the
-    axis limits are settled).
+    offset of a fixed list where its text overlaps no label placed before it and stays inside
+    the axes, else at the offset with the fewest overlaps (greedy; text extents from the
+    figure's renderer once the axis limits are settled).
     """
     axis.get_xlim(), axis.get_ylim()  # settle the pending autoscaling: final data transform
+    frame = axis.get_window_extent()  # a label outside the axes counts as one overlap
     placed: list[Any] = []
     for x, y, text in sorted(marks, key=lambda m: (m[0], m[1])):
         best: tuple[int, int, Any] | None = None
@@ -31,7 +32,9 @@ def place_labels(axis: Any, marks: list[tuple[float, float, str]], fontsize: flo
                                 arrowprops=_LEADER if i >= 2 else None)
             ann.get_window_extent()  # places the text (and its leader)
             box = Text.get_window_extent(ann).expanded(1.04, 1.15)  # the text alone
-            hits = sum(box.overlaps(b) for b in placed)
+            inside = (frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0
+                      and box.y1 <= frame.y1)
+            hits = sum(box.overlaps(b) for b in placed) + (0 if inside else 1)
             ann.remove()
             if best is None or hits < best[0]:
                 best = (hits, i, box)
