@@ -276,9 +276,10 @@ class _Piece:
         """``exp(A s)`` of this contact state's homogeneous part, shape ``(len(s), 2, 2)``:
         the closed form of :func:`flow` with unit start states, no load and no gap."""
         s = np.asarray(s, dtype=float)
-        xx, vx = flow(self.state, self.k, self.m, self.c, 0.0, 0.0, 1.0, 0.0, s)
-        xv, vv = flow(self.state, self.k, self.m, self.c, 0.0, 0.0, 0.0, 1.0, s)
-        return np.stack([np.stack([xx, xv], axis=-1), np.stack([vx, vv], axis=-1)], axis=-2)
+        out = np.empty((s.size, 2, 2))
+        out[:, 0, 0], out[:, 1, 0] = flow(self.state, self.k, self.m, self.c, 0.0, 0.0, 1.0, 0.0, s)
+        out[:, 0, 1], out[:, 1, 1] = flow(self.state, self.k, self.m, self.c, 0.0, 0.0, 0.0, 1.0, s)
+        return out
 
 
 def _first_crossing(pc: _Piece, t0: float, x0: float, v0: float, length: float, xtol: float
@@ -554,8 +555,10 @@ class Walk:
             phi = mats[i] @ phi
             if sg.event:  # the next segment starts on the boundary, in the new contact state
                 nxt = segs[i + 1]
-                phi = saltation(sg.piece.field(nxt.x, nxt.v, nxt.t),
-                                nxt.piece.field(nxt.x, nxt.v, nxt.t), _CONTACT_NORMAL) @ phi
+                f_minus = sg.piece.field(nxt.x, nxt.v, nxt.t)
+                f_plus = nxt.piece.field(nxt.x, nxt.v, nxt.t)
+                if np.any(f_plus != f_minus):  # else S = I (the dead zone's ends): phi stays
+                    phi = saltation(f_minus, f_plus, _CONTACT_NORMAL) @ phi
         if not (np.all(np.isfinite(self.end)) and np.all(np.isfinite(phi))):
             raise SolverError("exact_contact produced non-finite states: the response diverges")
         return phi
@@ -704,7 +707,8 @@ def flow_with_sensitivity(model: Model, y0: FloatArray, t1: float, t0: float = 0
     piece's ``exp(A_j s_j)`` (:meth:`_Piece.transition`) and, at each
     located contact change, the :func:`saltation` matrix of the switching surface ``x = +-b``.
     The dead zone is continuous and the damping acts in every contact state, so the field is
-    continuous there and ``S = I``; the general formula is applied all the same. A stiffness
+    continuous there and ``S = I`` (the fields are compared at each change and the product
+    skipped where they agree: a field with a jump gets the general formula). A stiffness
     switch is a fixed instant, not a state surface: the state and its sensitivity carry over
     unchanged (its saltation matrix, of the surface ``t = t_s`` in ``(y, t)``, has the identity
     as its state block). No truncation error: rounding and the event times' rounding
