@@ -23,12 +23,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.analysis.stability import flow_on_grid, integrate_with_sensitivity
-from gear_dyn.errors import InputError
+from gear_dyn.errors import InputError, SolverError
 from gear_dyn.models.base import MeshModel
 from gear_dyn.solvers.contact_exact import (
     Walk,
     contact_exact_applies,
-    propagate_contact_exact,
     walk,
 )
 
@@ -85,11 +84,21 @@ def period_map(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol:
 
 def map_only(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: float
              ) -> FloatArray:
-    """``P(y0)`` without the sensitivity (the closed form, or DOP853 on the state alone)."""
+    """``P(y0)`` without the sensitivity (the closed form, or DOP853 on the state alone). On
+    the exact route the end state of the walk, as in :func:`period_map` (the same formula, so
+    the parameter difference quotients of :mod:`.shooting` compare like with like).
+
+    Raises
+    ------
+    SolverError
+        Integration failure, a chattering contact or a diverging response.
+    """
     t1 = periods / model.mesh_frequency
     if route == "exact":
-        y, _stats = propagate_contact_exact(model, np.array([0.0, t1]), y0=y0)
-        return np.asarray(y[:, -1], dtype=float)
+        end = walk(model, y0, t1).end
+        if not np.all(np.isfinite(end)):
+            raise SolverError("exact_contact produced non-finite states: the response diverges")
+        return end
     return np.asarray(flow_on_grid(model, y0, np.array([0.0, t1]), rtol=rtol)[:, -1])
 
 
