@@ -142,9 +142,9 @@ def main(argv: list[str] | None = None) -> int:
         f"| brute force: one-period exact flow iterated to the same closing residual | "
         f"{spread([1e3 * x for x in t_brute])} | {statistics.median(periods):.0f} "
         f"(max {max(periods)}) |", "",
-        "Maps: n-period maps computed per point (with or without the sensitivity; the "
-        "continuation's count excludes the sampled orbit each point's response measures come "
-        "from): a cost measure that does not depend on the machine's load.", "",
+        "Maps: n-period maps computed per point (with or without the sensitivity; each "
+        "point's response measures and contact pattern come from its map's walk, not from "
+        "another map): a cost measure that does not depend on the machine's load.", "",
         f"Detection on costs {spread(ratios, '.2f', 'x')} the time of detection off (the "
         "ratio of each interleaved pair, so the machine's load mostly cancels): "
         f"{maps_on - maps_off:.1f} maps per point more, "

@@ -276,9 +276,10 @@ class _Piece:
         """``exp(A s)`` of this contact state's homogeneous part, shape ``(len(s), 2, 2)``:
         the closed form of :func:`flow` with unit start states, no load and no gap."""
         s = np.asarray(s, dtype=float)
-        xx, vx = flow(self.state, self.k, self.m, self.c, 0.0, 0.0, 1.0, 0.0, s)
-        xv, vv = flow(self.state, self.k, self.m, self.c, 0.0, 0.0, 0.0, 1.0, s)
-        return np.stack([np.stack([xx, xv], axis=-1), np.stack([vx, vv], axis=-1)], axis=-2)
+        out = np.empty((s.size, 2, 2))
+        out[:, 0, 0], out[:, 1, 0] = flow(self.state, self.k, self.m, self.c, 0.0, 0.0, 1.0, 0.0, s)
+        out[:, 0, 1], out[:, 1, 1] = flow(self.state, self.k, self.m, self.c, 0.0, 0.0, 0.0, 1.0, s)
+        return out
 
 
 def _first_crossing(pc: _Piece, t0: float, x0: float, v0: float, length: float, xtol: float
@@ -502,10 +503,126 @@ def _walk(mm: Any, t0: float, t1: float, x: float, v: float
     return segs, (x + float(e1[0]), v + float(ed1[0]))
 
 
+class Walk:
+    """The closed-form pieces of one propagation (:func:`walk`): the end state, the located
+    contact changes, the exact sensitivity and states on any grid inside the walked span, all
+    from the same pieces, with no second propagation.
+
+    Attributes
+    ----------
+    model : Model
+        The model walked.
+    t0, t1 : float
+        Start and end time (s).
+    start : ndarray (2,)
+        State at ``t0`` [m, m/s].
+    end : ndarray (2,)
+        State at ``t1`` [m, m/s].
+    event_times : ndarray
+        Times of the located contact changes (s), in order.
+    n_segments : int
+        Closed-form pieces.
+    """
+
+    def __init__(self, model: Any, t0: float, t1: float, start: tuple[float, float],
+                 segments: list[_Segment], end: tuple[float, float]) -> None:
+        self.model, self.t0, self.t1 = model, t0, t1
+        self.start = np.array(start)
+        self._segs = segments
+        self.end = np.array(end)
+        self.event_times = np.array([sg.t + sg.s for sg in segments if sg.event])
+        self.n_segments = len(segments)
+
+    def sensitivity(self) -> FloatArray:
+        """``d y(t1) / d y(t0)`` (entries dimensionless, s and 1/s): the product, in time
+        order, of each piece's ``exp(A_j s_j)`` (:meth:`_Piece.transition`) and, at each
+        contact change, the :func:`saltation` matrix of the surface ``x = +-b``.
+
+        Raises
+        ------
+        SolverError
+            Non-finite end state or sensitivity (a diverging response).
+        """
+        segs = self._segs
+        mats = np.empty((len(segs), 2, 2))
+        by_piece: dict[int, list[int]] = {}
+        for i, sg in enumerate(segs):
+            by_piece.setdefault(id(sg.piece), []).append(i)
+        for idx in by_piece.values():
+            mats[idx] = segs[idx[0]].piece.transition(np.array([segs[i].s for i in idx]))
+        phi = np.eye(2)
+        for i, sg in enumerate(segs):
+            phi = mats[i] @ phi
+            if sg.event:  # the next segment starts on the boundary, in the new contact state
+                nxt = segs[i + 1]
+                f_minus = sg.piece.field(nxt.x, nxt.v, nxt.t)
+                f_plus = nxt.piece.field(nxt.x, nxt.v, nxt.t)
+                if np.any(f_plus != f_minus):  # else S = I (the dead zone's ends): phi stays
+                    phi = saltation(f_minus, f_plus, _CONTACT_NORMAL) @ phi
+        if not (np.all(np.isfinite(self.end)) and np.all(np.isfinite(phi))):
+            raise SolverError("exact_contact produced non-finite states: the response diverges")
+        return phi
+
+    def on_grid(self, t_grid: FloatArray) -> FloatArray:
+        """States ``[x, v]`` (m, m/s), shape ``(2, len(t_grid))``, at times ``t_grid`` (s)
+        within ``[t0, t1]``, each from the closed form of the piece it falls in.
+
+        Raises
+        ------
+        SolverError
+            Non-finite states (a diverging response).
+        """
+        t_grid = np.asarray(t_grid, dtype=float)
+        starts = np.array([sg.t for sg in self._segs])
+        out = _on_grid(t_grid, starts, [(sg.piece, sg.x, sg.v) for sg in self._segs])
+        shift = _te_shift(self.model, t_grid)
+        out[0] += shift[0]
+        out[1] += shift[1]
+        if not np.all(np.isfinite(out)):
+            raise SolverError("exact_contact produced non-finite states: the response diverges")
+        return out
+
+
+def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0) -> Walk:
+    """The exact propagation of ``model`` from ``y(t0) = y0`` to ``t1``, kept as its pieces.
+
+    :func:`propagate_contact_exact` and :func:`flow_with_sensitivity` are its states on a grid
+    and its end state with :meth:`Walk.sensitivity`; a caller that needs both (a shooting
+    point and its response measures) walks once.
+
+    Parameters
+    ----------
+    model : Model
+        Where :func:`contact_exact_applies`.
+    y0 : ndarray
+        Start state [m, m/s].
+    t1 : float
+        End time in s (> t0).
+    t0 : float
+        Start time in s.
+
+    Raises
+    ------
+    InputError
+        The model is not of that kind.
+    SolverError
+        A chattering contact (too many events in one stiffness piece).
+    """
+    if not contact_exact_applies(model):
+        raise InputError(
+            "solver.method = 'exact_contact' needs the single-DOF model with backlash, "
+            "piecewise-constant stiffness and no or a damped harmonic transmission error; "
+            "use DOP853 or LSODA")
+    x, v = (float(u) for u in y0)
+    segs, end = _walk(model, float(t0), float(t1), x, v)
+    return Walk(model, float(t0), float(t1), (x, v), segs, end)
+
+
 def propagate_contact_exact(
     model: Model, t_grid: FloatArray, settings: Any = None, y0: FloatArray | None = None
 ) -> tuple[FloatArray, dict[str, Any]]:
-    """States of ``model`` on ``t_grid``: closed form between located contact changes.
+    """States of ``model`` on ``t_grid``: closed form between located contact changes
+    (:meth:`Walk.on_grid` of :func:`walk`).
 
     Parameters
     ----------
@@ -534,26 +651,12 @@ def propagate_contact_exact(
         A chattering contact (too many events in one stiffness piece) or non-finite states.
     """
     del settings
-    if not contact_exact_applies(model):
-        raise InputError(
-            "solver.method = 'exact_contact' needs the single-DOF model with backlash, "
-            "piecewise-constant stiffness and no or a damped harmonic transmission error; "
-            "use DOP853 or LSODA")
-    mm: Any = model
     t_grid = np.asarray(t_grid, dtype=float)
-    x, v = (float(u) for u in (model.initial_state() if y0 is None else y0))
-    segs, _end = _walk(mm, float(t_grid[0]), float(t_grid[-1]), x, v)
-    starts = np.array([sg.t for sg in segs])
-    rows = [(sg.piece, sg.x, sg.v) for sg in segs]
-    events = [sg.t + sg.s for sg in segs if sg.event]
-    out = _on_grid(t_grid, starts, rows)
-    shift = _te_shift(mm, t_grid)
-    out[0] += shift[0]
-    out[1] += shift[1]
-    if not np.all(np.isfinite(out)):
-        raise SolverError("exact_contact produced non-finite states: the response diverges")
-    stats = {"nfev": 0, "njev": 0, "nlu": 0, "n_segments": len(rows),
-             "n_contact_events": len(events), "event_times": np.array(events)}
+    w = walk(model, model.initial_state() if y0 is None else y0, float(t_grid[-1]),
+             float(t_grid[0]))
+    out = w.on_grid(t_grid)
+    stats = {"nfev": 0, "njev": 0, "nlu": 0, "n_segments": w.n_segments,
+             "n_contact_events": len(w.event_times), "event_times": w.event_times}
     return out, stats
 
 
@@ -600,11 +703,12 @@ def flow_with_sensitivity(model: Model, y0: FloatArray, t1: float, t0: float = 0
                           ) -> tuple[FloatArray, FloatArray]:
     """State ``y(t1)`` from ``y(t0) = y0`` and its exact sensitivity ``d y(t1) / d y0``.
 
-    The product, in time order, of each closed-form piece's ``exp(A_j s_j)``
-    (:meth:`_Piece.transition`, the pieces of :func:`propagate_contact_exact`) and, at each
+    :meth:`Walk.sensitivity` of :func:`walk`: the product, in time order, of each closed-form
+    piece's ``exp(A_j s_j)`` (:meth:`_Piece.transition`) and, at each
     located contact change, the :func:`saltation` matrix of the switching surface ``x = +-b``.
     The dead zone is continuous and the damping acts in every contact state, so the field is
-    continuous there and ``S = I``; the general formula is applied all the same. A stiffness
+    continuous there and ``S = I`` (the fields are compared at each change and the product
+    skipped where they agree: a field with a jump gets the general formula). A stiffness
     switch is a fixed instant, not a state surface: the state and its sensitivity carry over
     unchanged (its saltation matrix, of the surface ``t = t_s`` in ``(y, t)``, has the identity
     as its state block). No truncation error: rounding and the event times' rounding
@@ -634,29 +738,9 @@ def flow_with_sensitivity(model: Model, y0: FloatArray, t1: float, t0: float = 0
     SolverError
         A chattering contact or non-finite states.
     """
-    if not contact_exact_applies(model):
-        raise InputError("flow_with_sensitivity (exact_contact) needs the single-DOF model with "
-                         "backlash, piecewise-constant stiffness and no or a damped harmonic "
-                         "transmission error")
-    x0, v0 = (float(u) for u in y0)
-    segs, (x, v) = _walk(model, float(t0), float(t1), x0, v0)
-    mats = np.empty((len(segs), 2, 2))
-    by_piece: dict[int, list[int]] = {}
-    for i, sg in enumerate(segs):
-        by_piece.setdefault(id(sg.piece), []).append(i)
-    for idx in by_piece.values():
-        mats[idx] = segs[idx[0]].piece.transition(np.array([segs[i].s for i in idx]))
-    phi = np.eye(2)
-    for i, sg in enumerate(segs):
-        phi = mats[i] @ phi
-        if sg.event:  # the next segment starts on the boundary, in the new contact state
-            nxt = segs[i + 1]
-            phi = saltation(sg.piece.field(nxt.x, nxt.v, nxt.t),
-                            nxt.piece.field(nxt.x, nxt.v, nxt.t), _CONTACT_NORMAL) @ phi
-    y = np.array([x, v])
-    if not (np.all(np.isfinite(y)) and np.all(np.isfinite(phi))):
-        raise SolverError("exact_contact produced non-finite states: the response diverges")
-    return y, phi
+    w = walk(model, y0, t1, t0)
+    phi = w.sensitivity()
+    return w.end, phi
 
 
 def _on_grid(t_grid: FloatArray, starts: FloatArray, rows: list[tuple[_Piece, float, float]]

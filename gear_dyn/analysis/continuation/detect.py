@@ -329,7 +329,8 @@ def locate_pattern_change(curve: StepCurve, pattern_a: str, pattern_b: str
     def shape(s: float) -> OrbitShape:
         if s not in shapes:
             ev = curve.cache[s]
-            shapes[s] = orbit_shape(ev.model, sh.state(ev.z), sh.periods, sh.route, sh.rtol)
+            shapes[s] = orbit_shape(ev.model, sh.state(ev.z), sh.periods, sh.route, sh.rtol,
+                                    ev.walked)
         return shapes[s]
 
     def pattern(s: float) -> str:

@@ -23,9 +23,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.analysis.stability import flow_on_grid, integrate_with_sensitivity
-from gear_dyn.errors import InputError
+from gear_dyn.errors import InputError, SolverError
 from gear_dyn.models.base import MeshModel
-from gear_dyn.solvers.contact_exact import contact_exact_applies, propagate_contact_exact
+from gear_dyn.solvers.contact_exact import (
+    Walk,
+    contact_exact_applies,
+    walk,
+)
 
 FloatArray = NDArray[np.float64]
 
@@ -57,8 +61,10 @@ def resolve_route(model: MeshModel, route: str) -> str:
 
 
 def period_map(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: float
-               ) -> tuple[FloatArray, FloatArray]:
-    """``(P(y0), M)``: the state after ``periods`` mesh periods and ``d P / d y0``.
+               ) -> tuple[FloatArray, FloatArray, Walk | None]:
+    """``(P(y0), M, walked)``: the state after ``periods`` mesh periods, ``d P / d y0`` and,
+    on the exact route, the walk they come from (:func:`~gear_dyn.solvers.contact_exact.walk`,
+    for :func:`orbit_shape` of the same orbit; None on the variational route).
 
     ``route`` is ``exact`` or ``variational`` (:func:`resolve_route`); ``rtol`` is the
     variational integration's relative tolerance.
@@ -68,16 +74,31 @@ def period_map(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol:
     SolverError
         Integration failure, a chattering contact or a diverging response.
     """
-    return integrate_with_sensitivity(model, y0, periods / model.mesh_frequency, rtol, route)
+    t1 = periods / model.mesh_frequency
+    if route == "exact":
+        walked = walk(model, y0, t1)
+        return walked.end, walked.sensitivity(), walked
+    y, mono = integrate_with_sensitivity(model, y0, t1, rtol, route)
+    return y, mono, None
 
 
 def map_only(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: float
              ) -> FloatArray:
-    """``P(y0)`` without the sensitivity (the closed form, or DOP853 on the state alone)."""
+    """``P(y0)`` without the sensitivity (the closed form, or DOP853 on the state alone). On
+    the exact route the end state of the walk, as in :func:`period_map` (the same formula, so
+    the parameter difference quotients of :mod:`.shooting` compare like with like).
+
+    Raises
+    ------
+    SolverError
+        Integration failure, a chattering contact or a diverging response.
+    """
     t1 = periods / model.mesh_frequency
     if route == "exact":
-        y, _stats = propagate_contact_exact(model, np.array([0.0, t1]), y0=y0)
-        return np.asarray(y[:, -1], dtype=float)
+        end = walk(model, y0, t1).end
+        if not np.all(np.isfinite(end)):
+            raise SolverError("exact_contact produced non-finite states: the response diverges")
+        return end
     return np.asarray(flow_on_grid(model, y0, np.array([0.0, t1]), rtol=rtol)[:, -1])
 
 
@@ -130,8 +151,8 @@ def _run_letters(states: NDArray[np.int64]) -> str:
     return "".join(STATE_LETTERS[int(s)] for s in states[keep])
 
 
-def orbit_shape(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: float
-                ) -> OrbitShape:
+def orbit_shape(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: float,
+                walked: Walk | None = None) -> OrbitShape:
     """The contact pattern and response measures of the orbit through ``y0``.
 
     On the exact route the pattern comes from the located contact changes (every spell is
@@ -139,16 +160,28 @@ def orbit_shape(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol
     per mesh period (a spell shorter than a sample step can be missed). The response measures
     use the samples.
 
+    ``walked``: on the exact route, the walk of this orbit from ``y0`` over the n periods
+    already made (the third item of :func:`period_map`); its pieces give the samples and the
+    contact changes, with no second propagation. None walks here.
+
     Raises
     ------
+    InputError
+        ``walked`` is not the walk of this orbit (another start state or span).
     SolverError
         Integration failure.
     """
     t1 = periods / model.mesh_frequency
     t = np.linspace(0.0, t1, periods * SAMPLES_PER_PERIOD + 1)
     if route == "exact":
-        y, stats = propagate_contact_exact(model, t, y0=y0)
-        ev = np.asarray(stats["event_times"], dtype=float)
+        if walked is None:
+            walked = walk(model, y0, t1)
+        elif not (walked.model is model and walked.t0 == 0.0 and walked.t1 == t1
+                  and np.array_equal(walked.start, np.asarray(y0, dtype=float))):
+            raise InputError("orbit_shape: walked is not the walk of this orbit (another "
+                             "model, start state or span)")
+        y = walked.on_grid(t)
+        ev = walked.event_times
         ev = ev[(ev > 0.0) & (ev < t1)]
         edges = np.concatenate([[0.0], ev, [t1]])
         mids = 0.5 * (edges[:-1] + edges[1:])
@@ -156,8 +189,7 @@ def orbit_shape(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol
         st = np.full(mids.size, 2, dtype=np.int64)  # 2: no sample in the spell
         st[owner] = _states(model, t[:-1], y[0, :-1])
         if np.any(st == 2):  # a spell shorter than a sample step: its midpoint's state
-            ym, _ = propagate_contact_exact(model, np.concatenate([[0.0], mids]), y0=y0)
-            st = _states(model, mids, ym[0, 1:])
+            st = _states(model, mids, walked.on_grid(mids)[0])
         dur = np.diff(edges)
         pattern = _run_letters(st)
         sep = float(np.sum(dur[st == 0]) / t1)

@@ -14,8 +14,8 @@ def make_point(sh: Shooting, ev: Evaluation, settings: ContinuationSettings,
                arclength: float = 0.0, tangent_p: float = float("nan"), iterations: int = 0,
                shape: OrbitShape | None = None) -> OrbitPoint:
     """The orbit point of ``ev``: multipliers, stability, Liouville check, contact pattern
-    and response measures (one more n-period map on a sample grid, unless its ``shape`` is
-    given).
+    and response measures (from the evaluation's walk on the exact route, else one more
+    n-period map on a sample grid; unless its ``shape`` is given).
 
     Raises
     ------
@@ -26,7 +26,7 @@ def make_point(sh: Shooting, ev: Evaluation, settings: ContinuationSettings,
     mu = np.linalg.eigvals(ev.monodromy).astype(np.complex128)
     liou = liouville_residual(ev.model, ev.monodromy, sh.periods)
     if shape is None:
-        shape = orbit_shape(ev.model, y, sh.periods, sh.route, sh.rtol)
+        shape = orbit_shape(ev.model, y, sh.periods, sh.route, sh.rtol, ev.walked)
     return OrbitPoint(
         parameter=sh.param(ev.z), state=y, periods=sh.periods, multipliers=mu,
         stable=is_stable(mu), liouville=liou, liouville_ok=liou <= settings.liouville_tol,

@@ -26,6 +26,7 @@ from numpy.typing import NDArray
 from gear_dyn.analysis.continuation.orbit import map_only, period_map
 from gear_dyn.errors import SolverError
 from gear_dyn.models.base import MeshModel
+from gear_dyn.solvers.contact_exact import Walk
 
 FloatArray = NDArray[np.float64]
 #: two successive secant parameter columns that agree to this (relative) are taken as the
@@ -52,6 +53,9 @@ class Evaluation:
         column is a chord taken from another point).
     model : MeshModel
         The model at this parameter value.
+    walked : Walk or None
+        On the exact route, the walk of the map (:func:`.orbit.period_map`), for the orbit's
+        shape; None on the variational route.
     """
 
     z: FloatArray
@@ -60,6 +64,7 @@ class Evaluation:
     monodromy: FloatArray
     dp_error: float
     model: MeshModel
+    walked: Walk | None = None
 
 
 class Shooting:
@@ -126,7 +131,7 @@ class Shooting:
         """
         y, p = self.state(z), self.param(z)
         model = self.family(p)
-        yt, mono = period_map(model, y, self.periods, self.route, self.rtol)
+        yt, mono, walked = period_map(model, y, self.periods, self.route, self.rtol)
         self.n_maps += 1
         s = self.scale
         jac = np.empty((2, 3))
@@ -135,7 +140,8 @@ class Shooting:
         if dp_col is None:
             dp_col, dp_err = self._dp_column(y, p, yt)
         jac[:, 2] = dp_col
-        return Evaluation(np.array(z, dtype=float), (yt - y) / s, jac, mono, dp_err, model)
+        return Evaluation(np.array(z, dtype=float), (yt - y) / s, jac, mono, dp_err, model,
+                          walked)
 
     def _dp_column(self, y: FloatArray, p: float, yt: FloatArray) -> tuple[FloatArray, float]:
         """Scaled ``dP/dp`` by the central difference, and its error estimate."""
@@ -156,7 +162,7 @@ class Shooting:
         col, err = self._dp_column(y, p, y + ev.g * self.scale)
         jac = ev.jac.copy()
         jac[:, 2] = col
-        return Evaluation(ev.z, ev.g, jac, ev.monodromy, err, ev.model)
+        return Evaluation(ev.z, ev.g, jac, ev.monodromy, err, ev.model, ev.walked)
 
     def _settled_column(self, ev: Evaluation, secants: list[FloatArray]) -> Evaluation | None:
         """``ev`` with a parameter column good for the tangent: the last secant column where
@@ -166,7 +172,7 @@ class Shooting:
             a, b = secants[-1], secants[-2]
             err = float(np.max(np.abs(a - b)) / max(float(np.max(np.abs(a))), 1e-300))
             if err <= SECANT_AGREEMENT:
-                return Evaluation(ev.z, ev.g, ev.jac, ev.monodromy, err, ev.model)
+                return Evaluation(ev.z, ev.g, ev.jac, ev.monodromy, err, ev.model, ev.walked)
         try:
             return self.refresh(ev)
         except (SolverError, ValueError):
