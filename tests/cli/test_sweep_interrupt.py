@@ -34,6 +34,7 @@ def test_sigint_stops_a_sweep_with_workers(tmp_path: Path) -> None:
         time.sleep(0.2)
     else:
         proc.kill()
+        proc.communicate()
         pytest.fail("the sweep's workers did not start within 60 s")
     time.sleep(1.0)  # the workers are inside their first block
     t0 = time.monotonic()
@@ -42,6 +43,7 @@ def test_sigint_stops_a_sweep_with_workers(tmp_path: Path) -> None:
         _, err = proc.communicate(timeout=30)
     except subprocess.TimeoutExpired:
         proc.kill()
+        proc.communicate()  # reap it and close its pipes (no warning leaks into later tests)
         pytest.fail("no exit within 30 s of SIGINT")
     latency = time.monotonic() - t0
     assert proc.returncode == 130, err

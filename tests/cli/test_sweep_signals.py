@@ -50,9 +50,11 @@ def test_stopped_while_the_pool_computes(tmp_path: Path, sig: int, group: bool, 
     out = tmp_path / "out"
     out.mkdir()
     (out / "previous.csv").write_text("kept\n")
-    # DOP853 pinned: several minutes of work in blocks of 8 speeds, so the pool is busy
+    # DOP853 pinned: 4000 speeds are minutes of work (400 took 20 s on an idle machine) in
+    # blocks of speeds, so the pool is still busy when the signal comes, however loaded the
+    # machine is
     cmd = [sys.executable, "-m", "gear_dyn.cli", "sweep", str(BACKLASH), "--speeds",
-           "3000 rpm:16000 rpm:400", "--workers", "2", "--method", "DOP853", "--out", str(out),
+           "3000 rpm:16000 rpm:4000", "--workers", "2", "--method", "DOP853", "--out", str(out),
            "--quiet"]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True, env={**os.environ, "MPLBACKEND": "Agg"})
