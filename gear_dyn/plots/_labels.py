@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 from matplotlib.text import Text
@@ -56,3 +57,16 @@ def legend_beside(axis: Any, own_figure: bool, fontsize: float = 7) -> None:
                     borderaxespad=0.0)
     else:
         axis.legend(fontsize=fontsize, loc="best")
+
+
+def legend_once() -> Callable[[str], str | None]:
+    """A legend-label filter: each text the first time it is asked for, None after (one legend
+    entry per kind of curve or mark)."""
+    shown: set[str] = set()
+
+    def once(text: str) -> str | None:
+        if text in shown:
+            return None
+        shown.add(text)
+        return text
+    return once

@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 from gear_dyn.analysis.motion.diagram import RPM, BifurcationDiagram
 from gear_dyn.errors import InputError
 from gear_dyn.plots._axes import axes_of, tidy
-from gear_dyn.plots._labels import legend_beside, place_labels
+from gear_dyn.plots._labels import legend_beside, legend_once, place_labels
 
 if TYPE_CHECKING:
     from gear_dyn.analysis.continuation.strobe import BranchSamples
@@ -157,8 +157,8 @@ def plot_branch_samples(samples: BranchSamples, ax: Any = None, state: str = "x"
         bifurcation_diagram`) drawn behind the branches in small grey dots (up and down
         alike): attractors the branches do not carry (chaos, period-n windows) show there.
     label_points : bool
-        Write each fold's and period doubling's parameter value next to a mark (alternately
-        below its lowest and above its highest sample, in parameter order).
+        Write each fold's and period doubling's parameter value beside its highest sample,
+        where it covers no other label (:func:`gear_dyn.plots._labels.place_labels`).
     title : str or None
         Axes title (None: none).
 
@@ -186,13 +186,7 @@ def plot_branch_samples(samples: BranchSamples, ax: Any = None, state: str = "x"
     fig, axes = axes_of(ax, figsize=(10, 4.5), name="plot_branch_samples")
     first = samples.curves[0].branch if samples.curves else None
     fx, xlabel = _x_of(first) if first is not None else (1.0, samples.parameter_name)
-    shown: set[str] = set()
-
-    def once(text: str) -> str | None:
-        if text in shown:
-            return None
-        shown.add(text)
-        return text
+    once = legend_once()
 
     if diagram is not None and diagram.curves:  # both directions as one artist
         n_s = diagram.curves[0].samples.shape[1]

@@ -12,7 +12,7 @@ import numpy as np
 
 from gear_dyn.analysis.continuation.branch import Branch
 from gear_dyn.plots._axes import axes_of, tidy
-from gear_dyn.plots._labels import legend_beside, place_labels
+from gear_dyn.plots._labels import legend_beside, legend_once, place_labels
 
 #: y quantities: OrbitPoint field -> (axis label, factor to the plotted unit)
 QUANTITIES = {
@@ -114,13 +114,7 @@ def plot_branch(branch: Branch, ax: Any = None, y: str = "dte_rms", label_points
     fig, axis = axes_of(ax, figsize=(10, 4.5), name="plot_branch")
     ylabel, fy = QUANTITIES[y]
     fx, xlabel = _x_of(branch)
-    shown: set[str] = set()
-
-    def once(text: str) -> str | None:
-        if text in shown:
-            return None
-        shown.add(text)
-        return text
+    once = legend_once()
 
     labels: list[tuple[float, float, str]] = []
     for b in branch.walk():
