@@ -15,6 +15,20 @@ SCENES = Path(__file__).resolve().parents[2] / "gear_dyn" / "scenes"
 SCENE = SCENES / "helicopter_tail_backlash.toml"
 
 
+def _default_ctrl_c() -> None:
+    """In the child before exec: SIGINT at its default, as in a terminal, also where this test
+    runs as a background job of a shell without job control (which starts its commands with
+    SIGINT ignored, and an ignored SIGINT is inherited: Python would then never raise
+    KeyboardInterrupt)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+def _stop(proc: subprocess.Popen[str]) -> None:
+    """Kill the command and its pool's workers (its session) and close the pipes they hold."""
+    os.killpg(proc.pid, signal.SIGKILL)
+    proc.communicate()
+
+
 @pytest.mark.skipif(sys.platform == "win32", reason="SIGINT to a child process needs POSIX")
 def test_sigint_stops_a_sweep_with_workers(tmp_path: Path) -> None:
     out = tmp_path / "out"
@@ -24,7 +38,9 @@ def test_sigint_stops_a_sweep_with_workers(tmp_path: Path) -> None:
     cmd = [sys.executable, "-m", "gear_dyn.cli", "sweep", str(SCENE), "--speeds",
            "2000 rpm:12000 rpm:4000", "--workers", "2", "--sweep-method", "transient",
            "--out", str(out)]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    # its own session: a failure below can stop the command and its pool's workers together
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True, preexec_fn=_default_ctrl_c)
     # wait until the pool's workers run (children of the command), at most 60 s
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline and proc.poll() is None:
@@ -33,8 +49,7 @@ def test_sigint_stops_a_sweep_with_workers(tmp_path: Path) -> None:
             break
         time.sleep(0.2)
     else:
-        proc.kill()
-        proc.communicate()
+        _stop(proc)
         pytest.fail("the sweep's workers did not start within 60 s")
     time.sleep(1.0)  # the workers are inside their first block
     t0 = time.monotonic()
@@ -42,8 +57,7 @@ def test_sigint_stops_a_sweep_with_workers(tmp_path: Path) -> None:
     try:
         _, err = proc.communicate(timeout=30)
     except subprocess.TimeoutExpired:
-        proc.kill()
-        proc.communicate()  # reap it and close its pipes (no warning leaks into later tests)
+        _stop(proc)
         pytest.fail("no exit within 30 s of SIGINT")
     latency = time.monotonic() - t0
     assert proc.returncode == 130, err

@@ -40,6 +40,13 @@ def _alive(pid: int) -> bool:
     return state != "Z"
 
 
+def _default_ctrl_c() -> None:
+    """In the child before exec: SIGINT at its default, also where the tests run as a
+    background job of a shell without job control (started with SIGINT ignored, which the
+    child would inherit)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc, uses pgrep")
 @pytest.mark.parametrize(("sig", "group", "code", "said"), [
     (signal.SIGTERM, False, 143, "terminated (SIGTERM)"),  # the command alone, e.g. kill PID
@@ -57,7 +64,8 @@ def test_stopped_while_the_pool_computes(tmp_path: Path, sig: int, group: bool, 
            "3000 rpm:16000 rpm:4000", "--workers", "2", "--method", "DOP853", "--out", str(out),
            "--quiet"]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            start_new_session=True, env={**os.environ, "MPLBACKEND": "Agg"})
+                            start_new_session=True, env={**os.environ, "MPLBACKEND": "Agg"},
+                            preexec_fn=_default_ctrl_c)
     try:
         deadline = time.monotonic() + 120
         # spawn's resource tracker and the two workers, each past its start-up (imports):
