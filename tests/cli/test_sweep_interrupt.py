@@ -10,17 +10,10 @@ import time
 from pathlib import Path
 
 import pytest
+from child_signals import default_ctrl_c
 
 SCENES = Path(__file__).resolve().parents[2] / "gear_dyn" / "scenes"
 SCENE = SCENES / "helicopter_tail_backlash.toml"
-
-
-def _default_ctrl_c() -> None:
-    """In the child before exec: SIGINT at its default, as in a terminal, also where this test
-    runs as a background job of a shell without job control (which starts its commands with
-    SIGINT ignored, and an ignored SIGINT is inherited: Python would then never raise
-    KeyboardInterrupt)."""
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 def _stop(proc: subprocess.Popen[str]) -> None:
@@ -40,7 +33,7 @@ def test_sigint_stops_a_sweep_with_workers(tmp_path: Path) -> None:
            "--out", str(out)]
     # its own session: a failure below can stop the command and its pool's workers together
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            start_new_session=True, preexec_fn=_default_ctrl_c)
+                            start_new_session=True, preexec_fn=default_ctrl_c)
     # wait until the pool's workers run (children of the command), at most 60 s
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline and proc.poll() is None:

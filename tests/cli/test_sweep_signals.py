@@ -12,6 +12,7 @@ import time
 from pathlib import Path
 
 import pytest
+from child_signals import default_ctrl_c
 
 ROOT = Path(__file__).resolve().parents[2]
 BACKLASH = ROOT / "gear_dyn" / "scenes" / "helicopter_tail_backlash.toml"
@@ -40,13 +41,6 @@ def _alive(pid: int) -> bool:
     return state != "Z"
 
 
-def _default_ctrl_c() -> None:
-    """In the child before exec: SIGINT at its default, also where the tests run as a
-    background job of a shell without job control (started with SIGINT ignored, which the
-    child would inherit)."""
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
-
-
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc, uses pgrep")
 @pytest.mark.parametrize(("sig", "group", "code", "said"), [
     (signal.SIGTERM, False, 143, "terminated (SIGTERM)"),  # the command alone, e.g. kill PID
@@ -65,7 +59,7 @@ def test_stopped_while_the_pool_computes(tmp_path: Path, sig: int, group: bool, 
            "--quiet"]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True, env={**os.environ, "MPLBACKEND": "Agg"},
-                            preexec_fn=_default_ctrl_c)
+                            preexec_fn=default_ctrl_c)
     try:
         deadline = time.monotonic() + 120
         # spawn's resource tracker and the two workers, each past its start-up (imports):

@@ -11,6 +11,7 @@ import time
 from pathlib import Path
 
 import pytest
+from child_signals import default_ctrl_c
 
 import gear_dyn.io as gio
 from gear_dyn.errors import InputError
@@ -199,7 +200,7 @@ def _start_run(out: Path, cwd: Path) -> subprocess.Popen[str]:
         [sys.executable, "-m", "gear_dyn.cli", "run", str(HELI), "--out", str(out),
          "--periods", "6000"],
         cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-        env={**os.environ, "MPLBACKEND": "Agg"},
+        env={**os.environ, "MPLBACKEND": "Agg"}, preexec_fn=default_ctrl_c,
     )
 
 
