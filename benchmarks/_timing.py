@@ -2,12 +2,34 @@
 
 from __future__ import annotations
 
+import argparse
 import compileall
 import os
 import statistics
 import time
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def bench_args(description: str, argv: list[str] | None = None,
+               repeats: int = 3) -> argparse.Namespace:
+    """The options every timing script takes: ``--repeats``, ``--out`` (default
+    ``benchmarks/out``) and ``--record`` (write into ``benchmarks/results/`` instead)."""
+    ap = argparse.ArgumentParser(description=description)
+    ap.add_argument("--repeats", type=int, default=repeats)
+    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "out")
+    ap.add_argument("--record", action="store_true", help="write into benchmarks/results/")
+    return ap.parse_args(argv)
+
+
+def output_dir(args: argparse.Namespace) -> Path:
+    """Where a script writes its result (:func:`bench_args`' choice), created if missing."""
+    out: Path = ROOT / "benchmarks" / "results" if args.record else args.out
+    out.mkdir(parents=True, exist_ok=True)
+    return out
 
 
 def spread(values: list[float], fmt: str = ".3g", unit: str = "") -> str:

@@ -23,14 +23,13 @@ way. Writes ``backlash.md`` into ``--out`` (default ``benchmarks/out/``, git-ign
 
 from __future__ import annotations
 
-import argparse
 import platform
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from _timing import spread, timed  # noqa: E402  (benchmarks/ is on sys.path)
+from _timing import bench_args, output_dir, spread, timed  # noqa: E402  (benchmarks/ is on sys.path)
 from scipy.integrate import solve_ivp
 
 from gear_dyn.analysis.accuracy import relative_errors
@@ -128,11 +127,7 @@ def report(rows: list[dict[str, Any]], repeats: int) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--repeats", type=int, default=5)
-    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "out")
-    ap.add_argument("--record", action="store_true", help="write into benchmarks/results/")
-    args = ap.parse_args(argv)
+    args = bench_args(__doc__.splitlines()[0], argv, repeats=5)
     plan = build_plan(load_scene(SCENE))
     model = plan.model
     resonant = model.at_mesh_frequency(model.natural_frequency)
@@ -143,8 +138,7 @@ def main(argv: list[str] | None = None) -> int:
     for r in rows:
         print(f"{r['label']}: hand RK45 / ours = {spread(r['r_hand'])}x, LSODA / ours = "
               f"{spread(r['r_lsoda'])}x (errors {r['hand_err']:.1e} / {r['err']:.1e})")
-    out_dir = ROOT / "benchmarks" / "results" if args.record else args.out
-    out_dir.mkdir(parents=True, exist_ok=True)
+    out_dir = output_dir(args)
     (out_dir / "backlash.md").write_text(report(rows, args.repeats))
     print(f"wrote {out_dir / 'backlash.md'}")
     return 0

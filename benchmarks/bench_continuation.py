@@ -25,24 +25,21 @@ other measurements in that file (from a line ``## ...`` on) are kept after this 
 
 from __future__ import annotations
 
-import argparse
 import math
 import os
 import platform
 import statistics
 import time
-from pathlib import Path
 from typing import Any
 
 import numpy as np
-from _timing import spread, timed  # noqa: E402  (benchmarks/ is on sys.path)
+from _timing import bench_args, output_dir, spread, timed  # noqa: E402  (benchmarks/ is on sys.path)
 
 from gear_dyn.analysis.continuation import ContinuationSettings, continue_orbits
 from gear_dyn.analysis.continuation.orbit import map_only
 from gear_dyn.scene import load_scene
 from gear_dyn.scene.sweep import SceneModels, sweep_scene
 
-ROOT = Path(__file__).resolve().parents[1]
 RPM = 2 * math.pi / 60
 LO, HI = 3000.0, 9500.0
 MAX_PERIODS = 20000
@@ -70,11 +67,7 @@ def brute_force(factory: Any, speeds: np.ndarray, tol: float) -> tuple[float, li
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "out")
-    ap.add_argument("--record", action="store_true", help="write into benchmarks/results/")
-    args = ap.parse_args(argv)
+    args = bench_args(__doc__.splitlines()[0], argv)
     scene = load_scene("helicopter_tail_backlash")
     factory = SceneModels.of(scene)
     factory(LO * RPM)  # build the plan (pint, scene) before timing
@@ -160,8 +153,7 @@ def main(argv: list[str] | None = None) -> int:
         "The sweep and the brute force find only the stable orbits (the sweep jumps at the "
         "folds); the continuation also follows the unstable branch between them.",
     ]
-    out_dir = ROOT / "benchmarks" / "results" if args.record else args.out
-    out_dir.mkdir(parents=True, exist_ok=True)
+    out_dir = output_dir(args)
     path = out_dir / "continuation.md"
     kept = ""  # sections of other measurements recorded in the same file ("## ..."), kept
     if path.exists():

@@ -19,30 +19,23 @@ the map costs. The model (scene plan, pint) is built before timing. Writes ``fol
 
 from __future__ import annotations
 
-import argparse
 import math
 import os
 import platform
-from pathlib import Path
 
-from _timing import spread, timed  # noqa: E402  (benchmarks/ is on sys.path)
+from _timing import bench_args, output_dir, spread, timed  # noqa: E402  (benchmarks/ is on sys.path)
 
 from gear_dyn.analysis.continuation import SpeedTorqueFamily, continue_orbits, fold_map
 from gear_dyn.scene import load_scene
 from gear_dyn.scene.sweep import SceneModels
 
-ROOT = Path(__file__).resolve().parents[1]
 RPM = 2 * math.pi / 60
 LO, HI = 3000.0 * RPM, 9500.0 * RPM
 TORQUES = [200.0, 368.6, 600.0]
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "out")
-    ap.add_argument("--record", action="store_true", help="write into benchmarks/results/")
-    args = ap.parse_args(argv)
+    args = bench_args(__doc__.splitlines()[0], argv)
     scene = load_scene("helicopter_tail_backlash")
     speeds = SceneModels.of(scene)
     speeds(LO)  # build the scene's model once, outside the timing
@@ -77,8 +70,7 @@ def main(argv: list[str] | None = None) -> int:
         "The map costs about one speed branch per torque it visits (requested and bisection "
         "torques); the maps count does not depend on the machine's load.",
     ]
-    out_dir = ROOT / "benchmarks" / "results" if args.record else args.out
-    out_dir.mkdir(parents=True, exist_ok=True)
+    out_dir = output_dir(args)
     (out_dir / "fold_map.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
     return 0

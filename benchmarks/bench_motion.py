@@ -21,15 +21,13 @@ into ``--out`` (default ``benchmarks/out/``, git-ignored); ``--record`` into
 
 from __future__ import annotations
 
-import argparse
 import math
 import os
 import platform
 import tomllib
-from pathlib import Path
 
 import numpy as np
-from _timing import spread, timed  # noqa: E402  (benchmarks/ is on sys.path)
+from _timing import bench_args, output_dir, spread, timed  # noqa: E402  (benchmarks/ is on sys.path)
 
 from gear_dyn.analysis.motion import (
     DiagramOptions,
@@ -43,8 +41,6 @@ from gear_dyn.scene import build_model, parse_scene
 from gear_dyn.scene.packaged import scene_path
 from gear_dyn.scene.sweep import SceneModels
 
-ROOT = Path(__file__).resolve().parents[1]
-
 
 def _scene():
     data = tomllib.loads(scene_path("helicopter_tail_backlash").read_text())
@@ -55,12 +51,8 @@ def _scene():
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--repeats", type=int, default=5)
-    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "out")
-    ap.add_argument("--record", action="store_true")
-    args = ap.parse_args()
-    out = ROOT / "benchmarks" / "results" if args.record else args.out
+    args = bench_args(__doc__.splitlines()[0], None, repeats=5)
+    out = output_dir(args)
     scene = _scene()
     factory = SceneModels.of(scene)
     fn = build_model(scene).natural_frequency
@@ -114,7 +106,6 @@ Bifurcation diagram, 24 speeds up and down (100 settling periods and 32 samples 
 {x["serial"]} s, `workers=2` {x["pool"]} s (pool start-up included), ratio
 {x["pool/serial"]}. Same samples bit for bit: {verdict}.
 """
-    out.mkdir(parents=True, exist_ok=True)
     (out / "motion.md").write_text(text)
     print(text)
 

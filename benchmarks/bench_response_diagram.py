@@ -19,32 +19,25 @@ The model (scene plan, pint) is built before timing. Writes ``response_diagram.m
 
 from __future__ import annotations
 
-import argparse
 import math
 import os
 import platform
-from pathlib import Path
 
 import numpy as np
-from _timing import spread, timed  # noqa: E402  (benchmarks/ is on sys.path)
+from _timing import bench_args, output_dir, spread, timed  # noqa: E402  (benchmarks/ is on sys.path)
 
 from gear_dyn.analysis.continuation import branch_samples, continue_orbits
 from gear_dyn.scene import load_scene
 from gear_dyn.scene.bifurcation import bifurcation_scene
 from gear_dyn.scene.sweep import SceneModels
 
-ROOT = Path(__file__).resolve().parents[1]
 RPM = 2 * math.pi / 60
 LO, HI = 9500.0 * RPM, 17000.0 * RPM
 SIZES = (32, 128)
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "out")
-    ap.add_argument("--record", action="store_true", help="write into benchmarks/results/")
-    args = ap.parse_args(argv)
+    args = bench_args(__doc__.splitlines()[0], argv)
     scene = load_scene("helicopter_tail_backlash")
     family = SceneModels.of(scene)
     family(LO)  # build the scene's model once, outside the timing
@@ -90,8 +83,7 @@ def main(argv: list[str] | None = None) -> int:
         f"{spread([a / b for a, b in zip(t_samples, t_branch, strict=True)], unit='x')} the "
         "continuation.",
     ]
-    out_dir = ROOT / "benchmarks" / "results" if args.record else args.out
-    out_dir.mkdir(parents=True, exist_ok=True)
+    out_dir = output_dir(args)
     (out_dir / "response_diagram.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
     return 0
