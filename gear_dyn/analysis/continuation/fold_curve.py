@@ -26,6 +26,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, fields, is_dataclass, replace
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -78,21 +79,9 @@ class SpeedTorqueFamily:
                              f"single-DOF mesh model); got {type(model).__name__}")
         return replace(model, static_load=model.static_load * torque / self.torque_ref)
 
-    def at_torque(self, torque: float) -> TorqueSlice:
-        """The speed family at ``torque`` (N m)."""
-        return TorqueSlice(self, float(torque))
-
-
-@dataclass(frozen=True)
-class TorqueSlice:
-    """``speed -> model`` of a :class:`SpeedTorqueFamily` at one torque (picklable)."""
-
-    family: SpeedTorqueFamily
-    torque: float
-
-    def __call__(self, speed: float) -> Any:
-        """The model at ``speed`` (rad/s)."""
-        return self.family(speed, self.torque)
+    def at_torque(self, torque: float) -> Callable[[float], Any]:
+        """The speed family ``speed (rad/s) -> model`` at ``torque`` (N m; picklable)."""
+        return partial(self, torque=float(torque))
 
 
 def fold_pairs(branch: Branch) -> list[_Pair]:
@@ -134,14 +123,10 @@ class _Tracer:
         return hit[0]
 
 
-def _distance(p: _Pair, q: _Pair) -> float:
-    """How far apart two loops are: the sum of their folds' speed differences (rad/s)."""
-    return abs(p[0] - q[0]) + abs(p[1] - q[1])
-
-
 def _match(prev: list[_Pair], new: list[_Pair], width: float) -> list[tuple[int, int]]:
     """Index pairs (prev, new) of the same loop: by order where the counts agree, else by
-    least fold-speed distance (an assignment), refusing matches further apart than ``width``.
+    least fold-speed distance (the sum of the two folds' speed differences, rad/s: an
+    assignment), refusing matches further apart than ``width``.
     (A midpoint would match a wide loop to a small one born inside it.)"""
     if len(prev) == len(new):
         return [(i, i) for i in range(len(prev))]
@@ -149,7 +134,7 @@ def _match(prev: list[_Pair], new: list[_Pair], width: float) -> list[tuple[int,
         return []
     from scipy.optimize import linear_sum_assignment  # here: a sweep imports this package
 
-    cost = np.array([[_distance(p, q) for q in new] for p in prev])
+    cost = np.array([[abs(p[0] - q[0]) + abs(p[1] - q[1]) for q in new] for p in prev])
     rows, cols = linear_sum_assignment(cost)
     return [(int(r), int(c)) for r, c in zip(rows, cols, strict=True) if cost[r, c] < width]
 
