@@ -261,16 +261,12 @@ def find_orbit(model: MeshModel, samples: FloatArray, rtol: float = 1e-10, max_n
         sol, least = confirm_period(model, samples[-1], n, rtol, max_newton)
         iters += sol.iterations
         if least:
-            mult = sol.multipliers if least == n else _multipliers(model, sol.y0, least, rtol)
+            # the multipliers over the least period
+            mult = (sol.multipliers if least == n
+                    else shoot(model, sol.y0, rtol, 3, periods=least).multipliers)
             return Motion("periodic", least, f"period-{least}", sol.y0.copy(), samples, mult,
                           None, err, iters), iters
     return None, iters
-
-
-def _multipliers(model: MeshModel, y0: FloatArray, n: int, rtol: float) -> ComplexArray:
-    """Floquet multipliers of the orbit through ``y0`` over its least period ``n``."""
-    sol = shoot(model, y0, rtol, 3, periods=n)
-    return sol.multipliers
 
 
 def classify_motion(model: MeshModel, y0: FloatArray, settle: int = 200, samples: int = 64,
