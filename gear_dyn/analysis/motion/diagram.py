@@ -249,24 +249,23 @@ class BifurcationDiagram:
         """One row per sample: direction (+1 up, -1 down), speed (rad/s and rpm), f_m (Hz),
         f_m / f_n, the sample index, each state component (SI), the period, the Lyapunov
         exponent and its error (1/s; NaN where not computed). For ``io.write_csv``."""
-        cols: dict[str, list[float]] = {k: [] for k in (
+        cols: dict[str, list[Any]] = {k: [] for k in (
             "direction", "speed_rad_s", "speed_rpm", "mesh_frequency_hz", "fm_over_fn",
             "sample", *self.state_labels, "period", "lyapunov_1_s", "lyapunov_error_1_s")}
         for c in self.curves:
             n_s = c.samples.shape[1]
-            rep = np.repeat
-            cols["direction"] += [1.0 if c.direction == "up" else -1.0] * c.speed.size * n_s
-            cols["speed_rad_s"] += rep(c.speed, n_s).tolist()
-            cols["speed_rpm"] += rep(c.speed / RPM, n_s).tolist()
-            cols["mesh_frequency_hz"] += rep(c.mesh_frequency, n_s).tolist()
-            cols["fm_over_fn"] += rep(c.mesh_frequency / self.natural_frequency, n_s).tolist()
-            cols["sample"] += np.tile(np.arange(n_s), c.speed.size).tolist()
+            per_speed = {"direction": np.full(c.speed.size, 1.0 if c.direction == "up" else -1.0),
+                         "speed_rad_s": c.speed, "speed_rpm": c.speed / RPM,
+                         "mesh_frequency_hz": c.mesh_frequency,
+                         "fm_over_fn": c.mesh_frequency / self.natural_frequency,
+                         "period": c.period, "lyapunov_1_s": c.lyapunov,
+                         "lyapunov_error_1_s": c.lyapunov_error}
+            for name, v in per_speed.items():
+                cols[name].append(np.repeat(v, n_s))
+            cols["sample"].append(np.tile(np.arange(n_s), c.speed.size))
             for i, name in enumerate(self.state_labels):
-                cols[name] += c.samples[:, :, i].ravel().tolist()
-            cols["period"] += rep(c.period, n_s).tolist()
-            cols["lyapunov_1_s"] += rep(c.lyapunov, n_s).tolist()
-            cols["lyapunov_error_1_s"] += rep(c.lyapunov_error, n_s).tolist()
-        return {k: np.asarray(v, dtype=float) for k, v in cols.items()}
+                cols[name].append(c.samples[:, :, i].ravel())
+        return {k: np.concatenate(v).astype(float) for k, v in cols.items()}
 
     def summary(self) -> dict[str, Any]:
         """Per direction and speed: speed (rad/s, rpm), f_m / f_n, period, label, Lyapunov
