@@ -1,25 +1,13 @@
 """Folds followed in two parameters, pinion speed and torque: the jump region of the
 operating map (Seydel 2010, sec. 5.7; Kuznetsov 2004, sec. 8.2 and 10.2).
 
-Method: natural-parameter continuation in torque. At each torque of a sequence the speed
-branch is followed by :func:`continue_orbits` over the whole speed window and its folds are
-located there, each to the continuation's ``locate_tol`` by bracketing on ``det(M - I)``
-(1e-10 relative by default, well inside 1e-8). Consecutive folds that bound an unstable stretch
-of the branch (the first fold turns the branch from stable to unstable) are the two ends of one
-hysteresis loop: between their speeds two stable orbits coexist and a sweep jumps. The pairs
-are matched from one torque to the next (by their order along the branch, or by nearest
-fold speeds where their number changes); a pair that vanishes between two torques ends at a cusp,
-located by bisection in torque.
-
-Why not only the augmented system ``P(y) - y = 0, det(M - I) = 0`` in (state, speed) at each
-torque: on the packaged test model, MINPACK converges on it (also at the fold next to the
-grazing speed of the full-contact branch), but from the fold at one torque it lands on another
-fold curve at a torque 10 % away (the curves of one scene lie close together), and it finds
-neither the loops born between two torques (at a cusp) nor which two folds bound one loop.
-Following whole speed branches at each torque finds every fold of the branch, with its
-stability on either side, and needs no derivative of ``det(M - I)``. Its cost is one speed
-branch per torque (about 100 points on the packaged backlash scene, 2-10 s on a loaded
-2-core machine).
+Natural-parameter continuation in torque: at each torque of a sequence the speed branch is
+followed by :func:`continue_orbits` over the whole speed window and its folds are located
+there (to the continuation's ``locate_tol``). Consecutive folds that bound an unstable stretch
+are the two ends of one hysteresis loop; loops are matched from one torque to the next, and a
+loop that vanishes between two torques ends at a cusp, located by bisection in torque.
+docs/response.md ("Jump map", **How.**) says why this and not the augmented fold system
+``P(y) - y = 0, det(M - I) = 0``, and what it costs.
 """
 
 from __future__ import annotations
