@@ -5,15 +5,11 @@ sweep), then a number of stroboscopic samples are kept (:mod:`.samples`): one po
 period-1 orbit, n for period n, a cloud for chaos (Kahraman & Singh 1990; Parker & Chua 1989,
 ch. 6). Sweeping up and down shows coexisting attractors.
 
-Where it runs (:func:`gear_dyn.analysis.executor.task_map`): in the calling process, on a
-process pool (``workers``) or on any executor (Dask). Within one direction each speed starts from
-the previous speed's final state, so the chain is sequential: as the speed sweep does
-(:mod:`gear_dyn.analysis.sweep.driver`), each direction is cut into blocks of speeds and the i-th
-blocks of the up and the down chains run side by side, each starting where its chain's previous
-block ended. At most two tasks run at once; cutting a chain into independent pieces would
-start them from states the slow sweep never reaches, and the up and down diagrams would no
-longer show which attractor a sweep follows. The blocks and their starting states do not
-depend on the executor: the samples are the serial run's, bit for bit.
+Where it runs (:func:`gear_dyn.analysis.executor.task_map`: here, a process pool or any
+executor): each direction is a chain of blocks of speeds, each block starting where the one
+before it ended, and the i-th blocks of the up and the down chains run side by side (why a
+chain is not cut into independent pieces: docs/motion.md). The blocks and their starting
+states do not depend on the executor: the samples are the serial run's, bit for bit.
 """
 
 from __future__ import annotations
