@@ -81,14 +81,9 @@ class DiagramOptions:
         check_range("rtol", self.rtol, "", low=1e-13, high=1e-4)
 
 
-class _Speed:
-    """One speed of a diagram (picklable, returned by the workers)."""
-
-    def __init__(self, speed: float, mesh_frequency: float, samples: FloatArray, period: int,
-                 label: str, lyapunov: float, lyapunov_error: float) -> None:
-        self.speed, self.mesh_frequency, self.samples = speed, mesh_frequency, samples
-        self.period, self.label = period, label
-        self.lyapunov, self.lyapunov_error = lyapunov, lyapunov_error
+#: one speed of a diagram, as the workers return it: speed (rad/s), mesh frequency (Hz),
+#: samples, period, label, Lyapunov exponent and its error (1/s)
+_Speed = tuple[float, float, FloatArray, int, str, float, float]
 
 
 @dataclass(frozen=True)
@@ -116,8 +111,8 @@ def _run_task(task: _Task) -> tuple[list[_Speed], FloatArray | None]:
         if not np.all(np.abs(strobe) / model.state_scale <= UNBOUNDED):
             # a diverging response (a parametric instability that contact loss does not
             # bound): said, no samples drawn, and the chain restarts from the static state
-            out.append(_Speed(s, model.mesh_frequency, np.full_like(strobe, nan), 0,
-                              "unbounded", nan, nan))
+            out.append((s, model.mesh_frequency, np.full_like(strobe, nan), 0, "unbounded",
+                        nan, nan))
             y = None
             continue
         if opts.classify:
@@ -127,14 +122,14 @@ def _run_task(task: _Task) -> tuple[list[_Speed], FloatArray | None]:
         else:
             motion, _iters = find_orbit(model, strobe, opts.rtol)
         if motion is None:  # not classified, no orbit confirmed
-            out.append(_Speed(s, model.mesh_frequency, strobe, 0, "", nan, nan))
+            out.append((s, model.mesh_frequency, strobe, 0, "", nan, nan))
             y = strobe[-1]
             continue
         if motion.periodic:  # the orbit itself, sampled: no settling remainder drawn
             strobe = stroboscopic(model, motion.state, 0, opts.samples, opts.rtol)
         est = motion.lyapunov
-        out.append(_Speed(s, model.mesh_frequency, strobe, motion.period, motion.label,
-                          nan if est is None else est.value, nan if est is None else est.error))
+        out.append((s, model.mesh_frequency, strobe, motion.period, motion.label,
+                    nan if est is None else est.value, nan if est is None else est.error))
         y = motion.state
     return out, y
 
@@ -175,12 +170,10 @@ class DiagramCurve:
 
     @classmethod
     def from_speeds(cls, direction: str, pts: Sequence[_Speed]) -> DiagramCurve:
-        def arr(name: str, dtype: Any = float) -> Any:
-            return np.array([getattr(p, name) for p in pts], dtype=dtype)
-
-        return cls(direction, arr("speed"), arr("mesh_frequency"),
-                   np.array([p.samples for p in pts], dtype=float), arr("period", int),
-                   tuple(p.label for p in pts), arr("lyapunov"), arr("lyapunov_error"))
+        speed, f_m, samples, period, label, lyapunov, error = zip(*pts, strict=True)
+        return cls(direction, np.array(speed, dtype=float), np.array(f_m, dtype=float),
+                   np.array(samples, dtype=float), np.array(period, dtype=int), label,
+                   np.array(lyapunov, dtype=float), np.array(error, dtype=float))
 
 
 @dataclass(frozen=True, eq=False, repr=False)
