@@ -1,15 +1,9 @@
 """Continuation of periodic orbits of the single-DOF mesh model, with their bifurcations.
 
-:func:`continue_orbits` follows a branch of period-n orbits (backlash, any periodic stiffness,
-static transmission error) in pinion speed or another parameter (:func:`sdof_family`: torque,
-damping ratio, backlash) by pseudo-arclength continuation of the shooting equations, with the
-monodromy matrix from the exact flow of the backlash model where the stiffness is piecewise
-constant and from event-located variational integration otherwise. Every point carries its
-Floquet multipliers, a stability verdict and the Liouville check of its monodromy matrix; folds
-and period doublings are located by bracketing on test functions, contact-pattern changes
-(grazing) on the gap margin of the extremum that touches a contact boundary, and the period-2n
-branch born at a period doubling is switched to and followed. docs/response.md describes the
-method and its tests.
+:func:`continue_orbits` follows a branch of period-n orbits in pinion speed or another
+parameter (:func:`sdof_family`) by pseudo-arclength continuation of the shooting equations,
+locates its folds, period doublings and grazing points, and switches to the period-2n branches.
+docs/response.md describes the method and its tests.
 
 Modules, one concern each: :mod:`.settings` (the knobs), :mod:`.family` (value -> model),
 :mod:`.orbit` (n-period map, Liouville, contact pattern), :mod:`.shooting` (the augmented

@@ -2,18 +2,11 @@
 Doedel's AUTO notes): tangent predictor, Newton corrector on the shooting equations with the
 arclength condition, adaptive steps, and bifurcations detected and located on every step.
 
-Step control: a step is rejected and halved when the corrector needs more than
-``max_newton`` iterations, fails, or when the tangent turns by more than ``max_turn`` between
-the two points; an accepted step grows by ``grow`` after at most ``target_newton`` iterations
-(and a turn below ``max_turn / 2``) and shrinks after more than ``target_newton + 2``. A fold
-turns the tangent's parameter component through zero, which the turn limit resolves over
-several steps, so no step reaches past a fold onto another part of the branch, and the sign
-change shows between two neighbouring points (where :mod:`.detect` locates it).
-
-Contact changes need no special treatment: the n-period map of each corrector iteration is
-computed from the state, with whatever contacts occur (located as they come), so a grazing
-point on the branch shows as a change of the contact pattern between two points and is
-located there.
+Step control by the knobs of :class:`.settings.ContinuationSettings` (docs/response.md, "Step
+control"): the turn limit takes the branch round a fold in several steps, so no step reaches
+past a fold onto another part of the branch, and the sign change of the tangent's parameter
+component shows between two neighbouring points (where :mod:`.detect` locates it). Contact
+changes need no special treatment (docs/response.md, "Contact changes").
 """
 
 from __future__ import annotations

@@ -152,14 +152,12 @@ class Bifurcation:
         return self.point.parameter
 
     def row(self) -> dict[str, Any]:
-        """Flat fields for JSON/CSV."""
+        """Flat fields for JSON/CSV (the multipliers as in :meth:`OrbitPoint.row`)."""
+        mu = self.point.row()
         return {"kind": self.kind, "parameter": self.parameter,
                 "parameter_error": self.parameter_error, "periods": self.point.periods,
                 "before": self.before, "after": self.after,
-                "mu1_re": float(self.point.multipliers[0].real),
-                "mu1_im": float(self.point.multipliers[0].imag),
-                "mu2_re": float(self.point.multipliers[1].real),
-                "mu2_im": float(self.point.multipliers[1].imag)}
+                **{k: mu[k] for k in ("mu1_re", "mu1_im", "mu2_re", "mu2_im")}}
 
 
 @dataclass(frozen=True, eq=False)

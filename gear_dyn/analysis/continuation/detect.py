@@ -30,11 +30,8 @@ ends and the nearest third point. Near a fold the parameter is stationary along 
 a bracket of width ``w`` in arclength fixes it to about ``p'' w^2 / 2``; at a period doubling
 or a graze to about ``p' w``. A located point's stated ``parameter_error`` is that change plus
 the parameter component of the Newton step its own residual would still take (the corrector
-stops at ``newton_tol``). A fold or period doubling is reported at the secant root of the final
-bracket, a graze at the bracket's end with the new contact pattern. The contact pattern
-decides on which side of a graze a point lies where the grazing test is within
-:data:`GRAZE_BAND` of zero, and checks the final bracket's ends; where the test is not
-available, the bracket is bisected on the pattern.
+stops at ``newton_tol``). Which point of the final bracket is reported, and how the contact
+pattern checks a graze: :func:`locate_root`, :func:`locate_pattern_change`.
 """
 
 from __future__ import annotations

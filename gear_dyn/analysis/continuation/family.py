@@ -10,7 +10,6 @@ or backlash.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -21,8 +20,6 @@ from gear_dyn.models.base import MeshModel
 PARAMETERS: dict[str, str] = {
     "speed": "rad/s", "torque": "N*m", "damping_ratio": "", "backlash": "m",
 }
-
-Family = Callable[[float], MeshModel]
 
 
 @dataclass(frozen=True)

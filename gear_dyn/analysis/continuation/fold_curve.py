@@ -1,31 +1,20 @@
 """Folds followed in two parameters, pinion speed and torque: the jump region of the
 operating map (Seydel 2010, sec. 5.7; Kuznetsov 2004, sec. 8.2 and 10.2).
 
-Method: natural-parameter continuation in torque. At each torque of a sequence the speed
-branch is followed by :func:`continue_orbits` over the whole speed window and its folds are
-located there, each to the continuation's ``locate_tol`` by bracketing on ``det(M - I)``
-(1e-10 relative by default, well inside 1e-8). Consecutive folds that bound an unstable stretch
-of the branch (the first fold turns the branch from stable to unstable) are the two ends of one
-hysteresis loop: between their speeds two stable orbits coexist and a sweep jumps. The pairs
-are matched from one torque to the next (by their order along the branch, or by nearest
-fold speeds where their number changes); a pair that vanishes between two torques ends at a cusp,
-located by bisection in torque.
-
-Why not only the augmented system ``P(y) - y = 0, det(M - I) = 0`` in (state, speed) at each
-torque: on the packaged test model, MINPACK converges on it (also at the fold next to the
-grazing speed of the full-contact branch), but from the fold at one torque it lands on another
-fold curve at a torque 10 % away (the curves of one scene lie close together), and it finds
-neither the loops born between two torques (at a cusp) nor which two folds bound one loop.
-Following whole speed branches at each torque finds every fold of the branch, with its
-stability on either side, and needs no derivative of ``det(M - I)``. Its cost is one speed
-branch per torque (about 100 points on the packaged backlash scene, 2-10 s on a loaded
-2-core machine).
+Natural-parameter continuation in torque: at each torque of a sequence the speed branch is
+followed by :func:`continue_orbits` over the whole speed window and its folds are located
+there (to the continuation's ``locate_tol``). Consecutive folds that bound an unstable stretch
+are the two ends of one hysteresis loop; loops are matched from one torque to the next, and a
+loop that vanishes between two torques ends at a cusp, located by bisection in torque.
+docs/response.md ("Jump map", **How.**) says why this and not the augmented fold system
+``P(y) - y = 0, det(M - I) = 0``, and what it costs.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, fields, is_dataclass, replace
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -78,21 +67,9 @@ class SpeedTorqueFamily:
                              f"single-DOF mesh model); got {type(model).__name__}")
         return replace(model, static_load=model.static_load * torque / self.torque_ref)
 
-    def at_torque(self, torque: float) -> TorqueSlice:
-        """The speed family at ``torque`` (N m)."""
-        return TorqueSlice(self, float(torque))
-
-
-@dataclass(frozen=True)
-class TorqueSlice:
-    """``speed -> model`` of a :class:`SpeedTorqueFamily` at one torque (picklable)."""
-
-    family: SpeedTorqueFamily
-    torque: float
-
-    def __call__(self, speed: float) -> Any:
-        """The model at ``speed`` (rad/s)."""
-        return self.family(speed, self.torque)
+    def at_torque(self, torque: float) -> Callable[[float], Any]:
+        """The speed family ``speed (rad/s) -> model`` at ``torque`` (N m; picklable)."""
+        return partial(self, torque=float(torque))
 
 
 def fold_pairs(branch: Branch) -> list[_Pair]:
@@ -134,14 +111,10 @@ class _Tracer:
         return hit[0]
 
 
-def _distance(p: _Pair, q: _Pair) -> float:
-    """How far apart two loops are: the sum of their folds' speed differences (rad/s)."""
-    return abs(p[0] - q[0]) + abs(p[1] - q[1])
-
-
 def _match(prev: list[_Pair], new: list[_Pair], width: float) -> list[tuple[int, int]]:
     """Index pairs (prev, new) of the same loop: by order where the counts agree, else by
-    least fold-speed distance (an assignment), refusing matches further apart than ``width``.
+    least fold-speed distance (the sum of the two folds' speed differences, rad/s: an
+    assignment), refusing matches further apart than ``width``.
     (A midpoint would match a wide loop to a small one born inside it.)"""
     if len(prev) == len(new):
         return [(i, i) for i in range(len(prev))]
@@ -149,7 +122,7 @@ def _match(prev: list[_Pair], new: list[_Pair], width: float) -> list[tuple[int,
         return []
     from scipy.optimize import linear_sum_assignment  # here: a sweep imports this package
 
-    cost = np.array([[_distance(p, q) for q in new] for p in prev])
+    cost = np.array([[abs(p[0] - q[0]) + abs(p[1] - q[1]) for q in new] for p in prev])
     rows, cols = linear_sum_assignment(cost)
     return [(int(r), int(c)) for r, c in zip(rows, cols, strict=True) if cost[r, c] < width]
 

@@ -65,17 +65,12 @@ def _advance(model: MeshModel, y: FloatArray, t0: float, t1: float, route: str, 
     """State at ``t1`` from ``y`` at ``t0`` (``t1 >= t0``)."""
     if t1 <= t0:
         return np.asarray(y, dtype=float)
-    grid = np.array([t0, t1])
-    if route == "exact":
-        out, _stats = propagate_contact_exact(model, grid, y0=y)
-    else:
-        out = flow_on_grid(model, y, grid, rtol=rtol)
-    return np.asarray(out[:, -1], dtype=float)
+    return _on(model, y, np.array([t0, t1]), route, rtol)[:, -1]
 
 
 def _on(model: MeshModel, y0: FloatArray, t: FloatArray, route: str, rtol: float
         ) -> FloatArray:
-    """States on the increasing grid ``t`` (``t[0] = 0``) from ``y0``."""
+    """States on the increasing grid ``t`` from ``y0`` at ``t[0]``."""
     if route == "exact":
         y, _stats = propagate_contact_exact(model, t, y0=y0)
     else:

@@ -128,14 +128,12 @@ class FoldMap:
         per cusp (``kind`` ``cusp``), SI units, for CSV and JSON."""
         out: list[dict[str, Any]] = []
         for i, r in enumerate(self.regions):
-            for t, lo, hi, elo, ehi in zip(r.torque, r.low, r.high, r.low_error, r.high_error,
-                                           strict=True):
-                out.append({"region": i, "kind": "low", "torque_n_m": float(t),
-                            "speed_rad_s": float(lo), "speed_error_rad_s": float(elo),
-                            "torque_error_n_m": 0.0})
-                out.append({"region": i, "kind": "high", "torque_n_m": float(t),
-                            "speed_rad_s": float(hi), "speed_error_rad_s": float(ehi),
-                            "torque_error_n_m": 0.0})
+            for k, t in enumerate(r.torque):
+                for kind, speed, err in (("low", r.low, r.low_error),
+                                         ("high", r.high, r.high_error)):
+                    out.append({"region": i, "kind": kind, "torque_n_m": float(t),
+                                "speed_rad_s": float(speed[k]),
+                                "speed_error_rad_s": float(err[k]), "torque_error_n_m": 0.0})
             for c in r.cusps:
                 out.append({"region": i, "kind": "cusp", "torque_n_m": c.torque,
                             "speed_rad_s": c.speed, "speed_error_rad_s": c.speed_error,

@@ -110,22 +110,9 @@ def liouville_residual(model: MeshModel, monodromy: FloatArray, periods: int) ->
 
 @dataclass(frozen=True)
 class OrbitShape:
-    """What an orbit looks like over its n mesh periods.
-
-    Attributes
-    ----------
-    pattern : str
-        Contact states in time order from t = 0, one letter per spell: ``D`` drive flank,
-        ``G`` gap (teeth apart), ``B`` back flank; e.g. ``DGD``.
-    separation : float
-        Share of the orbit's period with the teeth apart (-).
-    back : float
-        Share of the period on the back flank (-).
-    dte_rms, dte_ptp, dte_mean : float
-        Standard deviation, peak-to-peak and mean of the dynamic transmission error x (m).
-    dte_min : float
-        Smallest x over the orbit (m).
-    """
+    """What an orbit looks like over its n mesh periods: the fields of the same names of
+    :class:`~.branch.OrbitPoint` (contact pattern in time order from t = 0, one letter per
+    spell)."""
 
     pattern: str
     separation: float
@@ -133,7 +120,6 @@ class OrbitShape:
     dte_rms: float
     dte_ptp: float
     dte_mean: float
-    dte_min: float
 
 
 def _states(model: MeshModel, t: FloatArray, x: FloatArray) -> NDArray[np.int64]:
@@ -202,4 +188,4 @@ def orbit_shape(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol
         back = float(np.mean(st == -1))
     x = y[0, :-1]
     return OrbitShape(pattern, sep, back, float(np.std(x)), float(np.ptp(x)),
-                      float(np.mean(x)), float(np.min(x)))
+                      float(np.mean(x)))

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -160,9 +160,7 @@ class Shooting:
             return ev
         y, p = self.state(ev.z), self.param(ev.z)
         col, err = self._dp_column(y, p, y + ev.g * self.scale)
-        jac = ev.jac.copy()
-        jac[:, 2] = col
-        return Evaluation(ev.z, ev.g, jac, ev.monodromy, err, ev.model, ev.walked)
+        return replace(ev, jac=np.column_stack([ev.jac[:, :2], col]), dp_error=err)
 
     def _settled_column(self, ev: Evaluation, secants: list[FloatArray]) -> Evaluation | None:
         """``ev`` with a parameter column good for the tangent: the last secant column where
@@ -172,7 +170,7 @@ class Shooting:
             a, b = secants[-1], secants[-2]
             err = float(np.max(np.abs(a - b)) / max(float(np.max(np.abs(a))), 1e-300))
             if err <= SECANT_AGREEMENT:
-                return Evaluation(ev.z, ev.g, ev.jac, ev.monodromy, err, ev.model, ev.walked)
+                return replace(ev, dp_error=err)
         try:
             return self.refresh(ev)
         except (SolverError, ValueError):

@@ -89,11 +89,6 @@ class BranchCurve:
         """Parameter of each point (SI)."""
         return self.branch.array("parameter")
 
-    @property
-    def stable(self) -> NDArray[np.bool_]:
-        """Stability verdict of each point."""
-        return np.array([p.stable for p in self.branch.points], dtype=bool)
-
 
 @dataclass(frozen=True, eq=False)
 class BranchSamples:

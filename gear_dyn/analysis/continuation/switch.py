@@ -35,15 +35,17 @@ def switch_at_period_doubling(sh: Shooting, bif: Bifurcation, window: tuple[floa
     ``sh``, followed inside ``window`` by ``follow`` (the continuation loop,
     :func:`.arclength.follow`); a branch without points and a ``stop_reason`` saying why,
     when no period-2n orbit is found next to it."""
-    unit = PARAMETERS.get(parameter, "")
     p_star = bif.point.parameter
     z_star = sh.scaled(bif.point.state, p_star)
-    empty = Branch(parameter, unit, (), (), (), sh.route, "", 0)
+
+    def failed(reason: str) -> Branch:
+        return Branch(parameter, PARAMETERS.get(parameter, ""), (), (), (), sh.route, reason, 0)
+
     try:
         ev = sh.evaluate(z_star)
         t1 = tangent(ev.jac)
     except (SolverError, ValueError) as exc:
-        return _failed(empty, f"switching at {p_star:.10g} failed: {exc}")
+        return failed(f"switching at {p_star:.10g} failed: {exc}")
     w, vecs = np.linalg.eig(ev.monodromy)
     v = np.real(vecs[:, int(np.argmin(np.abs(w + 1.0)))]) / sh.scale
     phi = np.append(v, 0.0)
@@ -65,9 +67,5 @@ def switch_at_period_doubling(sh: Shooting, bif: Bifurcation, window: tuple[floa
         if float(t2 @ (ev2.z - ev.z)) < 0.0:
             t2 = -t2
         return follow(sh2, ev2, t2, window, settings, parameter, doublings, parent=sh)
-    return _failed(empty, f"no period-{2 * sh.periods} orbit converged next to the period "
-                          f"doubling at {parameter} = {p_star:.10g}")
-
-
-def _failed(empty: Branch, reason: str) -> Branch:
-    return Branch(empty.parameter_name, empty.unit, (), (), (), empty.route, reason, 0)
+    return failed(f"no period-{2 * sh.periods} orbit converged next to the period doubling "
+                  f"at {parameter} = {p_star:.10g}")

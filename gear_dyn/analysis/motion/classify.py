@@ -9,15 +9,12 @@ From the stroboscopic samples (one per mesh period after settling,
    is ``period-n`` with n the orbit's least period;
 2. otherwise the largest Lyapunov exponent (:mod:`.lyapunov`) is computed, the samples after
    its run tried once more for a period (a slow escape from an unstable orbit shows a positive
-   exponent while it lasts), and without one the exponent decides (:func:`lyapunov_kind`):
-   significantly positive is ``chaotic``; zero, resolved to :data:`ZERO_BAND` per mesh period,
-   is ``quasi-periodic`` (the motion on a torus neither grows nor shrinks along it: Parker &
-   Chua 1989, sec. 6.3); significantly negative is ``not settled`` (still converging);
-   otherwise ``undetermined`` (run longer). Samples that still repeat to :data:`TRY_TOL`
-   without a stable orbit sit near an unstable one (a slow escape): ``not settled``, whatever
-   the exponent (that of the unstable orbit while it lasts). Samples beyond
-   :data:`UNBOUNDED` state scales are ``unbounded`` (a parametric instability that contact
-   loss does not limit).
+   exponent while it lasts), and without one the exponent decides (:func:`lyapunov_kind`; a
+   zero exponent is ``quasi-periodic``: the motion on a torus neither grows nor shrinks along
+   it, Parker & Chua 1989, sec. 6.3). Samples that still repeat to :data:`TRY_TOL` without a
+   stable orbit sit near an unstable one (a slow escape): ``not settled``, whatever the
+   exponent (that of the unstable orbit while it lasts). Samples beyond :data:`UNBOUNDED`
+   state scales are ``unbounded`` (a parametric instability that contact loss does not limit).
 """
 
 from __future__ import annotations
@@ -261,16 +258,12 @@ def find_orbit(model: MeshModel, samples: FloatArray, rtol: float = 1e-10, max_n
         sol, least = confirm_period(model, samples[-1], n, rtol, max_newton)
         iters += sol.iterations
         if least:
-            mult = sol.multipliers if least == n else _multipliers(model, sol.y0, least, rtol)
+            # the multipliers over the least period
+            mult = (sol.multipliers if least == n
+                    else shoot(model, sol.y0, rtol, 3, periods=least).multipliers)
             return Motion("periodic", least, f"period-{least}", sol.y0.copy(), samples, mult,
                           None, err, iters), iters
     return None, iters
-
-
-def _multipliers(model: MeshModel, y0: FloatArray, n: int, rtol: float) -> ComplexArray:
-    """Floquet multipliers of the orbit through ``y0`` over its least period ``n``."""
-    sol = shoot(model, y0, rtol, 3, periods=n)
-    return sol.multipliers
 
 
 def classify_motion(model: MeshModel, y0: FloatArray, settle: int = 200, samples: int = 64,

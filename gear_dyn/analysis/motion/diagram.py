@@ -5,15 +5,11 @@ sweep), then a number of stroboscopic samples are kept (:mod:`.samples`): one po
 period-1 orbit, n for period n, a cloud for chaos (Kahraman & Singh 1990; Parker & Chua 1989,
 ch. 6). Sweeping up and down shows coexisting attractors.
 
-Where it runs (:func:`gear_dyn.analysis.executor.task_map`): in the calling process, on a
-process pool (``workers``) or on any executor (Dask). Within one direction each speed starts from
-the previous speed's final state, so the chain is sequential: as the speed sweep does
-(:mod:`gear_dyn.analysis.sweep.driver`), each direction is cut into blocks of speeds and the i-th
-blocks of the up and the down chains run side by side, each starting where its chain's previous
-block ended. At most two tasks run at once; cutting a chain into independent pieces would
-start them from states the slow sweep never reaches, and the up and down diagrams would no
-longer show which attractor a sweep follows. The blocks and their starting states do not
-depend on the executor: the samples are the serial run's, bit for bit.
+Where it runs (:func:`gear_dyn.analysis.executor.task_map`: here, a process pool or any
+executor): each direction is a chain of blocks of speeds, each block starting where the one
+before it ended, and the i-th blocks of the up and the down chains run side by side (why a
+chain is not cut into independent pieces: docs/motion.md). The blocks and their starting
+states do not depend on the executor: the samples are the serial run's, bit for bit.
 """
 
 from __future__ import annotations
@@ -85,14 +81,9 @@ class DiagramOptions:
         check_range("rtol", self.rtol, "", low=1e-13, high=1e-4)
 
 
-class _Speed:
-    """One speed of a diagram (picklable, returned by the workers)."""
-
-    def __init__(self, speed: float, mesh_frequency: float, samples: FloatArray, period: int,
-                 label: str, lyapunov: float, lyapunov_error: float) -> None:
-        self.speed, self.mesh_frequency, self.samples = speed, mesh_frequency, samples
-        self.period, self.label = period, label
-        self.lyapunov, self.lyapunov_error = lyapunov, lyapunov_error
+#: one speed of a diagram, as the workers return it: speed (rad/s), mesh frequency (Hz),
+#: samples, period, label, Lyapunov exponent and its error (1/s)
+_Speed = tuple[float, float, FloatArray, int, str, float, float]
 
 
 @dataclass(frozen=True)
@@ -120,8 +111,8 @@ def _run_task(task: _Task) -> tuple[list[_Speed], FloatArray | None]:
         if not np.all(np.abs(strobe) / model.state_scale <= UNBOUNDED):
             # a diverging response (a parametric instability that contact loss does not
             # bound): said, no samples drawn, and the chain restarts from the static state
-            out.append(_Speed(s, model.mesh_frequency, np.full_like(strobe, nan), 0,
-                              "unbounded", nan, nan))
+            out.append((s, model.mesh_frequency, np.full_like(strobe, nan), 0, "unbounded",
+                        nan, nan))
             y = None
             continue
         if opts.classify:
@@ -131,14 +122,14 @@ def _run_task(task: _Task) -> tuple[list[_Speed], FloatArray | None]:
         else:
             motion, _iters = find_orbit(model, strobe, opts.rtol)
         if motion is None:  # not classified, no orbit confirmed
-            out.append(_Speed(s, model.mesh_frequency, strobe, 0, "", nan, nan))
+            out.append((s, model.mesh_frequency, strobe, 0, "", nan, nan))
             y = strobe[-1]
             continue
         if motion.periodic:  # the orbit itself, sampled: no settling remainder drawn
             strobe = stroboscopic(model, motion.state, 0, opts.samples, opts.rtol)
         est = motion.lyapunov
-        out.append(_Speed(s, model.mesh_frequency, strobe, motion.period, motion.label,
-                          nan if est is None else est.value, nan if est is None else est.error))
+        out.append((s, model.mesh_frequency, strobe, motion.period, motion.label,
+                    nan if est is None else est.value, nan if est is None else est.error))
         y = motion.state
     return out, y
 
@@ -179,12 +170,10 @@ class DiagramCurve:
 
     @classmethod
     def from_speeds(cls, direction: str, pts: Sequence[_Speed]) -> DiagramCurve:
-        def arr(name: str, dtype: Any = float) -> Any:
-            return np.array([getattr(p, name) for p in pts], dtype=dtype)
-
-        return cls(direction, arr("speed"), arr("mesh_frequency"),
-                   np.array([p.samples for p in pts], dtype=float), arr("period", int),
-                   tuple(p.label for p in pts), arr("lyapunov"), arr("lyapunov_error"))
+        speed, f_m, samples, period, label, lyapunov, error = zip(*pts, strict=True)
+        return cls(direction, np.array(speed, dtype=float), np.array(f_m, dtype=float),
+                   np.array(samples, dtype=float), np.array(period, dtype=int), label,
+                   np.array(lyapunov, dtype=float), np.array(error, dtype=float))
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -249,24 +238,23 @@ class BifurcationDiagram:
         """One row per sample: direction (+1 up, -1 down), speed (rad/s and rpm), f_m (Hz),
         f_m / f_n, the sample index, each state component (SI), the period, the Lyapunov
         exponent and its error (1/s; NaN where not computed). For ``io.write_csv``."""
-        cols: dict[str, list[float]] = {k: [] for k in (
+        cols: dict[str, list[Any]] = {k: [] for k in (
             "direction", "speed_rad_s", "speed_rpm", "mesh_frequency_hz", "fm_over_fn",
             "sample", *self.state_labels, "period", "lyapunov_1_s", "lyapunov_error_1_s")}
         for c in self.curves:
             n_s = c.samples.shape[1]
-            rep = np.repeat
-            cols["direction"] += [1.0 if c.direction == "up" else -1.0] * c.speed.size * n_s
-            cols["speed_rad_s"] += rep(c.speed, n_s).tolist()
-            cols["speed_rpm"] += rep(c.speed / RPM, n_s).tolist()
-            cols["mesh_frequency_hz"] += rep(c.mesh_frequency, n_s).tolist()
-            cols["fm_over_fn"] += rep(c.mesh_frequency / self.natural_frequency, n_s).tolist()
-            cols["sample"] += np.tile(np.arange(n_s), c.speed.size).tolist()
+            per_speed = {"direction": np.full(c.speed.size, 1.0 if c.direction == "up" else -1.0),
+                         "speed_rad_s": c.speed, "speed_rpm": c.speed / RPM,
+                         "mesh_frequency_hz": c.mesh_frequency,
+                         "fm_over_fn": c.mesh_frequency / self.natural_frequency,
+                         "period": c.period, "lyapunov_1_s": c.lyapunov,
+                         "lyapunov_error_1_s": c.lyapunov_error}
+            for name, v in per_speed.items():
+                cols[name].append(np.repeat(v, n_s))
+            cols["sample"].append(np.tile(np.arange(n_s), c.speed.size))
             for i, name in enumerate(self.state_labels):
-                cols[name] += c.samples[:, :, i].ravel().tolist()
-            cols["period"] += rep(c.period, n_s).tolist()
-            cols["lyapunov_1_s"] += rep(c.lyapunov, n_s).tolist()
-            cols["lyapunov_error_1_s"] += rep(c.lyapunov_error, n_s).tolist()
-        return {k: np.asarray(v, dtype=float) for k, v in cols.items()}
+                cols[name].append(c.samples[:, :, i].ravel())
+        return {k: np.concatenate(v).astype(float) for k, v in cols.items()}
 
     def summary(self) -> dict[str, Any]:
         """Per direction and speed: speed (rad/s, rpm), f_m / f_n, period, label, Lyapunov

@@ -9,11 +9,8 @@ are summed in blocks of periods; the estimate is the mean over the blocks and it
 the blocks' standard error (``std / sqrt(n_blocks)``), which shrinks as ``1/sqrt(time)`` for
 a chaotic attractor.
 
-The sensitivity is the exact one of the backlash propagator (closed-form pieces and saltation
-matrices, :func:`gear_dyn.solvers.contact_exact.flow_with_sensitivity`) where the stiffness is
-piecewise constant, else the event-located variational equations
-(:func:`gear_dyn.analysis.stability.integrate_with_sensitivity`): two independent integrators of
-the same tangent flow.
+The sensitivity comes from :func:`gear_dyn.analysis.stability.integrate_with_sensitivity`: the
+exact flow or the variational equations, two independent integrators of the same tangent flow.
 """
 
 from __future__ import annotations
