@@ -54,18 +54,19 @@ def stepper_method(model: Model) -> str:
     return method if method in ("exact", *ODE_CLASSES) else DEFAULT_ODE_METHOD
 
 
-class _Nested(dict[str, Any]):
-    """Marks the saved attributes of an object nested in the solver (LSODA's work object)."""
+#: the key of the saved attributes of an object nested in the solver (LSODA's work object);
+#: a tagged plain dict, so a snapshot pickles with builtins and numpy only
+NESTED = "__nested__"
 
 
-def _save_attrs(obj: Any) -> _Nested:
+def _save_attrs(obj: Any) -> dict[str, Any]:
     """Deep copy of the non-callable attributes of ``obj`` (recursing into helper objects)."""
-    out = _Nested()
+    out: dict[str, Any] = {}
     for key, val in vars(obj).items():
         if callable(val) and not isinstance(val, np.ndarray):
             continue  # right-hand side and Jacobian closures: rebuilt from the model
         if hasattr(val, "__dict__") and not isinstance(val, np.ndarray | np.generic):
-            out[key] = _save_attrs(val)
+            out[key] = {NESTED: _save_attrs(val)}
         else:
             out[key] = copy.deepcopy(val)
     return out
@@ -76,8 +77,8 @@ def _load_attrs(obj: Any, saved: dict[str, Any]) -> None:
     shapes match, so views stay views (DOP853's ``K`` is a view of ``K_extended``)."""
     for key, val in saved.items():
         cur = getattr(obj, key, None)
-        if isinstance(val, _Nested):
-            _load_attrs(cur, val)
+        if isinstance(val, dict) and set(val) == {NESTED}:
+            _load_attrs(cur, val[NESTED])
         elif _copy_into(cur, val):
             pass
         elif isinstance(val, list) and isinstance(cur, list) and len(cur) == len(val):
@@ -96,18 +97,6 @@ def _copy_into(cur: Any, val: Any) -> bool:
         return True
     return False
 
-
-def _plain(saved: Any) -> Any:
-    """_Nested -> tagged plain dicts (so a snapshot pickles with builtins and numpy only)."""
-    if isinstance(saved, _Nested):
-        return {"__nested__": {k: _plain(v) for k, v in saved.items()}}
-    return saved
-
-
-def _unplain(saved: Any) -> Any:
-    if isinstance(saved, dict) and set(saved) == {"__nested__"}:
-        return _Nested({k: _unplain(v) for k, v in saved["__nested__"].items()})
-    return saved
 
 class _Propagator:
     """``z -> expm(M s) z`` for one constant matrix ``M``, on plain Python floats.
@@ -216,8 +205,6 @@ class Stepper:
         self._props: list[_Propagator] = []  # the propagator of each piece
         self._piece = 0
         self._exps: dict[bytes, _Propagator] = {}
-        self.nfev = 0  # right-hand side evaluations of finished solver segments
-        self.n_restarts = 0
 
     # ------------------------------------------------------------------ helpers
     @property
@@ -260,14 +247,6 @@ class Stepper:
         # the communication points inside a step, stays within the tolerance)
         return cls(self.model.rhs, t, y, t_bound, rtol=self.settings.rtol, atol=self.atol,
                    max_step=step_limit(self.model, self.settings), **extra)
-
-    def _count(self) -> int:
-        return self.nfev + (self._solver.nfev if self._solver is not None else 0)
-
-    @property
-    def evaluations(self) -> int:
-        """Right-hand side evaluations so far (matrix exponentials for ``exact``)."""
-        return self._count()
 
     # ------------------------------------------------------------------ stepping
     def advance(self, t1: float) -> FloatArray:
@@ -315,7 +294,6 @@ class Stepper:
             tb = pieces[i][1]
             te = tb if tb < t1 else t1
             z = props[i].apply(te - t, z)
-            self.nfev += 1
             t = te
             if te == tb:
                 self._piece = i + 1
@@ -353,7 +331,6 @@ class Stepper:
                 te, ye = self._cut
                 if t1 <= te:
                     return np.asarray(solver.dense_output()(t1), dtype=float)
-                self.nfev += solver.nfev
                 solver = self._start(te, ye, self._cut_event)
                 continue
             if solver.t >= t1:
@@ -361,7 +338,6 @@ class Stepper:
                     return np.array(solver.y, dtype=float)
                 return np.asarray(solver.dense_output()(t1), dtype=float)
             if solver.status == "finished":  # reached a switching instant: restart there
-                self.nfev += solver.nfev
                 solver = self._start(solver.t, np.array(solver.y), None)
                 continue
             msg = solver.step()
@@ -415,15 +391,12 @@ class Stepper:
 
         The solver is restarted at the current time: the right-hand side jumps there.
         """
-        if self._solver is not None:
-            self.nfev += self._solver.nfev
         self.model = model
         self._solver = None
         self._events = list(model.contact_events())
         self._cut, self._cut_event = None, None
         self._pieces, self._props, self._piece, self._exps = [], [], 0, {}
         self._switches, self._switch_end = np.empty(0), None
-        self.n_restarts += 1
 
     # ------------------------------------------------------------------ state
     def snapshot(self) -> dict[str, Any]:
@@ -431,9 +404,8 @@ class Stepper:
         solver = None
         if self._solver is not None:
             solver = {"t_bound": float(self._solver.t_bound),
-                      "attrs": _plain(_save_attrs(self._solver))}
-        return {"t": self.t, "y": self.y.copy(), "nfev": self.nfev,
-                "n_restarts": self.n_restarts, "method": self.method, "solver": solver,
+                      "attrs": _save_attrs(self._solver)}
+        return {"t": self.t, "y": self.y.copy(), "method": self.method, "solver": solver,
                 # the switching instants in use (found numerically by some models: another
                 # search window could move them in the last digits)
                 "switches": self._switches.copy(), "switch_end": self._switch_end,
@@ -449,8 +421,6 @@ class Stepper:
                              f"instance runs {self.method!r}")
         self.t = float(snap["t"])
         self.y = np.array(snap["y"], dtype=float)
-        self.nfev = int(snap["nfev"])
-        self.n_restarts = int(snap["n_restarts"])
         self._pieces, self._props, self._piece = [], [], 0
         self._switches = np.array(snap["switches"], dtype=float)
         self._switch_end = snap["switch_end"]
@@ -464,7 +434,7 @@ class Stepper:
         if s is None:
             self._solver = None
             return
-        attrs = _unplain(s["attrs"])
+        attrs = s["attrs"]
         solver = self._new_solver(float(attrs["t"]), np.array(attrs["y"], dtype=float))
         _load_attrs(solver, attrs)
         self._solver = solver
