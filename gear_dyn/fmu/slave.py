@@ -4,8 +4,8 @@ The FMU built by :mod:`gear_dyn.fmu.build` contains a generated script with one 
 ``class GearDyn_<model>_<id>(GearDynSlave)`` and a private copy of gear_dyn; this module is that
 copy's slave. Everything the FMI 2 and FMI 3 slaves share (parameters, inputs, model build,
 stepping, outputs, FMU state, refusals; lifecycle and error handling described there) is in
-:class:`gear_dyn.fmu.slave_core.SlaveCore`; this module adds pythonfmu's variable
-registration, fmi2SetupExperiment (start time, stop time, tolerance) and a fast fmi2GetReal.
+:class:`gear_dyn.fmu.slave_core.SlaveCore`; this module names pythonfmu's variable classes and
+adds fmi2SetupExperiment (start time, stop time, tolerance) and a fast fmi2GetReal.
 
 A refused call logs its reason (status error) and raises; pythonfmu reports it as
 ``fmi2Fatal`` although the instance stays usable, and a refused parameter keeps its previous
@@ -22,10 +22,8 @@ one more than needed: the module dict lives as long as the process anyway).
 from __future__ import annotations
 
 import ctypes
-import json
 import math
 import sys
-from pathlib import Path
 from typing import Any
 
 from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real, String
@@ -35,13 +33,6 @@ from pythonfmu.enums import Fmi2Status
 from gear_dyn.errors import InputError
 from gear_dyn.fmu.clean_exit import release_at_exit
 from gear_dyn.fmu.slave_core import FmuCallError, SlaveCore, fmi_call
-from gear_dyn.fmu.variables import SPEC_FILE, check_spec
-
-_TYPES = {"Real": Real, "Integer": Integer, "String": String, "Boolean": Boolean}
-_CAUSALITY = {"parameter": Fmi2Causality.parameter, "input": Fmi2Causality.input,
-              "output": Fmi2Causality.output}
-_VARIABILITY = {"fixed": Fmi2Variability.fixed, "tunable": Fmi2Variability.tunable,
-                "continuous": Fmi2Variability.continuous}
 
 
 class GearDynSlave(SlaveCore, Fmi2Slave):
@@ -58,6 +49,11 @@ class GearDynSlave(SlaveCore, Fmi2Slave):
                  "exit_initialization_mode": "fmi2ExitInitializationMode",
                  "do_step": "fmi2DoStep", "terminate": "fmi2Terminate",
                  "_get_fmu_state": "fmi2GetFMUstate", "_set_fmu_state": "fmi2SetFMUstate"}
+    VARIABLE_TYPES = {"Real": Real, "Integer": Integer, "String": String, "Boolean": Boolean,
+                      "Enumeration": Integer}
+    CAUSALITY = Fmi2Causality
+    VARIABILITY = Fmi2Variability
+    EXPERIMENT = DefaultExperiment
 
     def __init__(self, **kwargs: Any) -> None:
         # the native wrapper passes its logger; pythonfmu's builder and direct Python use do not
@@ -72,27 +68,7 @@ class GearDynSlave(SlaveCore, Fmi2Slave):
         super().__init__(**kwargs)
         if native:
             release_at_exit(str(self.resources), type(self).__name__, 2)
-        spec = check_spec(json.loads(Path(str(self.resources), SPEC_FILE).read_text("utf-8")))
-        self._init_core(spec, native)
-        self.description = (f"gear_dyn {spec['model']} model of scene '{spec['scene_name']}' "
-                            "(FMI 2.0 co-simulation)")
-        ex = spec["experiment"]
-        self.default_experiment = DefaultExperiment(
-            start_time=ex["start_time"], stop_time=ex["stop_time"], step_size=ex["step_size"],
-            tolerance=ex["tolerance"])
-        for v in spec["variables"]:
-            self._register(v)
-
-    def _register(self, v: dict[str, Any]) -> None:
-        getter, setter = self._access(v)
-        kind = _TYPES["Integer" if v["type"] == "Enumeration" else v["type"]]
-        var = kind(
-            v["name"], causality=_CAUSALITY[v["causality"]],
-            variability=_VARIABILITY[v["variability"]], description=v["description"],
-            getter=getter, setter=setter)
-        self.register_variable(var, nested=False)
-        if kind is Real:
-            self._real_getters[var.value_reference] = getter
+        self._init_core(native, 2)
 
     def get_real(self, vrs: list[int]) -> list[float]:
         """Values of Real variables (pythonfmu's own lookup, without its per-variable type

@@ -9,9 +9,9 @@ communication steps, :meth:`~gear_dyn.fmu.stepper.Stepper.step_to`),
 :mod:`gear_dyn.fmu.inputs` applies changed inputs, :mod:`gear_dyn.fmu.outputs` writes the
 outputs as Python floats, and a refused call is logged and raised safely (:meth:`_refuse`).
 The slaves (:class:`gear_dyn.fmu.slave.GearDynSlave`,
-:class:`gear_dyn.fmu.slave3.GearDynSlave3`) add the variable registration of their exporter,
-the log call and what their FMI version passes on (FMI 2: the start time, stop time and
-tolerance of fmi2SetupExperiment).
+:class:`gear_dyn.fmu.slave3.GearDynSlave3`) name their exporter's variable classes and add the
+log call and what their FMI version passes on (FMI 2: the start time, stop time and tolerance
+of fmi2SetupExperiment).
 
 Lifecycle
 ---------
@@ -40,16 +40,19 @@ from __future__ import annotations
 
 import ctypes
 import io
+import json
 import math
 import pickle
 from collections.abc import Callable
 from dataclasses import replace
+from pathlib import Path
 from typing import Any, NoReturn
 
 from gear_dyn.errors import GearDynError, InputError, SolverError
 from gear_dyn.fmu.inputs import input_changes
 from gear_dyn.fmu.outputs import Writer, output_writer
 from gear_dyn.fmu.stepper import Stepper
+from gear_dyn.fmu.variables import SPEC_FILE, check_spec
 from gear_dyn.scene import SECTIONS, build_pair, build_plan, parse_scene
 
 
@@ -92,20 +95,31 @@ class SlaveCore:
     """The FMI-version-independent part of a gear_dyn slave (a mixin placed before the
     exporter's slave class, whose ``do_step`` and friends it provides).
 
-    A slave calls :meth:`_init_core` in its ``__init__`` and implements :meth:`_log_error`.
+    A slave calls :meth:`_init_core` in its ``__init__``, implements :meth:`_log_error` and
+    names its exporter's classes below.
     """
 
     #: FMI function of each slave entry point (named in the message of a refused call)
     FMI_NAMES: dict[str, str] = {}
     #: what a doStep from the wrong time adds to its message
     WRONG_TIME_HINT = "; set an FMU state to go back"
+    #: the exporter's variable class of each spec type, its causality and variability enums
+    #: and its DefaultExperiment class (set by the slave)
+    VARIABLE_TYPES: dict[str, Any] = {}
+    CAUSALITY: Any = None
+    VARIABILITY: Any = None
+    EXPERIMENT: Any = None
     #: set by the exporter's slave class
     instance_name: str
     log_queue: Any
+    resources: Any
+    register_variable: Callable[..., Any]
 
-    def _init_core(self, spec: dict[str, Any], native: bool) -> None:
-        """Values and empty run state of a new instance (``native``: called by the exporter's
-        binary, which drops references on a raise; see module doc)."""
+    def _init_core(self, native: bool, fmi: int) -> None:
+        """Read the spec from the FMU's resources; values, description, default experiment,
+        variables and empty run state of a new instance of FMI version ``fmi`` (``native``:
+        called by the exporter's binary, which drops references on a raise; see module doc)."""
+        spec = check_spec(json.loads(Path(str(self.resources), SPEC_FILE).read_text("utf-8")))
         self._native = native
         self._spec = spec
         self._tables: dict[str, dict[str, Any]] = {k: dict(v) for k, v in spec["tables"].items()}
@@ -122,6 +136,21 @@ class SlaveCore:
         self._applied: tuple[float, float] | None = None
         self._built_tables: dict[str, dict[str, Any]] | None = None
         self._write: Writer | None = None
+        self.description = (f"gear_dyn {spec['model']} model of scene '{spec['scene_name']}' "
+                            f"(FMI {fmi}.0 co-simulation)")
+        ex = spec["experiment"]
+        self.default_experiment = self.EXPERIMENT(
+            start_time=ex["start_time"], stop_time=ex["stop_time"], step_size=ex["step_size"],
+            tolerance=ex["tolerance"])
+        for v in spec["variables"]:
+            getter, setter = self._access(v)
+            var = self.VARIABLE_TYPES[v["type"]](
+                v["name"], causality=self.CAUSALITY[v["causality"]],
+                variability=self.VARIABILITY[v["variability"]], description=v["description"],
+                getter=getter, setter=setter)
+            self.register_variable(var, nested=False)
+            if v["type"] == "Real":
+                self._real_getters[var.value_reference] = getter
 
     def _log_error(self, text: str) -> None:
         """Log ``text`` with status error through the exporter."""
