@@ -7,16 +7,8 @@ stepping, outputs, FMU state, refusals; lifecycle and error handling described t
 :class:`gear_dyn.fmu.slave_core.SlaveCore`; this module names pythonfmu's variable classes and
 adds fmi2SetupExperiment (start time, stop time, tolerance) and a fast fmi2GetReal.
 
-A refused call logs its reason (status error) and raises; pythonfmu reports it as
-``fmi2Fatal`` although the instance stays usable, and a refused parameter keeps its previous
-value (docs/fmu.md, "Lifecycle and errors").
-
 At the first instantiation by the binary, :func:`gear_dyn.fmu.clean_exit.release_at_exit`
 registers the Python host's clean exit (pythonfmu's exit-time use-after-free).
-
-pythonfmu's loader also releases, at every instantiation, a reference to the slave script's
-module dict that it does not own; :meth:`GearDynSlave.__init__` hands it one back (a reset adds
-one more than needed: the module dict lives as long as the process anyway).
 """
 
 from __future__ import annotations
@@ -61,7 +53,8 @@ class GearDynSlave(SlaveCore, Fmi2Slave):
         if native:
             # pythonfmu's loader releases a reference to the slave script's module dict that
             # it never owned, once per instantiation: give it one back, or after a few
-            # instantiations the dict is freed under the module (a crash)
+            # instantiations the dict is freed under the module (a crash); a reset adds one
+            # more than needed: the module dict lives as long as the process anyway
             module = sys.modules.get(type(self).__module__)
             if module is not None:
                 ctypes.pythonapi.Py_IncRef(ctypes.py_object(vars(module)))

@@ -13,27 +13,11 @@ The slaves (:class:`gear_dyn.fmu.slave.GearDynSlave`,
 log call and what their FMI version passes on (FMI 2: the start time, stop time and tolerance
 of fmi2SetupExperiment).
 
-Lifecycle
----------
-- instantiate: parameters and inputs take the scene's values (cheap; nothing is built);
-- set parameters (before exitInitializationMode) and inputs (any time); each value is checked
-  against its scene field (range, unit, kind) and a bad one is refused;
-- exitInitializationMode: the model is built and checked as a whole (e.g. a contact ratio
-  below 1 is refused);
-- doStep(t, h): inputs that changed are applied (cheap model copy, solver restarted at t), the
-  stepper advances to t + h, outputs are updated;
-- get/set/serialize FMU state: the whole integrator state (solver step size, stages, work
-  arrays), the parameter and input values and the built model's input changes;
-- reset: the exporter creates a fresh instance; terminate: further doSteps are refused.
-
-Refusals
---------
-pythonfmu (0.7) and pythonfmu3 (0.3) turn any Python exception raised into an FMI call into
-status Fatal and drop one reference to the class, the instance and its log queue, although
-later calls (and freeing the instance) still use them. A refused call here therefore logs the
-reason (status error), gives the native wrapper the references it is about to drop (so the
-instance stays valid and freeing it is safe), and raises: the importer sees Fatal with the
-logged message, and the instance stays usable.
+What each FMI call does and refuses, what an FMU state holds, and how a refusal reaches the
+importer: docs/fmu.md, "Lifecycle and errors". pythonfmu (0.7) and pythonfmu3 (0.3) turn any
+Python exception raised into an FMI call into status Fatal and drop one reference to the class,
+the instance and its log queue, although later calls (and freeing the instance) still use them;
+:meth:`SlaveCore._refuse` therefore logs the reason, hands those references back, and raises.
 """
 
 from __future__ import annotations
