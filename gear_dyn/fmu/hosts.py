@@ -53,8 +53,7 @@ class FmuFacts:
     """What a host needs to know of an FMU, read from its modelDescription.xml.
 
     ``variables`` maps each name to its value reference, ``outputs`` lists the output names in
-    file order, ``step`` is the DefaultExperiment step size (s; None if absent), ``platforms``
-    the folders under ``binaries/``.
+    file order, ``step`` is the DefaultExperiment step size (s; None if absent).
     """
 
     path: Path
@@ -64,7 +63,6 @@ class FmuFacts:
     variables: dict[str, int]
     outputs: list[str]
     step: float | None
-    platforms: tuple[str, ...]
 
 
 def describe(fmu: str | Path) -> FmuFacts:
@@ -79,7 +77,6 @@ def describe(fmu: str | Path) -> FmuFacts:
     try:
         with zipfile.ZipFile(path) as z:
             root = ET.fromstring(z.read("modelDescription.xml"))
-            names = z.namelist()
     except (OSError, KeyError, zipfile.BadZipFile, ET.ParseError) as exc:
         raise InputError(f"{path}: not a readable FMU ({exc})") from None
     fmi = 3 if str(root.get("fmiVersion", "")).startswith("3") else 2
@@ -92,11 +89,9 @@ def describe(fmu: str | Path) -> FmuFacts:
     outputs = [str(e.get("name")) for e in elements if e.get("causality") == "output"]
     de = root.find("DefaultExperiment")
     step = de.get("stepSize") if de is not None else None
-    platforms = sorted({n.split("/")[1] for n in names
-                        if n.startswith("binaries/") and n.count("/") >= 2})
     return FmuFacts(path, fmi, str(cs.get("modelIdentifier")),
                     str(root.get("instantiationToken" if fmi == 3 else "guid")), variables,
-                    outputs, None if step is None else float(step), tuple(platforms))
+                    outputs, None if step is None else float(step))
 
 
 # ------------------------------------------------------------------------------ fmpy
