@@ -74,13 +74,13 @@ class GearDynSlave(SlaveCore, Fmi2Slave):
     @fmi_call
     def setup_experiment(self, start_time: float, stop_time: float | None = None,
                          tolerance: float | None = None) -> None:
-        """Start time (s) of the run and, if given, the solver's relative tolerance."""
+        """Start time (s) of the run and, if given, the solver's relative tolerance (the stop
+        time changes nothing: the outputs at t never depend on what the master plans after t)."""
         if self._phase != "instantiated":
             raise InputError("setupExperiment is allowed only right after instantiation")
         if not math.isfinite(start_time):
             raise InputError(f"start time = {start_time!r} s: must be finite")
         self._start_time = float(start_time)
-        self._stop_time = float(stop_time) if stop_time is not None else None
         self._tolerance = tolerance if tolerance is not None and tolerance > 0 else None
 
 

@@ -111,7 +111,6 @@ class SlaveCore:
         self._real_getters: dict[int, Callable[[], Any]] = {}  # by value reference
         self._phase = "instantiated"
         self._start_time = 0.0
-        self._stop_time: float | None = None
         self._tolerance: float | None = None
         self._stepper: Stepper | None = None
         self._base_model: Any = None
@@ -258,8 +257,7 @@ class SlaveCore:
         self._changes = {}
         op = scene.get("operating")
         self._applied = (float(op["speed"]), float(op["torque"]))
-        self._stepper = Stepper(plan.model, plan.settings, t0=self._start_time,
-                                stop_time=self._stop_time)
+        self._stepper = Stepper(plan.model, plan.settings, t0=self._start_time)
         self._built_tables = {k: dict(v) for k, v in tables.items()}
         self._new_writer()
 
@@ -314,7 +312,6 @@ class SlaveCore:
         return {
             "phase": self._phase,
             "start_time": self._start_time,
-            "stop_time": self._stop_time,
             "tolerance": self._tolerance,
             "tables": {k: dict(v) for k, v in self._tables.items()},
             "built_tables": self._built_tables,
@@ -331,7 +328,6 @@ class SlaveCore:
             reason = state.get("invalid") if isinstance(state, dict) else None
             raise InputError("not an FMU state of this FMU" + (f" ({reason})" if reason else ""))
         self._start_time = float(state["start_time"])
-        self._stop_time = state["stop_time"]
         self._tolerance = state["tolerance"]
         built = state["built_tables"]
         if built is not None and (self._stepper is None or built != self._built_tables):

@@ -166,10 +166,6 @@ class Stepper:
         Start time in s.
     y0 : ndarray or None
         Initial state; None uses ``model.initial_state()``.
-    stop_time : float or None
-        End of the run announced by the master in s; kept for information only: the steps
-        taken (switching windows, solver bounds) never depend on it, so the outputs at t do
-        not depend on what the master plans after t.
 
     Raises
     ------
@@ -178,7 +174,7 @@ class Stepper:
     """
 
     def __init__(self, model: Model, settings: SolverSettings, t0: float = 0.0,
-                 y0: FloatArray | None = None, stop_time: float | None = None) -> None:
+                 y0: FloatArray | None = None) -> None:
         # a whole-run method (periodic step maps) is not kept alive across steps: auto's choice
         method = (stepper_method(model) if settings.method in ("auto", "periodic")
                   else settings.method)
@@ -190,7 +186,6 @@ class Stepper:
         self.method = method
         self.t = float(t0)
         self.y = np.array(model.initial_state() if y0 is None else y0, dtype=float)
-        self.stop_time = math.inf if stop_time is None else float(stop_time)
         self._switches: FloatArray = np.empty(0)
         self._switch_end: float | None = None
         self._solver: OdeSolver | None = None
