@@ -313,11 +313,10 @@ def compare(fmu: str | Path, scene: Scene | None = None, steps: Sequence[float] 
         The FMU or the reference failed.
     """
     info = read_fmu(fmu)
-    spec = info.spec
     outputs = tuple(outputs) if "dte" in outputs else ("dte", *outputs)
     base, ref_scene, values = _scenes(fmu, info, scene, fmu_values)
     plan = build_plan(ref_scene)
-    stop, h0, ratios = _steps(spec, steps, stop_time, outputs)
+    stop, h0, ratios = _steps(info, steps, stop_time, outputs)
     grid = np.arange(int(math.floor(stop / h0 + 1e-9)) + 1, dtype=np.float64) * float(h0)
     settings = reference_settings(plan.settings)
     ref, ref_time, y_ref, stats = _reference(plan.model, ref_scene, grid, settings, outputs)
@@ -405,10 +404,10 @@ def _scenes(fmu: str | Path, info: FmuInfo, scene: Scene | None,
     return base, parse_scene(tables, source=base.source, si=True), values
 
 
-def _steps(spec: dict[str, Any], steps: Sequence[float] | None, stop_time: float | None,
+def _steps(info: FmuInfo, steps: Sequence[float] | None, stop_time: float | None,
            outputs: Sequence[str]) -> tuple[float, float, list[float]]:
     """Checked (stop time, smallest step, step ratios); the outputs must be FMU outputs."""
-    ex = spec["experiment"]
+    ex = info.spec["experiment"]
     stop = float(stop_time if stop_time is not None else ex["stop_time"])
     if not (math.isfinite(stop) and stop > 0):
         raise InputError(f"--stop = {stop!r} s: valid range > 0 s")
@@ -420,11 +419,10 @@ def _steps(spec: dict[str, Any], steps: Sequence[float] | None, stop_time: float
     if any(abs(r - round(r)) > 1e-6 for r in ratios):
         raise InputError(f"communication steps {hs}: each must be an integer multiple of the "
                          f"smallest ({h0:.6g} s)")
-    out_names = {v["name"] for v in spec["variables"] if v["causality"] == "output"}
     for o in outputs:
-        if o not in out_names:
+        if o not in info.outputs:
             raise InputError(f"output {o!r} is not an FMU output; available: "
-                             f"{', '.join(sorted(out_names))}")
+                             f"{', '.join(sorted(info.outputs))}")
     return stop, h0, ratios
 
 
