@@ -1,18 +1,12 @@
 """Advance a gear_dyn model from one communication point to the next, keeping the solver alive.
 
-A co-simulation master asks for the state at ``t + h`` again and again. Setting up a fresh
-``solve_ivp`` for every step would throw away the step-size history (and cost an initial-step
-estimate each time). :class:`Stepper` instead keeps one scipy ``OdeSolver`` object (DOP853,
-RK45, RK23, Radau, BDF or LSODA) alive across communication steps: it steps the solver until it
-has passed the communication point and reads the state there from the solver's dense output, so
-the communication points never disturb the integration. The solver is restarted only where
-:mod:`gear_dyn.solvers.ode` restarts it too - at the model's switching instants (teeth entering or
-leaving contact, where the right-hand side jumps) - and where the importer changes an input.
-
-For models that are linear with piecewise-constant coefficients (``model.linear_segments``) the
-``exact`` method carries the state with the matrix exponentials of :mod:`gear_dyn.solvers.exact`
-(the pieces of a long horizon and one eigendecomposition per distinct piece matrix are kept
-across steps), so the communication step adds no error at all.
+A co-simulation master asks for the state at ``t + h`` again and again. :class:`Stepper` keeps
+one scipy ``OdeSolver`` object (DOP853, RK45, RK23, Radau, BDF or LSODA) alive across
+communication steps and reads the state at each point from its dense output, so the points
+never disturb the integration; it restarts the solver only where :mod:`gear_dyn.solvers.ode`
+does (the model's switching instants, contact changes) and where the importer changes an input.
+``exact`` carries the state with cached matrix exponentials (:class:`_Propagator`). What this
+buys and how it is tested: docs/fmu.md, "Inside doStep".
 
 :meth:`Stepper.snapshot` and :meth:`Stepper.restore` save and restore the whole integrator state
 (the solver's step size, stage derivatives, error history, LSODA work arrays), not only the model
