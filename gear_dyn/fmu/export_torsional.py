@@ -62,11 +62,6 @@ class TorsionalTable:
     #: fitted, not exact (the single-DOF PhaseTable's attribute, for code that shows both)
     exact = False
 
-    @property
-    def flat(self) -> NDArray[np.bool_]:
-        """No piece is closed form: all False (one per piece, as the single-DOF table's)."""
-        return np.zeros(self.breaks.size - 1, dtype=bool)
-
     def evaluate(self, phase: FloatArray) -> FloatArray:
         """The five quantities at phases (cycles, any real), vectorised: array (5, n)."""
         return piecewise_values(self.breaks, self.coef, phase, float(self.period))

@@ -23,6 +23,7 @@ the instance and its log queue, although later calls (and freeing the instance) 
 from __future__ import annotations
 
 import ctypes
+import functools
 import io
 import json
 import math
@@ -151,7 +152,7 @@ class SlaveCore:
             getter = self._output_getter(name)
         else:
             getter = self._value_getter(v["table"], v["key"])
-            setter = self._value_setter(v["table"], v["key"], causality)
+            setter = functools.partial(self._set_value, v["table"], v["key"], causality)
         if v["type"] == "Enumeration":
             getter, setter = self._enum_access(v, getter, setter)
         return getter, setter
@@ -195,11 +196,6 @@ class SlaveCore:
 
     def _value_getter(self, table: str, key: str) -> Callable[[], Any]:
         return lambda: self._tables[table][key]
-
-    def _value_setter(self, table: str, key: str, causality: str) -> Callable[[Any], None]:
-        def setter(value: Any) -> None:
-            self._set_value(table, key, causality, value)
-        return setter
 
     def _set_value(self, table: str, key: str, causality: str, value: Any) -> None:
         name = f"{table}.{key}"
