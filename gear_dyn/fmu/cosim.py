@@ -30,6 +30,7 @@ from gear_dyn.fmu.fmu_info import FmuInfo, read_fmu
 from gear_dyn.fmu.inputs import driven_speed
 from gear_dyn.fmu.session import FmpySession
 from gear_dyn.fmu.stepper import stepper_method
+from gear_dyn.fmu.variables import EXPERIMENT_KEYS
 from gear_dyn.scene import SECTIONS, Scene, build_pair, build_plan, parse_scene
 from gear_dyn.solvers import (
     DEFAULT_ODE_METHOD,
@@ -267,9 +268,8 @@ def scene_values(spec: dict[str, Any], scene: Scene) -> dict[str, Any]:
             name = f"{table}.{key}"
             if name in names:
                 values[name] = value
-            elif value is not None and value != spec["tables"].get(table, {}).get(key) and (
-                    table, key) not in (("solver", "periods"), ("solver", "steady_periods"),
-                                        ("solver", "samples_per_period")):
+            elif (value is not None and value != spec["tables"].get(table, {}).get(key)
+                  and (table, key) not in EXPERIMENT_KEYS):
                 raise InputError(f"scene {scene.name!r}: {name} = {value!r} is not a parameter "
                                  "of this FMU; build the FMU from this scene")
     return values
