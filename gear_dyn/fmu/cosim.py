@@ -53,10 +53,7 @@ class FmuSession(FmpySession):
         Not a readable FMI 2.0 co-simulation FMU.
     """
 
-    def __init__(self, fmu: str | Path, instance_name: str = "gear_dyn",
-                 unzipdir: str | Path | None = None) -> None:
-        super().__init__(fmu, instance_name, unzipdir)
-        self._callbacks: Any = None
+    _callbacks: Any = None  # the C callbacks of the instance, kept alive as long as it
 
     def _check_version(self, version: str) -> None:
         if version != "2.0":
@@ -76,7 +73,7 @@ class FmuSession(FmpySession):
         cb.logger = LoggerType(self._logger)
         cb.allocateMemory = defaultCallbacks.allocateMemory
         cb.freeMemory = defaultCallbacks.freeMemory
-        self._callbacks = cb  # keep the C callbacks alive as long as the instance
+        self._callbacks = cb
         self._fmu = FMU2Slave(guid=self.md.guid, unzipDirectory=str(self.dir),
                               modelIdentifier=self.md.coSimulation.modelIdentifier,
                               instanceName=self.instance_name)
