@@ -1,21 +1,11 @@
 """Run one FMU in several FMI hosts, each the same way: start at 0, fixed communication steps.
 
-Every runner returns the rows ``(t, outputs...)`` after initialization and after each step, so
-the hosts can be compared with each other and with a reference:
-
-- :func:`fmpy_rows`: fmpy step by step (FMI 2 and 3, the project's session layer);
-- :func:`fmpy_simulate_rows`: fmpy's ``simulate_fmu``;
-- :func:`libcosimpy_rows`: libcosim (Open Simulation Platform) through libcosimpy, FMI 2 only;
-  its clock counts integer nanoseconds, so the step must be a whole number of nanoseconds;
-- :func:`ecospy_rows`: Ecos through ecospy, FMI 2 and 3;
-- :func:`c_host_rows`: the project's C host (``fmi_host.c``, for FMI 2 or 3), compiled with
-  ``cc``, run with an empty environment (no Python anywhere in the process); the libraries
-  mapped into that process are returned as well.
-
-and two checks that return a verdict with its text: :func:`fmutool_check`
-(fmu-manipulation-toolbox's ``fmutool -check``) and :func:`binary_libraries` (what ``ldd`` says
-a binary needs). The Python hosts are test extras (``pip install 'gear_dyn[test]'``); a runner
-whose host is missing raises :class:`HostMissing` with what to install.
+Every runner (``*_rows``: fmpy step by step and fmpy's ``simulate_fmu``, libcosim, Ecos, and the
+project's C host ``fmi_host.c`` run with an empty environment) returns the rows
+``(t, outputs...)`` after initialization and after each step, so the hosts can be compared with
+each other and with a reference; :func:`fmutool_check` and :func:`binary_libraries` return a
+verdict with its text. The Python hosts are test extras (``pip install 'gear_dyn[test]'``); a
+runner whose host is missing raises :class:`HostMissing` with what to install.
 """
 
 from __future__ import annotations
