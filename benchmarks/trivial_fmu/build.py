@@ -100,7 +100,7 @@ def build_trivial_fmu(out: str | Path, fmi: int = 2) -> Path:
     Raises
     ------
     InputError
-        No C compiler, or no FMI headers (see :func:`gear_dyn.fmu.toolchain.fmi_headers`).
+        No C compiler.
     RuntimeError
         The compiler failed.
     """

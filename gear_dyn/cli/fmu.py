@@ -121,7 +121,7 @@ def _run_build_native(args: argparse.Namespace) -> int:
         built = build_native_fmu(args.scene, args.out, fmi=args.fmi)
     t = built.model.table
     print(f"{built.scene_name}: native FMU -> {built.path} (FMI {args.fmi}.0 co-simulation, "
-          f"model identifier {built.model_identifier}; {t.flat.size} table pieces, "
+          f"model identifier {built.model_identifier}; {t.breaks.size - 1} table pieces, "
           f"{'exact' if t.exact else 'fitted'}; {built.path.stat().st_size // 1000} kB)")
     if not args.no_validate:
         _validate(built.path, args.quiet)

@@ -4,7 +4,7 @@
 - :mod:`.variables`, :mod:`.inputs`: what an FMU exposes, how its inputs change the model
 - :mod:`.slave`: the pythonfmu slave (imports pythonfmu; used inside built FMUs)
 - :mod:`.build`: ``build_fmu`` (vendored gear_dyn copy, completed modelDescription)
-- :mod:`.cosim`, :mod:`.plots`: ``FmuSession`` (fmpy) and ``compare`` against solve_ivp
+- :mod:`.cosim`: ``FmuSession`` (fmpy) and ``compare`` against solve_ivp
 - :mod:`.slave3`, :mod:`.build3`, :mod:`.session3`: FMI 3.0 export (pythonfmu3) over the same
   stepper, and its fmpy session
 

@@ -1,19 +1,11 @@
 """Build an FMI 2.0 co-simulation FMU of a scene with pythonfmu.
 
-The FMU carries everything it runs, so the importing machine needs only Python with numpy and
-scipy (no gear_dyn, pint, matplotlib or pythonfmu install):
-
-- ``resources/<script>.py``: the generated slave script, one class deriving from
-  :class:`gear_dyn.fmu.slave.GearDynSlave`;
-- ``resources/<package>/``: a private copy of the gear_dyn sources under a name unique to this
-  build (:mod:`.staging`); pythonfmu finds the slave by the script's module name, which is
-  unique as well;
-- ``resources/gear_dyn_fmu.json``: the scene in SI values, the variables and the experiment;
-- ``resources/pythonfmu/`` and ``binaries/<platform>/<id>.so|.dll``: pythonfmu's loader.
-
-pythonfmu does not write units or initial unknowns, so the modelDescription.xml in the zip is
-completed afterwards: UnitDefinitions (SI base units, display units such as rpm, mm, deg), a
-``unit`` on every Real with one, and ModelStructure/InitialUnknowns for the outputs.
+The FMU carries everything it runs (the generated slave script over
+:class:`gear_dyn.fmu.slave.GearDynSlave`, a private copy of the gear_dyn sources under a name
+unique to this build, :mod:`.staging`, the scene in SI values and pythonfmu's loader), so the
+importing machine needs only Python with numpy and scipy; what is in the zip: docs/fmu.md, "The
+pythonfmu FMU: build". pythonfmu does not write units or initial unknowns, so the
+modelDescription.xml in the zip is completed afterwards (:func:`complete_model_description`).
 """
 
 from __future__ import annotations

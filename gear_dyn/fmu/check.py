@@ -2,14 +2,10 @@
 pythonfmu; the outputs and the step come from the modelDescription, so any co-simulation FMU
 can be checked).
 
-Four checks, each a line of the report, for FMI 2 and FMI 3 FMUs: fmpy's validation of the
-modelDescription, a run in fmpy (a Python host), a run in the plain C host of
-:func:`gear_dyn.fmu.hosts.c_host_rows` (``fmi_host.c``, compiled with the system compiler,
-loading the binary ``RTLD_LOCAL`` in an empty environment) that must give fmpy's outputs to
-1e-12, and stop-time independence (the same run with and without a stop time announced at
-initialization must agree to 1e-12). For an FMU that needs no Python (native) the C host line
-also says that no libpython was mapped into the host process; a pythonfmu FMU runs in Python
-hosts only, so its C host line is skipped.
+Four checks, each a line of the report: fmpy's validation, a run in fmpy, stop-time
+independence and a run in the C host of :func:`gear_dyn.fmu.hosts.c_host_rows` (skipped for a
+pythonfmu FMU, which runs in Python hosts only); what each requires: docs/fmu.md, "Check an
+FMU".
 """
 
 from __future__ import annotations

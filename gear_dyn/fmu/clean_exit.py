@@ -1,18 +1,11 @@
 """A Python host's clean exit after a pythonfmu FMU, done from the FMU's own Python code.
 
-pythonfmu 0.7's binary (and pythonfmu3's alike) keeps its interpreter state in a static
-``std::shared_ptr``. At process exit its C++ exit handler destroys that pointer, and then the
-binary's ELF destructor calls ``finalizePythonInterpreter()``, which assigns ``nullptr`` to the
-destroyed pointer: a write into freed memory (valgrind: "Invalid read of size 4 ... inside a
-block of size 128 free'd"). In about 1 fmpy process in 7 to 30 it corrupts glibc's heap and the
-process aborts at exit ("corrupted double-linked list"; tests/fmu/test_fmu_exit.py).
-
-:func:`release_at_exit` registers, once per binary, a Python exit handler that calls the
-binary's ``finalizePythonInterpreter()`` itself. Python's exit handlers run inside
-``Py_Finalize``, before the process's C exit handlers, so the pointer is empty when the C++
-handler destroys it and the destructor's later assignment touches nothing freed. In a Python
-host the interpreter was running before the FMU, so pythonfmu's state does not finalize it (it
-only drops its reference). The handle opened here also keeps the binary loaded until then.
+pythonfmu 0.7's binary (and pythonfmu3's alike) writes into freed memory at process exit, which
+aborts about 1 fmpy process in 7 to 30 ("corrupted double-linked list";
+tests/fmu/test_fmu_exit.py). :func:`release_at_exit` registers, once per binary, a Python exit
+handler that calls the binary's ``finalizePythonInterpreter()`` itself, before the process's C
+exit handlers run; the handle opened here also keeps the binary loaded until then. The fault,
+why this avoids it and the measurements: docs/fmu.md, "A clean exit of the Python host".
 """
 
 from __future__ import annotations

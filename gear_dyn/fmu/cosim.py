@@ -30,6 +30,7 @@ from gear_dyn.fmu.fmu_info import FmuInfo, read_fmu
 from gear_dyn.fmu.inputs import driven_speed
 from gear_dyn.fmu.session import FmpySession
 from gear_dyn.fmu.stepper import stepper_method
+from gear_dyn.fmu.variables import EXPERIMENT_KEYS
 from gear_dyn.scene import SECTIONS, Scene, build_pair, build_plan, parse_scene
 from gear_dyn.solvers import (
     DEFAULT_ODE_METHOD,
@@ -52,10 +53,7 @@ class FmuSession(FmpySession):
         Not a readable FMI 2.0 co-simulation FMU.
     """
 
-    def __init__(self, fmu: str | Path, instance_name: str = "gear_dyn",
-                 unzipdir: str | Path | None = None) -> None:
-        super().__init__(fmu, instance_name, unzipdir)
-        self._callbacks: Any = None
+    _callbacks: Any = None  # the C callbacks of the instance, kept alive as long as it
 
     def _check_version(self, version: str) -> None:
         if version != "2.0":
@@ -75,7 +73,7 @@ class FmuSession(FmpySession):
         cb.logger = LoggerType(self._logger)
         cb.allocateMemory = defaultCallbacks.allocateMemory
         cb.freeMemory = defaultCallbacks.freeMemory
-        self._callbacks = cb  # keep the C callbacks alive as long as the instance
+        self._callbacks = cb
         self._fmu = FMU2Slave(guid=self.md.guid, unzipDirectory=str(self.dir),
                               modelIdentifier=self.md.coSimulation.modelIdentifier,
                               instanceName=self.instance_name)
@@ -267,9 +265,8 @@ def scene_values(spec: dict[str, Any], scene: Scene) -> dict[str, Any]:
             name = f"{table}.{key}"
             if name in names:
                 values[name] = value
-            elif value is not None and value != spec["tables"].get(table, {}).get(key) and (
-                    table, key) not in (("solver", "periods"), ("solver", "steady_periods"),
-                                        ("solver", "samples_per_period")):
+            elif (value is not None and value != spec["tables"].get(table, {}).get(key)
+                  and (table, key) not in EXPERIMENT_KEYS):
                 raise InputError(f"scene {scene.name!r}: {name} = {value!r} is not a parameter "
                                  "of this FMU; build the FMU from this scene")
     return values
@@ -313,11 +310,10 @@ def compare(fmu: str | Path, scene: Scene | None = None, steps: Sequence[float] 
         The FMU or the reference failed.
     """
     info = read_fmu(fmu)
-    spec = info.spec
     outputs = tuple(outputs) if "dte" in outputs else ("dte", *outputs)
     base, ref_scene, values = _scenes(fmu, info, scene, fmu_values)
     plan = build_plan(ref_scene)
-    stop, h0, ratios = _steps(spec, steps, stop_time, outputs)
+    stop, h0, ratios = _steps(info, steps, stop_time, outputs)
     grid = np.arange(int(math.floor(stop / h0 + 1e-9)) + 1, dtype=np.float64) * float(h0)
     settings = reference_settings(plan.settings)
     ref, ref_time, y_ref, stats = _reference(plan.model, ref_scene, grid, settings, outputs)
@@ -405,10 +401,10 @@ def _scenes(fmu: str | Path, info: FmuInfo, scene: Scene | None,
     return base, parse_scene(tables, source=base.source, si=True), values
 
 
-def _steps(spec: dict[str, Any], steps: Sequence[float] | None, stop_time: float | None,
+def _steps(info: FmuInfo, steps: Sequence[float] | None, stop_time: float | None,
            outputs: Sequence[str]) -> tuple[float, float, list[float]]:
     """Checked (stop time, smallest step, step ratios); the outputs must be FMU outputs."""
-    ex = spec["experiment"]
+    ex = info.spec["experiment"]
     stop = float(stop_time if stop_time is not None else ex["stop_time"])
     if not (math.isfinite(stop) and stop > 0):
         raise InputError(f"--stop = {stop!r} s: valid range > 0 s")
@@ -420,11 +416,10 @@ def _steps(spec: dict[str, Any], steps: Sequence[float] | None, stop_time: float
     if any(abs(r - round(r)) > 1e-6 for r in ratios):
         raise InputError(f"communication steps {hs}: each must be an integer multiple of the "
                          f"smallest ({h0:.6g} s)")
-    out_names = {v["name"] for v in spec["variables"] if v["causality"] == "output"}
     for o in outputs:
-        if o not in out_names:
+        if o not in info.outputs:
             raise InputError(f"output {o!r} is not an FMU output; available: "
-                             f"{', '.join(sorted(out_names))}")
+                             f"{', '.join(sorted(info.outputs))}")
     return stop, h0, ratios
 
 

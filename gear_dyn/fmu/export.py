@@ -7,18 +7,9 @@ The native FMU's C kernel (``gear_dyn/fmu/native/gd_kernel.c``) steps
 from a table over one mesh cycle: the breakpoints (the switching phases and every sample phase of
 a piecewise-linear stiffness or transmission error) and, on each piece, the polynomial
 coefficients of ``k(p)`` (N/m), ``e(p)`` (m) and ``de/dp`` (m per cycle) in the local variable
-``s`` in [-1, 1] (Horner order, highest power first), plus the constants.
-
-- Piecewise-constant and piecewise-linear stiffness and transmission error (the rectangular wave,
-  ISO 6336, the loaded-contact tangent stiffness and relief TE of tip relief, sampled TE) are
-  polynomials of degree 0 or 1 between their sample phases: the table is exact (to rounding).
-- Smooth ones (a Fourier stiffness, a harmonic TE) are interpolated at Chebyshev points on
-  :data:`SMOOTH_PIECES` equal pieces per cycle with degree :data:`SMOOTH_DEGREE`; the error is
-  measured against the direct evaluation at points between the nodes and stated in
-  :attr:`PhaseTable.max_error`.
-
-A piece is *flat* when ``k`` and ``e`` are constant on it and ``de/dp`` is zero: the kernel then
-propagates it in closed form.
+``s`` in [-1, 1] (Horner order, highest power first), plus the constants. Which tables are exact
+and which fitted (:data:`SMOOTH_PIECES`, :data:`SMOOTH_DEGREE`), and which pieces the kernel
+propagates in closed form (*flat*): docs/native_fmu.md, "Tables".
 """
 
 from __future__ import annotations

@@ -126,7 +126,7 @@ def model_data_c(nm: NativeModel | TorsionalNative, title: str = "") -> str:
 }};
 """
     else:
-        flat = ", ".join(str(int(f)) for f in t.flat)
+        flat = ", ".join(str(int(f)) for f in nm.table.flat)
         te, gap = int(nm.transmission_error), int(nm.half_gap is not None)
         phase0, tors, extra = nm.phase0, "NULL", ""
     n = t.breaks.size - 1

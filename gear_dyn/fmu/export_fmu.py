@@ -71,7 +71,7 @@ def _description(nm: NativeModel | TorsionalNative, scene_name: str) -> str:
         f"fitted, max relative error k {t.max_error['k']:.1e}, e {t.max_error['e']:.1e}")
     return (f"gear_dyn single-DOF mesh model of scene {scene_name}, native C kernel. The gear "
             "geometry and the tables of k(p), e(p) over one mesh cycle are fixed at build "
-            f"({t.flat.size} pieces, {kind}); the parameters are what the kernel applies "
+            f"({t.breaks.size - 1} pieces, {kind}); the parameters are what the kernel applies "
             f"without geometry. Stated error of the DTE: {nm.stated_error:.0e} of the static "
             f"deflection W/k_m ({method}).{_load_note(nm)}")
 
@@ -83,7 +83,7 @@ def _torsional_description(nm: TorsionalNative, scene_name: str) -> str:
             "one mesh cycle")
     return (f"gear_dyn torsional model (two DOF{', friction' if nm.friction else ''}) of scene "
             f"{scene_name}, native C kernel. The gear geometry and the tables of e_ecc, k, phi1, "
-            f"phi2 over {span} in the mesh phase are fixed at build ({t.flat.size} pieces "
+            f"phi2 over {span} in the mesh phase are fixed at build ({t.breaks.size - 1} pieces "
             f"between the switching instants, degree {t.degree}, max relative table error "
             f"{err:.1e}); the parameters are what the kernel applies without geometry. Stated "
             f"error of the DTE: {nm.stated_error:.0e} of the static deflection W/k_m "
@@ -193,9 +193,9 @@ def model_description(nm: NativeModel | TorsionalNative, ident: str, scene_name:
 
 def _too_large(nm: TorsionalNative, size: str, max_size: int) -> NotNativeError:
     """The refusal of a torsional FMU over ``max_size`` bytes (asked for by the caller)."""
-    return NotNativeError(f"its table ({nm.table.flat.size} pieces over {nm.table.period} mesh "
-                          f"cycles) makes a native FMU of {size}, over the {max_size // 1000} kB "
-                          "limit")
+    return NotNativeError(f"its table ({nm.table.breaks.size - 1} pieces over {nm.table.period} "
+                          f"mesh cycles) makes a native FMU of {size}, over the "
+                          f"{max_size // 1000} kB limit")
 
 
 def _sources(fmi: int) -> tuple[str, ...]:

@@ -3,16 +3,11 @@
 The kernel (``gear_dyn/fmu/native/gd_torsional.c``) steps the four states ``[q1, q2, q1', q2']``
 of :class:`~gear_dyn.models.torsional.TorsionalModel` (eccentricity and friction; no backlash,
 no transmission error) from a table of its state-free coefficients in the mesh phase
-``p = z1 th1 / (2 pi)`` (cycles): the eccentric kinematics are functions of the pinion angle,
-so one table serves every speed, and ``de/dt = f_m de/dp``.
-
-- The table spans the hunting period (``z2 / gcd(z1, z2)`` mesh cycles) with eccentricity, one
-  mesh cycle without; its breaks are the model's switching instants (contact-line ends, the pitch
-  line) in phase, where ``k`` and the friction arms have kinks or jumps.
-- On each piece ``e_ecc`` (m), ``de_ecc/dp`` (m/cycle), ``k`` (N/m), ``phi1``, ``phi2`` (m) are
-  interpolated at Chebyshev points with the lowest degree (<= :data:`MAX_DEGREE`) whose error,
-  measured against the direct evaluation at points between the nodes, is below
-  :data:`TABLE_ERROR` of each quantity's scale (:attr:`TorsionalTable.max_error`).
+``p = z1 th1 / (2 pi)`` (cycles): :data:`QUANTITIES` on pieces between the model's switching
+instants, over the hunting period with eccentricity (one mesh cycle without), each interpolated
+at Chebyshev points with the lowest degree (<= :data:`MAX_DEGREE`) that meets
+:data:`TABLE_ERROR` (:attr:`TorsionalTable.max_error`). Why tables in phase, and the figures:
+docs/native_fmu.md, "The torsional model".
 """
 
 from __future__ import annotations
@@ -66,11 +61,6 @@ class TorsionalTable:
 
     #: fitted, not exact (the single-DOF PhaseTable's attribute, for code that shows both)
     exact = False
-
-    @property
-    def flat(self) -> NDArray[np.bool_]:
-        """No piece is closed form: all False (one per piece, as the single-DOF table's)."""
-        return np.zeros(self.breaks.size - 1, dtype=bool)
 
     def evaluate(self, phase: FloatArray) -> FloatArray:
         """The five quantities at phases (cycles, any real), vectorised: array (5, n)."""

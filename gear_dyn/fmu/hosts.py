@@ -1,21 +1,11 @@
 """Run one FMU in several FMI hosts, each the same way: start at 0, fixed communication steps.
 
-Every runner returns the rows ``(t, outputs...)`` after initialization and after each step, so
-the hosts can be compared with each other and with a reference:
-
-- :func:`fmpy_rows`: fmpy step by step (FMI 2 and 3, the project's session layer);
-- :func:`fmpy_simulate_rows`: fmpy's ``simulate_fmu``;
-- :func:`libcosimpy_rows`: libcosim (Open Simulation Platform) through libcosimpy, FMI 2 only;
-  its clock counts integer nanoseconds, so the step must be a whole number of nanoseconds;
-- :func:`ecospy_rows`: Ecos through ecospy, FMI 2 and 3;
-- :func:`c_host_rows`: the project's C host (``fmi_host.c``, for FMI 2 or 3), compiled with
-  ``cc``, run with an empty environment (no Python anywhere in the process); the libraries
-  mapped into that process are returned as well.
-
-and two checks that return a verdict with its text: :func:`fmutool_check`
-(fmu-manipulation-toolbox's ``fmutool -check``) and :func:`binary_libraries` (what ``ldd`` says
-a binary needs). The Python hosts are test extras (``pip install 'gear_dyn[test]'``); a runner
-whose host is missing raises :class:`HostMissing` with what to install.
+Every runner (``*_rows``: fmpy step by step and fmpy's ``simulate_fmu``, libcosim, Ecos, and the
+project's C host ``fmi_host.c`` run with an empty environment) returns the rows
+``(t, outputs...)`` after initialization and after each step, so the hosts can be compared with
+each other and with a reference; :func:`fmutool_check` and :func:`binary_libraries` return a
+verdict with its text. The Python hosts are test extras (``pip install 'gear_dyn[test]'``); a
+runner whose host is missing raises :class:`HostMissing` with what to install.
 """
 
 from __future__ import annotations
@@ -53,8 +43,7 @@ class FmuFacts:
     """What a host needs to know of an FMU, read from its modelDescription.xml.
 
     ``variables`` maps each name to its value reference, ``outputs`` lists the output names in
-    file order, ``step`` is the DefaultExperiment step size (s; None if absent), ``platforms``
-    the folders under ``binaries/``.
+    file order, ``step`` is the DefaultExperiment step size (s; None if absent).
     """
 
     path: Path
@@ -64,7 +53,6 @@ class FmuFacts:
     variables: dict[str, int]
     outputs: list[str]
     step: float | None
-    platforms: tuple[str, ...]
 
 
 def describe(fmu: str | Path) -> FmuFacts:
@@ -79,7 +67,6 @@ def describe(fmu: str | Path) -> FmuFacts:
     try:
         with zipfile.ZipFile(path) as z:
             root = ET.fromstring(z.read("modelDescription.xml"))
-            names = z.namelist()
     except (OSError, KeyError, zipfile.BadZipFile, ET.ParseError) as exc:
         raise InputError(f"{path}: not a readable FMU ({exc})") from None
     fmi = 3 if str(root.get("fmiVersion", "")).startswith("3") else 2
@@ -92,11 +79,9 @@ def describe(fmu: str | Path) -> FmuFacts:
     outputs = [str(e.get("name")) for e in elements if e.get("causality") == "output"]
     de = root.find("DefaultExperiment")
     step = de.get("stepSize") if de is not None else None
-    platforms = sorted({n.split("/")[1] for n in names
-                        if n.startswith("binaries/") and n.count("/") >= 2})
     return FmuFacts(path, fmi, str(cs.get("modelIdentifier")),
                     str(root.get("instantiationToken" if fmi == 3 else "guid")), variables,
-                    outputs, None if step is None else float(step), tuple(platforms))
+                    outputs, None if step is None else float(step))
 
 
 # ------------------------------------------------------------------------------ fmpy

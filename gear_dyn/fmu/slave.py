@@ -4,28 +4,18 @@ The FMU built by :mod:`gear_dyn.fmu.build` contains a generated script with one 
 ``class GearDyn_<model>_<id>(GearDynSlave)`` and a private copy of gear_dyn; this module is that
 copy's slave. Everything the FMI 2 and FMI 3 slaves share (parameters, inputs, model build,
 stepping, outputs, FMU state, refusals; lifecycle and error handling described there) is in
-:class:`gear_dyn.fmu.slave_core.SlaveCore`; this module adds pythonfmu's variable
-registration, fmi2SetupExperiment (start time, stop time, tolerance) and a fast fmi2GetReal.
-
-A refused call logs its reason (status error) and raises; pythonfmu reports it as
-``fmi2Fatal`` although the instance stays usable, and a refused parameter keeps its previous
-value (docs/fmu.md, "Lifecycle and errors").
+:class:`gear_dyn.fmu.slave_core.SlaveCore`; this module names pythonfmu's variable classes and
+adds fmi2SetupExperiment (start time, stop time, tolerance) and a fast fmi2GetReal.
 
 At the first instantiation by the binary, :func:`gear_dyn.fmu.clean_exit.release_at_exit`
 registers the Python host's clean exit (pythonfmu's exit-time use-after-free).
-
-pythonfmu's loader also releases, at every instantiation, a reference to the slave script's
-module dict that it does not own; :meth:`GearDynSlave.__init__` hands it one back (a reset adds
-one more than needed: the module dict lives as long as the process anyway).
 """
 
 from __future__ import annotations
 
 import ctypes
-import json
 import math
 import sys
-from pathlib import Path
 from typing import Any
 
 from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real, String
@@ -35,13 +25,6 @@ from pythonfmu.enums import Fmi2Status
 from gear_dyn.errors import InputError
 from gear_dyn.fmu.clean_exit import release_at_exit
 from gear_dyn.fmu.slave_core import FmuCallError, SlaveCore, fmi_call
-from gear_dyn.fmu.variables import SPEC_FILE, check_spec
-
-_TYPES = {"Real": Real, "Integer": Integer, "String": String, "Boolean": Boolean}
-_CAUSALITY = {"parameter": Fmi2Causality.parameter, "input": Fmi2Causality.input,
-              "output": Fmi2Causality.output}
-_VARIABILITY = {"fixed": Fmi2Variability.fixed, "tunable": Fmi2Variability.tunable,
-                "continuous": Fmi2Variability.continuous}
 
 
 class GearDynSlave(SlaveCore, Fmi2Slave):
@@ -58,6 +41,11 @@ class GearDynSlave(SlaveCore, Fmi2Slave):
                  "exit_initialization_mode": "fmi2ExitInitializationMode",
                  "do_step": "fmi2DoStep", "terminate": "fmi2Terminate",
                  "_get_fmu_state": "fmi2GetFMUstate", "_set_fmu_state": "fmi2SetFMUstate"}
+    VARIABLE_TYPES = {"Real": Real, "Integer": Integer, "String": String, "Boolean": Boolean,
+                      "Enumeration": Integer}
+    CAUSALITY = Fmi2Causality
+    VARIABILITY = Fmi2Variability
+    EXPERIMENT = DefaultExperiment
 
     def __init__(self, **kwargs: Any) -> None:
         # the native wrapper passes its logger; pythonfmu's builder and direct Python use do not
@@ -65,34 +53,15 @@ class GearDynSlave(SlaveCore, Fmi2Slave):
         if native:
             # pythonfmu's loader releases a reference to the slave script's module dict that
             # it never owned, once per instantiation: give it one back, or after a few
-            # instantiations the dict is freed under the module (a crash)
+            # instantiations the dict is freed under the module (a crash); a reset adds one
+            # more than needed: the module dict lives as long as the process anyway
             module = sys.modules.get(type(self).__module__)
             if module is not None:
                 ctypes.pythonapi.Py_IncRef(ctypes.py_object(vars(module)))
         super().__init__(**kwargs)
         if native:
             release_at_exit(str(self.resources), type(self).__name__, 2)
-        spec = check_spec(json.loads(Path(str(self.resources), SPEC_FILE).read_text("utf-8")))
-        self._init_core(spec, native)
-        self.description = (f"gear_dyn {spec['model']} model of scene '{spec['scene_name']}' "
-                            "(FMI 2.0 co-simulation)")
-        ex = spec["experiment"]
-        self.default_experiment = DefaultExperiment(
-            start_time=ex["start_time"], stop_time=ex["stop_time"], step_size=ex["step_size"],
-            tolerance=ex["tolerance"])
-        for v in spec["variables"]:
-            self._register(v)
-
-    def _register(self, v: dict[str, Any]) -> None:
-        getter, setter = self._access(v)
-        kind = _TYPES["Integer" if v["type"] == "Enumeration" else v["type"]]
-        var = kind(
-            v["name"], causality=_CAUSALITY[v["causality"]],
-            variability=_VARIABILITY[v["variability"]], description=v["description"],
-            getter=getter, setter=setter)
-        self.register_variable(var, nested=False)
-        if kind is Real:
-            self._real_getters[var.value_reference] = getter
+        self._init_core(native, 2)
 
     def get_real(self, vrs: list[int]) -> list[float]:
         """Values of Real variables (pythonfmu's own lookup, without its per-variable type
@@ -105,13 +74,13 @@ class GearDynSlave(SlaveCore, Fmi2Slave):
     @fmi_call
     def setup_experiment(self, start_time: float, stop_time: float | None = None,
                          tolerance: float | None = None) -> None:
-        """Start time (s) of the run and, if given, the solver's relative tolerance."""
+        """Start time (s) of the run and, if given, the solver's relative tolerance (the stop
+        time changes nothing: the outputs at t never depend on what the master plans after t)."""
         if self._phase != "instantiated":
             raise InputError("setupExperiment is allowed only right after instantiation")
         if not math.isfinite(start_time):
             raise InputError(f"start time = {start_time!r} s: must be finite")
         self._start_time = float(start_time)
-        self._stop_time = float(stop_time) if stop_time is not None else None
         self._tolerance = tolerance if tolerance is not None and tolerance > 0 else None
 
 

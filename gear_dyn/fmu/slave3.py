@@ -17,8 +17,6 @@ in FMI 2); the host's exit is made clean by :func:`gear_dyn.fmu.clean_exit.relea
 
 from __future__ import annotations
 
-import json
-from pathlib import Path
 from typing import Any
 
 from pythonfmu3 import Boolean, Float64, Fmi3Causality, Fmi3Slave, Fmi3Variability, Int32, Int64
@@ -28,15 +26,6 @@ from pythonfmu3.enums import Fmi3Status
 
 from gear_dyn.fmu.clean_exit import release_at_exit
 from gear_dyn.fmu.slave_core import FmuCallError, SlaveCore
-from gear_dyn.fmu.variables import SPEC_FILE, check_spec
-
-#: FMI 2 type name in the spec -> pythonfmu3 variable class (Enumeration: Int64, see above)
-_TYPES = {"Real": Float64, "Integer": Int32, "String": String3, "Boolean": Boolean,
-          "Enumeration": Int64}
-_CAUSALITY = {"parameter": Fmi3Causality.parameter, "input": Fmi3Causality.input,
-              "output": Fmi3Causality.output}
-_VARIABILITY = {"fixed": Fmi3Variability.fixed, "tunable": Fmi3Variability.tunable,
-                "continuous": Fmi3Variability.continuous}
 
 #: the former name of the refusal exception of this slave
 Fmu3CallError = FmuCallError
@@ -55,24 +44,21 @@ class GearDynSlave3(SlaveCore, Fmi3Slave):
                  "_get_fmu_state": "fmi3GetFMUState", "_set_fmu_state": "fmi3SetFMUState"}
     WRONG_TIME_HINT = ("; set an FMU state to go back (this FMI 3 FMU starts at 0 s: "
                        "pythonfmu3 does not pass the start time on)")
+    #: FMI 2 type name in the spec -> pythonfmu3 variable class (Enumeration: Int64, see above)
+    VARIABLE_TYPES = {"Real": Float64, "Integer": Int32, "String": String3, "Boolean": Boolean,
+                      "Enumeration": Int64}
+    CAUSALITY = Fmi3Causality
+    VARIABILITY = Fmi3Variability
+    EXPERIMENT = DefaultExperiment
 
     def __init__(self, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         native = "logger" in kwargs  # the native wrapper passes its logger
         if native:
             release_at_exit(str(self.resources), type(self).__name__, 3)
-        spec = check_spec(json.loads(Path(str(self.resources), SPEC_FILE).read_text("utf-8")))
-        self._init_core(spec, native)
         self.author = "gear_dyn"
         self.license = "MIT"
-        self.description = (f"gear_dyn {spec['model']} model of scene '{spec['scene_name']}' "
-                            "(FMI 3.0 co-simulation)")
-        ex = spec["experiment"]
-        self.default_experiment = DefaultExperiment(
-            start_time=0.0, stop_time=ex["stop_time"], step_size=ex["step_size"],
-            tolerance=ex["tolerance"])
-        for v in spec["variables"]:
-            self._register(v)
+        self._init_core(native, 3)  # the spec's experiment starts at 0 s, as this FMU does
         # FMI 3 requires the independent variable; last, so the other value references are
         # those of the FMI 2 FMU
         time = Float64("time", causality=Fmi3Causality.independent,
@@ -83,16 +69,6 @@ class GearDynSlave3(SlaveCore, Fmi3Slave):
 
     def _time(self) -> float:
         return float(self._stepper.t) if self._stepper is not None else 0.0
-
-    def _register(self, v: dict[str, Any]) -> None:
-        getter, setter = self._access(v)
-        var = _TYPES[v["type"]](
-            v["name"], causality=_CAUSALITY[v["causality"]],
-            variability=_VARIABILITY[v["variability"]], description=v["description"],
-            getter=getter, setter=setter)
-        self.register_variable(var, nested=False)
-        if v["type"] == "Real":
-            self._real_getters[var.value_reference] = getter
 
     def get_float64(self, vrs: list[int]) -> list[float]:
         """Values of Float64 variables (pythonfmu3's own lookup, without its per-variable type

@@ -9,47 +9,35 @@ communication steps, :meth:`~gear_dyn.fmu.stepper.Stepper.step_to`),
 :mod:`gear_dyn.fmu.inputs` applies changed inputs, :mod:`gear_dyn.fmu.outputs` writes the
 outputs as Python floats, and a refused call is logged and raised safely (:meth:`_refuse`).
 The slaves (:class:`gear_dyn.fmu.slave.GearDynSlave`,
-:class:`gear_dyn.fmu.slave3.GearDynSlave3`) add the variable registration of their exporter,
-the log call and what their FMI version passes on (FMI 2: the start time, stop time and
-tolerance of fmi2SetupExperiment).
+:class:`gear_dyn.fmu.slave3.GearDynSlave3`) name their exporter's variable classes and add the
+log call and what their FMI version passes on (FMI 2: the start time, stop time and tolerance
+of fmi2SetupExperiment).
 
-Lifecycle
----------
-- instantiate: parameters and inputs take the scene's values (cheap; nothing is built);
-- set parameters (before exitInitializationMode) and inputs (any time); each value is checked
-  against its scene field (range, unit, kind) and a bad one is refused;
-- exitInitializationMode: the model is built and checked as a whole (e.g. a contact ratio
-  below 1 is refused);
-- doStep(t, h): inputs that changed are applied (cheap model copy, solver restarted at t), the
-  stepper advances to t + h, outputs are updated;
-- get/set/serialize FMU state: the whole integrator state (solver step size, stages, work
-  arrays), the parameter and input values and the built model's input changes;
-- reset: the exporter creates a fresh instance; terminate: further doSteps are refused.
-
-Refusals
---------
-pythonfmu (0.7) and pythonfmu3 (0.3) turn any Python exception raised into an FMI call into
-status Fatal and drop one reference to the class, the instance and its log queue, although
-later calls (and freeing the instance) still use them. A refused call here therefore logs the
-reason (status error), gives the native wrapper the references it is about to drop (so the
-instance stays valid and freeing it is safe), and raises: the importer sees Fatal with the
-logged message, and the instance stays usable.
+What each FMI call does and refuses, what an FMU state holds, and how a refusal reaches the
+importer: docs/fmu.md, "Lifecycle and errors". pythonfmu (0.7) and pythonfmu3 (0.3) turn any
+Python exception raised into an FMI call into status Fatal and drop one reference to the class,
+the instance and its log queue, although later calls (and freeing the instance) still use them;
+:meth:`SlaveCore._refuse` therefore logs the reason, hands those references back, and raises.
 """
 
 from __future__ import annotations
 
 import ctypes
+import functools
 import io
+import json
 import math
 import pickle
 from collections.abc import Callable
 from dataclasses import replace
+from pathlib import Path
 from typing import Any, NoReturn
 
 from gear_dyn.errors import GearDynError, InputError, SolverError
 from gear_dyn.fmu.inputs import input_changes
 from gear_dyn.fmu.outputs import Writer, output_writer
 from gear_dyn.fmu.stepper import Stepper
+from gear_dyn.fmu.variables import SPEC_FILE, check_spec
 from gear_dyn.scene import SECTIONS, build_pair, build_plan, parse_scene
 
 
@@ -92,20 +80,31 @@ class SlaveCore:
     """The FMI-version-independent part of a gear_dyn slave (a mixin placed before the
     exporter's slave class, whose ``do_step`` and friends it provides).
 
-    A slave calls :meth:`_init_core` in its ``__init__`` and implements :meth:`_log_error`.
+    A slave calls :meth:`_init_core` in its ``__init__``, implements :meth:`_log_error` and
+    names its exporter's classes below.
     """
 
     #: FMI function of each slave entry point (named in the message of a refused call)
     FMI_NAMES: dict[str, str] = {}
     #: what a doStep from the wrong time adds to its message
     WRONG_TIME_HINT = "; set an FMU state to go back"
+    #: the exporter's variable class of each spec type, its causality and variability enums
+    #: and its DefaultExperiment class (set by the slave)
+    VARIABLE_TYPES: dict[str, Any] = {}
+    CAUSALITY: Any = None
+    VARIABILITY: Any = None
+    EXPERIMENT: Any = None
     #: set by the exporter's slave class
     instance_name: str
     log_queue: Any
+    resources: Any
+    register_variable: Callable[..., Any]
 
-    def _init_core(self, spec: dict[str, Any], native: bool) -> None:
-        """Values and empty run state of a new instance (``native``: called by the exporter's
-        binary, which drops references on a raise; see module doc)."""
+    def _init_core(self, native: bool, fmi: int) -> None:
+        """Read the spec from the FMU's resources; values, description, default experiment,
+        variables and empty run state of a new instance of FMI version ``fmi`` (``native``:
+        called by the exporter's binary, which drops references on a raise; see module doc)."""
+        spec = check_spec(json.loads(Path(str(self.resources), SPEC_FILE).read_text("utf-8")))
         self._native = native
         self._spec = spec
         self._tables: dict[str, dict[str, Any]] = {k: dict(v) for k, v in spec["tables"].items()}
@@ -113,7 +112,6 @@ class SlaveCore:
         self._real_getters: dict[int, Callable[[], Any]] = {}  # by value reference
         self._phase = "instantiated"
         self._start_time = 0.0
-        self._stop_time: float | None = None
         self._tolerance: float | None = None
         self._stepper: Stepper | None = None
         self._base_model: Any = None
@@ -122,6 +120,21 @@ class SlaveCore:
         self._applied: tuple[float, float] | None = None
         self._built_tables: dict[str, dict[str, Any]] | None = None
         self._write: Writer | None = None
+        self.description = (f"gear_dyn {spec['model']} model of scene '{spec['scene_name']}' "
+                            f"(FMI {fmi}.0 co-simulation)")
+        ex = spec["experiment"]
+        self.default_experiment = self.EXPERIMENT(
+            start_time=ex["start_time"], stop_time=ex["stop_time"], step_size=ex["step_size"],
+            tolerance=ex["tolerance"])
+        for v in spec["variables"]:
+            getter, setter = self._access(v)
+            var = self.VARIABLE_TYPES[v["type"]](
+                v["name"], causality=self.CAUSALITY[v["causality"]],
+                variability=self.VARIABILITY[v["variability"]], description=v["description"],
+                getter=getter, setter=setter)
+            self.register_variable(var, nested=False)
+            if v["type"] == "Real":
+                self._real_getters[var.value_reference] = getter
 
     def _log_error(self, text: str) -> None:
         """Log ``text`` with status error through the exporter."""
@@ -139,7 +152,7 @@ class SlaveCore:
             getter = self._output_getter(name)
         else:
             getter = self._value_getter(v["table"], v["key"])
-            setter = self._value_setter(v["table"], v["key"], causality)
+            setter = functools.partial(self._set_value, v["table"], v["key"], causality)
         if v["type"] == "Enumeration":
             getter, setter = self._enum_access(v, getter, setter)
         return getter, setter
@@ -183,11 +196,6 @@ class SlaveCore:
 
     def _value_getter(self, table: str, key: str) -> Callable[[], Any]:
         return lambda: self._tables[table][key]
-
-    def _value_setter(self, table: str, key: str, causality: str) -> Callable[[Any], None]:
-        def setter(value: Any) -> None:
-            self._set_value(table, key, causality, value)
-        return setter
 
     def _set_value(self, table: str, key: str, causality: str, value: Any) -> None:
         name = f"{table}.{key}"
@@ -245,8 +253,7 @@ class SlaveCore:
         self._changes = {}
         op = scene.get("operating")
         self._applied = (float(op["speed"]), float(op["torque"]))
-        self._stepper = Stepper(plan.model, plan.settings, t0=self._start_time,
-                                stop_time=self._stop_time)
+        self._stepper = Stepper(plan.model, plan.settings, t0=self._start_time)
         self._built_tables = {k: dict(v) for k, v in tables.items()}
         self._new_writer()
 
@@ -301,7 +308,6 @@ class SlaveCore:
         return {
             "phase": self._phase,
             "start_time": self._start_time,
-            "stop_time": self._stop_time,
             "tolerance": self._tolerance,
             "tables": {k: dict(v) for k, v in self._tables.items()},
             "built_tables": self._built_tables,
@@ -318,7 +324,6 @@ class SlaveCore:
             reason = state.get("invalid") if isinstance(state, dict) else None
             raise InputError("not an FMU state of this FMU" + (f" ({reason})" if reason else ""))
         self._start_time = float(state["start_time"])
-        self._stop_time = state["stop_time"]
         self._tolerance = state["tolerance"]
         built = state["built_tables"]
         if built is not None and (self._stepper is None or built != self._built_tables):

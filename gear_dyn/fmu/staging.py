@@ -183,7 +183,12 @@ def build_with(builder: Any, target: str | Path | Scene, out: str | Path, fmi: i
     if not builder.has_binary():
         raise InputError(f"{builder.__module__.split('.')[0]} has no binary for this platform; "
                          "install a wheel that ships one")
-    spec, package, module, class_name = build_names(target, "3" if fmi == 3 else "")
+    spec = fmu_spec(target if isinstance(target, Scene) else load_fmu_scene(target))
+    token = secrets.token_hex(5)  # fresh names: every FMU loads its own private copy
+    tag = "3" if fmi == 3 else ""
+    package = f"gear_dyn_fmu_{token}"
+    module = f"gear_dyn_slave{tag}_{spec['model']}_{token}"
+    class_name = f"GearDyn{tag}_{spec['model']}_{token}"
     out.parent.mkdir(parents=True, exist_ok=True)
     other = "fmu/slave.py" if fmi == 3 else "fmu/slave3.py"
     with staged_build(spec, package, module, slave_script(package, class_name, spec, fmi),
@@ -231,18 +236,6 @@ def fmu_target(out: str | Path) -> Path:
     if out.exists() and out.is_dir():
         raise InputError(f"--out {out}: is a folder, expected an .fmu file name")
     return out
-
-
-def build_names(target: str | Path | Scene, tag: str) -> tuple[dict[str, Any], str, str, str]:
-    """The FMU spec of ``target`` and the names of one build: (spec, package, slave module,
-    slave class), each with a fresh token (every FMU loads its own private copy) and ``tag``
-    for the FMI version ("" for 2, "3" for 3)."""
-    scene = target if isinstance(target, Scene) else load_fmu_scene(target)
-    spec = fmu_spec(scene)
-    token = secrets.token_hex(5)
-    kind = spec["model"]
-    return (spec, f"gear_dyn_fmu_{token}", f"gear_dyn_slave{tag}_{kind}_{token}",
-            f"GearDyn{tag}_{kind}_{token}")
 
 
 @contextlib.contextmanager

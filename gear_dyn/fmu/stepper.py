@@ -1,18 +1,12 @@
 """Advance a gear_dyn model from one communication point to the next, keeping the solver alive.
 
-A co-simulation master asks for the state at ``t + h`` again and again. Setting up a fresh
-``solve_ivp`` for every step would throw away the step-size history (and cost an initial-step
-estimate each time). :class:`Stepper` instead keeps one scipy ``OdeSolver`` object (DOP853,
-RK45, RK23, Radau, BDF or LSODA) alive across communication steps: it steps the solver until it
-has passed the communication point and reads the state there from the solver's dense output, so
-the communication points never disturb the integration. The solver is restarted only where
-:mod:`gear_dyn.solvers.ode` restarts it too - at the model's switching instants (teeth entering or
-leaving contact, where the right-hand side jumps) - and where the importer changes an input.
-
-For models that are linear with piecewise-constant coefficients (``model.linear_segments``) the
-``exact`` method carries the state with the matrix exponentials of :mod:`gear_dyn.solvers.exact`
-(the pieces of a long horizon and one eigendecomposition per distinct piece matrix are kept
-across steps), so the communication step adds no error at all.
+A co-simulation master asks for the state at ``t + h`` again and again. :class:`Stepper` keeps
+one scipy ``OdeSolver`` object (DOP853, RK45, RK23, Radau, BDF or LSODA) alive across
+communication steps and reads the state at each point from its dense output, so the points
+never disturb the integration; it restarts the solver only where :mod:`gear_dyn.solvers.ode`
+does (the model's switching instants, contact changes) and where the importer changes an input.
+``exact`` carries the state with cached matrix exponentials (:class:`_Propagator`). What this
+buys and how it is tested: docs/fmu.md, "Inside doStep".
 
 :meth:`Stepper.snapshot` and :meth:`Stepper.restore` save and restore the whole integrator state
 (the solver's step size, stage derivatives, error history, LSODA work arrays), not only the model
@@ -54,18 +48,19 @@ def stepper_method(model: Model) -> str:
     return method if method in ("exact", *ODE_CLASSES) else DEFAULT_ODE_METHOD
 
 
-class _Nested(dict[str, Any]):
-    """Marks the saved attributes of an object nested in the solver (LSODA's work object)."""
+#: the key of the saved attributes of an object nested in the solver (LSODA's work object);
+#: a tagged plain dict, so a snapshot pickles with builtins and numpy only
+NESTED = "__nested__"
 
 
-def _save_attrs(obj: Any) -> _Nested:
+def _save_attrs(obj: Any) -> dict[str, Any]:
     """Deep copy of the non-callable attributes of ``obj`` (recursing into helper objects)."""
-    out = _Nested()
+    out: dict[str, Any] = {}
     for key, val in vars(obj).items():
         if callable(val) and not isinstance(val, np.ndarray):
             continue  # right-hand side and Jacobian closures: rebuilt from the model
         if hasattr(val, "__dict__") and not isinstance(val, np.ndarray | np.generic):
-            out[key] = _save_attrs(val)
+            out[key] = {NESTED: _save_attrs(val)}
         else:
             out[key] = copy.deepcopy(val)
     return out
@@ -76,8 +71,8 @@ def _load_attrs(obj: Any, saved: dict[str, Any]) -> None:
     shapes match, so views stay views (DOP853's ``K`` is a view of ``K_extended``)."""
     for key, val in saved.items():
         cur = getattr(obj, key, None)
-        if isinstance(val, _Nested):
-            _load_attrs(cur, val)
+        if isinstance(val, dict) and set(val) == {NESTED}:
+            _load_attrs(cur, val[NESTED])
         elif _copy_into(cur, val):
             pass
         elif isinstance(val, list) and isinstance(cur, list) and len(cur) == len(val):
@@ -96,18 +91,6 @@ def _copy_into(cur: Any, val: Any) -> bool:
         return True
     return False
 
-
-def _plain(saved: Any) -> Any:
-    """_Nested -> tagged plain dicts (so a snapshot pickles with builtins and numpy only)."""
-    if isinstance(saved, _Nested):
-        return {"__nested__": {k: _plain(v) for k, v in saved.items()}}
-    return saved
-
-
-def _unplain(saved: Any) -> Any:
-    if isinstance(saved, dict) and set(saved) == {"__nested__"}:
-        return _Nested({k: _unplain(v) for k, v in saved["__nested__"].items()})
-    return saved
 
 class _Propagator:
     """``z -> expm(M s) z`` for one constant matrix ``M``, on plain Python floats.
@@ -177,10 +160,6 @@ class Stepper:
         Start time in s.
     y0 : ndarray or None
         Initial state; None uses ``model.initial_state()``.
-    stop_time : float or None
-        End of the run announced by the master in s; kept for information only: the steps
-        taken (switching windows, solver bounds) never depend on it, so the outputs at t do
-        not depend on what the master plans after t.
 
     Raises
     ------
@@ -189,7 +168,7 @@ class Stepper:
     """
 
     def __init__(self, model: Model, settings: SolverSettings, t0: float = 0.0,
-                 y0: FloatArray | None = None, stop_time: float | None = None) -> None:
+                 y0: FloatArray | None = None) -> None:
         # a whole-run method (periodic step maps) is not kept alive across steps: auto's choice
         method = (stepper_method(model) if settings.method in ("auto", "periodic")
                   else settings.method)
@@ -201,7 +180,6 @@ class Stepper:
         self.method = method
         self.t = float(t0)
         self.y = np.array(model.initial_state() if y0 is None else y0, dtype=float)
-        self.stop_time = math.inf if stop_time is None else float(stop_time)
         self._switches: FloatArray = np.empty(0)
         self._switch_end: float | None = None
         self._solver: OdeSolver | None = None
@@ -216,8 +194,6 @@ class Stepper:
         self._props: list[_Propagator] = []  # the propagator of each piece
         self._piece = 0
         self._exps: dict[bytes, _Propagator] = {}
-        self.nfev = 0  # right-hand side evaluations of finished solver segments
-        self.n_restarts = 0
 
     # ------------------------------------------------------------------ helpers
     @property
@@ -260,14 +236,6 @@ class Stepper:
         # the communication points inside a step, stays within the tolerance)
         return cls(self.model.rhs, t, y, t_bound, rtol=self.settings.rtol, atol=self.atol,
                    max_step=step_limit(self.model, self.settings), **extra)
-
-    def _count(self) -> int:
-        return self.nfev + (self._solver.nfev if self._solver is not None else 0)
-
-    @property
-    def evaluations(self) -> int:
-        """Right-hand side evaluations so far (matrix exponentials for ``exact``)."""
-        return self._count()
 
     # ------------------------------------------------------------------ stepping
     def advance(self, t1: float) -> FloatArray:
@@ -315,7 +283,6 @@ class Stepper:
             tb = pieces[i][1]
             te = tb if tb < t1 else t1
             z = props[i].apply(te - t, z)
-            self.nfev += 1
             t = te
             if te == tb:
                 self._piece = i + 1
@@ -353,7 +320,6 @@ class Stepper:
                 te, ye = self._cut
                 if t1 <= te:
                     return np.asarray(solver.dense_output()(t1), dtype=float)
-                self.nfev += solver.nfev
                 solver = self._start(te, ye, self._cut_event)
                 continue
             if solver.t >= t1:
@@ -361,7 +327,6 @@ class Stepper:
                     return np.array(solver.y, dtype=float)
                 return np.asarray(solver.dense_output()(t1), dtype=float)
             if solver.status == "finished":  # reached a switching instant: restart there
-                self.nfev += solver.nfev
                 solver = self._start(solver.t, np.array(solver.y), None)
                 continue
             msg = solver.step()
@@ -415,15 +380,12 @@ class Stepper:
 
         The solver is restarted at the current time: the right-hand side jumps there.
         """
-        if self._solver is not None:
-            self.nfev += self._solver.nfev
         self.model = model
         self._solver = None
         self._events = list(model.contact_events())
         self._cut, self._cut_event = None, None
         self._pieces, self._props, self._piece, self._exps = [], [], 0, {}
         self._switches, self._switch_end = np.empty(0), None
-        self.n_restarts += 1
 
     # ------------------------------------------------------------------ state
     def snapshot(self) -> dict[str, Any]:
@@ -431,9 +393,8 @@ class Stepper:
         solver = None
         if self._solver is not None:
             solver = {"t_bound": float(self._solver.t_bound),
-                      "attrs": _plain(_save_attrs(self._solver))}
-        return {"t": self.t, "y": self.y.copy(), "nfev": self.nfev,
-                "n_restarts": self.n_restarts, "method": self.method, "solver": solver,
+                      "attrs": _save_attrs(self._solver)}
+        return {"t": self.t, "y": self.y.copy(), "method": self.method, "solver": solver,
                 # the switching instants in use (found numerically by some models: another
                 # search window could move them in the last digits)
                 "switches": self._switches.copy(), "switch_end": self._switch_end,
@@ -449,8 +410,6 @@ class Stepper:
                              f"instance runs {self.method!r}")
         self.t = float(snap["t"])
         self.y = np.array(snap["y"], dtype=float)
-        self.nfev = int(snap["nfev"])
-        self.n_restarts = int(snap["n_restarts"])
         self._pieces, self._props, self._piece = [], [], 0
         self._switches = np.array(snap["switches"], dtype=float)
         self._switch_end = snap["switch_end"]
@@ -464,7 +423,7 @@ class Stepper:
         if s is None:
             self._solver = None
             return
-        attrs = _unplain(s["attrs"])
+        attrs = s["attrs"]
         solver = self._new_solver(float(attrs["t"]), np.array(attrs["y"], dtype=float))
         _load_attrs(solver, attrs)
         self._solver = solver

@@ -37,25 +37,9 @@ COMMON_FLAGS = ("-std=c99", "-O2", "-Wall", "-Wextra", "-shared")
 
 def fmi_headers(fmi: int = 2) -> Path:
     """The folder with the FMI 2 (``fmi=2``) or FMI 3 headers of the Modelica Association
-    (``fmi2Functions.h`` ..., ``fmi3Functions.h`` ...): gear_dyn's own copy in
-    ``gear_dyn/fmu/native/fmi2`` (``fmi3``) when present, else the copy fmpy ships in
-    ``fmpy/c-code``.
-
-    Raises
-    ------
-    InputError
-        Neither copy has the headers.
-    """
-    name = f"fmi{fmi}Functions.h"
-    own = Path(__file__).with_name("native") / f"fmi{fmi}"
-    if (own / name).is_file():
-        return own
-    import fmpy
-
-    shipped = Path(fmpy.__file__).with_name("c-code")
-    if (shipped / name).is_file():
-        return shipped
-    raise InputError(f"the FMI {fmi} headers ({name}) are neither in {own} nor in {shipped}")
+    (``fmi2Functions.h`` ..., ``fmi3Functions.h`` ...): gear_dyn's own copy (package data),
+    ``gear_dyn/fmu/native/fmi2`` (``fmi3``)."""
+    return Path(__file__).with_name("native") / f"fmi{fmi}"
 
 
 def linux_compiler() -> str | None:

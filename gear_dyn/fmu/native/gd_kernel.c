@@ -281,14 +281,6 @@ void gd_defaults(gd_state *s, const gd_model *m)
     memcpy(s->par, m->start, sizeof s->par);
 }
 
-int gd_check(const gd_model *m, int i, double value)
-{
-    const gd_param *p = &m->params[i];
-    if (!(value == value) || value > p->high || value < p->low || (p->low_open && value == p->low))
-        return GD_ERR_RANGE;
-    return GD_OK;
-}
-
 static void locate_piece(gd_state *s, const gd_model *m)
 {
     int i = 0;
@@ -306,8 +298,7 @@ void gd_start(gd_state *s, const gd_model *m, double t0)
         return;
     }
     s->t = t0;
-    s->cycles = floor(m->phase0);
-    s->frac = m->phase0 - s->cycles;
+    s->frac = m->phase0 - floor(m->phase0);
     locate_piece(s, m);
     q.m = m; q.i = s->piece; q.t0 = t0; q.frac0 = s->frac; q.fm = fm;
     coeffs(&q, t0, k);
@@ -347,7 +338,7 @@ int gd_advance(gd_state *s, const gd_model *m, double t_end)
         } else if (hit) {
             s->t = dt == t_end - s->t ? t_end : s->t + dt;
             s->frac = m->breaks[++s->piece];
-            if (s->piece == m->n_pieces) { s->piece = 0; s->frac = 0.0; s->cycles += 1.0; }
+            if (s->piece == m->n_pieces) { s->piece = 0; s->frac = 0.0; }
         } else {
             s->t = t_end;
             s->frac += q.fm * dt;
@@ -418,7 +409,8 @@ int gd_set(gd_state *s, const gd_model *m, unsigned vr, double value, int starte
                  "(or reset the instance)", p->name);
         return GD_ERR_VR;
     }
-    if (gd_check(m, j, value) != GD_OK) {
+    if (!(value == value) || value > p->high || value < p->low
+        || (p->low_open && value == p->low)) {
         u = strcmp(p->unit, "1") ? p->unit : "";
         snprintf(msg, len, "%s = %s%s%s is out of range: valid range %s%s, %s]%s%s", p->name,
                  num(a, value), *u ? " " : "", u, p->low_open ? "(" : "[", num(b, p->low),

@@ -58,7 +58,7 @@ extern const gd_model gd_model_data;
 typedef struct {
     double par[GD_NPAR];        /* parameters and inputs */
     double t, x, v;             /* time (s), DTE (m) and its rate (m/s) */
-    double cycles, frac;        /* mesh phase = cycles + frac, frac in [0, 1) */
+    double frac;                /* mesh phase modulo the table's span (cycles) */
     double h;                   /* next Runge-Kutta step (s) */
     double q[4];                /* torsional states q1, q2 (rad), q1', q2' (rad/s) */
     int piece, regime;          /* table piece; contact 1 drive, 0 gap, -1 back flank */
@@ -72,7 +72,6 @@ enum { GD_OK = 0, GD_ERR_RANGE = 1, GD_ERR_STEP = 2, GD_ERR_VR = 3 };
     "contact changes); lower solver.tolerance or check the inputs"
 
 void gd_defaults(gd_state *s, const gd_model *m);
-int gd_check(const gd_model *m, int i, double value);
 void gd_start(gd_state *s, const gd_model *m, double t0);
 int gd_advance(gd_state *s, const gd_model *m, double t_end);
 void gd_outputs(const gd_state *s, const gd_model *m, double *out);

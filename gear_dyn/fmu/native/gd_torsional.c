@@ -121,7 +121,6 @@ void gd_tors_start(gd_state *s, const gd_model *m, double t0)
     double v[NQ], i1 = g->inertia[0], i2 = g->inertia[1], rb1 = m->rb1, rb2 = m->rb2, ed;
     tctx q;
     s->t = t0;
-    s->cycles = 0.0;
     s->frac = 0.0;
     s->piece = 0;
     setup(&q, s, m);
@@ -154,7 +153,6 @@ int gd_tors_advance(gd_state *s, const gd_model *m, double t_end)
             if (s->piece == m->n_pieces) {
                 s->piece = 0;
                 s->frac = 0.0;
-                s->cycles += m->breaks[m->n_pieces];
             }
         } else {
             s->t = t_end;
