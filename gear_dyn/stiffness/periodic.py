@@ -10,8 +10,10 @@ Jiang et al. 2018, eq. 13, its printed second ``cos`` read as ``sin``).
 
 from __future__ import annotations
 
+import math
 from abc import ABC, abstractmethod
 from bisect import bisect_right
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -332,17 +334,25 @@ def rectangular_stiffness(contact_ratio: float, k_single: float, k_double: float
             return k_single
         return k_double + (pairs - 2) * k_double / 2
 
-    n = int(np.floor(contact_ratio))
+    return stepped_stiffness(contact_ratio, k_of, name)
+
+
+def contact_segments(contact_ratio: float) -> list[tuple[float, float, int]]:
+    """``(start, end, pairs in contact)`` of the pieces of one mesh cycle (phase 0: a new pair
+    enters): ``n + 1`` pairs on ``[0, f)`` and ``n`` on ``[f, 1)``, ``n = floor(eps_a)``,
+    ``f = eps_a - n``; one piece when f is 0 (to 1e-9)."""
+    n = int(math.floor(contact_ratio))
     f = contact_ratio - n
     if f < 1e-9 or f > 1 - 1e-9:
-        pairs = int(round(contact_ratio))
-        k = k_of(pairs)
-        return PiecewiseStiffness(np.array([0.0, 1.0]), ((np.array([0.0, 1.0]), np.array([k, k])),),
-                                  name=name)
-    kh, kl = k_of(n + 1), k_of(n)
-    edges = np.array([0.0, f, 1.0])
-    samples = (
-        (np.array([0.0, f]), np.array([kh, kh])),
-        (np.array([f, 1.0]), np.array([kl, kl])),
-    )
-    return PiecewiseStiffness(edges, samples, name=name)
+        return [(0.0, 1.0, int(round(contact_ratio)))]
+    return [(0.0, f, n + 1), (f, 1.0, n)]
+
+
+def stepped_stiffness(contact_ratio: float, level: Callable[[int], float],
+                      name: str) -> PiecewiseStiffness:
+    """Piecewise-constant stiffness ``level(pairs)`` (N/m) on the pieces of
+    :func:`contact_segments`."""
+    pieces = contact_segments(contact_ratio)
+    edges = np.array([0.0, *(hi for _lo, hi, _n in pieces)])
+    return PiecewiseStiffness(edges, tuple((np.array([lo, hi]), np.full(2, level(pairs)))
+                                           for lo, hi, pairs in pieces), name=name)

@@ -31,6 +31,7 @@ from gear_dyn.stiffness.periodic import (
     PeriodicStiffness,
     PiecewiseStiffness,
     rectangular_stiffness,
+    stepped_stiffness,
 )
 from gear_dyn.stiffness.potential_energy import potential_energy_pair_stiffness
 from gear_dyn.stiffness.tooth import ToothOptions
@@ -83,32 +84,14 @@ def _iso_wave(pair: GearPair, opts: Mapping[str, Any], name: str) -> PiecewiseSt
         iso = iso6336_stiffness(pair, line_load=opts.get("line_load"))
         k_single = iso.k_single
         k_double = ISO_DOUBLE_FACTOR * k_single
-        if pair.contact_ratio >= 2.0:
-            return _iso_high_contact(pair.contact_ratio, k_single, name)
+        if pair.contact_ratio >= 2.0:  # n pairs: c' b (0.75 n + 0.25), mean c_gamma b for any eps_a
+            return stepped_stiffness(pair.contact_ratio, lambda n: k_single * (0.75 * n + 0.25),
+                                     name)
     else:
         k_single = _positive("single", single, "N/m")
         k_double = (ISO_DOUBLE_FACTOR * k_single if double is None
                     else _positive("double", double, "N/m"))
     return rectangular_stiffness(pair.contact_ratio, k_single, k_double, name=name)
-
-
-def _iso_high_contact(eps: float, k_single: float, name: str) -> PiecewiseStiffness:
-    """ISO wave for eps_a >= 2: n pairs give ``c' b (0.75 n + 0.25)`` (1 pair: c' b, 2 pairs:
-    1.75 c' b as for eps_a < 2), so the mean is c_gamma b exactly for any eps_a."""
-    n = int(np.floor(eps))
-    f = eps - n
-
-    def lvl(pairs: int) -> float:
-        return k_single * (0.75 * pairs + 0.25)
-
-    if f < 1e-9 or f > 1 - 1e-9:
-        k = lvl(int(round(eps)))
-        return PiecewiseStiffness(np.array([0.0, 1.0]), ((np.array([0.0, 1.0]),
-                                                          np.array([k, k])),), name=name)
-    hi, lo = lvl(n + 1), lvl(n)
-    return PiecewiseStiffness(np.array([0.0, f, 1.0]),
-                              ((np.array([0.0, f]), np.array([hi, hi])),
-                               (np.array([f, 1.0]), np.array([lo, lo]))), name=name)
 
 
 def tooth_options(opts: Mapping[str, Any]) -> ToothOptions:
