@@ -102,13 +102,13 @@ def tooth_options(opts: Mapping[str, Any]) -> ToothOptions:
 
 
 
-def _int_opt(opts: Mapping[str, Any], key: str, default: int, low: int) -> int:
-    v = opts.get(key, default)
-    if v is None:
+def _int_opt(key: str, value: Any, default: int, low: int) -> int:
+    """``value`` as an int >= ``low`` (``default`` for None), else an InputError naming ``key``."""
+    if value is None:
         return default
-    if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < low:
-        raise InputError(f"{key} = {v!r}: valid range >= {low} (integer)")
-    return int(v)
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < low:
+        raise InputError(f"{key} = {value!r}: valid range >= {low} (integer)")
+    return int(value)
 
 
 def _contact_line(pair: GearPair, opts: Mapping[str, Any]) -> PiecewiseStiffness:
@@ -139,10 +139,9 @@ def _build_cached(key: _Key) -> PeriodicStiffness:
         return _iso_wave(pair, opts, method)
     if method == "contact_line":
         return _contact_line(pair, opts)
-    samples = _int_opt(opts, "samples_per_cycle", 200, 4)
+    samples = _int_opt("samples_per_cycle", opts.get("samples_per_cycle"), 200, 4)
     slices = opts.get("slices")
-    if slices is not None:
-        slices = _int_opt(opts, "slices", 1, 1)
+    slices = None if slices is None else _int_opt("slices", slices, 1, 1)
     return mesh_stiffness_from_pair(pair, _pair_fn(method, opts), samples_per_cycle=samples,
                                     name=method, slices=slices)
 
@@ -156,8 +155,8 @@ def _pair_fn(method: str, opts: Mapping[str, Any]) -> Any:
     modulus = current_modulus(opts.get("weber_modulus") or "jiang2018", "weber_modulus")
     if modulus not in MODULI:
         raise InputError(f"weber_modulus = {modulus!r}: valid values are {', '.join(MODULI)}")
-    return partial(weber_pair_stiffness, options=tooth,
-                   slices=_int_opt(opts, "weber_slices", 20, 1), modulus=modulus,
+    return partial(weber_pair_stiffness, options=tooth, modulus=modulus,
+                   slices=_int_opt("weber_slices", opts.get("weber_slices"), 20, 1),
                    foundation=bool(opts.get("weber_foundation", False)))
 
 
@@ -256,12 +255,9 @@ def build_stiffness(pair: GearPair, method: str = "iso6336", *,
         raise InputError(f"stiffness options must be numbers, strings or booleans, got "
                          f"{dict(items)!r}") from None
     k = _build_cached(_Key(pair, method, items))
-    if fourier_terms is not None:
-        if isinstance(fourier_terms, bool) or not isinstance(fourier_terms, int | np.integer) \
-                or fourier_terms < 1:
-            raise InputError(f"fourier_terms = {fourier_terms!r}: valid range >= 1 (integer)")
-        return k.truncated(int(fourier_terms))
-    return k
+    if fourier_terms is None:
+        return k
+    return k.truncated(_int_opt("fourier_terms", fourier_terms, 1, 1))
 
 
 #: scene key -> build_stiffness option (the [stiffness] TOML table, gear_dyn/scene/core.py)
