@@ -145,8 +145,7 @@ class TorsionalModel:
         if not (math.isfinite(k_m) and k_m > 0):
             raise InputError(f"mean mesh stiffness = {k_m:.6g} N/m: valid range > 0 N/m")
         setf(self, "mean_stiffness", k_m)
-        m_e = effective_mass(self.inertias[0], self.inertias[1], pair.rb1, pair.rb2)
-        setf(self, "damping", 2 * self.damping_ratio * math.sqrt(m_e * k_m))
+        setf(self, "damping", 2 * self.damping_ratio * math.sqrt(self.effective_mass * k_m))
         setf(self, "_excite", self._build_excite())
         phi = self._mean_friction_arms() if self.friction is not None else (0.0, 0.0)
         setf(self, "mean_friction_arms", phi)
@@ -267,33 +266,30 @@ class TorsionalModel:
         (N/m), ``contact_length`` (m, when contact lines are modelled), ``phi1``, ``phi2``
         (friction torque per unit normal load, m), ``w2_kinematic`` (rad/s)."""
         t = np.asarray(t, dtype=float)
-        kin = self._mesh.kinematics(t) if self.eccentric else None
+        lay = self._layout
+        # the kinematics, where eccentricity or contact lines need them
+        kin = self._mesh.kinematics(t) if self.eccentric or lay is not None else None
         zero = np.zeros_like(t)
         out: dict[str, FloatArray]
-        if kin is not None:
+        if self.eccentric and kin is not None:
             out = {"e_ecc": np.asarray(kin.e_ecc, dtype=float),
                    "e_ecc_rate": np.asarray(kin.e_ecc_rate, dtype=float),
                    "w2_kinematic": np.asarray(kin.w2, dtype=float)}
         else:
             out = {"e_ecc": zero, "e_ecc_rate": zero,
                    "w2_kinematic": np.full_like(t, self.speed * self.pair.z1 / self.pair.z2)}
-        lay = self._layout
-        kin_lines = kin if kin is not None else self._mesh.kinematics(t) if lay is not None \
-            else None
-        if lay is not None:
-            assert kin_lines is not None
-            out["contact_length"] = np.asarray(contact_lines(lay, kin_lines).total, dtype=float)
+        if lay is not None and kin is not None:
+            out["contact_length"] = np.asarray(contact_lines(lay, kin).total, dtype=float)
         stiff = self.stiffness
         if isinstance(stiff, ContactLineStiffness):
             out["stiffness"] = stiff.per_length * out["contact_length"]
-        elif kin is not None:
+        elif self.eccentric and kin is not None:
             phase = (kin.travel + self._mesh.l_ac0 - kin.l_ac) / self.pair.base_pitch
             out["stiffness"] = np.asarray(stiff(phase), dtype=float)
         else:
             out["stiffness"] = np.asarray(stiff(self.mesh_frequency * t), dtype=float)
-        if self.friction is not None:
-            assert lay is not None and kin_lines is not None
-            ff = friction_factors(lay, kin_lines, self.friction)
+        if self.friction is not None and lay is not None and kin is not None:
+            ff = friction_factors(lay, kin, self.friction)
             out["phi1"] = np.asarray(ff.torque_pinion, dtype=float)
             out["phi2"] = np.asarray(ff.torque_gear, dtype=float)
             out["friction_force_factor"] = np.asarray(ff.force, dtype=float)
@@ -433,13 +429,10 @@ class TorsionalModel:
         if self.friction is not None:
             found.append(_levels(pitch_line, rate, t0, t1, np.array([-l_ac0, width - l_ac0]),
                                  pitch))
-        ts = np.sort(np.concatenate(found)) if found else np.empty(0)
-        if ts.size:
-            tol = 1e-12 * max(abs(t1), 1.0 / self.mesh_frequency)
-            ts = ts[(ts > t0 + tol) & (ts < t1 - tol)]
-            keep = np.concatenate([[True], np.diff(ts) > tol]) if ts.size else ts.astype(bool)
-            ts = ts[keep]
-        return ts
+        ts = np.sort(np.concatenate(found))  # never empty: a stiffness or contact lines
+        tol = 1e-12 * max(abs(t1), 1.0 / self.mesh_frequency)
+        ts = ts[(ts > t0 + tol) & (ts < t1 - tol)]
+        return ts[np.concatenate([[True], np.diff(ts) > tol])] if ts.size else ts
 
     def contact_events(self) -> list[Callable[[float, FloatArray], float]]:
         """Functions g(t, y) whose zeros are contact changes through the backlash (none without).
@@ -477,21 +470,11 @@ class TorsionalModel:
                 or self.friction is not None or self.backlash is not None
                 or self.transmission_error is not None):
             return None
-        rb1, rb2 = self.pair.rb1, self.pair.rb2
-        i1, i2 = self.inertias
-        c = self.damping
         cuts = np.concatenate([[t0], self.switching_times(t0, t1), [t1]])
-        g = np.array([0.0, 0.0, self.torque / i1, -self.load / i2])
-        out = []
-        for ta, tb in zip(cuts[:-1], cuts[1:], strict=True):
-            k = float(stiff(self.mesh_frequency * 0.5 * (ta + tb)))
-            dfdy = np.array([k * rb1, -k * rb2, c * rb1, -c * rb2])
-            a = np.zeros((4, 4))
-            a[0, 2] = a[1, 3] = 1.0
-            a[2] = -rb1 * dfdy / i1
-            a[3] = rb2 * dfdy / i2
-            out.append((float(ta), float(tb), a, g))
-        return out
+        g = np.array([0.0, 0.0, self.torque / self.inertias[0], -self.load / self.inertias[1]])
+        y = np.zeros(4)  # the plain model's Jacobian A does not depend on the state
+        return [(float(ta), float(tb), self.jac(0.5 * (ta + tb), y), g)
+                for ta, tb in zip(cuts[:-1], cuts[1:], strict=True)]
 
     # ---------------------------------------------------------------- outputs
     def outputs(self, t: FloatArray, y: FloatArray) -> dict[str, FloatArray]:
