@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.eccentricity.kinematics import EccentricMesh, Kinematics
+from gear_dyn.stiffness.contact_line import mean_contact_line_length
 
 FloatArray = NDArray[np.float64]
 
@@ -187,6 +188,6 @@ def total_length_scalar(layout: LineLayout, kin: LinePlace) -> float:
 
 
 def mean_length(mesh: EccentricMesh) -> float:
-    """B eps_a / cos b_b in m: the mean of L(t) of the error-free pair."""
-    p = mesh.pair
-    return p.face_width * p.contact_ratio / math.cos(p.beta_b)
+    """B eps_a / cos b_b in m: the mean of L(t) of the error-free pair
+    (:func:`~gear_dyn.stiffness.contact_line.mean_contact_line_length`)."""
+    return mean_contact_line_length(mesh.pair)

@@ -259,10 +259,8 @@ class LoadedContact:
         extra = (sw[:, None] + np.arange(nn)[None, :]).ravel() * pb + s_a
         extra = extra[(extra >= s_a) & (extra <= s_e)]
         d = _NUDGE * pb
-        s = np.unique(np.concatenate([
-            np.linspace(s_a, s_e, n), extra - d, extra + d, [s_a, s_e]]))
-        s = np.clip(s, s_a, s_e)
-        s = np.unique(s)
+        s = np.unique(np.clip(np.concatenate([np.linspace(s_a, s_e, n), extra - d, extra + d,
+                                              [s_a, s_e]]), s_a, s_e))
         u = (s - s_a) / pb
         j = np.minimum(np.floor(u).astype(int), nn - 1)
         ph = u - j

@@ -292,11 +292,8 @@ class FourierStiffness(PeriodicStiffness):
         return (self._powers(phase) @ (w * (self.b + 1j * self.a))).real
 
     def fourier_coefficients(self, n: int) -> tuple[float, FloatArray, FloatArray]:
-        a = np.zeros(max(n, 0))
-        b = np.zeros(max(n, 0))
-        m = min(n, self.a.size)
-        a[:m] = self.a[:m]
-        b[:m] = self.b[:m]
+        n = max(n, 0)  # the first n harmonics, zeros beyond the series
+        a, b = (np.pad(c[:n], (0, n - min(n, c.size))) for c in (self.a, self.b))
         return float(self.k0), a, b
 
 
