@@ -17,7 +17,7 @@ from __future__ import annotations
 import bisect
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -26,7 +26,7 @@ from gear_dyn.errors import InputError, check_range
 from gear_dyn.excitation import SampledSignal
 from gear_dyn.geometry import GearPair
 from gear_dyn.modification.relief import ProfileModification
-from gear_dyn.stiffness.periodic import PiecewiseStiffness
+from gear_dyn.stiffness.periodic import PiecewiseStiffness, distinct_phases
 
 FloatArray = NDArray[np.float64]
 PairStiffnessFn = Callable[[FloatArray], FloatArray]
@@ -486,25 +486,15 @@ def loaded_contact(
     geo = np.unique(np.mod(np.array([0.0, eps - math.floor(eps)]), 1.0))
     geo_edges = np.concatenate([geo, [1.0]])
     roots = _loaded_switches(pair, pair_stiffness, load, modification, geo_edges, 512)
-    sw = np.unique(np.concatenate([geo, np.mod(np.asarray(roots, dtype=float), 1.0)]))
-    # drop switching phases closer than a few nudges (tangencies, duplicates)
-    keep = np.concatenate([[True], np.diff(sw) > 10 * _NUDGE])
-    sw = sw[keep]
-    if sw.size > 1 and sw[-1] > 1.0 - 10 * _NUDGE:
-        sw = sw[:-1]
-    edges = np.concatenate([sw, [1.0]])
+    # switching phases closer than a few nudges (tangencies, duplicates) count once
+    edges = np.append(distinct_phases(np.concatenate([geo, roots]), 10 * _NUDGE), 1.0)
     m = int(samples_per_segment)
-    phases, seg = [], []
-    for i in range(edges.size - 1):
-        a, b = edges[i], edges[i + 1]
-        ph = np.linspace(a, b, m)
-        ph[0] += _NUDGE * min(1.0, (b - a) * 1e3)
-        ph[-1] -= _NUDGE * min(1.0, (b - a) * 1e3)
-        phases.append(ph)
-        seg.append(np.full(m, i))
-    st = contact_state(pair, pair_stiffness, load, np.concatenate(phases), modification)
+    ph = np.linspace(edges[:-1], edges[1:], m, axis=1)  # (segments, m)
+    nudge = _NUDGE * np.minimum(1.0, np.diff(edges) * 1e3)
+    ph[:, 0] += nudge
+    ph[:, -1] -= nudge
     # contact_state wraps phases into [0, 1); keep the unwrapped sample phases
-    st = ContactState(np.concatenate(phases), st.position, st.stiffness, st.gap, st.force,
-                      st.deflection)
+    st = replace(contact_state(pair, pair_stiffness, load, ph.ravel(), modification),
+                 phase=ph.ravel())
     return LoadedContact(pair, load, modification, pair_stiffness, edges, st,
-                         np.concatenate(seg))
+                         np.repeat(np.arange(edges.size - 1), m))

@@ -101,6 +101,14 @@ class PeriodicStiffness(ABC):
         return np.sort(t[(t > t0 + tol) & (t < t1 - tol)])
 
 
+def distinct_phases(phases: ArrayLike, tol: float) -> FloatArray:
+    """``phases`` reduced to [0, 1) and sorted, one of each run closer than ``tol`` (cycles);
+    a phase within ``tol`` below 1 is the phase 0 of the next cycle."""
+    p = np.sort(np.mod(np.asarray(phases, dtype=float), 1.0))
+    p = p[np.concatenate([[True], np.diff(p) > tol])]
+    return p[:-1] if p.size > 1 and p[-1] > 1.0 - tol else p
+
+
 #: most harmonics a truncated series may keep (the scene allows 200)
 MAX_FOURIER_TERMS = 10_000
 
