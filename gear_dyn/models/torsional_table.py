@@ -63,16 +63,11 @@ class ExcitationTable:
     cuts: Callable[[float, float], FloatArray]
     block: float
     scale: FloatArray
-    max_error: FloatArray = field(init=False)
+    max_error: FloatArray = field(init=False, default_factory=lambda: np.zeros(5))
     _blocks: dict[int, tuple[list[float], list[float], list[float], list[list[Values]]]] = \
-        field(init=False, repr=False)
+        field(init=False, repr=False, default_factory=dict)
     _arrays: dict[int, tuple[FloatArray, FloatArray, FloatArray, FloatArray]] = \
-        field(init=False, repr=False)
-
-    def __post_init__(self) -> None:
-        self._blocks = {}
-        self._arrays = {}
-        self.max_error = np.zeros(5)
+        field(init=False, repr=False, default_factory=dict)
 
     def _build(self, b: int) -> None:
         """Fit block ``b`` (times ``b block .. (b + 1) block``)."""
