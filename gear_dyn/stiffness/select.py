@@ -10,7 +10,6 @@ replaces any curve by its truncated Fourier series. Unknown options are refused.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
 from functools import lru_cache, partial
 from typing import Any
 
@@ -54,15 +53,6 @@ METHOD_OPTIONS: dict[str, tuple[str, ...]] = {
                         "weber_foundation"),
     "contact_line": ("stiffness_per_length", "line_load"),
 }
-
-
-@dataclass(frozen=True)
-class _Key:
-    """Hashable cache key: pair, method and the sorted option items."""
-
-    pair: GearPair
-    method: str
-    items: tuple[tuple[str, Any], ...]
 
 
 def _positive(name: str, value: Any, unit: str) -> float:
@@ -133,8 +123,10 @@ def _contact_line(pair: GearPair, opts: Mapping[str, Any]) -> PiecewiseStiffness
 
 
 @lru_cache(maxsize=128)
-def _build_cached(key: _Key) -> PeriodicStiffness:
-    pair, method, opts = key.pair, key.method, dict(key.items)
+def _build_cached(pair: GearPair, method: str,
+                  items: tuple[tuple[str, Any], ...]) -> PeriodicStiffness:
+    """The stiffness of :func:`build_stiffness`, cached per pair, method and sorted options."""
+    opts = dict(items)
     if method in ("rectangular", "iso6336"):
         return _iso_wave(pair, opts, method)
     if method == "contact_line":
@@ -254,7 +246,7 @@ def build_stiffness(pair: GearPair, method: str = "iso6336", *,
     except TypeError:
         raise InputError(f"stiffness options must be numbers, strings or booleans, got "
                          f"{dict(items)!r}") from None
-    k = _build_cached(_Key(pair, method, items))
+    k = _build_cached(pair, method, items)
     if fourier_terms is None:
         return k
     return k.truncated(_int_opt("fourier_terms", fourier_terms, 1, 1))
