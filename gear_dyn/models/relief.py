@@ -178,6 +178,7 @@ class ContactSDOFModel(ModelDefaults):
         self.mesh_frequency = base.mesh_frequency
         self.mean_stiffness = base.mean_stiffness
         self.natural_frequency = base.natural_frequency  # k_m the unmodified mean stiffness
+        self._unmodified = base.stiffness  # switching at the geometric entry and exit
         self._s_a, self._pb = pair.start_of_contact, pair.base_pitch
         self._s_e = pair.end_of_contact
         self._n = int(math.ceil(pair.contact_ratio)) + 1
@@ -193,8 +194,6 @@ class ContactSDOFModel(ModelDefaults):
         self._n_tab = int(self._s.size)
         self._k_list = [float(v) for v in self._k]
         self._g_list = [float(v) for v in self._g]
-        eps = pair.contact_ratio
-        self._switch = np.unique(np.mod([0.0, eps - math.floor(eps)], 1.0))
 
     def at_mesh_frequency(self, mesh_frequency: float) -> ContactSDOFModel:
         """A copy at another mesh frequency (only f_m depends on speed here)."""
@@ -253,10 +252,7 @@ class ContactSDOFModel(ModelDefaults):
 
     def switching_times(self, t0: float, t1: float) -> FloatArray:
         """Geometric entry/exit instants (a pair without relief enters with a force jump)."""
-        fm = self.mesh_frequency
-        c0, c1 = int(np.floor(fm * t0)), int(np.floor(fm * t1))
-        ph = (np.arange(c0, c1 + 1)[:, None] + self._switch[None, :]).ravel() / fm
-        return np.sort(ph[(ph > t0) & (ph < t1)])
+        return self._unmodified.switching_times(t0, t1, self.mesh_frequency)
 
     def summary_info(self) -> dict[str, Any]:
         """Extra summary entries."""
