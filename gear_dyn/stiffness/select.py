@@ -111,15 +111,12 @@ def _contact_line(pair: GearPair, opts: Mapping[str, Any]) -> PiecewiseStiffness
         k_l = iso.k_mesh / mean_contact_line_length(pair)
     else:
         k_l = _positive("stiffness_per_length", k_l, "N/m^2")
-    bp = contact_line_breakpoints(pair)
-    edges = np.append(bp, 1.0)
-    samples = []
-    eps = 1e-12
-    for lo, hi in zip(edges[:-1], edges[1:], strict=True):
-        ph = np.array([lo, hi])
-        inner = np.array([lo + eps * (hi - lo), hi - eps * (hi - lo)])
-        samples.append((ph, k_l * contact_line_length(pair, inner)))
-    return PiecewiseStiffness(edges, tuple(samples), name="contact_line")
+    edges = np.append(contact_line_breakpoints(pair), 1.0)
+    lo, hi = edges[:-1], edges[1:]
+    eps = 1e-12 * (hi - lo)  # just inside each piece (L(p) is linear between breakpoints)
+    ends = k_l * contact_line_length(pair, np.stack([lo + eps, hi - eps], axis=1))
+    return PiecewiseStiffness(edges, tuple(zip(np.stack([lo, hi], axis=1), ends, strict=True)),
+                              name="contact_line")
 
 
 @lru_cache(maxsize=128)
