@@ -146,7 +146,10 @@ class TorsionalModel:
             raise InputError(f"mean mesh stiffness = {k_m:.6g} N/m: valid range > 0 N/m")
         setf(self, "mean_stiffness", k_m)
         setf(self, "damping", 2 * self.damping_ratio * math.sqrt(self.effective_mass * k_m))
-        setf(self, "_excite", self._build_excite())
+        # t -> (e_ecc, e_ecc', k, phi1, phi2), with only the enabled parts
+        setf(self, "_excite", excite_closure(self.stiffness, self._layout, self.friction,
+                                             self.eccentric, self._place_scalar,
+                                             self.mesh_frequency, pair.base_pitch, mesh.l_ac0))
         phi = self._mean_friction_arms() if self.friction is not None else (0.0, 0.0)
         setf(self, "mean_friction_arms", phi)
         w = self.torque / (pair.rb1 - phi[0])
@@ -230,12 +233,6 @@ class TorsionalModel:
         return _Place(travel=self.pair.rb1 * self.speed * t, l_ac=float(k0.l_ac),
                       l_cd=float(k0.l_cd), l_cp=float(k0.l_cp), foot1=float(k0.foot1),
                       foot2=float(k0.foot2))
-
-    def _build_excite(self) -> Excite:
-        """Closure t -> (e_ecc, e_ecc', k, phi1, phi2), with only the enabled parts."""
-        return excite_closure(self.stiffness, self._layout, self.friction, self.eccentric,
-                              self._place_scalar, self.mesh_frequency, self.pair.base_pitch,
-                              self._mesh.l_ac0)
 
     @property
     def coefficients(self) -> Excite:
