@@ -105,7 +105,8 @@ class TorsionalModel:
     mean_stiffness: float = field(init=False)
     damping: float = field(init=False)
     mean_friction_arms: tuple[float, float] = field(init=False)
-    _mesh: EccentricMesh = field(init=False, repr=False)
+    #: the kinematic (rigid) eccentric mesh the excitations come from
+    mesh: EccentricMesh = field(init=False, repr=False)
     _layout: LineLayout | None = field(init=False, repr=False)
     _place0: Kinematics = field(init=False, repr=False)
     _excite: Excite = field(init=False, repr=False)
@@ -133,7 +134,7 @@ class TorsionalModel:
         mesh = EccentricMesh(pair, ecc, self.speed)
         need_lines = self.friction is not None or isinstance(self.stiffness, ContactLineStiffness)
         setf = object.__setattr__
-        setf(self, "_mesh", mesh)
+        setf(self, "mesh", mesh)
         setf(self, "_layout", LineLayout.of(mesh) if need_lines else None)
         setf(self, "_place0", mesh.kinematics(0.0))
         setf(self, "mesh_frequency", mesh.mesh_frequency)
@@ -184,11 +185,6 @@ class TorsionalModel:
         return self.eccentricity is not None and self.eccentricity.active
 
     @property
-    def mesh(self) -> EccentricMesh:
-        """The kinematic (rigid) eccentric mesh the excitations come from."""
-        return self._mesh
-
-    @property
     def effective_mass(self) -> float:
         """m_e in kg."""
         return effective_mass(self.inertias[0], self.inertias[1], self.pair.rb1, self.pair.rb2)
@@ -228,7 +224,7 @@ class TorsionalModel:
     # ---------------------------------------------------------------- excitations
     def _place_scalar(self, t: float) -> Any:
         if self.eccentric:
-            return self._mesh.kinematics(t)
+            return self.mesh.kinematics(t)
         k0 = self._place0
         return _Place(travel=self.pair.rb1 * self.speed * t, l_ac=float(k0.l_ac),
                       l_cd=float(k0.l_cd), l_cp=float(k0.l_cp), foot1=float(k0.foot1),
@@ -265,7 +261,7 @@ class TorsionalModel:
         t = np.asarray(t, dtype=float)
         lay = self._layout
         # the kinematics, where eccentricity or contact lines need them
-        kin = self._mesh.kinematics(t) if self.eccentric or lay is not None else None
+        kin = self.mesh.kinematics(t) if self.eccentric or lay is not None else None
         zero = np.zeros_like(t)
         out: dict[str, FloatArray]
         if self.eccentric and kin is not None:
@@ -281,7 +277,7 @@ class TorsionalModel:
         if isinstance(stiff, ContactLineStiffness):
             out["stiffness"] = stiff.per_length * out["contact_length"]
         elif self.eccentric and kin is not None:
-            phase = (kin.travel + self._mesh.l_ac0 - kin.l_ac) / self.pair.base_pitch
+            phase = (kin.travel + self.mesh.l_ac0 - kin.l_ac) / self.pair.base_pitch
             out["stiffness"] = np.asarray(stiff(phase), dtype=float)
         else:
             out["stiffness"] = np.asarray(stiff(self.mesh_frequency * t), dtype=float)
@@ -298,7 +294,7 @@ class TorsionalModel:
     def _mean_friction_arms(self) -> tuple[float, float]:
         """Time means of phi1, phi2 over one hunting period (one mesh period if error-free)."""
         if self.eccentric:
-            span = self._mesh.hunting_period
+            span = self.mesh.hunting_period
             n = int(min(_MEAN_SAMPLES, 64 * round(span * self.mesh_frequency)))
         else:
             span = 1.0 / self.mesh_frequency
@@ -375,7 +371,7 @@ class TorsionalModel:
         i1, i2 = self.inertias
         e, ed = 0.0, 0.0
         if self.eccentric:
-            k0 = self._mesh.kinematics(0.0)
+            k0 = self.mesh.kinematics(0.0)
             e, ed = float(k0.e_ecc), float(k0.e_ecc_rate)
         if self.transmission_error is not None:
             e -= float(self.transmission_error.value(0.0))
@@ -399,12 +395,12 @@ class TorsionalModel:
         if isinstance(stiff, PeriodicStiffness) and self.friction is None and not self.eccentric:
             return stiff.switching_times(t0, t1, self.mesh_frequency, 0.0)
         pitch = self.pair.base_pitch
-        l_ac0 = self._mesh.l_ac0
+        l_ac0 = self.mesh.l_ac0
         l_ad = self.pair.tip_reach1
         width = self.pair.face_width * math.tan(self.pair.beta_b)
         rate = self.pair.rb1 * self.speed
         found: list[FloatArray] = []
-        mesh = self._mesh
+        mesh = self.mesh
 
         def entry(t: FloatArray) -> FloatArray:  # D_i of the line ends, up to a multiple of p_bt
             k = mesh.kinematics(t)
