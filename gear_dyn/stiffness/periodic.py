@@ -15,6 +15,7 @@ from abc import ABC, abstractmethod
 from bisect import bisect_right
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -49,15 +50,11 @@ class PeriodicStiffness(ABC):
         """
         return None
 
-    @property
+    @cached_property
     def mean(self) -> float:
         """Mean stiffness k_m over one mesh cycle in N/m (computed once per object: the
         stiffness objects are immutable, and a sweep asks for it thousands of times)."""
-        cached = self.__dict__.get("_mean_cache")
-        if cached is None:
-            cached = float(self.fourier_coefficients(0)[0])
-            object.__setattr__(self, "_mean_cache", cached)
-        return cached
+        return float(self.fourier_coefficients(0)[0])
 
     def _dense(self) -> FloatArray:
         p = np.linspace(0.0, 1.0, 4097)
