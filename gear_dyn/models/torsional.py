@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.eccentricity.contact_lines import LineLayout, contact_lines
+from gear_dyn.eccentricity.contact_lines import LineLayout, LinePlace, contact_lines
 from gear_dyn.eccentricity.friction import friction_factors
 from gear_dyn.eccentricity.kinematics import Eccentricity, EccentricMesh, Kinematics
 from gear_dyn.errors import InputError, check_range
@@ -35,7 +35,6 @@ from gear_dyn.models.torsional_parts import (
     ContactLineStiffness,
     Excite,
     _levels,
-    _Place,
     excite_closure,
 )
 from gear_dyn.models.torsional_table import ExcitationTable, force_form, table_of
@@ -226,9 +225,9 @@ class TorsionalModel:
         if self.eccentric:
             return self.mesh.kinematics(t)
         k0 = self._place0
-        return _Place(travel=self.pair.rb1 * self.speed * t, l_ac=float(k0.l_ac),
-                      l_cd=float(k0.l_cd), l_cp=float(k0.l_cp), foot1=float(k0.foot1),
-                      foot2=float(k0.foot2))
+        return LinePlace(travel=self.pair.rb1 * self.speed * t, l_ac=float(k0.l_ac),
+                         l_cd=float(k0.l_cd), l_cp=float(k0.l_cp), foot1=float(k0.foot1),
+                         foot2=float(k0.foot2))
 
     @property
     def coefficients(self) -> Excite:
