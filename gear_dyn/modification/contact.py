@@ -338,14 +338,11 @@ class PiecewiseSignal(SampledSignal):
         e = np.asarray(self.edges, dtype=float)
         if len(self.seg_phase) != e.size - 1 or len(self.seg_values) != e.size - 1:
             raise InputError("piecewise signal: one sample set per segment is needed")
-        us, vs, ss = [], [], []
-        for i, (ph, v) in enumerate(zip(self.seg_phase, self.seg_values, strict=True)):
-            u = 2 * i + (ph - e[i]) / (e[i + 1] - e[i])
-            us.append(u)
-            vs.append(v)
-            ss.append(np.append(np.diff(v) / np.diff(ph), 0.0))
+        us = [2 * i + (ph - e[i]) / (e[i + 1] - e[i]) for i, ph in enumerate(self.seg_phase)]
+        ss = [np.append(np.diff(v) / np.diff(ph), 0.0)
+              for ph, v in zip(self.seg_phase, self.seg_values, strict=True)]
         object.__setattr__(self, "_u", np.concatenate(us))
-        object.__setattr__(self, "_v", np.concatenate(vs))
+        object.__setattr__(self, "_v", np.concatenate(self.seg_values))
         object.__setattr__(self, "_slope", np.concatenate(ss))
         object.__setattr__(self, "_lists", tuple(a.tolist() for a in (e, self._u, self._v,
                                                                         self._slope)))
