@@ -462,11 +462,21 @@ class TorsionalModel:
                 or self.friction is not None or self.backlash is not None
                 or self.transmission_error is not None):
             return None
+        rb1, rb2 = self.pair.rb1, self.pair.rb2
+        i1, i2 = self.inertias
+        c = self.damping
         cuts = np.concatenate([[t0], self.switching_times(t0, t1), [t1]])
-        g = np.array([0.0, 0.0, self.torque / self.inertias[0], -self.load / self.inertias[1]])
-        y = np.zeros(4)  # the plain model's Jacobian A does not depend on the state
-        return [(float(ta), float(tb), self.jac(0.5 * (ta + tb), y), g)
-                for ta, tb in zip(cuts[:-1], cuts[1:], strict=True)]
+        g = np.array([0.0, 0.0, self.torque / i1, -self.load / i2])
+        out = []
+        for ta, tb in zip(cuts[:-1], cuts[1:], strict=True):
+            k = float(stiff(self.mesh_frequency * 0.5 * (ta + tb)))
+            dfdy = np.array([k * rb1, -k * rb2, c * rb1, -c * rb2])
+            a = np.zeros((4, 4))
+            a[0, 2] = a[1, 3] = 1.0
+            a[2] = -rb1 * dfdy / i1
+            a[3] = rb2 * dfdy / i2
+            out.append((float(ta), float(tb), a, g))
+        return out
 
     # ---------------------------------------------------------------- outputs
     def outputs(self, t: FloatArray, y: FloatArray) -> dict[str, FloatArray]:
