@@ -20,7 +20,7 @@ Formulas (ISO 21771 / any gear text; Liu et al. 2017, eqs. 14, 28, 29, with its 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from gear_dyn.errors import InputError, check_range
 
@@ -104,7 +104,6 @@ class GearPair:
     poisson2: float = 0.3
     density1: float = 7850.0
     density2: float = 7850.0
-    _cache: dict[str, float] = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         for name in ("z1", "z2"):

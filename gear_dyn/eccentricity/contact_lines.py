@@ -20,37 +20,29 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Protocol
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.eccentricity.kinematics import EccentricMesh, Kinematics
+from gear_dyn.stiffness.contact_line import mean_contact_line_length
 
 FloatArray = NDArray[np.float64]
 
 
-class LinePlace(Protocol):
-    """Where the field of contact is at one instant (a :class:`Kinematics` from a float time
-    satisfies it): ``travel``, ``l_ac``, ``l_cd``, ``l_cp``, ``foot1``, ``foot2`` in m."""
+@dataclass(frozen=True)
+class LinePlace:
+    """Where the field of contact is at one instant, as the scalar functions read it (a
+    :class:`Kinematics` from a float time has the same attributes): ``travel``, ``l_ac``,
+    ``l_cd``, ``l_cp``, ``foot1``, ``foot2`` in m."""
 
-    @property
-    def travel(self) -> Any: ...
-
-    @property
-    def l_ac(self) -> Any: ...
-
-    @property
-    def l_cd(self) -> Any: ...
-
-    @property
-    def l_cp(self) -> Any: ...
-
-    @property
-    def foot1(self) -> Any: ...
-
-    @property
-    def foot2(self) -> Any: ...
+    travel: float
+    l_ac: float
+    l_cd: float
+    l_cp: float
+    foot1: float
+    foot2: float
 
 
 @dataclass(frozen=True)
@@ -164,7 +156,7 @@ def contact_lines(layout: LineLayout, kin: Kinematics) -> ContactLines:
     return ContactLines(position=pos, lengths=lengths, total=lengths.sum(axis=0))
 
 
-def total_length_scalar(layout: LineLayout, kin: LinePlace) -> float:
+def total_length_scalar(layout: LineLayout, kin: LinePlace | Kinematics) -> float:
     """L(t) in m at one instant (``kin`` from a float time), in plain Python for speed.
 
     Same numbers as ``contact_lines(layout, kin).total``; used inside model right-hand sides.
@@ -187,6 +179,6 @@ def total_length_scalar(layout: LineLayout, kin: LinePlace) -> float:
 
 
 def mean_length(mesh: EccentricMesh) -> float:
-    """B eps_a / cos b_b in m: the mean of L(t) of the error-free pair."""
-    p = mesh.pair
-    return p.face_width * p.contact_ratio / math.cos(p.beta_b)
+    """B eps_a / cos b_b in m: the mean of L(t) of the error-free pair
+    (:func:`~gear_dyn.stiffness.contact_line.mean_contact_line_length`)."""
+    return mean_contact_line_length(mesh.pair)

@@ -128,8 +128,8 @@ def friction_factors(layout: LineLayout, kin: Kinematics, mu: float,
     return FrictionFactors(force=force, torque_pinion=t1, torque_gear=t2)
 
 
-def line_state_scalar(layout: LineLayout, kin: LinePlace, mu: float) -> tuple[float, float,
-                                                                               float, float]:
+def line_state_scalar(layout: LineLayout, kin: LinePlace | Kinematics,
+                      mu: float) -> tuple[float, float, float, float]:
     """``(L, F_f / F, T_f1 / F, T_f2 / F)`` at one instant, in plain Python for speed.
 
     Same numbers as :func:`split_segments` and :func:`friction_factors` (without the range check

@@ -213,8 +213,6 @@ class EccentricMesh:
             tip2=p.tip_reach2, l_ad=p.tip_reach1, w1=self.speed,
             ab_min=math.sqrt(l_min**2 - rbs**2), ab_max=math.sqrt(l_max**2 - rbs**2),
         )
-        c["ab0"] = 0.0
-        c["alpha0"] = 0.0
         g0 = _geometry(_MATH, c, 0.0, 0.0)
         c["ab0"] = g0["ab"]
         c["alpha0"] = g0["alpha"]

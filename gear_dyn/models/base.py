@@ -154,9 +154,10 @@ class ModelDefaults:
         """No contact changes."""
         return []
 
-    def at_mesh_frequency(self, mesh_frequency: float) -> None:
+    def at_mesh_frequency(self, mesh_frequency: float) -> Model | None:
         """None: rebuild the model at another speed."""
         del mesh_frequency
+        return None
 
     def summary_info(self) -> dict[str, Any]:
         """No model constants to report."""

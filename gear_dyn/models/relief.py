@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 from gear_dyn.choices import PAIR_STIFFNESS_METHODS
 from gear_dyn.errors import InputError
 from gear_dyn.geometry import GearPair
+from gear_dyn.models.base import ModelDefaults
 from gear_dyn.models.sdof import SDOFModel, sdof_from_pair
 from gear_dyn.modification.contact import LoadedContact, loaded_contact
 from gear_dyn.modification.relief import ProfileModification
@@ -130,7 +131,7 @@ class ReliefSDOFModel(SDOFModel):
                 "equivalent_mass_kg": self.mass}
 
 
-class ContactSDOFModel:
+class ContactSDOFModel(ModelDefaults):
     """Reference single-DOF model with the loaded-contact force itself (no linearisation).
 
         m_e x'' + c x' + sum_j K_j(s_j) max(0, x - g_j(s_j)) = W
@@ -140,7 +141,9 @@ class ContactSDOFModel:
     load-dependent pick-up are exact. Used to judge the linearised forms of :func:`relief_sdof`.
     ``K`` and ``g`` are tabulated along the path of contact (``table_points``, linear
     interpolation). Damping ``c = 2 xi sqrt(m_e k_m)`` with k_m the unmodified mean stiffness,
-    acting on ``x'``.
+    acting on ``x'``. Contact loss is part of the force law: the model is nonlinear, not the
+    linear mesh equation, and has no contact events (pairs pick up smoothly as the approach
+    closes their relief gap).
 
     Parameters
     ----------
@@ -159,10 +162,7 @@ class ContactSDOFModel:
 
     state_labels: tuple[str, ...] = ("x", "v")
     output_names: tuple[str, ...] = ("dte", "mesh_force", "stiffness")
-    #: contact loss is part of the force law: nonlinear, and not the linear mesh equation
-    is_linear = False
-    mesh_periodic = False
-    backlash = None
+    mean_stiffness: float
 
     def __init__(self, pair: GearPair, speed: float, torque: float,
                  modification: ProfileModification | None,
@@ -177,6 +177,8 @@ class ContactSDOFModel:
         self.static_load = base.static_load
         self.mesh_frequency = base.mesh_frequency
         self.mean_stiffness = base.mean_stiffness
+        self.natural_frequency = base.natural_frequency  # k_m the unmodified mean stiffness
+        self._unmodified = base.stiffness  # switching at the geometric entry and exit
         self._s_a, self._pb = pair.start_of_contact, pair.base_pitch
         self._s_e = pair.end_of_contact
         self._n = int(math.ceil(pair.contact_ratio)) + 1
@@ -192,21 +194,6 @@ class ContactSDOFModel:
         self._n_tab = int(self._s.size)
         self._k_list = [float(v) for v in self._k]
         self._g_list = [float(v) for v in self._g]
-        eps = pair.contact_ratio
-        self._switch = np.unique(np.mod([0.0, eps - math.floor(eps)], 1.0))
-
-    @property
-    def natural_frequency(self) -> float:
-        """sqrt(k_m / m_e) / (2 pi) in Hz, k_m the unmodified mean stiffness."""
-        return math.sqrt(self.mean_stiffness / self.mass) / (2 * math.pi)
-
-    def linear_segments(self, t0: float, t1: float) -> None:
-        """None: the contact force is nonlinear in the approach."""
-        del t0, t1
-
-    def contact_events(self) -> list[Callable[[float, FloatArray], float]]:
-        """None located: pairs pick up smoothly as the approach closes their relief gap."""
-        return []
 
     def at_mesh_frequency(self, mesh_frequency: float) -> ContactSDOFModel:
         """A copy at another mesh frequency (only f_m depends on speed here)."""
@@ -265,10 +252,7 @@ class ContactSDOFModel:
 
     def switching_times(self, t0: float, t1: float) -> FloatArray:
         """Geometric entry/exit instants (a pair without relief enters with a force jump)."""
-        fm = self.mesh_frequency
-        c0, c1 = int(np.floor(fm * t0)), int(np.floor(fm * t1))
-        ph = (np.arange(c0, c1 + 1)[:, None] + self._switch[None, :]).ravel() / fm
-        return np.sort(ph[(ph > t0) & (ph < t1)])
+        return self._unmodified.switching_times(t0, t1, self.mesh_frequency)
 
     def summary_info(self) -> dict[str, Any]:
         """Extra summary entries."""

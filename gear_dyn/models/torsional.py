@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.eccentricity.contact_lines import LineLayout, contact_lines
+from gear_dyn.eccentricity.contact_lines import LineLayout, LinePlace, contact_lines
 from gear_dyn.eccentricity.friction import friction_factors
 from gear_dyn.eccentricity.kinematics import Eccentricity, EccentricMesh, Kinematics
 from gear_dyn.errors import InputError, check_range
@@ -35,7 +35,6 @@ from gear_dyn.models.torsional_parts import (
     ContactLineStiffness,
     Excite,
     _levels,
-    _Place,
     excite_closure,
 )
 from gear_dyn.models.torsional_table import ExcitationTable, force_form, table_of
@@ -105,7 +104,8 @@ class TorsionalModel:
     mean_stiffness: float = field(init=False)
     damping: float = field(init=False)
     mean_friction_arms: tuple[float, float] = field(init=False)
-    _mesh: EccentricMesh = field(init=False, repr=False)
+    #: the kinematic (rigid) eccentric mesh the excitations come from
+    mesh: EccentricMesh = field(init=False, repr=False)
     _layout: LineLayout | None = field(init=False, repr=False)
     _place0: Kinematics = field(init=False, repr=False)
     _excite: Excite = field(init=False, repr=False)
@@ -133,7 +133,7 @@ class TorsionalModel:
         mesh = EccentricMesh(pair, ecc, self.speed)
         need_lines = self.friction is not None or isinstance(self.stiffness, ContactLineStiffness)
         setf = object.__setattr__
-        setf(self, "_mesh", mesh)
+        setf(self, "mesh", mesh)
         setf(self, "_layout", LineLayout.of(mesh) if need_lines else None)
         setf(self, "_place0", mesh.kinematics(0.0))
         setf(self, "mesh_frequency", mesh.mesh_frequency)
@@ -145,9 +145,11 @@ class TorsionalModel:
         if not (math.isfinite(k_m) and k_m > 0):
             raise InputError(f"mean mesh stiffness = {k_m:.6g} N/m: valid range > 0 N/m")
         setf(self, "mean_stiffness", k_m)
-        m_e = effective_mass(self.inertias[0], self.inertias[1], pair.rb1, pair.rb2)
-        setf(self, "damping", 2 * self.damping_ratio * math.sqrt(m_e * k_m))
-        setf(self, "_excite", self._build_excite())
+        setf(self, "damping", 2 * self.damping_ratio * math.sqrt(self.effective_mass * k_m))
+        # t -> (e_ecc, e_ecc', k, phi1, phi2), with only the enabled parts
+        setf(self, "_excite", excite_closure(self.stiffness, self._layout, self.friction,
+                                             self.eccentric, self._place_scalar,
+                                             self.mesh_frequency, pair.base_pitch, mesh.l_ac0))
         phi = self._mean_friction_arms() if self.friction is not None else (0.0, 0.0)
         setf(self, "mean_friction_arms", phi)
         w = self.torque / (pair.rb1 - phi[0])
@@ -180,11 +182,6 @@ class TorsionalModel:
     def eccentric(self) -> bool:
         """True if an eccentricity is modelled."""
         return self.eccentricity is not None and self.eccentricity.active
-
-    @property
-    def mesh(self) -> EccentricMesh:
-        """The kinematic (rigid) eccentric mesh the excitations come from."""
-        return self._mesh
 
     @property
     def effective_mass(self) -> float:
@@ -226,17 +223,11 @@ class TorsionalModel:
     # ---------------------------------------------------------------- excitations
     def _place_scalar(self, t: float) -> Any:
         if self.eccentric:
-            return self._mesh.kinematics(t)
+            return self.mesh.kinematics(t)
         k0 = self._place0
-        return _Place(travel=self.pair.rb1 * self.speed * t, l_ac=float(k0.l_ac),
-                      l_cd=float(k0.l_cd), l_cp=float(k0.l_cp), foot1=float(k0.foot1),
-                      foot2=float(k0.foot2))
-
-    def _build_excite(self) -> Excite:
-        """Closure t -> (e_ecc, e_ecc', k, phi1, phi2), with only the enabled parts."""
-        return excite_closure(self.stiffness, self._layout, self.friction, self.eccentric,
-                              self._place_scalar, self.mesh_frequency, self.pair.base_pitch,
-                              self._mesh.l_ac0)
+        return LinePlace(travel=self.pair.rb1 * self.speed * t, l_ac=float(k0.l_ac),
+                         l_cd=float(k0.l_cd), l_cp=float(k0.l_cp), foot1=float(k0.foot1),
+                         foot2=float(k0.foot2))
 
     @property
     def coefficients(self) -> Excite:
@@ -267,33 +258,30 @@ class TorsionalModel:
         (N/m), ``contact_length`` (m, when contact lines are modelled), ``phi1``, ``phi2``
         (friction torque per unit normal load, m), ``w2_kinematic`` (rad/s)."""
         t = np.asarray(t, dtype=float)
-        kin = self._mesh.kinematics(t) if self.eccentric else None
+        lay = self._layout
+        # the kinematics, where eccentricity or contact lines need them
+        kin = self.mesh.kinematics(t) if self.eccentric or lay is not None else None
         zero = np.zeros_like(t)
         out: dict[str, FloatArray]
-        if kin is not None:
+        if self.eccentric and kin is not None:
             out = {"e_ecc": np.asarray(kin.e_ecc, dtype=float),
                    "e_ecc_rate": np.asarray(kin.e_ecc_rate, dtype=float),
                    "w2_kinematic": np.asarray(kin.w2, dtype=float)}
         else:
             out = {"e_ecc": zero, "e_ecc_rate": zero,
                    "w2_kinematic": np.full_like(t, self.speed * self.pair.z1 / self.pair.z2)}
-        lay = self._layout
-        kin_lines = kin if kin is not None else self._mesh.kinematics(t) if lay is not None \
-            else None
-        if lay is not None:
-            assert kin_lines is not None
-            out["contact_length"] = np.asarray(contact_lines(lay, kin_lines).total, dtype=float)
+        if lay is not None and kin is not None:
+            out["contact_length"] = np.asarray(contact_lines(lay, kin).total, dtype=float)
         stiff = self.stiffness
         if isinstance(stiff, ContactLineStiffness):
             out["stiffness"] = stiff.per_length * out["contact_length"]
-        elif kin is not None:
-            phase = (kin.travel + self._mesh.l_ac0 - kin.l_ac) / self.pair.base_pitch
+        elif self.eccentric and kin is not None:
+            phase = (kin.travel + self.mesh.l_ac0 - kin.l_ac) / self.pair.base_pitch
             out["stiffness"] = np.asarray(stiff(phase), dtype=float)
         else:
             out["stiffness"] = np.asarray(stiff(self.mesh_frequency * t), dtype=float)
-        if self.friction is not None:
-            assert lay is not None and kin_lines is not None
-            ff = friction_factors(lay, kin_lines, self.friction)
+        if self.friction is not None and lay is not None and kin is not None:
+            ff = friction_factors(lay, kin, self.friction)
             out["phi1"] = np.asarray(ff.torque_pinion, dtype=float)
             out["phi2"] = np.asarray(ff.torque_gear, dtype=float)
             out["friction_force_factor"] = np.asarray(ff.force, dtype=float)
@@ -305,7 +293,7 @@ class TorsionalModel:
     def _mean_friction_arms(self) -> tuple[float, float]:
         """Time means of phi1, phi2 over one hunting period (one mesh period if error-free)."""
         if self.eccentric:
-            span = self._mesh.hunting_period
+            span = self.mesh.hunting_period
             n = int(min(_MEAN_SAMPLES, 64 * round(span * self.mesh_frequency)))
         else:
             span = 1.0 / self.mesh_frequency
@@ -382,7 +370,7 @@ class TorsionalModel:
         i1, i2 = self.inertias
         e, ed = 0.0, 0.0
         if self.eccentric:
-            k0 = self._mesh.kinematics(0.0)
+            k0 = self.mesh.kinematics(0.0)
             e, ed = float(k0.e_ecc), float(k0.e_ecc_rate)
         if self.transmission_error is not None:
             e -= float(self.transmission_error.value(0.0))
@@ -406,12 +394,12 @@ class TorsionalModel:
         if isinstance(stiff, PeriodicStiffness) and self.friction is None and not self.eccentric:
             return stiff.switching_times(t0, t1, self.mesh_frequency, 0.0)
         pitch = self.pair.base_pitch
-        l_ac0 = self._mesh.l_ac0
+        l_ac0 = self.mesh.l_ac0
         l_ad = self.pair.tip_reach1
         width = self.pair.face_width * math.tan(self.pair.beta_b)
         rate = self.pair.rb1 * self.speed
         found: list[FloatArray] = []
-        mesh = self._mesh
+        mesh = self.mesh
 
         def entry(t: FloatArray) -> FloatArray:  # D_i of the line ends, up to a multiple of p_bt
             k = mesh.kinematics(t)
@@ -433,13 +421,10 @@ class TorsionalModel:
         if self.friction is not None:
             found.append(_levels(pitch_line, rate, t0, t1, np.array([-l_ac0, width - l_ac0]),
                                  pitch))
-        ts = np.sort(np.concatenate(found)) if found else np.empty(0)
-        if ts.size:
-            tol = 1e-12 * max(abs(t1), 1.0 / self.mesh_frequency)
-            ts = ts[(ts > t0 + tol) & (ts < t1 - tol)]
-            keep = np.concatenate([[True], np.diff(ts) > tol]) if ts.size else ts.astype(bool)
-            ts = ts[keep]
-        return ts
+        ts = np.sort(np.concatenate(found))  # never empty: a stiffness or contact lines
+        tol = 1e-12 * max(abs(t1), 1.0 / self.mesh_frequency)
+        ts = ts[(ts > t0 + tol) & (ts < t1 - tol)]
+        return ts[np.concatenate([[True], np.diff(ts) > tol])] if ts.size else ts
 
     def contact_events(self) -> list[Callable[[float, FloatArray], float]]:
         """Functions g(t, y) whose zeros are contact changes through the backlash (none without).

@@ -1,5 +1,5 @@
-"""Parts of the torsional model: the contact-line stiffness law, the error-free field of
-contact, and the level crossings of the switching instants."""
+"""Parts of the torsional model: the contact-line stiffness law, the excitation closure and the
+level crossings of the switching instants."""
 
 from __future__ import annotations
 
@@ -36,18 +36,6 @@ class ContactLineStiffness:
     def __post_init__(self) -> None:
         check_range("stiffness.per_length", self.per_length, "N/m^2", low=0.0, high=1e16,
                     low_open=True)
-
-
-@dataclass(frozen=True)
-class _Place:
-    """Field of contact of the error-free pair at one instant (LinePlace)."""
-
-    travel: float
-    l_ac: float
-    l_cd: float
-    l_cp: float
-    foot1: float
-    foot2: float
 
 
 def _levels(h: Callable[[FloatArray], FloatArray], rate: float, t0: float, t1: float,

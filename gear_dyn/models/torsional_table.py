@@ -20,7 +20,6 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from numpy.polynomial import chebyshev as cheb
 from numpy.typing import NDArray
 
 FloatArray = NDArray[np.float64]
@@ -40,14 +39,7 @@ def node_matrix(degree: int) -> tuple[FloatArray, FloatArray]:
     coefficients in s, highest power first (Horner order)."""
     n = degree + 1
     s = np.cos(np.pi * (np.arange(n) + 0.5) / n)
-    vand = cheb.chebvander(s, degree)  # values = vand @ cheb_coefs
-    to_cheb = np.linalg.inv(vand)
-    to_mono = np.zeros((n, n))
-    for k in range(n):
-        unit = np.zeros(n)
-        unit[k] = 1.0
-        to_mono[: k + 1, k] = cheb.cheb2poly(unit)
-    return s, (to_mono @ to_cheb)[::-1]
+    return s, np.linalg.inv(np.vander(s, n))  # values = vander @ coefficients
 
 
 @dataclass(eq=False)
@@ -71,16 +63,11 @@ class ExcitationTable:
     cuts: Callable[[float, float], FloatArray]
     block: float
     scale: FloatArray
-    max_error: FloatArray = field(init=False)
+    max_error: FloatArray = field(init=False, default_factory=lambda: np.zeros(5))
     _blocks: dict[int, tuple[list[float], list[float], list[float], list[list[Values]]]] = \
-        field(init=False, repr=False)
+        field(init=False, repr=False, default_factory=dict)
     _arrays: dict[int, tuple[FloatArray, FloatArray, FloatArray, FloatArray]] = \
-        field(init=False, repr=False)
-
-    def __post_init__(self) -> None:
-        self._blocks = {}
-        self._arrays = {}
-        self.max_error = np.zeros(5)
+        field(init=False, repr=False, default_factory=dict)
 
     def _build(self, b: int) -> None:
         """Fit block ``b`` (times ``b block .. (b + 1) block``)."""
@@ -94,9 +81,7 @@ class ExcitationTable:
         coefs = np.einsum("ij,qpj->piq", to_mono, vals)  # (pieces, DEGREE + 1, 5)
         s_chk, _ = node_matrix(DEGREE + 1)
         exact = self.values((mid[:, None] + half[:, None] * s_chk[None, :]).ravel())
-        approx = np.zeros((5, mid.size, s_chk.size))
-        for k in range(DEGREE + 1):
-            approx = approx * s_chk[None, None, :] + coefs[:, k, :].T[:, :, None]
+        approx = np.einsum("ij,pjq->qpi", np.vander(s_chk, DEGREE + 1), coefs)
         err = np.max(np.abs(approx - exact.reshape(approx.shape)), axis=(1, 2)) / self.scale
         self.max_error = np.maximum(self.max_error, err)
         if len(self._arrays) >= MAX_BLOCKS:

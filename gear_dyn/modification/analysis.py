@@ -75,8 +75,7 @@ class ReliefCase:
 
 
 def relief_case(name: str, pair: GearPair, pair_stiffness: Callable[[FloatArray], FloatArray],
-                torque: float, modification: ProfileModification | None,
-                path_points: int = 801) -> ReliefCase:
+                torque: float, modification: ProfileModification | None) -> ReliefCase:
     """Loaded contact, load sharing and Hertz stress of one case (see :class:`ReliefCase`).
 
     Raises
@@ -85,17 +84,16 @@ def relief_case(name: str, pair: GearPair, pair_stiffness: Callable[[FloatArray]
         As :func:`~gear_dyn.modification.contact.loaded_contact`.
     """
     lc = loaded_contact(pair, pair_stiffness, torque, modification)
-    view = lc.along_path(path_points)
+    view = lc.along_path()
     sigma, half = contact_stress(pair, view.position, view.force, modification)
     return ReliefCase(name, modification, lc, view, sigma, half)
 
 
 def rule_cases(pair: GearPair, pair_stiffness: Callable[[FloatArray], FloatArray], torque: float,
-               curve: str = "linear", include_unmodified: bool = True,
-               extra: Mapping[str, ProfileModification] | None = None,
+               curve: str = "linear", extra: Mapping[str, ProfileModification] | None = None,
                rule_options: Mapping[str, float] | None = None) -> dict[str, ReliefCase]:
-    """The unmodified pair, every rule of :data:`~gear_dyn.modification.relief.RULES` and any
-    ``extra`` modifications, in that order.
+    """The unmodified pair, any ``extra`` modifications and every rule of
+    :data:`~gear_dyn.modification.relief.RULES`, in that order.
 
     Parameters
     ----------
@@ -105,9 +103,7 @@ def rule_cases(pair: GearPair, pair_stiffness: Callable[[FloatArray], FloatArray
         ``handbook_a``, ``handbook_b``, ``face_load_factor`` (see
         :func:`~gear_dyn.modification.relief.recommended_relief`).
     """
-    cases: dict[str, ReliefCase] = {}
-    if include_unmodified:
-        cases["unmodified"] = relief_case("unmodified", pair, pair_stiffness, torque, None)
+    cases = {"unmodified": relief_case("unmodified", pair, pair_stiffness, torque, None)}
     for name, mod in (extra or {}).items():
         cases[name] = relief_case(name, pair, pair_stiffness, torque, mod)
     for rule in RULES:

@@ -17,7 +17,7 @@ from __future__ import annotations
 import bisect
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -26,7 +26,7 @@ from gear_dyn.errors import InputError, check_range
 from gear_dyn.excitation import SampledSignal
 from gear_dyn.geometry import GearPair
 from gear_dyn.modification.relief import ProfileModification
-from gear_dyn.stiffness.periodic import PiecewiseStiffness
+from gear_dyn.stiffness.periodic import PiecewiseStiffness, distinct_phases
 
 FloatArray = NDArray[np.float64]
 PairStiffnessFn = Callable[[FloatArray], FloatArray]
@@ -259,10 +259,8 @@ class LoadedContact:
         extra = (sw[:, None] + np.arange(nn)[None, :]).ravel() * pb + s_a
         extra = extra[(extra >= s_a) & (extra <= s_e)]
         d = _NUDGE * pb
-        s = np.unique(np.concatenate([
-            np.linspace(s_a, s_e, n), extra - d, extra + d, [s_a, s_e]]))
-        s = np.clip(s, s_a, s_e)
-        s = np.unique(s)
+        s = np.unique(np.clip(np.concatenate([np.linspace(s_a, s_e, n), extra - d, extra + d,
+                                              [s_a, s_e]]), s_a, s_e))
         u = (s - s_a) / pb
         j = np.minimum(np.floor(u).astype(int), nn - 1)
         ph = u - j
@@ -340,14 +338,11 @@ class PiecewiseSignal(SampledSignal):
         e = np.asarray(self.edges, dtype=float)
         if len(self.seg_phase) != e.size - 1 or len(self.seg_values) != e.size - 1:
             raise InputError("piecewise signal: one sample set per segment is needed")
-        us, vs, ss = [], [], []
-        for i, (ph, v) in enumerate(zip(self.seg_phase, self.seg_values, strict=True)):
-            u = 2 * i + (ph - e[i]) / (e[i + 1] - e[i])
-            us.append(u)
-            vs.append(v)
-            ss.append(np.append(np.diff(v) / np.diff(ph), 0.0))
+        us = [2 * i + (ph - e[i]) / (e[i + 1] - e[i]) for i, ph in enumerate(self.seg_phase)]
+        ss = [np.append(np.diff(v) / np.diff(ph), 0.0)
+              for ph, v in zip(self.seg_phase, self.seg_values, strict=True)]
         object.__setattr__(self, "_u", np.concatenate(us))
-        object.__setattr__(self, "_v", np.concatenate(vs))
+        object.__setattr__(self, "_v", np.concatenate(self.seg_values))
         object.__setattr__(self, "_slope", np.concatenate(ss))
         object.__setattr__(self, "_lists", tuple(a.tolist() for a in (e, self._u, self._v,
                                                                         self._slope)))
@@ -488,25 +483,15 @@ def loaded_contact(
     geo = np.unique(np.mod(np.array([0.0, eps - math.floor(eps)]), 1.0))
     geo_edges = np.concatenate([geo, [1.0]])
     roots = _loaded_switches(pair, pair_stiffness, load, modification, geo_edges, 512)
-    sw = np.unique(np.concatenate([geo, np.mod(np.asarray(roots, dtype=float), 1.0)]))
-    # drop switching phases closer than a few nudges (tangencies, duplicates)
-    keep = np.concatenate([[True], np.diff(sw) > 10 * _NUDGE])
-    sw = sw[keep]
-    if sw.size > 1 and sw[-1] > 1.0 - 10 * _NUDGE:
-        sw = sw[:-1]
-    edges = np.concatenate([sw, [1.0]])
+    # switching phases closer than a few nudges (tangencies, duplicates) count once
+    edges = np.append(distinct_phases(np.concatenate([geo, roots]), 10 * _NUDGE), 1.0)
     m = int(samples_per_segment)
-    phases, seg = [], []
-    for i in range(edges.size - 1):
-        a, b = edges[i], edges[i + 1]
-        ph = np.linspace(a, b, m)
-        ph[0] += _NUDGE * min(1.0, (b - a) * 1e3)
-        ph[-1] -= _NUDGE * min(1.0, (b - a) * 1e3)
-        phases.append(ph)
-        seg.append(np.full(m, i))
-    st = contact_state(pair, pair_stiffness, load, np.concatenate(phases), modification)
+    ph = np.linspace(edges[:-1], edges[1:], m, axis=1)  # (segments, m)
+    nudge = _NUDGE * np.minimum(1.0, np.diff(edges) * 1e3)
+    ph[:, 0] += nudge
+    ph[:, -1] -= nudge
     # contact_state wraps phases into [0, 1); keep the unwrapped sample phases
-    st = ContactState(np.concatenate(phases), st.position, st.stiffness, st.gap, st.force,
-                      st.deflection)
+    st = replace(contact_state(pair, pair_stiffness, load, ph.ravel(), modification),
+                 phase=ph.ravel())
     return LoadedContact(pair, load, modification, pair_stiffness, edges, st,
-                         np.concatenate(seg))
+                         np.repeat(np.arange(edges.size - 1), m))

@@ -336,22 +336,12 @@ def recommended_relief(
 ) -> ReliefRecommendation:
     """Recommended tip relief of a pair by one of the published rules.
 
-    With ``w_t = F_t / B`` in N/mm (:func:`tangential_load_per_width`) and ``m_n`` in mm:
-
-    - ``"handbook"`` (the gear handbook of 1993, as Han n.d. quotes it): ``C_a1 = a + 0.04 w_t``,
-      ``C_a2 = b + 0.04 w_t`` micrometres, a = 5..13 (default 9), b = 0..8 (default 4); relief
-      height 0.4 m_n on both gears.
-    - ``"dudley"`` (Dudley 1984, as Han n.d. quotes it):
-      ``C_a1 = 4.1 C_m F_t / (1e5 B)``, ``C_a2 = 6.5 C_m F_t / (1e5 B)`` in mm, F_t in N, B in mm
-      (the units pinned down in docs/modification.md), C_m the face load distribution factor;
-      long relief (tip to single-contact point), an assumption.
-    - ``"niemann"`` (Niemann & Winter 1983, as Han n.d. quotes it): ``C_a = 0.009 m_n`` mm on both
-      gears, height 0.493 m_n.
-    - ``"wang2024"`` (Wang et al. 2024, eq. 1): ``C_a,i = c_i + 0.04 F_t / B`` um with c1 = 9,
-      c2 = 4 (the handbook rule with a = 9, b = 4), long relief ``(eps_a - 1) p_bt`` along the
-      line of action (Wang et al. 2024: the relief region maps onto the segment from the
-      single-contact point to the start of contact). Its old name ``"seed001"`` still works,
-      with a FutureWarning.
+    ``"handbook"`` (the gear handbook of 1993), ``"dudley"`` (Dudley 1984) and ``"niemann"``
+    (Niemann & Winter 1983), as Han (n.d.) quotes them, and ``"wang2024"`` (Wang et al. 2024,
+    eq. 1; its old name ``"seed001"`` still works, with a FutureWarning): amounts from
+    ``w_t = F_t / B`` in N/mm (:func:`tangential_load_per_width`) or from m_n, and a relief height
+    or a long relief (tip to single-contact point, :func:`long_relief_length`), as tabulated in
+    docs/modification.md, "Recommended amounts"; the result's ``source`` states the formula used.
 
     Parameters
     ----------

@@ -165,8 +165,7 @@ def contact_stress(pair: GearPair, position: ArrayLike, force: ArrayLike,
     """
     s = np.asarray(position, dtype=float)
     f = np.asarray(force, dtype=float)
-    e_star = effective_modulus(pair.youngs_modulus1, pair.poisson1, pair.youngs_modulus2,
-                               pair.poisson2)
+    e_star = pair.effective_youngs_modulus
     rho1, rho2 = s, pair.line_of_action_length - s
     c0 = profile_curvature(pair, 1, rho1) + profile_curvature(pair, 2, rho2)
     sigma, half = hertz_line_contact(f, pair.face_width, c0, e_star)

@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from gear_dyn.geometry import GearPair
-from gear_dyn.stiffness.periodic import FloatArray
+from gear_dyn.stiffness.periodic import FloatArray, distinct_phases
 
 
 def _line_lengths(u: FloatArray, g_a: float, width: float, tan_bb: float,
@@ -72,15 +72,7 @@ def contact_line_breakpoints(pair: GearPair) -> FloatArray:
     These are ``frac(0), frac(eps_a), frac(eps_b), frac(eps_a + eps_b)`` (spur: the first two).
     """
     ea, eb = pair.contact_ratio, pair.overlap_ratio
-    cand = [0.0, ea % 1.0]
-    if eb > 0:
-        cand += [eb % 1.0, (ea + eb) % 1.0]
-    arr = np.sort(np.asarray(cand))
-    keep = np.concatenate([[True], np.diff(arr) > 1e-12])
-    arr = arr[keep]
-    if arr.size > 1 and arr[-1] > 1 - 1e-12:
-        arr = arr[:-1]
-    return arr
+    return distinct_phases([0.0, ea, eb, ea + eb] if eb > 0 else [0.0, ea], 1e-12)
 
 
 def mean_contact_line_length(pair: GearPair) -> float:

@@ -1,16 +1,9 @@
 """ISO 6336-1:2019 method B tooth stiffness: single stiffness c' and mesh stiffness c_gamma.
 
-    q'      = C1 + C2/zn1 + C3/zn2 + C4 x1 + C5 x1/zn1 + C6 x2 + C7 x2/zn2 + C8 x1^2 + C9 x2^2
-    c'_th   = 1 / q'                                 (N/(mm um))
-    c'      = c'_th C_M C_R C_B cos(beta) (E / E_steel)
-    C_B     = (1 + 0.5 (1.2 - h_fP/m_n)) (1 - 0.02 (20 deg - alpha_n))
-    c_gamma = c' (0.75 eps_a + 0.25)        (c_gamma_alpha, for K_v and K_Halpha)
-    c_gamma_beta = 0.85 c_gamma_alpha       (for the face load factor K_Hbeta)
-
-with C_M = 0.8, C_R = 1, h_fP = (ha* + c*) m_n, zn = z / (cos^2(beta_b) cos(beta)) (ISO's
-virtual number of teeth), E_steel = 206 GPa. The load correction for F_t/b < 100 N/mm is applied
-only when a line load is given. Validity: steel pairs, beta <= 45 deg, x1 >= x2,
--0.5 <= x1 + x2 <= 2 (applied as is outside). Helical pairs: docs/stiffness.md.
+The formulas (q', c' = C_M C_R C_B cos(beta) (E / E_steel) / q', c_gamma = c' (0.75 eps_a + 0.25),
+c_gamma_beta = 0.85 c_gamma, the load correction below F_t/b = 100 N/mm when a line load is
+given) and the helical case are written out in docs/stiffness.md, "ISO 6336-1 method B".
+Validity: steel pairs, beta <= 45 deg, x1 >= x2, -0.5 <= x1 + x2 <= 2 (applied as is outside).
 """
 
 from __future__ import annotations

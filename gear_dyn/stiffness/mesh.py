@@ -21,18 +21,9 @@ from numpy.typing import ArrayLike
 from gear_dyn.errors import InputError
 from gear_dyn.geometry import GearPair
 from gear_dyn.stiffness.contact_line import contact_line_breakpoints
-from gear_dyn.stiffness.periodic import FloatArray, PiecewiseStiffness
+from gear_dyn.stiffness.periodic import FloatArray, PiecewiseStiffness, contact_segments
 
 PairFunction = Callable[[GearPair, ArrayLike], FloatArray]
-
-
-def _segments(eps: float) -> list[tuple[float, float, int]]:
-    """(start, end, pairs in contact) over one cycle."""
-    n = int(math.floor(eps))
-    f = eps - n
-    if f < 1e-9 or f > 1 - 1e-9:
-        return [(0.0, 1.0, int(round(eps)))]
-    return [(0.0, f, n + 1), (f, 1.0, n)]
 
 
 def spur_mesh_values(pair: GearPair, pair_fn: PairFunction, phase: FloatArray,
@@ -96,7 +87,7 @@ def _transverse(pair: GearPair, pair_fn: PairFunction, samples_per_cycle: int,
     """The transverse (unsliced) curve: pairs add, switching at entry and exit."""
     edges = [0.0]
     samples = []
-    for lo, hi, pairs in _segments(pair.contact_ratio):
+    for lo, hi, pairs in contact_segments(pair.contact_ratio):
         m = max(2, int(math.ceil(samples_per_cycle * (hi - lo))) + 1)
         ph = np.linspace(lo, hi, m)
         samples.append((ph, spur_mesh_values(pair, pair_fn, ph, pairs)))
@@ -123,8 +114,6 @@ def _helical(pair: GearPair, pair_fn: PairFunction, samples_per_cycle: int, name
 
     bp = contact_line_breakpoints(pair)
     edges = np.append(bp, 1.0)
-    if edges[0] != 0.0:
-        edges = np.insert(edges, 0, 0.0)
     phases = (np.linspace(lo, hi, max(2, int(math.ceil(samples_per_cycle * (hi - lo))) + 1))
               for lo, hi in zip(edges[:-1], edges[1:], strict=True))
     return PiecewiseStiffness(edges, tuple((ph, values(ph)) for ph in phases), name=name)

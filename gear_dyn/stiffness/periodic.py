@@ -10,9 +10,12 @@ Jiang et al. 2018, eq. 13, its printed second ``cos`` read as ``sin``).
 
 from __future__ import annotations
 
+import math
 from abc import ABC, abstractmethod
 from bisect import bisect_right
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -47,15 +50,11 @@ class PeriodicStiffness(ABC):
         """
         return None
 
-    @property
+    @cached_property
     def mean(self) -> float:
         """Mean stiffness k_m over one mesh cycle in N/m (computed once per object: the
         stiffness objects are immutable, and a sweep asks for it thousands of times)."""
-        cached = self.__dict__.get("_mean_cache")
-        if cached is None:
-            cached = float(self.fourier_coefficients(0)[0])
-            object.__setattr__(self, "_mean_cache", cached)
-        return cached
+        return float(self.fourier_coefficients(0)[0])
 
     def _dense(self) -> FloatArray:
         p = np.linspace(0.0, 1.0, 4097)
@@ -97,6 +96,14 @@ class PeriodicStiffness(ABC):
         # guard against rounding putting an instant on an end point
         tol = 1e-12 * max(abs(t0), abs(t1), 1.0 / mesh_frequency)
         return np.sort(t[(t > t0 + tol) & (t < t1 - tol)])
+
+
+def distinct_phases(phases: ArrayLike, tol: float) -> FloatArray:
+    """``phases`` reduced to [0, 1) and sorted, one of each run closer than ``tol`` (cycles);
+    a phase within ``tol`` below 1 is the phase 0 of the next cycle."""
+    p = np.sort(np.mod(np.asarray(phases, dtype=float), 1.0))
+    p = p[np.concatenate([[True], np.diff(p) > tol])]
+    return p[:-1] if p.size > 1 and p[-1] > 1.0 - tol else p
 
 
 #: most harmonics a truncated series may keep (the scene allows 200)
@@ -290,11 +297,8 @@ class FourierStiffness(PeriodicStiffness):
         return (self._powers(phase) @ (w * (self.b + 1j * self.a))).real
 
     def fourier_coefficients(self, n: int) -> tuple[float, FloatArray, FloatArray]:
-        a = np.zeros(max(n, 0))
-        b = np.zeros(max(n, 0))
-        m = min(n, self.a.size)
-        a[:m] = self.a[:m]
-        b[:m] = self.b[:m]
+        n = max(n, 0)  # the first n harmonics, zeros beyond the series
+        a, b = (np.pad(c[:n], (0, n - min(n, c.size))) for c in (self.a, self.b))
         return float(self.k0), a, b
 
 
@@ -332,17 +336,25 @@ def rectangular_stiffness(contact_ratio: float, k_single: float, k_double: float
             return k_single
         return k_double + (pairs - 2) * k_double / 2
 
-    n = int(np.floor(contact_ratio))
+    return stepped_stiffness(contact_ratio, k_of, name)
+
+
+def contact_segments(contact_ratio: float) -> list[tuple[float, float, int]]:
+    """``(start, end, pairs in contact)`` of the pieces of one mesh cycle (phase 0: a new pair
+    enters): ``n + 1`` pairs on ``[0, f)`` and ``n`` on ``[f, 1)``, ``n = floor(eps_a)``,
+    ``f = eps_a - n``; one piece when f is 0 (to 1e-9)."""
+    n = int(math.floor(contact_ratio))
     f = contact_ratio - n
     if f < 1e-9 or f > 1 - 1e-9:
-        pairs = int(round(contact_ratio))
-        k = k_of(pairs)
-        return PiecewiseStiffness(np.array([0.0, 1.0]), ((np.array([0.0, 1.0]), np.array([k, k])),),
-                                  name=name)
-    kh, kl = k_of(n + 1), k_of(n)
-    edges = np.array([0.0, f, 1.0])
-    samples = (
-        (np.array([0.0, f]), np.array([kh, kh])),
-        (np.array([f, 1.0]), np.array([kl, kl])),
-    )
-    return PiecewiseStiffness(edges, samples, name=name)
+        return [(0.0, 1.0, int(round(contact_ratio)))]
+    return [(0.0, f, n + 1), (f, 1.0, n)]
+
+
+def stepped_stiffness(contact_ratio: float, level: Callable[[int], float],
+                      name: str) -> PiecewiseStiffness:
+    """Piecewise-constant stiffness ``level(pairs)`` (N/m) on the pieces of
+    :func:`contact_segments`."""
+    pieces = contact_segments(contact_ratio)
+    edges = np.array([0.0, *(hi for _lo, hi, _n in pieces)])
+    return PiecewiseStiffness(edges, tuple((np.array([lo, hi]), np.full(2, level(pairs)))
+                                           for lo, hi, pairs in pieces), name=name)

@@ -10,7 +10,6 @@ replaces any curve by its truncated Fourier series. Unknown options are refused.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
 from functools import lru_cache, partial
 from typing import Any
 
@@ -31,6 +30,7 @@ from gear_dyn.stiffness.periodic import (
     PeriodicStiffness,
     PiecewiseStiffness,
     rectangular_stiffness,
+    stepped_stiffness,
 )
 from gear_dyn.stiffness.potential_energy import potential_energy_pair_stiffness
 from gear_dyn.stiffness.tooth import ToothOptions
@@ -55,15 +55,6 @@ METHOD_OPTIONS: dict[str, tuple[str, ...]] = {
 }
 
 
-@dataclass(frozen=True)
-class _Key:
-    """Hashable cache key: pair, method and the sorted option items."""
-
-    pair: GearPair
-    method: str
-    items: tuple[tuple[str, Any], ...]
-
-
 def _positive(name: str, value: Any, unit: str) -> float:
     try:
         v = float(value)
@@ -83,32 +74,14 @@ def _iso_wave(pair: GearPair, opts: Mapping[str, Any], name: str) -> PiecewiseSt
         iso = iso6336_stiffness(pair, line_load=opts.get("line_load"))
         k_single = iso.k_single
         k_double = ISO_DOUBLE_FACTOR * k_single
-        if pair.contact_ratio >= 2.0:
-            return _iso_high_contact(pair.contact_ratio, k_single, name)
+        if pair.contact_ratio >= 2.0:  # n pairs: c' b (0.75 n + 0.25), mean c_gamma b for any eps_a
+            return stepped_stiffness(pair.contact_ratio, lambda n: k_single * (0.75 * n + 0.25),
+                                     name)
     else:
         k_single = _positive("single", single, "N/m")
         k_double = (ISO_DOUBLE_FACTOR * k_single if double is None
                     else _positive("double", double, "N/m"))
     return rectangular_stiffness(pair.contact_ratio, k_single, k_double, name=name)
-
-
-def _iso_high_contact(eps: float, k_single: float, name: str) -> PiecewiseStiffness:
-    """ISO wave for eps_a >= 2: n pairs give ``c' b (0.75 n + 0.25)`` (1 pair: c' b, 2 pairs:
-    1.75 c' b as for eps_a < 2), so the mean is c_gamma b exactly for any eps_a."""
-    n = int(np.floor(eps))
-    f = eps - n
-
-    def lvl(pairs: int) -> float:
-        return k_single * (0.75 * pairs + 0.25)
-
-    if f < 1e-9 or f > 1 - 1e-9:
-        k = lvl(int(round(eps)))
-        return PiecewiseStiffness(np.array([0.0, 1.0]), ((np.array([0.0, 1.0]),
-                                                          np.array([k, k])),), name=name)
-    hi, lo = lvl(n + 1), lvl(n)
-    return PiecewiseStiffness(np.array([0.0, f, 1.0]),
-                              ((np.array([0.0, f]), np.array([hi, hi])),
-                               (np.array([f, 1.0]), np.array([lo, lo]))), name=name)
 
 
 def tooth_options(opts: Mapping[str, Any]) -> ToothOptions:
@@ -119,13 +92,13 @@ def tooth_options(opts: Mapping[str, Any]) -> ToothOptions:
 
 
 
-def _int_opt(opts: Mapping[str, Any], key: str, default: int, low: int) -> int:
-    v = opts.get(key, default)
-    if v is None:
+def _int_opt(key: str, value: Any, default: int, low: int) -> int:
+    """``value`` as an int >= ``low`` (``default`` for None), else an InputError naming ``key``."""
+    if value is None:
         return default
-    if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < low:
-        raise InputError(f"{key} = {v!r}: valid range >= {low} (integer)")
-    return int(v)
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < low:
+        raise InputError(f"{key} = {value!r}: valid range >= {low} (integer)")
+    return int(value)
 
 
 def _contact_line(pair: GearPair, opts: Mapping[str, Any]) -> PiecewiseStiffness:
@@ -138,28 +111,26 @@ def _contact_line(pair: GearPair, opts: Mapping[str, Any]) -> PiecewiseStiffness
         k_l = iso.k_mesh / mean_contact_line_length(pair)
     else:
         k_l = _positive("stiffness_per_length", k_l, "N/m^2")
-    bp = contact_line_breakpoints(pair)
-    edges = np.append(bp, 1.0)
-    samples = []
-    eps = 1e-12
-    for lo, hi in zip(edges[:-1], edges[1:], strict=True):
-        ph = np.array([lo, hi])
-        inner = np.array([lo + eps * (hi - lo), hi - eps * (hi - lo)])
-        samples.append((ph, k_l * contact_line_length(pair, inner)))
-    return PiecewiseStiffness(edges, tuple(samples), name="contact_line")
+    edges = np.append(contact_line_breakpoints(pair), 1.0)
+    lo, hi = edges[:-1], edges[1:]
+    eps = 1e-12 * (hi - lo)  # just inside each piece (L(p) is linear between breakpoints)
+    ends = k_l * contact_line_length(pair, np.stack([lo + eps, hi - eps], axis=1))
+    return PiecewiseStiffness(edges, tuple(zip(np.stack([lo, hi], axis=1), ends, strict=True)),
+                              name="contact_line")
 
 
 @lru_cache(maxsize=128)
-def _build_cached(key: _Key) -> PeriodicStiffness:
-    pair, method, opts = key.pair, key.method, dict(key.items)
+def _build_cached(pair: GearPair, method: str,
+                  items: tuple[tuple[str, Any], ...]) -> PeriodicStiffness:
+    """The stiffness of :func:`build_stiffness`, cached per pair, method and sorted options."""
+    opts = dict(items)
     if method in ("rectangular", "iso6336"):
         return _iso_wave(pair, opts, method)
     if method == "contact_line":
         return _contact_line(pair, opts)
-    samples = _int_opt(opts, "samples_per_cycle", 200, 4)
+    samples = _int_opt("samples_per_cycle", opts.get("samples_per_cycle"), 200, 4)
     slices = opts.get("slices")
-    if slices is not None:
-        slices = _int_opt(opts, "slices", 1, 1)
+    slices = None if slices is None else _int_opt("slices", slices, 1, 1)
     return mesh_stiffness_from_pair(pair, _pair_fn(method, opts), samples_per_cycle=samples,
                                     name=method, slices=slices)
 
@@ -173,8 +144,8 @@ def _pair_fn(method: str, opts: Mapping[str, Any]) -> Any:
     modulus = current_modulus(opts.get("weber_modulus") or "jiang2018", "weber_modulus")
     if modulus not in MODULI:
         raise InputError(f"weber_modulus = {modulus!r}: valid values are {', '.join(MODULI)}")
-    return partial(weber_pair_stiffness, options=tooth,
-                   slices=_int_opt(opts, "weber_slices", 20, 1), modulus=modulus,
+    return partial(weber_pair_stiffness, options=tooth, modulus=modulus,
+                   slices=_int_opt("weber_slices", opts.get("weber_slices"), 20, 1),
                    foundation=bool(opts.get("weber_foundation", False)))
 
 
@@ -272,13 +243,10 @@ def build_stiffness(pair: GearPair, method: str = "iso6336", *,
     except TypeError:
         raise InputError(f"stiffness options must be numbers, strings or booleans, got "
                          f"{dict(items)!r}") from None
-    k = _build_cached(_Key(pair, method, items))
-    if fourier_terms is not None:
-        if isinstance(fourier_terms, bool) or not isinstance(fourier_terms, int | np.integer) \
-                or fourier_terms < 1:
-            raise InputError(f"fourier_terms = {fourier_terms!r}: valid range >= 1 (integer)")
-        return k.truncated(int(fourier_terms))
-    return k
+    k = _build_cached(pair, method, items)
+    if fourier_terms is None:
+        return k
+    return k.truncated(_int_opt("fourier_terms", fourier_terms, 1, 1))
 
 
 #: scene key -> build_stiffness option (the [stiffness] TOML table, gear_dyn/scene/core.py)
