@@ -30,8 +30,10 @@ Writes ``package_size.md`` into ``benchmarks/out/``; ``--record`` into ``benchma
 from __future__ import annotations
 
 import argparse
+import ast
 import fnmatch
 import subprocess
+from collections import Counter
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -100,17 +102,48 @@ def package_files(paths: list[str]) -> list[str]:
             and not f.startswith(("gear_dyn/fmu/native/fmi2/", "gear_dyn/fmu/native/fmi3/"))]
 
 
-def commit_delta(commit: str, parent: str) -> int:
-    """Net package lines that ``commit`` changed against ``parent``."""
-    net = 0
-    for row in _git("diff", "--numstat", parent, commit, "--", "gear_dyn").splitlines():
-        added, deleted, path = row.split("\t")
-        if added != "-" and package_files([path]):
-            net += int(added) - int(deleted)
+KINDS = ("code", "docstring", "comment", "blank")
+
+
+def line_kinds(text: str, path: str) -> Counter[str]:
+    """The lines of one source file by kind (:data:`KINDS`); a C file's non-blank lines count
+    as code, a Python file's docstrings are those of the module, classes and functions."""
+    doc: set[int] = set()
+    if path.endswith(".py"):
+        for node in ast.walk(ast.parse(text)):
+            if (isinstance(node, ast.Module | ast.ClassDef | ast.FunctionDef
+                           | ast.AsyncFunctionDef)
+                    and node.body and isinstance(node.body[0], ast.Expr)
+                    and isinstance(node.body[0].value, ast.Constant)
+                    and isinstance(node.body[0].value.value, str)):
+                doc.update(range(node.body[0].lineno, (node.body[0].end_lineno or 0) + 1))
+    kinds: Counter[str] = Counter()
+    for number, line in enumerate(text.splitlines(), 1):
+        stripped = line.strip()
+        kinds["docstring" if number in doc else "blank" if not stripped
+              else "comment" if stripped.startswith("#") and path.endswith(".py")
+              else "code"] += 1
+    return kinds
+
+
+def _file_at(rev: str, path: str) -> str:
+    shown = subprocess.run(["git", "show", f"{rev}:{path}"], cwd=ROOT, capture_output=True,
+                           text=True)
+    return shown.stdout if shown.returncode == 0 else ""
+
+
+def commit_delta(commit: str, parent: str) -> Counter[str]:
+    """Net package lines by kind (:data:`KINDS`) that ``commit`` changed against ``parent``."""
+    net: Counter[str] = Counter()
+    changed = _git("diff", "--name-only", "--no-renames", parent, commit, "--",
+                   "gear_dyn").split()
+    for path in package_files(changed):
+        net.update(line_kinds(_file_at(commit, path), path))
+        net.subtract(line_kinds(_file_at(parent, path), path))
     return net
 
 
-def issue_22_commits(rev: str) -> tuple[list[tuple[str, int, str]], int, int]:
+def issue_22_commits(rev: str) -> tuple[list[tuple[str, Counter[str], str]], int, int]:
     """Issue 22's commits since :data:`BASELINE` up to ``rev`` with their net package lines,
     the net lines of every other non-merge commit, and what merges changed by themselves."""
     merges = _git("rev-list", "--merges", f"{BASELINE}..{rev}").split()
@@ -123,17 +156,17 @@ def issue_22_commits(rev: str) -> tuple[list[tuple[str, int, str]], int, int]:
         for c in _git("rev-list", "--no-merges", f"{merge}^1..{merge}^2").split():
             branch_of.setdefault(c, branch)
     on_main = {_git("rev-parse", h).strip() for h in ISSUE_22_ON_MAIN}
-    ours: list[tuple[str, int, str]] = []
+    ours: list[tuple[str, Counter[str], str]] = []
     others = 0
     for c in _git("rev-list", "--reverse", "--no-merges", f"{BASELINE}..{rev}").split():
         net = commit_delta(c, f"{c}^")
         if c in on_main or branch_of.get(c) in ISSUE_22_BRANCHES:
-            if net:
+            if any(net.values()):
                 ours.append((c[:7], net, _git("log", "-1", "--format=%s", c).strip()))
         else:
-            others += net
+            others += sum(net.values())
     whole = sum(line_counts(rev).values()) - sum(line_counts(BASELINE).values())
-    return ours, others, whole - others - sum(n for _, n, _ in ours)
+    return ours, others, whole - others - sum(sum(n.values()) for _, n, _ in ours)
 
 
 def later_issue(path: str, baseline: dict[str, int]) -> str | None:
@@ -183,7 +216,10 @@ def report(rev: str) -> str:
         "23-25.",
     ]
     ours, others, merged = issue_22_commits(rev)
-    own = sum(n for _, n, _ in ours)
+    kinds: Counter[str] = Counter()
+    for _, net, _ in ours:
+        kinds.update(net)
+    own = sum(kinds.values())
     verdict = "met" if -own >= TARGET else "NOT met"
     lines += [
         "",
@@ -202,10 +238,15 @@ def report(rev: str) -> str:
         f"Issue 22's work made the package {-own} lines smaller. Target: at least {TARGET} "
         f"lines: **{verdict}**.",
         "",
-        "| commit | lines | subject |",
-        "|---|---|---|",
+        "Those lines by kind (docstrings of the module, classes and functions; comments; "
+        "blank lines; the rest is code, C files' lines included): "
+        + ", ".join(f"{k} {kinds[k]:+d}" for k in KINDS) + ".",
+        "",
+        "| commit | lines | of which code | subject |",
+        "|---|---|---|---|",
     ]
-    lines += [f"| {c} | {n:+d} | {subj.replace('|', '/')[:100]} |" for c, n, subj in ours]
+    lines += [f"| {c} | {sum(n.values()):+d} | {n['code']:+d} | "
+              f"{subj.replace('|', '/')[:100]} |" for c, n, subj in ours]
     return "\n".join(lines) + "\n"
 
 
