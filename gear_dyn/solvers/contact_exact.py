@@ -69,12 +69,18 @@ def flow(state: int, k: float, m: float, c: float, w: float, b: float, x0: float
     s : ndarray
         Times since the piece start in s (>= 0).
     """
-    s = np.asarray(s, dtype=float)
+    return _flow(np, state, k, m, c, w, b, x0, v0, np.asarray(s, dtype=float))
+
+
+def _flow(xp: Any, state: int, k: float, m: float, c: float, w: float, b: float, x0: float,
+          v0: float, s: Any) -> tuple[Any, Any]:
+    """:func:`flow` with the functions of ``xp``: numpy for arrays, or math for one time ``s``
+    with Python floats (the root finders' inner loop: no array set-up per call)."""
     a = c / m
     if state == GAP:
         if a == 0.0:
-            return x0 + v0 * s + 0.5 * (w / m) * s**2, v0 + (w / m) * s
-        e1 = -np.expm1(-a * s) / a  # (1 - e^{-a s}) / a, exact also for small a s
+            return x0 + v0 * s + 0.5 * (w / m) * s * s, v0 + (w / m) * s
+        e1 = -xp.expm1(-a * s) / a  # (1 - e^{-a s}) / a, exact also for small a s
         return x0 + v0 * e1 + (w / m) * (s - e1) / a, v0 + (w / m - a * v0) * e1
     w2 = k / m
     x_eq = state * b + w / k
@@ -82,41 +88,13 @@ def flow(state: int, k: float, m: float, c: float, w: float, b: float, x0: float
     q2 = 0.25 * a * a - w2
     if q2 < 0.0:  # underdamped: cos, sin
         q = math.sqrt(-q2)
-        cs, sn = np.cos(q * s), np.sin(q * s) / q
+        cs, sn = xp.cos(q * s), xp.sin(q * s) / q
     elif q2 > 0.0:  # overdamped: cosh, sinh
         q = math.sqrt(q2)
-        cs, sn = np.cosh(q * s), np.sinh(q * s) / q
-    else:
-        cs, sn = np.ones_like(s), s
-    dec = np.exp(-0.5 * a * s)
-    u = dec * (cs * u0 + sn * (v0 + 0.5 * a * u0))
-    v = dec * (cs * v0 - sn * (w2 * u0 + 0.5 * a * v0))
-    return x_eq + u, v
-
-
-def flow_scalar(state: int, k: float, m: float, c: float, w: float, b: float, x0: float,
-                v0: float, s: float) -> tuple[float, float]:
-    """:func:`flow` at one time ``s`` with Python floats (the root finders' inner loop: no
-    array set-up per call, several times cheaper; the same formulas)."""
-    a = c / m
-    if state == GAP:
-        if a == 0.0:
-            return x0 + v0 * s + 0.5 * (w / m) * s * s, v0 + (w / m) * s
-        e1 = -math.expm1(-a * s) / a
-        return x0 + v0 * e1 + (w / m) * (s - e1) / a, v0 + (w / m - a * v0) * e1
-    w2 = k / m
-    x_eq = state * b + w / k
-    u0 = x0 - x_eq
-    q2 = 0.25 * a * a - w2
-    if q2 < 0.0:
-        q = math.sqrt(-q2)
-        cs, sn = math.cos(q * s), math.sin(q * s) / q
-    elif q2 > 0.0:
-        q = math.sqrt(q2)
-        cs, sn = math.cosh(q * s), math.sinh(q * s) / q
+        cs, sn = xp.cosh(q * s), xp.sinh(q * s) / q
     else:
         cs, sn = 1.0, s
-    dec = math.exp(-0.5 * a * s)
+    dec = xp.exp(-0.5 * a * s)
     u = dec * (cs * u0 + sn * (v0 + 0.5 * a * u0))
     v = dec * (cs * v0 - sn * (w2 * u0 + 0.5 * a * v0))
     return x_eq + u, v
@@ -339,7 +317,7 @@ def _refine(pc: _Piece, zargs: tuple[float, float], t0: float, level: float, ins
     part = pc.part
 
     def gv(s: float) -> tuple[float, float, float, float]:
-        zx, zv = flow_scalar(pc.state, pc.k, pc.m, pc.c, pc.w, pc.b, zargs[0], zargs[1], s)
+        zx, zv = _flow(math, pc.state, pc.k, pc.m, pc.c, pc.w, pc.b, zargs[0], zargs[1], s)
         pu, pv = part.at_scalar(t0 + s)
         return (zx + pu - level) * inside, (zv + pv) * inside, zx, zv
 
@@ -396,10 +374,11 @@ def _bracket_unforced(pc: _Piece, x0: float, v0: float, s: FloatArray, g: FloatA
                       dg: FloatArray, level: float, inside: float, xtol: float) -> float | None:
     """First zero of ``g`` (sampled on ``s``, slope ``dg``) by sign change or by extremum."""
     def gf(t: float) -> float:
-        return (flow_scalar(pc.state, pc.k, pc.m, pc.c, pc.w, pc.b, x0, v0, t)[0] - level) * inside
+        x = _flow(math, pc.state, pc.k, pc.m, pc.c, pc.w, pc.b, x0, v0, t)[0]
+        return (x - level) * inside
 
     def dgf(t: float) -> float:
-        return flow_scalar(pc.state, pc.k, pc.m, pc.c, pc.w, pc.b, x0, v0, t)[1] * inside
+        return _flow(math, pc.state, pc.k, pc.m, pc.c, pc.w, pc.b, x0, v0, t)[1] * inside
 
     neg = np.flatnonzero(g[1:] < 0.0)
     turn = np.flatnonzero((dg[:-1] < 0.0) & (dg[1:] > 0.0))  # a minimum of g inside
@@ -536,7 +515,10 @@ class Walk:
     def sensitivity(self) -> FloatArray:
         """``d y(t1) / d y(t0)`` (entries dimensionless, s and 1/s): the product, in time
         order, of each piece's ``exp(A_j s_j)`` (:meth:`_Piece.transition`) and, at each
-        contact change, the :func:`saltation` matrix of the surface ``x = +-b``.
+        contact change, the :func:`saltation` matrix of the surface ``x = +-b``: the identity
+        where the field is continuous (the dead zone's ends; a field with a jump gets the
+        general formula). A stiffness switch is a fixed instant, not a state surface: the
+        sensitivity carries over unchanged.
 
         Raises
         ------
@@ -703,16 +685,8 @@ def flow_with_sensitivity(model: Model, y0: FloatArray, t1: float, t0: float = 0
                           ) -> tuple[FloatArray, FloatArray]:
     """State ``y(t1)`` from ``y(t0) = y0`` and its exact sensitivity ``d y(t1) / d y0``.
 
-    :meth:`Walk.sensitivity` of :func:`walk`: the product, in time order, of each closed-form
-    piece's ``exp(A_j s_j)`` (:meth:`_Piece.transition`) and, at each
-    located contact change, the :func:`saltation` matrix of the switching surface ``x = +-b``.
-    The dead zone is continuous and the damping acts in every contact state, so the field is
-    continuous there and ``S = I`` (the fields are compared at each change and the product
-    skipped where they agree: a field with a jump gets the general formula). A stiffness
-    switch is a fixed instant, not a state surface: the state and its sensitivity carry over
-    unchanged (its saltation matrix, of the surface ``t = t_s`` in ``(y, t)``, has the identity
-    as its state block). No truncation error: rounding and the event times' rounding
-    (4 ulps, :func:`rounding_bound`).
+    :meth:`Walk.sensitivity` of :func:`walk`. No truncation error: rounding and the event
+    times' rounding (4 ulps, :func:`rounding_bound`).
 
     Parameters
     ----------
