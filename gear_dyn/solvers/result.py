@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import importlib
 import math
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
@@ -79,16 +79,7 @@ class SolverStats:
 
     def as_dict(self) -> dict[str, Any]:
         """Plain dict for JSON."""
-        return {
-            "method": self.method,
-            "rtol": self.rtol,
-            "atol": self.atol,
-            "nfev": self.nfev,
-            "njev": self.njev,
-            "nlu": self.nlu,
-            "n_segments": self.n_segments,
-            "run_time_s": self.run_time_s,
-        }
+        return asdict(self)
 
 
 @dataclass(frozen=True, eq=False)
