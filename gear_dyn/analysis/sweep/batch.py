@@ -3,7 +3,7 @@
 Where the stiffness is piecewise constant (``linear_segments`` not None) the periodic orbit is
 exact: per speed, the mesh period is cut at the stiffness switches and at the output samples
 (``samples_per_period`` per period), every cell is an affine map ``y -> y* + E (y - y*)`` with
-``E`` the closed-form 2x2 exponential (:func:`gear_dyn.analysis.chart._expm2_sdof`) and
+``E`` the closed-form 2x2 exponential (:func:`gear_dyn.analysis.chart._expm2`) and
 ``y* = [g / kappa, 0]`` the cell's equilibrium; their product is the one-period map, its fixed
 point the orbit, and the same cells carry the orbit to the samples. All speeds of a block go
 through each cell at once (numpy over speeds), so the per-speed cost is a few array rows instead
@@ -23,7 +23,7 @@ from typing import cast
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.analysis.chart import _expm2_sdof
+from gear_dyn.analysis.chart import _expm2
 from gear_dyn.analysis.stability import UNIT_CIRCLE_TOL
 from gear_dyn.analysis.sweep import smooth
 from gear_dyn.analysis.sweep.points import _nan_point
@@ -75,7 +75,7 @@ def _orbits(fm: FloatArray, edges: FloatArray, kappa: FloatArray, gamma: FloatAr
     ``kappa``, ``gamma``, ``g``: (S, C) per speed and cell; ``edges`` (C + 1,) in phase.
     """
     dt = np.diff(edges)[None, :] / fm[:, None]
-    e11, e12, e21, e22 = _expm2_sdof(kappa, gamma, dt)
+    e11, e12, e21, e22 = _expm2(0.0, dt, -kappa * dt, -gamma * dt)  # exp of A dt
     xs = g / kappa  # equilibrium deflection of each cell
     n_s, n_c = kappa.shape
     # cell map y -> E y + d with d = (I - E) y*, y* = [xs, 0]

@@ -33,6 +33,7 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
+from gear_dyn.analysis.chart import _expm2
 from gear_dyn.models.base import MeshModel, Model
 
 FloatArray = NDArray[np.float64]
@@ -100,23 +101,6 @@ def substep_grid(model: MeshModel, spp: int, fm_min: float, rtol: float
     cell_end = edges_a + width
     sample_cells = [int(np.argmin(np.abs(cell_end - j / spp))) for j in range(1, spp + 1)]
     return starts, lengths, ends[sample_cells]
-
-
-def _expm2(b11: FloatArray, b12: FloatArray, b21: FloatArray, b22: FloatArray
-           ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    """exp of 2x2 matrices given by components (closed form, any shape)."""
-    mu = 0.5 * (b11 + b22)
-    det = b11 * b22 - b12 * b21
-    d2 = mu * mu - det
-    s = np.sqrt(np.abs(d2))
-    small = s < 1e-4
-    with np.errstate(invalid="ignore", divide="ignore"):
-        ch = np.where(d2 < 0, np.cos(s), np.cosh(s))
-        sh = np.where(small, 1 + d2 / 6 + d2 * d2 / 120,
-                      np.where(d2 < 0, np.sin(s), np.sinh(s)) / np.where(small, 1.0, s))
-    em = np.exp(mu)
-    return (em * (ch + sh * (b11 - mu)), em * sh * b12, em * sh * b21,
-            em * (ch + sh * (b22 - mu)))
 
 
 def orbits(models: Sequence[Model], spp: int, rtol: float
