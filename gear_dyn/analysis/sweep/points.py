@@ -84,15 +84,10 @@ def _nan_point(model: Model, speed: float, rho: float, status: str, n_orders: in
 
 
 def _flow(model: Model, t: FloatArray, settings: SolverSettings, y0: FloatArray) -> FloatArray:
-    """States on ``t`` from ``y0``.
-
-    :func:`gear_dyn.solvers.integrate` with the method ``settings.method`` means for ``model``
-    (``auto``: the exact propagator for linear piecewise-constant models, ``exact_contact``
-    for the single-DOF model with backlash, piecewise-constant stiffness and no transmission
-    error: closed form between located contact changes), except for a nonlinear mesh model
-    that ``auto`` would give to a general ODE solver, or with ``DOP853`` pinned: there DOP853
-    with the stiffness fixed per piece (:func:`gear_dyn.analysis.stability.flow_on_grid`).
-    """
+    """States on ``t`` from ``y0`` by :func:`gear_dyn.solvers.integrate`, except where ``auto``
+    would give a mesh model to a general ODE solver, or with ``DOP853`` pinned: there DOP853 with
+    the stiffness fixed per piece (:func:`gear_dyn.analysis.stability.flow_on_grid`; docs/sweep.md,
+    "Which integrator")."""
     if (model.mesh_periodic and model.linear_segments(0.0, float(t[-1])) is None
             and (settings.method == "DOP853"
                  or (settings.method == "auto" and resolve_auto(model) == DEFAULT_ODE_METHOD))):
@@ -198,17 +193,11 @@ def _linear_orbit_point(model: MeshModel, speed: float, settings: SolverSettings
 def _settle_and_shoot(model: MeshModel, speed: float, settings: SolverSettings,
                       opts: SweepOptions, guess: FloatArray, iters: int, continuing: bool
                       ) -> tuple[Point, FloatArray | None]:
-    """The orbit followed so far is gone (or Newton left it): settle as a slow sweep would.
-
-    In chunks of SETTLE_CHUNK periods, shooting for a period-1, then a period-2 orbit after
-    each. The settling run only has to reach the attractor's basin, so it runs at rtol >= 1e-6;
-    shooting (or the measured window) restores the full accuracy. With no such orbit, the
-    motion is classified from CLASSIFY_SAMPLES stroboscopic samples
-    (:func:`gear_dyn.analysis.motion.classify_motion`): an orbit of n = 1..16 mesh periods
-    confirmed by shooting over n periods (``period-n``), else ``aperiodic`` with the motion's
-    label (quasi-periodic, chaotic with its Lyapunov exponent, or not settled), measured over
-    a window of whole periods at full accuracy from where the classification ended.
-    """
+    """The orbit followed so far is gone (or Newton left it): settle as a slow sweep would, in
+    chunks of SETTLE_CHUNK periods at rtol >= 1e-6 (it only has to reach the basin), shooting
+    for a period-1, then a period-2 orbit after each; else classify the motion
+    (:func:`gear_dyn.analysis.motion.classify_motion`). docs/sweep.md, "How the steady state is
+    found", gives the statuses."""
     spp = settings.samples_per_period
     fm = model.mesh_frequency
     loose = replace(settings, rtol=max(settings.rtol, 1e-6), atol=None)
