@@ -151,27 +151,6 @@ def period_map(f: FloatArray, h: FloatArray) -> tuple[FloatArray, FloatArray]:
     return q[-1], r[-1]
 
 
-def _integrate_cut(model: MeshModel, rhs: Any, z0: FloatArray, t0: float, t1: float,
-                   rtol: float, atol: FloatArray) -> FloatArray:
-    """Integrate from t0 to t1 with DOP853, restarting at every switching instant.
-
-    ``rhs(ta, tb)`` returns the right-hand side to use on the piece [ta, tb] (so a stiffness
-    that is constant on the piece is evaluated once, not at every step).
-    """
-    cuts = np.concatenate([[t0], model.switching_times(t0, t1), [t1]])
-    z = np.asarray(z0, dtype=float)
-    events = _state_events(model, len(model.state_labels))
-    for ta, tb in zip(cuts[:-1], cuts[1:], strict=True):
-        if tb <= ta:
-            continue
-        f = rhs(float(ta), float(tb))
-        _, z = _piece(f, float(ta), float(tb), z, np.array([tb]), events, rtol, atol)
-        if not np.all(np.isfinite(z)):
-            raise SolverError("the one-period map produced non-finite states: the response "
-                              "diverges within one mesh period")
-    return z
-
-
 def _state_events(model: MeshModel, n: int) -> list[Any]:
     """The model's contact events as functions of an extended vector whose first ``n``
     entries are the state (the variational equations ride along)."""
@@ -231,24 +210,31 @@ def flow_on_grid(model: MeshModel, y0: FloatArray, t_grid: FloatArray, rtol: flo
         Integration failure or non-finite states.
     """
     model = _require_sdof(model)
-    t_grid = np.asarray(t_grid, dtype=float)
     if atol is None:
         atol = rtol * np.asarray(model.state_scale, dtype=float)
+    return _run_cut(model, lambda ta, tb: _piece_functions(model, ta, tb)[0], y0,
+                    np.asarray(t_grid, dtype=float), rtol, atol)
+
+
+def _run_cut(model: MeshModel, rhs_on: Any, z0: FloatArray, t_grid: FloatArray, rtol: float,
+             atol: Any, diverged: str = "") -> FloatArray:
+    """States on ``t_grid`` from ``z0`` (at its first time) by DOP853, restarted at every
+    switching instant; ``rhs_on(ta, tb)`` is the right-hand side on the piece ``[ta, tb]`` (so
+    a stiffness constant on the piece is evaluated once, not at every step). ``diverged``: the
+    message of non-finite states (default: solve_ivp's times and advice)."""
     t0, t1 = float(t_grid[0]), float(t_grid[-1])
     cuts = np.concatenate([[t0], model.switching_times(t0, t1), [t1]])
-    y = np.array(y0, dtype=float)
-    out = np.empty((y.size, t_grid.size))
-    out[:, 0] = y
-    events = _state_events(model, y.size)
+    z = np.array(z0, dtype=float)
+    out = np.empty((z.size, t_grid.size))
+    out[:, 0] = z
+    events = _state_events(model, len(model.state_labels))
     for ta, tb, i0, i1, t_eval in pieces(t_grid, cuts):
-        f, _jac = _piece_functions(model, ta, tb)
-        ys, y = _piece(f, ta, tb, y, t_eval, events, rtol, atol)
-        if not np.all(np.isfinite(ys)):
-            raise SolverError(
+        zs, z = _piece(rhs_on(ta, tb), ta, tb, z, t_eval, events, rtol, atol)
+        if not np.all(np.isfinite(zs)):
+            raise SolverError(diverged or (
                 f"solve_ivp (DOP853) produced non-finite states at t = {ta:.6g}..{tb:.6g} s: "
-                "the response diverges or the tolerances are too loose"
-            )
-        out[:, i0:i1] = ys[:, : i1 - i0]
+                "the response diverges or the tolerances are too loose"))
+        out[:, i0:i1] = zs[:, : i1 - i0]
     return out
 
 
@@ -408,7 +394,9 @@ def integrate_with_sensitivity(model: MeshModel, y0: FloatArray, t1: float, rtol
     scale = np.asarray(model.state_scale, dtype=float)
     atol = rtol * np.concatenate([scale, (scale[:, None] / scale[None, :]).ravel()])
     z0 = np.concatenate([np.asarray(y0, dtype=float), np.eye(n).ravel()])
-    z = _integrate_cut(model, rhs_on, z0, 0.0, t1, rtol, atol)
+    z = _run_cut(model, rhs_on, z0, np.array([0.0, t1]), rtol, atol,
+                 "the one-period map produced non-finite states: the response diverges within "
+                 "one mesh period")[:, -1]
     return z[:n].copy(), z[n:].reshape(n, n).copy()
 
 
