@@ -390,7 +390,7 @@ def floquet_check(model: Model, step_maps: StepMaps | None = None,
             rho, err, basis = _floquet_reused(mesh, step_maps, reference)
         else:
             phi, _q, how = one_period_map(mesh)
-            rho, err = _spectral_radius(phi), None
+            rho, err = float(np.max(np.abs(np.linalg.eigvals(phi)))), None
             basis = ("monodromy matrix by expm of the pieces (exact up to rounding)"
                      if how == "expm" else "monodromy matrix by the variational equations "
                      "(DOP853, rtol 1e-10)")
@@ -405,10 +405,6 @@ def floquet_check(model: Model, step_maps: StepMaps | None = None,
                   "(see gear-dyn sweep)")
     return {"max_multiplier_modulus": rho, "multiplier_error": err, "basis": basis,
             "unstable": unstable, "advice": advice}
-
-
-def _spectral_radius(phi: FloatArray) -> float:
-    return float(np.max(np.abs(np.linalg.eigvals(phi))))
 
 
 def multiplier_distance(mu: ComplexArray, nu: ComplexArray) -> float:

@@ -175,8 +175,7 @@ class Result:
     @property
     def rms_dte(self) -> float:
         """RMS of the fluctuating DTE (mean removed) over the steady window in m."""
-        x = self.outputs["dte"][self.steady]
-        return float(np.sqrt(np.mean((x - x.mean()) ** 2)))
+        return float(np.std(self.outputs["dte"][self.steady]))
 
     @property
     def ptp_dte(self) -> float:
