@@ -264,19 +264,12 @@ def _first_crossing(pc: _Piece, t0: float, x0: float, v0: float, length: float, 
                     ) -> float | None:
     """Time after ``t0`` of the first contact change within ``length``, or None.
 
-    The piece's solution is sampled ``pc.h`` apart (a quarter of the damped and of the top
-    harmonic's period). For each sample interval ``[s0, s1]`` (width ``d``) of the distance
-    ``g`` to a boundary (positive inside) the curvature bound ``G >= |g''|`` of
-    :meth:`_Piece.curvature_bound` proves one of:
-
-    - no zero: ``g(s0), g(s1) > 0`` and ``min(g(s0), g(s1)) > G d^2 / 8`` (g lies above its
-      chord less ``G (s - s0)(s1 - s) / 2``);
-    - ``g`` monotone: ``|g'(s0)| > G d`` (g' cannot change sign); then a sign change at the
-      ends is the only zero, closed by :func:`find_root`;
-
-    else the interval is halved, left half first, so the first zero is the one found. A
-    tangential graze (``g`` touching zero) is bisected down to ``xtol``; a dip shallower than
-    rounding is not a contact change. Proofs hold up to the rounding of ``g`` (~ eps |u|).
+    Sampled ``pc.h`` apart (a quarter of the damped and of the top harmonic's period), each
+    sample interval of the distance ``g`` to a boundary is proved free of a zero (g lies above
+    its chord less ``G (s - s0)(s1 - s) / 2``, ``G`` the :meth:`_Piece.curvature_bound`) or
+    ``g`` monotone (then closed by :func:`find_root`), else halved, left half first
+    (docs/solvers.md, "With a harmonic transmission error"). A tangential graze is bisected
+    down to ``xtol``. Proofs hold up to the rounding of ``g`` (~ eps |u|).
     """
     if not pc.part.n.size:
         return _first_crossing_unforced(pc, x0, v0, length, xtol)
