@@ -69,36 +69,17 @@ def _phase_cells(cuts: bytes, spp: int) -> tuple[FloatArray, NDArray[np.intp]]:
 
 
 def _orbits(fm: FloatArray, edges: FloatArray, kappa: FloatArray, gamma: FloatArray,
-            g: FloatArray, spp: int) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """(orbit samples (S, 2, spp), monodromy (S, 2, 2), one-period response q (S, 2)).
+            g: FloatArray, spp: int) -> tuple[FloatArray, FloatArray]:
+    """(orbit samples (S, 2, spp), monodromy (S, 2, 2)).
 
     ``kappa``, ``gamma``, ``g``: (S, C) per speed and cell; ``edges`` (C + 1,) in phase.
     """
     dt = np.diff(edges)[None, :] / fm[:, None]
     e11, e12, e21, e22 = _expm2(0.0, dt, -kappa * dt, -gamma * dt)  # exp of A dt
     xs = g / kappa  # equilibrium deflection of each cell
-    n_s, n_c = kappa.shape
-    # cell map y -> E y + d with d = (I - E) y*, y* = [xs, 0]
-    d1, d2 = (1 - e11) * xs, -e21 * xs
-    phi = np.broadcast_to(np.eye(2), (n_s, 2, 2)).copy()
-    q = np.zeros((n_s, 2))
-    for c in range(n_c):
-        e = np.stack([np.stack([e11[:, c], e12[:, c]], -1), np.stack([e21[:, c], e22[:, c]], -1)],
-                     1)
-        phi = e @ phi
-        q = np.einsum("sij,sj->si", e, q) + np.stack([d1[:, c], d2[:, c]], -1)
-    y0 = np.linalg.solve(np.eye(2)[None] - phi, q[:, :, None])[:, :, 0]
-    sample = np.isin(np.round(edges[:-1] * spp, 9), np.arange(spp))
-    out = np.empty((n_s, 2, spp))
-    y1, y2 = y0[:, 0].copy(), y0[:, 1].copy()
-    k = 0
-    for c in range(n_c):
-        if sample[c]:
-            out[:, 0, k], out[:, 1, k] = y1, y2
-            k += 1
-        y1, y2 = (e11[:, c] * y1 + e12[:, c] * y2 + d1[:, c],
-                  e21[:, c] * y1 + e22[:, c] * y2 + d2[:, c])
-    return out, phi, q
+    # cell map y -> E y + d with d = (I - E) y*, y* = [xs, 0]; the cells ending on a sample
+    ends = np.flatnonzero(np.isin(np.round(edges[1:] * spp, 9), np.arange(1, spp + 1)))
+    return smooth.compose_period((e11, e12, e21, e22, (1 - e11) * xs, -e21 * xs), ends, spp)
 
 
 def _piecewise_orbits(mesh: list[MeshModel], fm: FloatArray, spp: int
@@ -114,8 +95,7 @@ def _piecewise_orbits(mesh: list[MeshModel], fm: FloatArray, spp: int
         return None  # cells differ between speeds (not seen for sdof models): per speed
     kap, gam, gg = (np.stack([cast(tuple[FloatArray, ...], c)[i] for c in cells])
                     for i in (1, 2, 3))
-    y, phi, _q = _orbits(fm, first[0], kap, gam, gg, spp)
-    return y, phi
+    return _orbits(fm, first[0], kap, gam, gg, spp)
 
 
 def linear_block(models: Sequence[Model], speeds: Sequence[float], settings: SolverSettings,
