@@ -364,14 +364,11 @@ def floquet_check(model: Model, step_maps: StepMaps | None = None,
     """Parametric stability of a linear single-DOF model: its largest Floquet multiplier.
 
     The monodromy matrix is the product of the run's own maps of one mesh period where it has
-    them (``Result.step_maps``; no integration), else that of
-    :func:`gear_dyn.analysis.stability.one_period_map`. ``multiplier_error``: for the exact
-    propagator's maps the rounding bound ``kappa(V) 100 eps (pieces + 1) prod_j |P_j|``
-    (Bauer-Fike); for periodic step maps ``2 |mu - mu_ref|`` against Gauss-Legendre maps
-    (``reference``: their ``(finer, coarser)`` monodromy matrices, else made here), where those
-    agree within :data:`REFERENCE_SHARE`, else against the variational route; None where the
-    run had no maps (docs/solvers.md).
-    Returns None for models it does not cover (not linear or not mesh-periodic).
+    them (``step_maps``: ``Result.step_maps``, of an ``exact`` run if ``exact``; ``reference``:
+    the Gauss-Legendre ``(finer, coarser)`` monodromy matrices of a periodic run's estimate),
+    else that of :func:`gear_dyn.analysis.stability.one_period_map`; docs/solvers.md says how
+    ``multiplier_error`` is stated for each. Returns None for models it does not cover (not
+    linear or not mesh-periodic).
 
     Returns
     -------
