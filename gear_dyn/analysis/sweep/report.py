@@ -90,12 +90,7 @@ def aperiodic_ranges(result: SweepResult) -> list[list[float]]:
     for c in result.curves:
         m = _not_periodic(c)
         mask |= m if c.direction == "up" else m[::-1]
-    return speed_ranges(_up_speeds(result), mask)
-
-
-def _up_speeds(result: SweepResult) -> FloatArray:
-    c = result.curves[0]
-    return c.speed if c.direction == "up" else c.speed[::-1]
+    return speed_ranges(np.sort(result.curves[0].speed), mask)  # the mask is in up order
 
 
 def hysteresis_ranges(result: SweepResult, rel: float = 0.05) -> list[list[float]]:
