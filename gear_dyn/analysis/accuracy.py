@@ -3,12 +3,7 @@ estimate in every run summary", states each basis and how it is tested).
 
 All errors are on the dynamic transmission error (``dte`` output, else the first state) and
 relative to the static deflection ``W / k_m`` of the model (else ``state_scale[0]``), so a figure
-of 1e-6 means one millionth of the static deflection. The estimate (:func:`estimate_error`) is
-the rounding level for the exact propagator and otherwise ``2 max |x - x_ref| / x_s`` against a
-second run over the whole span: Gauss-Legendre step maps (:data:`REFERENCE_SHARE`) for periodic
-step maps, else the same method at a 100 times tighter ``rtol``. Above :data:`REPRODUCIBLE` the
-run states the errors of its printed figures instead; above :data:`GROWTH_LIMIT` the two runs
-part exponentially (unstable or chaotic response).
+of 1e-6 means one millionth of the static deflection.
 """
 
 from __future__ import annotations
@@ -89,7 +84,7 @@ def estimate_error(
     model: Model, t_grid: FloatArray, y: FloatArray, settings: Any, stats: dict[str, Any],
     steady_start: float | None = None, series: FloatArray | None = None,
 ) -> dict[str, Any]:
-    """Estimated error of a run, relative to the static deflection (module docstring).
+    """Estimated error of a run, relative to the static deflection (docs/solvers.md).
 
     Parameters
     ----------
@@ -155,8 +150,8 @@ def estimate_with_reference(
 def _periodic_estimate(model: Model, t_grid: FloatArray, y: FloatArray, x: FloatArray,
                        run_maps: StepMaps, floor: float, steady_start: float | None
                        ) -> tuple[dict[str, Any], _Monodromies] | None:
-    """The periodic run against the same fill with Gauss-Legendre step maps (module
-    docstring), or None where no reference passes its own check."""
+    """The periodic run against the same fill with Gauss-Legendre step maps (docs/solvers.md),
+    or None where no reference passes its own check."""
     start = time.perf_counter()
     s_per = run_maps[0].shape[0]
     t0, dt = float(t_grid[0]), float(t_grid[1] - t_grid[0])
