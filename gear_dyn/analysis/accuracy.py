@@ -328,15 +328,12 @@ def stiffness_check(model: Model, method: str, samples: int = 16) -> dict[str, A
     """
     period = 1.0 / model.mesh_frequency
     y0 = model.initial_state()
-    lam_max, re_max, re_min = 0.0, 0.0, math.inf
-    for t in np.linspace(0.0, period, samples, endpoint=False):
-        lam = np.linalg.eigvals(np.asarray(model.jac(float(t), y0), dtype=float))
-        lam_max = max(lam_max, float(np.max(np.abs(lam))))
-        re = np.abs(lam.real)
-        re = re[re > ZERO_EIG * max(float(np.max(np.abs(lam))), 1e-300)]
-        if re.size:
-            re_max = max(re_max, float(np.max(re)))
-            re_min = min(re_min, float(np.min(re)))
+    lam = np.linalg.eigvals(np.array([model.jac(float(t), y0) for t in np.linspace(
+        0.0, period, samples, endpoint=False)], dtype=float))  # (samples, n)
+    lam_max = float(np.max(np.abs(lam)))
+    re = np.abs(lam.real)
+    re = re[re > ZERO_EIG * np.maximum(np.max(np.abs(lam), axis=1, keepdims=True), 1e-300)]
+    re_max, re_min = (float(np.max(re)), float(np.min(re))) if re.size else (0.0, math.inf)
     ratio = re_max / re_min if re_min < math.inf and re_min > 0 else 1.0
     steps = lam_max * period / 3.0
     stiff_steps = re_max * period / 3.0
