@@ -427,54 +427,6 @@ def _te_shift(mm: Any, t: FloatArray) -> tuple[FloatArray, FloatArray]:
             float(mm.mesh_frequency) * np.asarray(te.slope(p), dtype=float))
 
 
-def _walk(mm: Any, t0: float, t1: float, x: float, v: float
-          ) -> tuple[list[_Segment], tuple[float, float]]:
-    """The closed-form pieces from ``(x, v)`` at ``t0`` to ``t1`` and the end state ``(x, v)``.
-
-    The pieces are in ``u = x - e(t)``, ``u'``. Cut at the stiffness switches; within a
-    stiffness piece, each located contact change ends a segment, its state is put exactly on
-    the boundary it crossed and the next contact state starts there.
-
-    Raises
-    ------
-    SolverError
-        A chattering contact (too many events in one stiffness piece).
-    """
-    cuts = np.concatenate([[t0], mm.switching_times(t0, t1), [t1]])
-    kts = mm.stiffness(mm.phase(0.5 * (cuts[:-1] + cuts[1:])))
-    b = float(mm.backlash)
-    xtol = 4 * float(np.spacing(max(abs(t0), abs(t1), 1e-300)))
-    forcing = Forcing.of(mm)
-    cache: dict[tuple[float, int], _Piece] = {}
-    segs: list[_Segment] = []
-    e0, ed0 = _te_shift(mm, np.array([t0]))
-    x, v = x - float(e0[0]), v - float(ed0[0])
-    state = _state_at(x, v, b)
-    for ta, tb, kt in zip(cuts[:-1].tolist(), cuts[1:].tolist(), kts.tolist(), strict=True):
-        t, n_ev = ta, 0
-        while t < tb:
-            pc = cache.get((kt, state)) or cache.setdefault((kt, state),
-                                                            _Piece(mm, kt, state, forcing))
-            hit = _first_crossing(pc, t, x, v, tb - t, xtol)
-            if hit is None or t + hit >= tb:
-                segs.append(_Segment(t, pc, x, v, tb - t, False))
-                xs, vs = pc.at(x, v, np.array([tb - t]), t)
-                x, v, t = float(xs[0]), float(vs[0]), tb
-                break
-            segs.append(_Segment(t, pc, x, v, hit, True))
-            xs, vs = pc.at(x, v, np.array([hit]), t)
-            x, v, t = float(xs[0]), float(vs[0]), t + hit
-            x = b if abs(x - b) < abs(x + b) else -b  # exactly on the boundary it crossed
-            state = _next_state(state, x, v, b)
-            n_ev += 1
-            if n_ev > MAX_EVENTS_PER_PIECE:
-                raise SolverError(
-                    f"exact_contact: more than {MAX_EVENTS_PER_PIECE} contact changes in one "
-                    f"stiffness piece at t = {t:.6g} s (a chattering graze); use LSODA")
-    e1, ed1 = _te_shift(mm, np.array([t1]))
-    return segs, (x + float(e1[0]), v + float(ed1[0]))
-
-
 class Walk:
     """The closed-form pieces of one propagation (:func:`walk`): the end state, the located
     contact changes, the exact sensitivity and states on any grid inside the walked span, all
@@ -563,7 +515,9 @@ def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0) -> Walk:
 
     :func:`propagate_contact_exact` and :func:`flow_with_sensitivity` are its states on a grid
     and its end state with :meth:`Walk.sensitivity`; a caller that needs both (a shooting
-    point and its response measures) walks once.
+    point and its response measures) walks once. The pieces are in ``u = x - e(t)``, ``u'``,
+    cut at the stiffness switches; within a stiffness piece each located contact change ends a
+    segment, its state put exactly on the boundary it crossed, where the next state starts.
 
     Parameters
     ----------
@@ -588,9 +542,42 @@ def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0) -> Walk:
             "solver.method = 'exact_contact' needs the single-DOF model with backlash, "
             "piecewise-constant stiffness and no or a damped harmonic transmission error; "
             "use DOP853 or LSODA")
-    x, v = (float(u) for u in y0)
-    segs, end = _walk(model, float(t0), float(t1), x, v)
-    return Walk(model, float(t0), float(t1), (x, v), segs, end)
+    mm: Any = model  # a mesh model with backlash: checked above
+    t0, t1 = float(t0), float(t1)
+    x0, v0 = (float(u) for u in y0)
+    cuts = np.concatenate([[t0], mm.switching_times(t0, t1), [t1]])
+    kts = mm.stiffness(mm.phase(0.5 * (cuts[:-1] + cuts[1:])))
+    b = float(mm.backlash)
+    xtol = 4 * float(np.spacing(max(abs(t0), abs(t1), 1e-300)))
+    forcing = Forcing.of(mm)
+    cache: dict[tuple[float, int], _Piece] = {}
+    segs: list[_Segment] = []
+    e0, ed0 = _te_shift(mm, np.array([t0]))
+    x, v = x0 - float(e0[0]), v0 - float(ed0[0])
+    state = _state_at(x, v, b)
+    for ta, tb, kt in zip(cuts[:-1].tolist(), cuts[1:].tolist(), kts.tolist(), strict=True):
+        t, n_ev = ta, 0
+        while t < tb:
+            pc = cache.get((kt, state)) or cache.setdefault((kt, state),
+                                                            _Piece(mm, kt, state, forcing))
+            hit = _first_crossing(pc, t, x, v, tb - t, xtol)
+            if hit is None or t + hit >= tb:
+                segs.append(_Segment(t, pc, x, v, tb - t, False))
+                xs, vs = pc.at(x, v, np.array([tb - t]), t)
+                x, v, t = float(xs[0]), float(vs[0]), tb
+                break
+            segs.append(_Segment(t, pc, x, v, hit, True))
+            xs, vs = pc.at(x, v, np.array([hit]), t)
+            x, v, t = float(xs[0]), float(vs[0]), t + hit
+            x = b if abs(x - b) < abs(x + b) else -b  # exactly on the boundary it crossed
+            state = _next_state(state, x, v, b)
+            n_ev += 1
+            if n_ev > MAX_EVENTS_PER_PIECE:
+                raise SolverError(
+                    f"exact_contact: more than {MAX_EVENTS_PER_PIECE} contact changes in one "
+                    f"stiffness piece at t = {t:.6g} s (a chattering graze); use LSODA")
+    e1, ed1 = _te_shift(mm, np.array([t1]))
+    return Walk(model, t0, t1, (x0, v0), segs, (x + float(e1[0]), v + float(ed1[0])))
 
 
 def propagate_contact_exact(
