@@ -151,12 +151,6 @@ def period_map(f: FloatArray, h: FloatArray) -> tuple[FloatArray, FloatArray]:
     return q[-1], r[-1]
 
 
-def _state_events(model: MeshModel, n: int) -> list[Any]:
-    """The model's contact events as functions of an extended vector whose first ``n``
-    entries are the state (the variational equations ride along)."""
-    return [lambda t, z, g=g: g(t, z[:n]) for g in model.contact_events()]
-
-
 def _piece(f: Any, ta: float, tb: float, z: FloatArray, t_eval: FloatArray, events: list[Any],
            rtol: float, atol: Any) -> tuple[FloatArray, FloatArray]:
     """DOP853 over ``[ta, tb]`` (``tb`` is the last of ``t_eval``), restarted at every contact
@@ -227,7 +221,8 @@ def _run_cut(model: MeshModel, rhs_on: Any, z0: FloatArray, t_grid: FloatArray, 
     z = np.array(z0, dtype=float)
     out = np.empty((z.size, t_grid.size))
     out[:, 0] = z
-    events = _state_events(model, len(model.state_labels))
+    n = len(model.state_labels)  # the events see the state, not the variational part after it
+    events = [lambda t, z, g=g: g(t, z[:n]) for g in model.contact_events()]
     for ta, tb, i0, i1, t_eval in pieces(t_grid, cuts):
         zs, z = _piece(rhs_on(ta, tb), ta, tb, z, t_eval, events, rtol, atol)
         if not np.all(np.isfinite(zs)):
