@@ -26,7 +26,7 @@ from numpy.typing import NDArray
 from gear_dyn.analysis.chart import _expm2
 from gear_dyn.analysis.stability import UNIT_CIRCLE_TOL
 from gear_dyn.analysis.sweep import smooth
-from gear_dyn.analysis.sweep.points import _nan_point
+from gear_dyn.analysis.sweep.points import _nan_point, _order_spectrum
 from gear_dyn.analysis.sweep.types import Point, SweepOptions
 from gear_dyn.models.base import MeshModel, Model
 from gear_dyn.solvers import SolverSettings
@@ -123,7 +123,6 @@ def linear_block(models: Sequence[Model], speeds: Sequence[float], settings: Sol
     rho = np.max(np.abs(mult), axis=1)
     if not np.all(np.linalg.cond(np.eye(2)[None] - phi) < 1e14):
         return None  # a multiplier at 1: the per-speed path raises the SolverError
-    n_orders = opts.window_periods * opts.harmonics
     ok = rho <= 1.0 + UNIT_CIRCLE_TOL
     dte = np.full((fm.size, spp), np.nan)
     force = np.full((fm.size, spp), np.nan)
@@ -135,15 +134,13 @@ def linear_block(models: Sequence[Model], speeds: Sequence[float], settings: Sol
     load = np.array([m.static_load for m in mesh])
     with np.errstate(invalid="ignore", divide="ignore"):
         df = np.where(load > 0, np.max(force, axis=1) / load, np.nan)
-    x = np.tile(dte, (1, opts.window_periods))
-    spec = np.abs(np.fft.rfft(x - x.mean(axis=1, keepdims=True), axis=1)[:, 1:n_orders + 1]
-                  ) * 2.0 / x.shape[1]
+    spec = _order_spectrum(np.tile(dte, (1, opts.window_periods)), opts)
     rms, ptp, mean = np.std(dte, axis=1), np.ptp(dte, axis=1), np.mean(dte, axis=1)
     sep = np.mean(force < 0, axis=1)
     points = []
     for i, m in enumerate(mesh):
         if not ok[i]:
-            points.append(_nan_point(m, float(speeds[i]), float(rho[i]), "unstable", n_orders))
+            points.append(_nan_point(m, float(speeds[i]), float(rho[i]), "unstable", opts))
             continue
         points.append(Point(float(speeds[i]), float(fm[i]), float(df[i]), float(rms[i]),
                             float(ptp[i]), float(mean[i]), float(rho[i]), True, True,

@@ -57,11 +57,12 @@ def _contact(model: Model, t: FloatArray, y: FloatArray, force: FloatArray
     return float(np.mean(force < 0)), 0.0
 
 
-def _order_spectrum(dte: FloatArray, window: int, spp: int, harmonics: int) -> FloatArray:
-    """Amplitudes at orders k / window, k = 1..window*harmonics, of ``window`` periods."""
-    x = dte - dte.mean()
-    spec = np.fft.rfft(x) * 2.0 / x.size
-    return np.abs(spec[1: window * harmonics + 1])
+def _order_spectrum(dte: FloatArray, opts: SweepOptions) -> FloatArray:
+    """Amplitudes at orders k / window, k = 1..window*harmonics, of ``window`` periods (of each
+    row of ``dte``)."""
+    x = dte - dte.mean(axis=-1, keepdims=True)
+    spec = np.fft.rfft(x) * 2.0 / x.shape[-1]
+    return np.abs(spec[..., 1: opts.window_periods * opts.harmonics + 1])
 
 
 def _metrics(model: Model, t: FloatArray, y: FloatArray, load: float,
@@ -77,10 +78,11 @@ def _metrics(model: Model, t: FloatArray, y: FloatArray, load: float,
     return (df, float(np.std(dte)), float(np.ptp(dte)), float(np.mean(dte)), sep, back)
 
 
-def _nan_point(model: Model, speed: float, rho: float, status: str, n_orders: int) -> Point:
+def _nan_point(model: Model, speed: float, rho: float, status: str, opts: SweepOptions) -> Point:
     nan = math.nan
     return Point(speed, model.mesh_frequency, nan, nan, nan, nan, rho, False, False, status, nan,
-                 nan, 0, np.full(n_orders, nan), np.full(len(model.state_labels), nan))
+                 nan, 0, np.full(opts.window_periods * opts.harmonics, nan),
+                 np.full(len(model.state_labels), nan))
 
 
 def _flow(model: Model, t: FloatArray, settings: SolverSettings, y0: FloatArray) -> FloatArray:
@@ -131,7 +133,7 @@ def _orbit_metrics(model: Model, speed: float, t: FloatArray, y: FloatArray, opt
     df, rms, ptp, mean, sep, back = _metrics(model, t, y, model.static_load, out)
     reps = -(-opts.window_periods // orbit_periods)
     dte_win = np.tile(out["dte"], reps)[: opts.window_periods * spp]
-    spec = _order_spectrum(dte_win, opts.window_periods, spp, opts.harmonics)
+    spec = _order_spectrum(dte_win, opts)
     return Point(speed, model.mesh_frequency, df, rms, ptp, mean, rho, stable,
                  orbit_periods == 1, status, sep, back, iterations, spec,
                  np.array(y[:, 0], dtype=float), orbit_periods, f"period-{orbit_periods}")
@@ -146,7 +148,7 @@ def _window_point(model: Model, speed: float, t: FloatArray, y: FloatArray, n_wi
     df, rms, ptp, mean, sep, back = _metrics(model, tw, yw, model.static_load)
     dte = model.outputs(t, y)["dte"]
     nspec = opts.window_periods * spp
-    spec = _order_spectrum(dte[-nspec - 1:-1], opts.window_periods, spp, opts.harmonics)
+    spec = _order_spectrum(dte[-nspec - 1:-1], opts)
     scale = np.asarray(model.state_scale, dtype=float)
     closing = np.abs(y[:, -1] - y[:, -1 - spp]) / np.maximum(scale, np.abs(y[:, -1]))
     periodic = bool(np.max(closing) <= 1e3 * settings.rtol)
@@ -184,8 +186,7 @@ def _linear_orbit_point(model: MeshModel, speed: float, settings: SolverSettings
     """Linear model: the periodic orbit from the one-period map, or NaN where unstable."""
     sol = periodic_steady_state(model, rtol=settings.rtol)
     if not sol.stable:
-        n_orders = opts.window_periods * opts.harmonics
-        return _nan_point(model, speed, sol.spectral_radius, "unstable", n_orders), None
+        return _nan_point(model, speed, sol.spectral_radius, "unstable", opts), None
     return _orbit_point(model, speed, sol.y0, settings, opts, sol.spectral_radius, True,
                         "periodic", 0), sol.y0
 
@@ -232,13 +233,12 @@ def transient_point(model: Model, speed: float, settings: SolverSettings,
                      opts: SweepOptions, periods: int, steady_periods: int,
                      y_guess: FloatArray | None) -> tuple[Point, FloatArray | None]:
     """The transient method at one speed: a run as ``gear-dyn run`` and its last window."""
-    n_orders = opts.window_periods * opts.harmonics
     rho = math.nan
     if model.mesh_periodic and model.is_linear:
         assert isinstance(model, MeshModel)
         rho = float(np.max(np.abs(floquet_multipliers(model, settings.rtol))))
         if rho > 1.0 + UNIT_CIRCLE_TOL:
-            return _nan_point(model, speed, rho, "unstable", n_orders), None
+            return _nan_point(model, speed, rho, "unstable", opts), None
         y_guess = None  # linear: every speed from the static state, as run_scene
     spp = settings.samples_per_period
     t = time_grid(model.mesh_frequency, periods / model.mesh_frequency, spp)
