@@ -6,12 +6,9 @@ linear with constant coefficients between a stiffness switch and a contact chang
 three contact states (drive flank u > b, gap ``|u| <= b``, back flank u < -b), so each piece is
 closed-form (:func:`flow` plus the harmonic particular solution of
 :mod:`gear_dyn.solvers.harmonic_forcing`). Contact changes ``u = +-b`` are bracketed on that
-closed form (without a transmission error: samples a quarter damped period apart and their
-extrema, :func:`_first_crossing_unforced`; with one: a curvature bound that proves each sample
-interval free of a crossing or monotone, else halves it, :func:`_first_crossing`) and closed
-by :func:`find_root`; pieces that
-provably stay in their contact state (:meth:`_Piece.stays_inside`) are not searched. What is
-left is rounding (:func:`rounding_bound`). Method ``exact_contact``; ``auto`` takes it where
+closed form (:func:`_first_crossing`) and closed by :func:`find_root`; pieces that provably
+stay in their contact state (:meth:`_Piece.stays_inside`) are not searched. What is left is
+rounding (:func:`rounding_bound`). Method ``exact_contact``; ``auto`` takes it where
 :func:`contact_exact_applies`. The flow's exact sensitivity (:func:`flow_with_sensitivity`,
 with the :func:`saltation` matrix of each contact change) serves shooting. docs/solvers.md
 describes the method and its tests.
