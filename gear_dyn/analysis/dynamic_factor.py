@@ -126,12 +126,8 @@ def dynamic_factor_figures(result: Result, reference: dict[str, Any] | None) -> 
     NaN: no like-for-like figure without the quasi-static peak).
     """
     peak = result.peak_force_ratio
-    out: dict[str, Any] = {"peak_force_ratio": peak}
     if reference is None:
-        out["dynamic_factor"] = math.nan
-        return out
+        return {"peak_force_ratio": peak, "dynamic_factor": math.nan}
     qs = float(reference["peak_force_ratio"])
-    out["dynamic_factor"] = peak / qs
-    out["stiffness_jump_factor"] = qs
-    out["quasi_static"] = dict(reference)
-    return out
+    return {"peak_force_ratio": peak, "dynamic_factor": peak / qs, "stiffness_jump_factor": qs,
+            "quasi_static": dict(reference)}
