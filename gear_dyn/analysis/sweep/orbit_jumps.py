@@ -87,10 +87,8 @@ def candidates(curve: SweepCurve, scale: FloatArray) -> list[int]:
 
 def _reached(branch: Branch, speed: float) -> int | None:
     """Index of the branch point at ``speed`` (its end point there), or None."""
-    for k in range(len(branch.points) - 1, -1, -1):
-        if abs(branch.points[k].parameter - speed) <= 1e-9 * abs(speed):
-            return k
-    return None
+    at = np.flatnonzero(np.abs(branch.array("parameter") - speed) <= 1e-9 * abs(speed))
+    return int(at[-1]) if at.size else None
 
 
 def check_pair(curve: SweepCurve, i: int, factory: Callable[[float], Model], rtol: float
