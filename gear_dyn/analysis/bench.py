@@ -14,7 +14,7 @@ import math
 import statistics
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import asdict, dataclass, field, replace
+from dataclasses import asdict, dataclass, field, fields, replace
 from typing import Any
 
 import numpy as np
@@ -257,14 +257,12 @@ def run_bench(
 
 
 # ------------------------------------------------------------------ tables
-COLUMNS = ("method", "mode", "rtol", "run_time_s", "run_time_min_s", "repeats", "err_max",
-           "err_rms", "nfev", "njev", "nlu", "n_segments", "status", "message")
+COLUMNS = tuple(f.name for f in fields(BenchCase))
 
 
 def table_columns(report: BenchReport) -> dict[str, list[Any]]:
     """Column dict of all cases (for CSV)."""
-    rows = [asdict(c) for c in report.cases]
-    return {k: [r[k] for r in rows] for k in COLUMNS}
+    return {k: [getattr(c, k) for c in report.cases] for k in COLUMNS}
 
 
 def _g(x: float, digits: int = 3) -> str:
