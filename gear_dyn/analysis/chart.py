@@ -222,7 +222,7 @@ def sweep_charts(model: MeshModel, ratio_lo: float, ratio_hi: float, which: str 
     charts = []
     _, vals = staircase(model)
     k_m = float(model.mean_stiffness or np.mean(vals))
-    eps0 = float((np.max(vals) - np.min(vals)) / (2 * k_m))
+    eps0 = relative_variation(vals, k_m)
     if which in ("stiffness", "both") and eps0 > 0:
         top = min(2 * eps0, 0.999 * k_m / (k_m - float(np.min(vals))) * eps0)
         charts.append(stability_chart(model, grid, np.linspace(0, top, 120)))

@@ -90,8 +90,7 @@ def _piecewise_orbits(mesh: list[MeshModel], fm: FloatArray, spp: int
     if any(c is None for c in cells):
         return None
     first = cast(tuple[FloatArray, ...], cells[0])
-    if any(c[0].shape != first[0].shape or not np.array_equal(c[0], first[0])
-           for c in cast(list[tuple[FloatArray, ...]], cells)):
+    if any(not np.array_equal(c[0], first[0]) for c in cast(list[tuple[FloatArray, ...]], cells)):
         return None  # cells differ between speeds (not seen for sdof models): per speed
     kap, gam, gg = (np.stack([cast(tuple[FloatArray, ...], c)[i] for c in cells])
                     for i in (1, 2, 3))
