@@ -33,7 +33,6 @@ def _event(fn: EventFn, direction: float) -> Any:
     return ev
 
 
-
 def _take(sol: Any, method: str, t: float, tb: float, n: int, y_eval: FloatArray, done: int,
           st: dict[str, int]) -> int:
     """Add one solve_ivp call's statistics to ``st`` and its output points to ``y_eval`` (from
@@ -57,6 +56,7 @@ def _take(sol: Any, method: str, t: float, tb: float, n: int, y_eval: FloatArray
             "the response diverges or the tolerances are too loose"
         )
     return done + k
+
 
 def solve_piece_with_events(
     rhs: Callable[[float, FloatArray], FloatArray],

@@ -63,7 +63,6 @@ class ResultPlots:
                                            scale=scale, floor=floor)
 
 
-
 @dataclass(frozen=True)
 class SolverStats:
     """What the integration cost: method, tolerances, counts and wall time."""
