@@ -499,9 +499,7 @@ class Walk:
         t_grid = np.asarray(t_grid, dtype=float)
         starts = np.array([sg.t for sg in self._segs])
         out = _on_grid(t_grid, starts, [(sg.piece, sg.x, sg.v) for sg in self._segs])
-        shift = _te_shift(self.model, t_grid)
-        out[0] += shift[0]
-        out[1] += shift[1]
+        out += np.asarray(_te_shift(self.model, t_grid))  # back from u = x - e to x
         if not np.all(np.isfinite(out)):
             raise SolverError("exact_contact produced non-finite states: the response diverges")
         return out
