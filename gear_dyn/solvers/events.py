@@ -121,8 +121,7 @@ def solve_piece_with_events(
         if sol.status == 0:
             return y_eval, np.asarray(sol.y[:, -1], dtype=float), st
         # a contact change: restart there, looking only for the opposite crossing of that g
-        hit = [j for j, tev in enumerate(sol.t_events) if len(tev)]
-        j = hit[0]
+        j = next(j for j, tev in enumerate(sol.t_events) if len(tev))
         t_new = float(sol.t_events[j][0])
         if t_new <= t + tiny and t > ta:
             # found again at the restart point: g is tangent there (a grazing contact), so the
