@@ -458,9 +458,7 @@ def shoot(model: MeshModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: 
         except np.linalg.LinAlgError:
             break
         # limit the step to a few state scales (a far jump leaves Newton's region)
-        lim = 20.0 * ref
-        factor = float(np.min(np.where(np.abs(dy) > lim, lim / np.maximum(np.abs(dy), 1e-300),
-                                       1.0)))
+        factor = float(np.min(np.minimum(1.0, 20.0 * ref / np.maximum(np.abs(dy), 1e-300))))
         y = y + factor * dy
         if not np.all(np.isfinite(y)):
             break
