@@ -1,15 +1,10 @@
 """Periodic steady state, monodromy matrix and Floquet multipliers of the mesh models.
 
-Linear models: the one-period map is affine, ``y(T) = Phi y(0) + q``; the periodic orbit starts
-at ``y0 = (I - Phi)^-1 q`` and the Floquet multipliers are the eigenvalues of ``Phi`` (one
-outside the unit circle: parametric instability). ``Phi`` comes from the pieces' augmented
-matrix exponentials (piecewise-constant stiffness) or from ``Z' = A(t) Z + [0 g(t)]`` by DOP853.
-
-Nonlinear models (backlash): shooting, Newton's method on ``P(y0) - y0 = 0`` with
-``Phi = dP/dy0`` exact where the backlash propagator applies
-(:func:`gear_dyn.solvers.contact_exact.flow_with_sensitivity`), else from the variational
-equations (the dead zone is continuous, so no saltation correction). Stability charts are in
-:mod:`gear_dyn.analysis.chart`; docs/solvers.md describes the checks and their tests.
+Linear models: the affine one-period map ``y(T) = Phi y(0) + q``, its fixed point and the
+eigenvalues of ``Phi``; models with backlash: shooting, Newton's method on ``P(y0) - y0 = 0``
+(:func:`integrate_with_sensitivity` gives ``Phi = dP/dy0``). docs/sweep.md, "How the steady
+state is found", gives the routes; docs/solvers.md the checks and their tests. Stability charts
+are in :mod:`gear_dyn.analysis.chart`.
 """
 
 from __future__ import annotations
