@@ -3,12 +3,7 @@ estimate in every run summary", states each basis and how it is tested).
 
 All errors are on the dynamic transmission error (``dte`` output, else the first state) and
 relative to the static deflection ``W / k_m`` of the model (else ``state_scale[0]``), so a figure
-of 1e-6 means one millionth of the static deflection. The estimate (:func:`estimate_error`) is
-the rounding level for the exact propagator and otherwise ``2 max |x - x_ref| / x_s`` against a
-second run over the whole span: Gauss-Legendre step maps (:data:`REFERENCE_SHARE`) for periodic
-step maps, else the same method at a 100 times tighter ``rtol``. Above :data:`REPRODUCIBLE` the
-run states the errors of its printed figures instead; above :data:`GROWTH_LIMIT` the two runs
-part exponentially (unstable or chaotic response).
+of 1e-6 means one millionth of the static deflection.
 """
 
 from __future__ import annotations
@@ -89,7 +84,7 @@ def estimate_error(
     model: Model, t_grid: FloatArray, y: FloatArray, settings: Any, stats: dict[str, Any],
     steady_start: float | None = None, series: FloatArray | None = None,
 ) -> dict[str, Any]:
-    """Estimated error of a run, relative to the static deflection (module docstring).
+    """Estimated error of a run, relative to the static deflection (docs/solvers.md).
 
     Parameters
     ----------
@@ -155,8 +150,8 @@ def estimate_with_reference(
 def _periodic_estimate(model: Model, t_grid: FloatArray, y: FloatArray, x: FloatArray,
                        run_maps: StepMaps, floor: float, steady_start: float | None
                        ) -> tuple[dict[str, Any], _Monodromies] | None:
-    """The periodic run against the same fill with Gauss-Legendre step maps (module
-    docstring), or None where no reference passes its own check."""
+    """The periodic run against the same fill with Gauss-Legendre step maps (docs/solvers.md),
+    or None where no reference passes its own check."""
     start = time.perf_counter()
     s_per = run_maps[0].shape[0]
     t0, dt = float(t_grid[0]), float(t_grid[1] - t_grid[0])
@@ -333,15 +328,12 @@ def stiffness_check(model: Model, method: str, samples: int = 16) -> dict[str, A
     """
     period = 1.0 / model.mesh_frequency
     y0 = model.initial_state()
-    lam_max, re_max, re_min = 0.0, 0.0, math.inf
-    for t in np.linspace(0.0, period, samples, endpoint=False):
-        lam = np.linalg.eigvals(np.asarray(model.jac(float(t), y0), dtype=float))
-        lam_max = max(lam_max, float(np.max(np.abs(lam))))
-        re = np.abs(lam.real)
-        re = re[re > ZERO_EIG * max(float(np.max(np.abs(lam))), 1e-300)]
-        if re.size:
-            re_max = max(re_max, float(np.max(re)))
-            re_min = min(re_min, float(np.min(re)))
+    lam = np.linalg.eigvals(np.array([model.jac(float(t), y0) for t in np.linspace(
+        0.0, period, samples, endpoint=False)], dtype=float))  # (samples, n)
+    lam_max = float(np.max(np.abs(lam)))
+    re = np.abs(lam.real)
+    re = re[re > ZERO_EIG * np.maximum(np.max(np.abs(lam), axis=1, keepdims=True), 1e-300)]
+    re_max, re_min = (float(np.max(re)), float(np.min(re))) if re.size else (0.0, math.inf)
     ratio = re_max / re_min if re_min < math.inf and re_min > 0 else 1.0
     steps = lam_max * period / 3.0
     stiff_steps = re_max * period / 3.0
@@ -364,14 +356,11 @@ def floquet_check(model: Model, step_maps: StepMaps | None = None,
     """Parametric stability of a linear single-DOF model: its largest Floquet multiplier.
 
     The monodromy matrix is the product of the run's own maps of one mesh period where it has
-    them (``Result.step_maps``; no integration), else that of
-    :func:`gear_dyn.analysis.stability.one_period_map`. ``multiplier_error``: for the exact
-    propagator's maps the rounding bound ``kappa(V) 100 eps (pieces + 1) prod_j |P_j|``
-    (Bauer-Fike); for periodic step maps ``2 |mu - mu_ref|`` against Gauss-Legendre maps
-    (``reference``: their ``(finer, coarser)`` monodromy matrices, else made here), where those
-    agree within :data:`REFERENCE_SHARE`, else against the variational route; None where the
-    run had no maps (docs/solvers.md).
-    Returns None for models it does not cover (not linear or not mesh-periodic).
+    them (``step_maps``: ``Result.step_maps``, of an ``exact`` run if ``exact``; ``reference``:
+    the Gauss-Legendre ``(finer, coarser)`` monodromy matrices of a periodic run's estimate),
+    else that of :func:`gear_dyn.analysis.stability.one_period_map`; docs/solvers.md says how
+    ``multiplier_error`` is stated for each. Returns None for models it does not cover (not
+    linear or not mesh-periodic).
 
     Returns
     -------
@@ -390,7 +379,7 @@ def floquet_check(model: Model, step_maps: StepMaps | None = None,
             rho, err, basis = _floquet_reused(mesh, step_maps, reference)
         else:
             phi, _q, how = one_period_map(mesh)
-            rho, err = _spectral_radius(phi), None
+            rho, err = float(np.max(np.abs(np.linalg.eigvals(phi)))), None
             basis = ("monodromy matrix by expm of the pieces (exact up to rounding)"
                      if how == "expm" else "monodromy matrix by the variational equations "
                      "(DOP853, rtol 1e-10)")
@@ -405,10 +394,6 @@ def floquet_check(model: Model, step_maps: StepMaps | None = None,
                   "(see gear-dyn sweep)")
     return {"max_multiplier_modulus": rho, "multiplier_error": err, "basis": basis,
             "unstable": unstable, "advice": advice}
-
-
-def _spectral_radius(phi: FloatArray) -> float:
-    return float(np.max(np.abs(np.linalg.eigvals(phi))))
 
 
 def multiplier_distance(mu: ComplexArray, nu: ComplexArray) -> float:

@@ -14,7 +14,7 @@ import math
 import statistics
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import asdict, dataclass, field, replace
+from dataclasses import asdict, dataclass, field, fields, replace
 from typing import Any
 
 import numpy as np
@@ -57,21 +57,22 @@ class BenchCase:
     ``gear-dyn run`` does), ``once`` (one solve_ivp call over the whole span), ``exact`` or
     ``periodic`` (one period of step maps, reused; linear mesh-periodic models).
     ``status`` is ``ok``, ``failed`` (the solver raised; ``message`` says why) or ``skipped``
-    (a looser tolerance of the same method already took longer than the time budget).
+    (a looser tolerance of the same method already took longer than the time budget); those
+    two keep the defaults, NaN times and errors and zero counts.
     """
 
     method: str
     mode: str
     rtol: float
-    run_time_s: float
-    run_time_min_s: float
-    repeats: int
-    err_max: float
-    err_rms: float
-    nfev: int
-    njev: int
-    nlu: int
-    n_segments: int
+    run_time_s: float = math.nan
+    run_time_min_s: float = math.nan
+    repeats: int = 0
+    err_max: float = math.nan
+    err_rms: float = math.nan
+    nfev: int = 0
+    njev: int = 0
+    nlu: int = 0
+    n_segments: int = 0
     status: str = "ok"
     message: str = ""
 
@@ -152,8 +153,7 @@ def run_case(model: Model, ref: Reference, method: str, mode: str, rtol: float,
             if times[-1] > budget_s:
                 break
     except (SolverError, InputError) as exc:
-        return BenchCase(method, mode, rtol, math.nan, math.nan, 0, math.nan, math.nan, 0, 0, 0,
-                         0, status="failed", message=" ".join(str(exc).split()))
+        return BenchCase(method, mode, rtol, status="failed", message=" ".join(str(exc).split()))
     assert y is not None
     e_max, e_rms = relative_errors(model, t_grid, y, ref.y)
     return BenchCase(
@@ -240,8 +240,7 @@ def run_bench(
         over = False
         for r in rt:
             if over:
-                cases.append(BenchCase(method, mode, r, math.nan, math.nan, 0, math.nan,
-                                       math.nan, 0, 0, 0, 0, status="skipped",
+                cases.append(BenchCase(method, mode, r, status="skipped",
                                        message=f"looser rtol took > {budget_s:g} s"))
                 tick(cases)
                 continue
@@ -258,14 +257,12 @@ def run_bench(
 
 
 # ------------------------------------------------------------------ tables
-COLUMNS = ("method", "mode", "rtol", "run_time_s", "run_time_min_s", "repeats", "err_max",
-           "err_rms", "nfev", "njev", "nlu", "n_segments", "status", "message")
+COLUMNS = tuple(f.name for f in fields(BenchCase))
 
 
 def table_columns(report: BenchReport) -> dict[str, list[Any]]:
     """Column dict of all cases (for CSV)."""
-    rows = [asdict(c) for c in report.cases]
-    return {k: [r[k] for r in rows] for k in COLUMNS}
+    return {k: [getattr(c, k) for c in report.cases] for k in COLUMNS}
 
 
 def _g(x: float, digits: int = 3) -> str:

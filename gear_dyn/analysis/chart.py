@@ -49,21 +49,23 @@ def staircase(model: MeshModel, pieces: int = 128) -> tuple[FloatArray, FloatArr
     return edges, vals
 
 
-def _expm2_sdof(kappa: FloatArray, gamma: FloatArray, dt: FloatArray
-                ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    """Closed-form expm of A dt, A = [[0, 1], [-kappa, -gamma]], elementwise over arrays."""
-    half = -0.5 * gamma
-    s = np.sqrt((half**2 - kappa).astype(np.complex128))
-    st = s * dt
-    ch = np.cosh(st)
-    small = np.abs(st) < 1e-8
-    sh = np.where(small, dt * (1 + st**2 / 6), np.sinh(st) / np.where(small, 1.0, s))
-    e = np.exp(half * dt)
-    e11 = (e * (ch - half * sh)).real
-    e12 = (e * sh).real
-    e21 = (e * (-kappa * sh)).real
-    e22 = (e * (ch + (-gamma - half) * sh)).real
-    return e11, e12, e21, e22
+def _expm2(b11: FloatArray | float, b12: FloatArray, b21: FloatArray, b22: FloatArray
+           ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """exp of 2x2 matrices given by components (closed form, any shape)."""
+    mu = 0.5 * (b11 + b22)
+    det = b11 * b22 - b12 * b21
+    d2 = mu * mu - det
+    s = np.sqrt(np.abs(d2))
+    small = s < 1e-4
+    osc = d2 < 0
+    s_osc, s_hyp = np.where(osc, s, 0.0), np.where(osc, 0.0, s)  # each only where it is taken
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ch = np.where(osc, np.cos(s_osc), np.cosh(s_hyp))
+        sh = np.where(small, 1 + d2 / 6 + d2 * d2 / 120,
+                      np.where(osc, np.sin(s_osc), np.sinh(s_hyp)) / np.where(small, 1.0, s))
+    em = np.exp(mu)
+    return (em * (ch + sh * (b11 - mu)), em * sh * b12, em * sh * b21,
+            em * (ch + sh * (b22 - mu)))
 
 
 def spectral_radius_grid(mass: float, edges: FloatArray, values: FloatArray,
@@ -100,7 +102,8 @@ def spectral_radius_grid(mass: float, edges: FloatArray, values: FloatArray,
     p22 = np.ones(shape)
     gamma = damping / mass
     for j, w in enumerate(widths):
-        e11, e12, e21, e22 = _expm2_sdof(values[..., j] / mass, gamma, w / fm)
+        dt = w / fm  # exp of [[0, 1], [-k/m, -c/m]] dt
+        e11, e12, e21, e22 = _expm2(0.0, dt, -values[..., j] / mass * dt, -gamma * dt)
         p11, p12, p21, p22 = (e11 * p11 + e12 * p21, e11 * p12 + e12 * p22,
                               e21 * p11 + e22 * p21, e21 * p12 + e22 * p22)
     tr = p11 + p22
@@ -219,7 +222,7 @@ def sweep_charts(model: MeshModel, ratio_lo: float, ratio_hi: float, which: str 
     charts = []
     _, vals = staircase(model)
     k_m = float(model.mean_stiffness or np.mean(vals))
-    eps0 = float((np.max(vals) - np.min(vals)) / (2 * k_m))
+    eps0 = relative_variation(vals, k_m)
     if which in ("stiffness", "both") and eps0 > 0:
         top = min(2 * eps0, 0.999 * k_m / (k_m - float(np.min(vals))) * eps0)
         charts.append(stability_chart(model, grid, np.linspace(0, top, 120)))

@@ -17,16 +17,9 @@ Definitions (docs/dynamic_factor.md):
   stiffness model, as ISO 6336-1 K_v does, so the two compare like for like; the peak force
   ratio is their product with the overshoot, ``F_max / W = K_dyn x F_qs,max / W``.
 
-Why a quasi-static run and not ``x_s = W / k(phase)``: the quasi-static force from that formula
-is W at every phase, so dividing by it leaves the 1.75 of the rectangular wave at 10 rpm. The
-overshoot at a jump is a step response of the mesh oscillator, which no speed is slow enough to
-avoid; only a run of the same model resolves it.
-
-The quasi-static run's error, stated with the figure: its residual dynamics, ``(f_m / f_n)^2``
-for the smooth part (the inertia term of a forced oscillator far below resonance) and the
-ring-down left from one jump at the next, ``exp(-zeta 2 pi f_n dt_jump)``, at most
-``exp(-zeta 2 pi / QS_SPEED_RATIO x (eps_a - 1))``; and the sampling of the peak,
-``(pi / QS_SAMPLES_PER_NATURAL_PERIOD)^2 / 2`` of the overshoot.
+Why the reference is a run and not ``x_s = W / k(phase)``, and what the quasi-static run's
+stated error is made of (residual dynamics, the ring-down of one jump at the next, the sampling
+of the peak): docs/dynamic_factor.md.
 """
 
 from __future__ import annotations
@@ -103,8 +96,8 @@ def quasi_static_reference(model: Model, settings: SolverSettings) -> dict[str, 
     -------
     dict
         ``peak_force_ratio`` (F_qs,max / W), ``speed_ratio`` (f_m / f_n of the run),
-        ``mesh_frequency_hz``, ``estimated_error`` (relative, of the peak ratio: see the module
-        docstring), ``run_time_s``.
+        ``mesh_frequency_hz``, ``estimated_error`` (relative, of the peak ratio:
+        docs/dynamic_factor.md), ``run_time_s``.
 
     Raises
     ------
@@ -133,12 +126,8 @@ def dynamic_factor_figures(result: Result, reference: dict[str, Any] | None) -> 
     NaN: no like-for-like figure without the quasi-static peak).
     """
     peak = result.peak_force_ratio
-    out: dict[str, Any] = {"peak_force_ratio": peak}
     if reference is None:
-        out["dynamic_factor"] = math.nan
-        return out
+        return {"peak_force_ratio": peak, "dynamic_factor": math.nan}
     qs = float(reference["peak_force_ratio"])
-    out["dynamic_factor"] = peak / qs
-    out["stiffness_jump_factor"] = qs
-    out["quasi_static"] = dict(reference)
-    return out
+    return {"peak_force_ratio": peak, "dynamic_factor": peak / qs, "stiffness_jump_factor": qs,
+            "quasi_static": dict(reference)}

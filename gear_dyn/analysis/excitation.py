@@ -48,11 +48,9 @@ def analyse_excitation(pair: GearPair, speed: float, torque: float, ecc: Eccentr
     load = torque / pair.rb1
     sig = excitation_signals(mesh, load, mu, periods=periods, samples_per_mesh=samples_per_mesh)
     series: dict[str, np.ndarray] = {"w2": sig.w2, "contact_length": sig.contact_length}
-    if sig.friction_force is not None:
-        assert sig.friction_torque_pinion is not None and sig.friction_torque_gear is not None
-        series["friction_force"] = sig.friction_force
-        series["friction_torque_pinion"] = sig.friction_torque_pinion
-        series["friction_torque_gear"] = sig.friction_torque_gear
+    for name in ("friction_force", "friction_torque_pinion", "friction_torque_gear"):
+        if getattr(sig, name) is not None:  # with friction
+            series[name] = getattr(sig, name)
     basis = Basis.of_pair(pair.z1, pair.z2, speed)
     units = {"w2": "rad/s", "contact_length": "m", "friction_force": "N",
              "friction_torque_pinion": "N*m", "friction_torque_gear": "N*m"}

@@ -78,6 +78,5 @@ def summarize(result: Result) -> dict[str, Any]:
     out["steady_window_s"] = [result.steady_start, float(result.t[-1])]
     out["transient_window_s"] = [0.0, result.steady_start]
     out["solver"] = result.stats.as_dict()
-    for key, val in result.extra.items():
-        out[key] = val
+    out.update(result.extra)
     return out

@@ -1,15 +1,10 @@
 """Periodic steady state, monodromy matrix and Floquet multipliers of the mesh models.
 
-Linear models: the one-period map is affine, ``y(T) = Phi y(0) + q``; the periodic orbit starts
-at ``y0 = (I - Phi)^-1 q`` and the Floquet multipliers are the eigenvalues of ``Phi`` (one
-outside the unit circle: parametric instability). ``Phi`` comes from the pieces' augmented
-matrix exponentials (piecewise-constant stiffness) or from ``Z' = A(t) Z + [0 g(t)]`` by DOP853.
-
-Nonlinear models (backlash): shooting, Newton's method on ``P(y0) - y0 = 0`` with
-``Phi = dP/dy0`` exact where the backlash propagator applies
-(:func:`gear_dyn.solvers.contact_exact.flow_with_sensitivity`), else from the variational
-equations (the dead zone is continuous, so no saltation correction). Stability charts are in
-:mod:`gear_dyn.analysis.chart`; docs/solvers.md describes the checks and their tests.
+Linear models: the affine one-period map ``y(T) = Phi y(0) + q``, its fixed point and the
+eigenvalues of ``Phi``; models with backlash: shooting, Newton's method on ``P(y0) - y0 = 0``
+(:func:`integrate_with_sensitivity` gives ``Phi = dP/dy0``). docs/sweep.md, "How the steady
+state is found", gives the routes; docs/solvers.md the checks and their tests. Stability charts
+are in :mod:`gear_dyn.analysis.chart`.
 """
 
 from __future__ import annotations
@@ -151,33 +146,6 @@ def period_map(f: FloatArray, h: FloatArray) -> tuple[FloatArray, FloatArray]:
     return q[-1], r[-1]
 
 
-def _integrate_cut(model: MeshModel, rhs: Any, z0: FloatArray, t0: float, t1: float,
-                   rtol: float, atol: FloatArray) -> FloatArray:
-    """Integrate from t0 to t1 with DOP853, restarting at every switching instant.
-
-    ``rhs(ta, tb)`` returns the right-hand side to use on the piece [ta, tb] (so a stiffness
-    that is constant on the piece is evaluated once, not at every step).
-    """
-    cuts = np.concatenate([[t0], model.switching_times(t0, t1), [t1]])
-    z = np.asarray(z0, dtype=float)
-    events = _state_events(model, len(model.state_labels))
-    for ta, tb in zip(cuts[:-1], cuts[1:], strict=True):
-        if tb <= ta:
-            continue
-        f = rhs(float(ta), float(tb))
-        _, z = _piece(f, float(ta), float(tb), z, np.array([tb]), events, rtol, atol)
-        if not np.all(np.isfinite(z)):
-            raise SolverError("the one-period map produced non-finite states: the response "
-                              "diverges within one mesh period")
-    return z
-
-
-def _state_events(model: MeshModel, n: int) -> list[Any]:
-    """The model's contact events as functions of an extended vector whose first ``n``
-    entries are the state (the variational equations ride along)."""
-    return [lambda t, z, g=g: g(t, z[:n]) for g in model.contact_events()]
-
-
 def _piece(f: Any, ta: float, tb: float, z: FloatArray, t_eval: FloatArray, events: list[Any],
            rtol: float, atol: Any) -> tuple[FloatArray, FloatArray]:
     """DOP853 over ``[ta, tb]`` (``tb`` is the last of ``t_eval``), restarted at every contact
@@ -231,24 +199,32 @@ def flow_on_grid(model: MeshModel, y0: FloatArray, t_grid: FloatArray, rtol: flo
         Integration failure or non-finite states.
     """
     model = _require_sdof(model)
-    t_grid = np.asarray(t_grid, dtype=float)
     if atol is None:
         atol = rtol * np.asarray(model.state_scale, dtype=float)
+    return _run_cut(model, lambda ta, tb: _piece_functions(model, ta, tb)[0], y0,
+                    np.asarray(t_grid, dtype=float), rtol, atol)
+
+
+def _run_cut(model: MeshModel, rhs_on: Any, z0: FloatArray, t_grid: FloatArray, rtol: float,
+             atol: Any, diverged: str = "") -> FloatArray:
+    """States on ``t_grid`` from ``z0`` (at its first time) by DOP853, restarted at every
+    switching instant; ``rhs_on(ta, tb)`` is the right-hand side on the piece ``[ta, tb]`` (so
+    a stiffness constant on the piece is evaluated once, not at every step). ``diverged``: the
+    message of non-finite states (default: solve_ivp's times and advice)."""
     t0, t1 = float(t_grid[0]), float(t_grid[-1])
     cuts = np.concatenate([[t0], model.switching_times(t0, t1), [t1]])
-    y = np.array(y0, dtype=float)
-    out = np.empty((y.size, t_grid.size))
-    out[:, 0] = y
-    events = _state_events(model, y.size)
+    z = np.array(z0, dtype=float)
+    out = np.empty((z.size, t_grid.size))
+    out[:, 0] = z
+    n = len(model.state_labels)  # the events see the state, not the variational part after it
+    events = [lambda t, z, g=g: g(t, z[:n]) for g in model.contact_events()]
     for ta, tb, i0, i1, t_eval in pieces(t_grid, cuts):
-        f, _jac = _piece_functions(model, ta, tb)
-        ys, y = _piece(f, ta, tb, y, t_eval, events, rtol, atol)
-        if not np.all(np.isfinite(ys)):
-            raise SolverError(
+        zs, z = _piece(rhs_on(ta, tb), ta, tb, z, t_eval, events, rtol, atol)
+        if not np.all(np.isfinite(zs)):
+            raise SolverError(diverged or (
                 f"solve_ivp (DOP853) produced non-finite states at t = {ta:.6g}..{tb:.6g} s: "
-                "the response diverges or the tolerances are too loose"
-            )
-        out[:, i0:i1] = ys[:, : i1 - i0]
+                "the response diverges or the tolerances are too loose"))
+        out[:, i0:i1] = zs[:, : i1 - i0]
     return out
 
 
@@ -408,7 +384,9 @@ def integrate_with_sensitivity(model: MeshModel, y0: FloatArray, t1: float, rtol
     scale = np.asarray(model.state_scale, dtype=float)
     atol = rtol * np.concatenate([scale, (scale[:, None] / scale[None, :]).ravel()])
     z0 = np.concatenate([np.asarray(y0, dtype=float), np.eye(n).ravel()])
-    z = _integrate_cut(model, rhs_on, z0, 0.0, t1, rtol, atol)
+    z = _run_cut(model, rhs_on, z0, np.array([0.0, t1]), rtol, atol,
+                 "the one-period map produced non-finite states: the response diverges within "
+                 "one mesh period")[:, -1]
     return z[:n].copy(), z[n:].reshape(n, n).copy()
 
 
@@ -475,9 +453,7 @@ def shoot(model: MeshModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: 
         except np.linalg.LinAlgError:
             break
         # limit the step to a few state scales (a far jump leaves Newton's region)
-        lim = 20.0 * ref
-        factor = float(np.min(np.where(np.abs(dy) > lim, lim / np.maximum(np.abs(dy), 1e-300),
-                                       1.0)))
+        factor = float(np.min(np.minimum(1.0, 20.0 * ref / np.maximum(np.abs(dy), 1e-300))))
         y = y + factor * dy
         if not np.all(np.isfinite(y)):
             break

@@ -7,13 +7,9 @@ public ``gear_dyn.simulate``, and what ``run_scene`` calls) adds to ``Result.ext
 - ``floquet``: the largest Floquet multiplier of a linear mesh-periodic model
   (:func:`~.accuracy.floquet_check`; a periodic run's own step maps are reused);
 - ``stiffness_check`` for explicit Runge-Kutta methods (:func:`~.accuracy.stiffness_check`);
-- ``contact``: for models with backlash, the share of the steady window with the teeth apart
-  and in back-side contact; for linear models, whether the mesh force goes negative (the teeth
-  would separate, which a linear model cannot represent: a warning points to the backlash
-  model);
-- ``orbit``: for nonlinear mesh-periodic models (backlash), the stability statement: the
-  period-1 orbit found by shooting from the run's end state and its largest Floquet multiplier,
-  or that none was found (the response is not period-1);
+- ``contact`` (:func:`contact_check`: teeth apart and back-side shares, or a negative force);
+- ``orbit`` for nonlinear mesh-periodic models (backlash): :func:`orbit_check`, the period-1
+  orbit by shooting from the run's end state and its largest Floquet multiplier, or none;
 - ``dynamic_factor``, ``peak_force_ratio``, ``stiffness_jump_factor`` and ``quasi_static``: the
   dynamic factor against a quasi-static run of the same model
   (:mod:`~.dynamic_factor`);

@@ -6,12 +6,9 @@ linear with constant coefficients between a stiffness switch and a contact chang
 three contact states (drive flank u > b, gap ``|u| <= b``, back flank u < -b), so each piece is
 closed-form (:func:`flow` plus the harmonic particular solution of
 :mod:`gear_dyn.solvers.harmonic_forcing`). Contact changes ``u = +-b`` are bracketed on that
-closed form (without a transmission error: samples a quarter damped period apart and their
-extrema, :func:`_first_crossing_unforced`; with one: a curvature bound that proves each sample
-interval free of a crossing or monotone, else halves it, :func:`_first_crossing`) and closed
-by :func:`find_root`; pieces that
-provably stay in their contact state (:meth:`_Piece.stays_inside`) are not searched. What is
-left is rounding (:func:`rounding_bound`). Method ``exact_contact``; ``auto`` takes it where
+closed form (:func:`_first_crossing`) and closed by :func:`find_root`; pieces that provably
+stay in their contact state (:meth:`_Piece.stays_inside`) are not searched. What is left is
+rounding (:func:`rounding_bound`). Method ``exact_contact``; ``auto`` takes it where
 :func:`contact_exact_applies`. The flow's exact sensitivity (:func:`flow_with_sensitivity`,
 with the :func:`saltation` matrix of each contact change) serves shooting. docs/solvers.md
 describes the method and its tests.
@@ -69,12 +66,18 @@ def flow(state: int, k: float, m: float, c: float, w: float, b: float, x0: float
     s : ndarray
         Times since the piece start in s (>= 0).
     """
-    s = np.asarray(s, dtype=float)
+    return _flow(np, state, k, m, c, w, b, x0, v0, np.asarray(s, dtype=float))
+
+
+def _flow(xp: Any, state: int, k: float, m: float, c: float, w: float, b: float, x0: float,
+          v0: float, s: Any) -> tuple[Any, Any]:
+    """:func:`flow` with the functions of ``xp``: numpy for arrays, or math for one time ``s``
+    with Python floats (the root finders' inner loop: no array set-up per call)."""
     a = c / m
     if state == GAP:
         if a == 0.0:
-            return x0 + v0 * s + 0.5 * (w / m) * s**2, v0 + (w / m) * s
-        e1 = -np.expm1(-a * s) / a  # (1 - e^{-a s}) / a, exact also for small a s
+            return x0 + v0 * s + 0.5 * (w / m) * s * s, v0 + (w / m) * s
+        e1 = -xp.expm1(-a * s) / a  # (1 - e^{-a s}) / a, exact also for small a s
         return x0 + v0 * e1 + (w / m) * (s - e1) / a, v0 + (w / m - a * v0) * e1
     w2 = k / m
     x_eq = state * b + w / k
@@ -82,41 +85,13 @@ def flow(state: int, k: float, m: float, c: float, w: float, b: float, x0: float
     q2 = 0.25 * a * a - w2
     if q2 < 0.0:  # underdamped: cos, sin
         q = math.sqrt(-q2)
-        cs, sn = np.cos(q * s), np.sin(q * s) / q
+        cs, sn = xp.cos(q * s), xp.sin(q * s) / q
     elif q2 > 0.0:  # overdamped: cosh, sinh
         q = math.sqrt(q2)
-        cs, sn = np.cosh(q * s), np.sinh(q * s) / q
-    else:
-        cs, sn = np.ones_like(s), s
-    dec = np.exp(-0.5 * a * s)
-    u = dec * (cs * u0 + sn * (v0 + 0.5 * a * u0))
-    v = dec * (cs * v0 - sn * (w2 * u0 + 0.5 * a * v0))
-    return x_eq + u, v
-
-
-def flow_scalar(state: int, k: float, m: float, c: float, w: float, b: float, x0: float,
-                v0: float, s: float) -> tuple[float, float]:
-    """:func:`flow` at one time ``s`` with Python floats (the root finders' inner loop: no
-    array set-up per call, several times cheaper; the same formulas)."""
-    a = c / m
-    if state == GAP:
-        if a == 0.0:
-            return x0 + v0 * s + 0.5 * (w / m) * s * s, v0 + (w / m) * s
-        e1 = -math.expm1(-a * s) / a
-        return x0 + v0 * e1 + (w / m) * (s - e1) / a, v0 + (w / m - a * v0) * e1
-    w2 = k / m
-    x_eq = state * b + w / k
-    u0 = x0 - x_eq
-    q2 = 0.25 * a * a - w2
-    if q2 < 0.0:
-        q = math.sqrt(-q2)
-        cs, sn = math.cos(q * s), math.sin(q * s) / q
-    elif q2 > 0.0:
-        q = math.sqrt(q2)
-        cs, sn = math.cosh(q * s), math.sinh(q * s) / q
+        cs, sn = xp.cosh(q * s), xp.sinh(q * s) / q
     else:
         cs, sn = 1.0, s
-    dec = math.exp(-0.5 * a * s)
+    dec = xp.exp(-0.5 * a * s)
     u = dec * (cs * u0 + sn * (v0 + 0.5 * a * u0))
     v = dec * (cs * v0 - sn * (w2 * u0 + 0.5 * a * v0))
     return x_eq + u, v
@@ -286,19 +261,12 @@ def _first_crossing(pc: _Piece, t0: float, x0: float, v0: float, length: float, 
                     ) -> float | None:
     """Time after ``t0`` of the first contact change within ``length``, or None.
 
-    The piece's solution is sampled ``pc.h`` apart (a quarter of the damped and of the top
-    harmonic's period). For each sample interval ``[s0, s1]`` (width ``d``) of the distance
-    ``g`` to a boundary (positive inside) the curvature bound ``G >= |g''|`` of
-    :meth:`_Piece.curvature_bound` proves one of:
-
-    - no zero: ``g(s0), g(s1) > 0`` and ``min(g(s0), g(s1)) > G d^2 / 8`` (g lies above its
-      chord less ``G (s - s0)(s1 - s) / 2``);
-    - ``g`` monotone: ``|g'(s0)| > G d`` (g' cannot change sign); then a sign change at the
-      ends is the only zero, closed by :func:`find_root`;
-
-    else the interval is halved, left half first, so the first zero is the one found. A
-    tangential graze (``g`` touching zero) is bisected down to ``xtol``; a dip shallower than
-    rounding is not a contact change. Proofs hold up to the rounding of ``g`` (~ eps |u|).
+    Sampled ``pc.h`` apart (a quarter of the damped and of the top harmonic's period), each
+    sample interval of the distance ``g`` to a boundary is proved free of a zero (g lies above
+    its chord less ``G (s - s0)(s1 - s) / 2``, ``G`` the :meth:`_Piece.curvature_bound`) or
+    ``g`` monotone (then closed by :func:`find_root`), else halved, left half first
+    (docs/solvers.md, "With a harmonic transmission error"). A tangential graze is bisected
+    down to ``xtol``. Proofs hold up to the rounding of ``g`` (~ eps |u|).
     """
     if not pc.part.n.size:
         return _first_crossing_unforced(pc, x0, v0, length, xtol)
@@ -339,7 +307,7 @@ def _refine(pc: _Piece, zargs: tuple[float, float], t0: float, level: float, ins
     part = pc.part
 
     def gv(s: float) -> tuple[float, float, float, float]:
-        zx, zv = flow_scalar(pc.state, pc.k, pc.m, pc.c, pc.w, pc.b, zargs[0], zargs[1], s)
+        zx, zv = _flow(math, pc.state, pc.k, pc.m, pc.c, pc.w, pc.b, zargs[0], zargs[1], s)
         pu, pv = part.at_scalar(t0 + s)
         return (zx + pu - level) * inside, (zv + pv) * inside, zx, zv
 
@@ -396,10 +364,11 @@ def _bracket_unforced(pc: _Piece, x0: float, v0: float, s: FloatArray, g: FloatA
                       dg: FloatArray, level: float, inside: float, xtol: float) -> float | None:
     """First zero of ``g`` (sampled on ``s``, slope ``dg``) by sign change or by extremum."""
     def gf(t: float) -> float:
-        return (flow_scalar(pc.state, pc.k, pc.m, pc.c, pc.w, pc.b, x0, v0, t)[0] - level) * inside
+        x = _flow(math, pc.state, pc.k, pc.m, pc.c, pc.w, pc.b, x0, v0, t)[0]
+        return (x - level) * inside
 
     def dgf(t: float) -> float:
-        return flow_scalar(pc.state, pc.k, pc.m, pc.c, pc.w, pc.b, x0, v0, t)[1] * inside
+        return _flow(math, pc.state, pc.k, pc.m, pc.c, pc.w, pc.b, x0, v0, t)[1] * inside
 
     neg = np.flatnonzero(g[1:] < 0.0)
     turn = np.flatnonzero((dg[:-1] < 0.0) & (dg[1:] > 0.0))  # a minimum of g inside
@@ -455,54 +424,6 @@ def _te_shift(mm: Any, t: FloatArray) -> tuple[FloatArray, FloatArray]:
             float(mm.mesh_frequency) * np.asarray(te.slope(p), dtype=float))
 
 
-def _walk(mm: Any, t0: float, t1: float, x: float, v: float
-          ) -> tuple[list[_Segment], tuple[float, float]]:
-    """The closed-form pieces from ``(x, v)`` at ``t0`` to ``t1`` and the end state ``(x, v)``.
-
-    The pieces are in ``u = x - e(t)``, ``u'``. Cut at the stiffness switches; within a
-    stiffness piece, each located contact change ends a segment, its state is put exactly on
-    the boundary it crossed and the next contact state starts there.
-
-    Raises
-    ------
-    SolverError
-        A chattering contact (too many events in one stiffness piece).
-    """
-    cuts = np.concatenate([[t0], mm.switching_times(t0, t1), [t1]])
-    kts = mm.stiffness(mm.phase(0.5 * (cuts[:-1] + cuts[1:])))
-    b = float(mm.backlash)
-    xtol = 4 * float(np.spacing(max(abs(t0), abs(t1), 1e-300)))
-    forcing = Forcing.of(mm)
-    cache: dict[tuple[float, int], _Piece] = {}
-    segs: list[_Segment] = []
-    e0, ed0 = _te_shift(mm, np.array([t0]))
-    x, v = x - float(e0[0]), v - float(ed0[0])
-    state = _state_at(x, v, b)
-    for ta, tb, kt in zip(cuts[:-1].tolist(), cuts[1:].tolist(), kts.tolist(), strict=True):
-        t, n_ev = ta, 0
-        while t < tb:
-            pc = cache.get((kt, state)) or cache.setdefault((kt, state),
-                                                            _Piece(mm, kt, state, forcing))
-            hit = _first_crossing(pc, t, x, v, tb - t, xtol)
-            if hit is None or t + hit >= tb:
-                segs.append(_Segment(t, pc, x, v, tb - t, False))
-                xs, vs = pc.at(x, v, np.array([tb - t]), t)
-                x, v, t = float(xs[0]), float(vs[0]), tb
-                break
-            segs.append(_Segment(t, pc, x, v, hit, True))
-            xs, vs = pc.at(x, v, np.array([hit]), t)
-            x, v, t = float(xs[0]), float(vs[0]), t + hit
-            x = b if abs(x - b) < abs(x + b) else -b  # exactly on the boundary it crossed
-            state = _next_state(state, x, v, b)
-            n_ev += 1
-            if n_ev > MAX_EVENTS_PER_PIECE:
-                raise SolverError(
-                    f"exact_contact: more than {MAX_EVENTS_PER_PIECE} contact changes in one "
-                    f"stiffness piece at t = {t:.6g} s (a chattering graze); use LSODA")
-    e1, ed1 = _te_shift(mm, np.array([t1]))
-    return segs, (x + float(e1[0]), v + float(ed1[0]))
-
-
 class Walk:
     """The closed-form pieces of one propagation (:func:`walk`): the end state, the located
     contact changes, the exact sensitivity and states on any grid inside the walked span, all
@@ -536,7 +457,10 @@ class Walk:
     def sensitivity(self) -> FloatArray:
         """``d y(t1) / d y(t0)`` (entries dimensionless, s and 1/s): the product, in time
         order, of each piece's ``exp(A_j s_j)`` (:meth:`_Piece.transition`) and, at each
-        contact change, the :func:`saltation` matrix of the surface ``x = +-b``.
+        contact change, the :func:`saltation` matrix of the surface ``x = +-b``: the identity
+        where the field is continuous (the dead zone's ends; a field with a jump gets the
+        general formula). A stiffness switch is a fixed instant, not a state surface: the
+        sensitivity carries over unchanged.
 
         Raises
         ------
@@ -575,9 +499,7 @@ class Walk:
         t_grid = np.asarray(t_grid, dtype=float)
         starts = np.array([sg.t for sg in self._segs])
         out = _on_grid(t_grid, starts, [(sg.piece, sg.x, sg.v) for sg in self._segs])
-        shift = _te_shift(self.model, t_grid)
-        out[0] += shift[0]
-        out[1] += shift[1]
+        out += np.asarray(_te_shift(self.model, t_grid))  # back from u = x - e to x
         if not np.all(np.isfinite(out)):
             raise SolverError("exact_contact produced non-finite states: the response diverges")
         return out
@@ -588,7 +510,9 @@ def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0) -> Walk:
 
     :func:`propagate_contact_exact` and :func:`flow_with_sensitivity` are its states on a grid
     and its end state with :meth:`Walk.sensitivity`; a caller that needs both (a shooting
-    point and its response measures) walks once.
+    point and its response measures) walks once. The pieces are in ``u = x - e(t)``, ``u'``,
+    cut at the stiffness switches; within a stiffness piece each located contact change ends a
+    segment, its state put exactly on the boundary it crossed, where the next state starts.
 
     Parameters
     ----------
@@ -613,9 +537,42 @@ def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0) -> Walk:
             "solver.method = 'exact_contact' needs the single-DOF model with backlash, "
             "piecewise-constant stiffness and no or a damped harmonic transmission error; "
             "use DOP853 or LSODA")
-    x, v = (float(u) for u in y0)
-    segs, end = _walk(model, float(t0), float(t1), x, v)
-    return Walk(model, float(t0), float(t1), (x, v), segs, end)
+    mm: Any = model  # a mesh model with backlash: checked above
+    t0, t1 = float(t0), float(t1)
+    x0, v0 = (float(u) for u in y0)
+    cuts = np.concatenate([[t0], mm.switching_times(t0, t1), [t1]])
+    kts = mm.stiffness(mm.phase(0.5 * (cuts[:-1] + cuts[1:])))
+    b = float(mm.backlash)
+    xtol = 4 * float(np.spacing(max(abs(t0), abs(t1), 1e-300)))
+    forcing = Forcing.of(mm)
+    cache: dict[tuple[float, int], _Piece] = {}
+    segs: list[_Segment] = []
+    e0, ed0 = _te_shift(mm, np.array([t0]))
+    x, v = x0 - float(e0[0]), v0 - float(ed0[0])
+    state = _state_at(x, v, b)
+    for ta, tb, kt in zip(cuts[:-1].tolist(), cuts[1:].tolist(), kts.tolist(), strict=True):
+        t, n_ev = ta, 0
+        while t < tb:
+            pc = cache.get((kt, state)) or cache.setdefault((kt, state),
+                                                            _Piece(mm, kt, state, forcing))
+            hit = _first_crossing(pc, t, x, v, tb - t, xtol)
+            if hit is None or t + hit >= tb:
+                segs.append(_Segment(t, pc, x, v, tb - t, False))
+                xs, vs = pc.at(x, v, np.array([tb - t]), t)
+                x, v, t = float(xs[0]), float(vs[0]), tb
+                break
+            segs.append(_Segment(t, pc, x, v, hit, True))
+            xs, vs = pc.at(x, v, np.array([hit]), t)
+            x, v, t = float(xs[0]), float(vs[0]), t + hit
+            x = b if abs(x - b) < abs(x + b) else -b  # exactly on the boundary it crossed
+            state = _next_state(state, x, v, b)
+            n_ev += 1
+            if n_ev > MAX_EVENTS_PER_PIECE:
+                raise SolverError(
+                    f"exact_contact: more than {MAX_EVENTS_PER_PIECE} contact changes in one "
+                    f"stiffness piece at t = {t:.6g} s (a chattering graze); use LSODA")
+    e1, ed1 = _te_shift(mm, np.array([t1]))
+    return Walk(model, t0, t1, (x0, v0), segs, (x + float(e1[0]), v + float(ed1[0])))
 
 
 def propagate_contact_exact(
@@ -703,16 +660,8 @@ def flow_with_sensitivity(model: Model, y0: FloatArray, t1: float, t0: float = 0
                           ) -> tuple[FloatArray, FloatArray]:
     """State ``y(t1)`` from ``y(t0) = y0`` and its exact sensitivity ``d y(t1) / d y0``.
 
-    :meth:`Walk.sensitivity` of :func:`walk`: the product, in time order, of each closed-form
-    piece's ``exp(A_j s_j)`` (:meth:`_Piece.transition`) and, at each
-    located contact change, the :func:`saltation` matrix of the switching surface ``x = +-b``.
-    The dead zone is continuous and the damping acts in every contact state, so the field is
-    continuous there and ``S = I`` (the fields are compared at each change and the product
-    skipped where they agree: a field with a jump gets the general formula). A stiffness
-    switch is a fixed instant, not a state surface: the state and its sensitivity carry over
-    unchanged (its saltation matrix, of the surface ``t = t_s`` in ``(y, t)``, has the identity
-    as its state block). No truncation error: rounding and the event times' rounding
-    (4 ulps, :func:`rounding_bound`).
+    :meth:`Walk.sensitivity` of :func:`walk`. No truncation error: rounding and the event
+    times' rounding (4 ulps, :func:`rounding_bound`).
 
     Parameters
     ----------

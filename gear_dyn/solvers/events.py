@@ -33,7 +33,6 @@ def _event(fn: EventFn, direction: float) -> Any:
     return ev
 
 
-
 def _take(sol: Any, method: str, t: float, tb: float, n: int, y_eval: FloatArray, done: int,
           st: dict[str, int]) -> int:
     """Add one solve_ivp call's statistics to ``st`` and its output points to ``y_eval`` (from
@@ -57,6 +56,7 @@ def _take(sol: Any, method: str, t: float, tb: float, n: int, y_eval: FloatArray
             "the response diverges or the tolerances are too loose"
         )
     return done + k
+
 
 def solve_piece_with_events(
     rhs: Callable[[float, FloatArray], FloatArray],
@@ -121,8 +121,7 @@ def solve_piece_with_events(
         if sol.status == 0:
             return y_eval, np.asarray(sol.y[:, -1], dtype=float), st
         # a contact change: restart there, looking only for the opposite crossing of that g
-        hit = [j for j, tev in enumerate(sol.t_events) if len(tev)]
-        j = hit[0]
+        j = next(j for j, tev in enumerate(sol.t_events) if len(tev))
         t_new = float(sol.t_events[j][0])
         if t_new <= t + tiny and t > ta:
             # found again at the restart point: g is tangent there (a grazing contact), so the

@@ -89,10 +89,7 @@ class _Exponential:
         if self.eigen:
             w = (z @ self.right.T) * np.exp(self.lam[None, :] * s[:, None])
             return np.ascontiguousarray((w @ self.left.T).real)
-        su, inv = _unique_tol(s, self.tol)
-        self.n_expm += su.size
-        p = expm(self.m[None, :, :] * su[:, None, None])
-        return np.einsum("kij,kj->ki", p[inv], z)
+        return np.einsum("kij,kj->ki", self(s), z)
 
 
 def propagate_pieces(

@@ -13,8 +13,7 @@ particular solution ``A cos th + B sin th`` with
 solvable whenever ``D = (w2 - W^2)^2 + (a W)^2 > 0`` (always in the gap, and with damping; an
 undamped resonance has no periodic particular solution). The full solution of a piece is this
 particular part plus the homogeneous-and-load closed form of
-:func:`gear_dyn.solvers.contact_exact.flow` (the steady-state response of a damped linear
-oscillator to each harmonic, solved above). Zero harmonics (no transmission error) give the
+:func:`gear_dyn.solvers.contact_exact.flow`. Zero harmonics (no transmission error) give the
 zero particular solution.
 """
 

@@ -29,12 +29,8 @@ FloatArray = NDArray[np.float64]
 
 def resolve_auto(model: Model) -> str:
     """The method ``auto`` picks without a grid: ``exact`` or ``exact_contact`` where they
-    apply, else LSODA.
-
-    (:func:`integrate` further replaces LSODA by ``periodic`` for a linear mesh-periodic model on
-    a grid commensurate with the mesh period, or by ``gauss`` for a model affine in the state
-    with time-given coefficients; those choices need the grid or the model's table.)
-    """
+    apply, else LSODA (which :func:`resolve_method` may turn into ``periodic`` or ``gauss``:
+    those choices need the grid or the model's table)."""
     if exact_applies(model):
         return "exact"
     return "exact_contact" if contact_exact_applies(model) else DEFAULT_ODE_METHOD

@@ -1,10 +1,5 @@
-"""Linear mesh-periodic models on a commensurate grid: one period of step maps, then reused.
-
-A linear model whose coefficients have the mesh period ``T`` (``model.mesh_periodic and
-model.is_linear``: the single-DOF mesh model without backlash), sampled ``S`` times per period:
-every grid step is one of ``S`` affine maps that recur every period. They are integrated once and
-the whole span is filled by matrix products (method ``periodic``).
-"""
+"""Linear mesh-periodic models on a commensurate grid: one period of step maps, then reused
+(method ``periodic``, :func:`propagate_periodic`)."""
 
 from __future__ import annotations
 
@@ -283,7 +278,8 @@ def propagate_periodic(
 ) -> tuple[FloatArray, dict[str, Any]]:
     """States of a linear periodic model on a commensurate uniform grid by recurring step maps.
 
-    A linear model whose coefficients have the mesh period ``T`` and a grid with ``S`` samples
+    A linear model whose coefficients have the mesh period ``T`` (``model.mesh_periodic and
+    model.is_linear``: the single-DOF mesh model without backlash) and a grid with ``S`` samples
     per period: the step from ``t_i`` to ``t_{i+1}`` is the affine map ``(F_j, h_j)`` with
     ``j = i mod S``, the same in every period. The ``S`` maps are integrated once (DOP853 at
     ``settings.rtol``, one stacked system, restarted at the switching instants), composed into

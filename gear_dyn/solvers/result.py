@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import importlib
 import math
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
@@ -63,7 +63,6 @@ class ResultPlots:
                                            scale=scale, floor=floor)
 
 
-
 @dataclass(frozen=True)
 class SolverStats:
     """What the integration cost: method, tolerances, counts and wall time."""
@@ -79,16 +78,7 @@ class SolverStats:
 
     def as_dict(self) -> dict[str, Any]:
         """Plain dict for JSON."""
-        return {
-            "method": self.method,
-            "rtol": self.rtol,
-            "atol": self.atol,
-            "nfev": self.nfev,
-            "njev": self.njev,
-            "nlu": self.nlu,
-            "n_segments": self.n_segments,
-            "run_time_s": self.run_time_s,
-        }
+        return asdict(self)
 
 
 @dataclass(frozen=True, eq=False)
@@ -184,8 +174,7 @@ class Result:
     @property
     def rms_dte(self) -> float:
         """RMS of the fluctuating DTE (mean removed) over the steady window in m."""
-        x = self.outputs["dte"][self.steady]
-        return float(np.sqrt(np.mean((x - x.mean()) ** 2)))
+        return float(np.std(self.outputs["dte"][self.steady]))
 
     @property
     def ptp_dte(self) -> float:

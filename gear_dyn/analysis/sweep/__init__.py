@@ -18,12 +18,11 @@ them (for the single-DOF model only the mesh frequency ``f_m = z1 w / 2 pi``). M
 are swept up and down (the two curves differ where the response has coexisting orbits: the jumps of
 Kahraman & Singh 1990).
 
-It runs in the calling process unless the caller asks for ``workers=N`` (a process pool) or
-passes an ``executor`` (any :class:`concurrent.futures.Executor`, e.g. a Dask client's): blocks
-of speeds then go out through its ``map``, with results identical to the serial run. Jumps are
-found from the orbits (:mod:`.orbit_jumps`); up and down sweeps that differ are hysteresis only
-where both found a periodic orbit (:func:`hysteresis_ranges`, :func:`aperiodic_ranges`).
-docs/sweep.md, "Parallel runs" and "How jumps are found", gives the details.
+It runs in the calling process unless asked for ``workers`` or an ``executor`` (:func:`sweep`).
+Jumps are found from the orbits (:mod:`.orbit_jumps`); up and down sweeps that differ are
+hysteresis only where both found a periodic orbit (:func:`hysteresis_ranges`,
+:func:`aperiodic_ranges`). docs/sweep.md, "Parallel runs" and "How jumps are found", gives the
+details.
 """
 
 from gear_dyn.analysis.sweep.driver import ModelFactory, sweep

@@ -3,7 +3,7 @@
 Where the stiffness is piecewise constant (``linear_segments`` not None) the periodic orbit is
 exact: per speed, the mesh period is cut at the stiffness switches and at the output samples
 (``samples_per_period`` per period), every cell is an affine map ``y -> y* + E (y - y*)`` with
-``E`` the closed-form 2x2 exponential (:func:`gear_dyn.analysis.chart._expm2_sdof`) and
+``E`` the closed-form 2x2 exponential (:func:`gear_dyn.analysis.chart._expm2`) and
 ``y* = [g / kappa, 0]`` the cell's equilibrium; their product is the one-period map, its fixed
 point the orbit, and the same cells carry the orbit to the samples. All speeds of a block go
 through each cell at once (numpy over speeds), so the per-speed cost is a few array rows instead
@@ -23,10 +23,10 @@ from typing import cast
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.analysis.chart import _expm2_sdof
+from gear_dyn.analysis.chart import _expm2
 from gear_dyn.analysis.stability import UNIT_CIRCLE_TOL
 from gear_dyn.analysis.sweep import smooth
-from gear_dyn.analysis.sweep.points import _nan_point
+from gear_dyn.analysis.sweep.points import _nan_point, _order_spectrum
 from gear_dyn.analysis.sweep.types import Point, SweepOptions
 from gear_dyn.models.base import MeshModel, Model
 from gear_dyn.solvers import SolverSettings
@@ -69,36 +69,17 @@ def _phase_cells(cuts: bytes, spp: int) -> tuple[FloatArray, NDArray[np.intp]]:
 
 
 def _orbits(fm: FloatArray, edges: FloatArray, kappa: FloatArray, gamma: FloatArray,
-            g: FloatArray, spp: int) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """(orbit samples (S, 2, spp), monodromy (S, 2, 2), one-period response q (S, 2)).
+            g: FloatArray, spp: int) -> tuple[FloatArray, FloatArray]:
+    """(orbit samples (S, 2, spp), monodromy (S, 2, 2)).
 
     ``kappa``, ``gamma``, ``g``: (S, C) per speed and cell; ``edges`` (C + 1,) in phase.
     """
     dt = np.diff(edges)[None, :] / fm[:, None]
-    e11, e12, e21, e22 = _expm2_sdof(kappa, gamma, dt)
+    e11, e12, e21, e22 = _expm2(0.0, dt, -kappa * dt, -gamma * dt)  # exp of A dt
     xs = g / kappa  # equilibrium deflection of each cell
-    n_s, n_c = kappa.shape
-    # cell map y -> E y + d with d = (I - E) y*, y* = [xs, 0]
-    d1, d2 = (1 - e11) * xs, -e21 * xs
-    phi = np.broadcast_to(np.eye(2), (n_s, 2, 2)).copy()
-    q = np.zeros((n_s, 2))
-    for c in range(n_c):
-        e = np.stack([np.stack([e11[:, c], e12[:, c]], -1), np.stack([e21[:, c], e22[:, c]], -1)],
-                     1)
-        phi = e @ phi
-        q = np.einsum("sij,sj->si", e, q) + np.stack([d1[:, c], d2[:, c]], -1)
-    y0 = np.linalg.solve(np.eye(2)[None] - phi, q[:, :, None])[:, :, 0]
-    sample = np.isin(np.round(edges[:-1] * spp, 9), np.arange(spp))
-    out = np.empty((n_s, 2, spp))
-    y1, y2 = y0[:, 0].copy(), y0[:, 1].copy()
-    k = 0
-    for c in range(n_c):
-        if sample[c]:
-            out[:, 0, k], out[:, 1, k] = y1, y2
-            k += 1
-        y1, y2 = (e11[:, c] * y1 + e12[:, c] * y2 + d1[:, c],
-                  e21[:, c] * y1 + e22[:, c] * y2 + d2[:, c])
-    return out, phi, q
+    # cell map y -> E y + d with d = (I - E) y*, y* = [xs, 0]; the cells ending on a sample
+    ends = np.flatnonzero(np.isin(np.round(edges[1:] * spp, 9), np.arange(1, spp + 1)))
+    return smooth.compose_period((e11, e12, e21, e22, (1 - e11) * xs, -e21 * xs), ends, spp)
 
 
 def _piecewise_orbits(mesh: list[MeshModel], fm: FloatArray, spp: int
@@ -109,13 +90,11 @@ def _piecewise_orbits(mesh: list[MeshModel], fm: FloatArray, spp: int
     if any(c is None for c in cells):
         return None
     first = cast(tuple[FloatArray, ...], cells[0])
-    if any(c[0].shape != first[0].shape or not np.array_equal(c[0], first[0])
-           for c in cast(list[tuple[FloatArray, ...]], cells)):
+    if any(not np.array_equal(c[0], first[0]) for c in cast(list[tuple[FloatArray, ...]], cells)):
         return None  # cells differ between speeds (not seen for sdof models): per speed
     kap, gam, gg = (np.stack([cast(tuple[FloatArray, ...], c)[i] for c in cells])
                     for i in (1, 2, 3))
-    y, phi, _q = _orbits(fm, first[0], kap, gam, gg, spp)
-    return y, phi
+    return _orbits(fm, first[0], kap, gam, gg, spp)
 
 
 def linear_block(models: Sequence[Model], speeds: Sequence[float], settings: SolverSettings,
@@ -143,7 +122,6 @@ def linear_block(models: Sequence[Model], speeds: Sequence[float], settings: Sol
     rho = np.max(np.abs(mult), axis=1)
     if not np.all(np.linalg.cond(np.eye(2)[None] - phi) < 1e14):
         return None  # a multiplier at 1: the per-speed path raises the SolverError
-    n_orders = opts.window_periods * opts.harmonics
     ok = rho <= 1.0 + UNIT_CIRCLE_TOL
     dte = np.full((fm.size, spp), np.nan)
     force = np.full((fm.size, spp), np.nan)
@@ -155,15 +133,13 @@ def linear_block(models: Sequence[Model], speeds: Sequence[float], settings: Sol
     load = np.array([m.static_load for m in mesh])
     with np.errstate(invalid="ignore", divide="ignore"):
         df = np.where(load > 0, np.max(force, axis=1) / load, np.nan)
-    x = np.tile(dte, (1, opts.window_periods))
-    spec = np.abs(np.fft.rfft(x - x.mean(axis=1, keepdims=True), axis=1)[:, 1:n_orders + 1]
-                  ) * 2.0 / x.shape[1]
+    spec = _order_spectrum(np.tile(dte, (1, opts.window_periods)), opts)
     rms, ptp, mean = np.std(dte, axis=1), np.ptp(dte, axis=1), np.mean(dte, axis=1)
     sep = np.mean(force < 0, axis=1)
     points = []
     for i, m in enumerate(mesh):
         if not ok[i]:
-            points.append(_nan_point(m, float(speeds[i]), float(rho[i]), "unstable", n_orders))
+            points.append(_nan_point(m, float(speeds[i]), float(rho[i]), "unstable", opts))
             continue
         points.append(Point(float(speeds[i]), float(fm[i]), float(df[i]), float(rms[i]),
                             float(ptp[i]), float(mean[i]), float(rho[i]), True, True,

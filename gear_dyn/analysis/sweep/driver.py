@@ -1,15 +1,9 @@
 """The sweep driver: speeds cut into blocks, blocks run here or on an executor, curves assembled.
 
-A sweep runs in the calling process unless it is given ``workers`` (a process pool of that many
-processes) or an ``executor`` (any :class:`concurrent.futures.Executor`, e.g. a Dask
-``distributed.Client(...).get_executor()``). There the blocks go out through the executor's own
-``map``. The model factory ``speed -> Model`` (speed in rad/s) must then be picklable (the scene
-layer's :class:`gear_dyn.scene.sweep.SceneModels` is).
-
-The blocks, and what each block starts from, do not depend on where they run: linear sweeps cut
-the speeds into blocks of a fixed size, each evaluated on its own; continuation sweeps (backlash)
-follow each direction's chain of speeds, each block starting from the state where the previous
-block of its direction ended. So a parallel sweep gives the serial sweep's numbers, bit for bit.
+Where the blocks run and why the numbers do not depend on it: :func:`sweep` and docs/sweep.md,
+"Parallel runs". Linear sweeps cut the speeds into blocks of a fixed size, each evaluated on its
+own; continuation sweeps (backlash) follow each direction's chain of speeds, each block starting
+from the state where the previous block of its direction ended.
 """
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from typing import Any
 
 #: pinion speed of one rpm, in rad/s
-_RPM = 2 * math.pi / 60
+RPM = 2 * math.pi / 60
 
 #: kinds of jumps, from the orbits (:mod:`gear_dyn.analysis.sweep.orbit_jumps`), and the fallback
 JUMP_KINDS = ("fold", "contact_pattern", "branch", "unresolved", "rms_fallback")
@@ -56,9 +56,9 @@ class Jump:
 
     def row(self) -> dict[str, Any]:
         """JSON-able fields, speeds in rpm (``fold_rpm`` None where no fold was located)."""
-        fold = self.fold_speed / _RPM if math.isfinite(self.fold_speed) else None
-        return {"kind": self.kind, "from_rpm": self.from_speed / _RPM,
-                "to_rpm": self.to_speed / _RPM, "fold_rpm": fold,
+        fold = self.fold_speed / RPM if math.isfinite(self.fold_speed) else None
+        return {"kind": self.kind, "from_rpm": self.from_speed / RPM,
+                "to_rpm": self.to_speed / RPM, "fold_rpm": fold,
                 "rms_dte_before_m": self.rms_dte_before, "rms_dte_after_m": self.rms_dte_after,
                 "separation_before": self.separation_before,
                 "separation_after": self.separation_after,

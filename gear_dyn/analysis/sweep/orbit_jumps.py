@@ -1,29 +1,12 @@
 """Jumps of a sweep found from its periodic orbits, not from a threshold on RMS.
 
 Between two neighbouring speeds of one sweep direction the response jumps where the periodic
-orbit at the first speed does not continue to the second one. That is checked with the
-continuation code (:func:`gear_dyn.analysis.continuation.continue_orbits`): the orbit the sweep
-found at speed ``i`` is followed by pseudo-arclength continuation towards speed ``i + 1``.
-
-- The branch turns back at a fold before reaching ``i + 1`` (located, or its turning point where
-  it turns at a grazing point without a smooth fold): a ``fold`` jump, with the fold's speed.
-- It reaches ``i + 1`` on the orbit the sweep found there: no jump, whatever the RMS change
-  (also where the contact pattern changes on the way: a grazing orbit changes continuously).
-- It reaches ``i + 1`` on another orbit than the sweep's: ``contact_pattern`` where the two
-  orbits there differ in the number of separations or back-flank contacts per period, else
-  ``branch``.
-
-Only candidate pairs are continued, so the check stays cheap: pairs whose orbits differ much
-more than their neighbours' (the scaled change of the orbit state and the contact shares is
-more than :data:`SCREEN_RATIO` times the smaller neighbouring change: on a smooth stretch the
-ratio tends to 1 as the grid is refined, across a jump it grows without bound), pairs where the
-sweep lost the orbit (status ``settled``), where separation or back contact starts or ends, or
-where the orbit's number of mesh periods changes. The verdict on a candidate comes from the
-orbits alone, so the jumps found do not depend on the grid beyond which pair brackets a fold.
-
-Where either speed of a pair has no periodic orbit (aperiodic response, the transient method),
-there is no orbit to continue: the old test is kept there as a labelled fallback
-(``rms_fallback``: RMS DTE changes by more than :data:`FALLBACK_REL` of the larger value).
+orbit at the first speed does not continue to the second one: the orbit the sweep found at speed
+``i`` is followed towards speed ``i + 1`` by pseudo-arclength continuation
+(:func:`gear_dyn.analysis.continuation.continue_orbits`), for the candidate pairs of
+:func:`candidates` only; where either speed has no orbit, the RMS DTE test stays as a labelled
+fallback (``rms_fallback``, :data:`FALLBACK_REL`). docs/sweep.md, "How jumps are found", gives
+the rules and the kinds of jump (:class:`~gear_dyn.analysis.sweep.jump.Jump`).
 """
 
 from __future__ import annotations
@@ -81,7 +64,9 @@ def _features(curve: SweepCurve, scale: FloatArray) -> FloatArray:
 
 def candidates(curve: SweepCurve, scale: FloatArray) -> list[int]:
     """Indices ``i`` of the pairs (i, i + 1) with an orbit at both speeds that need the
-    continuation check (see the module docstring)."""
+    continuation check: an orbit change (:func:`_features`) above :data:`SCREEN_RATIO` times
+    the smaller neighbouring one, status ``settled``, separation or back contact starting or
+    ending, or a change of the orbit's mesh periods."""
     n = curve.speed.size
     orbit = curve.orbit_periods > 0
     f = _features(curve, scale)
@@ -102,10 +87,8 @@ def candidates(curve: SweepCurve, scale: FloatArray) -> list[int]:
 
 def _reached(branch: Branch, speed: float) -> int | None:
     """Index of the branch point at ``speed`` (its end point there), or None."""
-    for k in range(len(branch.points) - 1, -1, -1):
-        if abs(branch.points[k].parameter - speed) <= 1e-9 * abs(speed):
-            return k
-    return None
+    at = np.flatnonzero(np.abs(branch.array("parameter") - speed) <= 1e-9 * abs(speed))
+    return int(at[-1]) if at.size else None
 
 
 def check_pair(curve: SweepCurve, i: int, factory: Callable[[float], Model], rtol: float

@@ -57,11 +57,12 @@ def _contact(model: Model, t: FloatArray, y: FloatArray, force: FloatArray
     return float(np.mean(force < 0)), 0.0
 
 
-def _order_spectrum(dte: FloatArray, window: int, spp: int, harmonics: int) -> FloatArray:
-    """Amplitudes at orders k / window, k = 1..window*harmonics, of ``window`` periods."""
-    x = dte - dte.mean()
-    spec = np.fft.rfft(x) * 2.0 / x.size
-    return np.abs(spec[1: window * harmonics + 1])
+def _order_spectrum(dte: FloatArray, opts: SweepOptions) -> FloatArray:
+    """Amplitudes at orders k / window, k = 1..window*harmonics, of ``window`` periods (of each
+    row of ``dte``)."""
+    x = dte - dte.mean(axis=-1, keepdims=True)
+    spec = np.fft.rfft(x) * 2.0 / x.shape[-1]
+    return np.abs(spec[..., 1: opts.window_periods * opts.harmonics + 1])
 
 
 def _metrics(model: Model, t: FloatArray, y: FloatArray, load: float,
@@ -77,22 +78,18 @@ def _metrics(model: Model, t: FloatArray, y: FloatArray, load: float,
     return (df, float(np.std(dte)), float(np.ptp(dte)), float(np.mean(dte)), sep, back)
 
 
-def _nan_point(model: Model, speed: float, rho: float, status: str, n_orders: int) -> Point:
+def _nan_point(model: Model, speed: float, rho: float, status: str, opts: SweepOptions) -> Point:
     nan = math.nan
     return Point(speed, model.mesh_frequency, nan, nan, nan, nan, rho, False, False, status, nan,
-                 nan, 0, np.full(n_orders, nan), np.full(len(model.state_labels), nan))
+                 nan, 0, np.full(opts.window_periods * opts.harmonics, nan),
+                 np.full(len(model.state_labels), nan))
 
 
 def _flow(model: Model, t: FloatArray, settings: SolverSettings, y0: FloatArray) -> FloatArray:
-    """States on ``t`` from ``y0``.
-
-    :func:`gear_dyn.solvers.integrate` with the method ``settings.method`` means for ``model``
-    (``auto``: the exact propagator for linear piecewise-constant models, ``exact_contact``
-    for the single-DOF model with backlash, piecewise-constant stiffness and no transmission
-    error: closed form between located contact changes), except for a nonlinear mesh model
-    that ``auto`` would give to a general ODE solver, or with ``DOP853`` pinned: there DOP853
-    with the stiffness fixed per piece (:func:`gear_dyn.analysis.stability.flow_on_grid`).
-    """
+    """States on ``t`` from ``y0`` by :func:`gear_dyn.solvers.integrate`, except where ``auto``
+    would give a mesh model to a general ODE solver, or with ``DOP853`` pinned: there DOP853 with
+    the stiffness fixed per piece (:func:`gear_dyn.analysis.stability.flow_on_grid`; docs/sweep.md,
+    "Which integrator")."""
     if (model.mesh_periodic and model.linear_segments(0.0, float(t[-1])) is None
             and (settings.method == "DOP853"
                  or (settings.method == "auto" and resolve_auto(model) == DEFAULT_ODE_METHOD))):
@@ -136,7 +133,7 @@ def _orbit_metrics(model: Model, speed: float, t: FloatArray, y: FloatArray, opt
     df, rms, ptp, mean, sep, back = _metrics(model, t, y, model.static_load, out)
     reps = -(-opts.window_periods // orbit_periods)
     dte_win = np.tile(out["dte"], reps)[: opts.window_periods * spp]
-    spec = _order_spectrum(dte_win, opts.window_periods, spp, opts.harmonics)
+    spec = _order_spectrum(dte_win, opts)
     return Point(speed, model.mesh_frequency, df, rms, ptp, mean, rho, stable,
                  orbit_periods == 1, status, sep, back, iterations, spec,
                  np.array(y[:, 0], dtype=float), orbit_periods, f"period-{orbit_periods}")
@@ -151,7 +148,7 @@ def _window_point(model: Model, speed: float, t: FloatArray, y: FloatArray, n_wi
     df, rms, ptp, mean, sep, back = _metrics(model, tw, yw, model.static_load)
     dte = model.outputs(t, y)["dte"]
     nspec = opts.window_periods * spp
-    spec = _order_spectrum(dte[-nspec - 1:-1], opts.window_periods, spp, opts.harmonics)
+    spec = _order_spectrum(dte[-nspec - 1:-1], opts)
     scale = np.asarray(model.state_scale, dtype=float)
     closing = np.abs(y[:, -1] - y[:, -1 - spp]) / np.maximum(scale, np.abs(y[:, -1]))
     periodic = bool(np.max(closing) <= 1e3 * settings.rtol)
@@ -189,8 +186,7 @@ def _linear_orbit_point(model: MeshModel, speed: float, settings: SolverSettings
     """Linear model: the periodic orbit from the one-period map, or NaN where unstable."""
     sol = periodic_steady_state(model, rtol=settings.rtol)
     if not sol.stable:
-        n_orders = opts.window_periods * opts.harmonics
-        return _nan_point(model, speed, sol.spectral_radius, "unstable", n_orders), None
+        return _nan_point(model, speed, sol.spectral_radius, "unstable", opts), None
     return _orbit_point(model, speed, sol.y0, settings, opts, sol.spectral_radius, True,
                         "periodic", 0), sol.y0
 
@@ -198,17 +194,11 @@ def _linear_orbit_point(model: MeshModel, speed: float, settings: SolverSettings
 def _settle_and_shoot(model: MeshModel, speed: float, settings: SolverSettings,
                       opts: SweepOptions, guess: FloatArray, iters: int, continuing: bool
                       ) -> tuple[Point, FloatArray | None]:
-    """The orbit followed so far is gone (or Newton left it): settle as a slow sweep would.
-
-    In chunks of SETTLE_CHUNK periods, shooting for a period-1, then a period-2 orbit after
-    each. The settling run only has to reach the attractor's basin, so it runs at rtol >= 1e-6;
-    shooting (or the measured window) restores the full accuracy. With no such orbit, the
-    motion is classified from CLASSIFY_SAMPLES stroboscopic samples
-    (:func:`gear_dyn.analysis.motion.classify_motion`): an orbit of n = 1..16 mesh periods
-    confirmed by shooting over n periods (``period-n``), else ``aperiodic`` with the motion's
-    label (quasi-periodic, chaotic with its Lyapunov exponent, or not settled), measured over
-    a window of whole periods at full accuracy from where the classification ended.
-    """
+    """The orbit followed so far is gone (or Newton left it): settle as a slow sweep would, in
+    chunks of SETTLE_CHUNK periods at rtol >= 1e-6 (it only has to reach the basin), shooting
+    for a period-1, then a period-2 orbit after each; else classify the motion
+    (:func:`gear_dyn.analysis.motion.classify_motion`). docs/sweep.md, "How the steady state is
+    found", gives the statuses."""
     spp = settings.samples_per_period
     fm = model.mesh_frequency
     loose = replace(settings, rtol=max(settings.rtol, 1e-6), atol=None)
@@ -243,13 +233,12 @@ def transient_point(model: Model, speed: float, settings: SolverSettings,
                      opts: SweepOptions, periods: int, steady_periods: int,
                      y_guess: FloatArray | None) -> tuple[Point, FloatArray | None]:
     """The transient method at one speed: a run as ``gear-dyn run`` and its last window."""
-    n_orders = opts.window_periods * opts.harmonics
     rho = math.nan
     if model.mesh_periodic and model.is_linear:
         assert isinstance(model, MeshModel)
         rho = float(np.max(np.abs(floquet_multipliers(model, settings.rtol))))
         if rho > 1.0 + UNIT_CIRCLE_TOL:
-            return _nan_point(model, speed, rho, "unstable", n_orders), None
+            return _nan_point(model, speed, rho, "unstable", opts), None
         y_guess = None  # linear: every speed from the static state, as run_scene
     spp = settings.samples_per_period
     t = time_grid(model.mesh_frequency, periods / model.mesh_frequency, spp)

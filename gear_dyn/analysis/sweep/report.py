@@ -1,12 +1,8 @@
 """Tables and summaries of a sweep: CSV columns, ranges, jumps, hysteresis, sweep.json.
 
-The dynamic factor is K_dyn = F_max / F_qs,max, as ``gear-dyn run`` states it
-(:mod:`gear_dyn.analysis.dynamic_factor`): it compares like for like with ISO 6336-1 K_v. The
-peak force ratio F_max / W and the stiffness-jump factor F_qs,max / W (their ratio) are reported
-beside it, each under its own name.
-
-The jumps themselves are found from the orbits when the sweep runs
-(:mod:`gear_dyn.analysis.sweep.orbit_jumps`); here they are only listed.
+The dynamic factor and the figures beside it are those of a run
+(:mod:`gear_dyn.analysis.dynamic_factor`). The jumps themselves are found from the orbits when
+the sweep runs (:mod:`gear_dyn.analysis.sweep.orbit_jumps`); here they are only listed.
 
 Hysteresis is claimed only where both directions found a periodic orbit and the two differ;
 where either direction's response is not periodic the summary says so (``aperiodic``) instead.
@@ -90,12 +86,7 @@ def aperiodic_ranges(result: SweepResult) -> list[list[float]]:
     for c in result.curves:
         m = _not_periodic(c)
         mask |= m if c.direction == "up" else m[::-1]
-    return speed_ranges(_up_speeds(result), mask)
-
-
-def _up_speeds(result: SweepResult) -> FloatArray:
-    c = result.curves[0]
-    return c.speed if c.direction == "up" else c.speed[::-1]
+    return speed_ranges(np.sort(result.curves[0].speed), mask)  # the mask is in up order
 
 
 def hysteresis_ranges(result: SweepResult, rel: float = 0.05) -> list[list[float]]:
@@ -119,11 +110,8 @@ def hysteresis_ranges(result: SweepResult, rel: float = 0.05) -> list[list[float
 def jumps(curve: SweepCurve) -> list[dict[str, Any]]:
     """The curve's jumps between neighbouring speeds, as found from its orbits
     (:func:`gear_dyn.analysis.sweep.orbit_jumps.find_jumps`), one dict each (:meth:`Jump.row
-    <gear_dyn.analysis.sweep.jump.Jump.row>`): ``kind`` (``fold``, ``contact_pattern``,
-    ``branch``, ``unresolved``; ``rms_fallback`` where one of the speeds has no periodic orbit
-    and the RMS DTE changes by more than 30 %), ``from_rpm``, ``to_rpm``, ``fold_rpm`` (the
-    located fold, None for other kinds), RMS DTE and separation share before and after, and
-    the two orbits' contact patterns."""
+    <gear_dyn.analysis.sweep.jump.Jump.row>`: the fields of
+    :class:`~gear_dyn.analysis.sweep.jump.Jump`, speeds in rpm)."""
     return [j.row() for j in curve.jumps]
 
 

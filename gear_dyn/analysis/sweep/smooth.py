@@ -33,6 +33,7 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
+from gear_dyn.analysis.chart import _expm2
 from gear_dyn.models.base import MeshModel, Model
 
 FloatArray = NDArray[np.float64]
@@ -102,23 +103,6 @@ def substep_grid(model: MeshModel, spp: int, fm_min: float, rtol: float
     return starts, lengths, ends[sample_cells]
 
 
-def _expm2(b11: FloatArray, b12: FloatArray, b21: FloatArray, b22: FloatArray
-           ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    """exp of 2x2 matrices given by components (closed form, any shape)."""
-    mu = 0.5 * (b11 + b22)
-    det = b11 * b22 - b12 * b21
-    d2 = mu * mu - det
-    s = np.sqrt(np.abs(d2))
-    small = s < 1e-4
-    with np.errstate(invalid="ignore", divide="ignore"):
-        ch = np.where(d2 < 0, np.cos(s), np.cosh(s))
-        sh = np.where(small, 1 + d2 / 6 + d2 * d2 / 120,
-                      np.where(d2 < 0, np.sin(s), np.sinh(s)) / np.where(small, 1.0, s))
-    em = np.exp(mu)
-    return (em * (ch + sh * (b11 - mu)), em * sh * b12, em * sh * b21,
-            em * (ch + sh * (b22 - mu)))
-
-
 def orbits(models: Sequence[Model], spp: int, rtol: float
            ) -> tuple[FloatArray, FloatArray]:
     """(orbit samples (S, 2, spp), monodromy (S, 2, 2)) of the models (see :func:`covered`).
@@ -163,14 +147,22 @@ def orbits(models: Sequence[Model], spp: int, rtol: float
     r2 = e21 * f1 + (e22 - 1) * f2
     q1 = (b22 * r1 - b12 * r2) / det
     q2 = (-b21 * r1 + b11 * r2) / det
-    n_s, n = h.shape
-    # compose: y_k = P_k y0 + u_k after substep k; keep them at the samples
+    return compose_period((e11, e12, e21, e22, q1, q2), at_sample, spp)
+
+
+def compose_period(maps: tuple[FloatArray, ...], at_sample: NDArray[np.intp], spp: int
+                   ) -> tuple[FloatArray, FloatArray]:
+    """(orbit samples (S, 2, spp), monodromy (S, 2, 2)) of the affine maps ``y -> E_i y + q_i``
+    of one period: ``maps = (E11, E12, E21, E22, q1, q2)``, each (S, N) over the speeds and the
+    N steps in time order; ``at_sample[j - 1]`` is the step ending at sample j = 1..spp."""
+    n_s, n = maps[0].shape
+    # compose: y_k = P_k y0 + u_k after step k; keep them at the samples
     p11, p12, p21, p22 = (np.ones(n_s), np.zeros(n_s), np.zeros(n_s), np.ones(n_s))
     u1, u2 = np.zeros(n_s), np.zeros(n_s)
     keep = np.zeros(n, dtype=bool)
     keep[at_sample] = True
     saved = []
-    cols = [a.T.copy() for a in (e11, e12, e21, e22, q1, q2)]  # (N, S): contiguous rows
+    cols = [a.T.copy() for a in maps]  # (N, S): contiguous rows
     for i in range(n):
         a11, a12, a21, a22, v1, v2 = (col[i] for col in cols)
         p11, p12, p21, p22 = (a11 * p11 + a12 * p21, a11 * p12 + a12 * p22,
@@ -188,4 +180,4 @@ def orbits(models: Sequence[Model], spp: int, rtol: float
     return out, phi
 
 
-__all__ = ["MAX_SUBSTEPS", "covered", "orbits", "substep_grid"]
+__all__ = ["MAX_SUBSTEPS", "compose_period", "covered", "orbits", "substep_grid"]

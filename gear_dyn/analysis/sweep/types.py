@@ -11,12 +11,11 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.analysis.sweep.jump import Jump
+from gear_dyn.analysis.sweep.jump import RPM, Jump
 from gear_dyn.errors import InputError, check_range
 from gear_dyn.solvers import SolverSettings
 
 FloatArray = NDArray[np.float64]
-RPM = 2 * math.pi / 60
 
 METHODS = ("steady", "transient")
 DIRECTIONS = ("auto", "up", "down", "both")
