@@ -7,10 +7,10 @@ import csv
 import io
 import math
 import sys
-from pathlib import Path
 from typing import Any
 
 from gear_dyn.cli.progress import add_quiet_flag, counter
+from gear_dyn.cli.run import add_scene_and_out
 from gear_dyn.errors import InputError
 
 TARGETS = (1e-4, 1e-6, 1e-8)
@@ -26,8 +26,7 @@ def register(sub: Any) -> None:
         "recommended method per target error) and bench.json. Errors are max and RMS of "
         "|x - x_ref| relative to the static deflection; times are medians of repeats.",
     )
-    p.add_argument("scene", type=Path, help="scene file (TOML)")
-    p.add_argument("--out", type=Path, required=True, help="output folder")
+    add_scene_and_out(p)
     p.add_argument("--periods", type=int, help="mesh periods to simulate (default: the scene's)")
     p.add_argument("--methods", default="RK45,DOP853,Radau,BDF,LSODA",
                    help="comma-separated solve_ivp methods (default: all five)")

@@ -8,10 +8,10 @@ pair, the scene's ``[tip_relief]`` if any, and every relief rule (docs/modificat
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 from typing import Any
 
 from gear_dyn.choices import PAIR_STIFFNESS_METHODS, RELIEF_CURVES
+from gear_dyn.cli.run import add_scene_and_out
 from gear_dyn.errors import InputError, SceneError
 
 
@@ -22,8 +22,7 @@ def register(sub: Any) -> None:
         "pair, the scene's [tip_relief] (if any) and the four published relief rules. Writes "
         "load_sharing.png, stiffness.png, path.csv and contact.json into DIR.",
     )
-    p.add_argument("scene", type=Path, help="scene file (TOML)")
-    p.add_argument("--out", type=Path, required=True, help="output folder")
+    add_scene_and_out(p)
     p.add_argument("--curve", choices=RELIEF_CURVES, default=None,
                    help="relief curve for the rules (default: the scene's tip_relief.curve, "
                    "else linear)")

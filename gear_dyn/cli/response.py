@@ -10,10 +10,11 @@ import argparse
 import csv
 import io
 import math
-from pathlib import Path
 from typing import Any
 
 from gear_dyn.cli.progress import Stages, add_quiet_flag
+from gear_dyn.cli.run import add_scene_and_out
+from gear_dyn.cli.sweep import add_parallel_flags, dask_executor
 from gear_dyn.errors import InputError
 
 RPM = 2 * math.pi / 60
@@ -35,11 +36,10 @@ def register(sub: Any) -> None:
         epilog="example: gear-dyn response helicopter_tail_backlash --speeds '3000 rpm:9500 rpm' "
         "--out resp",
     )
-    p.add_argument("scene", type=Path, help="scene file (TOML) or packaged scene name")
+    add_scene_and_out(p)
     p.add_argument("--speeds", required=True, metavar="LO:HI",
                    help="pinion speed range with units, e.g. '3000 rpm:9500 rpm' (the branch "
                    "starts at LO)")
-    p.add_argument("--out", type=Path, required=True, help="output folder")
     p.add_argument("--doublings", type=int, default=1,
                    help="levels of period doubling to switch branches at (default 1: the "
                    "period-2 branches; 0: none)")
@@ -55,12 +55,7 @@ def register(sub: Any) -> None:
                    help="also the brute-force bifurcation diagram over N speeds, up and down "
                    "(gear-dyn bifurcation's defaults: 200 mesh periods settled, 64 samples), "
                    "drawn in grey dots behind the orbits on bifurcation.png (default 0: none)")
-    where = p.add_mutually_exclusive_group()
-    where.add_argument("--workers", type=int, default=None, metavar="N",
-                       help="run the sweep and the diagram on N local processes (default: "
-                       "serial); the results are the same")
-    where.add_argument("--dask", metavar="ADDRESS", default=None,
-                       help="run the sweep and the diagram on the Dask scheduler at ADDRESS")
+    add_parallel_flags(p, what="the sweep and the diagram")
     add_quiet_flag(p)
     p.set_defaults(func=run)
 
@@ -116,14 +111,8 @@ def run(args: argparse.Namespace) -> int:
     if torques is not None:
         stages.append(f"jump map over {len(torques)} torques")
     family = SceneModels.of(scene)
-    client = None
-    if args.dask and (args.sweep or args.diagram):
-        from gear_dyn.cli.sweep import _dask_client
-
-        client = _dask_client(args.dask)
-    where = {"workers": args.workers,
-             "executor": None if client is None else client.get_executor()}
-    try:
+    with dask_executor(args.dask if args.sweep or args.diagram else None) as executor:
+        where = {"workers": args.workers, "executor": executor}
         with Stages(stages, args.quiet) as st:
             branch = continue_orbits(family, lo, hi, settings=settings,
                                      doublings=args.doublings)
@@ -152,9 +141,6 @@ def run(args: argparse.Namespace) -> int:
                 if torques is not None:
                     st.next()
                     fm = write_jump_map(scene, (lo, hi), torques, settings, tmp)
-    finally:
-        if client is not None:
-            client.close()
     for i, b in enumerate(branch.walk()):
         print(f"branch {i}: {b!r}")
         for x in b.bifurcations:

@@ -18,6 +18,12 @@ def add_solver_flags(p: argparse.ArgumentParser) -> None:
     p.add_argument("--periods", type=int, help="override [solver] periods (mesh periods)")
 
 
+def add_scene_and_out(p: argparse.ArgumentParser) -> None:
+    """The SCENE argument and the required ``--out DIR`` of the commands that write a folder."""
+    p.add_argument("scene", type=Path, help="scene file (TOML) or packaged scene name")
+    p.add_argument("--out", type=Path, required=True, help="output folder")
+
+
 def register(sub: Any) -> None:
     p = sub.add_parser(
         "run", help="simulate a scene and write plots, CSV and summary.json",
@@ -27,8 +33,7 @@ def register(sub: Any) -> None:
         "error as noise floor), timeseries.csv and summary.json. SCENE is a file or a packaged "
         "scene name (gear-dyn scenes). DIR is replaced as a whole only when everything succeeded.",
     )
-    p.add_argument("scene", type=Path, help="scene file (TOML) or packaged scene name")
-    p.add_argument("--out", type=Path, required=True, help="output folder")
+    add_scene_and_out(p)
     p.add_argument("--speed", metavar="SPEED",
                    help='override [operating] speed, with its unit (e.g. "6000 rpm")')
     p.add_argument("--torque", metavar="TORQUE",

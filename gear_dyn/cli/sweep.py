@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, cast
 
 from gear_dyn.cli.progress import counter
-from gear_dyn.cli.run import add_solver_flags, overrides
+from gear_dyn.cli.run import add_scene_and_out, add_solver_flags, overrides
 from gear_dyn.errors import InputError
 
 
@@ -27,23 +29,16 @@ def register(sub: Any) -> None:
         epilog="examples: gear-dyn sweep scene.toml --speeds '500 rpm:12000 rpm:300' --out out; "
         "on a Dask cluster: --dask tcp://scheduler:8786",
     )
-    p.add_argument("scene", type=Path, help="scene file (TOML)")
+    add_scene_and_out(p)
     p.add_argument("--speeds", required=True, metavar="START:STOP:N",
                    help="pinion speeds: START and STOP with their units ('500 rpm', '50 rad/s', "
                    "'10 turn/s'; a plain number is refused); N points, linearly spaced")
-    p.add_argument("--out", type=Path, required=True, help="output folder")
     p.add_argument("--sweep-method", choices=("steady", "transient"), default="steady",
                    help="steady: periodic steady state from the monodromy matrix / shooting "
                    "(default); transient: integrate [solver] periods at every speed")
     p.add_argument("--direction", choices=("auto", "up", "down", "both"), default="auto",
                    help="auto (default): up and down with backlash, up otherwise")
-    where = p.add_mutually_exclusive_group()
-    where.add_argument("--workers", type=int, default=None, metavar="N",
-                       help="run blocks of speeds on a pool of N local processes (default: "
-                       "serial, in this process); the results are the same")
-    where.add_argument("--dask", metavar="ADDRESS", default=None,
-                       help="run blocks of speeds on the Dask scheduler at ADDRESS (e.g. "
-                       "tcp://host:8786; needs pip install \"gear_dyn[dask]\")")
+    add_parallel_flags(p)
     p.add_argument("--block", type=int, default=None,
                    help="speeds per block (default: 8 with backlash; linear scenes about 20 "
                    "blocks of at least 32 speeds)")
@@ -79,29 +74,42 @@ def _sweep(args: argparse.Namespace) -> tuple[Any, Any]:
         raise InputError(f"--workers = {args.workers}: valid range 1..4096 processes")
     opts = SweepOptions(method=args.sweep_method, harmonics=args.harmonics)
     show = counter("speed", args.no_progress)
-    client = _dask_client(args.dask) if args.dask else None
-    try:
+    with dask_executor(args.dask) as executor:
         result = sweep_scene(scene, speeds, si=True, options=opts, direction=args.direction,
-                             workers=args.workers,
-                             executor=None if client is None else client.get_executor(),
-                             block=args.block, progress=show, **overrides(args))
-    finally:
-        if client is not None:
-            client.close()
+                             workers=args.workers, executor=executor, block=args.block,
+                             progress=show, **overrides(args))
     return result, scene
 
 
-def _dask_client(address: str) -> Any:
-    """A Dask client of the scheduler at ``address`` (a user mistake is an InputError)."""
+def add_parallel_flags(p: Any, what: str = "blocks of speeds", note: str = "") -> None:
+    """``--workers N`` or ``--dask ADDRESS`` (one of them): where ``what`` runs."""
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, default=None, metavar="N",
+                       help=f"run {what} on a pool of N local processes{note} (default: "
+                       "serial, in this process); the results are the same")
+    where.add_argument("--dask", metavar="ADDRESS", default=None,
+                       help=f"run {what} on the Dask scheduler at ADDRESS (e.g. "
+                       "tcp://host:8786; needs pip install \"gear_dyn[dask]\")")
+
+
+@contextlib.contextmanager
+def dask_executor(address: str | None) -> Iterator[Any]:
+    """For the block, the executor of the Dask scheduler at ``address`` (None without one);
+    a user mistake is an InputError."""
+    if not address:
+        yield None
+        return
     try:
         from distributed import Client
     except ImportError:
         raise InputError('--dask needs the optional dask extra: pip install "gear_dyn[dask]"'
                          ) from None
     try:
-        return Client(address, timeout="20s")
+        client = Client(address, timeout="20s")
     except (OSError, TimeoutError, ValueError) as exc:  # ValueError: a malformed address
         raise InputError(f"--dask {address}: cannot reach the scheduler ({exc})") from None
+    with client:
+        yield client.get_executor()
 
 
 def _ranges(ranges: list[tuple[float, float]]) -> str:
