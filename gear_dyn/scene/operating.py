@@ -154,10 +154,7 @@ def parse_speed_range(text: str) -> FloatArray:
     ends = []
     for label, part in zip(("START", "STOP"), parts[:2], strict=True):
         part = part.strip()
-        if "hz" in part.lower():
-            # pint reads 1 Hz as 1 rad/s (radians are dimensionless): 2 pi off for a shaft
-            raise InputError(f"--speeds {label} = {part!r}: Hz is ambiguous for a shaft speed "
-                             "(it would be read as rad/s); write e.g. '600 rpm' or '10 turn/s'")
+        _refuse_hz(part, f"--speeds {label}")
         ends.append(fld.parse(part, f"--speeds {label}"))
     try:
         n = int(parts[2])
