@@ -7,17 +7,12 @@ factory (:class:`gear_dyn.scene.sweep.SceneModels`); docs/response.md describes 
 from __future__ import annotations
 
 import argparse
-import csv
-import io
-import math
 from typing import Any
 
 from gear_dyn.cli.progress import Stages, add_quiet_flag
 from gear_dyn.cli.run import add_scene_and_out
 from gear_dyn.cli.sweep import add_parallel_flags, dask_executor
 from gear_dyn.errors import InputError
-
-RPM = 2 * math.pi / 60
 
 
 def register(sub: Any) -> None:
@@ -81,7 +76,8 @@ def run(args: argparse.Namespace) -> int:
         branch_samples,
         continue_orbits,
     )
-    from gear_dyn.io import save_figure, staged_output, write_json, write_text
+    from gear_dyn.analysis.sweep import RPM
+    from gear_dyn.io import save_figure, staged_output, write_json, write_rows
     from gear_dyn.plots.bifurcation import plot_branch_samples
     from gear_dyn.plots.continuation import plot_branch
     from gear_dyn.scene import load_scene
@@ -136,7 +132,7 @@ def run(args: argparse.Namespace) -> int:
                          + (f"\ngrey: brute force at {args.diagram} speeds" if diagram else ""))
                 save_figure(plot_branch_samples(strobe, diagram=diagram, title=title),
                             tmp / "bifurcation.png", dpi=120)
-                write_text(tmp / "branch.csv", _csv(branch.rows()))
+                write_rows(tmp / "branch.csv", branch.rows())
                 write_json(tmp / "branch.json", {"scene": scene.name, **branch.to_dict()})
                 if torques is not None:
                     st.next()
@@ -150,12 +146,3 @@ def run(args: argparse.Namespace) -> int:
         print(repr(fm))
     print(f"wrote {args.out}/")
     return 0
-
-
-def _csv(rows: list[dict[str, Any]]) -> str:
-    buf = io.StringIO()
-    if rows:
-        w = csv.DictWriter(buf, fieldnames=list(rows[0]), lineterminator="\n")
-        w.writeheader()
-        w.writerows(rows)
-    return buf.getvalue()

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import json
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
@@ -28,7 +27,6 @@ from gear_dyn.scene.operating import parse_speed_range as parse_speed_range  # i
 from gear_dyn.scene.validated import Scene
 
 FloatArray = NDArray[np.float64]
-RPM = 2 * math.pi / 60
 #: the ``[solver]`` values a sweep may override
 SOLVER_OVERRIDES = ("method", "rtol", "atol", "samples_per_period", "periods", "steady_periods")
 
