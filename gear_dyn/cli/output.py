@@ -10,10 +10,8 @@ from gear_dyn.io import save_figure, staged_output, write_csv, write_json
 from gear_dyn.plots.run import plot_spectrum, plot_time_history
 from gear_dyn.solvers import Result
 
-#: PNG zlib level 1 instead of matplotlib's 6: the same pixels, files ~18 % larger (both
-#: helicopter tail figures 331 kB instead of 281 kB), written 26 ms faster (5 % of drawing the
-#: helicopter tail run's figures; 68 ms, 7 %, for the eccentric pair's): ``python
-#: benchmarks/cli_phases.py --choices``, benchmarks/results/cli.md
+#: PNG zlib level 1 instead of matplotlib's 6: the same pixels, larger files written faster
+#: (``python benchmarks/cli_phases.py --choices``, benchmarks/results/cli.md)
 PNG_OPTIONS = {"compress_level": 1}
 #: resolution of the run's figures (pixels per inch)
 DPI = 110
