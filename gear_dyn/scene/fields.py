@@ -16,7 +16,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from gear_dyn.errors import SceneError, range_text
+from gear_dyn.errors import SceneError, in_range, range_text
 from gear_dyn.units import dimension_text as _dim_text
 from gear_dyn.units import is_dimensional, needs_unit_message, parse_quantity
 
@@ -135,12 +135,7 @@ class Field:
 
     def _in_range(self, value: float) -> bool:
         """Whether the SI ``value`` lies in the field's valid range."""
-        ok = True
-        if self.low is not None:
-            ok = value > self.low if self.low_open else value >= self.low
-        if ok and self.high is not None:
-            ok = value < self.high if self.high_open else value <= self.high
-        return ok
+        return in_range(value, self.low, self.high, self.low_open, self.high_open)
 
 
 @dataclass(frozen=True)
