@@ -134,16 +134,12 @@ def _main(args_list: list[str], debug: bool) -> int:
         return 143
     except SystemExit as exc:
         return int(exc.code) if isinstance(exc.code, int) else 2
-    except InputError as exc:
+    except (InputError, SolverError) as exc:
         if debug:
             traceback.print_exc()
-        sys.stderr.write(f"gear-dyn: error: {_one_line(exc)}\n")
-        return 2
-    except SolverError as exc:
-        if debug:
-            traceback.print_exc()
-        sys.stderr.write(f"gear-dyn: solver failure: {_one_line(exc)}\n")
-        return 3
+        what, code = ("error", 2) if isinstance(exc, InputError) else ("solver failure", 3)
+        sys.stderr.write(f"gear-dyn: {what}: {_one_line(exc)}\n")
+        return code
     except BrokenPipeError:  # output piped into e.g. `head`
         return 0
     except KeyboardInterrupt:

@@ -20,11 +20,6 @@ DPI = 110
 ENVELOPE_BLOCKS = 1500
 
 
-def result_name(result: Result) -> str:
-    """The scene's name, or ``run`` for a result without a scene."""
-    return str(getattr(result.scene, "name", None) or "run")
-
-
 def write_run_outputs(result: Result, out: Path, spectrum_scale: str = "log") -> dict[str, Any]:
     """Write plots, CSV and summary.json of ``result`` into ``out`` (whole or not at all).
 
@@ -50,7 +45,8 @@ def _write_timeseries(result: Result, summary: dict[str, Any], path: Path) -> No
     for name, arr in result.outputs.items():
         if name not in cols:
             cols[name] = arr
-    head = [f"# {result_name(result)}: time series in SI units (t_s in s; dte, delta, "
+    name = getattr(result.scene, "name", None) or "run"  # a result without a scene: "run"
+    head = [f"# {name}: time series in SI units (t_s in s; dte, delta, "
             "e_ecc in m;", "# mesh_force in N; stiffness in N/m; angles in rad, rates in "
             "rad/s)",
             f"# dte: {summary['dte_definition']}",

@@ -63,11 +63,8 @@ def operating_flags(args: argparse.Namespace) -> tuple[float | None, float | Non
     """
     from gear_dyn.scene.operating import parse_operating
 
-    speed = torque = None
-    if getattr(args, "speed", None) is not None:
-        speed = parse_operating("speed", args.speed, "--speed")
-    if getattr(args, "torque", None) is not None:
-        torque = parse_operating("torque", args.torque, "--torque")
+    speed = None if args.speed is None else parse_operating("speed", args.speed, "--speed")
+    torque = None if args.torque is None else parse_operating("torque", args.torque, "--torque")
     return speed, torque
 
 
