@@ -136,27 +136,25 @@ def _print_summary(result: Any, scene: Any, summary: dict[str, Any], chart: str)
           f"{summary['resonance_speed_rpm']:.0f} rpm")
     for note in summary.get("resonances_outside_range", []):
         print(f"  {note}")
-    worst = max((info["max_dynamic_factor"] for info in summary["curves"].values()
-                 if "max_dynamic_factor" in info), default=None)
-    for d, info in summary["curves"].items():
-        if "max_dynamic_factor" not in info:
-            continue
+    peaks = {d: info["max_dynamic_factor"] for d, info in summary["curves"].items()
+             if "max_dynamic_factor" in info}
+    for d in peaks:
+        info = summary["curves"][d]
         share = info.get("max_dynamic_factor_separation_share", 0.0)
         if share > 0:
             what = "teeth separate" if result.nonlinear else "F < 0, linear model invalid"
             lost = f" - {what} over {share:.0%} of the mesh period there"
         else:
             lost = " (teeth in contact)"
-        others = [i["max_dynamic_factor"] for k, i in summary["curves"].items()
-                  if k != d and "max_dynamic_factor" in i]
+        others = [v for k, v in peaks.items() if k != d]
         # the larger of the directions' peaks (none where they are equal)
-        mark = " <- the larger" if others and info["max_dynamic_factor"] > max(others) else ""
+        mark = " <- the larger" if others and peaks[d] > max(others) else ""
         kv = info.get("iso_6336_kv_at_max")
         beside = f", ISO K_v there {kv:.4f}" if kv is not None else ""
         print(f"  max dynamic factor K_dyn, sweep {d}: {info['max_dynamic_factor']:.4f} at "
               f"{info['max_dynamic_factor_speed_rpm']:.0f} rpm{beside}; peak force "
               f"{info['max_peak_force_ratio']:.4f} W{lost}{mark}")
-    if worst is not None:
+    if peaks:
         for line in dynamic_factor_lines(summary):
             print(f"  {line}")
     if "iso_6336_kv_max" in summary:
@@ -251,14 +249,13 @@ def _spectra_columns(result: Any) -> dict[str, Any]:
 
     from gear_dyn.analysis.sweep import RPM
 
-    cols: dict[str, Any] = {}
-    for c in result.curves:
-        cols.setdefault("direction_down", []).extend([float(c.direction == "down")]
-                                                     * c.speed.size)
-        cols.setdefault("speed_rpm", []).extend(list(c.speed / RPM))
-        for j, o in enumerate(result.orders):
-            cols.setdefault(f"dte_amp_m_order_{o:g}", []).extend(list(c.spectrum[:, j]))
-    return {k: np.asarray(v) for k, v in cols.items()}
+    curves = result.curves
+    cols = {"direction_down": np.concatenate([np.full(c.speed.size, float(c.direction == "down"))
+                                              for c in curves]),
+            "speed_rpm": np.concatenate([c.speed / RPM for c in curves])}
+    for j, o in enumerate(result.orders):
+        cols[f"dte_amp_m_order_{o:g}"] = np.concatenate([c.spectrum[:, j] for c in curves])
+    return cols
 
 
 def draw_sweep_figures(result: Any, tmp: Path, iso_curve: Any, charts: tuple[Any, ...]
