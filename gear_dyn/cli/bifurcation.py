@@ -6,7 +6,7 @@ import argparse
 import itertools
 from typing import Any
 
-from gear_dyn.cli.progress import counter
+from gear_dyn.cli.progress import add_quiet_flag, counter
 from gear_dyn.cli.run import add_scene_and_out, add_solver_flags, overrides
 from gear_dyn.cli.sweep import add_parallel_flags, dask_executor
 
@@ -39,8 +39,7 @@ def register(sub: Any) -> None:
                    help="state drawn: x (mesh deflection, default) or v (its rate)")
     add_parallel_flags(p, note=", the up and down chains side by side")
     p.add_argument("--block", type=int, default=None, help="speeds per block (default 8)")
-    p.add_argument("--no-progress", "--quiet", dest="no_progress", action="store_true",
-                   help="no progress bar on stderr")
+    add_quiet_flag(p, "--no-progress")
     add_solver_flags(p)
     p.set_defaults(func=run)
 
@@ -62,7 +61,7 @@ def run(args: argparse.Namespace) -> int:
         diagram = bifurcation_scene(
             scene, speeds, si=True, options=opts, direction=args.direction,
             workers=args.workers, executor=executor, block=args.block,
-            progress=counter("speed", args.no_progress), **solver)
+            progress=counter("speed", args.quiet), **solver)
     summary = diagram.summary()
     with staged_output(args.out) as tmp:
         save_figure(plot_bifurcation(diagram, state=args.state), tmp / "bifurcation.png",

@@ -8,7 +8,7 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, cast
 
-from gear_dyn.cli.progress import counter
+from gear_dyn.cli.progress import add_quiet_flag, counter
 from gear_dyn.cli.run import add_scene_and_out, add_solver_flags, overrides
 from gear_dyn.errors import InputError
 
@@ -47,8 +47,7 @@ def register(sub: Any) -> None:
                    help="stability.png: Floquet stability charts over f_m/f_n and the stiffness "
                    "variation, the damping or both (default none: the response plot marks the "
                    "unstable speeds of the sweep itself)")
-    p.add_argument("--no-progress", "--quiet", dest="no_progress", action="store_true",
-                   help="no progress bar on stderr (there is none when stderr is not a terminal)")
+    add_quiet_flag(p, "--no-progress")
     add_solver_flags(p)
     p.set_defaults(func=run)
 
@@ -73,7 +72,7 @@ def _sweep(args: argparse.Namespace) -> tuple[Any, Any]:
     if args.workers is not None and not 1 <= args.workers <= 4096:
         raise InputError(f"--workers = {args.workers}: valid range 1..4096 processes")
     opts = SweepOptions(method=args.sweep_method, harmonics=args.harmonics)
-    show = counter("speed", args.no_progress)
+    show = counter("speed", args.quiet)
     with dask_executor(args.dask) as executor:
         result = sweep_scene(scene, speeds, si=True, options=opts, direction=args.direction,
                              workers=args.workers, executor=executor, block=args.block,
