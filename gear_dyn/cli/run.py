@@ -111,8 +111,6 @@ def jump_lines(summary: dict[str, Any]) -> list[str]:
 def _fn(summary: dict[str, Any]) -> str:
     """``, f_n = 2913 Hz (f_m / f_n = 0.44)`` where the model has a natural frequency."""
     fn = summary.get("natural_frequency_hz")
-    if fn is None:
-        fn = summary.get("model", {}).get("natural_frequency_hz")
     if not fn:
         return ""
     return f", f_n = {fn:.0f} Hz (f_m / f_n = {summary['mesh_frequency_hz'] / fn:.3g})"
