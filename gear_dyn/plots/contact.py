@@ -1,7 +1,4 @@
-"""Figures of the loaded-contact analysis with tip relief (pyplot-free matplotlib).
-
-Plots are functions of results: they take optional axes and return the figure.
-"""
+"""Figures of the loaded-contact analysis with tip relief (pyplot-free matplotlib)."""
 
 from __future__ import annotations
 

@@ -1,7 +1,5 @@
 """Figures of simulation results (pyplot-free matplotlib Figures; no window, no backend choice).
 
-Plots are functions of results: they take an optional ``ax`` and return the figure.
-
 The spectrum shows the physics a gear engineer looks for: its range covers the natural frequency
 f_n and the mesh harmonics up to the first above f_n; f_n, the mesh harmonics and (eccentric
 models) the shaft frequencies and the sidebands f_m +- f_shaft are marked with their frequency in

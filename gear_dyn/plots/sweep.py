@@ -1,7 +1,4 @@
-"""Figures of speed sweeps and stability charts (pyplot-free matplotlib Figures).
-
-Plots are functions of results: each takes an optional ``ax`` and returns the figure.
-"""
+"""Figures of speed sweeps and stability charts (pyplot-free matplotlib Figures)."""
 
 from __future__ import annotations
 
