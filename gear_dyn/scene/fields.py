@@ -1,11 +1,8 @@
 """Declarative scene fields: name, unit, kind, default and valid range.
 
-Text with a unit is converted by :mod:`gear_dyn.units` (pint), at the edge only. A dimensional
-quantity carries its unit (``"6 mm"``, ``"3319 rpm"``, ``"22.5 deg"``, ``"200 Nm"``); a plain
-number there is refused with a message proposing readings (exact 0 excepted: zero in every
-unit). Dimensionless keys (teeth, coefficients, ratios, tolerances) are plain numbers. Values
-that are already SI floats (an FMU's parameters, a scene rebuilt from its SI tables) are parsed
-with ``si=True``.
+Text with a unit is converted at the edge only, by the one rule of :mod:`gear_dyn.units` (an
+exact 0 needs no unit: zero in every unit). Values that are already SI floats (an FMU's
+parameters, a scene rebuilt from its SI tables) are parsed with ``si=True``.
 """
 
 from __future__ import annotations

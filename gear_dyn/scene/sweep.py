@@ -1,8 +1,7 @@
 """Sweeps of a scene: the model factory over speed, and the scene's sweep in one call.
 
 The analysis layer sweeps any model factory ``speed -> Model``
-(:func:`gear_dyn.analysis.sweep.sweep`); here a scene becomes such a factory. The factory is
-picklable (the scene travels as JSON) and builds the scene's model once per process.
+(:func:`gear_dyn.analysis.sweep.sweep`); here a scene becomes such a factory (:class:`SceneModels`).
 """
 
 from __future__ import annotations
