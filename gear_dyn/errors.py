@@ -85,17 +85,19 @@ def check_range(
         ) from None
     if isinstance(value, bool):
         raise InputError(f"{name} = {value!r}: expected a number{_unit_txt(unit)}, not a boolean")
-    ok = math.isfinite(v)
-    if ok and low is not None:
-        ok = v > low if low_open else v >= low
-    if ok and high is not None:
-        ok = v < high if high_open else v <= high
-    if not ok:
+    if not (math.isfinite(v) and in_range(v, low, high, low_open, high_open)):
         raise InputError(
             f"{name} = {_fmt(v)}{(' ' + unit) if unit else ''} is out of range: "
             f"valid range {range_text(low, high, low_open, high_open, unit)}"
         )
     return v
+
+
+def in_range(value: float, low: float | None, high: float | None, low_open: bool = False,
+             high_open: bool = False) -> bool:
+    """Whether ``value`` lies inside the bounds (None: unbounded; ``*_open``: bound excluded)."""
+    return ((low is None or (value > low if low_open else value >= low))
+            and (high is None or (value < high if high_open else value <= high)))
 
 
 def warn_old_name(message: str) -> None:

@@ -126,6 +126,19 @@ def write_csv(path: str | Path, columns: Mapping[str, Sequence[float] | np.ndarr
     return write_text(path, buf.getvalue())
 
 
+def write_rows(path: str | Path, rows: Sequence[Mapping[str, Any]],
+               empty: Sequence[str] = ()) -> Path:
+    """Atomically write dict rows as CSV, the first row's keys as header (``empty``: the header
+    when there are no rows)."""
+    buf = io.StringIO()
+    fields = list(rows[0]) if rows else list(empty)
+    if fields:
+        w = csv.DictWriter(buf, fieldnames=fields, lineterminator="\n")
+        w.writeheader()
+        w.writerows(rows)
+    return write_text(path, buf.getvalue())
+
+
 def save_figure(fig: Any, path: str | Path, **kwargs: Any) -> Path:
     """Render a matplotlib figure to bytes, write it atomically and close the figure.
 

@@ -90,15 +90,10 @@ def limit_blas_threads() -> None:
     """One BLAS thread per process, unless the user chose otherwise (the command's decision).
 
     gear_dyn works with 2x2..8x8 matrices: BLAS worker threads only add overhead, and on a busy
-    machine they oversubscribe the cores. Measured (``python benchmarks/bench_cli.py``, BLAS
-    table of benchmarks/results/cli.md): ``gear-dyn run helicopter_tail`` and a serial
-    ``gear-dyn sweep`` of the backlash scene took 1.05x (0.90..1.25) and 1.03x (0.98..1.55) the
-    time with two threads as with one: within the shared machine's noise. It stays as the plain
-    guard against oversubscribed cores, not for a measured gain. Only the ``gear-dyn`` process
-    does this, and only takes effect when numpy is not loaded yet; importing the library
-    changes nothing. A sweep's pool workers inherit it (on a loaded machine, with OpenBLAS's
-    own threads scipy's expm of a 3x3 matrix took 10-30 ms instead of 0.1 ms:
-    benchmarks/bench_sweep.py).
+    machine they oversubscribe the cores (docs/sweep.md). It stays as that plain guard, not for
+    a measured gain (within the noise: BLAS table of benchmarks/results/cli.md). Only the
+    ``gear-dyn`` process does this, and only while numpy is not loaded yet; importing the
+    library changes nothing. A sweep's pool workers inherit it.
     """
     for var in BLAS_THREAD_VARS:
         os.environ.setdefault(var, "1")
@@ -139,16 +134,12 @@ def _main(args_list: list[str], debug: bool) -> int:
         return 143
     except SystemExit as exc:
         return int(exc.code) if isinstance(exc.code, int) else 2
-    except InputError as exc:
+    except (InputError, SolverError) as exc:
         if debug:
             traceback.print_exc()
-        sys.stderr.write(f"gear-dyn: error: {_one_line(exc)}\n")
-        return 2
-    except SolverError as exc:
-        if debug:
-            traceback.print_exc()
-        sys.stderr.write(f"gear-dyn: solver failure: {_one_line(exc)}\n")
-        return 3
+        what, code = ("error", 2) if isinstance(exc, InputError) else ("solver failure", 3)
+        sys.stderr.write(f"gear-dyn: {what}: {_one_line(exc)}\n")
+        return code
     except BrokenPipeError:  # output piped into e.g. `head`
         return 0
     except KeyboardInterrupt:

@@ -3,14 +3,12 @@
 from __future__ import annotations
 
 import argparse
-import csv
-import io
 import math
 import sys
-from pathlib import Path
 from typing import Any
 
 from gear_dyn.cli.progress import add_quiet_flag, counter
+from gear_dyn.cli.run import add_scene_and_out
 from gear_dyn.errors import InputError
 
 TARGETS = (1e-4, 1e-6, 1e-8)
@@ -26,8 +24,7 @@ def register(sub: Any) -> None:
         "recommended method per target error) and bench.json. Errors are max and RMS of "
         "|x - x_ref| relative to the static deflection; times are medians of repeats.",
     )
-    p.add_argument("scene", type=Path, help="scene file (TOML)")
-    p.add_argument("--out", type=Path, required=True, help="output folder")
+    add_scene_and_out(p)
     p.add_argument("--periods", type=int, help="mesh periods to simulate (default: the scene's)")
     p.add_argument("--methods", default="RK45,DOP853,Radau,BDF,LSODA",
                    help="comma-separated solve_ivp methods (default: all five)")
@@ -53,19 +50,9 @@ def _floats(text: str, name: str) -> list[float]:
     return vals
 
 
-def _csv(cols: dict[str, list[Any]]) -> str:
-    buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
-    names = list(cols)
-    w.writerow(names)
-    for row in zip(*(cols[n] for n in names), strict=True):
-        w.writerow([f"{v:.6g}" if isinstance(v, float) else v for v in row])
-    return buf.getvalue()
-
-
 def run(args: argparse.Namespace) -> int:
     from gear_dyn.analysis.bench import markdown_table, run_bench, summary_dict, table_columns
-    from gear_dyn.io import save_figure, staged_output, write_json, write_text
+    from gear_dyn.io import save_figure, staged_output, write_json, write_rows, write_text
     from gear_dyn.plots.bench import plot_work_precision
     from gear_dyn.scene import build_plan, load_scene
 
@@ -90,10 +77,13 @@ def run(args: argparse.Namespace) -> int:
                        budget_s=args.budget, progress=show)
     targets = tuple(sorted({*TARGETS, args.target}, reverse=True))
     md = markdown_table(report, targets)
+    cols = table_columns(report)
+    rows = [{k: f"{v:.6g}" if isinstance(v, float) else v for k, v in zip(cols, row, strict=True)}
+            for row in zip(*cols.values(), strict=True)]
     cmd = "gear-dyn bench " + " ".join(sys.argv[2:]) if len(sys.argv) > 2 else "gear-dyn bench"
     with staged_output(args.out) as tmp:
         write_text(tmp / "bench.md", md + f"\nProduced by `{cmd}`.\n")
-        write_text(tmp / "bench.csv", _csv(table_columns(report)))
+        write_rows(tmp / "bench.csv", rows, empty=list(cols))
         write_json(tmp / "bench.json", summary_dict(report, targets))
         fig = plot_work_precision(report, targets=(args.target,))
         save_figure(fig, tmp / "work_precision.png", dpi=110)

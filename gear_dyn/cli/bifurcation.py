@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import argparse
 import itertools
-from pathlib import Path
 from typing import Any
 
-from gear_dyn.cli.progress import counter
-from gear_dyn.cli.run import add_solver_flags, overrides
+from gear_dyn.cli.progress import add_quiet_flag, counter
+from gear_dyn.cli.run import add_scene_and_out, add_solver_flags, overrides
+from gear_dyn.cli.sweep import add_parallel_flags, dask_executor
 
 
 def register(sub: Any) -> None:
@@ -23,10 +23,9 @@ def register(sub: Any) -> None:
         epilog="example: gear-dyn bifurcation scene.toml --speeds '14000 rpm:18000 rpm:81' "
         "--out bif --classify",
     )
-    p.add_argument("scene", type=Path, help="scene file (TOML)")
+    add_scene_and_out(p)
     p.add_argument("--speeds", required=True, metavar="START:STOP:N",
                    help="pinion speeds: START and STOP with their units ('500 rpm'); N points")
-    p.add_argument("--out", type=Path, required=True, help="output folder")
     p.add_argument("--settle", type=int, default=200,
                    help="mesh periods run at each speed before sampling (default 200)")
     p.add_argument("--samples", type=int, default=64,
@@ -38,22 +37,15 @@ def register(sub: Any) -> None:
                    help="sweep directions (default both)")
     p.add_argument("--state", choices=("x", "v"), default="x",
                    help="state drawn: x (mesh deflection, default) or v (its rate)")
-    where = p.add_mutually_exclusive_group()
-    where.add_argument("--workers", type=int, default=None, metavar="N",
-                       help="run blocks of speeds on N local processes (the up and down "
-                       "chains side by side; default: serial); the samples are the same")
-    where.add_argument("--dask", metavar="ADDRESS", default=None,
-                       help="run blocks of speeds on the Dask scheduler at ADDRESS")
+    add_parallel_flags(p, note=", the up and down chains side by side")
     p.add_argument("--block", type=int, default=None, help="speeds per block (default 8)")
-    p.add_argument("--no-progress", "--quiet", dest="no_progress", action="store_true",
-                   help="no progress bar on stderr")
+    add_quiet_flag(p, "--no-progress")
     add_solver_flags(p)
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from gear_dyn.analysis.motion import DiagramOptions
-    from gear_dyn.cli.sweep import _dask_client
     from gear_dyn.io import save_figure, staged_output, write_csv, write_json
     from gear_dyn.plots.bifurcation import plot_bifurcation
     from gear_dyn.scene import load_scene
@@ -65,15 +57,11 @@ def run(args: argparse.Namespace) -> int:
     solver = overrides(args)
     opts = DiagramOptions(settle=args.settle, samples=args.samples, classify=args.classify,
                           **({"rtol": solver["rtol"]} if "rtol" in solver else {}))
-    client = _dask_client(args.dask) if args.dask else None
-    try:
+    with dask_executor(args.dask) as executor:
         diagram = bifurcation_scene(
             scene, speeds, si=True, options=opts, direction=args.direction,
-            workers=args.workers, executor=None if client is None else client.get_executor(),
-            block=args.block, progress=counter("speed", args.no_progress), **solver)
-    finally:
-        if client is not None:
-            client.close()
+            workers=args.workers, executor=executor, block=args.block,
+            progress=counter("speed", args.quiet), **solver)
     summary = diagram.summary()
     with staged_output(args.out) as tmp:
         save_figure(plot_bifurcation(diagram, state=args.state), tmp / "bifurcation.png",

@@ -8,10 +8,10 @@ pair, the scene's ``[tip_relief]`` if any, and every relief rule (docs/modificat
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 from typing import Any
 
 from gear_dyn.choices import PAIR_STIFFNESS_METHODS, RELIEF_CURVES
+from gear_dyn.cli.run import add_scene_and_out
 from gear_dyn.errors import InputError, SceneError
 
 
@@ -22,8 +22,7 @@ def register(sub: Any) -> None:
         "pair, the scene's [tip_relief] (if any) and the four published relief rules. Writes "
         "load_sharing.png, stiffness.png, path.csv and contact.json into DIR.",
     )
-    p.add_argument("scene", type=Path, help="scene file (TOML)")
-    p.add_argument("--out", type=Path, required=True, help="output folder")
+    add_scene_and_out(p)
     p.add_argument("--curve", choices=RELIEF_CURVES, default=None,
                    help="relief curve for the rules (default: the scene's tip_relief.curve, "
                    "else linear)")
@@ -69,6 +68,7 @@ def _dynamics(scene: Any, res: dict[str, Any]) -> tuple[dict[str, Any], dict[str
     """Single-DOF run of every case with the scene's damping, inertias and [solver] settings."""
     from gear_dyn.analysis.study import simulate
     from gear_dyn.models.relief import relief_sdof
+    from gear_dyn.scene.build import scene_inertias
     from gear_dyn.solvers import SolverSettings
 
     pair = res["pair"]
@@ -80,15 +80,13 @@ def _dynamics(scene: Any, res: dict[str, Any]) -> tuple[dict[str, Any], dict[str
                                   samples_per_period=sv["samples_per_period"])
     except InputError as exc:
         raise InputError(f"{scene.source}: {exc}") from None
-    inertia = scene.tables.get("inertia")
-    inertias = None if inertia is None else (inertia["pinion"], inertia["gear"])
     periods = sv["periods"]
     steady = sv["steady_periods"] or periods // 2
     dyn: dict[str, Any] = {}
     results: dict[str, Any] = {}
     for name, case in res["cases"].items():
         model, _ = relief_sdof(pair, op["speed"], op["torque"], case.modification, res["fn"],
-                               scene.get("damping")["ratio"], inertias)
+                               scene.get("damping")["ratio"], scene_inertias(scene))
         fm = model.mesh_frequency
         r = simulate(model, periods / fm, settings, (periods - steady) / fm)
         results[name] = r

@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from gear_dyn.cli.progress import Stages, add_quiet_flag
+from gear_dyn.cli.run import add_scene_and_out
 
 
 def register(sub: Any) -> None:
@@ -23,8 +24,7 @@ def register(sub: Any) -> None:
         "hunting periods; writes excitation_time.png, excitation_spectrum.png, excitation.csv "
         "and peaks.json into DIR (replaced as a whole only when everything succeeded).",
     )
-    p.add_argument("scene", type=Path, help="scene file (TOML)")
-    p.add_argument("--out", type=Path, required=True, help="output folder")
+    add_scene_and_out(p)
     p.add_argument("--periods", type=int, default=1,
                    help="hunting periods analysed (default 1; both gears return to the start)")
     p.add_argument("--samples-per-mesh", type=int, default=64,

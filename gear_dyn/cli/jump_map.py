@@ -7,17 +7,13 @@ fold_map`; writes ``jump_map.png`` and ``fold_curve.csv`` into the staged output
 
 from __future__ import annotations
 
-import csv
-import io
-import math
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from gear_dyn.analysis.sweep import RPM
 from gear_dyn.errors import InputError
-
-RPM = 2 * math.pi / 60
 
 
 def parse_torques(text: str) -> list[float]:
@@ -51,7 +47,7 @@ def write_jump_map(scene: Any, speeds: tuple[float, float], torques: list[float]
     """Compute the fold map of ``scene`` and write ``jump_map.png`` and ``fold_curve.csv``
     into ``out``; returns the FoldMap."""
     from gear_dyn.analysis.continuation import SpeedTorqueFamily, fold_map
-    from gear_dyn.io import save_figure, write_text
+    from gear_dyn.io import save_figure, write_rows
     from gear_dyn.plots.fold_map import plot_fold_map
     from gear_dyn.scene.sweep import SceneModels
 
@@ -63,10 +59,5 @@ def write_jump_map(scene: Any, speeds: tuple[float, float], torques: list[float]
     fm = fold_map(family, speeds, torques, settings=settings, reference_torque=t_ref)
     save_figure(plot_fold_map(fm), out / "jump_map.png", dpi=120)
     rows = [{**r, "speed_rpm": r["speed_rad_s"] / RPM} for r in fm.rows()]
-    buf = io.StringIO()
-    w = csv.DictWriter(buf, fieldnames=list(rows[0]) if rows else ["region"],
-                       lineterminator="\n")
-    w.writeheader()
-    w.writerows(rows)
-    write_text(out / "fold_curve.csv", buf.getvalue())
+    write_rows(out / "fold_curve.csv", rows, empty=["region"])
     return fm

@@ -10,21 +10,14 @@ from gear_dyn.io import save_figure, staged_output, write_csv, write_json
 from gear_dyn.plots.run import plot_spectrum, plot_time_history
 from gear_dyn.solvers import Result
 
-#: PNG zlib level 1 instead of matplotlib's 6: the same pixels, files ~18 % larger (both
-#: helicopter tail figures 331 kB instead of 281 kB), written 26 ms faster (5 % of drawing the
-#: helicopter tail run's figures; 68 ms, 7 %, for the eccentric pair's): ``python
-#: benchmarks/cli_phases.py --choices``, benchmarks/results/cli.md
+#: PNG zlib level 1 instead of matplotlib's 6: the same pixels, larger files written faster
+#: (``python benchmarks/cli_phases.py --choices``, benchmarks/results/cli.md)
 PNG_OPTIONS = {"compress_level": 1}
 #: resolution of the run's figures (pixels per inch)
 DPI = 110
 #: blocks of the time history's whole-run lines (:func:`gear_dyn.plots.run.plot_time_history`):
 #: about 2 per pixel column of its 6.5 in panel at :data:`DPI`
 ENVELOPE_BLOCKS = 1500
-
-
-def result_name(result: Result) -> str:
-    """The scene's name, or ``run`` for a result without a scene."""
-    return str(getattr(result.scene, "name", None) or "run")
 
 
 def write_run_outputs(result: Result, out: Path, spectrum_scale: str = "log") -> dict[str, Any]:
@@ -52,7 +45,8 @@ def _write_timeseries(result: Result, summary: dict[str, Any], path: Path) -> No
     for name, arr in result.outputs.items():
         if name not in cols:
             cols[name] = arr
-    head = [f"# {result_name(result)}: time series in SI units (t_s in s; dte, delta, "
+    name = getattr(result.scene, "name", None) or "run"  # a result without a scene: "run"
+    head = [f"# {name}: time series in SI units (t_s in s; dte, delta, "
             "e_ecc in m;", "# mesh_force in N; stiffness in N/m; angles in rad, rates in "
             "rad/s)",
             f"# dte: {summary['dte_definition']}",

@@ -13,9 +13,10 @@ from collections.abc import Callable, Sequence
 from typing import Any, TextIO
 
 
-def add_quiet_flag(p: Any) -> None:
-    """``--quiet``: no progress bar (there is none when stderr is not a terminal)."""
-    p.add_argument("--quiet", action="store_true",
+def add_quiet_flag(p: Any, *aliases: str) -> None:
+    """``--quiet`` (and its ``aliases``): no progress bar (there is none when stderr is not a
+    terminal)."""
+    p.add_argument(*aliases, "--quiet", dest="quiet", action="store_true",
                    help="no progress bar on stderr (there is none when stderr is not a "
                    "terminal)")
 

@@ -7,16 +7,12 @@ factory (:class:`gear_dyn.scene.sweep.SceneModels`); docs/response.md describes 
 from __future__ import annotations
 
 import argparse
-import csv
-import io
-import math
-from pathlib import Path
 from typing import Any
 
 from gear_dyn.cli.progress import Stages, add_quiet_flag
+from gear_dyn.cli.run import add_scene_and_out
+from gear_dyn.cli.sweep import add_parallel_flags, dask_executor
 from gear_dyn.errors import InputError
-
-RPM = 2 * math.pi / 60
 
 
 def register(sub: Any) -> None:
@@ -35,11 +31,10 @@ def register(sub: Any) -> None:
         epilog="example: gear-dyn response helicopter_tail_backlash --speeds '3000 rpm:9500 rpm' "
         "--out resp",
     )
-    p.add_argument("scene", type=Path, help="scene file (TOML) or packaged scene name")
+    add_scene_and_out(p)
     p.add_argument("--speeds", required=True, metavar="LO:HI",
                    help="pinion speed range with units, e.g. '3000 rpm:9500 rpm' (the branch "
                    "starts at LO)")
-    p.add_argument("--out", type=Path, required=True, help="output folder")
     p.add_argument("--doublings", type=int, default=1,
                    help="levels of period doubling to switch branches at (default 1: the "
                    "period-2 branches; 0: none)")
@@ -55,12 +50,7 @@ def register(sub: Any) -> None:
                    help="also the brute-force bifurcation diagram over N speeds, up and down "
                    "(gear-dyn bifurcation's defaults: 200 mesh periods settled, 64 samples), "
                    "drawn in grey dots behind the orbits on bifurcation.png (default 0: none)")
-    where = p.add_mutually_exclusive_group()
-    where.add_argument("--workers", type=int, default=None, metavar="N",
-                       help="run the sweep and the diagram on N local processes (default: "
-                       "serial); the results are the same")
-    where.add_argument("--dask", metavar="ADDRESS", default=None,
-                       help="run the sweep and the diagram on the Dask scheduler at ADDRESS")
+    add_parallel_flags(p, what="the sweep and the diagram")
     add_quiet_flag(p)
     p.set_defaults(func=run)
 
@@ -86,7 +76,8 @@ def run(args: argparse.Namespace) -> int:
         branch_samples,
         continue_orbits,
     )
-    from gear_dyn.io import save_figure, staged_output, write_json, write_text
+    from gear_dyn.analysis.sweep import RPM
+    from gear_dyn.io import save_figure, staged_output, write_json, write_rows
     from gear_dyn.plots.bifurcation import plot_branch_samples
     from gear_dyn.plots.continuation import plot_branch
     from gear_dyn.scene import load_scene
@@ -116,14 +107,8 @@ def run(args: argparse.Namespace) -> int:
     if torques is not None:
         stages.append(f"jump map over {len(torques)} torques")
     family = SceneModels.of(scene)
-    client = None
-    if args.dask and (args.sweep or args.diagram):
-        from gear_dyn.cli.sweep import _dask_client
-
-        client = _dask_client(args.dask)
-    where = {"workers": args.workers,
-             "executor": None if client is None else client.get_executor()}
-    try:
+    with dask_executor(args.dask if args.sweep or args.diagram else None) as executor:
+        where = {"workers": args.workers, "executor": executor}
         with Stages(stages, args.quiet) as st:
             branch = continue_orbits(family, lo, hi, settings=settings,
                                      doublings=args.doublings)
@@ -147,14 +132,11 @@ def run(args: argparse.Namespace) -> int:
                          + (f"\ngrey: brute force at {args.diagram} speeds" if diagram else ""))
                 save_figure(plot_branch_samples(strobe, diagram=diagram, title=title),
                             tmp / "bifurcation.png", dpi=120)
-                write_text(tmp / "branch.csv", _csv(branch.rows()))
+                write_rows(tmp / "branch.csv", branch.rows())
                 write_json(tmp / "branch.json", {"scene": scene.name, **branch.to_dict()})
                 if torques is not None:
                     st.next()
                     fm = write_jump_map(scene, (lo, hi), torques, settings, tmp)
-    finally:
-        if client is not None:
-            client.close()
     for i, b in enumerate(branch.walk()):
         print(f"branch {i}: {b!r}")
         for x in b.bifurcations:
@@ -164,12 +146,3 @@ def run(args: argparse.Namespace) -> int:
         print(repr(fm))
     print(f"wrote {args.out}/")
     return 0
-
-
-def _csv(rows: list[dict[str, Any]]) -> str:
-    buf = io.StringIO()
-    if rows:
-        w = csv.DictWriter(buf, fieldnames=list(rows[0]), lineterminator="\n")
-        w.writeheader()
-        w.writerows(rows)
-    return buf.getvalue()

@@ -18,6 +18,12 @@ def add_solver_flags(p: argparse.ArgumentParser) -> None:
     p.add_argument("--periods", type=int, help="override [solver] periods (mesh periods)")
 
 
+def add_scene_and_out(p: argparse.ArgumentParser) -> None:
+    """The SCENE argument and the required ``--out DIR`` of the commands that write a folder."""
+    p.add_argument("scene", type=Path, help="scene file (TOML) or packaged scene name")
+    p.add_argument("--out", type=Path, required=True, help="output folder")
+
+
 def register(sub: Any) -> None:
     p = sub.add_parser(
         "run", help="simulate a scene and write plots, CSV and summary.json",
@@ -27,8 +33,7 @@ def register(sub: Any) -> None:
         "error as noise floor), timeseries.csv and summary.json. SCENE is a file or a packaged "
         "scene name (gear-dyn scenes). DIR is replaced as a whole only when everything succeeded.",
     )
-    p.add_argument("scene", type=Path, help="scene file (TOML) or packaged scene name")
-    p.add_argument("--out", type=Path, required=True, help="output folder")
+    add_scene_and_out(p)
     p.add_argument("--speed", metavar="SPEED",
                    help='override [operating] speed, with its unit (e.g. "6000 rpm")')
     p.add_argument("--torque", metavar="TORQUE",
@@ -58,11 +63,8 @@ def operating_flags(args: argparse.Namespace) -> tuple[float | None, float | Non
     """
     from gear_dyn.scene.operating import parse_operating
 
-    speed = torque = None
-    if getattr(args, "speed", None) is not None:
-        speed = parse_operating("speed", args.speed, "--speed")
-    if getattr(args, "torque", None) is not None:
-        torque = parse_operating("torque", args.torque, "--torque")
+    speed = None if args.speed is None else parse_operating("speed", args.speed, "--speed")
+    torque = None if args.torque is None else parse_operating("torque", args.torque, "--torque")
     return speed, torque
 
 
@@ -109,8 +111,6 @@ def jump_lines(summary: dict[str, Any]) -> list[str]:
 def _fn(summary: dict[str, Any]) -> str:
     """``, f_n = 2913 Hz (f_m / f_n = 0.44)`` where the model has a natural frequency."""
     fn = summary.get("natural_frequency_hz")
-    if fn is None:
-        fn = summary.get("model", {}).get("natural_frequency_hz")
     if not fn:
         return ""
     return f", f_n = {fn:.0f} Hz (f_m / f_n = {summary['mesh_frequency_hz'] / fn:.3g})"

@@ -7,11 +7,11 @@ Writes ``stiffness.png``, ``components.png``, ``stiffness.csv`` and ``stiffness.
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 from typing import Any
 
 from gear_dyn.choices import STIFFNESS_METHODS as METHODS
 from gear_dyn.cli.progress import Stages, add_quiet_flag
+from gear_dyn.cli.run import add_scene_and_out
 from gear_dyn.errors import InputError
 
 
@@ -22,8 +22,7 @@ def register(sub: Any) -> None:
         "stiffness.png, components.png, stiffness.csv and stiffness.json into DIR. The scene's "
         "[stiffness] options apply to every method that takes them.",
     )
-    p.add_argument("scene", type=Path, help="scene file (TOML)")
-    p.add_argument("--out", type=Path, required=True, help="output folder")
+    add_scene_and_out(p)
     p.add_argument("--methods", default="scene,iso6336,potential_energy,weber,contact_line",
                    help="comma-separated methods among " + ", ".join(METHODS) + " and 'scene' "
                    "(the scene's own method); default: %(default)s")

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, cast
 
-from gear_dyn.cli.progress import counter
-from gear_dyn.cli.run import add_solver_flags, overrides
+from gear_dyn.cli.progress import add_quiet_flag, counter
+from gear_dyn.cli.run import add_scene_and_out, add_solver_flags, overrides
 from gear_dyn.errors import InputError
 
 
@@ -27,23 +29,16 @@ def register(sub: Any) -> None:
         epilog="examples: gear-dyn sweep scene.toml --speeds '500 rpm:12000 rpm:300' --out out; "
         "on a Dask cluster: --dask tcp://scheduler:8786",
     )
-    p.add_argument("scene", type=Path, help="scene file (TOML)")
+    add_scene_and_out(p)
     p.add_argument("--speeds", required=True, metavar="START:STOP:N",
                    help="pinion speeds: START and STOP with their units ('500 rpm', '50 rad/s', "
                    "'10 turn/s'; a plain number is refused); N points, linearly spaced")
-    p.add_argument("--out", type=Path, required=True, help="output folder")
     p.add_argument("--sweep-method", choices=("steady", "transient"), default="steady",
                    help="steady: periodic steady state from the monodromy matrix / shooting "
                    "(default); transient: integrate [solver] periods at every speed")
     p.add_argument("--direction", choices=("auto", "up", "down", "both"), default="auto",
                    help="auto (default): up and down with backlash, up otherwise")
-    where = p.add_mutually_exclusive_group()
-    where.add_argument("--workers", type=int, default=None, metavar="N",
-                       help="run blocks of speeds on a pool of N local processes (default: "
-                       "serial, in this process); the results are the same")
-    where.add_argument("--dask", metavar="ADDRESS", default=None,
-                       help="run blocks of speeds on the Dask scheduler at ADDRESS (e.g. "
-                       "tcp://host:8786; needs pip install \"gear_dyn[dask]\")")
+    add_parallel_flags(p)
     p.add_argument("--block", type=int, default=None,
                    help="speeds per block (default: 8 with backlash; linear scenes about 20 "
                    "blocks of at least 32 speeds)")
@@ -52,8 +47,7 @@ def register(sub: Any) -> None:
                    help="stability.png: Floquet stability charts over f_m/f_n and the stiffness "
                    "variation, the damping or both (default none: the response plot marks the "
                    "unstable speeds of the sweep itself)")
-    p.add_argument("--no-progress", "--quiet", dest="no_progress", action="store_true",
-                   help="no progress bar on stderr (there is none when stderr is not a terminal)")
+    add_quiet_flag(p, "--no-progress")
     add_solver_flags(p)
     p.set_defaults(func=run)
 
@@ -78,30 +72,43 @@ def _sweep(args: argparse.Namespace) -> tuple[Any, Any]:
     if args.workers is not None and not 1 <= args.workers <= 4096:
         raise InputError(f"--workers = {args.workers}: valid range 1..4096 processes")
     opts = SweepOptions(method=args.sweep_method, harmonics=args.harmonics)
-    show = counter("speed", args.no_progress)
-    client = _dask_client(args.dask) if args.dask else None
-    try:
+    show = counter("speed", args.quiet)
+    with dask_executor(args.dask) as executor:
         result = sweep_scene(scene, speeds, si=True, options=opts, direction=args.direction,
-                             workers=args.workers,
-                             executor=None if client is None else client.get_executor(),
-                             block=args.block, progress=show, **overrides(args))
-    finally:
-        if client is not None:
-            client.close()
+                             workers=args.workers, executor=executor, block=args.block,
+                             progress=show, **overrides(args))
     return result, scene
 
 
-def _dask_client(address: str) -> Any:
-    """A Dask client of the scheduler at ``address`` (a user mistake is an InputError)."""
+def add_parallel_flags(p: Any, what: str = "blocks of speeds", note: str = "") -> None:
+    """``--workers N`` or ``--dask ADDRESS`` (one of them): where ``what`` runs."""
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, default=None, metavar="N",
+                       help=f"run {what} on a pool of N local processes{note} (default: "
+                       "serial, in this process); the results are the same")
+    where.add_argument("--dask", metavar="ADDRESS", default=None,
+                       help=f"run {what} on the Dask scheduler at ADDRESS (e.g. "
+                       "tcp://host:8786; needs pip install \"gear_dyn[dask]\")")
+
+
+@contextlib.contextmanager
+def dask_executor(address: str | None) -> Iterator[Any]:
+    """For the block, the executor of the Dask scheduler at ``address`` (None without one);
+    a user mistake is an InputError."""
+    if not address:
+        yield None
+        return
     try:
         from distributed import Client
     except ImportError:
         raise InputError('--dask needs the optional dask extra: pip install "gear_dyn[dask]"'
                          ) from None
     try:
-        return Client(address, timeout="20s")
+        client = Client(address, timeout="20s")
     except (OSError, TimeoutError, ValueError) as exc:  # ValueError: a malformed address
         raise InputError(f"--dask {address}: cannot reach the scheduler ({exc})") from None
+    with client:
+        yield client.get_executor()
 
 
 def _ranges(ranges: list[tuple[float, float]]) -> str:
@@ -128,27 +135,25 @@ def _print_summary(result: Any, scene: Any, summary: dict[str, Any], chart: str)
           f"{summary['resonance_speed_rpm']:.0f} rpm")
     for note in summary.get("resonances_outside_range", []):
         print(f"  {note}")
-    worst = max((info["max_dynamic_factor"] for info in summary["curves"].values()
-                 if "max_dynamic_factor" in info), default=None)
-    for d, info in summary["curves"].items():
-        if "max_dynamic_factor" not in info:
-            continue
+    peaks = {d: info["max_dynamic_factor"] for d, info in summary["curves"].items()
+             if "max_dynamic_factor" in info}
+    for d in peaks:
+        info = summary["curves"][d]
         share = info.get("max_dynamic_factor_separation_share", 0.0)
         if share > 0:
             what = "teeth separate" if result.nonlinear else "F < 0, linear model invalid"
             lost = f" - {what} over {share:.0%} of the mesh period there"
         else:
             lost = " (teeth in contact)"
-        others = [i["max_dynamic_factor"] for k, i in summary["curves"].items()
-                  if k != d and "max_dynamic_factor" in i]
+        others = [v for k, v in peaks.items() if k != d]
         # the larger of the directions' peaks (none where they are equal)
-        mark = " <- the larger" if others and info["max_dynamic_factor"] > max(others) else ""
+        mark = " <- the larger" if others and peaks[d] > max(others) else ""
         kv = info.get("iso_6336_kv_at_max")
         beside = f", ISO K_v there {kv:.4f}" if kv is not None else ""
         print(f"  max dynamic factor K_dyn, sweep {d}: {info['max_dynamic_factor']:.4f} at "
               f"{info['max_dynamic_factor_speed_rpm']:.0f} rpm{beside}; peak force "
               f"{info['max_peak_force_ratio']:.4f} W{lost}{mark}")
-    if worst is not None:
+    if peaks:
         for line in dynamic_factor_lines(summary):
             print(f"  {line}")
     if "iso_6336_kv_max" in summary:
@@ -243,14 +248,13 @@ def _spectra_columns(result: Any) -> dict[str, Any]:
 
     from gear_dyn.analysis.sweep import RPM
 
-    cols: dict[str, Any] = {}
-    for c in result.curves:
-        cols.setdefault("direction_down", []).extend([float(c.direction == "down")]
-                                                     * c.speed.size)
-        cols.setdefault("speed_rpm", []).extend(list(c.speed / RPM))
-        for j, o in enumerate(result.orders):
-            cols.setdefault(f"dte_amp_m_order_{o:g}", []).extend(list(c.spectrum[:, j]))
-    return {k: np.asarray(v) for k, v in cols.items()}
+    curves = result.curves
+    cols = {"direction_down": np.concatenate([np.full(c.speed.size, float(c.direction == "down"))
+                                              for c in curves]),
+            "speed_rpm": np.concatenate([c.speed / RPM for c in curves])}
+    for j, o in enumerate(result.orders):
+        cols[f"dte_amp_m_order_{o:g}"] = np.concatenate([c.spectrum[:, j] for c in curves])
+    return cols
 
 
 def draw_sweep_figures(result: Any, tmp: Path, iso_curve: Any, charts: tuple[Any, ...]

@@ -15,31 +15,6 @@ from matplotlib.figure import Figure
 from matplotlib.layout_engine import PlaceHolderLayoutEngine, TightLayoutEngine
 
 
-def given_axes(ax: Any, n: int, name: str) -> list[Any]:
-    """The caller's axes as a flat list of ``n`` Axes of one figure (row-major order).
-
-    ``ax`` is one Axes (``n == 1``) or a sequence / array of Axes of size ``n``.
-
-    Raises
-    ------
-    ValueError
-        Not ``n`` Axes, or the axes belong to different figures.
-    """
-    if isinstance(ax, Axes):
-        flat = [ax]
-    elif isinstance(ax, Sequence | np.ndarray):
-        flat = list(np.asarray(ax, dtype=object).ravel())
-    else:
-        raise ValueError(f"{name}: ax must be a matplotlib Axes or a sequence of {n} Axes, "
-                         f"got {type(ax).__name__}")
-    if len(flat) != n or not all(isinstance(a, Axes) for a in flat):
-        raise ValueError(f"{name}: expected {n} matplotlib Axes, got {len(flat)} "
-                         f"item{'s' if len(flat) != 1 else ''}")
-    if any(a.figure is not flat[0].figure for a in flat):
-        raise ValueError(f"{name}: the {n} Axes must belong to one figure")
-    return flat
-
-
 def axes_of(ax: Any, nrows: int = 1, ncols: int = 1, figsize: tuple[float, float] = (8, 4),
             name: str = "plot", **kw: Any) -> tuple[Figure, Any]:
     """(figure, axes) to draw into, shaped as ``Figure.subplots(nrows, ncols, **kw)`` returns.
@@ -67,11 +42,23 @@ def axes_of(ax: Any, nrows: int = 1, ncols: int = 1, figsize: tuple[float, float
     if ax is None:
         fig = Figure(figsize=figsize)
         return fig, fig.subplots(nrows, ncols, **kw)
-    flat = given_axes(ax, nrows * ncols, name)
+    n = nrows * ncols
+    if isinstance(ax, Axes):
+        flat: list[Any] = [ax]
+    elif isinstance(ax, Sequence | np.ndarray):
+        flat = list(np.asarray(ax, dtype=object).ravel())
+    else:
+        raise ValueError(f"{name}: ax must be a matplotlib Axes or a sequence of {n} Axes, "
+                         f"got {type(ax).__name__}")
+    if len(flat) != n or not all(isinstance(a, Axes) for a in flat):
+        raise ValueError(f"{name}: expected {n} matplotlib Axes, got {len(flat)} "
+                         f"item{'s' if len(flat) != 1 else ''}")
     fig = flat[0].figure
+    if any(a.figure is not fig for a in flat):
+        raise ValueError(f"{name}: the {n} Axes must belong to one figure")
     if not kw.get("squeeze", True):
         return fig, np.array(flat, dtype=object).reshape(nrows, ncols)
-    if nrows * ncols == 1:
+    if n == 1:
         return fig, flat[0]
     if nrows == 1 or ncols == 1:
         return fig, np.array(flat, dtype=object)
@@ -83,9 +70,7 @@ def fixed_layout(fig: Any, left: float, right: float, top: float, bottom: float,
     """Place the figure's subplot grid with margins and gaps in inches.
 
     The look of ``tight_layout`` for a figure whose labels are known in advance, without
-    drawing every text once more to measure it: ``tight_layout`` would add 0.24 s (48 %) to
-    drawing the helicopter tail run's two figures and 0.45 s (50 %) to the eccentric pair's
-    (``python benchmarks/cli_phases.py --choices``, benchmarks/results/cli.md).
+    drawing every text once more to measure it (measured: benchmarks/results/cli.md).
 
     Parameters
     ----------
@@ -113,4 +98,4 @@ def tidy(fig: Any) -> None:
         fig.tight_layout()
 
 
-__all__ = ["axes_of", "fixed_layout", "given_axes", "tidy"]
+__all__ = ["axes_of", "fixed_layout", "tidy"]

@@ -4,11 +4,8 @@ A run's time history holds 12 801 samples per line for the helicopter tail scene
 eccentric pair and more with ``--periods``: many per pixel column of its panel. :func:`envelope`
 keeps the first, smallest, largest and last sample of each block of about half a pixel column
 (the "M4" reduction): the rasterised line covers the same pixels from far fewer points
-(tests/plots/test_decimate.py compares the pixels). Measured (``python benchmarks/cli_phases.py
---choices``, benchmarks/results/cli.md): at 128 001 samples per line (``gear-dyn run
-helicopter_tail --periods 2000``) both figures are drawn 0.39 s faster (57 % of their time); at
-the packaged scenes' own 12 801 and 40 321 samples the difference is within the noise (-14 and
--13 ms).
+(tests/plots/test_decimate.py compares the pixels). What it saves, per scene and run length:
+benchmarks/results/cli.md (``python benchmarks/cli_phases.py --choices``).
 """
 
 from __future__ import annotations

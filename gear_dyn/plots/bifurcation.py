@@ -144,12 +144,8 @@ def plot_branch_samples(samples: BranchSamples, ax: Any = None, state: str = "x"
     ----------
     samples : BranchSamples
         From :func:`gear_dyn.analysis.continuation.branch_samples`.
-    ax : Axes, two Axes or None
-        Where to draw. None: a new figure of 8 x 4.5 in, or, where the diagram was classified
-        (some speed has a Lyapunov exponent), of 8 x 6 in with a second panel below: the
-        largest Lyapunov exponent with its error bar at the speeds where no periodic orbit
-        was found (positive: chaos). A
-        caller's single Axes gets the samples only; two Axes get both panels.
+    ax : Axes or None
+        Where to draw (None: a new figure of 10 x 4.5 in).
     state : str
         State component drawn: ``x`` (mesh deflection, um) or ``v`` (its rate, m/s).
     diagram : BifurcationDiagram or None

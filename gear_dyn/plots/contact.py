@@ -1,7 +1,4 @@
-"""Figures of the loaded-contact analysis with tip relief (pyplot-free matplotlib).
-
-Plots are functions of results: they take optional axes and return the figure.
-"""
+"""Figures of the loaded-contact analysis with tip relief (pyplot-free matplotlib)."""
 
 from __future__ import annotations
 
@@ -33,6 +30,17 @@ def _two_panels(axes: Sequence[Any] | None, ax: Any, name: str) -> tuple[Any, An
     return axes_of(ax if ax is not None else axes, 2, 1, figsize=(8, 7), name=name, sharex=True)
 
 
+def _labelled(fig: Any, axs: Any, ylabels: tuple[str, str], xlabel: str) -> Any:
+    """``fig`` with its two panels labelled and gridded, the legend on the top one, tidied."""
+    for a, label in zip(axs, ylabels, strict=True):
+        a.set_ylabel(label)
+        a.grid(alpha=0.3)
+    axs[1].set_xlabel(xlabel)
+    axs[0].legend(fontsize=8, ncol=2)
+    tidy(fig)
+    return fig
+
+
 def plot_load_sharing(cases: Mapping[str, ReliefCase], axes: Sequence[Any] | None = None,
                       ax: Any = None) -> Any:
     """Load-sharing factor and Hertz contact stress along the path of contact, all cases.
@@ -51,15 +59,9 @@ def plot_load_sharing(cases: Mapping[str, ReliefCase], axes: Sequence[Any] | Non
     for v in (pair.end_of_contact - pair.base_pitch - s_a, pair.base_pitch):
         for ax in axs:
             ax.axvline(v * 1e3, color="0.5", ls=":", lw=0.8)
-    axs[0].set_ylabel("load-sharing factor S = F_i / F")
     axs[0].set_ylim(-0.03, 1.05)
-    axs[1].set_ylabel("Hertz contact stress (MPa)")
-    axs[1].set_xlabel("roll distance from start of contact A (mm)")
-    axs[0].legend(fontsize=8, ncol=2)
-    for ax in axs:
-        ax.grid(alpha=0.3)
-    tidy(fig)
-    return fig
+    return _labelled(fig, axs, ("load-sharing factor S = F_i / F", "Hertz contact stress (MPa)"),
+                     "roll distance from start of contact A (mm)")
 
 
 def plot_loaded_stiffness(cases: Mapping[str, ReliefCase],
@@ -74,14 +76,8 @@ def plot_loaded_stiffness(cases: Mapping[str, ReliefCase],
         lc = case.contact
         axs[0].plot(ph, lc.mesh_stiffness()(ph) / 1e6, label=name, **st)
         axs[1].plot(ph, lc.static_transmission_error().value(ph) * 1e6, label=name, **st)
-    axs[0].set_ylabel("loaded mesh stiffness K_TPM (N/µm)")
-    axs[1].set_ylabel("loaded static TE (µm)")
-    axs[1].set_xlabel("mesh phase (cycles; 0 = a pair enters at A)")
-    axs[0].legend(fontsize=8, ncol=2)
-    for ax in axs:
-        ax.grid(alpha=0.3)
-    tidy(fig)
-    return fig
+    return _labelled(fig, axs, ("loaded mesh stiffness K_TPM (N/µm)", "loaded static TE (µm)"),
+                     "mesh phase (cycles; 0 = a pair enters at A)")
 
 
 def plot_dynamic_comparison(results: Mapping[str, Result], periods: float = 4.0,

@@ -5,12 +5,12 @@ stable solid, unstable dashed, folds and period doublings marked and labelled wi
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
 
 from gear_dyn.analysis.continuation.branch import Branch
+from gear_dyn.analysis.sweep import RPM
 from gear_dyn.plots._axes import axes_of, tidy
 from gear_dyn.plots._labels import legend_beside, legend_once, place_labels
 
@@ -21,14 +21,13 @@ QUANTITIES = {
     "dte_mean": ("mean DTE (µm)", 1e6),
     "separation": ("teeth apart (share of the period)", 1.0),
 }
-_RPM = 2 * math.pi / 60
 _COLOURS = ("tab:blue", "tab:red", "tab:green", "tab:purple", "tab:brown")
 
 
 def _x_of(branch: Branch) -> tuple[float, str]:
     """Factor from the SI parameter to the plotted unit, and the axis label."""
     if branch.parameter_name == "speed":
-        return 1.0 / _RPM, "pinion speed (rpm)"
+        return 1.0 / RPM, "pinion speed (rpm)"
     if branch.parameter_name == "backlash":
         return 1e6, "half gap (µm)"
     unit = f" ({branch.unit})" if branch.unit else ""

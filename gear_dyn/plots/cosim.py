@@ -36,6 +36,7 @@ def overlay_figure(report: Any, periods: float = 5.0, ax: Any = None) -> Any:
     keep = t >= t[-1] - periods / report.mesh_frequency
     tm = t[keep] * 1e3
     h = min(s.step for s in report.steps)
+    bounds = report.bounds
     for i, name in enumerate(report.outputs):
         title, unit, f = _label(name)
         a, d = axes[2 * i], axes[2 * i + 1]
@@ -46,7 +47,6 @@ def overlay_figure(report: Any, periods: float = 5.0, ax: Any = None) -> Any:
         a.set_ylabel(f"{title} ({unit})")
         a.legend(loc="upper right", fontsize=8)
         d.plot(tm, (report.fmu_y[i][keep] - report.ref_y[i][keep]) * f, color="tab:red", lw=0.8)
-        bounds = getattr(report, "bounds", None)
         if name == "dte" and bounds is not None:
             for sign in (1, -1):
                 d.axhline(sign * bounds.total * f, color="0.4", lw=0.8, ls=":",
@@ -54,9 +54,7 @@ def overlay_figure(report: Any, periods: float = 5.0, ax: Any = None) -> Any:
             d.legend(loc="upper right", fontsize=7)
         d.set_ylabel(f"diff ({unit})")
     axes[-1].set_xlabel("time (ms)")
-    verdict = ""
-    if getattr(report, "bounds", None) is not None:
-        verdict = f": {'PASS' if report.passed else 'FAIL'}"
+    verdict = "" if bounds is None else f": {'PASS' if report.passed else 'FAIL'}"
     axes[0].set_title(f"{report.scene_name}: FMU ({report.fmu_method}) against solve_ivp "
                       f"(rtol {report.rtol:g}){verdict}")
     tidy(fig)
@@ -78,7 +76,7 @@ def convergence_figure(report: Any, ax: Any = None) -> Any:
         a.loglog(hs, [max(s.rms_diff[name] / scale, 1e-17) for s in report.steps], "s--",
                  label=f"{name} RMS")
     a.axhline(report.rtol, color="0.5", lw=0.8, ls=":", label="rtol")
-    bounds = getattr(report, "bounds", None)
+    bounds = report.bounds
     if bounds is not None and "dte" in report.scales:
         a.axhline(bounds.total / report.scales["dte"], color="tab:blue", lw=1.0, ls="-.",
                   label="allowed dte max (verdict)")

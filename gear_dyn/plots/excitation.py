@@ -1,7 +1,5 @@
 """Figures of the excitations of Liu et al. (2017): time histories and labelled spectra
 (matplotlib).
-
-Plots are functions of data: they return the figure and never write files.
 """
 
 from __future__ import annotations

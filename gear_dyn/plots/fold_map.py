@@ -6,16 +6,14 @@ torque drawn as a dotted line.
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
 
 from gear_dyn.analysis.continuation.jump_map import FoldMap
+from gear_dyn.analysis.sweep import RPM
 from gear_dyn.plots._axes import axes_of, tidy
-
-_RPM = 2 * math.pi / 60
-_COLOURS = ("tab:blue", "tab:red", "tab:green", "tab:purple", "tab:brown")
+from gear_dyn.plots.continuation import _COLOURS
 
 
 def plot_fold_map(fold_map: FoldMap, ax: Any = None) -> Any:
@@ -35,11 +33,11 @@ def plot_fold_map(fold_map: FoldMap, ax: Any = None) -> Any:
     fig, axis = axes_of(ax, figsize=(7, 4.5), name="plot_fold_map")
     for i, r in enumerate(fold_map.regions):
         c = _COLOURS[i % len(_COLOURS)]
-        lo, hi, t = r.low / _RPM, r.high / _RPM, r.torque
+        lo, hi, t = r.low / RPM, r.high / RPM, r.torque
         xs, ts = np.concatenate([lo, hi[::-1]]), np.concatenate([t, t[::-1]])
         for cusp in r.cusps:  # close the band at its cusp
             at_top = cusp.torque > t[-1]
-            pt_x, pt_t = np.array([cusp.speed / _RPM]), np.array([cusp.torque])
+            pt_x, pt_t = np.array([cusp.speed / RPM]), np.array([cusp.torque])
             if at_top:
                 xs = np.concatenate([lo, pt_x, hi[::-1]])
                 ts = np.concatenate([t, pt_t, t[::-1]])
@@ -51,9 +49,9 @@ def plot_fold_map(fold_map: FoldMap, ax: Any = None) -> Any:
         axis.plot(lo, t, "-", color=c, lw=1.5, marker=".", ms=4)
         axis.plot(hi, t, "--", color=c, lw=1.5, marker=".", ms=4)
         for cusp in r.cusps:
-            axis.plot([cusp.speed / _RPM], [cusp.torque], "k*", ms=10)
-            axis.annotate(f"cusp {cusp.speed / _RPM:.0f} rpm, {cusp.torque:.4g} N m",
-                          (cusp.speed / _RPM, cusp.torque), textcoords="offset points",
+            axis.plot([cusp.speed / RPM], [cusp.torque], "k*", ms=10)
+            axis.annotate(f"cusp {cusp.speed / RPM:.0f} rpm, {cusp.torque:.4g} N m",
+                          (cusp.speed / RPM, cusp.torque), textcoords="offset points",
                           xytext=(6, 6), fontsize=8)
     if fold_map.reference_torque is not None:
         axis.axhline(fold_map.reference_torque, color="0.4", ls=":", lw=1,
@@ -61,7 +59,7 @@ def plot_fold_map(fold_map: FoldMap, ax: Any = None) -> Any:
     axis.fill([], [], color="0.6", alpha=0.25, lw=0, label="shaded: coexisting stable orbits")
     axis.plot([], [], "k-", label="lower fold (sweep down jumps)")
     axis.plot([], [], "k--", label="upper fold (sweep up jumps)")
-    axis.set_xlim(min(fold_map.speed_range) / _RPM, max(fold_map.speed_range) / _RPM)
+    axis.set_xlim(min(fold_map.speed_range) / RPM, max(fold_map.speed_range) / RPM)
     axis.set_ylim(float(np.min(fold_map.torques)), float(np.max(fold_map.torques)))
     axis.set_xlabel("pinion speed (rpm)")
     axis.set_ylabel("pinion torque (N m)")

@@ -1,7 +1,5 @@
 """Figures of simulation results (pyplot-free matplotlib Figures; no window, no backend choice).
 
-Plots are functions of results: they take an optional ``ax`` and return the figure.
-
 The spectrum shows the physics a gear engineer looks for: its range covers the natural frequency
 f_n and the mesh harmonics up to the first above f_n; f_n, the mesh harmonics and (eccentric
 models) the shaft frequencies and the sidebands f_m +- f_shaft are marked with their frequency in
@@ -189,12 +187,6 @@ def _mark_negative(ax: Any, xs: Any, ys: Any, label: bool) -> None:
     ax.axhline(0.0, color="tab:red", lw=0.6)
 
 
-def _scale(scale: str) -> str:
-    if scale not in ("log", "linear"):
-        raise InputError(f"spectrum scale = {scale!r}: valid choices are 'log', 'linear'")
-    return scale
-
-
 def plot_spectrum(result: Result, name: str = "dte", harmonics: int | None = None,
                   ax: Any = None, scale: str = "log", floor: float | None = None) -> Any:
     """Amplitude spectrum of a series over the steady window, with the physics marked.
@@ -228,6 +220,8 @@ def plot_spectrum(result: Result, name: str = "dte", harmonics: int | None = Non
         Noise floor in the series' SI unit (default for DTE: the run's stated error,
         :func:`noise_floor`); drawn as a line, the band below it shaded.
     """
+    if scale not in ("log", "linear"):
+        raise InputError(f"spectrum scale = {scale!r}: valid choices are 'log', 'linear'")
     marks = spectrum_marks(result)
     zoom = bool(marks.shafts)
     if ax is not None:
@@ -245,7 +239,7 @@ def plot_spectrum(result: Result, name: str = "dte", harmonics: int | None = Non
     top = harmonics or marks.top_harmonic
     fmax = min(f[-1], max((top + 0.5) * marks.mesh, 1.1 * (marks.natural or 0.0)))
     main = axes[0, 0]
-    _draw_amplitude(main, f, amp, _scale(scale), floor * factor if floor else None, fmax, unit)
+    _draw_amplitude(main, f, amp, scale, floor * factor if floor else None, fmax, unit)
     _mark_physics(main, marks, top, fmax)
     if marks.natural is not None and marks.natural > f[-1]:
         main.text(0.5, 0.5, f"f_n = {marks.natural:.0f} Hz is above the Nyquist frequency "

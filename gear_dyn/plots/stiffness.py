@@ -1,7 +1,4 @@
-"""Figures of mesh stiffness (pyplot-free matplotlib): curves over mesh cycles, component split.
-
-Plots are functions: they take an optional ``ax`` and return the figure.
-"""
+"""Figures of mesh stiffness (pyplot-free matplotlib): curves over mesh cycles, component split."""
 
 from __future__ import annotations
 

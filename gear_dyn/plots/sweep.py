@@ -1,7 +1,4 @@
-"""Figures of speed sweeps and stability charts (pyplot-free matplotlib Figures).
-
-Plots are functions of results: each takes an optional ``ax`` and returns the figure.
-"""
+"""Figures of speed sweeps and stability charts (pyplot-free matplotlib Figures)."""
 
 from __future__ import annotations
 
@@ -33,10 +30,8 @@ _STYLE = {"up": dict(color="tab:blue", ls="-"), "down": dict(color="tab:orange",
 
 
 def _layout(fig: Any, own: bool, **margins: float) -> None:
-    """Fixed margins (fractions of the figure) on a figure made here, the caller's figure gets
-    :func:`tidy` (``tight_layout``). Fixed margins spare drawing every text once more to
-    measure it (for the run figures ``tight_layout`` costs about half again the time of
-    drawing them: benchmarks/results/cli.md)."""
+    """Fixed margins (fractions of the figure; why: :func:`~gear_dyn.plots._axes.fixed_layout`)
+    on a figure made here, :func:`tidy` (``tight_layout``) on the caller's figure."""
     if own:
         fig.subplots_adjust(**margins)
     else:

@@ -49,6 +49,12 @@ def build_pair(scene: Scene) -> GearPair:
         raise scene_error(scene.source, exc) from None
 
 
+def scene_inertias(scene: Scene) -> tuple[float, float] | None:
+    """(pinion, gear) polar inertias in kg m^2 of the ``[inertia]`` table; None without it."""
+    t = scene.tables.get("inertia")
+    return None if t is None else (t["pinion"], t["gear"])
+
+
 def scene_facts(scene: Scene) -> dict[str, Any]:
     """What the scene says about the case, for run summaries: speeds (rpm), contact and overlap
     ratios, centre distance and geometric backlash (m), stiffness method."""
@@ -111,15 +117,12 @@ def build_sdof(scene: Scene) -> Model:
     pair = build_pair(scene)
     op = scene.get("operating")
     k = scene_stiffness(scene, pair)
-    inertias = None
-    if scene.has("inertia"):
-        inertias = (scene.tables["inertia"]["pinion"], scene.tables["inertia"]["gear"])
     backlash = scene.tables["backlash"]["half_gap"] if scene.has("backlash") else None
     te = scene_transmission_error(scene)
     try:
         return sdof_from_pair(
             pair, op["speed"], op["torque"], k, damping_ratio=scene.get("damping")["ratio"],
-            inertias=inertias, backlash=backlash, transmission_error=te,
+            inertias=scene_inertias(scene), backlash=backlash, transmission_error=te,
         )
     except InputError as exc:
         raise scene_error(scene.source, exc) from None

@@ -14,7 +14,12 @@ from gear_dyn.eccentricity.kinematics import Eccentricity
 from gear_dyn.errors import InputError
 from gear_dyn.models.base import Model
 from gear_dyn.models.torsional import ContactLineStiffness, TorsionalModel
-from gear_dyn.scene.build import build_pair, scene_stiffness, scene_transmission_error
+from gear_dyn.scene.build import (
+    build_pair,
+    scene_inertias,
+    scene_stiffness,
+    scene_transmission_error,
+)
 from gear_dyn.scene.fields import REQUIRED, Field, Section
 from gear_dyn.scene.registry import register_model, register_section
 from gear_dyn.scene.validated import Scene, scene_error
@@ -74,9 +79,7 @@ def build_torsional(scene: Scene) -> Model:
         stiff = ContactLineStiffness(k_l)
     else:
         stiff = scene_stiffness(scene, pair)
-    inertias = pair.blank_inertias()
-    if scene.has("inertia"):
-        inertias = (scene.tables["inertia"]["pinion"], scene.tables["inertia"]["gear"])
+    inertias = scene_inertias(scene) or pair.blank_inertias()
     kw: dict[str, Any] = dict(
         eccentricity=scene_eccentricity(scene), friction=scene_friction(scene),
         backlash=scene.tables["backlash"]["half_gap"] if scene.has("backlash") else None,

@@ -1,11 +1,8 @@
 """Declarative scene fields: name, unit, kind, default and valid range.
 
-Text with a unit is converted by :mod:`gear_dyn.units` (pint), at the edge only. A dimensional
-quantity carries its unit (``"6 mm"``, ``"3319 rpm"``, ``"22.5 deg"``, ``"200 Nm"``); a plain
-number there is refused with a message proposing readings (exact 0 excepted: zero in every
-unit). Dimensionless keys (teeth, coefficients, ratios, tolerances) are plain numbers. Values
-that are already SI floats (an FMU's parameters, a scene rebuilt from its SI tables) are parsed
-with ``si=True``.
+Text with a unit is converted at the edge only, by the one rule of :mod:`gear_dyn.units` (an
+exact 0 needs no unit: zero in every unit). Values that are already SI floats (an FMU's
+parameters, a scene rebuilt from its SI tables) are parsed with ``si=True``.
 """
 
 from __future__ import annotations
@@ -16,7 +13,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from gear_dyn.errors import SceneError, range_text
+from gear_dyn.errors import SceneError, in_range, range_text
 from gear_dyn.units import dimension_text as _dim_text
 from gear_dyn.units import is_dimensional, needs_unit_message, parse_quantity
 
@@ -135,12 +132,7 @@ class Field:
 
     def _in_range(self, value: float) -> bool:
         """Whether the SI ``value`` lies in the field's valid range."""
-        ok = True
-        if self.low is not None:
-            ok = value > self.low if self.low_open else value >= self.low
-        if ok and self.high is not None:
-            ok = value < self.high if self.high_open else value <= self.high
-        return ok
+        return in_range(value, self.low, self.high, self.low_open, self.high_open)
 
 
 @dataclass(frozen=True)

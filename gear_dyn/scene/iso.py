@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from gear_dyn.errors import InputError, SceneError
-from gear_dyn.scene.build import build_pair
+from gear_dyn.scene.build import build_pair, scene_inertias
 from gear_dyn.scene.fields import Field, Section
 from gear_dyn.scene.modification import relief_from_scene
 from gear_dyn.scene.registry import register_section
@@ -89,11 +89,9 @@ def scene_iso_kv(scene: Scene, speeds: ArrayLike | None = None) -> tuple[IsoKv, 
     elif t["f_pb"] is not None or t["f_falpha"] is not None:
         src = f"[iso] {'f_pb' if t['f_pb'] is not None else 'f_falpha'}, the other from {src}"
     c_a, relief_src = _tip_relief(scene, t)
-    inertias = pair.blank_inertias()
-    mass_src = "solid blanks at the pitch radii (as the model)"
-    if scene.has("inertia"):
-        inertias = (scene.tables["inertia"]["pinion"], scene.tables["inertia"]["gear"])
-        mass_src = "[inertia] (as the model)"
+    inertias = scene_inertias(scene) or pair.blank_inertias()
+    mass_src = ("[inertia]" if scene.has("inertia") else "solid blanks at the pitch radii"
+                ) + " (as the model)"
     try:
         kv = iso_dynamic_factor(pair, speeds, op["torque"], inertias, f_pb=f_pb,
                                 f_falpha=f_falpha, tip_relief=c_a,

@@ -28,7 +28,7 @@ from gear_dyn.modification.relief import (
     length_from_height,
     recommended_relief,
 )
-from gear_dyn.scene.build import build_pair, build_sdof
+from gear_dyn.scene.build import build_pair, build_sdof, scene_inertias
 from gear_dyn.scene.fields import Field, Section
 from gear_dyn.scene.registry import register_model, register_section
 from gear_dyn.scene.validated import Scene, scene_error
@@ -180,9 +180,7 @@ def build_relief_sdof(scene: Scene) -> Model:
     mod = relief_from_scene(scene, pair)
     t = scene.tables["tip_relief"]
     op = scene.get("operating")
-    inertias = None
-    if scene.has("inertia"):
-        inertias = (scene.tables["inertia"]["pinion"], scene.tables["inertia"]["gear"])
+    inertias = scene_inertias(scene)
     try:
         fn = scene_pair_function(scene, pair)
         xi = scene.get("damping")["ratio"]

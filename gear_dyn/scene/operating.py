@@ -145,20 +145,11 @@ def parse_speed_range(text: str) -> FloatArray:
         number or unit (Hz is refused: pint would read it as rad/s), N < 2, or speeds out of
         range.
     """
-    from gear_dyn.scene.fields import Field
-
     parts = text.split(":")
     if len(parts) != 3:
         raise InputError(f"--speeds {text!r}: expected START:STOP:N, e.g. '500 rpm:6000 rpm:200'")
-    fld = Field("speed", "rad/s", low=0.0, high=1e5, low_open=True)
-    ends = []
-    for label, part in zip(("START", "STOP"), parts[:2], strict=True):
-        part = part.strip()
-        if "hz" in part.lower():
-            # pint reads 1 Hz as 1 rad/s (radians are dimensionless): 2 pi off for a shaft
-            raise InputError(f"--speeds {label} = {part!r}: Hz is ambiguous for a shaft speed "
-                             "(it would be read as rad/s); write e.g. '600 rpm' or '10 turn/s'")
-        ends.append(fld.parse(part, f"--speeds {label}"))
+    ends = [parse_operating("speed", part.strip(), f"--speeds {label}")
+            for label, part in zip(("START", "STOP"), parts[:2], strict=True)]
     try:
         n = int(parts[2])
     except ValueError:

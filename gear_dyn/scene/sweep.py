@@ -1,15 +1,13 @@
 """Sweeps of a scene: the model factory over speed, and the scene's sweep in one call.
 
 The analysis layer sweeps any model factory ``speed -> Model``
-(:func:`gear_dyn.analysis.sweep.sweep`); here a scene becomes such a factory. The factory is
-picklable (the scene travels as JSON) and builds the scene's model once per process.
+(:func:`gear_dyn.analysis.sweep.sweep`); here a scene becomes such a factory (:class:`SceneModels`).
 """
 
 from __future__ import annotations
 
 import concurrent.futures as cf
 import json
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
@@ -28,7 +26,6 @@ from gear_dyn.scene.operating import parse_speed_range as parse_speed_range  # i
 from gear_dyn.scene.validated import Scene
 
 FloatArray = NDArray[np.float64]
-RPM = 2 * math.pi / 60
 #: the ``[solver]`` values a sweep may override
 SOLVER_OVERRIDES = ("method", "rtol", "atol", "samples_per_period", "periods", "steady_periods")
 

@@ -67,12 +67,9 @@ SCENE_KEY_PATHS: dict[str, str] = {
     "inertia_pinion": "inertia.pinion", "inertia_gear": "inertia.gear",
     "damping_ratio": "damping.ratio", "backlash": "backlash.half_gap",
 }
-_NAME_RE = re.compile(
-    r"(?<![\w.])(" + "|".join(sorted(SCENE_KEY_PATHS, key=len, reverse=True))
-    + r")(?=\s*(?:=|<|>))"
-)
-#: names in advice ("check center_distance and addendum_coef", "reduce x1 or addendum_coef")
 _NAMES = "|".join(sorted(SCENE_KEY_PATHS, key=len, reverse=True))
+_NAME_RE = re.compile(rf"(?<![\w.])({_NAMES})(?=\s*(?:=|<|>))")
+#: names in advice ("check center_distance and addendum_coef", "reduce x1 or addendum_coef")
 _ADVICE_RE = re.compile(
     rf"\b(check|reduce|increase) ({_NAMES})(?: (and|or) ({_NAMES}))?(?![\w.])"
 )
