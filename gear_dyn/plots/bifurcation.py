@@ -93,10 +93,9 @@ def plot_bifurcation(diagram: BifurcationDiagram, ax: Any = None, state: str = "
         title = (f"{name}bifurcation diagram ({diagram.options.samples} samples per speed "
                  f"after {diagram.options.settle} mesh periods)")
     axes.set_title(title, fontsize=10, pad=20 if np.isfinite(diagram.natural_frequency) else 6)
-    fn = diagram.natural_frequency
-    z1 = _teeth(diagram)
-    if np.isfinite(fn) and z1:
-        per = fn * 60.0 / z1  # rpm per unit f_m / f_n
+    fn, c = diagram.natural_frequency, diagram.curves[0]
+    if np.isfinite(fn) and c.speed.size and c.speed[0] > 0:
+        per = fn * c.speed[0] / (c.mesh_frequency[0] * RPM)  # rpm per unit f_m / f_n
         top = axes.secondary_xaxis("top", functions=(lambda r: r / per, lambda q: q * per))
         top.set_xlabel("f_m / f_n")
     axes.legend(loc="best", fontsize=8, markerscale=2)
@@ -118,14 +117,6 @@ def _plot_lyapunov(axes: Any, diagram: BifurcationDiagram) -> None:
     axes.set_ylabel("largest Lyapunov\nexponent (1/s)", fontsize=9)
     axes.set_xlabel("pinion speed (rpm)")
     axes.grid(alpha=0.3)
-
-
-def _teeth(diagram: BifurcationDiagram) -> float:
-    """Pinion teeth from the curves (f_m = z1 w / 2 pi), 0 where not known."""
-    c = diagram.curves[0]
-    if c.speed.size == 0 or c.speed[0] <= 0:
-        return 0.0
-    return float(c.mesh_frequency[0] * 2 * np.pi / c.speed[0])
 
 
 def plot_branch_samples(samples: BranchSamples, ax: Any = None, state: str = "x",
