@@ -81,6 +81,7 @@ ISSUE_22_ON_MAIN = (
     "5025ca5",  # tqdm imported where a bar is drawn
     "ed7740c",  # contact_exact docstring: when a piece is not searched
     "aab9b9f",  # one list of each user choice (parser-time copies removed)
+    "0fbaa9b",  # plots/bifurcation: the f_m/f_n axis factor without a _teeth helper
 )
 
 
