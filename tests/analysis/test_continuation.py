@@ -11,10 +11,12 @@ from __future__ import annotations
 
 import json
 import math
+from functools import partial
 
 import numpy as np
 import pytest
-from scipy.optimize import brentq, root
+from extended_system import solve_extended
+from scipy.optimize import brentq
 
 from gear_dyn import InputError, SDOFModel, rectangular_stiffness
 from gear_dyn.analysis.continuation import (
@@ -120,16 +122,10 @@ def test_liouville_identity_on_every_point_and_a_point_that_fails_says_so() -> N
 
 
 def _extended_fold(fam, y: np.ndarray, w: float, scale: np.ndarray) -> tuple[np.ndarray, float]:
-    """The fold from the minimally extended system ``P(y, w) - y = 0, det(M - I) = 0`` solved
-    by MINPACK's hybrid method (finite-difference Jacobian) on the exact flow: no tangent, no
-    arclength, no bracketing."""
-    def eqs(u: np.ndarray) -> np.ndarray:
-        yy, ww = u[:2] * scale, u[2] * w
-        model = fam(ww)
-        yt, mono = flow_with_sensitivity(model, yy, 1.0 / model.mesh_frequency)
-        return np.append((yt - yy) / scale, fold_test(mono))
-
-    sol = root(eqs, np.append(y / scale, 1.0), method="hybr", options={"xtol": 1e-13})
+    """The fold from the minimally extended system ``P(y, w) - y = 0, det(M - I) = 0`` on the
+    exact flow (extended_system.py)."""
+    sol = solve_extended(fam, fold_test, flow_with_sensitivity, scale, w,
+                         np.append(y / scale, 1.0), 1e-13)
     # MINPACK may stop with "xtol too small" once the residual is at rounding: judge that
     assert np.max(np.abs(sol.fun)) < 1e-12, sol.message
     return sol.x[:2] * scale, float(sol.x[2] * w)
@@ -340,15 +336,8 @@ def test_fold_on_the_variational_route_agrees_with_the_extended_system() -> None
     assert br.route == "variational"
     (fold,) = br.of_kind("fold")
     scale = model.state_scale
-
-    def eqs(u: np.ndarray) -> np.ndarray:
-        yy, ww = u[:2] * scale, u[2] * fold.parameter
-        m = fam(ww)
-        yt, mono = integrate_with_sensitivity(m, yy, 1.0 / m.mesh_frequency, 1e-10,
-                                              "variational")
-        return np.append((yt - yy) / scale, fold_test(mono))
-
-    sol = root(eqs, np.append(fold.point.state / scale * (1 + 1e-3), 1.0 + 1e-3),
-               method="hybr", options={"xtol": 1e-12})
+    variational = partial(integrate_with_sensitivity, rtol=1e-10, route="variational")
+    sol = solve_extended(fam, fold_test, variational, scale, fold.parameter,
+                         np.append(fold.point.state / scale * (1 + 1e-3), 1.0 + 1e-3), 1e-12)
     assert np.max(np.abs(sol.fun)) < 1e-9, sol.message
     assert fold.parameter == pytest.approx(sol.x[2] * fold.parameter, rel=1e-7)

@@ -23,7 +23,7 @@ import math
 
 import numpy as np
 import pytest
-from scipy.optimize import root
+from extended_system import solve_extended
 
 from gear_dyn import SDOFModel, rectangular_stiffness
 from gear_dyn.analysis.continuation import (
@@ -53,14 +53,9 @@ def _family(load: float):
 
 def _extended(fam, test, y: np.ndarray, w: float, scale: np.ndarray) -> float:
     """The speed where ``test(M) = 0`` on a period-1 orbit, by MINPACK on the extended
-    system from ``(y, w)``."""
-    def eqs(u: np.ndarray) -> np.ndarray:
-        yy, ww = u[:2] * scale, u[2] * w
-        model = fam(ww)
-        yt, mono = flow_with_sensitivity(model, yy, 1.0 / model.mesh_frequency)
-        return np.append((yt - yy) / scale, test(mono))
-
-    sol = root(eqs, np.append(y / scale, 1.0), method="hybr", options={"xtol": 1e-14})
+    system (extended_system.py) from ``(y, w)``."""
+    sol = solve_extended(fam, test, flow_with_sensitivity, scale, w, np.append(y / scale, 1.0),
+                         1e-14)
     assert np.max(np.abs(sol.fun)) < 1e-13, sol.message
     return float(sol.x[2] * w)
 
