@@ -18,7 +18,7 @@ import pytest
 from extended_system import solve_extended
 from scipy.optimize import brentq
 
-from gear_dyn import InputError, SDOFModel, rectangular_stiffness
+from gear_dyn import FourierStiffness, InputError, SDOFModel, rectangular_stiffness
 from gear_dyn.analysis.continuation import (
     ContinuationSettings,
     continue_orbits,
@@ -27,6 +27,7 @@ from gear_dyn.analysis.continuation import (
     sdof_family,
 )
 from gear_dyn.analysis.stability import one_period_map, shoot
+from gear_dyn.excitation import HarmonicSignal
 from gear_dyn.solvers.contact_exact import DRIVE, flow, flow_with_sensitivity
 
 K = rectangular_stiffness(1.6, 8e5, 1.2e6)
@@ -37,6 +38,14 @@ WN = math.sqrt(K.mean / 1.0)  # rad/s
 
 def _model(load: float = 1040.0, xi: float = 0.05, backlash: float | None = B) -> SDOFModel:
     return SDOFModel(1.0, K, xi, load, 100.0, backlash=backlash)
+
+
+def _kahraman_singh(k0: float, e1: float) -> SDOFModel:
+    """Kahraman & Singh's (1990) oscillator: m = 1 kg, constant stiffness ``k0`` (N/m), damping
+    ratio 0.05, W = 1000 N, half gap B, transmission error ``e1 cos(2 pi p)`` (m)."""
+    return SDOFModel(1.0, FourierStiffness(k0, np.array([0.0]), np.array([0.0])), 0.05, 1000.0,
+                     100.0, backlash=B,
+                     transmission_error=HarmonicSignal(0.0, np.array([e1]), np.array([0.0])))
 
 
 def _speed(ratio: float) -> float:
@@ -254,13 +263,8 @@ def test_variational_route_constant_stiffness_with_transmission_error_is_the_clo
     so the orbits come from the variational equations with located contacts. In full contact
     ``m u'' + c u' + k u = c e' + k e`` with ``u = x - b - W/k``: the steady state is
     ``u = Re[H e1 exp(i W t)]``, ``H = (k + i c W) / (k - m W^2 + i c W)``."""
-    from gear_dyn import FourierStiffness
-    from gear_dyn.excitation import HarmonicSignal
-
     k0, e1 = 1e6, 2e-4
-    model = SDOFModel(1.0, FourierStiffness(k0, np.array([0.0]), np.array([0.0])), 0.05,
-                      1000.0, 100.0, backlash=B,
-                      transmission_error=HarmonicSignal(0.0, np.array([e1]), np.array([0.0])))
+    model = _kahraman_singh(k0, e1)
     fam = sdof_family(model, "speed", teeth=TEETH)
     wn = math.sqrt(k0)
     br = continue_orbits(fam, 0.5 * wn / TEETH, 0.7 * wn / TEETH,
@@ -321,14 +325,10 @@ def test_fold_on_the_variational_route_agrees_with_the_extended_system() -> None
     located contacts) against the minimally extended system solved by MINPACK on the same
     route. Both use the map at rtol 1e-10, whose step-size selection makes it smooth only to
     about that; 1e-7 relative in speed is the margin for it."""
-    from gear_dyn import FourierStiffness
     from gear_dyn.analysis.stability import integrate_with_sensitivity
-    from gear_dyn.excitation import HarmonicSignal
 
     k0, e1 = 1e6, 6e-4
-    model = SDOFModel(1.0, FourierStiffness(k0, np.array([0.0]), np.array([0.0])), 0.05,
-                      1000.0, 100.0, backlash=B,
-                      transmission_error=HarmonicSignal(0.0, np.array([e1]), np.array([0.0])))
+    model = _kahraman_singh(k0, e1)
     fam = sdof_family(model, "speed", teeth=TEETH)
     wn = math.sqrt(k0)
     br = continue_orbits(fam, 0.8 * wn / TEETH, 0.81 * wn / TEETH,
