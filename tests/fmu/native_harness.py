@@ -1,5 +1,5 @@
-"""What the native FMU tests (test_native_fmu.py, test_native_kernel.py, test_native_torsional.py)
-drive the native FMU with: its C kernel through ctypes, one FMU instance through fmpy, and the
+"""What the native FMU tests (test_native_fmu, _inputs, _kernel and _torsional.py) drive the
+native FMU with: its C kernel through ctypes, one FMU instance through fmpy, and the
 error the FMU states in its modelDescription. fmpy is imported where used: the callers skip
 without it."""
 
