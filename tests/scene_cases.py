@@ -1,5 +1,5 @@
-"""Scene-file helpers shared by the scene and CLI tests: the example scenes, a TOML writer,
-and every single-key mutation of a scene (see tests/scene/test_scene_mutation.py)."""
+"""Scene-file helpers shared by the scene, CLI and FMU tests: the example scenes (also edited),
+a TOML writer, and every single-key mutation of a scene (see tests/scene/test_scene_mutation.py)."""
 
 
 from __future__ import annotations
@@ -12,6 +12,8 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
+from gear_dyn.scene import load_scene, parse_scene
+
 ROOT = Path(__file__).resolve().parents[1]
 SCENES_DIR = ROOT / "examples" / "scenes"
 
@@ -22,6 +24,20 @@ DOCUMENTED_EXIT_CODES = (0, 2, 3)
 def example_scenes() -> list[Path]:
     """Every scene shipped in examples/scenes (picked up automatically)."""
     return sorted(SCENES_DIR.glob("*.toml"))
+
+
+def edited_scene(name: str, **changes: dict[str, Any] | None) -> Any:
+    """The example scene ``name`` parsed again from its SI tables, with the keys of each
+    ``changes`` table set in the scene's table of that name (None: the table dropped)."""
+    scene = load_scene(SCENES_DIR / f"{name}.toml")
+    tables = {k: {kk: vv for kk, vv in v.items() if vv is not None}
+              for k, v in scene.tables.items()}
+    for table, keys in changes.items():
+        if keys is None:
+            tables.pop(table)
+        else:
+            tables.setdefault(table, {}).update(keys)
+    return parse_scene(tables, si=True)
 
 
 def _toml_value(v: Any) -> str:

@@ -3,20 +3,23 @@ the closed-form linear response and its grazing speed, Liouville's formula, fold
 minimally extended system and from natural-parameter shooting, period doubling against the
 linear model's Floquet boundary and the period-2 orbit's own multipliers.
 
-The test model: m = 1 kg, a rectangular mesh stiffness (contact ratio 1.6, 0.8e6 / 1.2e6 N/m),
-half gap 1 mm, 1 mm static deflection, 20 pinion teeth; speeds as f_m / f_n.
+The test model: backlash_oscillator.py (m = 1 kg, rectangular mesh stiffness, half gap 1 mm, 1 mm
+static deflection, 20 pinion teeth); speeds as f_m / f_n.
 """
 
 from __future__ import annotations
 
 import json
 import math
+from functools import partial
 
 import numpy as np
 import pytest
-from scipy.optimize import brentq, root
+from backlash_oscillator import TEETH, WN, B, oscillator
+from extended_system import solve_extended
+from scipy.optimize import brentq
 
-from gear_dyn import InputError, SDOFModel, rectangular_stiffness
+from gear_dyn import FourierStiffness, InputError, SDOFModel
 from gear_dyn.analysis.continuation import (
     ContinuationSettings,
     continue_orbits,
@@ -25,16 +28,16 @@ from gear_dyn.analysis.continuation import (
     sdof_family,
 )
 from gear_dyn.analysis.stability import one_period_map, shoot
+from gear_dyn.excitation import HarmonicSignal
 from gear_dyn.solvers.contact_exact import DRIVE, flow, flow_with_sensitivity
 
-K = rectangular_stiffness(1.6, 8e5, 1.2e6)
-B = 1e-3  # half gap, m
-TEETH = 20
-WN = math.sqrt(K.mean / 1.0)  # rad/s
 
-
-def _model(load: float = 1040.0, xi: float = 0.05, backlash: float | None = B) -> SDOFModel:
-    return SDOFModel(1.0, K, xi, load, 100.0, backlash=backlash)
+def _kahraman_singh(k0: float, e1: float) -> SDOFModel:
+    """Kahraman & Singh's (1990) oscillator: m = 1 kg, constant stiffness ``k0`` (N/m), damping
+    ratio 0.05, W = 1000 N, half gap B, transmission error ``e1 cos(2 pi p)`` (m)."""
+    return SDOFModel(1.0, FourierStiffness(k0, np.array([0.0]), np.array([0.0])), 0.05, 1000.0,
+                     100.0, backlash=B,
+                     transmission_error=HarmonicSignal(0.0, np.array([e1]), np.array([0.0])))
 
 
 def _speed(ratio: float) -> float:
@@ -68,10 +71,10 @@ def test_branch_in_full_contact_is_the_linear_response_and_grazes_where_it_separ
     """Below the grazing speed the teeth never separate: the orbit is the linear model's,
     shifted by the half gap (f(x) = x - b in drive contact). The branch's first grazing point
     is where the linear orbit's smallest x reaches zero."""
-    fam = sdof_family(_model(), "speed", teeth=TEETH)
-    lin_fam = sdof_family(_model(backlash=None), "speed", teeth=TEETH)
+    fam = sdof_family(oscillator(), "speed", teeth=TEETH)
+    lin_fam = sdof_family(oscillator(backlash=None), "speed", teeth=TEETH)
     br = continue_orbits(fam, _speed(0.6), _speed(0.86))
-    scale = _model().state_scale
+    scale = oscillator().state_scale
     full = [p for p in br.points if p.pattern == "D"]
     assert len(full) >= 5
     for p in full:
@@ -95,7 +98,7 @@ def test_liouville_identity_on_every_point_and_a_point_that_fails_says_so() -> N
     """det M = exp(-c n T / m_e) (Liouville's formula: tr A = -c/m in every contact state):
     to rounding on the exact route, to the integration tolerance on the variational one; a
     check tighter than the integration's accuracy flags the points."""
-    fam = sdof_family(_model(), "speed", teeth=TEETH)
+    fam = sdof_family(oscillator(), "speed", teeth=TEETH)
     st = ContinuationSettings(max_points=12)
     exact = continue_orbits(fam, _speed(0.84), _speed(0.9), settings=st)
     assert exact.route == "exact"
@@ -120,23 +123,17 @@ def test_liouville_identity_on_every_point_and_a_point_that_fails_says_so() -> N
 
 
 def _extended_fold(fam, y: np.ndarray, w: float, scale: np.ndarray) -> tuple[np.ndarray, float]:
-    """The fold from the minimally extended system ``P(y, w) - y = 0, det(M - I) = 0`` solved
-    by MINPACK's hybrid method (finite-difference Jacobian) on the exact flow: no tangent, no
-    arclength, no bracketing."""
-    def eqs(u: np.ndarray) -> np.ndarray:
-        yy, ww = u[:2] * scale, u[2] * w
-        model = fam(ww)
-        yt, mono = flow_with_sensitivity(model, yy, 1.0 / model.mesh_frequency)
-        return np.append((yt - yy) / scale, fold_test(mono))
-
-    sol = root(eqs, np.append(y / scale, 1.0), method="hybr", options={"xtol": 1e-13})
+    """The fold from the minimally extended system ``P(y, w) - y = 0, det(M - I) = 0`` on the
+    exact flow (extended_system.py)."""
+    sol = solve_extended(fam, fold_test, flow_with_sensitivity, scale, w,
+                         np.append(y / scale, 1.0), 1e-13)
     # MINPACK may stop with "xtol too small" once the residual is at rounding: judge that
     assert np.max(np.abs(sol.fun)) < 1e-12, sol.message
     return sol.x[:2] * scale, float(sol.x[2] * w)
 
 
 def test_folds_agree_with_the_extended_system_and_natural_parameter_shooting() -> None:
-    fam = sdof_family(_model(), "speed", teeth=TEETH)
+    fam = sdof_family(oscillator(), "speed", teeth=TEETH)
     br = continue_orbits(fam, _speed(0.84), _speed(0.9))
     folds = br.of_kind("fold")
     assert len(folds) >= 1
@@ -144,7 +141,7 @@ def test_folds_agree_with_the_extended_system_and_natural_parameter_shooting() -
     assert f.before == "stable" and f.after == "unstable"
     mu = np.sort(np.abs(f.point.multipliers))
     assert mu[1] == pytest.approx(1.0, abs=1e-7)
-    scale = _model().state_scale
+    scale = oscillator().state_scale
     # start the second method 1e-3 away from the located fold
     y_x, w_x = _extended_fold(fam, f.point.state * (1 + 1e-3), f.parameter * (1 + 1e-3), scale)
     assert f.parameter == pytest.approx(w_x, rel=1e-8)
@@ -162,8 +159,8 @@ def test_period_doubling_at_the_floquet_boundary_and_period2_multipliers() -> No
     the linear model's multiplier passes -1 (the parametric instability boundary, found by
     brentq on det(Phi + I) of the matrix-exponential product). The period-2 branch switched
     to there has the multiplier +1 at the period-doubling point (M2 = M1^2)."""
-    fam = sdof_family(_model(load=300.0), "speed", teeth=TEETH)
-    lin_fam = sdof_family(_model(load=300.0, backlash=None), "speed", teeth=TEETH)
+    fam = sdof_family(oscillator(load=300.0), "speed", teeth=TEETH)
+    lin_fam = sdof_family(oscillator(load=300.0, backlash=None), "speed", teeth=TEETH)
     br = continue_orbits(fam, _speed(1.8), _speed(2.0), doublings=1,
                          settings=ContinuationSettings(max_points=60))
     pds = br.of_kind("period_doubling")
@@ -199,7 +196,7 @@ def test_torque_branch_points_are_orbits_found_by_plain_shooting() -> None:
     """A branch in torque (parameter by name): every point is the orbit that shooting at that
     torque alone finds from it."""
     rb1 = 0.05
-    base = _model()
+    base = oscillator()
     fam = sdof_family(base.at_mesh_frequency(0.85 * WN / (2 * math.pi)), "torque",
                       base_radius=rb1)
     br = continue_orbits(fam, 1040.0 * rb1, 900.0 * rb1, parameter="torque",
@@ -212,7 +209,7 @@ def test_torque_branch_points_are_orbits_found_by_plain_shooting() -> None:
 
 
 def test_branch_rows_json_and_repr() -> None:
-    fam = sdof_family(_model(), "speed", teeth=TEETH)
+    fam = sdof_family(oscillator(), "speed", teeth=TEETH)
     br = continue_orbits(fam, _speed(0.84), _speed(0.9),
                          settings=ContinuationSettings(max_points=8))
     rows = br.rows()
@@ -235,7 +232,7 @@ def test_branch_rows_json_and_repr() -> None:
     ({"doublings": 9}, "doublings = 9"),
 ])
 def test_bad_input_is_refused_naming_the_field(kwargs: dict, match: str) -> None:
-    fam = sdof_family(_model(), "speed", teeth=TEETH)
+    fam = sdof_family(oscillator(), "speed", teeth=TEETH)
     with pytest.raises(InputError, match=match):
         continue_orbits(fam, _speed(0.84), _speed(0.9), **kwargs)
 
@@ -244,11 +241,11 @@ def test_bad_settings_and_family_are_refused() -> None:
     with pytest.raises(InputError, match="step_min = 1 is out of range"):
         ContinuationSettings(step_min=1.0)
     with pytest.raises(InputError, match="parameter = 'load'"):
-        sdof_family(_model(), "load")
+        sdof_family(oscillator(), "load")
     with pytest.raises(InputError, match="needs teeth"):
-        sdof_family(_model(), "speed")
+        sdof_family(oscillator(), "speed")
     with pytest.raises(InputError, match="start = stop"):
-        continue_orbits(sdof_family(_model(), "speed", teeth=TEETH), 10.0, 10.0)
+        continue_orbits(sdof_family(oscillator(), "speed", teeth=TEETH), 10.0, 10.0)
 
 
 def test_variational_route_constant_stiffness_with_transmission_error_is_the_closed_form(
@@ -258,13 +255,8 @@ def test_variational_route_constant_stiffness_with_transmission_error_is_the_clo
     so the orbits come from the variational equations with located contacts. In full contact
     ``m u'' + c u' + k u = c e' + k e`` with ``u = x - b - W/k``: the steady state is
     ``u = Re[H e1 exp(i W t)]``, ``H = (k + i c W) / (k - m W^2 + i c W)``."""
-    from gear_dyn import FourierStiffness
-    from gear_dyn.excitation import HarmonicSignal
-
     k0, e1 = 1e6, 2e-4
-    model = SDOFModel(1.0, FourierStiffness(k0, np.array([0.0]), np.array([0.0])), 0.05,
-                      1000.0, 100.0, backlash=B,
-                      transmission_error=HarmonicSignal(0.0, np.array([e1]), np.array([0.0])))
+    model = _kahraman_singh(k0, e1)
     fam = sdof_family(model, "speed", teeth=TEETH)
     wn = math.sqrt(k0)
     br = continue_orbits(fam, 0.5 * wn / TEETH, 0.7 * wn / TEETH,
@@ -285,14 +277,14 @@ def test_variational_route_constant_stiffness_with_transmission_error_is_the_clo
 def test_a_period1_orbit_continued_as_period2_has_the_squared_multipliers() -> None:
     """Shooting over n = 2 mesh periods: a period-1 orbit is also a period-2 orbit, with the
     period-1 orbit's multipliers squared (M2 = M1^2) and the same state."""
-    fam = sdof_family(_model(), "speed", teeth=TEETH)
+    fam = sdof_family(oscillator(), "speed", teeth=TEETH)
     st = ContinuationSettings(max_points=4)
     one = continue_orbits(fam, _speed(0.6), _speed(0.7), settings=st)
     two = continue_orbits(fam, _speed(0.6), _speed(0.7), periods=2, settings=st)
     assert two.periods == 2 and two.points[0].periods == 2
     p1, p2 = one.points[0], two.points[0]
     assert p2.parameter == p1.parameter
-    assert np.all(np.abs(p2.state - p1.state) <= 1e-8 * _model().state_scale)
+    assert np.all(np.abs(p2.state - p1.state) <= 1e-8 * oscillator().state_scale)
     mu1 = np.sort_complex(p1.multipliers**2)
     mu2 = np.sort_complex(p2.multipliers)
     assert np.all(np.abs(mu2 - mu1) < 1e-9)
@@ -325,14 +317,10 @@ def test_fold_on_the_variational_route_agrees_with_the_extended_system() -> None
     located contacts) against the minimally extended system solved by MINPACK on the same
     route. Both use the map at rtol 1e-10, whose step-size selection makes it smooth only to
     about that; 1e-7 relative in speed is the margin for it."""
-    from gear_dyn import FourierStiffness
     from gear_dyn.analysis.stability import integrate_with_sensitivity
-    from gear_dyn.excitation import HarmonicSignal
 
     k0, e1 = 1e6, 6e-4
-    model = SDOFModel(1.0, FourierStiffness(k0, np.array([0.0]), np.array([0.0])), 0.05,
-                      1000.0, 100.0, backlash=B,
-                      transmission_error=HarmonicSignal(0.0, np.array([e1]), np.array([0.0])))
+    model = _kahraman_singh(k0, e1)
     fam = sdof_family(model, "speed", teeth=TEETH)
     wn = math.sqrt(k0)
     br = continue_orbits(fam, 0.8 * wn / TEETH, 0.81 * wn / TEETH,
@@ -340,15 +328,8 @@ def test_fold_on_the_variational_route_agrees_with_the_extended_system() -> None
     assert br.route == "variational"
     (fold,) = br.of_kind("fold")
     scale = model.state_scale
-
-    def eqs(u: np.ndarray) -> np.ndarray:
-        yy, ww = u[:2] * scale, u[2] * fold.parameter
-        m = fam(ww)
-        yt, mono = integrate_with_sensitivity(m, yy, 1.0 / m.mesh_frequency, 1e-10,
-                                              "variational")
-        return np.append((yt - yy) / scale, fold_test(mono))
-
-    sol = root(eqs, np.append(fold.point.state / scale * (1 + 1e-3), 1.0 + 1e-3),
-               method="hybr", options={"xtol": 1e-12})
+    variational = partial(integrate_with_sensitivity, rtol=1e-10, route="variational")
+    sol = solve_extended(fam, fold_test, variational, scale, fold.parameter,
+                         np.append(fold.point.state / scale * (1 + 1e-3), 1.0 + 1e-3), 1e-12)
     assert np.max(np.abs(sol.fun)) < 1e-9, sol.message
     assert fold.parameter == pytest.approx(sol.x[2] * fold.parameter, rel=1e-7)

@@ -16,10 +16,11 @@ transmission error's particular solution, gear_dyn.solvers.contact_exact).
 from __future__ import annotations
 
 import math
+from functools import partial
 
 import numpy as np
 import pytest
-from scipy.optimize import root
+from extended_system import solve_extended
 
 from gear_dyn.analysis.continuation import ContinuationSettings, continue_orbits, fold_test
 from gear_dyn.analysis.stability import integrate_with_sensitivity, shoot
@@ -44,17 +45,10 @@ def test_fold_agrees_with_the_extended_system_on_the_variational_route(family) -
     assert 7000 * RPM < fold.parameter < 7100 * RPM
     assert fold.parameter_error <= 1e-9 * fold.parameter
     scale = family(fold.parameter).state_scale
-
-    def eqs(u: np.ndarray) -> np.ndarray:
-        yy, ww = u[:2] * scale, u[2] * fold.parameter
-        m = family(ww)
-        yt, mono = integrate_with_sensitivity(m, yy, 1.0 / m.mesh_frequency, 1e-12,
-                                              "variational")
-        return np.append((yt - yy) / scale, fold_test(mono))
-
+    variational = partial(integrate_with_sensitivity, rtol=1e-12, route="variational")
     # start the second method 1e-4 away from the located fold, in state and speed
-    sol = root(eqs, np.append(fold.point.state / scale * (1 + 1e-4), 1.0 + 1e-4),
-               method="hybr", options={"xtol": 1e-13})
+    sol = solve_extended(family, fold_test, variational, scale, fold.parameter,
+                         np.append(fold.point.state / scale * (1 + 1e-4), 1.0 + 1e-4), 1e-13)
     assert np.max(np.abs(sol.fun)) < 1e-9, sol.message
     assert sol.x[2] == pytest.approx(1.0, abs=1e-8)
 

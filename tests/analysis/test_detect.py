@@ -12,7 +12,7 @@ promise and that the point lies within its stated error of the reference:
 - on the packaged backlash scene, folds and grazing points: the same continuation with the
   location and the corrector 1000 times tighter.
 
-The test model is that of test_continuation.py (m = 1 kg, rectangular mesh stiffness, half gap
+The test model is backlash_oscillator.py (m = 1 kg, rectangular mesh stiffness, half gap
 1 mm, 20 teeth): in separation near f_m / f_n = 0.87 (the resonance's upper fold), and at light
 load near f_m / f_n = 1.9 (a period doubling in full contact).
 """
@@ -23,9 +23,9 @@ import math
 
 import numpy as np
 import pytest
-from scipy.optimize import root
+from backlash_oscillator import TEETH, WN, oscillator
+from extended_system import solve_extended
 
-from gear_dyn import SDOFModel, rectangular_stiffness
 from gear_dyn.analysis.continuation import (
     ContinuationSettings,
     continue_orbits,
@@ -35,10 +35,6 @@ from gear_dyn.analysis.continuation import (
 )
 from gear_dyn.solvers.contact_exact import flow_with_sensitivity
 
-K = rectangular_stiffness(1.6, 8e5, 1.2e6)
-B = 1e-3
-TEETH = 20
-WN = math.sqrt(K.mean / 1.0)
 #: the issue's promise: folds and period doublings to 1e-8 in speed, relative
 PROMISE = 1e-8
 #: the reference's own error, relative: its residual (1e-13, scaled) over the extended
@@ -47,20 +43,15 @@ REF_ERROR = 1e-11
 
 
 def _family(load: float):
-    model = SDOFModel(1.0, K, 0.05, load, 100.0, backlash=B)
+    model = oscillator(load)
     return sdof_family(model, "speed", teeth=TEETH), model.state_scale
 
 
 def _extended(fam, test, y: np.ndarray, w: float, scale: np.ndarray) -> float:
     """The speed where ``test(M) = 0`` on a period-1 orbit, by MINPACK on the extended
-    system from ``(y, w)``."""
-    def eqs(u: np.ndarray) -> np.ndarray:
-        yy, ww = u[:2] * scale, u[2] * w
-        model = fam(ww)
-        yt, mono = flow_with_sensitivity(model, yy, 1.0 / model.mesh_frequency)
-        return np.append((yt - yy) / scale, test(mono))
-
-    sol = root(eqs, np.append(y / scale, 1.0), method="hybr", options={"xtol": 1e-14})
+    system (extended_system.py) from ``(y, w)``."""
+    sol = solve_extended(fam, test, flow_with_sensitivity, scale, w, np.append(y / scale, 1.0),
+                         1e-14)
     assert np.max(np.abs(sol.fun)) < 1e-13, sol.message
     return float(sol.x[2] * w)
 

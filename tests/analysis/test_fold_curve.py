@@ -3,10 +3,10 @@ independent checks: the one-parameter speed branch of the model itself, the coex
 stable orbits found by integration and shooting from two starts, and folds located on torque
 branches at a fixed speed (a second continuation direction through the same fold curve).
 
-The test model is that of test_continuation: m = 1 kg, a rectangular mesh stiffness (contact
+The test model is backlash_oscillator.py's: m = 1 kg, a rectangular mesh stiffness (contact
 ratio 1.6, 0.8e6 / 1.2e6 N/m; piecewise constant, so every map is the backlash oscillator's
 piecewise closed form, route ``exact``), half gap 1 mm, 20 pinion teeth, base radius 0.05 m:
-52 N m is the 1040 N load of test_continuation. Speeds as f_m / f_n.
+52 N m is its 1040 N load. Speeds as f_m / f_n.
 """
 
 from __future__ import annotations
@@ -17,8 +17,9 @@ import math
 import matplotlib
 import numpy as np
 import pytest
+from backlash_oscillator import TEETH, WN, oscillator
 
-from gear_dyn import InputError, SDOFModel, rectangular_stiffness
+from gear_dyn import InputError, SDOFModel
 from gear_dyn.analysis.continuation import (
     Branch,
     ContinuationSettings,
@@ -32,23 +33,15 @@ from gear_dyn.analysis.continuation.fold_curve import _match, fold_pairs
 from gear_dyn.analysis.continuation.orbit import map_only
 from gear_dyn.analysis.stability import shoot
 
-K = rectangular_stiffness(1.6, 8e5, 1.2e6)
-B = 1e-3
-TEETH = 20
 RB = 0.05
-WN = math.sqrt(K.mean / 1.0)
 T0 = 1040.0 * RB  # N m
 WINDOW = (0.7 * WN / TEETH, 1.0 * WN / TEETH)
 #: fewer, longer steps than the default: the folds are still located to locate_tol
 SETTINGS = ContinuationSettings(step_max=0.2)
 
 
-def _model() -> SDOFModel:
-    return SDOFModel(1.0, K, 0.05, 1040.0, 100.0, backlash=B)
-
-
 def _family() -> SpeedTorqueFamily:
-    return SpeedTorqueFamily(sdof_family(_model(), "speed", teeth=TEETH), T0)
+    return SpeedTorqueFamily(sdof_family(oscillator(), "speed", teeth=TEETH), T0)
 
 
 def _ratio(speed: float) -> float:
@@ -66,7 +59,7 @@ def fmap() -> FoldMap:
 @pytest.fixture(scope="module")
 def branch() -> Branch:
     """The model's own speed branch at 52 N m (sdof_family of the unscaled model)."""
-    return continue_orbits(sdof_family(_model(), "speed", teeth=TEETH), *WINDOW,
+    return continue_orbits(sdof_family(oscillator(), "speed", teeth=TEETH), *WINDOW,
                            settings=SETTINGS, doublings=0)
 
 
@@ -148,7 +141,7 @@ def test_folds_of_torque_branches_at_fixed_speed_lie_on_the_fold_curves() -> Non
     speed. Both folds are located to 1e-10 relative in their own parameter (locate_tol) and
     the fold curve's relative slope (T / s) ds/dT is O(1) here, so they agree to 1e-9 with
     room (measured: 6e-13)."""
-    model = _model()
+    model = oscillator()
     speed = 0.9 * WN / TEETH
     fam_t = sdof_family(model.at_mesh_frequency(TEETH * speed / (2 * math.pi)), "torque",
                         base_radius=RB)
@@ -197,6 +190,6 @@ def test_bad_input_is_refused_naming_the_field() -> None:
     with pytest.raises(InputError, match="the window is empty"):
         fold_map(_family(), (WINDOW[0], WINDOW[0]), [T0, 2 * T0])
     with pytest.raises(InputError, match="torque_ref"):
-        SpeedTorqueFamily(sdof_family(_model(), "speed", teeth=TEETH), 0.0)
+        SpeedTorqueFamily(sdof_family(oscillator(), "speed", teeth=TEETH), 0.0)
     assert _family()(WINDOW[0], 2 * T0).static_load == pytest.approx(2080.0, rel=1e-15)
     assert _ratio(WINDOW[1]) == pytest.approx(1.0)

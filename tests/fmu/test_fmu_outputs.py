@@ -2,37 +2,25 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
+from scene_cases import edited_scene
 
 from gear_dyn.fmu.inputs import driven_speed
 from gear_dyn.fmu.outputs import output_writer
-from gear_dyn.scene import build_pair, build_plan, load_scene, parse_scene
+from gear_dyn.scene import build_pair, build_plan
 
 pytestmark = pytest.mark.fmu
 
-SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
-
-
-def _scene(name: str, **changes: dict[str, object]):  # type: ignore[no-untyped-def]
-    scene = load_scene(SCENES / f"{name}.toml")
-    tables = {k: {kk: vv for kk, vv in v.items() if vv is not None}
-              for k, v in scene.tables.items()}
-    tables.update(changes)
-    return parse_scene(tables, si=True)
-
-
 CASES = {
-    "plain": lambda: _scene("helicopter_tail"),
-    "transmission error": lambda: _scene("helicopter_tail",
-                                         transmission_error={"cos": [20e-6], "sin": [5e-6]}),
-    "backlash": lambda: _scene("helicopter_tail_backlash"),
-    "backlash + transmission error": lambda: _scene("helicopter_tail_backlash",
-                                                    transmission_error={"cos": [20e-6]}),
-    "torsional": lambda: _scene("eccentric_helical"),
-    "relief": lambda: _scene("helicopter_tail_relief"),
+    "plain": lambda: edited_scene("helicopter_tail"),
+    "transmission error": lambda: edited_scene("helicopter_tail",
+                                               transmission_error={"cos": [20e-6], "sin": [5e-6]}),
+    "backlash": lambda: edited_scene("helicopter_tail_backlash"),
+    "backlash + transmission error": lambda: edited_scene("helicopter_tail_backlash",
+                                                          transmission_error={"cos": [20e-6]}),
+    "torsional": lambda: edited_scene("eccentric_helical"),
+    "relief": lambda: edited_scene("helicopter_tail_relief"),
 }
 
 
@@ -80,7 +68,7 @@ def test_single_dof_writer_is_the_float_path() -> None:
     """The single-DOF model gets the float path (the one the speed target relies on), other
     models the generic one."""
     for name, fast in (("helicopter_tail", True), ("eccentric_helical", False)):
-        scene = _scene(name)
+        scene = edited_scene(name)
         model = build_plan(scene).model
         write = output_writer(model, build_pair(scene), 100.0, ["dte"])
         assert ("_sdof_writer" in write.__qualname__) is fast

@@ -8,10 +8,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from scene_cases import edited_scene
 
 from gear_dyn.fmu.inputs import input_changes
 from gear_dyn.fmu.stepper import Stepper
-from gear_dyn.scene import build_pair, build_plan, load_scene, parse_scene
+from gear_dyn.scene import build_pair, build_plan, load_scene
 from gear_dyn.solvers import integrate, time_grid
 
 pytestmark = pytest.mark.fmu
@@ -97,12 +98,8 @@ def test_contact_changes_restart_the_solver_as_integrate_does() -> None:
     re-engage. The stepper locates each contact change in the kept solver's dense output and
     restarts there, as integrate's event handling does, so both count the same changes and
     agree to rounding; a snapshot taken between changes restores exactly."""
-    scene = load_scene(SCENES / "helicopter_tail_backlash.toml")
-    tables = {k: {kk: vv for kk, vv in v.items() if vv is not None}
-              for k, v in scene.tables.items()}
-    tables["transmission_error"] = {"cos": [20e-6]}
-    tables["operating"]["torque"] = 50.0
-    plan = build_plan(parse_scene(tables, si=True))
+    plan = build_plan(edited_scene("helicopter_tail_backlash", transmission_error={"cos": [20e-6]},
+                                   operating={"torque": 50.0}))
     model = plan.model
     settings = replace(plan.settings, method="DOP853")
     grid = time_grid(model.mesh_frequency, 3 / model.mesh_frequency, 256)
@@ -169,12 +166,8 @@ def test_exact_stepping_without_eigendecomposition() -> None:
     has rigid-body modes: its piece matrices have no usable eigendecomposition, so every
     piece takes the exact propagator's expm path (no cache). Against the one-shot exact
     propagator over 10 mesh periods: rounding (1e-11 relative, as above)."""
-    scene = load_scene(SCENES / "eccentric_helical_ideal.toml")
-    tables = {k: {kk: vv for kk, vv in v.items() if vv is not None}
-              for k, v in scene.tables.items()}
-    tables.pop("friction")
-    tables["stiffness"] = {"method": "iso6336"}
-    plan = build_plan(parse_scene(tables, si=True))
+    plan = build_plan(edited_scene("eccentric_helical_ideal", friction=None,
+                                   stiffness={"method": "iso6336"}))
     model = plan.model
     settings = replace(plan.settings, method="exact")
     grid = time_grid(model.mesh_frequency, 10 / model.mesh_frequency, 16)

@@ -13,7 +13,6 @@ reference instants.
 
 from __future__ import annotations
 
-import functools
 import math
 import re
 import shutil
@@ -22,6 +21,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from native_harness import Slave, stated_error
 
 from gear_dyn.fmu.export_c import OUTPUTS
 from gear_dyn.scene import build_plan, load_scene
@@ -65,88 +65,6 @@ def references() -> dict[str, Any]:
     return out
 
 
-def stated_error(path: Path) -> float:
-    """The stated DTE error (relative to W/k_m) from the FMU's description."""
-    desc = fmpy.read_model_description(str(path)).description or ""
-    found = re.search(r"Stated error of the DTE: ([0-9.e+-]+) of the static deflection", desc)
-    assert found, desc
-    return float(found[1])
-
-
-@functools.cache
-def _unzipped(path: Path) -> str:
-    return str(fmpy.extract(str(path)))
-
-
-class Run:
-    """One instance of a native FMU driven through fmpy's FMU2Slave / FMU3Slave, with the log
-    messages it sends collected in :attr:`log`."""
-
-    def __init__(self, path: Path, fmi: int) -> None:
-        from fmpy import read_model_description
-
-        self.fmi = fmi
-        self.md = read_model_description(str(path))
-        self.vr = {v.name: v.valueReference for v in self.md.modelVariables}
-        self.log: list[tuple[int, str]] = []
-        kw = dict(guid=self.md.guid, unzipDirectory=_unzipped(path),
-                  modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName="a")
-        if fmi == 2:
-            from fmpy.fmi2 import (
-                FMU2Slave,
-                fmi2CallbackAllocateMemoryTYPE,
-                fmi2CallbackFreeMemoryTYPE,
-                fmi2CallbackFunctions,
-                fmi2CallbackLoggerTYPE,
-            )
-            from fmpy.fmi2 import calloc as c_calloc
-            from fmpy.fmi2 import free as c_free
-
-            cb = fmi2CallbackFunctions()
-            cb.logger = fmi2CallbackLoggerTYPE(
-                lambda env, name, status, cat, msg: self.log.append((status, msg.decode())))
-            cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(c_calloc)
-            cb.freeMemory = fmi2CallbackFreeMemoryTYPE(c_free)
-            self.fmu: Any = FMU2Slave(**kw)
-            self.fmu.instantiate(callbacks=cb, loggingOn=True)
-        else:
-            from fmpy.fmi3 import FMU3Slave
-
-            self.fmu = FMU3Slave(**kw)
-            self.fmu.instantiate(loggingOn=True, logMessage=lambda env, status, cat, msg:
-                                 self.log.append((status, msg.decode())))
-
-    def set(self, name: str, value: float) -> None:
-        if self.fmi == 2:
-            self.fmu.setReal([self.vr[name]], [value])
-        else:
-            self.fmu.setFloat64([self.vr[name]], [value])
-
-    def get(self, name: str) -> float:
-        vr = [self.vr[name]]
-        return (self.fmu.getReal(vr) if self.fmi == 2 else self.fmu.getFloat64(vr))[0]
-
-    def start(self, stop: float | None) -> None:
-        if self.fmi == 2:
-            self.fmu.setupExperiment(startTime=0.0, stopTime=stop)
-            self.fmu.enterInitializationMode()
-        else:
-            self.fmu.enterInitializationMode(startTime=0.0, stopTime=stop)
-        self.fmu.exitInitializationMode()
-
-    def steps(self, h: float, n: int) -> np.ndarray:
-        """DTE at 0, h, ..., n h (time k h computed as such: no accumulated rounding)."""
-        out = [self.get("dte")]
-        for k in range(n):
-            self.fmu.doStep(k * h, (k + 1) * h - k * h)
-            out.append(self.get("dte"))
-        return np.array(out)
-
-    def close(self) -> None:
-        self.fmu.terminate()
-        self.fmu.freeInstance()
-
-
 @pytest.mark.parametrize("announce_stop", [True, False], ids=["stop_time", "no_stop_time"])
 @pytest.mark.parametrize("step", sorted(STEPS))
 @pytest.mark.parametrize("fmi", [2, 3])
@@ -158,9 +76,9 @@ def test_native_fmu_matches_solver(native_fmus, references, scene: str, fmi: int
     idx = np.arange(0, ref.t.size, every)
     h = every / (SAMPLES * model.mesh_frequency)
     n = idx.size - 1
-    run = Run(native_fmus[scene, fmi], fmi)
+    run = Slave(native_fmus[scene, fmi], fmi)
     run.start(n * h if announce_stop else None)
-    x = run.steps(h, n)
+    x = np.array([run.get("dte"), *run.steps(h, n)])
     run.close()
     bound = stated_error(native_fmus[scene, fmi])
     scale = model.static_load / model.mean_stiffness
@@ -175,7 +93,7 @@ def test_out_of_range_parameter_message_then_reset(native_fmus, fmi: int) -> Non
     """An out-of-range value: fmi2Error/fmi3Error (fmpy raises), exactly one error message
     naming the parameter, the value and the range with its unit; after reset the instance
     runs."""
-    run = Run(native_fmus["helicopter_tail_backlash", fmi], fmi)
+    run = Slave(native_fmus["helicopter_tail_backlash", fmi], fmi)
     with pytest.raises(Exception, match=f"fmi{fmi}SetReal failed|fmi3SetFloat64 failed"):
         run.set("backlash.half_gap", 0.5)
     assert run.log == [(3, "backlash.half_gap = 0.5 m is out of range: valid range (0, 0.1] m")]
@@ -185,7 +103,7 @@ def test_out_of_range_parameter_message_then_reset(native_fmus, fmi: int) -> Non
     run.fmu.reset()
     run.set("damping.ratio", 0.1)
     run.start(None)
-    x = run.steps(1e-5, 20)
+    x = [run.get("dte"), *run.steps(1e-5, 20)]
     assert np.all(np.isfinite(x)) and len(run.log) == 2
     run.close()
 
@@ -194,7 +112,7 @@ def test_out_of_range_parameter_message_then_reset(native_fmus, fmi: int) -> Non
 def test_state_copy_replays_exactly(native_fmus, fmi: int) -> None:
     """Get the FMU state, step, set it back, step again: the same DTE bit for bit; serialize
     and deserialize give the same state."""
-    run = Run(native_fmus["helicopter_tail_relief", fmi], fmi)
+    run = Slave(native_fmus["helicopter_tail_relief", fmi], fmi)
     run.start(None)
     h = 1e-5
     run.steps(h, 10)

@@ -21,10 +21,10 @@ from __future__ import annotations
 import dataclasses
 import shutil
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 import pytest
+from native_harness import Slave
 
 from gear_dyn.fmu.inputs import input_changes
 from gear_dyn.scene import build_pair, build_plan, load_scene
@@ -34,7 +34,7 @@ from gear_dyn.solvers.settings import SolverSettings
 
 pytestmark = [pytest.mark.fmu, pytest.mark.slow,  # builds five native FMUs (about 30 s)
               pytest.mark.skipif(shutil.which("cc") is None, reason="no C compiler (cc) on PATH")]
-fmpy = pytest.importorskip("fmpy")
+pytest.importorskip("fmpy")
 
 #: scene: (reference method, stated error); steps per mesh period 7.3 (not dividing it)
 CASES = {"helicopter_tail": ("exact", 1e-9), "eccentric_helical": ("DOP853", 1e-6),
@@ -46,36 +46,14 @@ SPEED, TORQUE = 1.3, 0.7  # factors of the build values
 
 def run_fmu(path: Path, fmi: int, h: float, speed: float, torque: float) -> np.ndarray:
     """DTE at 0, h, ..., (N1 + N2) h; the inputs change at N1 h."""
-    md = fmpy.read_model_description(str(path))
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    kw = dict(guid=md.guid, unzipDirectory=fmpy.extract(str(path)),
-              modelIdentifier=md.coSimulation.modelIdentifier, instanceName="a")
-    fmu: Any
-    if fmi == 2:
-        from fmpy.fmi2 import FMU2Slave
-
-        fmu = FMU2Slave(**kw)
-        fmu.instantiate()
-        fmu.setupExperiment(startTime=0.0)
-        fmu.enterInitializationMode()
-        get, put = fmu.getReal, fmu.setReal
-    else:
-        from fmpy.fmi3 import FMU3Slave
-
-        fmu = FMU3Slave(**kw)
-        fmu.instantiate()
-        fmu.enterInitializationMode(startTime=0.0)
-        get, put = fmu.getFloat64, fmu.setFloat64
-    fmu.exitInitializationMode()
-    out = [get([vr["dte"]])[0]]
-    for k in range(N1 + N2):
-        if k == N1:
-            put([vr["operating.speed"], vr["operating.torque"]], [speed, torque])
-        fmu.doStep(k * h, (k + 1) * h - k * h)
-        out.append(get([vr["dte"]])[0])
-    fmu.terminate()
-    fmu.freeInstance()
-    return np.array(out)
+    run = Slave(path, fmi)
+    run.start(None)
+    dte = [run.get("dte"), *run.steps(h, N1)]
+    run.set("operating.speed", speed)
+    run.set("operating.torque", torque)
+    dte += run.steps(h, N2, k0=N1)
+    run.close()
+    return np.array(dte)
 
 
 def reference(name: str, h: float) -> tuple[np.ndarray, float]:

@@ -17,9 +17,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 from native_drivers import driver as native_driver
+from native_harness import kernel
 
 from gear_dyn.fmu.export import native_model
-from gear_dyn.fmu.export_c import KERNEL_SOURCES, NATIVE_DIR, compile_shared, model_data_c
+from gear_dyn.fmu.export_c import KERNEL_SOURCES, NATIVE_DIR, model_data_c
 from gear_dyn.models.sdof import sdof_from_pair
 from gear_dyn.scene import build_pair, build_plan, load_scene
 from gear_dyn.scene.packaged import resolve_scene
@@ -52,16 +53,6 @@ def fourier_case():
     op = scene.get("operating")
     model = sdof_from_pair(pair, op["speed"], op["torque"], k)
     return model, native_model(model, pair, op["speed"], op["torque"], tolerance=1e-11)
-
-
-def kernel(tmp_path: Path, nm) -> ctypes.CDLL:
-    (tmp_path / "model_data.c").write_text(model_data_c(nm, "test"))
-    so = compile_shared([*(NATIVE_DIR / k for k in KERNEL_SOURCES), tmp_path / "model_data.c"],
-                        tmp_path / "kernel.so")
-    lib = ctypes.CDLL(str(so))
-    lib.gd_advance.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_double]
-    lib.gd_start.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_double]
-    return lib
 
 
 def run_kernel(lib: ctypes.CDLL, times: np.ndarray) -> np.ndarray:

@@ -14,7 +14,6 @@ from __future__ import annotations
 import ctypes
 import functools
 import math
-import re
 import shutil
 import subprocess
 from pathlib import Path
@@ -23,12 +22,12 @@ from typing import Any
 import numpy as np
 import pytest
 from native_drivers import driver
+from native_harness import Slave, kernel, stated_error
 
 from gear_dyn.fmu.export_c import (
     KERNEL_SOURCES,
     NATIVE_DIR,
     TORSIONAL_OUTPUTS,
-    compile_shared,
     model_data_c,
 )
 from gear_dyn.fmu.export_torsional import TorsionalNative, torsional_native
@@ -61,17 +60,6 @@ def reference(name: str) -> Any:
     return simulate_bare(model, PERIODS / model.mesh_frequency,
                          SolverSettings(method="DOP853", rtol=1e-12, samples_per_period=SAMPLES,
                                         estimate_error=False))
-
-
-def kernel(tmp: Path, nm: TorsionalNative) -> ctypes.CDLL:
-    (tmp / "model_data.c").write_text(model_data_c(nm, "test"))
-    so = compile_shared([*(NATIVE_DIR / k for k in KERNEL_SOURCES), tmp / "model_data.c"],
-                        tmp / "kernel.so")
-    lib = ctypes.CDLL(str(so))
-    lib.gd_advance.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_double]
-    lib.gd_start.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_double]
-    lib.gd_outputs.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]
-    return lib
 
 
 @pytest.mark.parametrize("name", SCENES)
@@ -147,64 +135,6 @@ def torsional_fmus(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[str, 
             for name in SCENES for fmi in (2, 3)}
 
 
-def stated_error(path: Path) -> float:
-    desc = fmpy.read_model_description(str(path)).description or ""
-    found = re.search(r"Stated error of the DTE: ([0-9.e+-]+) of the static deflection", desc)
-    assert found, desc
-    return float(found[1])
-
-
-class Slave:
-    """One instance of a native FMU through fmpy's FMU2Slave / FMU3Slave."""
-
-    def __init__(self, path: Path, fmi: int) -> None:
-        self.fmi = fmi
-        md = fmpy.read_model_description(str(path))
-        self.vr = {v.name: v.valueReference for v in md.modelVariables}
-        self.log: list[str] = []
-        kw = dict(guid=md.guid, unzipDirectory=fmpy.extract(str(path)),
-                  modelIdentifier=md.coSimulation.modelIdentifier, instanceName="a")
-        if fmi == 2:
-            from fmpy.fmi2 import FMU2Slave
-
-            self.fmu: Any = FMU2Slave(**kw)
-            self.fmu.instantiate(loggingOn=True)
-        else:
-            from fmpy.fmi3 import FMU3Slave
-
-            self.fmu = FMU3Slave(**kw)
-            self.fmu.instantiate(loggingOn=True, logMessage=lambda env, status, cat, msg:
-                                 self.log.append(msg.decode()))
-
-    def set(self, name: str, value: float) -> None:
-        setter = self.fmu.setReal if self.fmi == 2 else self.fmu.setFloat64
-        setter([self.vr[name]], [value])
-
-    def get(self, name: str) -> float:
-        getter = self.fmu.getReal if self.fmi == 2 else self.fmu.getFloat64
-        return float(getter([self.vr[name]])[0])
-
-    def start(self, stop: float | None) -> None:
-        if self.fmi == 2:
-            self.fmu.setupExperiment(startTime=0.0, stopTime=stop)
-            self.fmu.enterInitializationMode()
-        else:
-            self.fmu.enterInitializationMode(startTime=0.0, stopTime=stop)
-        self.fmu.exitInitializationMode()
-
-    def steps(self, h: float, n: int, k0: int = 0, name: str = "dte") -> list[float]:
-        """``name`` after each of n steps from k0 h (times k h computed as such)."""
-        out = []
-        for k in range(k0, k0 + n):
-            self.fmu.doStep(k * h, (k + 1) * h - k * h)
-            out.append(self.get(name))
-        return out
-
-    def close(self) -> None:
-        self.fmu.terminate()
-        self.fmu.freeInstance()
-
-
 @pytest.mark.slow  # the torsional_fmus fixture builds four FMUs (about 25 s, once)
 @pytest.mark.parametrize("announce_stop", [True, False], ids=["stop_time", "no_stop_time"])
 @pytest.mark.parametrize("step", sorted(STEPS))
@@ -240,7 +170,8 @@ def test_out_of_range_parameter_then_reset(torsional_fmus, fmi: int) -> None:
     with pytest.raises(Exception, match="failed"):
         run.set("damping.ratio", 12.0)
     if fmi == 3:
-        assert run.log == ["damping.ratio = 12 is out of range: valid range [0, 10]"]
+        assert [msg for _, msg in run.log] == [
+            "damping.ratio = 12 is out of range: valid range [0, 10]"]
     run.fmu.reset()
     run.set("damping.ratio", 0.1)
     run.start(None)

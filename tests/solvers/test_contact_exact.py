@@ -1,7 +1,7 @@
 """The closed-form backlash propagator (method exact_contact) against an event-locating DOP853.
 
-The reference is written here, independently of gear_dyn's solvers: ``solve_ivp(DOP853)`` on
-the model's right-hand side, restarted at every stiffness switch and at every contact change it
+The reference (dop853_reference.py) is independent of gear_dyn's solvers: ``solve_ivp(DOP853)``
+on the model's right-hand side, restarted at every stiffness switch and at every contact change it
 locates with its own event finder (``x = +-b``), at rtol 1e-12 and 1e-13. Its own error is the
 difference of the two; the tolerance of each comparison is the propagator's stated error plus
 that measured reference error (times two for safety), never a hand-picked number.
@@ -10,11 +10,10 @@ that measured reference error (times two for safety), never a hand-picked number
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
+from dop853_reference import dop853_events
 from scipy.linalg import expm
 
 from gear_dyn.analysis.accuracy import error_scale, estimate_error, relative_errors
@@ -37,46 +36,6 @@ def backlash_model(f_ratio: float, load: float, xi: float = 0.06) -> SDOFModel:
     fn = math.sqrt(k.mean / M_E) / (2 * math.pi)
     return SDOFModel(mass=M_E, stiffness=k, damping_ratio=xi, static_load=load,
                      mesh_frequency=f_ratio * fn, backlash=10e-6)
-
-
-def dop853_events(model: SDOFModel, t: np.ndarray, rtol: float, y0: np.ndarray
-                  ) -> tuple[np.ndarray, np.ndarray]:
-    """States on ``t`` and located contact changes: DOP853 restarted at switches and events."""
-    b = float(model.backlash or 0.0)
-    atol = rtol * model.state_scale
-    cuts = np.concatenate([[t[0]], model.switching_times(t[0], t[-1]), [t[-1]]])
-    y = np.array(y0, dtype=float)
-    out = np.empty((2, t.size))
-    out[:, 0] = y
-    events: list[float] = []
-    skip: dict[int, float] = {}  # event just located: only the opposite crossing next
-    for ta, tb in zip(cuts[:-1], cuts[1:], strict=True):
-        t_now = float(ta)
-        while t_now < tb:
-            fns: list[Any] = []
-            for i, lev in enumerate((b, -b)):
-                def ev(_t: float, yy: np.ndarray, lev: float = lev) -> float:
-                    return float(yy[0] - lev)
-                ev.terminal = True  # type: ignore[attr-defined]
-                ev.direction = -skip[i] if i in skip else 0.0  # type: ignore[attr-defined]
-                fns.append(ev)
-            sel = (t > t_now) & (t <= tb)
-            sol = solve_ivp(model.rhs, (t_now, float(tb)), y, method="DOP853", rtol=rtol,
-                            atol=atol, events=fns, dense_output=True)
-            assert sol.status >= 0, sol.message
-            t_stop = float(sol.t[-1])
-            grid = t[sel & (t <= t_stop)]
-            if grid.size:
-                out[:, np.searchsorted(t, grid)] = sol.sol(grid)
-            y = sol.y[:, -1]
-            skip = {}
-            if sol.status == 1:
-                for i, te in enumerate(sol.t_events):
-                    if te.size:
-                        events.append(float(te[0]))
-                        skip[i] = float(np.sign(sol.y_events[i][0][1]))
-            t_now = t_stop
-    return out, np.array(events)
 
 
 @pytest.mark.parametrize("xi", [0.0, 0.06, 1.0, 3.0])

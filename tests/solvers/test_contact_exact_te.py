@@ -5,7 +5,7 @@ The scene of issue 25: the helicopter-tail pair's magnitudes (m_e = 3.05 kg, W =
 10 um, damping ratio 0.06) with constant mesh stiffness 1e9 N/m, excited only by a 10 um
 transmission error. Independent references:
 
-- an event-locating DOP853 written here on the model's right-hand side (``x - e(t) = +-b``
+- an event-locating DOP853 on the model's right-hand side (dop853_reference.py) (``x - e(t) = +-b``
   located by solve_ivp's own event finder), at rtol 1e-12 and 1e-13; its own error is their
   difference, and each tolerance is that error (times ten) plus the propagator's stated
   rounding bound;
@@ -23,7 +23,7 @@ import math
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
+from dop853_reference import dop853_events
 
 from gear_dyn.errors import InputError
 from gear_dyn.excitation import HarmonicSignal, SampledSignal
@@ -54,52 +54,6 @@ def te_model(ratio: float, te: HarmonicSignal = ONE, k_double: float = K1, xi: f
     return SDOFModel(mass=M_E, stiffness=rectangular_stiffness(1.41, K1, k_double),
                      damping_ratio=xi, static_load=W, mesh_frequency=ratio * FN, backlash=B,
                      transmission_error=te, phase0=phase0)
-
-
-def dop853_events(model: SDOFModel, t: np.ndarray, rtol: float, y0: np.ndarray
-                  ) -> tuple[np.ndarray, np.ndarray]:
-    """States on ``t`` and the contact changes ``x - e(t) = +-b``: DOP853 restarted at every
-    stiffness switch and every located event (the crossed surface may only be crossed back)."""
-    te, fm = model.transmission_error, model.mesh_frequency
-    assert te is not None
-
-    def u_dot(t_: float, y: np.ndarray) -> float:
-        return float(y[1]) - fm * float(te.slope(model.phase(t_)))
-
-    atol = rtol * model.state_scale
-    cuts = np.concatenate([[t[0]], model.switching_times(t[0], t[-1]), [t[-1]]])
-    y = np.array(y0, dtype=float)
-    out = np.empty((2, t.size))
-    out[:, 0] = y
-    events: list[float] = []
-    skip: dict[int, float] = {}
-    for ta, tb in zip(cuts[:-1], cuts[1:], strict=True):
-        t_now = float(ta)
-        while t_now < tb:
-            fns = []
-            for i, fn in enumerate(model.contact_events()):
-                def ev(t_: float, yy: np.ndarray, fn=fn) -> float:
-                    return fn(t_, yy)
-                ev.terminal = True  # type: ignore[attr-defined]
-                ev.direction = -skip[i] if i in skip else 0.0  # type: ignore[attr-defined]
-                fns.append(ev)
-            sel = (t > t_now) & (t <= tb)
-            sol = solve_ivp(model.rhs, (t_now, float(tb)), y, method="DOP853", rtol=rtol,
-                            atol=atol, events=fns, dense_output=True)
-            assert sol.status >= 0, sol.message
-            t_stop = float(sol.t[-1])
-            grid = t[sel & (t <= t_stop)]
-            if grid.size:
-                out[:, np.searchsorted(t, grid)] = sol.sol(grid)
-            y = sol.y[:, -1]
-            skip = {}
-            if sol.status == 1:
-                for i, te_i in enumerate(sol.t_events):
-                    if te_i.size:
-                        events.append(float(te_i[0]))
-                        skip[i] = float(np.sign(u_dot(float(te_i[0]), sol.y_events[i][0])))
-            t_now = t_stop
-    return out, np.array(events)
 
 
 def test_applies_to_harmonic_te_only() -> None:
