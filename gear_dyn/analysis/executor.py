@@ -4,7 +4,9 @@ One choice shared by the speed sweep (:mod:`gear_dyn.analysis.sweep`) and the bi
 diagram (:mod:`gear_dyn.analysis.motion.diagram`): ``workers=None`` (or 1) runs in the calling
 process with the builtin ``map``; ``workers=N`` on a process pool of N processes (started with
 ``spawn``, shut down at the end); an ``executor`` (any :class:`concurrent.futures.Executor`, e.g.
-a Dask ``distributed.Client(...).get_executor()``) through its own ``map``, not shut down.
+a Dask ``distributed.Client(...).get_executor()``) through its own ``map``, not shut down. Both
+cut each direction's speeds into blocks (:func:`speed_blocks`) and run them with
+:func:`run_blocks`.
 """
 
 from __future__ import annotations
@@ -12,9 +14,12 @@ from __future__ import annotations
 import concurrent.futures as cf
 import multiprocessing
 import signal
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
 from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
 
 from gear_dyn.errors import InputError, check_range
 
@@ -90,3 +95,43 @@ def task_map(workers: int | None = None, executor: cf.Executor | None = None
         raise
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
+
+
+def speed_blocks(speeds: NDArray[np.float64], directions: Sequence[str], size: int
+                 ) -> dict[str, list[tuple[float, ...]]]:
+    """Each direction's speeds in its order (``up``: as sorted, ``down``: reversed), cut into
+    blocks of ``size`` speeds (the last may be shorter)."""
+    return {d: [tuple(float(v) for v in order[i:i + size]) for i in range(0, order.size, size)]
+            for d in directions for order in [speeds if d == "up" else speeds[::-1]]}
+
+
+def run_blocks(run_map: MapFn, fn: Callable[[Any], tuple[list[Any], Any]],
+               blocks: dict[str, list[tuple[float, ...]]],
+               task: Callable[[tuple[float, ...], Any], Any], start: Any, chained: bool = True,
+               progress: Callable[[int, int], None] | None = None) -> dict[str, list[Any]]:
+    """Every block of every direction through ``run_map`` (the builtin ``map`` or an executor's).
+
+    ``task(speeds, state)`` makes a block's task, ``fn(task)`` returns its points and the state
+    where it ended (``fn`` and the tasks picklable for a pool). Chained, one call per round:
+    the i-th block of every direction, each from the state where its direction's previous
+    block ended (``start`` for the first). Not chained, all blocks in one call, each from
+    ``start``. The tasks do not depend on ``run_map``, so neither do the points.
+    ``progress(done, total)`` counts points after each block, in sweep order. Returns each
+    direction's points in sweep order.
+    """
+    points: dict[str, list[Any]] = {d: [] for d in blocks}
+    state = dict.fromkeys(blocks, start)
+    total = sum(len(blk) for c in blocks.values() for blk in c)
+    done = 0
+    rounds = ([[(d, c[i]) for d, c in blocks.items() if i < len(c)]
+               for i in range(max(len(c) for c in blocks.values()))] if chained
+              else [[(d, blk) for d, c in blocks.items() for blk in c]])
+    for jobs in rounds:
+        tasks = [task(blk, state[d]) for d, blk in jobs]
+        for (d, _blk), (pts, end) in zip(jobs, run_map(fn, tasks), strict=True):
+            points[d] += pts
+            state[d] = end
+            done += len(pts)
+            if progress is not None:
+                progress(done, total)
+    return points

@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.analysis.executor import MapFn, task_map
+from gear_dyn.analysis.executor import run_blocks, speed_blocks, task_map
 from gear_dyn.analysis.motion.classify import (
     UNBOUNDED,
     Motion,
@@ -273,32 +273,6 @@ class BifurcationDiagram:
         }
 
 
-def _chains(sp: FloatArray, direction: str, size: int) -> dict[str, list[tuple[float, ...]]]:
-    dirs = ("up", "down") if direction == "both" else (direction,)
-    return {d: [tuple(float(v) for v in order[i:i + size]) for i in range(0, order.size, size)]
-            for d in dirs for order in [sp if d == "up" else sp[::-1]]}
-
-
-def _run_rounds(run_map: MapFn, factory: ModelFactory, opts: DiagramOptions,
-                chains: dict[str, list[tuple[float, ...]]],
-                progress: Callable[[int, int], None] | None) -> dict[str, list[_Speed]]:
-    """Round i: the i-th block of every direction, each from its chain's last state."""
-    out: dict[str, list[_Speed]] = {d: [] for d in chains}
-    state: dict[str, FloatArray | None] = {d: None for d in chains}
-    total = sum(len(b) for c in chains.values() for b in c)
-    done = 0
-    for i in range(max(len(c) for c in chains.values())):
-        live = [d for d in chains if i < len(chains[d])]
-        tasks = [_Task(factory, opts, chains[d][i], state[d]) for d in live]
-        for d, (pts, end) in zip(live, run_map(_run_task, tasks), strict=True):
-            out[d] += pts
-            state[d] = end
-            done += len(pts)
-            if progress is not None:
-                progress(done, total)
-    return out
-
-
 def bifurcation_diagram(
     factory: ModelFactory,
     speeds: Sequence[float] | FloatArray,
@@ -360,12 +334,14 @@ def bifurcation_diagram(
         raise InputError(f"a bifurcation diagram needs the single-DOF mesh model; this model is "
                          f"{type(model).__name__}")
     start = time.perf_counter()
-    chains = _chains(sp, direction, size)
+    dirs = ("up", "down") if direction == "both" else (direction,)
     with task_map(workers, executor) as (run_map, label):
-        pts = _run_rounds(run_map, factory, opts, chains, progress)
+        pts = run_blocks(run_map, _run_task, speed_blocks(sp, dirs, size),
+                         lambda speeds, y: _Task(factory, opts, speeds, y), None,
+                         progress=progress)
     fn = model.natural_frequency
     return BifurcationDiagram(
-        scene_name=name, curves=tuple(DiagramCurve.from_speeds(d, pts[d]) for d in chains),
+        scene_name=name, curves=tuple(DiagramCurve.from_speeds(d, pts[d]) for d in dirs),
         state_labels=tuple(model.state_labels),
         natural_frequency=math.nan if fn is None else float(fn), options=opts,
         run_time_s=time.perf_counter() - start, executor=label)

@@ -13,13 +13,12 @@ import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.analysis.dynamic_factor import quasi_static_model_of, quasi_static_reference
-from gear_dyn.analysis.executor import MapFn, check_workers, task_map
+from gear_dyn.analysis.executor import check_workers, run_blocks, speed_blocks, task_map
 from gear_dyn.analysis.sweep.batch import linear_block
 from gear_dyn.analysis.sweep.orbit_jumps import find_jumps
 from gear_dyn.analysis.sweep.points import steady_point, transient_point
@@ -123,44 +122,6 @@ def _directions(direction: str, nonlinear: bool) -> tuple[str, ...]:
     return (direction,)
 
 
-def _run_chains(run_map: MapFn, template: dict[str, Any],
-                chains: dict[str, list[tuple[float, ...]]], continuation: bool,
-                progress: Callable[[int, int], None] | None) -> dict[str, list[Point]]:
-    """Every block through ``run_map`` (the builtin ``map`` or an executor's).
-
-    Without continuation all blocks go in one call. With it, one call per round: the i-th
-    block of every direction, each starting from where its direction's previous block ended.
-    """
-    points: dict[str, list[Point]] = {d: [] for d in chains}
-    total = sum(len(blk) for c in chains.values() for blk in c)
-    done = 0
-    if progress is not None:
-        progress(0, total)  # a bar from the start, before the first block is done
-
-    def finished(d: str, pts: list[Point]) -> None:
-        nonlocal done
-        points[d] += pts
-        done += len(pts)
-        if progress is not None:
-            progress(done, total)
-
-    if not continuation:
-        jobs = [(d, blk) for d in chains for blk in chains[d]]
-        blocks = [_Block(speeds=blk, continuation=False, **template) for _d, blk in jobs]
-        for (d, _blk), (pts, _end) in zip(jobs, run_map(_run_block, blocks), strict=True):
-            finished(d, pts)
-        return points
-    state: dict[str, _ChainState] = {d: (None, 1) for d in chains}
-    for i in range(max(len(c) for c in chains.values())):
-        live = [d for d in chains if i < len(chains[d])]
-        blocks = [_Block(speeds=chains[d][i], continuation=True, y_start=state[d][0],
-                         orbit_periods=state[d][1], **template) for d in live]
-        for d, (pts, end) in zip(live, run_map(_run_block, blocks), strict=True):
-            state[d] = end
-            finished(d, pts)
-    return points
-
-
 def sweep(
     factory: ModelFactory,
     speeds: Sequence[float] | FloatArray,
@@ -242,13 +203,17 @@ def sweep(
                          f"is {type(model).__name__}: use method 'transient'")
     dirs = _directions(direction, nonlinear)
     size = _block_size(block, sp.size, nonlinear)
-    chains = {d: [tuple(float(v) for v in order[i:i + size]) for i in range(0, order.size, size)]
-              for d in dirs for order in [sp if d == "up" else sp[::-1]]}
     n_steady = int(periods // 2 if steady_periods is None else steady_periods)
-    template: dict[str, Any] = dict(factory=factory, settings=settings, options=opts,
-                                    periods=int(periods), steady_periods=n_steady)
+
+    def task(speeds: tuple[float, ...], state: _ChainState) -> _Block:
+        return _Block(factory, settings, opts, int(periods), n_steady, speeds, nonlinear, *state)
+
     with task_map(workers, executor) as (run_map, label):
-        points = _run_chains(run_map, template, chains, nonlinear, progress)
+        if progress is not None:
+            progress(0, sp.size * len(dirs))  # a bar from the start, before a block is done
+        # backlash: each direction a chain of blocks (continuation); linear: blocks on their own
+        points = run_blocks(run_map, _run_block, speed_blocks(sp, dirs, size), task, (None, 1),
+                            chained=nonlinear, progress=progress)
     # one quasi-static reference for the whole sweep: its peak force does not depend on speed
     qs_model = quasi_static_model_of(factory, float(sp[0]), model)
     reference = None if qs_model is None else quasi_static_reference(qs_model, settings)
