@@ -65,7 +65,7 @@ ADDED_BY_LATER_ISSUES = {
 #: branches that did issue 22's work; every commit a ``Merge branch 'NAME'`` brought counts
 ISSUE_22_BRANCHES = (
     "docs", "names", "oneproc", "plainsweep", "slim", "slim3", "slim4",
-    "cutanalysis", "cutfmu", "cutnonlin", "cutphysics", "cutshell",
+    "chains", "cutanalysis", "cutfmu", "cutnonlin", "cutphysics", "cutshell", "testref",
 )
 #: issue 22's commits made on main itself that change package lines (the rest changed none)
 ISSUE_22_ON_MAIN = (
