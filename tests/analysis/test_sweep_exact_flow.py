@@ -13,7 +13,10 @@ a 100 times tighter rtol (floor 1e-13), never fitted to the exact route's own di
 - each orbit sampled over one period from the sweep's orbit state: the exact route equals DOP853
   at rtol 1e-12 within that reference's stated error plus the exact flow's stated rounding
   (:func:`gear_dyn.solvers.contact_exact.rounding_bound`), and is at least 100 times closer to it
-  than DOP853 at the scene's rtol 1e-8 (the old route);
+  than DOP853 at the scene's rtol 1e-8 (the old route) wherever the reference can tell: where
+  the reference's own stated error is above a hundredth of the old route's (an orbit that grazes
+  a contact boundary: one such speed of 48 on one machine, 5087 rpm down, reference error 6e-9),
+  only the first bound is checked; the 100-fold claim must still be checked at 9 speeds of 10;
 - the sweep's figures (dynamic factor, RMS / peak-to-peak / mean DTE, spectra, orbit states):
   the exact route equals the DOP853 route at the scene's rtol within the DOP853 route's stated
   error (the whole sweep again at rtol 1e-10; its largest difference over the speeds, since
@@ -73,7 +76,7 @@ def test_orbit_samples_closer_to_dop853_reference(sweeps) -> None:
     factory = SceneModels.of(scene)
     settings = factory.plan.settings
     spp = settings.samples_per_period
-    n_events = 0
+    n_events = n_resolved = 0
     for d in ("up", "down"):
         curve = runs["auto"].curve(d)
         for speed, y0 in zip(curve.speed, curve.state, strict=True):
@@ -90,9 +93,12 @@ def test_orbit_samples_closer_to_dop853_reference(sweeps) -> None:
             err_new = float(np.max(np.abs(y_new - ref) / scale))
             err_old = float(np.max(np.abs(y_old - ref) / scale))
             assert err_new <= stated_ref + rounding, (d, speed / RPM, err_new, stated_ref)
-            assert err_new < err_old / 100, (d, speed / RPM, err_new, err_old)
+            if stated_ref + rounding < err_old / 100:  # the reference tells 100-fold apart
+                assert err_new < err_old / 100, (d, speed / RPM, err_new, err_old)
+                n_resolved += 1
             n_events += int(st["n_contact_events"])
     assert n_events > 0
+    assert n_resolved >= 0.9 * 2 * len(SPEEDS), n_resolved
 
 
 def test_sweep_figures_equal_dop853_route(sweeps) -> None:
