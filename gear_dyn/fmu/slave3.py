@@ -1,6 +1,6 @@
 """The pythonfmu3 slave: a thin FMI 3.0 co-simulation shell over the same stepper as FMI 2.
 
-Built by ``gear-dyn fmu build --fmi 3`` (:mod:`gear_dyn.fmu.build3`). Everything but the
+Built by ``gear-dyn fmu build --fmi 3`` (:mod:`gear_dyn.fmu.build`). Everything but the
 exporter's glue is shared with the FMI 2 slave in :class:`gear_dyn.fmu.slave_core.SlaveCore`
 (parameters, inputs, model build, stepping with
 :meth:`~gear_dyn.fmu.stepper.Stepper.step_to`, outputs as floats from
@@ -35,7 +35,7 @@ class GearDynSlave3(SlaveCore, Fmi3Slave):
     """FMI 3.0 co-simulation slave of a gear_dyn scene (single-DOF or torsional model).
 
     The FMU's generated class derives from this one; the scene comes from the FMU resources
-    (``gear_dyn_fmu.json``, written by :func:`gear_dyn.fmu.build3.build_fmu3`).
+    (``gear_dyn_fmu.json``, written by :func:`gear_dyn.fmu.build.build_fmu`).
     """
 
     FMI_NAMES = {"enter_initialization_mode": "fmi3EnterInitializationMode",

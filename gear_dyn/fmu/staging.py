@@ -1,11 +1,12 @@
-"""What the FMI 2 and FMI 3 builders share: the scene to build, the private copy of the
-sources and the staging folder.
+"""The build of the pythonfmu FMU, FMI 2 and FMI 3 alike: the scene to build, the private copy
+of the sources, the staging folder and the completed modelDescription.xml.
 
 An FMU carries everything it runs: the generated slave script, a private copy of the gear_dyn
 sources under a name unique to the build (its absolute imports and module-name strings are
 rewritten to that name, so two FMUs in one process, or an FMU next to an installed gear_dyn,
 never share modules), the scene in SI values and the build interpreter's facts.
-:mod:`.build` (FMI 2, pythonfmu) and :mod:`.build3` (FMI 3, pythonfmu3) stage their build here.
+:func:`gear_dyn.fmu.build.build_fmu` (FMI 2 with pythonfmu, FMI 3 with pythonfmu3) stages its
+build here and completes the modelDescription.xml the exporter writes.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ import sys
 import sysconfig
 import tempfile
 import zipfile
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -86,7 +87,7 @@ def load_fmu_scene(target: str | Path) -> Scene:
 
 #: gear_dyn sources the FMU never runs (the slim FMU leaves them out): the CLI, plots, the FMU
 #: build and co-simulation side, file output, and the studies beyond a run's own checks
-NOT_IN_FMU = ("cli/", "plots/", "fmu/build.py", "fmu/build3.py", "fmu/staging.py",
+NOT_IN_FMU = ("cli/", "plots/", "fmu/build.py", "fmu/staging.py",
               "fmu/check.py", "fmu/cosim.py", "fmu/export", "io.py",
               "scene/packaged.py", "scene/sweep.py", "scenes/", "analysis/sweep/",
               "analysis/bench.py", "analysis/chart.py", "analysis/excitation.py",
@@ -166,13 +167,12 @@ def slave_script(package: str, class_name: str, spec: dict[str, Any], fmi: int) 
 
 
 def build_with(builder: Any, target: str | Path | Scene, out: str | Path, fmi: int,
-               complete: Callable[[ET.Element, ET.Element, dict[str, Any]], None],
                **options: bool) -> BuiltFmu:
     """Build the FMU of ``target`` with pythonfmu's (``fmi=2``) or pythonfmu3's (``fmi=3``)
-    ``FmuBuilder`` (``options``: its FMU-state flags), complete its modelDescription.xml with
-    ``complete(root, model_variables, variables_by_name)`` (after the gear_dyn version is added
-    to its generationTool) and write it to ``out`` whole or not at all. pythonfmu3's C++
-    loader sources are left out (the FMI 2 FMU carries none either).
+    ``FmuBuilder`` (``options``: its FMU-state flags), complete its modelDescription.xml
+    (:func:`complete_model_description`, after the gear_dyn version is added to its
+    generationTool) and write it to ``out`` whole or not at all. pythonfmu3's C++ loader
+    sources are left out (the FMI 2 FMU carries none either).
 
     Raises
     ------
@@ -202,7 +202,8 @@ def build_with(builder: Any, target: str | Path | Scene, out: str | Path, fmi: i
     mv = root.find("ModelVariables")
     if mv is None:
         raise InputError("modelDescription.xml without ModelVariables")
-    complete(root, mv, {v["name"]: v for v in spec["variables"]})
+    by_name = {v["name"]: v for v in spec["variables"]}
+    complete_model_description(root, mv, by_name, fmi)
     ET.indent(root, space="  ")
     xml = ET.tostring(root, encoding="UTF-8", xml_declaration=True)
     buf = io.BytesIO()
@@ -213,6 +214,73 @@ def build_with(builder: Any, target: str | Path | Scene, out: str | Path, fmi: i
                 dst.writestr(info, xml if name == "modelDescription.xml" else src.read(name))
     write_bytes(out, buf.getvalue())
     return BuiltFmu(out, class_name, package, spec)
+
+
+def complete_model_description(root: ET.Element, mv: ET.Element, by_name: dict[str, Any],
+                               fmi: int) -> None:
+    """Add what pythonfmu (``fmi=2``) and pythonfmu3 (``fmi=3``) leave out of their
+    modelDescription.xml (``root``, its ModelVariables ``mv``; ``by_name``: the spec's
+    variables by name): UnitDefinitions and units, ``min``/``max``/``nominal`` from the scene
+    fields, the Integer stand-ins of choice parameters turned into Enumerations with their
+    types (item k = choice k, so a master offers the choices), ``dependencies=""`` on every
+    output and, for FMI 2, the InitialUnknowns.
+    """
+    real, integer = ("Real", "Integer") if fmi == 2 else ("Float64", "Int64")
+    used: dict[str, str] = {}
+    types = ET.Element("TypeDefinitions")
+    outputs: list[int] = []
+    for index, el in enumerate(mv, start=1):
+        v = by_name.get(el.get("name", ""))
+        typed = next(iter(el), None) if fmi == 2 else el  # FMI 2: the ScalarVariable's type
+        if v is None or typed is None:
+            continue
+        if el.get("causality") == "output":
+            outputs.append(index)
+        if v["type"] == "Enumeration" and typed.tag == integer:
+            type_name = f"{v['name']}.choices"
+            typed.tag = "Enumeration"
+            typed.set("declaredType", type_name)
+            if fmi == 2:
+                simple = ET.SubElement(types, "SimpleType", {"name": type_name})
+                items = ET.SubElement(simple, "Enumeration")
+            else:
+                items = ET.SubElement(types, "EnumerationType", {"name": type_name})
+            for k, choice in enumerate(v["choices"], start=1):
+                ET.SubElement(items, "Item", {"name": choice, "value": str(k)})
+            continue
+        for key in ("min", "max", "nominal"):
+            if key in v and (key != "nominal" or typed.tag == real):
+                typed.set(key, repr(v[key]))
+        if typed.tag == real and v.get("unit") in UNITS:
+            typed.set("unit", UNITS[v["unit"]][0])
+            used[v["unit"]] = UNITS[v["unit"]][0]
+    if mv.find("Float64[@name='time']") is not None:  # FMI 3's independent variable
+        used["s"] = UNITS["s"][0]
+    cs = root.find("CoSimulation")
+    if cs is None:
+        raise InputError("modelDescription.xml without CoSimulation")
+    # pythonfmu3 0.3.4 writes this flag from the wrong option; the slave takes any step size
+    cs.set("canHandleVariableCommunicationStepSize", "true")
+    pos = list(root).index(cs) + 1
+    if used:
+        root.insert(pos, unit_definitions(used))
+        pos += 1
+    if len(types):
+        old = root.find("TypeDefinitions")
+        if old is not None:
+            root.remove(old)
+        root.insert(pos, types)
+    ms = root.find("ModelStructure")
+    if ms is None:
+        ms = ET.SubElement(root, "ModelStructure")
+    # no direct feedthrough: outputs are computed from the state at doStep (and at
+    # exitInitializationMode) only, so setting an input changes no output before the next step
+    for unknown in ms.findall("Outputs/Unknown" if fmi == 2 else "Output"):
+        unknown.set("dependencies", "")
+    if fmi == 2 and outputs and ms.find("InitialUnknowns") is None:
+        iu = ET.SubElement(ms, "InitialUnknowns")
+        for index in outputs:
+            ET.SubElement(iu, "Unknown", {"index": str(index)})
 
 
 def unit_definitions(used: dict[str, str]) -> ET.Element:
