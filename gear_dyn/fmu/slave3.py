@@ -24,7 +24,6 @@ from pythonfmu3 import String as String3
 from pythonfmu3.default_experiment import DefaultExperiment
 from pythonfmu3.enums import Fmi3Status
 
-from gear_dyn.fmu.clean_exit import release_at_exit
 from gear_dyn.fmu.slave_core import FmuCallError, SlaveCore
 
 #: the former name of the refusal exception of this slave
@@ -50,14 +49,11 @@ class GearDynSlave3(SlaveCore, Fmi3Slave):
     CAUSALITY = Fmi3Causality
     VARIABILITY = Fmi3Variability
     EXPERIMENT = DefaultExperiment
+    ERROR_STATUS = Fmi3Status.error
 
     def __init__(self, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         native = "logger" in kwargs  # the native wrapper passes its logger
-        if native:
-            release_at_exit(str(self.resources), type(self).__name__, 3)
-        self.author = "gear_dyn"
-        self.license = "MIT"
         self._init_core(native, 3)  # the spec's experiment starts at 0 s, as this FMU does
         # FMI 3 requires the independent variable; last, so the other value references are
         # those of the FMI 2 FMU
@@ -75,9 +71,6 @@ class GearDynSlave3(SlaveCore, Fmi3Slave):
         and dimension checks: every Float64 here is a scalar whose getter was collected at
         registration; another reference is refused)."""
         return self._get_reals(vrs, "fmi3GetFloat64")
-
-    def _log_error(self, text: str) -> None:
-        self.log(text, Fmi3Status.error)
 
 
 __all__ = ["Fmu3CallError", "GearDynSlave3"]
