@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 import tempfile
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -54,6 +54,9 @@ class FmuSession(FmpySession):
     """
 
     _callbacks: Any = None  # the C callbacks of the instance, kept alive as long as it
+    SETTERS = {"Real": "setReal", "Integer": "setInteger", "Enumeration": "setInteger",
+               "Boolean": "setBoolean", "String": "setString"}
+    GET_FLOATS = "getReal"
 
     def _check_version(self, version: str) -> None:
         if version != "2.0":
@@ -78,14 +81,6 @@ class FmuSession(FmpySession):
                               modelIdentifier=self.md.coSimulation.modelIdentifier,
                               instanceName=self.instance_name)
         self._instantiated(lambda: self._fmu.instantiate(callbacks=cb, loggingOn=logging_on))
-
-    def _setters(self) -> dict[str, Callable[..., Any]]:
-        f = self.fmu
-        return {"Real": f.setReal, "Integer": f.setInteger, "Enumeration": f.setInteger,
-                "Boolean": f.setBoolean, "String": f.setString}
-
-    def _get_floats(self, vrs: list[int]) -> list[float]:
-        return list(self.fmu.getReal(vrs))
 
     def initialize(self, start: float = 0.0, stop: float | None = None,
                    tolerance: float | None = None, values: dict[str, Any] | None = None) -> None:

@@ -75,16 +75,12 @@ class FmpySession:
         self._fmu: Any = None
 
     # ------------------------------------------------------------------ what versions differ in
+    #: the name of fmpy's setter of each variable type, and of its getter of float values
+    SETTERS: dict[str, str] = {}
+    GET_FLOATS = ""
+
     def _check_version(self, version: str) -> None:
         """Raise InputError for an FMI version this session does not run."""
-        raise NotImplementedError
-
-    def _setters(self) -> dict[str, Callable[..., Any]]:
-        """fmpy setter per variable type name."""
-        raise NotImplementedError
-
-    def _get_floats(self, vrs: list[int]) -> list[float]:
-        """Float values by value reference."""
         raise NotImplementedError
 
     # ------------------------------------------------------------------ plumbing
@@ -130,16 +126,15 @@ class FmpySession:
     # ------------------------------------------------------------------ values
     def set(self, values: dict[str, Any]) -> None:
         """Set variables by name; refused values raise InputError with the FMU's message."""
-        setters = self._setters()
         for name, value in values.items():
             self.vr(name)  # InputError naming an unknown variable
             v = self.vars[name]
-            self._call(f"set {name}", setters[v.type], [v.valueReference],
-                       [host_value(name, v, value)], error=InputError)
+            self._call(f"set {name}", getattr(self.fmu, self.SETTERS[v.type]),
+                       [v.valueReference], [host_value(name, v, value)], error=InputError)
 
     def get(self, names: Sequence[str]) -> list[float]:
         """Float values by name."""
-        return list(self._get_floats([self.vr(n) for n in names]))
+        return list(getattr(self.fmu, self.GET_FLOATS)([self.vr(n) for n in names]))
 
     # ------------------------------------------------------------------ life cycle
     def step(self, t: float, h: float) -> None:
