@@ -2,13 +2,9 @@
 
 The FMU built by :mod:`gear_dyn.fmu.build` contains a generated script with one class
 ``class GearDyn_<model>_<id>(GearDynSlave)`` and a private copy of gear_dyn; this module is that
-copy's slave. Everything the FMI 2 and FMI 3 slaves share (parameters, inputs, model build,
-stepping, outputs, FMU state, refusals; lifecycle and error handling described there) is in
+copy's slave. What the FMI 2 and FMI 3 slaves share is in
 :class:`gear_dyn.fmu.slave_core.SlaveCore`; this module names pythonfmu's variable classes and
 adds fmi2SetupExperiment (start time, stop time, tolerance) and a fast fmi2GetReal.
-
-At the first instantiation by the binary, :func:`gear_dyn.fmu.clean_exit.release_at_exit`
-registers the Python host's clean exit (pythonfmu's exit-time use-after-free).
 """
 
 from __future__ import annotations

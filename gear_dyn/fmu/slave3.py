@@ -1,18 +1,15 @@
-"""The pythonfmu3 slave: a thin FMI 3.0 co-simulation shell over the same stepper as FMI 2.
+"""The pythonfmu3 slave: a thin FMI 3.0 co-simulation shell over the same core as FMI 2.
 
-Built by ``gear-dyn fmu build --fmi 3`` (:mod:`gear_dyn.fmu.build`). Everything but the
-exporter's glue is shared with the FMI 2 slave in :class:`gear_dyn.fmu.slave_core.SlaveCore`
-(parameters, inputs, model build, stepping with
-:meth:`~gear_dyn.fmu.stepper.Stepper.step_to`, outputs as floats from
-:mod:`gear_dyn.fmu.outputs`, FMU state, refusals), so both FMUs give the same outputs on the
-same communication grid. This module
-does not import pythonfmu (the FMI 3 FMU carries pythonfmu3 only).
+Its :class:`gear_dyn.fmu.slave_core.SlaveCore` is the FMI 2 slave's, so both FMUs give the
+same outputs on the same communication grid. Built by ``gear-dyn fmu build --fmi 3``
+(:mod:`gear_dyn.fmu.build`); it does not import pythonfmu (the FMI 3 FMU carries pythonfmu3
+only).
 
 pythonfmu3 (0.3.4) limits and how the slave meets them (docs/fmu.md, "FMI 3.0"):
 fmi3EnterInitializationMode passes no start time, stop time or tolerance (the FMU starts at
 0 s with the scene's ``solver.rtol``); its ``Enumeration`` variable cannot be read or written
 (choices are Int64, made Enumerations by the build); a refused call is fmi3Fatal (handled as
-in FMI 2); the host's exit is made clean by :func:`gear_dyn.fmu.clean_exit.release_at_exit`.
+in FMI 2).
 """
 
 from __future__ import annotations
