@@ -50,6 +50,7 @@ def fmi_call(func: Callable[..., Any]) -> Callable[..., Any]:
     """Wrap an FMI entry point: a failure is logged and refused safely (see module doc); the
     message names the FMI function (the slave's ``FMI_NAMES``)."""
 
+    @functools.wraps(func)
     def wrapper(self: SlaveCore, *args: Any) -> Any:
         try:
             return func(self, *args)
@@ -59,8 +60,6 @@ def fmi_call(func: Callable[..., Any]) -> Callable[..., Any]:
             name = self.FMI_NAMES.get(func.__name__, func.__name__)
             self._refuse(f"{name} refused: {exc}")
 
-    wrapper.__name__ = func.__name__
-    wrapper.__doc__ = func.__doc__
     return wrapper
 
 
