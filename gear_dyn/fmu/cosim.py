@@ -82,24 +82,12 @@ class FmuSession(FmpySession):
                               instanceName=self.instance_name)
         self._instantiated(lambda: self._fmu.instantiate(callbacks=cb, loggingOn=logging_on))
 
-    def initialize(self, start: float = 0.0, stop: float | None = None,
-                   tolerance: float | None = None, values: dict[str, Any] | None = None) -> None:
-        """setupExperiment, set ``values``, enter and exit initialization mode."""
-        self.enter_init(start, stop, tolerance)
-        if values:
-            self.set(values)
-        self.exit_init()
-
     def enter_init(self, start: float = 0.0, stop: float | None = None,
                    tolerance: float | None = None) -> None:
-        """setupExperiment and enterInitializationMode."""
+        """setupExperiment (start, stop time and tolerance) and enterInitializationMode."""
         self._call("setupExperiment", self.fmu.setupExperiment, tolerance, start, stop)
         self._call("enterInitializationMode", self.fmu.enterInitializationMode,
                    error=InputError)
-
-    def exit_init(self) -> None:
-        """exitInitializationMode: the FMU builds its model (InputError if it refuses)."""
-        self._call("exitInitializationMode", self.fmu.exitInitializationMode, error=InputError)
 
     def reset(self) -> None:
         self._call("reset", self.fmu.reset)

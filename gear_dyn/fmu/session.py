@@ -4,7 +4,7 @@ becomes a gear_dyn error carrying the FMU's log, the life cycle.
 
 :class:`~gear_dyn.fmu.cosim.FmuSession` (FMI 2) and :class:`~gear_dyn.fmu.session3.Fmu3Session`
 (FMI 3) add what differs: the version they accept, how the instance is made, the setter of each
-variable type, initialization.
+variable type, FMI 2's setupExperiment.
 """
 
 from __future__ import annotations
@@ -137,6 +137,25 @@ class FmpySession:
         return list(getattr(self.fmu, self.GET_FLOATS)([self.vr(n) for n in names]))
 
     # ------------------------------------------------------------------ life cycle
+    def initialize(self, start: float = 0.0, stop: float | None = None,
+                   tolerance: float | None = None, values: dict[str, Any] | None = None) -> None:
+        """Enter initialization mode (start, stop time and tolerance announced), set ``values``,
+        exit initialization mode."""
+        self.enter_init(start, stop, tolerance)
+        if values:
+            self.set(values)
+        self.exit_init()
+
+    def enter_init(self, start: float = 0.0, stop: float | None = None,
+                   tolerance: float | None = None) -> None:
+        """enterInitializationMode, announcing the start, stop time and tolerance (FMI 3)."""
+        self._call("enterInitializationMode", self.fmu.enterInitializationMode, tolerance,
+                   start, stop, error=InputError)
+
+    def exit_init(self) -> None:
+        """exitInitializationMode: the FMU builds its model (InputError if it refuses)."""
+        self._call("exitInitializationMode", self.fmu.exitInitializationMode, error=InputError)
+
     def step(self, t: float, h: float) -> None:
         """One communication step from ``t`` (s) by ``h`` (s)."""
         self._call(f"doStep at t = {t:.6g} s", self.fmu.doStep, t, h)

@@ -61,16 +61,6 @@ class Fmu3Session(FmpySession):
         self._instantiated(lambda: self._fmu.instantiate(loggingOn=logging_on,
                                                          logMessage=self._log))
 
-    def initialize(self, start: float = 0.0, stop: float | None = None,
-                   tolerance: float | None = None, values: dict[str, Any] | None = None) -> None:
-        """enterInitializationMode (start, stop time and tolerance announced), set ``values``,
-        exitInitializationMode."""
-        self._call("enterInitializationMode", self.fmu.enterInitializationMode, tolerance,
-                   start, stop, error=InputError)
-        if values:
-            self.set(values)
-        self._call("exitInitializationMode", self.fmu.exitInitializationMode, error=InputError)
-
 
 def open_session(fmu: str | Path) -> Any:
     """An :class:`Fmu3Session` for an FMI 3 FMU, a :class:`~gear_dyn.fmu.cosim.FmuSession`
