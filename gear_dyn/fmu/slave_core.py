@@ -153,7 +153,7 @@ class SlaveCore:
         setter: Callable[[Any], None] | None = None
         if causality == "output":
             self._outputs[name] = 0.0
-            getter = self._output_getter(name)
+            getter = functools.partial(self._outputs.__getitem__, name)  # dict kept in place
         else:
             getter = self._value_getter(v["table"], v["key"])
             setter = functools.partial(self._set_value, v["table"], v["key"], causality)
@@ -194,9 +194,6 @@ class SlaveCore:
             setter(value)
 
         return get, (put if setter is not None else None)
-
-    def _output_getter(self, name: str) -> Callable[[], float]:
-        return lambda: self._outputs[name]
 
     def _value_getter(self, table: str, key: str) -> Callable[[], Any]:
         return lambda: self._tables[table][key]
