@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 import tempfile
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -54,6 +54,9 @@ class FmuSession(FmpySession):
     """
 
     _callbacks: Any = None  # the C callbacks of the instance, kept alive as long as it
+    SETTERS = {"Real": "setReal", "Integer": "setInteger", "Enumeration": "setInteger",
+               "Boolean": "setBoolean", "String": "setString"}
+    GET_FLOATS = "getReal"
 
     def _check_version(self, version: str) -> None:
         if version != "2.0":
@@ -79,32 +82,12 @@ class FmuSession(FmpySession):
                               instanceName=self.instance_name)
         self._instantiated(lambda: self._fmu.instantiate(callbacks=cb, loggingOn=logging_on))
 
-    def _setters(self) -> dict[str, Callable[..., Any]]:
-        f = self.fmu
-        return {"Real": f.setReal, "Integer": f.setInteger, "Enumeration": f.setInteger,
-                "Boolean": f.setBoolean, "String": f.setString}
-
-    def _get_floats(self, vrs: list[int]) -> list[float]:
-        return list(self.fmu.getReal(vrs))
-
-    def initialize(self, start: float = 0.0, stop: float | None = None,
-                   tolerance: float | None = None, values: dict[str, Any] | None = None) -> None:
-        """setupExperiment, set ``values``, enter and exit initialization mode."""
-        self.enter_init(start, stop, tolerance)
-        if values:
-            self.set(values)
-        self.exit_init()
-
     def enter_init(self, start: float = 0.0, stop: float | None = None,
                    tolerance: float | None = None) -> None:
-        """setupExperiment and enterInitializationMode."""
+        """setupExperiment (start, stop time and tolerance) and enterInitializationMode."""
         self._call("setupExperiment", self.fmu.setupExperiment, tolerance, start, stop)
         self._call("enterInitializationMode", self.fmu.enterInitializationMode,
                    error=InputError)
-
-    def exit_init(self) -> None:
-        """exitInitializationMode: the FMU builds its model (InputError if it refuses)."""
-        self._call("exitInitializationMode", self.fmu.exitInitializationMode, error=InputError)
 
     def reset(self) -> None:
         self._call("reset", self.fmu.reset)

@@ -4,7 +4,7 @@ becomes a gear_dyn error carrying the FMU's log, the life cycle.
 
 :class:`~gear_dyn.fmu.cosim.FmuSession` (FMI 2) and :class:`~gear_dyn.fmu.session3.Fmu3Session`
 (FMI 3) add what differs: the version they accept, how the instance is made, the setter of each
-variable type, initialization.
+variable type, FMI 2's setupExperiment.
 """
 
 from __future__ import annotations
@@ -75,16 +75,12 @@ class FmpySession:
         self._fmu: Any = None
 
     # ------------------------------------------------------------------ what versions differ in
+    #: the name of fmpy's setter of each variable type, and of its getter of float values
+    SETTERS: dict[str, str] = {}
+    GET_FLOATS = ""
+
     def _check_version(self, version: str) -> None:
         """Raise InputError for an FMI version this session does not run."""
-        raise NotImplementedError
-
-    def _setters(self) -> dict[str, Callable[..., Any]]:
-        """fmpy setter per variable type name."""
-        raise NotImplementedError
-
-    def _get_floats(self, vrs: list[int]) -> list[float]:
-        """Float values by value reference."""
         raise NotImplementedError
 
     # ------------------------------------------------------------------ plumbing
@@ -130,18 +126,36 @@ class FmpySession:
     # ------------------------------------------------------------------ values
     def set(self, values: dict[str, Any]) -> None:
         """Set variables by name; refused values raise InputError with the FMU's message."""
-        setters = self._setters()
         for name, value in values.items():
             self.vr(name)  # InputError naming an unknown variable
             v = self.vars[name]
-            self._call(f"set {name}", setters[v.type], [v.valueReference],
-                       [host_value(name, v, value)], error=InputError)
+            self._call(f"set {name}", getattr(self.fmu, self.SETTERS[v.type]),
+                       [v.valueReference], [host_value(name, v, value)], error=InputError)
 
     def get(self, names: Sequence[str]) -> list[float]:
         """Float values by name."""
-        return list(self._get_floats([self.vr(n) for n in names]))
+        return list(getattr(self.fmu, self.GET_FLOATS)([self.vr(n) for n in names]))
 
     # ------------------------------------------------------------------ life cycle
+    def initialize(self, start: float = 0.0, stop: float | None = None,
+                   tolerance: float | None = None, values: dict[str, Any] | None = None) -> None:
+        """Enter initialization mode (start, stop time and tolerance announced), set ``values``,
+        exit initialization mode."""
+        self.enter_init(start, stop, tolerance)
+        if values:
+            self.set(values)
+        self.exit_init()
+
+    def enter_init(self, start: float = 0.0, stop: float | None = None,
+                   tolerance: float | None = None) -> None:
+        """enterInitializationMode, announcing the start, stop time and tolerance (FMI 3)."""
+        self._call("enterInitializationMode", self.fmu.enterInitializationMode, tolerance,
+                   start, stop, error=InputError)
+
+    def exit_init(self) -> None:
+        """exitInitializationMode: the FMU builds its model (InputError if it refuses)."""
+        self._call("exitInitializationMode", self.fmu.exitInitializationMode, error=InputError)
+
     def step(self, t: float, h: float) -> None:
         """One communication step from ``t`` (s) by ``h`` (s)."""
         self._call(f"doStep at t = {t:.6g} s", self.fmu.doStep, t, h)

@@ -7,7 +7,6 @@ does for FMI 2 (same method names, so checks and tests run either).
 from __future__ import annotations
 
 import zipfile
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 from xml.etree import ElementTree as ET
@@ -41,6 +40,10 @@ class Fmu3Session(FmpySession):
         Not a readable FMI 3 co-simulation FMU.
     """
 
+    SETTERS = {"Float64": "setFloat64", "Int32": "setInt32", "Int64": "setInt64",
+               "Enumeration": "setInt64", "Boolean": "setBoolean", "String": "setString"}
+    GET_FLOATS = "getFloat64"
+
     def _check_version(self, version: str) -> None:
         if not version.startswith("3"):
             raise InputError(f"{self.path}: not an FMI 3 co-simulation FMU")
@@ -57,24 +60,6 @@ class Fmu3Session(FmpySession):
                               instanceName=self.instance_name)
         self._instantiated(lambda: self._fmu.instantiate(loggingOn=logging_on,
                                                          logMessage=self._log))
-
-    def _setters(self) -> dict[str, Callable[..., Any]]:
-        f = self.fmu
-        return {"Float64": f.setFloat64, "Int32": f.setInt32, "Int64": f.setInt64,
-                "Enumeration": f.setInt64, "Boolean": f.setBoolean, "String": f.setString}
-
-    def _get_floats(self, vrs: list[int]) -> list[float]:
-        return list(self.fmu.getFloat64(vrs))
-
-    def initialize(self, start: float = 0.0, stop: float | None = None,
-                   tolerance: float | None = None, values: dict[str, Any] | None = None) -> None:
-        """enterInitializationMode (start, stop time and tolerance announced), set ``values``,
-        exitInitializationMode."""
-        self._call("enterInitializationMode", self.fmu.enterInitializationMode, tolerance,
-                   start, stop, error=InputError)
-        if values:
-            self.set(values)
-        self._call("exitInitializationMode", self.fmu.exitInitializationMode, error=InputError)
 
 
 def open_session(fmu: str | Path) -> Any:

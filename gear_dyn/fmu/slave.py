@@ -2,13 +2,9 @@
 
 The FMU built by :mod:`gear_dyn.fmu.build` contains a generated script with one class
 ``class GearDyn_<model>_<id>(GearDynSlave)`` and a private copy of gear_dyn; this module is that
-copy's slave. Everything the FMI 2 and FMI 3 slaves share (parameters, inputs, model build,
-stepping, outputs, FMU state, refusals; lifecycle and error handling described there) is in
+copy's slave. What the FMI 2 and FMI 3 slaves share is in
 :class:`gear_dyn.fmu.slave_core.SlaveCore`; this module names pythonfmu's variable classes and
 adds fmi2SetupExperiment (start time, stop time, tolerance) and a fast fmi2GetReal.
-
-At the first instantiation by the binary, :func:`gear_dyn.fmu.clean_exit.release_at_exit`
-registers the Python host's clean exit (pythonfmu's exit-time use-after-free).
 """
 
 from __future__ import annotations
@@ -23,7 +19,6 @@ from pythonfmu.default_experiment import DefaultExperiment
 from pythonfmu.enums import Fmi2Status
 
 from gear_dyn.errors import InputError
-from gear_dyn.fmu.clean_exit import release_at_exit
 from gear_dyn.fmu.slave_core import FmuCallError, SlaveCore, fmi_call
 
 
@@ -34,8 +29,6 @@ class GearDynSlave(SlaveCore, Fmi2Slave):
     (``gear_dyn_fmu.json``, written by :func:`gear_dyn.fmu.build.build_fmu`).
     """
 
-    author = "gear_dyn"
-    license = "MIT"
     FMI_NAMES = {"setup_experiment": "fmi2SetupExperiment",
                  "enter_initialization_mode": "fmi2EnterInitializationMode",
                  "exit_initialization_mode": "fmi2ExitInitializationMode",
@@ -46,6 +39,7 @@ class GearDynSlave(SlaveCore, Fmi2Slave):
     CAUSALITY = Fmi2Causality
     VARIABILITY = Fmi2Variability
     EXPERIMENT = DefaultExperiment
+    ERROR_STATUS = Fmi2Status.error
 
     def __init__(self, **kwargs: Any) -> None:
         # the native wrapper passes its logger; pythonfmu's builder and direct Python use do not
@@ -59,17 +53,12 @@ class GearDynSlave(SlaveCore, Fmi2Slave):
             if module is not None:
                 ctypes.pythonapi.Py_IncRef(ctypes.py_object(vars(module)))
         super().__init__(**kwargs)
-        if native:
-            release_at_exit(str(self.resources), type(self).__name__, 2)
         self._init_core(native, 2)
 
     def get_real(self, vrs: list[int]) -> list[float]:
         """Values of Real variables (pythonfmu's own lookup, without its per-variable type
         check: the getters are collected at registration; another reference is refused)."""
         return self._get_reals(vrs, "fmi2GetReal")
-
-    def _log_error(self, text: str) -> None:
-        self.log(text, Fmi2Status.error)
 
     @fmi_call
     def setup_experiment(self, start_time: float, stop_time: float | None = None,

@@ -1,18 +1,15 @@
-"""The pythonfmu3 slave: a thin FMI 3.0 co-simulation shell over the same stepper as FMI 2.
+"""The pythonfmu3 slave: a thin FMI 3.0 co-simulation shell over the same core as FMI 2.
 
-Built by ``gear-dyn fmu build --fmi 3`` (:mod:`gear_dyn.fmu.build3`). Everything but the
-exporter's glue is shared with the FMI 2 slave in :class:`gear_dyn.fmu.slave_core.SlaveCore`
-(parameters, inputs, model build, stepping with
-:meth:`~gear_dyn.fmu.stepper.Stepper.step_to`, outputs as floats from
-:mod:`gear_dyn.fmu.outputs`, FMU state, refusals), so both FMUs give the same outputs on the
-same communication grid. This module
-does not import pythonfmu (the FMI 3 FMU carries pythonfmu3 only).
+Its :class:`gear_dyn.fmu.slave_core.SlaveCore` is the FMI 2 slave's, so both FMUs give the
+same outputs on the same communication grid. Built by ``gear-dyn fmu build --fmi 3``
+(:mod:`gear_dyn.fmu.build`); it does not import pythonfmu (the FMI 3 FMU carries pythonfmu3
+only).
 
 pythonfmu3 (0.3.4) limits and how the slave meets them (docs/fmu.md, "FMI 3.0"):
 fmi3EnterInitializationMode passes no start time, stop time or tolerance (the FMU starts at
 0 s with the scene's ``solver.rtol``); its ``Enumeration`` variable cannot be read or written
 (choices are Int64, made Enumerations by the build); a refused call is fmi3Fatal (handled as
-in FMI 2); the host's exit is made clean by :func:`gear_dyn.fmu.clean_exit.release_at_exit`.
+in FMI 2).
 """
 
 from __future__ import annotations
@@ -24,7 +21,6 @@ from pythonfmu3 import String as String3
 from pythonfmu3.default_experiment import DefaultExperiment
 from pythonfmu3.enums import Fmi3Status
 
-from gear_dyn.fmu.clean_exit import release_at_exit
 from gear_dyn.fmu.slave_core import FmuCallError, SlaveCore
 
 #: the former name of the refusal exception of this slave
@@ -35,7 +31,7 @@ class GearDynSlave3(SlaveCore, Fmi3Slave):
     """FMI 3.0 co-simulation slave of a gear_dyn scene (single-DOF or torsional model).
 
     The FMU's generated class derives from this one; the scene comes from the FMU resources
-    (``gear_dyn_fmu.json``, written by :func:`gear_dyn.fmu.build3.build_fmu3`).
+    (``gear_dyn_fmu.json``, written by :func:`gear_dyn.fmu.build.build_fmu`).
     """
 
     FMI_NAMES = {"enter_initialization_mode": "fmi3EnterInitializationMode",
@@ -50,14 +46,11 @@ class GearDynSlave3(SlaveCore, Fmi3Slave):
     CAUSALITY = Fmi3Causality
     VARIABILITY = Fmi3Variability
     EXPERIMENT = DefaultExperiment
+    ERROR_STATUS = Fmi3Status.error
 
     def __init__(self, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         native = "logger" in kwargs  # the native wrapper passes its logger
-        if native:
-            release_at_exit(str(self.resources), type(self).__name__, 3)
-        self.author = "gear_dyn"
-        self.license = "MIT"
         self._init_core(native, 3)  # the spec's experiment starts at 0 s, as this FMU does
         # FMI 3 requires the independent variable; last, so the other value references are
         # those of the FMI 2 FMU
@@ -75,9 +68,6 @@ class GearDynSlave3(SlaveCore, Fmi3Slave):
         and dimension checks: every Float64 here is a scalar whose getter was collected at
         registration; another reference is refused)."""
         return self._get_reals(vrs, "fmi3GetFloat64")
-
-    def _log_error(self, text: str) -> None:
-        self.log(text, Fmi3Status.error)
 
 
 __all__ = ["Fmu3CallError", "GearDynSlave3"]

@@ -9,8 +9,8 @@ communication steps, :meth:`~gear_dyn.fmu.stepper.Stepper.step_to`),
 :mod:`gear_dyn.fmu.inputs` applies changed inputs, :mod:`gear_dyn.fmu.outputs` writes the
 outputs as Python floats, and a refused call is logged and raised safely (:meth:`_refuse`).
 The slaves (:class:`gear_dyn.fmu.slave.GearDynSlave`,
-:class:`gear_dyn.fmu.slave3.GearDynSlave3`) name their exporter's variable classes and add the
-log call and what their FMI version passes on (FMI 2: the start time, stop time and tolerance
+:class:`gear_dyn.fmu.slave3.GearDynSlave3`) name their exporter's variable classes and error
+status and add what their FMI version passes on (FMI 2: the start time, stop time and tolerance
 of fmi2SetupExperiment).
 
 What each FMI call does and refuses, what an FMU state holds, and how a refusal reaches the
@@ -34,6 +34,7 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from gear_dyn.errors import GearDynError, InputError, SolverError
+from gear_dyn.fmu.clean_exit import release_at_exit
 from gear_dyn.fmu.inputs import input_changes
 from gear_dyn.fmu.outputs import Writer, output_writer
 from gear_dyn.fmu.stepper import Stepper
@@ -49,6 +50,7 @@ def fmi_call(func: Callable[..., Any]) -> Callable[..., Any]:
     """Wrap an FMI entry point: a failure is logged and refused safely (see module doc); the
     message names the FMI function (the slave's ``FMI_NAMES``)."""
 
+    @functools.wraps(func)
     def wrapper(self: SlaveCore, *args: Any) -> Any:
         try:
             return func(self, *args)
@@ -58,8 +60,6 @@ def fmi_call(func: Callable[..., Any]) -> Callable[..., Any]:
             name = self.FMI_NAMES.get(func.__name__, func.__name__)
             self._refuse(f"{name} refused: {exc}")
 
-    wrapper.__name__ = func.__name__
-    wrapper.__doc__ = func.__doc__
     return wrapper
 
 
@@ -80,8 +80,8 @@ class SlaveCore:
     """The FMI-version-independent part of a gear_dyn slave (a mixin placed before the
     exporter's slave class, whose ``do_step`` and friends it provides).
 
-    A slave calls :meth:`_init_core` in its ``__init__``, implements :meth:`_log_error` and
-    names its exporter's classes below.
+    A slave calls :meth:`_init_core` in its ``__init__`` and names its exporter's classes and
+    error status below.
     """
 
     #: FMI function of each slave entry point (named in the message of a refused call)
@@ -94,16 +94,22 @@ class SlaveCore:
     CAUSALITY: Any = None
     VARIABILITY: Any = None
     EXPERIMENT: Any = None
+    #: the exporter's status error, of the log message of a refused call
+    ERROR_STATUS: Any = None
     #: set by the exporter's slave class
     instance_name: str
     log_queue: Any
     resources: Any
     register_variable: Callable[..., Any]
+    log: Callable[..., Any]
 
     def _init_core(self, native: bool, fmi: int) -> None:
         """Read the spec from the FMU's resources; values, description, default experiment,
         variables and empty run state of a new instance of FMI version ``fmi`` (``native``:
-        called by the exporter's binary, which drops references on a raise; see module doc)."""
+        called by the exporter's binary, which drops references on a raise, see module doc; it
+        then also registers the host's clean exit, :mod:`gear_dyn.fmu.clean_exit`)."""
+        if native:
+            release_at_exit(str(self.resources), type(self).__name__, fmi)
         spec = check_spec(json.loads(Path(str(self.resources), SPEC_FILE).read_text("utf-8")))
         self._native = native
         self._spec = spec
@@ -120,6 +126,8 @@ class SlaveCore:
         self._applied: tuple[float, float] | None = None
         self._built_tables: dict[str, dict[str, Any]] | None = None
         self._write: Writer | None = None
+        self.author = "gear_dyn"
+        self.license = "MIT"
         self.description = (f"gear_dyn {spec['model']} model of scene '{spec['scene_name']}' "
                             f"(FMI {fmi}.0 co-simulation)")
         ex = spec["experiment"]
@@ -136,10 +144,6 @@ class SlaveCore:
             if v["type"] == "Real":
                 self._real_getters[var.value_reference] = getter
 
-    def _log_error(self, text: str) -> None:
-        """Log ``text`` with status error through the exporter."""
-        raise NotImplementedError
-
     # ------------------------------------------------------------------ variables
     def _access(self, v: dict[str, Any]) -> tuple[Callable[[], Any], Callable[[Any], None] | None]:
         """Getter and setter (None for an output) of spec variable ``v``; an Enumeration is
@@ -149,7 +153,7 @@ class SlaveCore:
         setter: Callable[[Any], None] | None = None
         if causality == "output":
             self._outputs[name] = 0.0
-            getter = self._output_getter(name)
+            getter = functools.partial(self._outputs.__getitem__, name)  # dict kept in place
         else:
             getter = self._value_getter(v["table"], v["key"])
             setter = functools.partial(self._set_value, v["table"], v["key"], causality)
@@ -191,9 +195,6 @@ class SlaveCore:
 
         return get, (put if setter is not None else None)
 
-    def _output_getter(self, name: str) -> Callable[[], float]:
-        return lambda: self._outputs[name]
-
     def _value_getter(self, table: str, key: str) -> Callable[[], Any]:
         return lambda: self._tables[table][key]
 
@@ -216,7 +217,7 @@ class SlaveCore:
     def _refuse(self, message: str) -> NoReturn:
         """Log ``message`` (status error) and raise so the FMI call fails; see module doc."""
         text = " ".join(str(message).split())
-        self._log_error(text)
+        self.log(text, self.ERROR_STATUS)
         if self._native:
             # the exporter drops one reference to the class, the instance and its log queue
             # when a call raises, yet keeps using them: hand it those references first

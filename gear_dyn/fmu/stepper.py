@@ -29,7 +29,7 @@ from gear_dyn.errors import InputError, SolverError
 from gear_dyn.models.base import Model
 from gear_dyn.solvers import DEFAULT_ODE_METHOD, IMPLICIT, SolverSettings, resolve_auto
 from gear_dyn.solvers.exact import _Exponential  # the exact propagator's cached matrix exponential
-from gear_dyn.solvers.ode import step_limit
+from gear_dyn.solvers.ode import atol_of, step_limit
 
 FloatArray = NDArray[np.float64]
 EPS = float(np.finfo(float).eps)
@@ -198,10 +198,8 @@ class Stepper:
     # ------------------------------------------------------------------ helpers
     @property
     def atol(self) -> FloatArray:
-        """Absolute tolerances per state (``rtol * state_scale`` unless set)."""
-        if self.settings.atol is not None:
-            return np.full(self.y.size, self.settings.atol)
-        return self.settings.rtol * np.asarray(self.model.state_scale, dtype=float)
+        """Absolute tolerances per state (:func:`gear_dyn.solvers.ode.atol_of`)."""
+        return atol_of(self.model, self.settings)
 
     def _next_switch(self, t: float) -> float:
         """First switching instant after ``t``, from switching times computed for windows of
