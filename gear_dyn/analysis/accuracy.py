@@ -75,9 +75,11 @@ def relative_errors(model: Model, t: FloatArray, y: FloatArray, y_ref: FloatArra
     return float(np.max(np.abs(d))), float(np.sqrt(np.mean(d**2)))
 
 
-def rounding_estimate(model: Model, t: FloatArray, y: FloatArray, n_segments: int) -> float:
-    """Rounding-level error of the exact propagator, relative to the static deflection."""
-    return _rounding(model, error_series(model, t, y), n_segments)
+def rounding_estimate(model: Model, x: FloatArray, n_segments: int) -> float:
+    """Rounding-level error of the exact propagator over ``n_segments`` pieces, relative to the
+    static deflection, from the run's error series ``x`` (:func:`error_series`)."""
+    amp = float(np.max(np.abs(x))) / error_scale(model)
+    return float(100 * np.finfo(float).eps * (n_segments + 1) * max(amp, 1.0))
 
 
 def estimate_error(
@@ -123,7 +125,7 @@ def estimate_with_reference(
     x = error_series(model, t_grid, y) if series is None else series
     if settings.method == "exact":
         return {
-            "max_rel": _rounding(model, x, int(stats.get("n_segments", 1))),
+            "max_rel": rounding_estimate(model, x, int(stats.get("n_segments", 1))),
             "basis": "rounding level of the exact propagator",
             "relative_to": "static deflection W/k_m",
             "reproducible": True,
@@ -132,7 +134,7 @@ def estimate_with_reference(
         return _exact_contact_estimate(model, t_grid, y, settings, stats, steady_start), None
     n_seq = int(stats.get("n_segments", 1)) + int(round((t_grid[-1] - t_grid[0])
                                                         * model.mesh_frequency))
-    floor = _rounding(model, x, n_seq)
+    floor = rounding_estimate(model, x, n_seq)
     if settings.method == "periodic" and stats.get("step_maps") is not None:
         done = _periodic_estimate(model, t_grid, y, x, stats["step_maps"], floor, steady_start)
         if done is not None:
@@ -185,12 +187,6 @@ def _series_like(model: Model, t_grid: FloatArray, y_other: FloatArray, y: Float
     if np.array_equal(x, y[0]):
         return np.asarray(y_other[0], dtype=float)
     return error_series(model, t_grid, y_other)
-
-
-def _rounding(model: Model, x: FloatArray, n_segments: int) -> float:
-    """:func:`rounding_estimate` from the run's error series ``x``."""
-    amp = float(np.max(np.abs(x))) / error_scale(model)
-    return float(100 * np.finfo(float).eps * (n_segments + 1) * max(amp, 1.0))
 
 
 def _two_runs(model: Model, t_grid: FloatArray, y: FloatArray, y_other: FloatArray,
