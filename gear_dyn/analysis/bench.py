@@ -257,12 +257,8 @@ def run_bench(
 
 
 # ------------------------------------------------------------------ tables
+#: the CSV columns: the fields of a case (:func:`dataclasses.asdict` of each is a row)
 COLUMNS = tuple(f.name for f in fields(BenchCase))
-
-
-def table_columns(report: BenchReport) -> dict[str, list[Any]]:
-    """Column dict of all cases (for CSV)."""
-    return {k: [getattr(c, k) for c in report.cases] for k in COLUMNS}
 
 
 def _g(x: float, digits: int = 3) -> str:
