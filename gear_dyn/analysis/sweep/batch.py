@@ -86,15 +86,11 @@ def _piecewise_orbits(mesh: list[MeshModel], fm: FloatArray, spp: int
                       ) -> tuple[FloatArray, FloatArray] | None:
     """Exact orbits (S, 2, spp) and monodromy (S, 2, 2) for piecewise-constant stiffness, or
     None."""
-    cells = [_cells(m, spp) for m in mesh]
-    if any(c is None for c in cells):
-        return None
-    first = cast(tuple[FloatArray, ...], cells[0])
-    if any(not np.array_equal(c[0], first[0]) for c in cast(list[tuple[FloatArray, ...]], cells)):
-        return None  # cells differ between speeds (not seen for sdof models): per speed
-    kap, gam, gg = (np.stack([cast(tuple[FloatArray, ...], c)[i] for c in cells])
-                    for i in (1, 2, 3))
-    return _orbits(fm, first[0], kap, gam, gg, spp)
+    cells = [c for c in (_cells(m, spp) for m in mesh) if c is not None]
+    if len(cells) < len(mesh) or any(not np.array_equal(c[0], cells[0][0]) for c in cells):
+        return None  # not covered, or cells differ between speeds (not seen for sdof models)
+    kap, gam, gg = (np.stack([c[i] for c in cells]) for i in (1, 2, 3))
+    return _orbits(fm, cells[0][0], kap, gam, gg, spp)
 
 
 def linear_block(models: Sequence[Model], speeds: Sequence[float], settings: SolverSettings,
