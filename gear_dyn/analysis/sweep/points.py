@@ -121,22 +121,15 @@ def _orbit_point(model: Model, speed: float, y0: FloatArray, settings: SolverSet
                 orbit_periods, n = d, d * spp
                 t, y = t[: n + 1], y[:, : n + 1]
                 break
-    return _orbit_metrics(model, speed, t[:-1], y[:, :-1], opts, rho, stable, status,
-                          iterations, orbit_periods, spp)
-
-
-def _orbit_metrics(model: Model, speed: float, t: FloatArray, y: FloatArray, opts: SweepOptions,
-                   rho: float, stable: bool, status: str, iterations: int, orbit_periods: int,
-                   spp: int) -> Point:
-    """The point of a periodic orbit sampled at ``t`` (whole periods, the end excluded)."""
+    t, y = t[:-1], y[:, :-1]  # whole periods, the end excluded
     out = model.outputs(t, y)
     df, rms, ptp, mean, sep, back = _metrics(model, t, y, model.static_load, out)
     reps = -(-opts.window_periods // orbit_periods)
     dte_win = np.tile(out["dte"], reps)[: opts.window_periods * spp]
     spec = _order_spectrum(dte_win, opts)
-    return Point(speed, model.mesh_frequency, df, rms, ptp, mean, rho, stable,
-                 orbit_periods == 1, status, sep, back, iterations, spec,
-                 np.array(y[:, 0], dtype=float), orbit_periods, f"period-{orbit_periods}")
+    return Point(speed, fm, df, rms, ptp, mean, rho, stable, orbit_periods == 1, status, sep,
+                 back, iterations, spec, np.array(y[:, 0], dtype=float), orbit_periods,
+                 f"period-{orbit_periods}")
 
 
 def _window_point(model: Model, speed: float, t: FloatArray, y: FloatArray, n_window: int,
