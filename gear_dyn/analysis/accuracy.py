@@ -169,7 +169,9 @@ def _periodic_estimate(model: Model, t_grid: FloatArray, y: FloatArray, x: Float
         diff = np.max(np.abs(y - y_f), axis=1) / scale
         if np.all(own <= REFERENCE_SHARE * np.maximum(diff, floor)):
             cost = time.perf_counter() - start
-            x_f = _series_like(model, t_grid, y_f, y, x)
+            # the mesh model's DTE is its state x: the reference's series is then its first state
+            x_f = (np.asarray(y_f[0], dtype=float) if np.array_equal(x, y[0])
+                   else error_series(model, t_grid, y_f))
             est = _two_runs(model, t_grid, y, y_f, floor,
                             f"second run with Gauss-Legendre step maps ({n} substeps, checked "
                             f"against {n // 2}) over the whole span", cost, steady_start,
@@ -177,16 +179,6 @@ def _periodic_estimate(model: Model, t_grid: FloatArray, y: FloatArray, x: Float
             return est, (fine[0][-1], coarse[0][-1])
         coarse, y_c = fine, y_f
     return None
-
-
-def _series_like(model: Model, t_grid: FloatArray, y_other: FloatArray, y: FloatArray,
-                 x: FloatArray) -> FloatArray:
-    """The error series of ``y_other``: its first state where the run's series ``x`` is the
-    run's first state sample for sample (the mesh model's DTE is its state x), else the
-    model's outputs."""
-    if np.array_equal(x, y[0]):
-        return np.asarray(y_other[0], dtype=float)
-    return error_series(model, t_grid, y_other)
 
 
 def _two_runs(model: Model, t_grid: FloatArray, y: FloatArray, y_other: FloatArray,
