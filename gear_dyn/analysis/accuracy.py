@@ -203,8 +203,15 @@ def _two_runs(model: Model, t_grid: FloatArray, y: FloatArray, y_other: FloatArr
         "growth_per_period": growth,
         "check_run_time_s": cost,
     }
-    if not out["reproducible"]:
-        _not_reproducible(out, model, t_grid, y, y_other, growth, steady_start)
+    if not out["reproducible"]:  # say why, and state the figures' errors
+        why = (f"the runs part exponentially (x{growth:.3g} per mesh period: an unstable or "
+               "chaotic response, no tolerance pins it)" if growth > GROWTH_LIMIT
+               else "tighten rtol to pin it")
+        out["basis"] += (f"; the pointwise trajectory is not reproducible to {REPRODUCIBLE:g} "
+                         f"of the static deflection: {why}; the figures' errors are stated")
+        start_s = 0.5 * float(t_grid[-1]) if steady_start is None else steady_start
+        out["figures"] = figure_errors(summary_figures(model, t_grid, y, start_s),
+                                       summary_figures(model, t_grid, y_other, start_s))
     return out
 
 
@@ -239,19 +246,6 @@ def _exact_contact_estimate(model: Model, t_grid: FloatArray, y: FloatArray, set
                      rounding_bound(y, scale, int(stats.get("n_segments", 1))),
                      "rounding level of the closed form between located contact changes, "
                      "checked by a run from a state moved by 1e-12", cost, steady_start)
-
-
-def _not_reproducible(out: dict[str, Any], model: Model, t_grid: FloatArray, y: FloatArray,
-                      y_other: FloatArray, growth: float, steady_start: float | None) -> None:
-    """Mark an estimate as not reproducible: say why, and state the figures' errors."""
-    why = (f"the runs part exponentially (x{growth:.3g} per mesh period: an unstable or "
-           "chaotic response, no tolerance pins it)" if growth > GROWTH_LIMIT
-           else "tighten rtol to pin it")
-    out["basis"] += (f"; the pointwise trajectory is not reproducible to {REPRODUCIBLE:g} of "
-                     f"the static deflection: {why}; the figures' errors are stated")
-    start_s = 0.5 * float(t_grid[-1]) if steady_start is None else steady_start
-    out["figures"] = figure_errors(summary_figures(model, t_grid, y, start_s),
-                                   summary_figures(model, t_grid, y_other, start_s))
 
 
 def growth_per_period(t: FloatArray, d: FloatArray, mesh_frequency: float) -> float:
