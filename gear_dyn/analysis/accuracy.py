@@ -130,8 +130,21 @@ def estimate_with_reference(
             "relative_to": "static deflection W/k_m",
             "reproducible": True,
         }, None
-    if settings.method == "exact_contact":  # closed form between located contact changes
-        return _exact_contact_estimate(model, t_grid, y, settings, stats, steady_start), None
+    if settings.method == "exact_contact":
+        # the closed form between located contact changes: rounding level where the response is
+        # stable; where it is unstable or chaotic, rounding grows exponentially. A second run
+        # from the initial state moved by 1e-12 of the state scale shows which: the larger of
+        # the rounding bound and twice the difference is stated (``reproducible`` as for ODEs)
+        from gear_dyn.solvers.contact_exact import rounding_bound
+
+        scale = np.asarray(model.state_scale, dtype=float)
+        start = time.perf_counter()
+        y_p, _ = integrate(model, t_grid, settings, y[:, 0] + 1e-12 * scale)
+        cost = time.perf_counter() - start
+        return _two_runs(model, t_grid, y, y_p,
+                         rounding_bound(y, scale, int(stats.get("n_segments", 1))),
+                         "rounding level of the closed form between located contact changes, "
+                         "checked by a run from a state moved by 1e-12", cost, steady_start), None
     n_seq = int(stats.get("n_segments", 1)) + int(round((t_grid[-1] - t_grid[0])
                                                         * model.mesh_frequency))
     floor = rounding_estimate(model, x, n_seq)
@@ -227,25 +240,6 @@ def summary_figures(model: Model, t: FloatArray, y: FloatArray, steady_start: fl
     if "mesh_force" in out and model.static_load > 0:
         figs["dynamic_factor"] = float(np.max(out["mesh_force"]) / model.static_load)
     return figs
-
-
-def _exact_contact_estimate(model: Model, t_grid: FloatArray, y: FloatArray, settings: Any,
-                            stats: dict[str, Any], steady_start: float | None
-                            ) -> dict[str, Any]:
-    """The closed form between located contact changes: rounding level where the response is
-    stable; where it is unstable or chaotic, rounding grows exponentially. A second run from
-    the initial state moved by 1e-12 of the state scale shows which: the larger of the rounding
-    bound and twice the difference is stated (and ``reproducible`` as for ODE runs)."""
-    from gear_dyn.solvers.contact_exact import rounding_bound
-
-    scale = np.asarray(model.state_scale, dtype=float)
-    start = time.perf_counter()
-    y_p, _ = integrate(model, t_grid, settings, y[:, 0] + 1e-12 * scale)
-    cost = time.perf_counter() - start
-    return _two_runs(model, t_grid, y, y_p,
-                     rounding_bound(y, scale, int(stats.get("n_segments", 1))),
-                     "rounding level of the closed form between located contact changes, "
-                     "checked by a run from a state moved by 1e-12", cost, steady_start)
 
 
 def growth_per_period(t: FloatArray, d: FloatArray, mesh_frequency: float) -> float:
