@@ -75,9 +75,11 @@ def relative_errors(model: Model, t: FloatArray, y: FloatArray, y_ref: FloatArra
     return float(np.max(np.abs(d))), float(np.sqrt(np.mean(d**2)))
 
 
-def rounding_estimate(model: Model, t: FloatArray, y: FloatArray, n_segments: int) -> float:
-    """Rounding-level error of the exact propagator, relative to the static deflection."""
-    return _rounding(model, error_series(model, t, y), n_segments)
+def rounding_estimate(model: Model, x: FloatArray, n_segments: int) -> float:
+    """Rounding-level error of the exact propagator over ``n_segments`` pieces, relative to the
+    static deflection, from the run's error series ``x`` (:func:`error_series`)."""
+    amp = float(np.max(np.abs(x))) / error_scale(model)
+    return float(100 * np.finfo(float).eps * (n_segments + 1) * max(amp, 1.0))
 
 
 def estimate_error(
@@ -123,16 +125,29 @@ def estimate_with_reference(
     x = error_series(model, t_grid, y) if series is None else series
     if settings.method == "exact":
         return {
-            "max_rel": _rounding(model, x, int(stats.get("n_segments", 1))),
+            "max_rel": rounding_estimate(model, x, int(stats.get("n_segments", 1))),
             "basis": "rounding level of the exact propagator",
             "relative_to": "static deflection W/k_m",
             "reproducible": True,
         }, None
-    if settings.method == "exact_contact":  # closed form between located contact changes
-        return _exact_contact_estimate(model, t_grid, y, settings, stats, steady_start), None
+    if settings.method == "exact_contact":
+        # the closed form between located contact changes: rounding level where the response is
+        # stable; where it is unstable or chaotic, rounding grows exponentially. A second run
+        # from the initial state moved by 1e-12 of the state scale shows which: the larger of
+        # the rounding bound and twice the difference is stated (``reproducible`` as for ODEs)
+        from gear_dyn.solvers.contact_exact import rounding_bound
+
+        scale = np.asarray(model.state_scale, dtype=float)
+        start = time.perf_counter()
+        y_p, _ = integrate(model, t_grid, settings, y[:, 0] + 1e-12 * scale)
+        cost = time.perf_counter() - start
+        return _two_runs(model, t_grid, y, y_p,
+                         rounding_bound(y, scale, int(stats.get("n_segments", 1))),
+                         "rounding level of the closed form between located contact changes, "
+                         "checked by a run from a state moved by 1e-12", cost, steady_start), None
     n_seq = int(stats.get("n_segments", 1)) + int(round((t_grid[-1] - t_grid[0])
                                                         * model.mesh_frequency))
-    floor = _rounding(model, x, n_seq)
+    floor = rounding_estimate(model, x, n_seq)
     if settings.method == "periodic" and stats.get("step_maps") is not None:
         done = _periodic_estimate(model, t_grid, y, x, stats["step_maps"], floor, steady_start)
         if done is not None:
@@ -167,7 +182,9 @@ def _periodic_estimate(model: Model, t_grid: FloatArray, y: FloatArray, x: Float
         diff = np.max(np.abs(y - y_f), axis=1) / scale
         if np.all(own <= REFERENCE_SHARE * np.maximum(diff, floor)):
             cost = time.perf_counter() - start
-            x_f = _series_like(model, t_grid, y_f, y, x)
+            # the mesh model's DTE is its state x: the reference's series is then its first state
+            x_f = (np.asarray(y_f[0], dtype=float) if np.array_equal(x, y[0])
+                   else error_series(model, t_grid, y_f))
             est = _two_runs(model, t_grid, y, y_f, floor,
                             f"second run with Gauss-Legendre step maps ({n} substeps, checked "
                             f"against {n // 2}) over the whole span", cost, steady_start,
@@ -175,22 +192,6 @@ def _periodic_estimate(model: Model, t_grid: FloatArray, y: FloatArray, x: Float
             return est, (fine[0][-1], coarse[0][-1])
         coarse, y_c = fine, y_f
     return None
-
-
-def _series_like(model: Model, t_grid: FloatArray, y_other: FloatArray, y: FloatArray,
-                 x: FloatArray) -> FloatArray:
-    """The error series of ``y_other``: its first state where the run's series ``x`` is the
-    run's first state sample for sample (the mesh model's DTE is its state x), else the
-    model's outputs."""
-    if np.array_equal(x, y[0]):
-        return np.asarray(y_other[0], dtype=float)
-    return error_series(model, t_grid, y_other)
-
-
-def _rounding(model: Model, x: FloatArray, n_segments: int) -> float:
-    """:func:`rounding_estimate` from the run's error series ``x``."""
-    amp = float(np.max(np.abs(x))) / error_scale(model)
-    return float(100 * np.finfo(float).eps * (n_segments + 1) * max(amp, 1.0))
 
 
 def _two_runs(model: Model, t_grid: FloatArray, y: FloatArray, y_other: FloatArray,
@@ -215,8 +216,15 @@ def _two_runs(model: Model, t_grid: FloatArray, y: FloatArray, y_other: FloatArr
         "growth_per_period": growth,
         "check_run_time_s": cost,
     }
-    if not out["reproducible"]:
-        _not_reproducible(out, model, t_grid, y, y_other, growth, steady_start)
+    if not out["reproducible"]:  # say why, and state the figures' errors
+        why = (f"the runs part exponentially (x{growth:.3g} per mesh period: an unstable or "
+               "chaotic response, no tolerance pins it)" if growth > GROWTH_LIMIT
+               else "tighten rtol to pin it")
+        out["basis"] += (f"; the pointwise trajectory is not reproducible to {REPRODUCIBLE:g} "
+                         f"of the static deflection: {why}; the figures' errors are stated")
+        start_s = 0.5 * float(t_grid[-1]) if steady_start is None else steady_start
+        out["figures"] = figure_errors(summary_figures(model, t_grid, y, start_s),
+                                       summary_figures(model, t_grid, y_other, start_s))
     return out
 
 
@@ -232,38 +240,6 @@ def summary_figures(model: Model, t: FloatArray, y: FloatArray, steady_start: fl
     if "mesh_force" in out and model.static_load > 0:
         figs["dynamic_factor"] = float(np.max(out["mesh_force"]) / model.static_load)
     return figs
-
-
-def _exact_contact_estimate(model: Model, t_grid: FloatArray, y: FloatArray, settings: Any,
-                            stats: dict[str, Any], steady_start: float | None
-                            ) -> dict[str, Any]:
-    """The closed form between located contact changes: rounding level where the response is
-    stable; where it is unstable or chaotic, rounding grows exponentially. A second run from
-    the initial state moved by 1e-12 of the state scale shows which: the larger of the rounding
-    bound and twice the difference is stated (and ``reproducible`` as for ODE runs)."""
-    from gear_dyn.solvers.contact_exact import rounding_bound
-
-    scale = np.asarray(model.state_scale, dtype=float)
-    start = time.perf_counter()
-    y_p, _ = integrate(model, t_grid, settings, y[:, 0] + 1e-12 * scale)
-    cost = time.perf_counter() - start
-    return _two_runs(model, t_grid, y, y_p,
-                     rounding_bound(y, scale, int(stats.get("n_segments", 1))),
-                     "rounding level of the closed form between located contact changes, "
-                     "checked by a run from a state moved by 1e-12", cost, steady_start)
-
-
-def _not_reproducible(out: dict[str, Any], model: Model, t_grid: FloatArray, y: FloatArray,
-                      y_other: FloatArray, growth: float, steady_start: float | None) -> None:
-    """Mark an estimate as not reproducible: say why, and state the figures' errors."""
-    why = (f"the runs part exponentially (x{growth:.3g} per mesh period: an unstable or "
-           "chaotic response, no tolerance pins it)" if growth > GROWTH_LIMIT
-           else "tighten rtol to pin it")
-    out["basis"] += (f"; the pointwise trajectory is not reproducible to {REPRODUCIBLE:g} of "
-                     f"the static deflection: {why}; the figures' errors are stated")
-    start_s = 0.5 * float(t_grid[-1]) if steady_start is None else steady_start
-    out["figures"] = figure_errors(summary_figures(model, t_grid, y, start_s),
-                                   summary_figures(model, t_grid, y_other, start_s))
 
 
 def growth_per_period(t: FloatArray, d: FloatArray, mesh_frequency: float) -> float:

@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.integrate import solve_ivp
 
-from gear_dyn.analysis.accuracy import relative_errors, rounding_estimate
+from gear_dyn.analysis.accuracy import error_series, relative_errors, rounding_estimate
 from gear_dyn.errors import InputError, SolverError
 from gear_dyn.models.base import Model
 from gear_dyn.solvers import (
@@ -112,7 +112,7 @@ def reference_solution(model: Model, t_grid: FloatArray) -> Reference:
     start = time.perf_counter()
     if exact_applies(model):
         y, st = integrate(model, t_grid, SolverSettings(method="exact", estimate_error=False))
-        own = rounding_estimate(model, t_grid, y, int(st["n_segments"]))
+        own = rounding_estimate(model, error_series(model, t_grid, y), int(st["n_segments"]))
         return Reference(t_grid, y, "exact propagator", own, time.perf_counter() - start)
     y13, _ = integrate(model, t_grid, SolverSettings(method="DOP853", rtol=1e-13))
     run_time = time.perf_counter() - start
@@ -257,12 +257,8 @@ def run_bench(
 
 
 # ------------------------------------------------------------------ tables
+#: the CSV columns: the fields of a case (:func:`dataclasses.asdict` of each is a row)
 COLUMNS = tuple(f.name for f in fields(BenchCase))
-
-
-def table_columns(report: BenchReport) -> dict[str, list[Any]]:
-    """Column dict of all cases (for CSV)."""
-    return {k: [getattr(c, k) for c in report.cases] for k in COLUMNS}
 
 
 def _g(x: float, digits: int = 3) -> str:

@@ -61,20 +61,14 @@ class Label:
     frequency: float
 
 
-def _term(coef: int, sym: str, first: bool) -> str:
-    if coef == 0:
-        return ""
-    sign = "-" if coef < 0 else ("" if first else "+")
-    mag = abs(coef)
-    return f"{sign}{'' if mag == 1 else mag}{sym}"
-
-
 def _name(n: int, a: int, b: int) -> str:
     terms = [(n, "fm"), (a, "f1"), (b, "f2")]
     terms.sort(key=lambda c: c[0] < 0)  # a positive term first: "4f2-f1", not "-f1+4f2"
     out = ""
     for coef, sym in terms:
-        out += _term(coef, sym, not out)
+        if coef != 0:
+            sign = "-" if coef < 0 else ("+" if out else "")
+            out += f"{sign}{'' if abs(coef) == 1 else abs(coef)}{sym}"
     return out or "0"
 
 

@@ -146,29 +146,6 @@ def period_map(f: FloatArray, h: FloatArray) -> tuple[FloatArray, FloatArray]:
     return q[-1], r[-1]
 
 
-def _piece(f: Any, ta: float, tb: float, z: FloatArray, t_eval: FloatArray, events: list[Any],
-           rtol: float, atol: Any) -> tuple[FloatArray, FloatArray]:
-    """DOP853 over ``[ta, tb]`` (``tb`` is the last of ``t_eval``), restarted at every contact
-    change so that no step crosses a kink of the dead zone: ``(z at t_eval, z at tb)``.
-
-    Across a contact change the vector field is continuous, so the saltation matrix is the
-    identity and the variational equations need no correction at the restart; what the restart
-    buys is the integrator's full order on both sides (a step across the kink loses it, and with
-    it the accuracy of the sensitivities: 3e-4 in a Floquet multiplier, seen in a test).
-    """
-    from scipy.integrate import solve_ivp  # on use: scipy.integrate costs ~0.25 s to import
-
-    if events:
-        ys, z_end, _ = solve_piece_with_events(f, ta, tb, z, t_eval, events, "DOP853", rtol,
-                                               atol, math.inf, {})
-        return ys, z_end
-    sol = solve_ivp(f, (ta, tb), z, method="DOP853", t_eval=t_eval, rtol=rtol, atol=atol)
-    if sol.status != 0:
-        raise SolverError(f"solve_ivp (DOP853) failed at t = {ta:.6g}..{tb:.6g} s: "
-                          f"{sol.message}; try a looser rtol")
-    return sol.y, sol.y[:, -1]
-
-
 def flow_on_grid(model: MeshModel, y0: FloatArray, t_grid: FloatArray, rtol: float = 1e-8,
                  atol: FloatArray | float | None = None) -> FloatArray:
     """States of a single-DOF model on ``t_grid`` from ``y(t_grid[0]) = y0`` (DOP853).
@@ -208,18 +185,36 @@ def flow_on_grid(model: MeshModel, y0: FloatArray, t_grid: FloatArray, rtol: flo
 def _run_cut(model: MeshModel, rhs_on: Any, z0: FloatArray, t_grid: FloatArray, rtol: float,
              atol: Any, diverged: str = "") -> FloatArray:
     """States on ``t_grid`` from ``z0`` (at its first time) by DOP853, restarted at every
-    switching instant; ``rhs_on(ta, tb)`` is the right-hand side on the piece ``[ta, tb]`` (so
-    a stiffness constant on the piece is evaluated once, not at every step). ``diverged``: the
-    message of non-finite states (default: solve_ivp's times and advice)."""
+    switching instant and at every contact change, so that no step crosses a kink of the dead
+    zone; ``rhs_on(ta, tb)`` is the right-hand side on the piece ``[ta, tb]`` (so a stiffness
+    constant on the piece is evaluated once, not at every step). ``diverged``: the message of
+    non-finite states (default: solve_ivp's times and advice).
+
+    Across a contact change the vector field is continuous, so the saltation matrix is the
+    identity and the variational equations need no correction at the restart; what the restart
+    buys is the integrator's full order on both sides (a step across the kink loses it, and with
+    it the accuracy of the sensitivities: 3e-4 in a Floquet multiplier, seen in a test).
+    """
+    from scipy.integrate import solve_ivp  # on use: scipy.integrate costs ~0.25 s to import
+
     t0, t1 = float(t_grid[0]), float(t_grid[-1])
     cuts = np.concatenate([[t0], model.switching_times(t0, t1), [t1]])
     z = np.array(z0, dtype=float)
     out = np.empty((z.size, t_grid.size))
     out[:, 0] = z
     n = len(model.state_labels)  # the events see the state, not the variational part after it
-    events = [lambda t, z, g=g: g(t, z[:n]) for g in model.contact_events()]
+    events: list[Any] = [lambda t, z, g=g: g(t, z[:n]) for g in model.contact_events()]
     for ta, tb, i0, i1, t_eval in pieces(t_grid, cuts):
-        zs, z = _piece(rhs_on(ta, tb), ta, tb, z, t_eval, events, rtol, atol)
+        if events:
+            zs, z, _ = solve_piece_with_events(rhs_on(ta, tb), ta, tb, z, t_eval, events,
+                                               "DOP853", rtol, atol, math.inf, {})
+        else:
+            sol = solve_ivp(rhs_on(ta, tb), (ta, tb), z, method="DOP853", t_eval=t_eval,
+                            rtol=rtol, atol=atol)
+            if sol.status != 0:
+                raise SolverError(f"solve_ivp (DOP853) failed at t = {ta:.6g}..{tb:.6g} s: "
+                                  f"{sol.message}; try a looser rtol")
+            zs, z = sol.y, sol.y[:, -1]
         if not np.all(np.isfinite(zs)):
             raise SolverError(diverged or (
                 f"solve_ivp (DOP853) produced non-finite states at t = {ta:.6g}..{tb:.6g} s: "

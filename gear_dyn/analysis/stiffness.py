@@ -17,31 +17,6 @@ from gear_dyn.stiffness.select import METHOD_OPTIONS, build_stiffness, tooth_opt
 from gear_dyn.stiffness.summary import operating_summary, stiffness_summary
 
 
-def _method_curves(pair: GearPair, methods: list[str], scene_method: str,
-                   scene_opts: dict[str, Any], fourier: int | None
-                   ) -> tuple[dict[str, Any], dict[str, Any]]:
-    """Stiffness of each method (with the scene's options that apply to it) and its summary."""
-    curves: dict[str, Any] = {}
-    per_method: dict[str, Any] = {}
-    for m in methods:
-        opts = {k: v for k, v in scene_opts.items() if k in METHOD_OPTIONS[m]}
-        t0 = time.perf_counter()
-        try:
-            k = build_stiffness(pair, m, **opts)
-        except InputError as exc:
-            raise InputError(f"method {m}: {exc}") from None
-        summ = stiffness_summary(pair, k)
-        summ["build_time_s"] = time.perf_counter() - t0
-        summ["options"] = opts
-        curves[m] = k
-        if fourier is not None and m == scene_method:
-            kf = k.truncated(fourier)
-            curves[f"{m} (Fourier {fourier})"] = kf
-            summ["fourier"] = stiffness_summary(pair, kf)
-        per_method[m] = summ
-    return curves, per_method
-
-
 def pitch_point_components(pair: GearPair, options: dict[str, Any] | None = None
                            ) -> tuple[Any, dict[str, Any]]:
     """Potential-energy compliances at the pitch point: the raw object and a JSON-ready dict.
@@ -87,7 +62,24 @@ def compare_methods(pair: GearPair, methods: list[str], scene_method: str,
     InputError
         A method's options out of range (the message names the method).
     """
-    curves, per_method = _method_curves(pair, methods, scene_method, scene_opts, fourier)
+    curves: dict[str, Any] = {}
+    per_method: dict[str, Any] = {}
+    for m in methods:  # each method with the scene's options that apply to it
+        opts = {k: v for k, v in scene_opts.items() if k in METHOD_OPTIONS[m]}
+        t0 = time.perf_counter()
+        try:
+            k = build_stiffness(pair, m, **opts)
+        except InputError as exc:
+            raise InputError(f"method {m}: {exc}") from None
+        summ = stiffness_summary(pair, k)
+        summ["build_time_s"] = time.perf_counter() - t0
+        summ["options"] = opts
+        curves[m] = k
+        if fourier is not None and m == scene_method:
+            kf = k.truncated(fourier)
+            curves[f"{m} (Fourier {fourier})"] = kf
+            summ["fourier"] = stiffness_summary(pair, kf)
+        per_method[m] = summ
     iso = iso6336_stiffness(pair)
     comp, components = pitch_point_components(pair, scene_opts)
     report: dict[str, Any] = {

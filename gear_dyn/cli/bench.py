@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+from dataclasses import asdict
 from typing import Any
 
 from gear_dyn.cli.progress import add_quiet_flag, counter
@@ -51,7 +52,7 @@ def _floats(text: str, name: str) -> list[float]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from gear_dyn.analysis.bench import markdown_table, run_bench, summary_dict, table_columns
+    from gear_dyn.analysis.bench import COLUMNS, markdown_table, run_bench, summary_dict
     from gear_dyn.io import save_figure, staged_output, write_json, write_rows, write_text
     from gear_dyn.plots.bench import plot_work_precision
     from gear_dyn.scene import build_plan, load_scene
@@ -77,13 +78,12 @@ def run(args: argparse.Namespace) -> int:
                        budget_s=args.budget, progress=show)
     targets = tuple(sorted({*TARGETS, args.target}, reverse=True))
     md = markdown_table(report, targets)
-    cols = table_columns(report)
-    rows = [{k: f"{v:.6g}" if isinstance(v, float) else v for k, v in zip(cols, row, strict=True)}
-            for row in zip(*cols.values(), strict=True)]
+    rows = [{k: f"{v:.6g}" if isinstance(v, float) else v for k, v in asdict(c).items()}
+            for c in report.cases]
     cmd = "gear-dyn bench " + " ".join(sys.argv[2:]) if len(sys.argv) > 2 else "gear-dyn bench"
     with staged_output(args.out) as tmp:
         write_text(tmp / "bench.md", md + f"\nProduced by `{cmd}`.\n")
-        write_rows(tmp / "bench.csv", rows, empty=list(cols))
+        write_rows(tmp / "bench.csv", rows, empty=COLUMNS)
         write_json(tmp / "bench.json", summary_dict(report, targets))
         fig = plot_work_precision(report, targets=(args.target,))
         save_figure(fig, tmp / "work_precision.png", dpi=110)

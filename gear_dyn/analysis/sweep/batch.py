@@ -68,33 +68,21 @@ def _phase_cells(cuts: bytes, spp: int) -> tuple[FloatArray, NDArray[np.intp]]:
     return edges, owner
 
 
-def _orbits(fm: FloatArray, edges: FloatArray, kappa: FloatArray, gamma: FloatArray,
-            g: FloatArray, spp: int) -> tuple[FloatArray, FloatArray]:
-    """(orbit samples (S, 2, spp), monodromy (S, 2, 2)).
-
-    ``kappa``, ``gamma``, ``g``: (S, C) per speed and cell; ``edges`` (C + 1,) in phase.
-    """
+def _piecewise_orbits(mesh: list[MeshModel], fm: FloatArray, spp: int
+                      ) -> tuple[FloatArray, FloatArray] | None:
+    """Exact orbits (S, 2, spp) and monodromy (S, 2, 2) for piecewise-constant stiffness, or
+    None."""
+    cells = [c for c in (_cells(m, spp) for m in mesh) if c is not None]
+    if len(cells) < len(mesh) or any(not np.array_equal(c[0], cells[0][0]) for c in cells):
+        return None  # not covered, or cells differ between speeds (not seen for sdof models)
+    edges = cells[0][0]
+    kappa, gamma, g = (np.stack([c[i] for c in cells]) for i in (1, 2, 3))  # (S, C): speed, cell
     dt = np.diff(edges)[None, :] / fm[:, None]
     e11, e12, e21, e22 = _expm2(0.0, dt, -kappa * dt, -gamma * dt)  # exp of A dt
     xs = g / kappa  # equilibrium deflection of each cell
     # cell map y -> E y + d with d = (I - E) y*, y* = [xs, 0]; the cells ending on a sample
     ends = np.flatnonzero(np.isin(np.round(edges[1:] * spp, 9), np.arange(1, spp + 1)))
     return smooth.compose_period((e11, e12, e21, e22, (1 - e11) * xs, -e21 * xs), ends, spp)
-
-
-def _piecewise_orbits(mesh: list[MeshModel], fm: FloatArray, spp: int
-                      ) -> tuple[FloatArray, FloatArray] | None:
-    """Exact orbits (S, 2, spp) and monodromy (S, 2, 2) for piecewise-constant stiffness, or
-    None."""
-    cells = [_cells(m, spp) for m in mesh]
-    if any(c is None for c in cells):
-        return None
-    first = cast(tuple[FloatArray, ...], cells[0])
-    if any(not np.array_equal(c[0], first[0]) for c in cast(list[tuple[FloatArray, ...]], cells)):
-        return None  # cells differ between speeds (not seen for sdof models): per speed
-    kap, gam, gg = (np.stack([cast(tuple[FloatArray, ...], c)[i] for c in cells])
-                    for i in (1, 2, 3))
-    return _orbits(fm, first[0], kap, gam, gg, spp)
 
 
 def linear_block(models: Sequence[Model], speeds: Sequence[float], settings: SolverSettings,

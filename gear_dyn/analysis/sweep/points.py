@@ -121,22 +121,15 @@ def _orbit_point(model: Model, speed: float, y0: FloatArray, settings: SolverSet
                 orbit_periods, n = d, d * spp
                 t, y = t[: n + 1], y[:, : n + 1]
                 break
-    return _orbit_metrics(model, speed, t[:-1], y[:, :-1], opts, rho, stable, status,
-                          iterations, orbit_periods, spp)
-
-
-def _orbit_metrics(model: Model, speed: float, t: FloatArray, y: FloatArray, opts: SweepOptions,
-                   rho: float, stable: bool, status: str, iterations: int, orbit_periods: int,
-                   spp: int) -> Point:
-    """The point of a periodic orbit sampled at ``t`` (whole periods, the end excluded)."""
+    t, y = t[:-1], y[:, :-1]  # whole periods, the end excluded
     out = model.outputs(t, y)
     df, rms, ptp, mean, sep, back = _metrics(model, t, y, model.static_load, out)
     reps = -(-opts.window_periods // orbit_periods)
     dte_win = np.tile(out["dte"], reps)[: opts.window_periods * spp]
     spec = _order_spectrum(dte_win, opts)
-    return Point(speed, model.mesh_frequency, df, rms, ptp, mean, rho, stable,
-                 orbit_periods == 1, status, sep, back, iterations, spec,
-                 np.array(y[:, 0], dtype=float), orbit_periods, f"period-{orbit_periods}")
+    return Point(speed, fm, df, rms, ptp, mean, rho, stable, orbit_periods == 1, status, sep,
+                 back, iterations, spec, np.array(y[:, 0], dtype=float), orbit_periods,
+                 f"period-{orbit_periods}")
 
 
 def _window_point(model: Model, speed: float, t: FloatArray, y: FloatArray, n_window: int,
@@ -169,8 +162,12 @@ def steady_point(model: Model, speed: float, settings: SolverSettings, opts: Swe
         raise ValueError("steady_point needs a mesh-periodic model")  # checked by sweep()
     mesh = model
     assert isinstance(mesh, MeshModel)
-    if mesh.backlash is None:
-        return _linear_orbit_point(mesh, speed, settings, opts)
+    if mesh.backlash is None:  # linear: the orbit from the one-period map, NaN where unstable
+        sol = periodic_steady_state(mesh, rtol=settings.rtol)
+        if not sol.stable:
+            return _nan_point(mesh, speed, sol.spectral_radius, "unstable", opts), None
+        return _orbit_point(mesh, speed, sol.y0, settings, opts, sol.spectral_radius, True,
+                            "periodic", 0), sol.y0
     guess = mesh.initial_state() if y_guess is None else np.asarray(y_guess, dtype=float)
     first = n_prev if 1 <= n_prev <= MAX_PERIOD else 1
     sol = shoot(mesh, guess, settings.rtol, opts.max_newton, periods=first)
@@ -179,16 +176,6 @@ def steady_point(model: Model, speed: float, settings: SolverSettings, opts: Swe
                             orbit_status(first), sol.iterations, first), sol.y0
     return _settle_and_shoot(mesh, speed, settings, opts, guess, sol.iterations,
                              continuing=y_guess is not None)
-
-
-def _linear_orbit_point(model: MeshModel, speed: float, settings: SolverSettings,
-                        opts: SweepOptions) -> tuple[Point, FloatArray | None]:
-    """Linear model: the periodic orbit from the one-period map, or NaN where unstable."""
-    sol = periodic_steady_state(model, rtol=settings.rtol)
-    if not sol.stable:
-        return _nan_point(model, speed, sol.spectral_radius, "unstable", opts), None
-    return _orbit_point(model, speed, sol.y0, settings, opts, sol.spectral_radius, True,
-                        "periodic", 0), sol.y0
 
 
 def _settle_and_shoot(model: MeshModel, speed: float, settings: SolverSettings,

@@ -3,9 +3,6 @@
 The dynamic factor and the figures beside it are those of a run
 (:mod:`gear_dyn.analysis.dynamic_factor`). The jumps themselves are found from the orbits when
 the sweep runs (:mod:`gear_dyn.analysis.sweep.orbit_jumps`); here they are only listed.
-
-Hysteresis is claimed only where both directions found a periodic orbit and the two differ;
-where either direction's response is not periodic the summary says so (``aperiodic``) instead.
 """
 
 from __future__ import annotations
