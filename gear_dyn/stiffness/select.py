@@ -139,6 +139,18 @@ def _pair_fn(method: str, opts: Mapping[str, Any]) -> Any:
                    foundation=bool(opts.get("weber_foundation", False)))
 
 
+def _check_method(kind: str, method: str, methods: tuple[str, ...],
+                  options: Mapping[str, Any]) -> None:
+    """Refuse a method not in ``methods`` or an option it does not take (``kind``: "stiffness"
+    or "pair stiffness", for the messages)."""
+    if method not in methods:
+        raise InputError(f"{kind} method = {method!r}: valid values are {', '.join(methods)}")
+    unknown = sorted(set(options) - set(METHOD_OPTIONS[method]))
+    if unknown:
+        raise InputError(f"unknown option(s) {', '.join(unknown)} for {kind} method {method!r}; "
+                         f"valid: {', '.join(METHOD_OPTIONS[method]) or 'none'}")
+
+
 def pair_stiffness_function(pair: GearPair, method: str = "potential_energy",
                             options: Mapping[str, Any] | None = None) -> Callable[
         [FloatArray], FloatArray]:
@@ -161,14 +173,8 @@ def pair_stiffness_function(pair: GearPair, method: str = "potential_energy",
     InputError
         Unknown method or option, bad option values.
     """
-    if method not in PAIR_STIFFNESS_METHODS:
-        raise InputError(f"pair stiffness method = {method!r}: valid values are "
-                         f"{', '.join(PAIR_STIFFNESS_METHODS)}")
     opts = {k: v for k, v in (options or {}).items() if v is not None}
-    unknown = sorted(set(opts) - set(METHOD_OPTIONS[method]))
-    if unknown:
-        raise InputError(f"unknown option(s) {', '.join(unknown)} for pair stiffness method "
-                         f"{method!r}; valid: {', '.join(METHOD_OPTIONS[method])}")
+    _check_method("pair stiffness", method, PAIR_STIFFNESS_METHODS, opts)
     return partial(_pair_fn(method, opts), pair)
 
 
@@ -216,17 +222,10 @@ def build_stiffness(pair: GearPair, method: str = "iso6336", *,
     >>> abs(k.mean / iso6336_stiffness(pair).k_mesh - 1) < 1e-12
     True
     """
-    if method not in METHODS:
-        raise InputError(f"stiffness method = {method!r}: valid values are {', '.join(METHODS)}")
     if method == "iso6336" and ("single" in options or "double" in options):
         raise InputError("stiffness method 'iso6336' takes no single/double values; use "
                          "method 'rectangular' to give them")
-    unknown = sorted(set(options) - set(METHOD_OPTIONS[method]))
-    if unknown:
-        raise InputError(
-            f"unknown option(s) {', '.join(unknown)} for stiffness method {method!r}; valid: "
-            f"{', '.join(METHOD_OPTIONS[method]) or 'none'}"
-        )
+    _check_method("stiffness", method, METHODS, options)
     items = tuple(sorted((k, v) for k, v in options.items() if v is not None))
     try:
         hash(items)
