@@ -100,21 +100,27 @@ def in_range(value: float, low: float | None, high: float | None, low_open: bool
             and (high is None or (value < high if high_open else value <= high)))
 
 
-def warn_old_name(message: str) -> None:
-    """A :class:`FutureWarning` that an old name was used (it still works, for now).
+def current_name(name: str, renamed: dict[str, str], where: str, kind: str, source: str) -> str:
+    """``name``, or the name an old name (``renamed``: old -> new) now has, with a
+    :class:`FutureWarning` that names ``where`` (e.g. a scene's key path).
 
     The warning points at the first caller outside gear_dyn (a user's script, or the CLI's
     caller), not at the library line that noticed the old name.
 
     Parameters
     ----------
-    message : str
-        What was renamed, and the name to write instead.
+    kind, source : str
+        What the name is (e.g. "rule") and where it comes from, for the message.
     """
+    new = renamed.get(name)
+    if new is None:
+        return name
     level, frame = 2, sys._getframe(1)
     while frame.f_back is not None and frame.f_code.co_filename.startswith(_PACKAGE_DIR):
         frame, level = frame.f_back, level + 1
-    warnings.warn(message, FutureWarning, stacklevel=level)
+    warnings.warn(f"{where} = {name!r} is the old name of the {kind} {new!r} ({source}); "
+                  f"write {new!r}: the old name will be removed", FutureWarning, stacklevel=level)
+    return new
 
 
 def _unit_txt(unit: str) -> str:

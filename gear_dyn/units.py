@@ -93,10 +93,6 @@ def _dimension(unit: str) -> str:
     return "" if dim == "dimensionless" else dim
 
 
-def _is_torque(unit: str) -> bool:
-    return bool(unit) and _dimension(unit) == _dimension("N*m")
-
-
 def is_dimensional(unit: str) -> bool:
     """Whether a field in the SI ``unit`` needs a unit when given (angles included)."""
     return bool(unit) and unit not in ("", "dimensionless", "1")
@@ -169,7 +165,7 @@ def parse_quantity(raw: str, unit: str, where: str, rng: str,
 
     ureg = registry()
     text = raw.strip()
-    if _is_torque(unit):
+    if unit and _dimension(unit) == _dimension("N*m"):  # a torque field: Nm is newton-metre
         text = normalise_torque_text(text)
     try:
         q = ureg.Quantity(text)

@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gear_dyn.choices import RELIEF_CURVES
-from gear_dyn.errors import InputError, check_range, warn_old_name
+from gear_dyn.errors import InputError, check_range, current_name
 from gear_dyn.geometry import GearPair
 
 FloatArray = NDArray[np.float64]
@@ -41,12 +41,7 @@ RENAMED_RULES: dict[str, str] = {"seed001": "wang2024"}
 def current_rule(rule: str, where: str = "relief rule") -> str:
     """``rule``, or the name an old rule name (:data:`RENAMED_RULES`) now has, with a
     :class:`FutureWarning` that names ``where`` (e.g. a scene's key path)."""
-    new = RENAMED_RULES.get(rule)
-    if new is None:
-        return rule
-    warn_old_name(f"{where} = {rule!r} is the old name of the rule {new!r} (Wang et al. "
-                  f"2024); write {new!r}: the old name will be removed")
-    return new
+    return current_name(rule, RENAMED_RULES, where, "rule", "Wang et al. 2024")
 
 
 def _check_curve(curve: str) -> str:

@@ -7,7 +7,6 @@ optional (a table left out builds none of its machinery; keys in docs/scenes.md)
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 from gear_dyn.eccentricity.kinematics import Eccentricity
@@ -23,6 +22,7 @@ from gear_dyn.scene.build import (
 from gear_dyn.scene.fields import REQUIRED, Field, Section
 from gear_dyn.scene.registry import register_model, register_section
 from gear_dyn.scene.validated import Scene, scene_error
+from gear_dyn.stiffness.contact_line import mean_contact_line_length
 from gear_dyn.stiffness.periodic import PeriodicStiffness
 
 ECCENTRICITY = register_section(Section("eccentricity", (
@@ -74,8 +74,7 @@ def build_torsional(scene: Scene) -> Model:
     if scene.get("stiffness")["method"] == "contact_line":
         k_l = tors["stiffness_per_length"]
         if k_l is None:
-            mean_len = pair.face_width * pair.contact_ratio / math.cos(pair.beta_b)
-            k_l = scene_stiffness(scene, pair).mean / mean_len
+            k_l = scene_stiffness(scene, pair).mean / mean_contact_line_length(pair)
         stiff = ContactLineStiffness(k_l)
     else:
         stiff = scene_stiffness(scene, pair)

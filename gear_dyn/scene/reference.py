@@ -8,7 +8,6 @@ range, and which model uses it.
 from __future__ import annotations
 
 import math
-from typing import Any
 
 from gear_dyn.errors import SceneError, range_text
 from gear_dyn.scene import loader  # noqa: F401  (its import registers every table)
@@ -127,10 +126,5 @@ def scene_reference(table: str | None = None) -> str:
     return HEADER + "".join("\n" + table_reference(s) for s in sections.values())
 
 
-def main(argv: Any = None) -> None:  # pragma: no cover - the generator of docs/scenes.md
-    """Print the full reference (``python -m gear_dyn.scene.reference > docs/scenes.md``)."""
+if __name__ == "__main__":  # pragma: no cover - python -m gear_dyn.scene.reference > docs/scenes.md
     print(scene_reference(), end="")
-
-
-if __name__ == "__main__":  # pragma: no cover
-    main()

@@ -11,7 +11,6 @@ from typing import Any
 from gear_dyn.analysis.dynamic_factor import quasi_static_model_of
 from gear_dyn.analysis.study import simulate
 from gear_dyn.errors import InputError
-from gear_dyn.models.base import Model
 from gear_dyn.scene.build import build_model, build_plan, scene_facts
 from gear_dyn.scene.iso import iso_kv_summary
 from gear_dyn.scene.operating import check_keywords, with_operating
@@ -23,15 +22,6 @@ RUN_SOLVER_OVERRIDES = ("method", "rtol", "atol", "periods", "steady_periods",
                         "samples_per_period")
 #: every keyword of :func:`run_scene`
 RUN_KEYWORDS = ("speed", "torque", "si", *RUN_SOLVER_OVERRIDES)
-
-
-def _quasi_static_model(scene: Scene, model: Model) -> Model | None:
-    """The scene's model at the quasi-static speed of the dynamic factor's reference
-    (:func:`gear_dyn.analysis.dynamic_factor.quasi_static_model_of`, as a sweep takes it): the
-    model itself where only f_m depends on speed, else the scene rebuilt at that speed
-    (eccentric models: the kinematics change with it)."""
-    return quasi_static_model_of(lambda s: build_model(with_operating(scene, s, si=True)),
-                                 scene.tables["operating"]["speed"], model)
 
 
 def run_scene(scene: Scene, speed: Any = None, torque: Any = None, *, si: bool = False,
@@ -87,8 +77,13 @@ def run_scene(scene: Scene, speed: Any = None, torque: Any = None, *, si: bool =
     plan = build_plan(scene, **solver)
     iso_kv = iso_kv_summary(scene)  # before the run: a bad [iso] table fails fast
     try:
+        # the dynamic factor's reference, as a sweep takes it: the scene rebuilt at the
+        # quasi-static speed where more than f_m depends on speed (eccentric kinematics)
+        quasi_static = quasi_static_model_of(
+            lambda s: build_model(with_operating(scene, s, si=True)),
+            scene.tables["operating"]["speed"], plan.model)
         result = simulate(plan.model, plan.t_end, plan.settings, plan.steady_start, scene=scene,
-                          quasi_static=_quasi_static_model(scene, plan.model))
+                          quasi_static=quasi_static)
     except InputError as exc:  # e.g. a run too long for the solver: name the file
         raise scene_error(scene.source, exc) from None
     for key, value in scene_facts(scene).items():

@@ -144,9 +144,6 @@ def _continuous_average(curve: PiecewiseStiffness,
         mid = curve(x0 + 0.5 * (r - x0))  # value at the piece's midpoint: exact for linear
         return n * mean + c[j] + mid * (r - x0)
 
-    if width <= 0:
-        return lambda ph: np.asarray(curve(ph))
-
     def values(ph: FloatArray) -> FloatArray:
         return (antiderivative(ph) - antiderivative(ph - width)) / width
 

@@ -95,17 +95,14 @@ def beam_compliances(eta: FloatArray, half: FloatArray, eta_load: ArrayLike, x_l
     (bending, shear, axial) : tuple of ndarray
         Compliances in m/N, broadcast over the load arrays.
     """
+    from scipy.integrate import cumulative_trapezoid  # on use: the ISO scenes never need it
+
     eta = np.asarray(eta, dtype=float)
     half = np.asarray(half, dtype=float)
     inv3 = 1.0 / half**3
-
-    def cum(f: FloatArray) -> FloatArray:
-        out = np.zeros_like(f)
-        out[1:] = np.cumsum(0.5 * (f[1:] + f[:-1]) * np.diff(eta))
-        return out
-
-    return _compliances_from_tables(eta, cum(inv3), cum(eta * inv3), cum(eta**2 * inv3),
-                                    cum(1.0 / half), np.asarray(eta_load, dtype=float),
+    j0, j1, j2, k0 = (cumulative_trapezoid(f, eta, initial=0.0)
+                      for f in (inv3, eta * inv3, eta**2 * inv3, 1.0 / half))
+    return _compliances_from_tables(eta, j0, j1, j2, k0, np.asarray(eta_load, dtype=float),
                                     np.asarray(x_load, dtype=float),
                                     np.asarray(load_angle, dtype=float), youngs_modulus,
                                     shear_modulus, face_width)

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from gear_dyn.choices import PAIR_STIFFNESS_METHODS, STIFFNESS_METHODS
-from gear_dyn.errors import InputError
+from gear_dyn.errors import InputError, check_range
 from gear_dyn.geometry import GearPair
 from gear_dyn.stiffness.contact_line import (
     contact_line_breakpoints,
@@ -55,16 +55,6 @@ METHOD_OPTIONS: dict[str, tuple[str, ...]] = {
 }
 
 
-def _positive(name: str, value: Any, unit: str) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} = {value!r}: must be a number in {unit}") from None
-    if not (np.isfinite(v) and v > 0):
-        raise InputError(f"{name} = {v:.6g} {unit}: valid range > 0 {unit}")
-    return v
-
-
 def _iso_wave(pair: GearPair, opts: Mapping[str, Any], name: str) -> PiecewiseStiffness:
     single, double = opts.get("single"), opts.get("double")
     if single is None:
@@ -78,9 +68,9 @@ def _iso_wave(pair: GearPair, opts: Mapping[str, Any], name: str) -> PiecewiseSt
             return stepped_stiffness(pair.contact_ratio, lambda n: k_single * (0.75 * n + 0.25),
                                      name)
     else:
-        k_single = _positive("single", single, "N/m")
+        k_single = check_range("single", single, "N/m", low=0.0, low_open=True)
         k_double = (ISO_DOUBLE_FACTOR * k_single if double is None
-                    else _positive("double", double, "N/m"))
+                    else check_range("double", double, "N/m", low=0.0, low_open=True))
     return rectangular_stiffness(pair.contact_ratio, k_single, k_double, name=name)
 
 
@@ -110,7 +100,7 @@ def _contact_line(pair: GearPair, opts: Mapping[str, Any]) -> PiecewiseStiffness
                              "mesh stiffness of 0 N/m: valid range line_load > 0 N/m")
         k_l = iso.k_mesh / mean_contact_line_length(pair)
     else:
-        k_l = _positive("stiffness_per_length", k_l, "N/m^2")
+        k_l = check_range("stiffness_per_length", k_l, "N/m^2", low=0.0, low_open=True)
     edges = np.append(contact_line_breakpoints(pair), 1.0)
     lo, hi = edges[:-1], edges[1:]
     eps = 1e-12 * (hi - lo)  # just inside each piece (L(p) is linear between breakpoints)
@@ -149,6 +139,18 @@ def _pair_fn(method: str, opts: Mapping[str, Any]) -> Any:
                    foundation=bool(opts.get("weber_foundation", False)))
 
 
+def _check_method(kind: str, method: str, methods: tuple[str, ...],
+                  options: Mapping[str, Any]) -> None:
+    """Refuse a method not in ``methods`` or an option it does not take (``kind``: "stiffness"
+    or "pair stiffness", for the messages)."""
+    if method not in methods:
+        raise InputError(f"{kind} method = {method!r}: valid values are {', '.join(methods)}")
+    unknown = sorted(set(options) - set(METHOD_OPTIONS[method]))
+    if unknown:
+        raise InputError(f"unknown option(s) {', '.join(unknown)} for {kind} method {method!r}; "
+                         f"valid: {', '.join(METHOD_OPTIONS[method]) or 'none'}")
+
+
 def pair_stiffness_function(pair: GearPair, method: str = "potential_energy",
                             options: Mapping[str, Any] | None = None) -> Callable[
         [FloatArray], FloatArray]:
@@ -171,14 +173,8 @@ def pair_stiffness_function(pair: GearPair, method: str = "potential_energy",
     InputError
         Unknown method or option, bad option values.
     """
-    if method not in PAIR_STIFFNESS_METHODS:
-        raise InputError(f"pair stiffness method = {method!r}: valid values are "
-                         f"{', '.join(PAIR_STIFFNESS_METHODS)}")
     opts = {k: v for k, v in (options or {}).items() if v is not None}
-    unknown = sorted(set(opts) - set(METHOD_OPTIONS[method]))
-    if unknown:
-        raise InputError(f"unknown option(s) {', '.join(unknown)} for pair stiffness method "
-                         f"{method!r}; valid: {', '.join(METHOD_OPTIONS[method])}")
+    _check_method("pair stiffness", method, PAIR_STIFFNESS_METHODS, opts)
     return partial(_pair_fn(method, opts), pair)
 
 
@@ -226,17 +222,10 @@ def build_stiffness(pair: GearPair, method: str = "iso6336", *,
     >>> abs(k.mean / iso6336_stiffness(pair).k_mesh - 1) < 1e-12
     True
     """
-    if method not in METHODS:
-        raise InputError(f"stiffness method = {method!r}: valid values are {', '.join(METHODS)}")
     if method == "iso6336" and ("single" in options or "double" in options):
         raise InputError("stiffness method 'iso6336' takes no single/double values; use "
                          "method 'rectangular' to give them")
-    unknown = sorted(set(options) - set(METHOD_OPTIONS[method]))
-    if unknown:
-        raise InputError(
-            f"unknown option(s) {', '.join(unknown)} for stiffness method {method!r}; valid: "
-            f"{', '.join(METHOD_OPTIONS[method]) or 'none'}"
-        )
+    _check_method("stiffness", method, METHODS, options)
     items = tuple(sorted((k, v) for k, v in options.items() if v is not None))
     try:
         hash(items)

@@ -186,12 +186,6 @@ def tooth_table(pair: GearPair, gear: int,
     u = np.linspace(0.0, 1.0, n)
     eta = (y[-1] - y_root) * u**1.5
     half = np.interp(y_root + eta, y, x)
-
-    def cum(f: FloatArray) -> FloatArray:
-        out = np.zeros_like(f)
-        out[1:] = np.cumsum(0.5 * (f[1:] + f[:-1]) * np.diff(eta))
-        return out
-
     inv3 = 1.0 / half**3
     r_int_opt = options.bore_radius1 if gear == 1 else options.bore_radius2
     r_int = 0.5 * rf if r_int_opt is None else r_int_opt
@@ -200,7 +194,11 @@ def tooth_table(pair: GearPair, gear: int,
             f"bore_radius{gear} = {r_int * 1e3:.6g} mm: valid range 0 < r_int < r_f = "
             f"{rf * 1e3:.6g} mm"
         )
-    arrays = (y, x, eta, half, cum(inv3), cum(eta * inv3), cum(eta**2 * inv3), cum(1.0 / half))
+    from scipy.integrate import cumulative_trapezoid  # on use: the ISO scenes never need it
+
+    j0, j1, j2, k0 = (cumulative_trapezoid(f, eta, initial=0.0)
+                      for f in (inv3, eta * inv3, eta**2 * inv3, 1.0 / half))
+    arrays = (y, x, eta, half, j0, j1, j2, k0)
     for arr in arrays:
         arr.setflags(write=False)
     return ToothTable(*arrays, y_root=y_root, r_f=rf, r_form=r_form, theta_f=theta_f,

@@ -15,7 +15,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 
-from gear_dyn.errors import InputError, warn_old_name
+from gear_dyn.errors import InputError, current_name
 from gear_dyn.geometry import GearPair
 from gear_dyn.stiffness.periodic import FloatArray
 from gear_dyn.stiffness.potential_energy import (
@@ -44,12 +44,7 @@ RENAMED_MODULI = {"seed": "jiang2018"}
 def current_modulus(modulus: str, where: str = "weber modulus") -> str:
     """``modulus``, or the name an old modulus name (:data:`RENAMED_MODULI`) now has, with a
     :class:`FutureWarning` that names ``where`` (e.g. a scene's key path)."""
-    new = RENAMED_MODULI.get(modulus)
-    if new is None:
-        return modulus
-    warn_old_name(f"{where} = {modulus!r} is the old name of the modulus {new!r} (Jiang et al. "
-                  f"2018, eq. 11); write {new!r}: the old name will be removed")
-    return new
+    return current_name(modulus, RENAMED_MODULI, where, "modulus", "Jiang et al. 2018, eq. 11")
 
 
 def weber_tooth_compliance(pair: GearPair, gear: int, radius: ArrayLike, slices: int = 20,
