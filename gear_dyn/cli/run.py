@@ -52,28 +52,15 @@ def overrides(args: argparse.Namespace) -> dict[str, Any]:
             if getattr(args, k) is not None}
 
 
-def operating_flags(args: argparse.Namespace) -> tuple[float | None, float | None]:
-    """``--speed`` (rad/s) and ``--torque`` (N m) read as the scene reads them: a unit is
-    required (``--speed 6000`` is refused with the readings it might mean); None if absent.
-
-    Raises
-    ------
-    InputError
-        A plain number, a bad unit, Hz for the speed, or a value out of range.
-    """
-    from gear_dyn.scene.operating import parse_operating
-
-    speed = None if args.speed is None else parse_operating("speed", args.speed, "--speed")
-    torque = None if args.torque is None else parse_operating("torque", args.torque, "--torque")
-    return speed, torque
-
-
 def run(args: argparse.Namespace) -> int:
     from gear_dyn.cli.output import write_run_outputs
     from gear_dyn.scene import load_scene, run_scene
+    from gear_dyn.scene.operating import parse_operating
 
     scene = load_scene(args.scene)
-    speed, torque = operating_flags(args)
+    # read as the scene reads them: "--speed 6000" is refused with the readings it might mean
+    speed = None if args.speed is None else parse_operating("speed", args.speed, "--speed")
+    torque = None if args.torque is None else parse_operating("torque", args.torque, "--torque")
     result = run_scene(scene, speed=speed, torque=torque, si=True, **overrides(args))
     summary = write_run_outputs(result, args.out, spectrum_scale=args.spectrum_scale)
     print(f"{scene.name}: f_m = {summary['mesh_frequency_hz']:.1f} Hz{_fn(summary)}, dynamic "
