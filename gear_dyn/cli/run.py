@@ -45,11 +45,11 @@ def register(sub: Any) -> None:
 
 
 def overrides(args: argparse.Namespace) -> dict[str, Any]:
-    """Solver overrides from the flags, validated."""
+    """Solver overrides from the flags a command has, validated."""
     if args.periods is not None and args.periods < 2:
         raise InputError(f"--periods = {args.periods}: valid range >= 2 mesh periods")
-    return {k: getattr(args, k) for k in ("method", "rtol", "atol", "periods")
-            if getattr(args, k) is not None}
+    return {k: v for k in ("method", "rtol", "atol", "periods")
+            if (v := getattr(args, k, None)) is not None}
 
 
 def run(args: argparse.Namespace) -> int:
