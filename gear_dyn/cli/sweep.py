@@ -53,16 +53,6 @@ def register(sub: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    # one BLAS thread per process (and pool worker): gear_dyn.cli.app.limit_blas_threads
-    result, scene = _sweep(args)
-    summary = write_sweep_outputs(result, scene, args.out, args.chart)
-    _print_summary(result, scene, summary, args.chart)
-    print(f"wrote {args.out}/")
-    return 0
-
-
-def _sweep(args: argparse.Namespace) -> tuple[Any, Any]:
-    """The sweep the arguments ask for: (SweepResult, Scene)."""
     from gear_dyn.analysis.sweep import SweepOptions
     from gear_dyn.scene import load_scene
     from gear_dyn.scene.sweep import parse_speed_range, sweep_scene
@@ -73,11 +63,15 @@ def _sweep(args: argparse.Namespace) -> tuple[Any, Any]:
         raise InputError(f"--workers = {args.workers}: valid range 1..4096 processes")
     opts = SweepOptions(method=args.sweep_method, harmonics=args.harmonics)
     show = counter("speed", args.quiet)
+    # one BLAS thread per process (and pool worker): gear_dyn.cli.app.limit_blas_threads
     with dask_executor(args.dask) as executor:
         result = sweep_scene(scene, speeds, si=True, options=opts, direction=args.direction,
                              workers=args.workers, executor=executor, block=args.block,
                              progress=show, **overrides(args))
-    return result, scene
+    summary = write_sweep_outputs(result, scene, args.out, args.chart)
+    _print_summary(result, scene, summary, args.chart)
+    print(f"wrote {args.out}/")
+    return 0
 
 
 def add_parallel_flags(p: Any, what: str = "blocks of speeds", note: str = "") -> None:
