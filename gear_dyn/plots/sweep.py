@@ -237,10 +237,9 @@ def plot_compare(results: Sequence[SweepResult], names: Sequence[str], ax: Any =
     """
     own = ax is None
     fig, axes = axes_of(ax, 2, 1, figsize=(11, 7), name="plot_compare", sharex=True)
-    colors = [f"C{i}" for i in range(10)]
     kvs = list(iso_kv) if iso_kv is not None else [None] * len(results)
     for i, (res, name, kv) in enumerate(zip(results, names, kvs, strict=True)):
-        col = colors[i % len(colors)]
+        col = f"C{i % 10}"  # the ten colours of matplotlib's default cycle, in turn
         jump = res.stiffness_jump_factor
         tail = (f"\n  stiffness-jump factor {jump:.3f}: F_max / W = K_dyn x {jump:.3f}"
                 if np.isfinite(jump) else "")
