@@ -157,7 +157,3 @@ def _show_warning(message: Warning | str, category: type[Warning], filename: str
 
 def _one_line(exc: BaseException | str) -> str:
     return " ".join(str(exc).split())
-
-
-if __name__ == "__main__":  # pragma: no cover
-    raise SystemExit(main())
