@@ -82,20 +82,14 @@ def _on_sigterm(signum: int, frame: object) -> None:
     raise Terminated()
 
 
-#: BLAS thread variables the command sets (where the user has not) before numpy loads
-BLAS_THREAD_VARS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
-
-
 def limit_blas_threads() -> None:
-    """One BLAS thread per process, unless the user chose otherwise (the command's decision).
+    """One BLAS thread per process (pool workers inherit it), unless the user chose otherwise.
 
-    gear_dyn works with 2x2..8x8 matrices: BLAS worker threads only add overhead, and on a busy
-    machine they oversubscribe the cores (docs/sweep.md). It stays as that plain guard, not for
-    a measured gain (within the noise: BLAS table of benchmarks/results/cli.md). Only the
-    ``gear-dyn`` process does this, and only while numpy is not loaded yet; importing the
-    library changes nothing. A sweep's pool workers inherit it.
+    gear_dyn's matrices are 2x2..8x8: BLAS worker threads only oversubscribe a busy machine
+    (docs/sweep.md); a plain guard, not a measured gain (benchmarks/results/cli.md). Only the
+    ``gear-dyn`` command does this (docs/python_api.md), before numpy loads.
     """
-    for var in BLAS_THREAD_VARS:
+    for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
         os.environ.setdefault(var, "1")
 
 
@@ -163,7 +157,3 @@ def _show_warning(message: Warning | str, category: type[Warning], filename: str
 
 def _one_line(exc: BaseException | str) -> str:
     return " ".join(str(exc).split())
-
-
-if __name__ == "__main__":  # pragma: no cover
-    raise SystemExit(main())

@@ -9,7 +9,7 @@ from dataclasses import asdict
 from typing import Any
 
 from gear_dyn.cli.progress import add_quiet_flag, counter
-from gear_dyn.cli.run import add_scene_and_out
+from gear_dyn.cli.run import add_scene_and_out, overrides
 from gear_dyn.errors import InputError
 
 TARGETS = (1e-4, 1e-6, 1e-8)
@@ -65,12 +65,10 @@ def run(args: argparse.Namespace) -> int:
     if args.repeats < 1:
         raise InputError(f"--repeats = {args.repeats}: valid range >= 1")
     rtols = _floats(args.rtols, "rtols")
-    if args.periods is not None and args.periods < 2:
-        raise InputError(f"--periods = {args.periods}: valid range >= 2 mesh periods")
+    ov = overrides(args)  # --periods
     if not (0 < args.target < 1):
         raise InputError(f"--target = {args.target!r}: valid range 0..1 (relative error)")
     scene = load_scene(args.scene)
-    ov = {"periods": args.periods} if args.periods is not None else {}
     plan = build_plan(scene, **ov)
     show = counter("case", args.quiet)
     report = run_bench(plan.model, plan.t_end, name=scene.name, methods=methods, rtols=rtols,

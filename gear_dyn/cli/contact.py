@@ -12,7 +12,7 @@ from typing import Any
 
 from gear_dyn.choices import PAIR_STIFFNESS_METHODS, RELIEF_CURVES
 from gear_dyn.cli.run import add_scene_and_out
-from gear_dyn.errors import InputError, SceneError
+from gear_dyn.errors import InputError
 
 
 def register(sub: Any) -> None:
@@ -53,11 +53,9 @@ def compute(scene: Any, curve: str | None = None, pair_method: str | None = None
         extra["scene relief"] = relief_from_scene(scene, pair)
     curve = curve or (t["curve"] if t is not None else "linear")
     method = pair_method or (t["pair_stiffness"] if t is not None else "potential_energy")
+    fn = scene_pair_function(scene, pair, method)  # its errors name the scene already
     try:
-        fn = scene_pair_function(scene, pair, method)
         cases = rule_cases(pair, fn, torque, curve, extra=extra, rule_options=opts)
-    except SceneError:
-        raise
     except InputError as exc:
         raise InputError(f"{scene.source}: {exc}") from None
     return {"pair": pair, "cases": cases, "curve": curve, "pair_stiffness": method,

@@ -39,12 +39,10 @@ def write_run_outputs(result: Result, out: Path, spectrum_scale: str = "log") ->
 
 def _write_timeseries(result: Result, summary: dict[str, Any], path: Path) -> None:
     """timeseries.csv: states and outputs in SI units, a commented head stating them."""
-    cols: dict[str, Any] = {"t_s": result.t}
-    for i, name in enumerate(result.state_labels):
-        cols[name] = result.y[i]
+    cols: dict[str, Any] = {"t_s": result.t,
+                            **dict(zip(result.state_labels, result.y, strict=True))}
     for name, arr in result.outputs.items():
-        if name not in cols:
-            cols[name] = arr
+        cols.setdefault(name, arr)  # an output named as a state is written once, as the state
     name = getattr(result.scene, "name", None) or "run"  # a result without a scene: "run"
     head = [f"# {name}: time series in SI units (t_s in s; dte, delta, "
             "e_ecc in m;", "# mesh_force in N; stiffness in N/m; angles in rad, rates in "

@@ -27,13 +27,16 @@ def shown(quiet: bool, stream: TextIO | None = None) -> bool:
     return not quiet and bool(getattr(s, "isatty", lambda: False)())
 
 
-def _shape() -> dict[str, int]:
-    """tqdm's ``ncols`` and ``nrows`` from the terminal, 80 x 24 where it reports none (a
-    fresh pseudo-terminal says 0 x 0, and tqdm hides a bar below row 0)."""
+def _bar(stream: TextIO, **kw: Any) -> Any:
+    """A tqdm bar on ``stream``, removed when closed, as wide and high as the terminal, at
+    least 40 x 2 (a fresh pseudo-terminal says 0 x 0, and tqdm hides a bar below row 0)."""
     import shutil
 
+    from tqdm import tqdm
+
     size = shutil.get_terminal_size()
-    return {"ncols": max(size.columns, 40), "nrows": max(size.lines, 2)}
+    return tqdm(file=stream, leave=False, ncols=max(size.columns, 40), nrows=max(size.lines, 2),
+                **kw)
 
 
 def counter(unit: str, quiet: bool = False, stream: TextIO | None = None
@@ -47,15 +50,12 @@ def counter(unit: str, quiet: bool = False, stream: TextIO | None = None
         return None
     if not shown(quiet, s):
         return _lines(unit, s)
-    from tqdm import tqdm
-
     state: dict[str, Any] = {}
 
     def show(done: int, total: int) -> None:
         bar = state.get("bar")
         if bar is None:
-            bar = state["bar"] = tqdm(total=total, unit=unit, file=s, leave=False,
-                                      **_shape())
+            bar = state["bar"] = _bar(s, total=total, unit=unit)
         bar.update(done - bar.n)
         if done >= total:
             bar.close()
@@ -95,10 +95,8 @@ class Stages:
         self.bar: Any = None
         s = sys.stderr if stream is None else stream
         if shown(quiet, s):
-            from tqdm import tqdm
-
-            self.bar = tqdm(total=len(self.names), unit="stage", file=s, leave=False,
-                            bar_format="{l_bar}{bar}| {n}/{total} stages", **_shape())
+            self.bar = _bar(s, total=len(self.names), unit="stage",
+                            bar_format="{l_bar}{bar}| {n}/{total} stages")
 
     def next(self) -> None:
         """Start the next stage (the previous one is counted done)."""

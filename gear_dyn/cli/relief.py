@@ -8,6 +8,7 @@ supplies the handbook constants and Dudley's C_m. ``--json PATH`` also writes th
 from __future__ import annotations
 
 import argparse
+from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
@@ -37,10 +38,8 @@ def table(scene: Any) -> dict[str, Any]:
     pair = build_pair(scene)
     torque = scene.get("operating")["torque"]
     opts = rule_options(scene.tables["tip_relief"]) if scene.has("tip_relief") else {}
-    rows = [{"rule": rec.rule, "source": rec.source,
-             "amount_pinion_m": rec.amount_pinion, "amount_gear_m": rec.amount_gear,
-             "height_pinion_m": rec.height_pinion, "height_gear_m": rec.height_gear,
-             "length_pinion_m": rec.length_pinion, "length_gear_m": rec.length_gear}
+    # the recommendation's fields, those in m named with _m
+    rows = [{k if k in ("rule", "source") else f"{k}_m": v for k, v in asdict(rec).items()}
             for rec in recommended_reliefs(pair, torque, **opts)]
     return {
         "scene": scene.name,

@@ -45,35 +45,22 @@ def register(sub: Any) -> None:
 
 
 def overrides(args: argparse.Namespace) -> dict[str, Any]:
-    """Solver overrides from the flags, validated."""
+    """Solver overrides from the flags a command has, validated."""
     if args.periods is not None and args.periods < 2:
         raise InputError(f"--periods = {args.periods}: valid range >= 2 mesh periods")
-    return {k: getattr(args, k) for k in ("method", "rtol", "atol", "periods")
-            if getattr(args, k) is not None}
-
-
-def operating_flags(args: argparse.Namespace) -> tuple[float | None, float | None]:
-    """``--speed`` (rad/s) and ``--torque`` (N m) read as the scene reads them: a unit is
-    required (``--speed 6000`` is refused with the readings it might mean); None if absent.
-
-    Raises
-    ------
-    InputError
-        A plain number, a bad unit, Hz for the speed, or a value out of range.
-    """
-    from gear_dyn.scene.operating import parse_operating
-
-    speed = None if args.speed is None else parse_operating("speed", args.speed, "--speed")
-    torque = None if args.torque is None else parse_operating("torque", args.torque, "--torque")
-    return speed, torque
+    return {k: v for k in ("method", "rtol", "atol", "periods")
+            if (v := getattr(args, k, None)) is not None}
 
 
 def run(args: argparse.Namespace) -> int:
     from gear_dyn.cli.output import write_run_outputs
     from gear_dyn.scene import load_scene, run_scene
+    from gear_dyn.scene.operating import parse_operating
 
     scene = load_scene(args.scene)
-    speed, torque = operating_flags(args)
+    # read as the scene reads them: "--speed 6000" is refused with the readings it might mean
+    speed = None if args.speed is None else parse_operating("speed", args.speed, "--speed")
+    torque = None if args.torque is None else parse_operating("torque", args.torque, "--torque")
     result = run_scene(scene, speed=speed, torque=torque, si=True, **overrides(args))
     summary = write_run_outputs(result, args.out, spectrum_scale=args.spectrum_scale)
     print(f"{scene.name}: f_m = {summary['mesh_frequency_hz']:.1f} Hz{_fn(summary)}, dynamic "

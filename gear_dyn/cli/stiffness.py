@@ -34,21 +34,15 @@ def register(sub: Any) -> None:
 
 
 def _methods(text: str, scene_method: str) -> list[str]:
-    out: list[str] = []
-    for raw in text.split(","):
-        name = raw.strip()
-        if not name:
-            continue
-        if name == "scene":
-            name = scene_method
+    names = [scene_method if n == "scene" else n for n in (r.strip() for r in text.split(","))
+             if n]
+    for name in names:
         if name not in METHODS:
             raise InputError(f"--methods: {name!r} is not a stiffness method; valid: "
                              f"{', '.join(METHODS)}, scene")
-        if name not in out:
-            out.append(name)
-    if not out:
+    if not names:
         raise InputError("--methods: give at least one method")
-    return out
+    return list(dict.fromkeys(names))  # each once, in the order given
 
 
 def compute(scene: Any, methods: list[str]) -> tuple[Any, dict[str, Any], dict[str, Any]]:

@@ -53,16 +53,6 @@ def register(sub: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    # one BLAS thread per process (and pool worker): gear_dyn.cli.app.limit_blas_threads
-    result, scene = _sweep(args)
-    summary = write_sweep_outputs(result, scene, args.out, args.chart)
-    _print_summary(result, scene, summary, args.chart)
-    print(f"wrote {args.out}/")
-    return 0
-
-
-def _sweep(args: argparse.Namespace) -> tuple[Any, Any]:
-    """The sweep the arguments ask for: (SweepResult, Scene)."""
     from gear_dyn.analysis.sweep import SweepOptions
     from gear_dyn.scene import load_scene
     from gear_dyn.scene.sweep import parse_speed_range, sweep_scene
@@ -73,11 +63,15 @@ def _sweep(args: argparse.Namespace) -> tuple[Any, Any]:
         raise InputError(f"--workers = {args.workers}: valid range 1..4096 processes")
     opts = SweepOptions(method=args.sweep_method, harmonics=args.harmonics)
     show = counter("speed", args.quiet)
+    # one BLAS thread per process (and pool worker): gear_dyn.cli.app.limit_blas_threads
     with dask_executor(args.dask) as executor:
         result = sweep_scene(scene, speeds, si=True, options=opts, direction=args.direction,
                              workers=args.workers, executor=executor, block=args.block,
                              progress=show, **overrides(args))
-    return result, scene
+    summary = write_sweep_outputs(result, scene, args.out, args.chart)
+    _print_summary(result, scene, summary, args.chart)
+    print(f"wrote {args.out}/")
+    return 0
 
 
 def add_parallel_flags(p: Any, what: str = "blocks of speeds", note: str = "") -> None:
@@ -206,8 +200,9 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
 
     from gear_dyn.analysis.chart import chart_summary, sweep_charts
     from gear_dyn.analysis.sweep import RPM, summarize_sweep, sweep_columns
-    from gear_dyn.io import staged_output, write_csv, write_json
+    from gear_dyn.io import save_figure, staged_output, write_csv, write_json
     from gear_dyn.models.base import MeshModel
+    from gear_dyn.plots.sweep import plot_stability_charts, plot_sweep_response, plot_waterfall
     from gear_dyn.scene import build_model
     from gear_dyn.scene.iso import iso_kv_at
 
@@ -224,21 +219,26 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
             if "max_dynamic_factor_speed_rpm" in info:
                 at = iso_kv_at(scene, np.array([info["max_dynamic_factor_speed_rpm"] * RPM]))
                 info["iso_6336_kv_at_max"] = float(np.asarray(at)[0])
-    charts: tuple[Any, ...] = ()
+    stability = None
     model = build_model(scene) if chart != "none" else None
     if model is not None and model.mesh_periodic:
         ratio = result.curves[0].mesh_frequency / result.natural_frequency
         lo, hi = float(np.min(ratio)), float(np.max(ratio))
         if found := sweep_charts(cast(MeshModel, model), lo, hi, chart):
             note = " (backlash ignored: full contact)" if model.backlash is not None else ""
-            charts = (found, (lo, hi), f"{result.scene_name}: Floquet stability{note}; black "
-                      "line |mu| = 1")
+            title = f"{result.scene_name}: Floquet stability{note}; black line |mu| = 1"
+            stability = plot_stability_charts(found, sweep_range=(lo, hi), title=title)
             summary["stability_chart"] = chart_summary(found)
     with staged_output(out) as tmp:
         write_csv(tmp / "sweep.csv", cols)
         write_csv(tmp / "spectra.csv", _spectra_columns(result))
         write_json(tmp / "sweep.json", summary)
-        draw_sweep_figures(result, tmp, iso_curve, charts)
+        save_figure(plot_sweep_response(result, iso_kv=iso_curve), tmp / "response.png", dpi=110)
+        for c in result.curves:
+            name = "waterfall.png" if c is result.curves[0] else f"waterfall_{c.direction}.png"
+            save_figure(plot_waterfall(result, c.direction), tmp / name, dpi=110)
+        if stability is not None:
+            save_figure(stability, tmp / "stability.png", dpi=110)
     return summary
 
 
@@ -257,21 +257,4 @@ def _spectra_columns(result: Any) -> dict[str, Any]:
     return cols
 
 
-def draw_sweep_figures(result: Any, tmp: Path, iso_curve: Any, charts: tuple[Any, ...]
-                       ) -> None:
-    """response.png, the waterfall(s) and (``charts``: charts, range, title) stability.png in
-    ``tmp``."""
-    from gear_dyn.io import save_figure
-    from gear_dyn.plots.sweep import plot_stability_charts, plot_sweep_response, plot_waterfall
-
-    save_figure(plot_sweep_response(result, iso_kv=iso_curve), tmp / "response.png", dpi=110)
-    for c in result.curves:
-        name = "waterfall.png" if c is result.curves[0] else f"waterfall_{c.direction}.png"
-        save_figure(plot_waterfall(result, c.direction), tmp / name, dpi=110)
-    if charts:
-        found, sweep_range, title = charts
-        save_figure(plot_stability_charts(found, sweep_range=sweep_range, title=title),
-                    tmp / "stability.png", dpi=110)
-
-
-__all__ = ["draw_sweep_figures", "register", "run", "write_sweep_outputs"]
+__all__ = ["register", "run", "write_sweep_outputs"]

@@ -56,13 +56,10 @@ def axes_of(ax: Any, nrows: int = 1, ncols: int = 1, figsize: tuple[float, float
     fig = flat[0].figure
     if any(a.figure is not fig for a in flat):
         raise ValueError(f"{name}: the {n} Axes must belong to one figure")
+    grid = np.array(flat, dtype=object).reshape(nrows, ncols)
     if not kw.get("squeeze", True):
-        return fig, np.array(flat, dtype=object).reshape(nrows, ncols)
-    if n == 1:
-        return fig, flat[0]
-    if nrows == 1 or ncols == 1:
-        return fig, np.array(flat, dtype=object)
-    return fig, np.array(flat, dtype=object).reshape(nrows, ncols)
+        return fig, grid
+    return fig, grid.item() if n == 1 else grid.squeeze()  # as Figure.subplots squeezes
 
 
 def fixed_layout(fig: Any, left: float, right: float, top: float, bottom: float,

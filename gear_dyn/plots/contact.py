@@ -16,11 +16,8 @@ from gear_dyn.solvers import Result
 
 def _styles(n: int) -> list[dict[str, Any]]:
     cycle = mpl.rcParams["axes.prop_cycle"].by_key()["color"]
-    out = []
-    for i in range(n):
-        out.append({"color": "k" if i == 0 else cycle[(i - 1) % len(cycle)],
-                    "lw": 1.6 if i == 0 else 1.1, "ls": "--" if i == 0 else "-"})
-    return out
+    return [{"color": "k" if i == 0 else cycle[(i - 1) % len(cycle)],
+             "lw": 1.6 if i == 0 else 1.1, "ls": "--" if i == 0 else "-"} for i in range(n)]
 
 
 def _two_panels(axes: Sequence[Any] | None, ax: Any, name: str) -> tuple[Any, Any]:

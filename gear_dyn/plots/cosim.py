@@ -17,10 +17,6 @@ _LABELS = {"dte": ("DTE", "µm", 1e6), "mesh_force": ("mesh force", "kN", 1e-3),
            "driven_speed": ("driven speed", "rad/s", 1.0)}
 
 
-def _label(name: str) -> tuple[str, str, float]:
-    return _LABELS.get(name, (name, "SI", 1.0))
-
-
 def overlay_figure(report: Any, periods: float = 5.0, ax: Any = None) -> Any:
     """FMU (finest communication step) over the solve_ivp reference for the last ``periods``
     mesh periods, one row per output, with the difference below each; the DTE difference with
@@ -38,7 +34,7 @@ def overlay_figure(report: Any, periods: float = 5.0, ax: Any = None) -> Any:
     h = min(s.step for s in report.steps)
     bounds = report.bounds
     for i, name in enumerate(report.outputs):
-        title, unit, f = _label(name)
+        title, unit, f = _LABELS.get(name, (name, "SI", 1.0))
         a, d = axes[2 * i], axes[2 * i + 1]
         a.plot(tm, report.ref_y[i][keep] * f, color="0.2", lw=2.2,
                label=f"solve_ivp {report.reference_method}")

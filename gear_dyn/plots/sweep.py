@@ -86,17 +86,16 @@ def _markers(ax: Any, c: SweepCurve, y: np.ndarray, legend: bool, nonlinear: boo
 LEGEND_X = 1.1
 
 
-def _peak_force_axis(ax: Any, jump: float) -> Any:
+def _peak_force_axis(ax: Any, jump: float) -> None:
     """A right axis reading K_dyn as the peak force F_max / W = K_dyn x ``jump`` (the
-    stiffness-jump factor F_qs,max / W), named with its value; None where ``jump`` is not
+    stiffness-jump factor F_qs,max / W), named with its value; none where ``jump`` is not
     finite (no quasi-static reference)."""
     if not (np.isfinite(jump) and jump > 0):
-        return None
+        return
     right = ax.secondary_yaxis("right", functions=(lambda k: k * jump, lambda f: f / jump))
     right.set_ylabel(f"peak force F_max / W\n= K_dyn x {jump:.3f} (stiffness jump)",
                      fontsize=8)
     right.tick_params(labelsize=8)
-    return right
 
 
 def _jump_marks(ax: Any, result: SweepResult, legend: bool) -> None:
@@ -238,10 +237,9 @@ def plot_compare(results: Sequence[SweepResult], names: Sequence[str], ax: Any =
     """
     own = ax is None
     fig, axes = axes_of(ax, 2, 1, figsize=(11, 7), name="plot_compare", sharex=True)
-    colors = [f"C{i}" for i in range(10)]
     kvs = list(iso_kv) if iso_kv is not None else [None] * len(results)
     for i, (res, name, kv) in enumerate(zip(results, names, kvs, strict=True)):
-        col = colors[i % len(colors)]
+        col = f"C{i % 10}"  # the ten colours of matplotlib's default cycle, in turn
         jump = res.stiffness_jump_factor
         tail = (f"\n  stiffness-jump factor {jump:.3f}: F_max / W = K_dyn x {jump:.3f}"
                 if np.isfinite(jump) else "")
