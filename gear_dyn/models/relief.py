@@ -20,7 +20,6 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.choices import PAIR_STIFFNESS_METHODS
 from gear_dyn.errors import InputError
 from gear_dyn.geometry import GearPair
 from gear_dyn.models.base import ModelDefaults
@@ -34,8 +33,6 @@ from gear_dyn.stiffness.select import (  # re-exported: the function's first hom
 
 FloatArray = NDArray[np.float64]
 
-#: single-pair stiffness methods usable for the loaded contact
-PAIR_METHODS = PAIR_STIFFNESS_METHODS
 LINEARISATIONS: tuple[str, ...] = ("tangent", "secant")
 
 

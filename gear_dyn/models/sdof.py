@@ -203,31 +203,18 @@ class SDOFModel:
         k = scalar_stiffness(self.stiffness)
         b = self.backlash
         te = self.transmission_error
-        if b is None and te is None:
-            def rhs(t: float, y: FloatArray) -> FloatArray:
-                x, v = y.tolist()  # Python floats: cheaper arithmetic
-                kt = float(k(fm * t + p0))
-                return np.array([v, (w - c * v - kt * x) / m])
-        elif te is None:
-            assert b is not None
 
-            def rhs(t: float, y: FloatArray) -> FloatArray:
-                x, v = y.tolist()  # Python floats: cheaper arithmetic
-                kt = float(k(fm * t + p0))
-                fx = x - b if x > b else (x + b if x < -b else 0.0)
-                return np.array([v, (w - c * v - kt * fx) / m])
-        else:
-            bb = b
-
-            def rhs(t: float, y: FloatArray) -> FloatArray:
-                x, v = y.tolist()  # Python floats: cheaper arithmetic
-                p = fm * t + p0
-                kt = float(k(p))
+        def rhs(t: float, y: FloatArray) -> FloatArray:
+            x, v = y.tolist()  # Python floats: cheaper arithmetic
+            p = fm * t + p0
+            kt = float(k(p))
+            u, ud = x, v
+            if te is not None:
                 u = x - float(te.value(p))
                 ud = v - fm * float(te.slope(p))
-                if bb is not None:
-                    u = u - bb if u > bb else (u + bb if u < -bb else 0.0)
-                return np.array([v, (w - c * ud - kt * u) / m])
+            if b is not None:
+                u = u - b if u > b else (u + b if u < -b else 0.0)
+            return np.array([v, (w - c * ud - kt * u) / m])
         return rhs
 
     def _build_jac(self) -> Callable[[float, FloatArray], FloatArray]:

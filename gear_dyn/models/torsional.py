@@ -340,7 +340,6 @@ class TorsionalModel:
     def jac(self, t: float, y: FloatArray) -> FloatArray:
         """Jacobian d rhs / d y (4 x 4)."""
         rb1, rb2 = self.pair.rb1, self.pair.rb2
-        i1, i2 = self.inertias
         e, ed, k, p1, p2 = self.coefficients(t)
         if self.backlash is not None or self.friction is not None:
             d = rb1 * y[0] - rb2 * y[1] + e
@@ -356,13 +355,19 @@ class TorsionalModel:
                     d -= math.copysign(self.backlash, d)
             if self.friction is not None and k * d + self.damping * dd <= 0.0:
                 p1 = p2 = 0.0
+        return self._matrix(k, p1, p2)
+
+    def _matrix(self, k: float, p1: float, p2: float) -> FloatArray:
+        """``d rhs / d y`` (4 x 4) at stiffness ``k`` (N/m) and friction arms ``p1``, ``p2`` (m)."""
+        rb1, rb2 = self.pair.rb1, self.pair.rb2
+        i1, i2 = self.inertias
         c = self.damping
         dfdy = np.array([k * rb1, -k * rb2, c * rb1, -c * rb2])
-        jac = np.zeros((4, 4))
-        jac[0, 2] = jac[1, 3] = 1.0
-        jac[2] = (p1 - rb1) * dfdy / i1
-        jac[3] = (rb2 + p2) * dfdy / i2
-        return jac
+        a = np.zeros((4, 4))
+        a[0, 2] = a[1, 3] = 1.0
+        a[2] = (p1 - rb1) * dfdy / i1
+        a[3] = (rb2 + p2) * dfdy / i2
+        return a
 
     def initial_state(self) -> FloatArray:
         """Static deflection, delta' = 0 and zero rigid-body momentum (see module docstring)."""
@@ -462,20 +467,13 @@ class TorsionalModel:
                 or self.friction is not None or self.backlash is not None
                 or self.transmission_error is not None):
             return None
-        rb1, rb2 = self.pair.rb1, self.pair.rb2
         i1, i2 = self.inertias
-        c = self.damping
         cuts = np.concatenate([[t0], self.switching_times(t0, t1), [t1]])
         g = np.array([0.0, 0.0, self.torque / i1, -self.load / i2])
         out = []
         for ta, tb in zip(cuts[:-1], cuts[1:], strict=True):
             k = float(stiff(self.mesh_frequency * 0.5 * (ta + tb)))
-            dfdy = np.array([k * rb1, -k * rb2, c * rb1, -c * rb2])
-            a = np.zeros((4, 4))
-            a[0, 2] = a[1, 3] = 1.0
-            a[2] = -rb1 * dfdy / i1
-            a[3] = rb2 * dfdy / i2
-            out.append((float(ta), float(tb), a, g))
+            out.append((float(ta), float(tb), self._matrix(k, 0.0, 0.0), g))
         return out
 
     # ---------------------------------------------------------------- outputs

@@ -10,15 +10,11 @@ from __future__ import annotations
 
 from typing import Any
 
+from gear_dyn.choices import PAIR_STIFFNESS_METHODS
 from gear_dyn.errors import InputError, SceneError
 from gear_dyn.geometry import GearPair
 from gear_dyn.models.base import Model
-from gear_dyn.models.relief import (
-    PAIR_METHODS,
-    ContactSDOFModel,
-    pair_stiffness_function,
-    relief_sdof,
-)
+from gear_dyn.models.relief import ContactSDOFModel, pair_stiffness_function, relief_sdof
 from gear_dyn.modification.relief import (
     CURVES,
     RULES,
@@ -57,7 +53,7 @@ TIP_RELIEF = register_section(Section("tip_relief", (
     Field("handbook_b", "m", default=4e-6, low=0.0, high=8e-6,
           doc="handbook rule constant b (gear amount at zero load, e.g. \"4 um\")"),
     Field("face_load_factor", default=1.0, low=1.0, high=3.0, doc="Dudley's C_m"),
-    Field("pair_stiffness", kind="str", default="potential_energy", choices=PAIR_METHODS,
+    Field("pair_stiffness", kind="str", default="potential_energy", choices=PAIR_STIFFNESS_METHODS,
           doc="unmodified single-pair stiffness method for the loaded contact"),
     Field("linearisation", kind="str", default="tangent",
           choices=("tangent", "secant", "contact"),

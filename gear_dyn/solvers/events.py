@@ -52,8 +52,8 @@ def _take(sol: Any, method: str, t: float, tb: float, n: int, y_eval: FloatArray
     y_eval[:, done:done + k] = sy
     if not np.all(np.isfinite(sy)):
         raise SolverError(
-            f"solve_ivp ({method}) produced non-finite states near t = {t:.6g} s; "
-            "the response diverges or the tolerances are too loose"
+            f"solve_ivp ({method}) produced non-finite states at t = {t:.6g}..{tb:.6g} s; "
+            "the response diverges (parametric instability?) or the tolerances are too loose"
         )
     return done + k
 
@@ -71,7 +71,7 @@ def solve_piece_with_events(
     max_step: float,
     extra: dict[str, Any],
 ) -> tuple[FloatArray, FloatArray, dict[str, int]]:
-    """Integrate ``[ta, tb]`` restarting at every contact change.
+    """Integrate ``[ta, tb]`` restarting at every contact change (one solve_ivp call without).
 
     Parameters
     ----------
@@ -84,7 +84,7 @@ def solve_piece_with_events(
     t_eval : ndarray
         Output times in ``[ta, tb]`` (increasing; ``tb`` last).
     events : list of callables
-        Contact functions ``g(t, y)``.
+        Contact functions ``g(t, y)`` (may be empty).
     method, rtol, atol, max_step, extra
         As for solve_ivp (``extra`` e.g. ``{"jac": ...}``).
 
@@ -116,7 +116,7 @@ def solve_piece_with_events(
         evs = [_event(fn, d) for fn, d in zip(events, dirs, strict=True)]
         te = t_eval[done:]
         sol = solve_ivp(rhs, (t, tb), y, method=method, t_eval=te, rtol=rtol, atol=atol,
-                        max_step=max_step, events=evs, **extra)
+                        max_step=max_step, events=evs or None, **extra)  # None: no checks
         done = _take(sol, method, t, tb, n, y_eval, done, st)
         if sol.status == 0:
             return y_eval, np.asarray(sol.y[:, -1], dtype=float), st

@@ -6,8 +6,8 @@ On each piece ``[ta, tb]`` the model is ``y' = A y + g`` with constant ``A`` and
 
 (no inverse of ``A``: a singular ``A``, a rigid-body mode, is covered). No truncation error, only
 rounding. Pieces with the same ``M`` share one (balanced) eigendecomposition, vectorised over
-all their ``s``; an ill-conditioned one falls back to :func:`gear_dyn.solvers.matexp.expm` on the
-distinct ``s`` only (docs/solvers.md).
+all their ``s``; an ill-conditioned one falls back to :func:`scipy.linalg.expm` on the distinct
+``s`` only (docs/solvers.md).
 """
 
 from __future__ import annotations
@@ -19,7 +19,6 @@ from numpy.typing import NDArray
 
 from gear_dyn.errors import InputError, SolverError
 from gear_dyn.models.base import Model
-from gear_dyn.solvers.matexp import balance, expm
 
 FloatArray = NDArray[np.float64]
 
@@ -58,12 +57,15 @@ class _Exponential:
         self.tol = tol
         self.n_expm = 0
         self.eigen = False
-        # balance first: the states of a gear model differ by orders of magnitude (m vs m/s)
-        b, d = balance(m)
+        # on use: a backlash sweep imports this module but never scipy.linalg (~0.13 s)
+        from scipy.linalg import matrix_balance
+
         try:
+            # balance first: the states of a gear model differ by orders of magnitude (m vs m/s)
+            b, (d, _) = matrix_balance(m, permute=False, separate=True)
             lam, v = np.linalg.eig(b)
             vi = np.linalg.inv(v)
-        except np.linalg.LinAlgError:
+        except (ValueError, np.linalg.LinAlgError):  # non-finite M: expm gives NaN, caught later
             return
         cond = float(np.linalg.norm(v, 2) * np.linalg.norm(vi, 2))
         if np.isfinite(cond) and cond < MAX_EIGEN_CONDITION:
@@ -79,6 +81,8 @@ class _Exponential:
             ex = np.exp(self.lam[None, :] * s[:, None])
             p = np.einsum("ij,kj,jl->kil", self.left, ex, self.right)
             return np.ascontiguousarray(p.real)
+        from scipy.linalg import expm
+
         su, inv = _unique_tol(s, self.tol)
         self.n_expm += su.size
         return expm(self.m[None, :, :] * su[:, None, None])[inv]

@@ -77,14 +77,8 @@ def integrate_ode(
     max_step = step_limit(model, settings)
     counts = {"nfev": 0, "njev": 0, "nlu": 0, "n_events": 0}
     for ta, tb, i0, i1, t_eval in pieces(t_grid, cuts):
-        if events:
-            ys, y, st = solve_piece_with_events(
-                model.rhs, ta, tb, y, t_eval, events, settings.method, settings.rtol, atol,
-                max_step, extra,
-            )
-        else:
-            ys, st = _solve_piece(model, ta, tb, y, t_eval, settings, atol, max_step, extra)
-            y = ys[:, -1]
+        ys, y, st = solve_piece_with_events(model.rhs, ta, tb, y, t_eval, events,
+                                            settings.method, settings.rtol, atol, max_step, extra)
         for key in counts:
             counts[key] += st.get(key, 0)
         _check_nfev(counts["nfev"], settings.method, tb)
@@ -94,29 +88,6 @@ def integrate_ode(
     if events:
         stats["n_contact_events"] = counts["n_events"]
     return out, stats
-
-
-def _solve_piece(model: Model, ta: float, tb: float, y: FloatArray, t_eval: FloatArray,
-                 settings: SolverSettings, atol: FloatArray, max_step: float,
-                 extra: dict[str, Any]) -> tuple[FloatArray, dict[str, int]]:
-    """One smooth piece ``[ta, tb]`` by one solve_ivp call; states at ``t_eval``."""
-    from scipy.integrate import solve_ivp
-
-    sol = solve_ivp(
-        model.rhs, (ta, tb), y, method=settings.method, t_eval=t_eval, rtol=settings.rtol,
-        atol=atol, max_step=max_step, **extra,
-    )
-    if sol.status != 0:
-        raise SolverError(
-            f"solve_ivp ({settings.method}) failed at t = {ta:.6g}..{tb:.6g} s: {sol.message}; "
-            "try a smaller rtol or an implicit method (Radau, BDF)"
-        )
-    if not np.all(np.isfinite(sol.y)):
-        raise SolverError(
-            f"solve_ivp ({settings.method}) produced non-finite states near t = {tb:.6g} s; "
-            "the response diverges (parametric instability?) or the tolerances are too loose"
-        )
-    return sol.y, {"nfev": sol.nfev, "njev": sol.njev, "nlu": sol.nlu}
 
 
 def check_work(model: Model, t0: float, t1: float, y0: FloatArray) -> None:

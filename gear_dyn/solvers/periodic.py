@@ -200,7 +200,10 @@ def fill_periodic(f: FloatArray, h: FloatArray, y0: FloatArray, n_samples: int, 
     if s_used < s_per:  # shorter than one period: the partial products are the states
         return (np.einsum("kij,j->ki", q[:n_samples], y0) + r[:n_samples]).T.copy()
     n_per = -(-(n_samples - 1) // s_per)
-    starts = _period_starts(q[s_per], r[s_per], y0, n_per)
+    starts = np.empty((n_per + 1, n))  # the states at the period starts, in turn
+    starts[0] = y0
+    for k in range(n_per):
+        starts[k + 1] = q[s_per] @ starts[k] + r[s_per]
     # sample cnum * s_per + j = q[j] @ starts[cnum] + r[j]: one matrix product
     blk = (q[:s_per].reshape(s_per * n, n) @ starts[:n_per].T).reshape(s_per, n, n_per)
     blk += r[:s_per, :, None]
@@ -221,55 +224,10 @@ def step_products(f: FloatArray, h: FloatArray) -> tuple[FloatArray, FloatArray]
     q = np.empty((f.shape[0] + 1, n, n))
     r = np.empty((f.shape[0] + 1, n))
     q[0], r[0] = np.eye(n), np.zeros(n)
-    _chain(f, h, q, r)
+    for j in range(f.shape[0]):  # sequential: each product needs the one before
+        q[j + 1] = f[j] @ q[j]
+        r[j + 1] = f[j] @ r[j] + h[j]
     return q, r
-
-
-def _period_starts(phi: FloatArray, c: FloatArray, y0: FloatArray, n_per: int) -> FloatArray:
-    """``z[0] = y0``, ``z[k+1] = phi z[k] + c``, k < n_per: the states at the period starts
-    (sequential products; plain floats for two states)."""
-    n = y0.size
-    out = np.empty((n_per + 1, n))
-    out[0] = y0
-    if n != 2:
-        for k in range(n_per):
-            out[k + 1] = phi @ out[k] + c
-        return out
-    (a, b), (cc, d) = phi.tolist()
-    c0, c1 = c.tolist()
-    x, v = y0.tolist()
-    zs = []
-    for _ in range(n_per):
-        x, v = a * x + b * v + c0, cc * x + d * v + c1
-        zs.append((x, v))
-    out[1:] = zs
-    return out
-
-
-def _chain(f: FloatArray, h: FloatArray, q: FloatArray | None, r: FloatArray) -> None:
-    """Sequential affine products in place: ``r[j+1] = f[j] r[j] + h[j]`` and, if ``q`` is
-    given, ``q[j+1] = f[j] q[j]`` (plain floats for two states: no array call per step)."""
-    if r.shape[1] != 2:
-        for j in range(f.shape[0]):
-            if q is not None:
-                q[j + 1] = f[j] @ q[j]
-            r[j + 1] = f[j] @ r[j] + h[j]
-        return
-    fl, hl = f.tolist(), h.tolist()
-    x, v = r[0].tolist()
-    rs = []
-    for (f0, f1), (h0, h1) in zip(fl, hl, strict=True):
-        x, v = f0[0] * x + f0[1] * v + h0, f1[0] * x + f1[1] * v + h1
-        rs.append((x, v))
-    r[1:] = rs
-    if q is not None:
-        a, b, cc, d = q[0].ravel().tolist()
-        qs = []
-        for (f00, f01), (f10, f11) in fl:
-            a, b, cc, d = f00 * a + f01 * cc, f00 * b + f01 * d, f10 * a + f11 * cc, \
-                f10 * b + f11 * d
-            qs.append(((a, b), (cc, d)))
-        q[1:] = qs
 
 
 def propagate_periodic(

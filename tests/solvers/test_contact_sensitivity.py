@@ -3,7 +3,7 @@ flow_with_sensitivity, saltation).
 
 References: the saltation matrix on a switched system with a discontinuous field whose flow
 and Jacobian are known in closed form; the piece matrices against the matrix exponential of
-gear_dyn.solvers.matexp; the contact states' fields against the model's own right-hand side.
+scipy.linalg; the contact states' fields against the model's own right-hand side.
 The map against the variational equations and finite differences: tests/analysis/
 test_shoot_exact.py.
 """
@@ -14,6 +14,7 @@ import math
 
 import numpy as np
 import pytest
+from scipy.linalg import expm
 
 from gear_dyn.errors import SolverError
 from gear_dyn.models.sdof import SDOFModel
@@ -27,7 +28,6 @@ from gear_dyn.solvers.contact_exact import (
     rounding_bound,
     saltation,
 )
-from gear_dyn.solvers.matexp import expm
 from gear_dyn.stiffness.periodic import rectangular_stiffness
 
 EPS = np.finfo(float).eps
@@ -102,7 +102,7 @@ def test_contact_fields_continuous_at_the_boundaries() -> None:
 
 def test_one_contact_state_is_the_matrix_exponential() -> None:
     """Heavy load, no contact change, inside one stiffness piece: the map is exp(A t) (and the
-    state the augmented exponential's), from gear_dyn.solvers.matexp, to rounding."""
+    state the augmented exponential's), from scipy.linalg, to rounding."""
     model = backlash_model(2.0e5)
     t1 = 0.9 * float(model.switching_times(0.0, 1 / model.mesh_frequency)[0])
     kt = float(model.stiffness(model.phase(0.5 * t1)))
