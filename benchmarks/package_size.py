@@ -66,6 +66,7 @@ ADDED_BY_LATER_ISSUES = {
 ISSUE_22_BRANCHES = (
     "docs", "names", "oneproc", "plainsweep", "slim", "slim3", "slim4",
     "chains", "cutanalysis", "cutfmu", "cutnonlin", "cutphysics", "cutshell", "testref",
+    "cut2fmu", "cut2solvers", "cut2analysis", "cut2physics", "cut2shell",
 )
 #: issue 22's commits made on main itself that change package lines (the rest changed none)
 ISSUE_22_ON_MAIN = (
