@@ -29,18 +29,12 @@ from gear_dyn.errors import InputError
 from gear_dyn.fmu.fmu_info import FmuInfo, read_fmu
 from gear_dyn.fmu.inputs import driven_speed
 from gear_dyn.fmu.session import FmpySession
-from gear_dyn.fmu.stepper import stepper_method
+from gear_dyn.fmu.stepper import ODE_CLASSES, stepper_method
 from gear_dyn.fmu.variables import EXPERIMENT_KEYS
 from gear_dyn.scene import SECTIONS, Scene, build_pair, build_plan, parse_scene
-from gear_dyn.solvers import (
-    DEFAULT_ODE_METHOD,
-    METHODS,
-    SolverSettings,
-    integrate,
-)
+from gear_dyn.solvers import DEFAULT_ODE_METHOD, SolverSettings, integrate
 
 FloatArray = NDArray[np.float64]
-ODE_METHODS = tuple(m for m in METHODS if m not in ("auto", "exact"))
 
 
 class FmuSession(FmpySession):
@@ -256,8 +250,10 @@ def scene_values(spec: dict[str, Any], scene: Scene) -> dict[str, Any]:
 
 
 def reference_settings(settings: SolverSettings) -> SolverSettings:
-    """The solve_ivp settings of the reference: the scene's ODE method, else DOP853."""
-    method = settings.method if settings.method in ODE_METHODS else DEFAULT_ODE_METHOD
+    """The solve_ivp settings of the reference: the scene's solve_ivp method, else
+    :data:`~gear_dyn.solvers.DEFAULT_ODE_METHOD` (LSODA; also for ``auto`` and the closed-form
+    methods, so that the reference is always what its label says, a solve_ivp run)."""
+    method = settings.method if settings.method in ODE_CLASSES else DEFAULT_ODE_METHOD
     return replace(settings, method=method)
 
 

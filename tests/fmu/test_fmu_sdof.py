@@ -493,3 +493,21 @@ def test_bad_parameter_is_refused_with_one_message(heli_fmu: Path) -> None:
         assert "damping.ratio" in text and "-1" in text and "0 <= x <= 10" in text, text
         s.reset()
         np.testing.assert_array_equal(_run(s, 6), normal)
+
+
+#: the methods scipy.integrate.solve_ivp documents
+SOLVE_IVP = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
+
+
+@pytest.mark.parametrize("method", ["auto", "exact", "periodic", "exact_contact", "gauss",
+                                    *SOLVE_IVP])
+def test_cosim_reference_is_a_solve_ivp_run(method: str) -> None:
+    """The reference of ``gear-dyn cosim`` is labelled "solve_ivp <method>": a scene's solve_ivp
+    method is kept, and any other method (``auto`` and the closed forms) becomes the solve_ivp
+    default, never a closed form run under that label."""
+    from gear_dyn.fmu.cosim import reference_settings
+    from gear_dyn.solvers import DEFAULT_ODE_METHOD
+
+    ref = reference_settings(SolverSettings(method=method, rtol=1e-9))
+    assert ref.rtol == 1e-9 and DEFAULT_ODE_METHOD in SOLVE_IVP
+    assert ref.method == (method if method in SOLVE_IVP else DEFAULT_ODE_METHOD)
