@@ -245,7 +245,8 @@ def complete_model_description(root: ET.Element, mv: ET.Element, by_name: dict[s
     cs = root.find("CoSimulation")
     if cs is None:
         raise InputError("modelDescription.xml without CoSimulation")
-    # pythonfmu3 0.3.4 writes this flag from the wrong option; the slave takes any step size
+    # the slave takes any step size; pythonfmu3 0.3.4 writes this flag from the wrong option
+    # (pythonfmu writes it right: for FMI 2 this sets what is there)
     cs.set("canHandleVariableCommunicationStepSize", "true")
     pos = list(root).index(cs) + 1
     if used:

@@ -22,7 +22,13 @@ from numpy.typing import ArrayLike
 from gear_dyn.errors import InputError
 from gear_dyn.geometry import GearPair
 from gear_dyn.stiffness.periodic import FloatArray
-from gear_dyn.stiffness.tooth import DEFAULT_OPTIONS, ToothOptions, half_angle, tooth_table
+from gear_dyn.stiffness.tooth import (
+    DEFAULT_OPTIONS,
+    ToothOptions,
+    beam_integrals,
+    half_angle,
+    tooth_table,
+)
 
 # Sainsot, Velex & Duverger (2004), J. Mech. Design 126, table 1: columns A..F for L*, M*, P*, Q*.
 SAINSOT = np.array([
@@ -95,13 +101,8 @@ def beam_compliances(eta: FloatArray, half: FloatArray, eta_load: ArrayLike, x_l
     (bending, shear, axial) : tuple of ndarray
         Compliances in m/N, broadcast over the load arrays.
     """
-    from scipy.integrate import cumulative_trapezoid  # on use: the ISO scenes never need it
-
     eta = np.asarray(eta, dtype=float)
-    half = np.asarray(half, dtype=float)
-    inv3 = 1.0 / half**3
-    j0, j1, j2, k0 = (cumulative_trapezoid(f, eta, initial=0.0)
-                      for f in (inv3, eta * inv3, eta**2 * inv3, 1.0 / half))
+    j0, j1, j2, k0 = beam_integrals(eta, np.asarray(half, dtype=float))
     return _compliances_from_tables(eta, j0, j1, j2, k0, np.asarray(eta_load, dtype=float),
                                     np.asarray(x_load, dtype=float),
                                     np.asarray(load_angle, dtype=float), youngs_modulus,

@@ -154,6 +154,32 @@ def fillet_points(pair: GearPair, gear: int, n: int = 400,
     return px * c + py * s, -px * s + py * c
 
 
+def beam_integrals(eta: FloatArray, half: FloatArray
+                   ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Running integrals of a tooth beam from its clamp, by the trapezoid rule (0 at ``eta[0]``).
+
+    Parameters
+    ----------
+    eta : ndarray
+        Increasing centre-line coordinates from the clamp, in m.
+    half : ndarray
+        Half thickness ``h`` at ``eta``, in m (> 0).
+
+    Returns
+    -------
+    (j0, j1, j2, k0) : tuple of ndarray
+        The integrals of ``1/h^3`` (1/m^2), ``eta/h^3`` (1/m), ``eta^2/h^3`` (1) and ``1/h``
+        (1) from ``eta[0]`` to each ``eta``: what the bending, shear and axial compliances are
+        made of (:func:`gear_dyn.stiffness.potential_energy.beam_compliances`).
+    """
+    from scipy.integrate import cumulative_trapezoid  # on use: the ISO scenes never need it
+
+    inv3 = 1.0 / half**3
+    j0, j1, j2, k0 = (cumulative_trapezoid(f, eta, initial=0.0)
+                      for f in (inv3, eta * inv3, eta**2 * inv3, 1.0 / half))
+    return j0, j1, j2, k0
+
+
 @lru_cache(maxsize=64)
 def tooth_table(pair: GearPair, gear: int,
                 options: ToothOptions = DEFAULT_OPTIONS) -> ToothTable:
@@ -186,7 +212,6 @@ def tooth_table(pair: GearPair, gear: int,
     u = np.linspace(0.0, 1.0, n)
     eta = (y[-1] - y_root) * u**1.5
     half = np.interp(y_root + eta, y, x)
-    inv3 = 1.0 / half**3
     r_int_opt = options.bore_radius1 if gear == 1 else options.bore_radius2
     r_int = 0.5 * rf if r_int_opt is None else r_int_opt
     if r_int >= rf:
@@ -194,11 +219,7 @@ def tooth_table(pair: GearPair, gear: int,
             f"bore_radius{gear} = {r_int * 1e3:.6g} mm: valid range 0 < r_int < r_f = "
             f"{rf * 1e3:.6g} mm"
         )
-    from scipy.integrate import cumulative_trapezoid  # on use: the ISO scenes never need it
-
-    j0, j1, j2, k0 = (cumulative_trapezoid(f, eta, initial=0.0)
-                      for f in (inv3, eta * inv3, eta**2 * inv3, 1.0 / half))
-    arrays = (y, x, eta, half, j0, j1, j2, k0)
+    arrays = (y, x, eta, half, *beam_integrals(eta, half))
     for arr in arrays:
         arr.setflags(write=False)
     return ToothTable(*arrays, y_root=y_root, r_f=rf, r_form=r_form, theta_f=theta_f,
