@@ -79,6 +79,7 @@ ISSUE_22_ON_MAIN = (
     "9034792",  # Weber modulus seed -> jiang2018 (old name warns)
     "861f302",  # sources cited by author and year
     "6e8ff36",  # the other sources the code cites
+    "2486168",  # the tooth beam's running integrals in one function (review of the cut2 branches)
     "5025ca5",  # tqdm imported where a bar is drawn
     "ed7740c",  # contact_exact docstring: when a piece is not searched
     "aab9b9f",  # one list of each user choice (parser-time copies removed)
