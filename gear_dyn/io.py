@@ -216,16 +216,36 @@ def staged_output(out_dir: str | Path) -> Iterator[Path]:
 
 @contextlib.contextmanager
 def _signals_deferred() -> Iterator[None]:
-    """Hold SIGINT and SIGTERM in this thread for the block (POSIX); delivered on exit."""
-    mask = getattr(signal, "pthread_sigmask", None)
-    if mask is None:
-        yield
+    """Hold SIGINT and SIGTERM for the block: their handlers only note a signal, and the first
+    one noted is handed to the previous handler when the block ends.
+
+    Python runs signal handlers in the main thread whichever thread the kernel hands the signal
+    to (a BLAS worker, a progress bar's monitor), so a mask of the main thread alone does not
+    hold them; swapping the Python-level handlers does. Outside the main thread, where handlers
+    cannot be set (and do not run), the block runs as it is.
+    """
+    import threading
+
+    held = (signal.SIGINT, signal.SIGTERM)
+    previous = {s: signal.getsignal(s) for s in held}
+    if threading.current_thread() is not threading.main_thread() or None in previous.values():
+        yield  # None: a handler not set from Python, which cannot be put back
         return
-    old = mask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+    noted: list[tuple[int, Any]] = []
+    for s in held:
+        signal.signal(s, lambda signum, frame: noted.append((signum, frame)))
     try:
         yield
     finally:
-        mask(signal.SIG_SETMASK, old)
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+        if noted:
+            signum, frame = noted[0]
+            handler = previous[signal.Signals(signum)]
+            if callable(handler):
+                handler(signum, frame)
+            elif handler == signal.SIG_DFL:  # the default action: end the process by it
+                os.kill(os.getpid(), signum)
 
 
 #: what gear_dyn commands write into an output folder; a folder holding anything else (a scene,
