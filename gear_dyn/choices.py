@@ -4,8 +4,9 @@ Plain tuples and no imports, so that the command-line parser offers them as choi
 loading any physics (building the parser imports no numpy: tests/cli/test_cli_startup.py).
 """
 
-#: ``[stiffness] method``, how k(t) is computed (:mod:`gear_dyn.stiffness.select`); the first is
-#: the scene's default, and the order numbers the items of the pythonfmu FMU's enumeration
+#: ``[stiffness] method``, how k(t) is computed (:mod:`gear_dyn.stiffness.select`; the default
+#: is chosen per pair by ``choose_stiffness``); the order numbers the items of the pythonfmu
+#: FMU's enumeration
 STIFFNESS_METHODS: tuple[str, ...] = ("iso6336", "rectangular", "potential_energy", "weber",
                                       "contact_line")
 #: tip-relief curves (:mod:`gear_dyn.modification.relief`): the power curves of Wang et al.

@@ -13,7 +13,7 @@ from gear_dyn.solvers import Result
 #: the keys of :func:`gear_dyn.scene.build.scene_facts`, listed first in summaries
 SCENE_FACTS = ("scene", "model", "input_speed_rpm", "output_speed_rpm", "contact_ratio",
                "overlap_ratio", "center_distance_m", "geometric_backlash_m", "stiffness_method",
-               "fourier_terms")
+               "stiffness_choice", "fourier_terms")
 
 
 #: what ``dte`` is, per model kind (summary.json ``dte_definition``, CSV header, plots)

@@ -13,7 +13,12 @@ from gear_dyn.errors import InputError
 from gear_dyn.geometry import GearPair
 from gear_dyn.stiffness.iso6336 import iso6336_stiffness
 from gear_dyn.stiffness.potential_energy import potential_energy_compliances
-from gear_dyn.stiffness.select import METHOD_OPTIONS, build_stiffness, tooth_options
+from gear_dyn.stiffness.select import (
+    METHOD_OPTIONS,
+    build_stiffness,
+    method_scope,
+    tooth_options,
+)
 from gear_dyn.stiffness.summary import operating_summary, stiffness_summary
 
 
@@ -45,6 +50,10 @@ def compare_methods(pair: GearPair, methods: list[str], scene_method: str,
                     ) -> tuple[dict[str, Any], dict[str, Any]]:
     """``(curves, report)``: each method's stiffness and the JSON-ready comparison.
 
+    Per method: mean, min, max and zone values (:func:`stiffness_summary`), the ratio of the
+    mean to ISO 6336-1 c_gamma b (``ratio_to_iso``) and what the method includes and leaves out
+    (``includes``, ``leaves_out``: :func:`gear_dyn.stiffness.select.method_scope`).
+
     Parameters
     ----------
     pair : GearPair
@@ -64,6 +73,7 @@ def compare_methods(pair: GearPair, methods: list[str], scene_method: str,
     """
     curves: dict[str, Any] = {}
     per_method: dict[str, Any] = {}
+    iso = iso6336_stiffness(pair)
     for m in methods:  # each method with the scene's options that apply to it
         opts = {k: v for k, v in scene_opts.items() if k in METHOD_OPTIONS[m]}
         t0 = time.perf_counter()
@@ -74,13 +84,14 @@ def compare_methods(pair: GearPair, methods: list[str], scene_method: str,
         summ = stiffness_summary(pair, k)
         summ["build_time_s"] = time.perf_counter() - t0
         summ["options"] = opts
+        summ["ratio_to_iso"] = k.mean / iso.k_mesh
+        summ["includes"], summ["leaves_out"] = method_scope(pair, m, opts)
         curves[m] = k
         if fourier is not None and m == scene_method:
             kf = k.truncated(fourier)
             curves[f"{m} (Fourier {fourier})"] = kf
             summ["fourier"] = stiffness_summary(pair, kf)
         per_method[m] = summ
-    iso = iso6336_stiffness(pair)
     comp, components = pitch_point_components(pair, scene_opts)
     report: dict[str, Any] = {
         "scene_method": scene_method,

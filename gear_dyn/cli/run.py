@@ -66,6 +66,8 @@ def run(args: argparse.Namespace) -> int:
     print(f"{scene.name}: f_m = {summary['mesh_frequency_hz']:.1f} Hz{_fn(summary)}, dynamic "
           f"factor {summary['dynamic_factor']:.4f}, RMS DTE {summary['rms_dte_m'] * 1e6:.4g} "
           f"um ({summary['solver']['method']}, {summary['solver']['run_time_s']:.3g} s)")
+    if summary.get("stiffness_choice"):
+        print(f"  stiffness: {summary['stiffness_choice']}")
     print(f"  dynamic factor: {summary['dynamic_factor_definition']}")
     for line in jump_lines(summary):
         print(f"  {line}")

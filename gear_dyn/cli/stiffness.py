@@ -20,7 +20,9 @@ def register(sub: Any) -> None:
         "stiffness", help="mesh stiffness of a scene's gear pair by several methods",
         description="Compute the mesh stiffness of SCENE's pair by the chosen methods and write "
         "stiffness.png, components.png, stiffness.csv and stiffness.json into DIR. The scene's "
-        "[stiffness] options apply to every method that takes them.",
+        "[stiffness] options apply to every method that takes them. The terminal gives eps_alpha "
+        "and eps_beta, each method's mean and its ratio to ISO 6336-1 c_gamma b, and what each "
+        "method includes and leaves out (the spread between methods).",
     )
     add_scene_and_out(p)
     p.add_argument("--methods", default="scene,iso6336,potential_energy,weber,contact_line",
@@ -49,21 +51,24 @@ def compute(scene: Any, methods: list[str]) -> tuple[Any, dict[str, Any], dict[s
     """``(pair, curves, report)`` for ``methods`` on the scene's pair (no files written)."""
     from gear_dyn.analysis.stiffness import compare_methods
     from gear_dyn.scene import build_pair
+    from gear_dyn.scene.build import stiffness_choice_text
     from gear_dyn.stiffness.select import stiffness_options_from_table
 
     pair = build_pair(scene)
     table = dict(scene.get("stiffness"))
     try:
-        scene_method, scene_opts = stiffness_options_from_table(table)
+        scene_method, scene_opts = stiffness_options_from_table(table, pair)
         curves, report = compare_methods(pair, methods, scene_method, scene_opts,
                                          table.get("fourier_terms"))
     except InputError as exc:
         raise InputError(f"{scene.source}: {exc}") from None
-    return pair, curves, {"scene": scene.name, **report}
+    return pair, curves, {"scene": scene.name, "scene_stiffness": stiffness_choice_text(
+        scene, pair), **report}
 
 
 def run(args: argparse.Namespace) -> int:
-    from gear_dyn.scene import load_scene
+    from gear_dyn.scene import build_pair, load_scene
+    from gear_dyn.scene.build import scene_stiffness_choice
 
     if not (args.cycles > 0 and args.cycles <= 1000):
         raise InputError(f"--cycles = {args.cycles}: valid range 0 < cycles <= 1000")
@@ -71,19 +76,35 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--samples = {args.samples}: valid range >= 4")
     with Stages(["load scene", "stiffness curves", "write"], args.quiet) as st:
         scene = load_scene(args.scene)
-        methods = _methods(args.methods, scene.get("stiffness")["method"])
+        methods = _methods(args.methods, scene_stiffness_choice(scene, build_pair(scene)).method)
         st.next()
         pair, curves, report = compute(scene, methods)
         st.next()
         _write(args, pair, curves, report)
-    op = report["operating"]
-    print(f"{report['scene']}: eps_a = {op['contact_ratio']:.4f}, single-contact share "
-          f"{op['single_contact_share']:.3f}, backlash {_um(op['backlash_m'])} um")
-    for name, s in report["methods"].items():
-        print(f"  {name:17s} mean {s['mean_n_per_m']:.4g}  min {s['min_n_per_m']:.4g}  "
-              f"max {s['max_n_per_m']:.4g} N/m  ({s['build_time_s'] * 1e3:.3g} ms)")
+    for line in report_lines(report):
+        print(line)
     print(f"wrote {args.out}/")
     return 0
+
+
+def report_lines(report: dict[str, Any]) -> list[str]:
+    """The terminal report: eps_alpha and eps_beta, the scene's stiffness and why, then per
+    method its mean, min and max, the ratio of its mean to ISO 6336-1 c_gamma b, and what it
+    includes and leaves out."""
+    op = report["operating"]
+    iso = report["iso6336"]["k_mesh_n_per_m"]
+    lines = [f"{report['scene']}: eps_alpha = {op['contact_ratio']:.4f}, eps_beta = "
+             f"{op['overlap_ratio']:.4f}, single-contact share {op['single_contact_share']:.3f}"
+             f", backlash {_um(op['backlash_m'])} um",
+             f"  scene stiffness: {report['scene_stiffness']}",
+             f"  mean mesh stiffness by method (ratio to ISO 6336-1 c_gamma b = {iso:.4g} N/m):"]
+    for name, s in report["methods"].items():
+        lines.append(f"  {name:17s} mean {s['mean_n_per_m']:.4g} N/m = {s['ratio_to_iso']:.3f} "
+                     f"x ISO  (min {s['min_n_per_m']:.4g}, max {s['max_n_per_m']:.4g} N/m, "
+                     f"{s['build_time_s'] * 1e3:.3g} ms)")
+        lines.append(f"    includes: {s['includes']}")
+        lines.append(f"    leaves out: {s['leaves_out']}")
+    return lines
 
 
 def _write(args: argparse.Namespace, pair: Any, curves: dict[str, Any],

@@ -127,6 +127,9 @@ def _print_summary(result: Any, scene: Any, summary: dict[str, Any], chart: str)
           f"({result.options.method}, {result.executor}); f_n = "
           f"{summary['natural_frequency_hz']:.0f} Hz, f_m = f_n at "
           f"{summary['resonance_speed_rpm']:.0f} rpm")
+    from gear_dyn.scene.build import build_pair, stiffness_choice_text
+
+    print(f"  stiffness: {stiffness_choice_text(scene, build_pair(scene))}")
     for note in summary.get("resonances_outside_range", []):
         print(f"  {note}")
     peaks = {d: info["max_dynamic_factor"] for d, info in summary["curves"].items()

@@ -23,7 +23,12 @@ from gear_dyn.stiffness.periodic import PeriodicStiffness
 from gear_dyn.stiffness.select import (  # ISO_DOUBLE_FACTOR re-exported: its earlier home
     ISO_DOUBLE_FACTOR as ISO_DOUBLE_FACTOR,
 )
-from gear_dyn.stiffness.select import build_stiffness, stiffness_options_from_table
+from gear_dyn.stiffness.select import (
+    StiffnessChoice,
+    build_stiffness,
+    choose_stiffness,
+    stiffness_options_from_table,
+)
 
 
 def build_pair(scene: Scene) -> GearPair:
@@ -57,7 +62,8 @@ def scene_inertias(scene: Scene) -> tuple[float, float] | None:
 
 def scene_facts(scene: Scene) -> dict[str, Any]:
     """What the scene says about the case, for run summaries: speeds (rpm), contact and overlap
-    ratios, centre distance and geometric backlash (m), stiffness method."""
+    ratios, centre distance and geometric backlash (m), stiffness method and why it was chosen
+    (``stiffness_choice``, :func:`stiffness_choice_text`)."""
     pair = build_pair(scene)
     op = scene.get("operating")
     rpm = op["speed"] * 60 / (2 * math.pi)
@@ -70,9 +76,33 @@ def scene_facts(scene: Scene) -> dict[str, Any]:
         "overlap_ratio": pair.overlap_ratio,
         "center_distance_m": pair.a_w,
         "geometric_backlash_m": pair.backlash,
-        "stiffness_method": scene.get("stiffness")["method"],
+        "stiffness_method": scene_stiffness_choice(scene, pair).method,
+        "stiffness_choice": stiffness_choice_text(scene, pair),
         "fourier_terms": scene.get("stiffness")["fourier_terms"],
     }
+
+
+def scene_stiffness_choice(scene: Scene, pair: GearPair) -> StiffnessChoice:
+    """The stiffness method of the scene's pair: ``[stiffness] method``, or the default rule
+    of :func:`gear_dyn.stiffness.select.choose_stiffness` (contact_line for a helical pair,
+    iso6336 for a spur pair)."""
+    return choose_stiffness(pair, scene.get("stiffness")["method"])
+
+
+def stiffness_choice_text(scene: Scene, pair: GearPair) -> str:
+    """Which stiffness the scene's model gets and why, in one line for the terminal.
+
+    E.g. ``contact_line (helical pair, eps_beta = 1.27: contact-line length; set [stiffness]
+    method to override)``; with ``[tip_relief]`` the loaded contact's stiffness.
+    """
+    relief = scene.tables.get("tip_relief")
+    if relief is not None:
+        return (f"loaded contact of [tip_relief] (pair stiffness {relief['pair_stiffness']}, "
+                f"linearisation {relief['linearisation']})")
+    choice = scene_stiffness_choice(scene, pair)
+    if choice.by_default:
+        return f"{choice.method} ({choice.reason}; set [stiffness] method to override)"
+    return f"{choice.method} ([stiffness] method, {choice.reason})"
 
 
 def scene_stiffness(scene: Scene, pair: GearPair) -> PeriodicStiffness:
@@ -88,7 +118,7 @@ def scene_stiffness(scene: Scene, pair: GearPair) -> PeriodicStiffness:
     """
     s = scene.get("stiffness")
     try:
-        method, options = stiffness_options_from_table(s)
+        method, options = stiffness_options_from_table(s, pair)
         return build_stiffness(pair, method, fourier_terms=s["fourier_terms"], **options)
     except InputError as exc:
         raise scene_error(scene.source, exc) from None

@@ -54,9 +54,10 @@ INERTIA = register_section(Section("inertia", (
 ), doc="polar inertias; without this table, solid blanks of width B at the pitch radii"))
 
 STIFFNESS = register_section(Section("stiffness", (
-    Field("method", kind="str", default="iso6336",
+    Field("method", kind="str", default=None,
           choices=STIFFNESS_METHODS,
-          doc="how k(t) is computed"),
+          doc="how k(t) is computed (default: contact_line for a helical pair, iso6336 for a "
+              "spur pair)"),
     Field("single", "N/m", default=None, low=0.0, high=1e13, low_open=True,
           doc="single-pair stiffness (rectangular method)"),
     Field("double", "N/m", default=None, low=0.0, high=1e13, low_open=True,
@@ -87,7 +88,8 @@ STIFFNESS = register_section(Section("stiffness", (
               "Jiang et al. 2018)"),
     Field("per_length", "N/m**2", default=None, low=0.0, low_open=True,
           doc="contact_line: stiffness per unit contact-line length (default from ISO)"),
-), doc="mesh stiffness; default ISO 6336 rectangular wave"))
+), doc="mesh stiffness; default contact-line length k_l L(t) for a helical pair, ISO 6336 "
+        "rectangular wave for a spur pair, both with the ISO 6336-1 mean c_gamma b"))
 
 DAMPING = register_section(Section("damping", (
     Field("ratio", default=0.06, low=0.0, high=10.0, doc="mesh damping ratio xi"),

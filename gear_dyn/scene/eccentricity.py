@@ -17,6 +17,7 @@ from gear_dyn.scene.build import (
     build_pair,
     scene_inertias,
     scene_stiffness,
+    scene_stiffness_choice,
     scene_transmission_error,
 )
 from gear_dyn.scene.fields import REQUIRED, Field, Section
@@ -71,7 +72,7 @@ def build_torsional(scene: Scene) -> Model:
     op = scene.get("operating")
     tors = scene.get("torsional")
     stiff: PeriodicStiffness | ContactLineStiffness
-    if scene.get("stiffness")["method"] == "contact_line":
+    if scene_stiffness_choice(scene, pair).method == "contact_line":
         k_l = tors["stiffness_per_length"]
         if k_l is None:
             k_l = scene_stiffness(scene, pair).mean / mean_contact_line_length(pair)

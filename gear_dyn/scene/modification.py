@@ -159,7 +159,7 @@ def scene_pair_function(scene: Scene, pair: GearPair, method: str | None = None)
     options: dict[str, Any] = {}
     try:
         if scene.has("stiffness"):
-            s_method, s_opts = stiffness_options_from_table(scene.tables["stiffness"])
+            s_method, s_opts = stiffness_options_from_table(scene.tables["stiffness"], pair)
             if s_method == method:
                 options = s_opts
         return pair_stiffness_function(pair, method, options)

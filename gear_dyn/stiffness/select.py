@@ -10,6 +10,7 @@ replaces any curve by its truncated Fourier series. Unknown options are refused.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from functools import lru_cache, partial
 from typing import Any
 
@@ -34,7 +35,12 @@ from gear_dyn.stiffness.periodic import (
 )
 from gear_dyn.stiffness.potential_energy import potential_energy_pair_stiffness
 from gear_dyn.stiffness.tooth import ToothOptions
-from gear_dyn.stiffness.weber import MODULI, current_modulus, weber_pair_stiffness
+from gear_dyn.stiffness.weber import (
+    MODULI,
+    current_modulus,
+    weber_modulus,
+    weber_pair_stiffness,
+)
 
 #: the methods of :func:`build_stiffness` (``[stiffness] method``)
 METHODS = STIFFNESS_METHODS
@@ -53,6 +59,79 @@ METHOD_OPTIONS: dict[str, tuple[str, ...]] = {
                         "weber_foundation"),
     "contact_line": ("stiffness_per_length", "line_load"),
 }
+
+
+@dataclass(frozen=True)
+class StiffnessChoice:
+    """The mesh-stiffness method of a pair and why it was chosen (:func:`choose_stiffness`).
+
+    Attributes
+    ----------
+    method : str
+        One of :data:`METHODS`.
+    reason : str
+        Why, in one line (e.g. ``"helical pair, eps_beta = 1.27: contact-line length"``).
+    by_default : bool
+        True when no method was given and the rule chose it.
+    """
+
+    method: str
+    reason: str
+    by_default: bool
+
+
+def choose_stiffness(pair: GearPair, method: str | None = None) -> StiffnessChoice:
+    """The mesh-stiffness method of ``pair``: ``method`` if given, else the default rule.
+
+    The rule, the one place that decides the default (scenes without ``[stiffness] method``
+    and :func:`build_stiffness` without ``method`` both come here):
+
+    - a helical pair (helix angle not 0, so eps_beta > 0) gets ``contact_line``,
+      ``k(t) = k_l L(t)`` with the ISO 6336-1 mean c_gamma b. Its contact lines enter and
+      leave the field of contact gradually, so the stiffness varies with the total
+      contact-line length L(t) (Liu et al. 2017), not in the steps of a spur pair. The
+      ``iso6336`` wave steps by 1.75 between floor(eps_a) and floor(eps_a) + 1 transverse
+      pairs and ignores eps_beta: a spur wave, too harsh an excitation for a helical pair;
+    - a spur pair gets ``iso6336``: the ISO 6336-1 rectangular wave with mean c_gamma b and
+      ISO's own step of 1.75 (from c_gamma = c' (0.75 eps_a + 0.25)); the lines of a spur
+      pair do enter and leave the field at once, so a rectangular wave is its shape.
+
+    A method given is kept as given; its reason says so, and for a helical pair given a
+    rectangular wave it adds that the wave is a spur wave.
+
+    Parameters
+    ----------
+    pair : GearPair
+    method : str or None
+        The method asked for (None: the rule above). Not validated here
+        (:func:`build_stiffness` does).
+
+    Returns
+    -------
+    StiffnessChoice
+
+    Examples
+    --------
+    >>> import math
+    >>> from gear_dyn.geometry import GearPair
+    >>> choose_stiffness(GearPair(19, 48, 3.2e-3, math.radians(20), 16e-3)).method
+    'iso6336'
+    >>> choose_stiffness(GearPair(18, 70, 3e-3, math.radians(20), 40e-3,
+    ...                           helix_angle=math.radians(15))).method
+    'contact_line'
+    """
+    helical = pair.helix_angle != 0.0
+    eps_b = f"eps_beta = {pair.overlap_ratio:.3g}"
+    if method is not None:
+        reason = "as given"
+        if helical and method in ("iso6336", "rectangular"):
+            reason += (f"; a spur wave for a helical pair ({eps_b}): contact_line follows its "
+                       "contact-line length")
+        return StiffnessChoice(method, reason, False)
+    if helical:
+        return StiffnessChoice("contact_line", f"helical pair, {eps_b}: contact-line length",
+                               True)
+    return StiffnessChoice("iso6336", "spur pair: ISO 6336-1 rectangular wave", True)
 
 
 def _iso_wave(pair: GearPair, opts: Mapping[str, Any], name: str) -> PiecewiseStiffness:
@@ -178,15 +257,17 @@ def pair_stiffness_function(pair: GearPair, method: str = "potential_energy",
     return partial(_pair_fn(method, opts), pair)
 
 
-def build_stiffness(pair: GearPair, method: str = "iso6336", *,
+def build_stiffness(pair: GearPair, method: str | None = None, *,
                     fourier_terms: int | None = None, **options: Any) -> PeriodicStiffness:
     """Mesh stiffness of ``pair`` by ``method`` (cached per pair, method and options).
 
     Parameters
     ----------
     pair : GearPair
-    method : str
-        One of ``rectangular``, ``iso6336``, ``potential_energy``, ``weber``, ``contact_line``.
+    method : str or None
+        One of ``rectangular``, ``iso6336``, ``potential_energy``, ``weber``,
+        ``contact_line``; None: the default of :func:`choose_stiffness` (``contact_line`` for a
+        helical pair, ``iso6336`` for a spur pair).
     fourier_terms : int or None
         If given (>= 1), return the Fourier series truncated at that many harmonics.
     **options
@@ -222,6 +303,7 @@ def build_stiffness(pair: GearPair, method: str = "iso6336", *,
     >>> abs(k.mean / iso6336_stiffness(pair).k_mesh - 1) < 1e-12
     True
     """
+    method = choose_stiffness(pair, method).method
     if method == "iso6336" and ("single" in options or "double" in options):
         raise InputError("stiffness method 'iso6336' takes no single/double values; use "
                          "method 'rectangular' to give them")
@@ -236,6 +318,75 @@ def build_stiffness(pair: GearPair, method: str = "iso6336", *,
     if fourier_terms is None:
         return k
     return k.truncated(_int_opt("fourier_terms", fourier_terms, 1, 1))
+
+
+def method_scope(pair: GearPair, method: str,
+                 options: Mapping[str, Any] | None = None) -> tuple[str, str]:
+    """What ``method`` includes and what it leaves out, one line each, for ``pair``.
+
+    Read from the code of each method (:mod:`.iso6336`, :mod:`.potential_energy`,
+    :mod:`.weber`, :mod:`.contact_line`, :mod:`.mesh`), so that the spread of their means
+    (``gear-dyn stiffness``) is explained, not only shown. ``options`` (as for
+    :func:`build_stiffness`) changes the Weber and rectangular lines.
+
+    Returns
+    -------
+    (includes, leaves_out) : tuple of str
+
+    Raises
+    ------
+    InputError
+        Unknown method.
+    """
+    opts = dict(options or {})
+    helical = pair.helix_angle != 0.0
+    iso_in = ("empirical (ISO 6336-1 method B): c' = C_M C_R C_B cos(beta) (E/E_steel) / q', "
+              "q' fitted in the virtual teeth numbers and profile shifts, C_M = 0.8 (solid "
+              "blank), C_R = 1; c_gamma = c' (0.75 eps_alpha + 0.25)")
+    wave_out = ("variation along the path of contact (one level per number of pairs: a "
+                "rectangular wave stepping by 1.75)"
+                + (", eps_beta (a spur wave for this helical pair)" if helical else "")
+                + ", rim and web flexibility (C_R = 1), load (unless a line load is given)")
+    slices = ("; helical: the transverse curve averaged over uncoupled face slices"
+              if helical else "")
+    slices_out = ("coupling between face slices (independent springs), the helical tooth's "
+                  "normal section (the transverse section is used: stiffer as beta grows), "
+                  if helical else "")
+    if method == "iso6336":
+        return iso_in, wave_out
+    if method == "rectangular":
+        if opts.get("single") is not None:
+            given = "the single and double levels given (double = 1.75 single by default)"
+            return given, "tooth geometry: every figure is the user's; " + wave_out
+        return "as iso6336 (the ISO levels c' b and 1.75 c' b)", wave_out
+    if method == "potential_energy":
+        return ("Hertz 2/(pi B E*), tooth bending, shear and axial energy of a variable-section "
+                "cantilever clamped at the root chord (both gears), fillet foundation (Sainsot "
+                "et al. 2004)" + slices,
+                slices_out + "load dependence (Hertz term constant along the path and linear), "
+                "rim and web beyond the foundation term")
+    if method == "weber":
+        modulus = str(opts.get("weber_modulus") or "jiang2018")
+        e_w = {"jiang2018": weber_modulus(1.0, pair.poisson1), "plane_stress": 1.0,
+               "plane_strain": 1.0 / (1 - pair.poisson1**2)}.get(modulus, float("nan"))
+        foundation = bool(opts.get("weber_foundation", False))
+        includes = (f"sliced-cantilever bending, shear and axial (Jiang et al. 2018) with the "
+                    f"{modulus} modulus {e_w:.3g} E, Hertz 4 (1 - nu^2)/(pi E B)"
+                    + (", fillet foundation (Sainsot et al. 2004)" if foundation else "")
+                    + slices)
+        out = slices_out + ("" if foundation else
+                            "the fillet-foundation (body) deflection, the largest compliance "
+                            "term (weber_foundation = true adds it), ")
+        return includes, out + "load dependence"
+    if method == "contact_line":
+        if opts.get("stiffness_per_length") is not None:
+            includes = "the stiffness per contact-line length given, times L(t)"
+        else:
+            includes = ("the ISO 6336-1 mean c_gamma b scaled by the total contact-line "
+                        "length: k = k_l L(t), k_l = c_gamma b / mean L")
+        return includes, ("variation along each line and along the path (tip and root softer "
+                          "than the pitch point), tooth geometry beyond ISO's empirical mean")
+    raise InputError(f"stiffness method = {method!r}: valid values are {', '.join(METHODS)}")
 
 
 #: scene key -> build_stiffness option (the [stiffness] TOML table, gear_dyn/scene/core.py)
@@ -255,17 +406,26 @@ SCENE_KEYS = {
 }
 
 
-def stiffness_options_from_table(table: Mapping[str, Any]) -> tuple[str, dict[str, Any]]:
+def stiffness_options_from_table(table: Mapping[str, Any], pair: GearPair | None = None
+                                 ) -> tuple[str, dict[str, Any]]:
     """``(method, options)`` for :func:`build_stiffness` from a parsed ``[stiffness]`` table.
 
     Keys left at None are dropped; a key that the chosen method does not use is an error.
+    A table without ``method`` takes the default of :func:`choose_stiffness` for ``pair``.
 
     Raises
     ------
     InputError
-        A key given that the method does not take (names the key and the method).
+        A key given that the method does not take (names the key and the method); no method
+        and no pair to choose the default for.
     """
-    method = str(table.get("method", "iso6336"))
+    method = table.get("method")
+    if method is None:
+        if pair is None:
+            raise InputError("stiffness.method not given and no gear pair to choose the "
+                             "default method for")
+        method = choose_stiffness(pair).method
+    method = str(method)
     options: dict[str, Any] = {}
     for key, opt in SCENE_KEYS.items():
         val = table.get(key)
