@@ -2,13 +2,17 @@
 
 All quantities are SI: metres, radians, pascals, kilograms. Subscript 1 is the pinion (driver),
 2 the gear (driven). Helical pairs are described in the transverse plane with the normal module
-``m_n`` and helix angle ``beta``.
+``m_n`` and helix angle ``beta``. The sign of ``beta`` is the hand of the pinion's helix
+(positive right-hand, negative left-hand; the gear of an external pair has the other hand); the
+geometry uses ``|beta|``, as a mirrored pair meshes the same (the hand only sets the direction of
+the axial force, which no model here carries).
 
 Formulas (ISO 21771 / any gear text; Liu et al. 2017, eqs. 14, 28, 29, with its typo corrected):
 
 - ``tan a_t = tan a_n / cos b``; ``tan b_b = tan b cos a_t`` (Liu et al. 2017, eq. 29 prints
   ``sin b_b = tan b cos a_t``: a typo, not implemented)
-- ``r = m_n z / (2 cos b)``, ``r_b = r cos a_t``, ``r_a = r + m_n (ha* + x)``,
+- ``r = m_n z / (2 cos b)``, ``r_b = r cos a_t``, ``r_a = r + m_n (ha* + x - k*)`` (k* the tip
+  shortening coefficient, default 0; or ``r_a = d_a / 2`` from a given tip diameter),
   ``r_f = r - m_n (ha* + c* - x)``
 - reference centre distance ``a = r1 + r2``; operating ``cos a_wt = a cos a_t / a_w``; the default
   operating centre distance is the zero-backlash one from
@@ -66,7 +70,9 @@ class GearPair:
     face_width : float
         Face width B in m, > 0.
     helix_angle : float
-        Helix angle b in rad, 0 (spur) .. 45 deg.
+        Helix angle b of the pinion in rad, -45 .. 45 deg: 0 spur, > 0 right-hand, < 0
+        left-hand (the gear has the other hand). The geometry uses ``|b|`` (:attr:`hand` keeps
+        the sign).
     addendum_coef, clearance_coef : float
         ha* (default 1.0) and c* (default 0.25), dimensionless.
     x1, x2 : float
@@ -79,12 +85,21 @@ class GearPair:
         Poisson's ratios (default 0.3).
     density1, density2 : float
         Densities in kg/m^3 (default 7850), used for solid-blank inertias.
+    tip_diameter1, tip_diameter2 : float or None
+        Tip diameters d_a in m of pinion and gear (None: ``d + 2 m_n (ha* + x - k*)``). A
+        given tip must lie above the base and root circles (``d_a > max(d_b, d_f)``); the
+        pointed-tip, clearance and contact-ratio checks then apply to it.
+    tip_shortening : float
+        Tip shortening coefficient k* >= 0 (dimensionless, default 0): both tips are cut by
+        ``k* m_n`` (ISO 21771's tip alteration, as a reduction). Not combined with a given tip
+        diameter.
 
     Raises
     ------
     InputError
         Non-positive sizes, a contact ratio below 1, an undercut pinion or gear, involute
-        interference, a pointed tip, negative tip clearance, a centre distance too short.
+        interference, a pointed tip, negative tip clearance, a centre distance too short, a tip
+        diameter at or below the base or root circle.
     """
 
     z1: int
@@ -104,6 +119,9 @@ class GearPair:
     poisson2: float = 0.3
     density1: float = 7850.0
     density2: float = 7850.0
+    tip_diameter1: float | None = None
+    tip_diameter2: float | None = None
+    tip_shortening: float = 0.0
 
     def __post_init__(self) -> None:
         for name in ("z1", "z2"):
@@ -118,11 +136,12 @@ class GearPair:
             "pressure_angle", self.pressure_angle, "rad", low=math.radians(5), high=math.radians(45)
         )
         check_range("face_width", self.face_width, "m", low=0.0, high=10.0, low_open=True)
-        check_range("helix_angle", self.helix_angle, "rad", low=0.0, high=math.radians(45))
-        if 0.0 < self.helix_angle < MIN_HELIX_ANGLE:  # contact lines degenerate below this
+        check_range("helix_angle", self.helix_angle, "rad", low=-math.radians(45),
+                    high=math.radians(45))
+        if 0.0 < abs(self.helix_angle) < MIN_HELIX_ANGLE:  # contact lines degenerate below this
             raise InputError(
                 f"helix_angle = {self.helix_angle:.6g} rad: valid range 0 (spur) or "
-                f"{MIN_HELIX_ANGLE:g} <= x <= {math.radians(45):.6g} rad"
+                f"{MIN_HELIX_ANGLE:g} <= |x| <= {math.radians(45):.6g} rad"
             )
         check_range("addendum_coef", self.addendum_coef, "", low=0.5, high=1.5)
         check_range("clearance_coef", self.clearance_coef, "", low=0.0, high=0.5)
@@ -134,6 +153,7 @@ class GearPair:
             check_range(name, getattr(self, name), "", low=0.0, high=0.5, high_open=True)
         for name in ("density1", "density2"):
             check_range(name, getattr(self, name), "kg/m^3", low=0.0, high=1e5, low_open=True)
+        self._check_tips()
         if self.center_distance is not None:
             check_range(
                 "center_distance", self.center_distance, "m", low=self.rb1 + self.rb2,
@@ -143,19 +163,31 @@ class GearPair:
 
     # ------------------------------------------------------------------ basic radii
     @property
+    def hand(self) -> str:
+        """Hand of the pinion's helix: ``"right"`` (b > 0), ``"left"`` (b < 0) or ``"spur"``."""
+        if self.helix_angle == 0.0:
+            return "spur"
+        return "right" if self.helix_angle > 0 else "left"
+
+    @property
+    def beta(self) -> float:
+        """Helix angle magnitude |b| in rad (the geometry's b; :attr:`hand` has the sign)."""
+        return abs(self.helix_angle)
+
+    @property
     def alpha_t(self) -> float:
         """Transverse pressure angle a_t in rad."""
-        return math.atan(math.tan(self.pressure_angle) / math.cos(self.helix_angle))
+        return math.atan(math.tan(self.pressure_angle) / math.cos(self.beta))
 
     @property
     def beta_b(self) -> float:
-        """Base helix angle b_b in rad (tan b_b = tan b cos a_t)."""
-        return math.atan(math.tan(self.helix_angle) * math.cos(self.alpha_t))
+        """Base helix angle b_b in rad (tan b_b = tan |b| cos a_t), >= 0."""
+        return math.atan(math.tan(self.beta) * math.cos(self.alpha_t))
 
     @property
     def transverse_module(self) -> float:
         """Transverse module m_t = m_n / cos b in m."""
-        return self.module / math.cos(self.helix_angle)
+        return self.module / math.cos(self.beta)
 
     @property
     def r1(self) -> float:
@@ -179,13 +211,17 @@ class GearPair:
 
     @property
     def ra1(self) -> float:
-        """Pinion tip radius in m."""
-        return self.r1 + self.module * (self.addendum_coef + self.x1)
+        """Pinion tip radius in m (``d_a1 / 2`` if given, else ``r1 + m_n (ha* + x1 - k*)``)."""
+        if self.tip_diameter1 is not None:
+            return self.tip_diameter1 / 2
+        return self.r1 + self.module * (self.addendum_coef + self.x1 - self.tip_shortening)
 
     @property
     def ra2(self) -> float:
-        """Gear tip radius in m."""
-        return self.r2 + self.module * (self.addendum_coef + self.x2)
+        """Gear tip radius in m (``d_a2 / 2`` if given, else ``r2 + m_n (ha* + x2 - k*)``)."""
+        if self.tip_diameter2 is not None:
+            return self.tip_diameter2 / 2
+        return self.r2 + self.module * (self.addendum_coef + self.x2 - self.tip_shortening)
 
     @property
     def rf1(self) -> float:
@@ -243,7 +279,7 @@ class GearPair:
     @property
     def base_pitch(self) -> float:
         """Transverse base pitch p_bt in m."""
-        return math.pi * self.module * math.cos(self.alpha_t) / math.cos(self.helix_angle)
+        return math.pi * self.module * math.cos(self.alpha_t) / math.cos(self.beta)
 
     @property
     def line_of_action_length(self) -> float:
@@ -330,12 +366,42 @@ class GearPair:
         )
 
     # ------------------------------------------------------------------ validation
+    def _check_tips(self) -> None:
+        """A given tip diameter or tip shortening: a number, and the tip above the base and
+        root circles."""
+        check_range("tip_shortening", self.tip_shortening, "", low=0.0, high=self.addendum_coef)
+        given = [n for n in ("tip_diameter1", "tip_diameter2") if getattr(self, n) is not None]
+        if given and self.tip_shortening != 0.0:
+            raise InputError(f"tip_shortening = {self.tip_shortening:g} with {given[0]}: give "
+                             "tip diameters or the tip shortening, not both")
+        for name in given:
+            gear = 1 if name == "tip_diameter1" else 2
+            rb, rf = (self.rb1, self.rf1) if gear == 1 else (self.rb2, self.rf2)
+            d = check_range(name, getattr(self, name), "m", low=0.0, high=10.0, low_open=True)
+            floor = 2 * max(rb, rf)
+            if d <= floor:
+                circle = "base" if rb >= rf else "root"
+                raise InputError(
+                    f"{name} = {d * 1e3:.6g} mm: the tip must lie above the {circle} circle "
+                    f"(d_b{gear} = {2 * rb * 1e3:.6g} mm, d_f{gear} = {2 * rf * 1e3:.6g} mm); "
+                    f"valid range > {floor * 1e3:.6g} mm"
+                )
+        for gear in (1, 2):  # a shortened tip must stay above the base and root circles too
+            ra, rb, rf = ((self.ra1, self.rb1, self.rf1) if gear == 1
+                          else (self.ra2, self.rb2, self.rf2))
+            if self.tip_shortening and ra <= max(rb, rf):
+                raise InputError(
+                    f"tip_shortening = {self.tip_shortening:g}: the "
+                    f"{'pinion' if gear == 1 else 'gear'} tip (d_a{gear} = {2 * ra * 1e3:.6g} "
+                    f"mm) falls to the base or root circle ({2 * max(rb, rf) * 1e3:.6g} mm)"
+                )
+
     def _validate_meshing(self) -> None:
         for gear, z, x, r in ((1, self.z1, self.x1, self.r1), (2, self.z2, self.x2, self.r2)):
             limit = r * math.sin(self.alpha_t) ** 2
             need = (self.addendum_coef - x) * self.module
             if limit < need * (1 - 1e-9):
-                zmin = 2 * (self.addendum_coef - x) * math.cos(self.helix_angle) / math.sin(
+                zmin = 2 * (self.addendum_coef - x) * math.cos(self.beta) / math.sin(
                     self.alpha_t
                 ) ** 2
                 raise InputError(

@@ -4,10 +4,12 @@ One rule everywhere (scene files, CLI options, strings given to the API): a dime
 carries its unit (``"1500 rpm"``, ``"20 deg"``, ``"200 N*m"``, ``"6 mm"``); a plain number there
 is refused with a message proposing readings. Dimensionless quantities stay plain numbers.
 ``Nm`` (and ``kNm``, ``N.m``, ``N·m``) means newton-metre in torque fields (pint alone reads
-``Nm`` as nanometre).
+``Nm`` as nanometre). In rotational-speed fields ``RPM`` (any case), ``r/min`` and ``rev``
+(``rev/min``, ``rev/s``) are read as rpm and turns (pint knows only ``rpm`` and ``turn``).
 
 pint is imported when the first text with a unit is read, and the registry is built once per
-process. The only spelling rule of our own is the torque one above.
+process. The spelling rules of our own are the torque and speed ones above. A value out of
+range is reported with the range in the unit the user wrote (:func:`range_in_user_unit`).
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ from collections.abc import Callable
 from functools import lru_cache
 from typing import Any
 
-from gear_dyn.errors import InputError
+from gear_dyn.errors import InputError, range_text
 
 
 @lru_cache(maxsize=1)
@@ -72,6 +74,11 @@ SUGGESTED_UNITS: dict[str, tuple[str, ...]] = {
 
 #: torque spellings pint does not read as newton-metre: Nm (nanometre!), kNm, N.m, N·m
 _NM_RE = re.compile(r"(?<![A-Za-z_])(k|M)?N\s*(?:m|\.m|·m|⋅m)(?![A-Za-z_])")
+#: speed spellings pint does not read: RPM in any case and r/min (rpm); rev (turn)
+_RPM_RE = re.compile(r"(?<![A-Za-z_])(?:rpm|r\s*/\s*min)(?![A-Za-z_])", re.IGNORECASE)
+_REV_RE = re.compile(r"(?<![A-Za-z_])rev(?![A-Za-z_])", re.IGNORECASE)
+#: the number in front of a quantity's unit ("4000", "-1.5e3 ")
+_NUMBER_RE = re.compile(r"^\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*")
 
 
 def dimension_text(unit: str) -> str:
@@ -144,6 +151,59 @@ def normalise_torque_text(raw: str) -> str:
     return _NM_RE.sub(lambda m: f"{m.group(1) or ''}N*m", raw)
 
 
+def normalise_speed_text(raw: str) -> str:
+    """``"4000 RPM"``, ``"4000 r/min"`` -> ``"4000 rpm"``; ``"4000 rev/min"`` ->
+    ``"4000 turn/min"``: the usual shaft-speed spellings pint does not read."""
+    return _REV_RE.sub("turn", _RPM_RE.sub("rpm", raw))
+
+
+def _normalised(raw: str, unit: str) -> str:
+    """``raw`` with the torque (Nm) or speed (RPM, rev) spellings of a field in ``unit``."""
+    if unit and _dimension(unit) == _dimension("N*m"):
+        return normalise_torque_text(raw)
+    if unit == "rad/s":
+        return normalise_speed_text(raw)
+    return raw
+
+
+def range_in_user_unit(raw: Any, unit: str, low: float | None, high: float | None,
+                       low_open: bool = False, high_open: bool = False) -> str:
+    """The valid range (SI bounds ``low``, ``high`` of a field in ``unit``) as text, in the unit
+    the user wrote in ``raw`` (``"50 deg"`` -> ``0 <= x <= 45 deg``); in ``unit`` when ``raw``
+    is no text with a unit of that dimension.
+
+    Examples
+    --------
+    >>> import math
+    >>> range_in_user_unit("50 deg", "rad", 0.0, math.radians(45))
+    '0 <= x <= 45 deg'
+    >>> range_in_user_unit(0.9, "rad", 0.0, math.radians(45))
+    '0 <= x <= 0.785398 rad'
+    """
+    text = _user_unit(raw, unit)
+    if text is None:
+        return range_text(low, high, low_open, high_open, unit)
+    factor = float(registry().Quantity(1.0, _normalised(text, unit)).to(unit).magnitude)
+    lo = None if low is None else float(f"{low / factor:.9g}")
+    hi = None if high is None else float(f"{high / factor:.9g}")
+    return range_text(lo, hi, low_open, high_open, text)
+
+
+def _user_unit(raw: Any, unit: str) -> str | None:
+    """The unit text after the number in ``raw`` if it converts to ``unit``, else None."""
+    if not isinstance(raw, str) or not is_dimensional(unit):
+        return None
+    m = _NUMBER_RE.match(raw)
+    text = raw[m.end():].strip() if m else ""
+    if not text:
+        return None
+    try:
+        factor = registry().Quantity(1.0, _normalised(text, unit)).to(unit).magnitude
+    except Exception:  # not a unit, or another dimension: keep the SI unit
+        return None
+    return text if float(factor) > 0 else None
+
+
 def parse_quantity(raw: str, unit: str, where: str, rng: str,
                    error: type[InputError] = InputError,
                    valid: Callable[[float], bool] | None = None) -> float:
@@ -152,23 +212,30 @@ def parse_quantity(raw: str, unit: str, where: str, rng: str,
     ``where`` names the field and ``rng`` its valid range in messages; ``error`` is the
     exception class raised (an :class:`~gear_dyn.errors.InputError` subclass); ``valid`` (the
     field's range check) orders the readings proposed for a missing unit. In a torque
-    field ``Nm`` is newton-metre. A text without a unit (``"1500"``) in a dimensional field is
+    field ``Nm`` is newton-metre (in a speed field ``RPM`` and ``r/min`` are rpm, ``rev``
+    a turn). A text without a unit (``"1500"``) in a dimensional field is
     refused like a plain number (exact zero excepted: it is zero in every unit).
 
     Raises
     ------
     InputError
-        Unparsable text, a missing unit, a wrong dimension, or Hz for a rotational speed (pint
-        would read 1 Hz as 1 rad/s).
+        Unparsable text, an unknown unit (named), a missing unit, a wrong dimension, or Hz for
+        a rotational speed (pint would read 1 Hz as 1 rad/s).
     """
     import pint
 
     ureg = registry()
-    text = raw.strip()
-    if unit and _dimension(unit) == _dimension("N*m"):  # a torque field: Nm is newton-metre
-        text = normalise_torque_text(text)
+    text = _normalised(raw.strip(), unit)  # torque: Nm is newton-metre; speed: RPM, rev
     try:
         q = ureg.Quantity(text)
+    except pint.UndefinedUnitError as exc:
+        if not _NUMBER_RE.match(text):  # "six mm": no number in front
+            raise error(f"{where} = {raw!r}: not a number with a unit; expected "
+                        f"{dimension_text(unit)}") from None
+        names = ", ".join(repr(n) for n in exc.unit_names)
+        raise error(
+            f"{where} = {raw!r}: unknown unit {names}; expected {dimension_text(unit)}"
+        ) from None
     except Exception:  # pint raises many types for unparsable text
         raise error(
             f"{where} = {raw!r}: not a number with a unit; expected {dimension_text(unit)}"

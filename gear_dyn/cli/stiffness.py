@@ -117,7 +117,7 @@ def _write(args: argparse.Namespace, pair: Any, curves: dict[str, Any],
     comp = report.pop("_components")
     with staged_output(args.out) as tmp:
         fig = plot_stiffness_curves(curves, pair.contact_ratio, cycles=args.cycles,
-                                    transverse_note=pair.helix_angle > 0)
+                                    transverse_note=pair.helix_angle != 0.0)
         save_figure(fig, tmp / "stiffness.png", dpi=110)
         fig = plot_components(comp, title="potential-energy compliance split at the pitch point "
                               f"(K = {1 / float(comp.total[0]):.4g} N/m)")

@@ -41,7 +41,8 @@ def build_pair(scene: Scene) -> GearPair:
         clearance_coef=g["clearance_coef"], x1=g["profile_shift_pinion"],
         x2=g["profile_shift_gear"], youngs_modulus1=g["youngs_modulus"],
         youngs_modulus2=g["youngs_modulus"], poisson1=g["poisson"], poisson2=g["poisson"],
-        density1=g["density"], density2=g["density"],
+        density1=g["density"], density2=g["density"], tip_diameter1=g["tip_diameter_pinion"],
+        tip_diameter2=g["tip_diameter_gear"], tip_shortening=g["tip_shortening"],
     )
     try:
         if g["center_distance"] is None and g["center_distance_offset"] == 0.0:
@@ -74,6 +75,7 @@ def scene_facts(scene: Scene) -> dict[str, Any]:
         "output_speed_rpm": rpm * pair.z1 / pair.z2,
         "contact_ratio": pair.contact_ratio,
         "overlap_ratio": pair.overlap_ratio,
+        "helix_hand": pair.hand,
         "center_distance_m": pair.a_w,
         "geometric_backlash_m": pair.backlash,
         "stiffness_method": scene_stiffness_choice(scene, pair).method,

@@ -26,12 +26,23 @@ GEAR = register_section(Section("gear", (
           doc="normal module m_n"),
     Field("pressure_angle", "rad", default=20 * DEG, low=5 * DEG, high=45 * DEG,
           doc="normal pressure angle"),
-    Field("helix_angle", "rad", default=0.0, low=0.0, high=45 * DEG, doc="helix angle (0 = spur)"),
+    Field("helix_angle", "rad", default=0.0, low=-45 * DEG, high=45 * DEG,
+          doc="pinion helix angle: 0 spur, > 0 right-hand, < 0 left-hand (the gear has the "
+              "other hand; the geometry uses its magnitude)"),
     Field("face_width", "m", default=REQUIRED, low=0.0, high=10.0, low_open=True, doc="B"),
     Field("addendum_coef", default=1.0, low=0.5, high=1.5, doc="ha*"),
     Field("clearance_coef", default=0.25, low=0.0, high=0.5, doc="c*"),
     Field("profile_shift_pinion", default=0.0, low=-1.0, high=1.5, doc="x1"),
     Field("profile_shift_gear", default=0.0, low=-1.0, high=1.5, doc="x2"),
+    Field("tip_diameter_pinion", "m", default=None, low=0.0, high=10.0, low_open=True,
+          doc="pinion tip diameter d_a1 (default d1 + 2 m_n (ha* + x1 - k*)); above its base "
+              "and root circles"),
+    Field("tip_diameter_gear", "m", default=None, low=0.0, high=10.0, low_open=True,
+          doc="gear tip diameter d_a2 (default d2 + 2 m_n (ha* + x2 - k*)); above its base and "
+              "root circles"),
+    Field("tip_shortening", default=0.0, low=0.0, high=1.5,
+          doc="tip shortening coefficient k*: both tips cut by k* m_n (not with a tip "
+              "diameter)"),
     Field("center_distance", "m", default=None, low=0.0, low_open=True,
           doc="operating centre distance a_w (default: zero-backlash)"),
     Field("center_distance_offset", "m", default=0.0, low=-1.0, high=1.0,

@@ -13,9 +13,9 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from gear_dyn.errors import SceneError, in_range, range_text
+from gear_dyn.errors import SceneError, in_range
 from gear_dyn.units import dimension_text as _dim_text
-from gear_dyn.units import is_dimensional, needs_unit_message, parse_quantity
+from gear_dyn.units import is_dimensional, needs_unit_message, parse_quantity, range_in_user_unit
 
 #: the default of a field the scene must give (a required key)
 REQUIRED: Any = object()
@@ -107,7 +107,9 @@ class Field:
 
     def _number(self, raw: Any, where: str, si: bool = False) -> float:
         unit_txt = f" {self.unit}" if self.unit else ""
-        rng = range_text(self.low, self.high, self.low_open, self.high_open, self.unit)
+        # the range in the unit the user wrote ("50 deg" -> "0 <= x <= 45 deg"), else SI
+        rng = range_in_user_unit(raw, self.unit, self.low, self.high, self.low_open,
+                                 self.high_open)
         if isinstance(raw, bool) or not isinstance(raw, int | float | str):
             raise SceneError(
                 f"{where} = {raw!r}: expected {_dim_text(self.unit)}; valid range {rng}"

@@ -66,6 +66,8 @@ SCENE_KEY_PATHS: dict[str, str] = {
     "density2": "gear.density", "speed": "operating.speed", "torque": "operating.torque",
     "inertia_pinion": "inertia.pinion", "inertia_gear": "inertia.gear",
     "damping_ratio": "damping.ratio", "backlash": "backlash.half_gap",
+    "tip_diameter1": "gear.tip_diameter_pinion", "tip_diameter2": "gear.tip_diameter_gear",
+    "tip_shortening": "gear.tip_shortening",
 }
 _NAMES = "|".join(sorted(SCENE_KEY_PATHS, key=len, reverse=True))
 _NAME_RE = re.compile(rf"(?<![\w.])({_NAMES})(?=\s*(?:=|<|>))")

@@ -61,7 +61,7 @@ def iso6336_stiffness(pair: GearPair, line_load: float | None = None) -> IsoStif
         Transverse line load F_t K_A / b in N/m; below 1e5 N/m (100 N/mm) c' is reduced by
         ``(line_load / 1e5) ** 0.25`` as ISO 6336-1 prescribes. None: no reduction.
     """
-    cb = math.cos(pair.helix_angle)
+    cb = math.cos(pair.beta)
     virtual = math.cos(pair.beta_b) ** 2 * cb  # zn = z / (cos^2(beta_b) cos(beta))
     zn1 = pair.z1 / virtual
     zn2 = pair.z2 / virtual

@@ -77,7 +77,7 @@ def mesh_stiffness_from_pair(pair: GearPair, pair_fn: PairFunction, samples_per_
     """
     if not isinstance(samples_per_cycle, int) or samples_per_cycle < 4:
         raise InputError(f"samples_per_cycle = {samples_per_cycle!r}: valid range >= 4")
-    if pair.helix_angle > 0:
+    if pair.helix_angle != 0.0:
         return _helical(pair, pair_fn, samples_per_cycle, name, slices)
     return _transverse(pair, pair_fn, samples_per_cycle, name)
 

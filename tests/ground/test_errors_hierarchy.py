@@ -55,7 +55,7 @@ def test_check_range_accepts_and_converts() -> None:
     ("six mm", "not a number with a unit"),
     ("nan mm", "must be a finite number"),
     (math.nan, "must be a finite number"),
-    ("-6 mm", "is out of range: valid range 0 < x <= 1 m"),
+    ("-6 mm", "is out of range: valid range 0 < x <= 1000 mm"),  # in the unit written
     ("2 m", "'2 m' is out of range: valid range 0 < x <= 1 m"),
     ("1e-40 m", "below the smallest meaningful magnitude"),
     (True, "expected a length"),
