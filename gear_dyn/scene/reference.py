@@ -25,8 +25,10 @@ A scene is a TOML file, one table per part of the model; a table left out disabl
 Every dimensional value carries its unit as text (`"6 mm"`, `"3319 rpm"`, `"22.5 deg"`,
 `"200 Nm"`); a plain number there is refused with the readings it could have (an exact `0` needs
 no unit). Dimensionless values (teeth, coefficients, ratios, tolerances) are plain numbers. In
-torque keys `Nm`, `kNm`, `N.m` mean newton-metre (pint alone reads `Nm` as nanometre). Rotational
-speeds in `Hz` are refused (pint reads 1 Hz as 1 rad/s); write `rpm`, `rad/s` or `turn/s`.
+torque keys `Nm`, `kNm`, `N.m` mean newton-metre (pint alone reads `Nm` as nanometre). In speed
+keys `RPM` (any case), `r/min` and `rev/min` mean rpm. Rotational speeds in `Hz` are refused (pint
+reads 1 Hz as 1 rad/s); write `rpm`, `rad/s` or `turn/s`. A value out of range is refused with
+the valid range in the unit it was written in (`"50 deg"`: `-45 <= x <= 45 deg`).
 
 Columns: **type** (`quantity` = number with a unit, `number` = plain number, `int`, `text`,
 `bool`, `list of quantity`); **unit** = the SI unit the value is converted to, with the unit
