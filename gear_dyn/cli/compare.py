@@ -117,6 +117,10 @@ def run(args: argparse.Namespace) -> int:
         cells = "  ".join(f"{v:>{len(h)}}" for v, h in zip(values, heads, strict=True))
         print(f"{r['scene']:<{width}}  {r['direction']:<4} {cells}  "
               f"{r['resonance_speed_rpm']:.0f} rpm")
+    from gear_dyn.scene.build import build_pair, stiffness_choice_text
+
+    for name, scene in zip(names, scenes, strict=True):
+        print(f"{name} stiffness: {stiffness_choice_text(scene, build_pair(scene))}")
     print("K_dyn = peak dynamic mesh force / peak quasi-static mesh force of the same scene "
           "(tends to 1 at low speed, like ISO K_v); F_max/W = K_dyn x the stiffness-jump factor "
           "(the quasi-static force overshoot at the jumps of k(t))")

@@ -51,6 +51,7 @@ def test_compare_table_equals_separate_sweeps(tmp_path: Path, capsys: pytest.Cap
                     "stiffness_jump_factor"):
             assert f"{row[key]:.4f}" in text
     assert "max K_dyn" in text and "ISO K_v there" in text
+    assert "helicopter_tail stiffness: iso6336 ([stiffness] method, as given)" in text
     # more damping, lower peak: the table says which design is better
     assert data["peaks"][1]["max_dynamic_factor"] < data["peaks"][0]["max_dynamic_factor"]
 
