@@ -93,3 +93,11 @@ def test_stiffness_command_explains_the_spread(tmp_path: Path,
         assert f"{name:17s} mean {s['mean_n_per_m']:.4g} N/m = {s['ratio_to_iso']:.3f} x ISO" in out
         assert f"    includes: {s['includes']}\n    leaves out: {s['leaves_out']}\n" in out
     assert rep["methods"]["weber"]["ratio_to_iso"] == pytest.approx(2.76, abs=0.01)
+
+
+def test_sweep_says_which_stiffness(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = _rail(tmp_path)
+    assert main(["sweep", str(path), "--speeds", "1000 rpm:3000 rpm:3", "--out",
+                 str(tmp_path / "s"), "--quiet"]) == 0
+    assert ("  stiffness: contact_line (helical pair, eps_beta = 1.27: contact-line length"
+            in capsys.readouterr().out)
