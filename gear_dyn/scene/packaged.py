@@ -77,7 +77,7 @@ teeth_pinion = 20
 teeth_gear = 40
 module = "3 mm"             # normal module
 pressure_angle = "20 deg"
-helix_angle = "0 deg"       # 0 = spur
+helix_angle = "0 deg"       # 0 = spur; negative = left-hand pinion
 face_width = "30 mm"
 # profile_shift_pinion = 0.0
 # profile_shift_gear = 0.0
@@ -89,7 +89,8 @@ speed = "1500 rpm"          # pinion speed
 torque = "120 Nm"           # pinion torque (Nm = newton-metre)
 
 # [stiffness]               # left out, the toolkit chooses the mesh stiffness that fits:
-#                           #   no [tip_relief]: iso6336 (rectangular wave, ISO 6336-1 method B)
+#                           #   no [tip_relief]: iso6336 for a spur pair (rectangular wave,
+#                           #   ISO 6336-1 method B), contact_line for a helical pair (k_l L(t))
 #                           #   with [tip_relief]: the loaded contact of tip_relief.pair_stiffness
 #                           #   (potential_energy unless set); a [stiffness] table there must name
 #                           #   that same method
