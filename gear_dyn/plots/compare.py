@@ -106,7 +106,7 @@ def plot_comparison(comparison: Comparison, ax: Any = None) -> Any:
         row = comparison.rows[k]
         v = row["peak_peak_force_ratio"]
         st = design_style(k)
-        a_bar.barh(y, v if np.isfinite(v) else 0.0, color=st["color"], alpha=0.85,
+        a_bar.barh(y, v if np.isfinite(v) else 0.0, height=0.6, color=st["color"], alpha=0.85,
                    hatch="//" if k == 0 else None, edgecolor="k", lw=0.5)
         pct = row["peak_peak_force_ratio_delta_pct"]
         text = (f" {v:.3g}" + ("  baseline" if k == 0 else f"  {pct:+.1f} %")
@@ -118,8 +118,9 @@ def plot_comparison(comparison: Comparison, ax: Any = None) -> Any:
     if np.isfinite(base):
         a_bar.axvline(base, color="k", lw=0.8, ls="--")
     a_bar.set_yticks(ypos, [f"{comparison.rows[k]['rank'] or '-'}. "
-                            f"{_short(comparison.names[k], 20)}" for k in order], fontsize=8)
-    a_bar.set_xlim(0, 2.0 * top)  # room for the value, the change and the flags
+                            f"{_short(comparison.names[k], 22)}" for k in order], fontsize=8)
+    a_bar.set_xlim(0, 2.0 * top)
+    a_bar.set_ylim(-0.7, len(order) - 0.3)  # room for the value, the change and the flags
     a_bar.set_xlabel("peak F_max / W over the range")
     a_bar.set_title("peak force vs baseline (dashed), best on top", fontsize=9)
     a_bar.grid(axis="x", alpha=0.3)
