@@ -11,7 +11,7 @@ import pytest
 
 from gear_dyn.cli.app import main
 from gear_dyn.scene import load_scene
-from gear_dyn.scene.compare import compare_scenes
+from gear_dyn.scene.sweep import sweep_scene
 
 SCENES = Path(__file__).resolve().parents[2] / "gear_dyn" / "scenes"
 
@@ -32,9 +32,9 @@ def test_compare_writes_the_ranked_comparison(tmp_path: Path, capsys: pytest.Cap
     assert data["scenes"] == ["helicopter_tail", "damped"] and data["baseline"] == "helicopter_tail"
     # more damping, lower peak force: the damped design ranks first
     assert data["ranking"] == ["damped", "helicopter_tail"]
-    api = compare_scenes([load_scene(a), load_scene(b)], speeds)
+    # the peaks of the scenes' own sweeps (their operating speed, 3319 rpm, lies outside)
     assert [d["peak_peak_force_ratio"] for d in data["designs"]] == [
-        r["peak_peak_force_ratio"] for r in api.rows]
+        sweep_scene(load_scene(p), speeds).peak("peak_force_ratio").value for p in (a, b)]
     base, damped = data["designs"]
     assert damped["peak_peak_force_ratio_delta"] == pytest.approx(
         damped["peak_peak_force_ratio"] - base["peak_peak_force_ratio"], rel=1e-14)
@@ -77,3 +77,15 @@ def test_compare_names_two_scenes_of_one_name_by_their_files(
 def test_compare_refuses_a_missing_scene(tmp_path: Path) -> None:
     assert main(["compare", str(tmp_path / "nope.toml"), "--speeds", "1000 rpm:2000 rpm:3",
                  "--out", str(tmp_path / "o")]) == 2
+
+
+def test_compare_prints_the_backlash_hint(tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                          monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("MPLBACKEND", "Agg")
+    out = tmp_path / "o"
+    assert main(["compare", "helicopter_tail_backlash", "--speeds", "3000 rpm:3319 rpm:2",
+                 "--out", str(out), "--quiet"]) == 0
+    text = capsys.readouterr().out
+    assert "warning: helicopter_tail_backlash: backlash with only the mesh stiffness" in text
+    data = json.loads((out / "compare.json").read_text())
+    assert any("does not scale with W" in w for w in data["warnings"])

@@ -19,7 +19,7 @@ from gear_dyn.solvers import SolverSettings
 RPM_GRID = np.array([1000.0, 2000.0, 3000.0, 4000.0, 5000.0])
 
 
-def _curve(force: Sequence[float], separation: Sequence[float] | None = None,
+def _curve(force: Sequence[float] | np.ndarray, separation: Sequence[float] | None = None,
            direction: str = "up", jump: float = 1.0, rms: Sequence[float] | None = None,
            rpm: np.ndarray = RPM_GRID) -> SweepCurve:
     """A curve of F_max / W ``force`` over ``rpm`` (in sweep order: reversed for ``down``)."""
