@@ -19,8 +19,9 @@ LOAD_INDEPENDENT_TABLES = ("transmission_error", "tip_relief", "eccentricity", "
 
 def load_independent_excitations(scene: Scene) -> list[str]:
     """The tables of ``scene`` that excite the mesh independently of the load (see
-    :data:`LOAD_INDEPENDENT_TABLES`)."""
-    return [name for name in LOAD_INDEPENDENT_TABLES if scene.has(name)]
+    :data:`LOAD_INDEPENDENT_TABLES`; a table with ``pattern = "none"`` excites nothing)."""
+    return [name for name in LOAD_INDEPENDENT_TABLES
+            if scene.has(name) and scene.tables[name].get("pattern") != "none"]
 
 
 def backlash_gap_hint(scene: Scene, separated: bool = False) -> str | None:
@@ -45,7 +46,7 @@ def backlash_gap_hint(scene: Scene, separated: bool = False) -> str | None:
             "dynamic force scales with the load W, so F/W and the teeth staying in contact do "
             "not depend on the torque (a light load behaves as a full one); to open the gap at "
             "light load add an excitation that does not scale with W: [transmission_error] "
-            "harmonics, [tip_relief] or [eccentricity]")
+            "harmonics, [tip_relief], [eccentricity] or manufacturing [deviations]")
 
 
 __all__ = ["LOAD_INDEPENDENT_TABLES", "backlash_gap_hint", "load_independent_excitations"]

@@ -100,3 +100,24 @@ def test_backlash_hint_when_nothing_can_open_the_gap() -> None:
     assert not sweep_scene(forced, ["3000 rpm"]).warnings
     # no backlash: no hint either
     assert not sweep_scene(load_scene("helicopter_tail"), ["3319 rpm"]).warnings
+
+
+def test_which_tables_can_open_the_gap() -> None:
+    from gear_dyn.scene.hints import backlash_gap_hint, load_independent_excitations
+    from gear_dyn.scene.validated import Scene
+
+    base = load_scene("helicopter_tail_backlash").tables
+
+    def scene(**extra: Any) -> Scene:
+        return Scene(source="<t>", tables={**base, **extra})
+    assert load_independent_excitations(scene()) == []
+    assert backlash_gap_hint(scene()) is not None
+    assert backlash_gap_hint(scene(), separated=True) is None  # the gap opens anyway
+    te = scene(transmission_error={"cos": [1e-6], "sin": None})
+    assert load_independent_excitations(te) == ["transmission_error"]
+    assert backlash_gap_hint(te) is None
+    # deviations switched off excite nothing
+    assert backlash_gap_hint(scene(deviations={"pattern": "none"})) is not None
+    assert backlash_gap_hint(scene(deviations={"pattern": "random"})) is None
+    plain = {k: v for k, v in base.items() if k != "backlash"}
+    assert backlash_gap_hint(Scene(source="<t>", tables=plain)) is None
