@@ -185,3 +185,15 @@ def test_peak_is_a_named_result_that_unpacks_as_before() -> None:
         res.peak("force")
     empty = _result(_curve([math.nan] * 5))
     assert math.isnan(empty.peak().value) and empty.peak().direction == ""
+
+
+def test_plot_draws_into_the_callers_axes() -> None:
+    from matplotlib.figure import Figure
+
+    cmp = compare_sweeps([_result(_curve([1.0, 1.5, 2.5, 1.5, 1.2]))], ["a"], [3000 * RPM])
+    fig = Figure()
+    axes = fig.subplots(3, 1)
+    assert cmp.plot(ax=axes) is fig
+    assert len(axes[0].get_lines()) >= 1 and len(axes[2].patches) == 1
+    with pytest.raises(ValueError, match="expected 3 matplotlib Axes"):
+        cmp.plot(ax=axes[:2])
