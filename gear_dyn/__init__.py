@@ -46,6 +46,8 @@ _EXPORTS: dict[str, str] = {
     "parse_scene": "gear_dyn.scene",
     "run_scene": "gear_dyn.scene",
     "sweep_scene": "gear_dyn.scene.sweep",
+    "compare_scenes": "gear_dyn.scene.compare",
+    "Comparison": "gear_dyn.analysis.compare",
     "SweepOptions": "gear_dyn.analysis.sweep.types",
     "SweepResult": "gear_dyn.analysis.sweep.types",
     "continue_orbits": "gear_dyn.analysis.continuation.arclength",
@@ -74,6 +76,7 @@ _EXPORTS: dict[str, str] = {
 __all__ = sorted(_EXPORTS)
 
 if TYPE_CHECKING:  # what type checkers and IDEs see; at run time the names load lazily
+    from gear_dyn.analysis.compare import Comparison
     from gear_dyn.analysis.continuation.arclength import continue_orbits
     from gear_dyn.analysis.continuation.branch import Branch
     from gear_dyn.analysis.continuation.family import sdof_family
@@ -93,6 +96,7 @@ if TYPE_CHECKING:  # what type checkers and IDEs see; at run time the names load
     from gear_dyn.geometry import GearPair, mesh_frequency, output_speed
     from gear_dyn.models.sdof import SDOFModel, sdof_from_pair
     from gear_dyn.scene import load_scene, parse_scene, run_scene
+    from gear_dyn.scene.compare import compare_scenes
     from gear_dyn.scene.sweep import sweep_scene
     from gear_dyn.solvers.result import Result
     from gear_dyn.solvers.settings import SolverSettings

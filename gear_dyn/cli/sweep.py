@@ -177,6 +177,8 @@ def _print_summary(result: Any, scene: Any, summary: dict[str, Any], chart: str)
     if summary["hysteresis_ranges_rpm"]:
         rng = _ranges(summary["hysteresis_ranges_rpm"])
         print(f"  hysteresis, up and down sweeps on different periodic orbits: {rng} rpm")
+    for warning in result.warnings:
+        print(f"  warning: {warning}")
     if chart == "none" and "stability_chart" not in summary:
         print("  Floquet stability charts around the scene: --chart both (stability.png)")
 

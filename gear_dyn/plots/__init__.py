@@ -5,6 +5,7 @@ saving.
 
 - :mod:`.run`: time history and spectrum of a run; :mod:`.stiffness`: mesh stiffness and its
   components; :mod:`.excitation`: eccentric excitations; :mod:`.contact`: loaded contact and
-  tip relief; :mod:`.sweep`: sweep response, waterfall, stability chart; :mod:`.bench`:
+  tip relief; :mod:`.sweep`: sweep response, waterfall, stability chart; :mod:`.compare`: designs
+  compared; :mod:`.bench`:
   work-precision; :mod:`.cosim`: FMU against solve_ivp.
 """

@@ -212,63 +212,6 @@ def plot_sweep_response(result: SweepResult, ax: Any = None,
     return fig
 
 
-def plot_compare(results: Sequence[SweepResult], names: Sequence[str], ax: Any = None,
-                 iso_kv: Sequence[tuple[Any, Any] | None] | None = None) -> Any:
-    """Dynamic factor K_dyn and RMS DTE of several sweeps against speed, each peak starred.
-
-    K_dyn = F_max / F_qs,max (:mod:`gear_dyn.analysis.dynamic_factor`) compares like for like
-    with ISO 6336-1 K_v (``iso_kv``: dash-dot, in each scene's colour); each scene's
-    stiffness-jump factor F_qs,max / W (peak force / W = K_dyn x that factor) is named in the
-    legend beside its curve.
-
-    Parameters
-    ----------
-    results : sequence of SweepResult
-    names : sequence of str
-        One label per result.
-    ax : sequence of 2 Axes or None
-        Dynamic factor, RMS DTE (None: a new figure).
-    iso_kv : sequence of ((array, array) or None) or None
-        Per result, (pinion speeds in rpm, ISO 6336-1 K_v) or None (no K_v for that scene).
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    own = ax is None
-    fig, axes = axes_of(ax, 2, 1, figsize=(11, 7), name="plot_compare", sharex=True)
-    kvs = list(iso_kv) if iso_kv is not None else [None] * len(results)
-    for i, (res, name, kv) in enumerate(zip(results, names, kvs, strict=True)):
-        col = f"C{i % 10}"  # the ten colours of matplotlib's default cycle, in turn
-        jump = res.stiffness_jump_factor
-        tail = (f"\n  stiffness-jump factor {jump:.3f}: F_max / W = K_dyn x {jump:.3f}"
-                if np.isfinite(jump) else "")
-        for c in res.curves:
-            ls = "--" if c.direction == "down" else "-"
-            lab = name if len(res.curves) == 1 else f"{name} ({c.direction})"
-            axes[0].plot(c.speed / RPM, c.dynamic_factor, color=col, ls=ls, lw=1.1,
-                         label=lab + (tail if c is res.curves[0] else ""))
-            axes[1].plot(c.speed / RPM, c.rms_dte * 1e6, color=col, ls=ls, lw=1.1)
-        if kv is not None:
-            axes[0].plot(*kv, color=col, lw=1.0, ls="-.", label=f"{name}: ISO 6336-1 K_v")
-        for d, v, s in sweep_peaks(res):
-            tag = "" if len(res.curves) == 1 else f" {d}"
-            axes[0].plot([s], [v], "*", ms=11, color=col, mec="k", mew=0.6,
-                         label=f"peak{tag} K_dyn {v:.3f} at {s:.0f} rpm")
-    axes[0].set_ylabel("dynamic factor K_dyn")
-    axes[1].set_ylabel("RMS DTE (µm)")
-    axes[1].set_xlabel("pinion speed (rpm)")
-    for a in axes:
-        a.grid(alpha=0.3)
-    axes[0].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0)
-    if own:
-        fig.suptitle("comparison: " + " / ".join(names) + "\nK_dyn = peak dynamic force / "
-                     "peak quasi-static force of the same scene (tends to 1 at low speed, "
-                     "like K_v)", fontsize=10)
-    _layout(fig, own, left=0.08, right=0.66, bottom=0.08, top=0.9, hspace=0.08)
-    return fig
-
-
 def _shade(ax: Any, rpm: np.ndarray, mask: np.ndarray, label: bool) -> None:
     """Red bands over the speed ranges (rpm) where ``mask`` holds (parametric instability)."""
     step = float(np.median(np.diff(np.sort(rpm)))) if rpm.size > 1 else 0.0

@@ -9,7 +9,7 @@ from __future__ import annotations
 import concurrent.futures as cf
 import json
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 from typing import Any
 
@@ -21,6 +21,7 @@ from gear_dyn.errors import check_range
 from gear_dyn.geometry import GearPair, mesh_frequency
 from gear_dyn.models.base import Model
 from gear_dyn.scene.build import RunPlan, build_model, build_pair, build_plan
+from gear_dyn.scene.hints import backlash_gap_hint
 from gear_dyn.scene.operating import check_keywords, parse_speeds
 from gear_dyn.scene.operating import parse_speed_range as parse_speed_range  # its old home
 from gear_dyn.scene.validated import Scene
@@ -97,7 +98,8 @@ def sweep_scene(scene: Scene, speeds: Any, *, si: bool = False,
     extra: ``pip install "gear_dyn[dask]"``) is given; the numbers are
     the same. ``options``, ``direction``, ``workers``, ``executor``, ``block`` and ``progress``
     are those of :func:`~gear_dyn.analysis.sweep.sweep`; ``solver``: ``[solver]`` overrides
-    (:data:`SOLVER_OVERRIDES`).
+    (:data:`SOLVER_OVERRIDES`). ``SweepResult.warnings`` states what the scene leaves out
+    (:func:`gear_dyn.scene.hints.backlash_gap_hint`).
 
     Raises
     ------
@@ -116,6 +118,9 @@ def sweep_scene(scene: Scene, speeds: Any, *, si: bool = False,
     f0 = plan.model.mesh_frequency
     periods = round(plan.t_end * f0)
     steady = round((plan.t_end - plan.steady_start) * f0)
-    return sweep(factory, speeds, settings=plan.settings, periods=periods, steady_periods=steady,
-                 name=scene.name, options=options, direction=direction, workers=workers,
-                 executor=executor, block=block, progress=progress)
+    result = sweep(factory, speeds, settings=plan.settings, periods=periods,
+                   steady_periods=steady, name=scene.name, options=options, direction=direction,
+                   workers=workers, executor=executor, block=block, progress=progress)
+    separated = any(np.any(np.nan_to_num(c.separation) > 0) for c in result.curves)
+    hint = backlash_gap_hint(scene, separated)
+    return result if hint is None else replace(result, warnings=(*result.warnings, hint))

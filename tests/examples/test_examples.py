@@ -85,6 +85,18 @@ def test_relief_trends(tmp_path: Path) -> None:
     assert (tmp_path / "relief_trends.png").exists()
 
 
+def test_compare_reliefs(tmp_path: Path) -> None:
+    cmp = _load("compare_reliefs").main(tmp_path, fast=True)
+    plain, handbook = cmp.rows
+    # ranked by the peak force: the handbook relief first, though its K_dyn is the larger (it
+    # is divided by the relief's own, lower quasi-static peak)
+    assert cmp.ranking == ("handbook relief", "no relief")
+    assert handbook["peak_dynamic_factor"] > plain["peak_dynamic_factor"]
+    assert handbook["peak_peak_force_ratio_delta_pct"] < 0
+    assert "linear_model_invalid_at_peak" in plain["flags"]
+    assert (tmp_path / "compare.png").exists() and (tmp_path / "compare.csv").exists()
+
+
 def test_every_example_is_tested() -> None:
     """Each gallery script has a test here, except plot_relief_rules.py (22 s): its cases are
     checked in tests/test_docs_figures.py (amounts by hand, tangent against contact model)."""

@@ -188,6 +188,7 @@ def summarize_sweep(result: SweepResult) -> dict[str, Any]:
         # both directions periodic and different / either direction not periodic
         "hysteresis_ranges_rpm": hysteresis_ranges(result),
         "aperiodic_ranges_rpm": aperiodic_ranges(result),
+        "warnings": list(result.warnings),
     }
     for c in result.curves:
         finite = np.isfinite(c.peak_force_ratio)  # K_dyn is NaN too without a reference

@@ -86,6 +86,55 @@ class Point(NamedTuple):
     lyapunov_error: float = math.nan
 
 
+#: the curve arrays a peak can be taken of (:meth:`SweepCurve.peak`), with their SI unit
+PEAK_QUANTITIES: dict[str, str] = {"dynamic_factor": "", "peak_force_ratio": "",
+                                   "rms_dte": "m", "ptp_dte": "m"}
+
+
+class Peak(NamedTuple):
+    """The largest value of one sweep quantity and where it lies.
+
+    A named tuple: ``value, speed, direction = sweep.peak()`` unpacks as before, and the fields
+    read by name (``sweep.peak().speed_rpm``).
+
+    Attributes
+    ----------
+    value : float
+        The peak value in the quantity's unit (K_dyn and F_max / W are ratios, DTE in m);
+        NaN where no speed has a finite value.
+    speed : float
+        Pinion speed of the peak in rad/s (NaN with no finite value).
+    direction : str
+        The sweep direction (``up`` or ``down``) whose curve holds it ("" with no finite
+        value).
+    """
+
+    value: float
+    speed: float
+    direction: str
+
+    @property
+    def speed_rpm(self) -> float:
+        """Pinion speed of the peak in rpm."""
+        return self.speed / RPM
+
+    def row(self, quantity: str) -> dict[str, Any]:
+        """The peak as a dict with unit-named keys, e.g. ``{"quantity": "rms_dte",
+        "value": ..., "unit": "m", "speed_rpm": ..., "speed_rad_s": ..., "direction": "up"}``."""
+        return {"quantity": quantity, "value": self.value,
+                "unit": PEAK_QUANTITIES.get(quantity, ""), "speed_rpm": self.speed_rpm,
+                "speed_rad_s": self.speed, "direction": self.direction}
+
+
+NO_PEAK = Peak(math.nan, math.nan, "")
+
+
+def _check_quantity(quantity: str) -> None:
+    if quantity not in PEAK_QUANTITIES:
+        raise InputError(f"peak quantity = {quantity!r}: valid choices are "
+                         f"{', '.join(PEAK_QUANTITIES)}")
+
+
 @dataclass(frozen=True, eq=False)
 class SweepCurve:
     """One sweep direction: arrays over the speeds in sweep order.
@@ -168,6 +217,28 @@ class SweepCurve:
     lyapunov_error: FloatArray = field(default_factory=lambda: np.zeros(0))
     jumps: tuple[Jump, ...] = ()
 
+    def peak(self, quantity: str = "dynamic_factor") -> Peak:
+        """The largest finite value of ``quantity`` on this curve (:class:`Peak`; speed in rad/s,
+        ``.speed_rpm`` in rpm).
+
+        Parameters
+        ----------
+        quantity : {"dynamic_factor", "peak_force_ratio", "rms_dte", "ptp_dte"}
+            K_dyn, F_max / W (ratios) or the RMS / peak-to-peak DTE (m).
+
+        Raises
+        ------
+        InputError
+            An unknown quantity.
+        """
+        _check_quantity(quantity)
+        y = np.asarray(getattr(self, quantity), dtype=float)
+        finite = np.isfinite(y)
+        if not finite.any():
+            return Peak(math.nan, math.nan, self.direction) if y.size else NO_PEAK
+        i = int(np.argmax(np.where(finite, y, -np.inf)))
+        return Peak(float(y[i]), float(self.speed[i]), self.direction)
+
     @classmethod
     def from_points(cls, direction: str, points: Sequence[Point],
                     stiffness_jump_factor: float = math.nan) -> SweepCurve:
@@ -245,6 +316,9 @@ class SweepResult:
         :func:`gear_dyn.analysis.dynamic_factor.quasi_static_reference` (``peak_force_ratio``
         F_qs,max / W, ``speed_ratio``, ``estimated_error`` ...); None where the model states no
         natural frequency (the dynamic factors are then NaN).
+    warnings : tuple of str
+        What the caller should know about the inputs, one sentence each (e.g. a backlash scene
+        with no excitation that can open the gap at light load); printed by the CLI.
     """
 
     scene_name: str
@@ -258,6 +332,7 @@ class SweepResult:
     run_time_s: float
     executor: str
     quasi_static: dict[str, Any] | None = None
+    warnings: tuple[str, ...] = ()
 
     @property
     def stiffness_jump_factor(self) -> float:
@@ -273,16 +348,34 @@ class SweepResult:
         (each returns the Figure; :class:`SweepPlots`)."""
         return SweepPlots(self)
 
-    def peak(self) -> tuple[float, float, str]:
-        """(largest dynamic factor K_dyn, its pinion speed in rad/s, its direction) over all
-        curves; NaN where no speed has a finite factor."""
-        best = (math.nan, math.nan, "")
+    def peak(self, quantity: str = "dynamic_factor") -> Peak:
+        """The largest value of ``quantity`` over all curves: a :class:`Peak` (value, pinion
+        speed in rad/s, direction; ``.speed_rpm`` in rpm), which unpacks as the 3-tuple
+        ``value, speed, direction`` it used to be. NaN where no speed has a finite value; of
+        two equal peaks the first curve's (``up``).
+
+        Parameters
+        ----------
+        quantity : {"dynamic_factor", "peak_force_ratio", "rms_dte", "ptp_dte"}
+            K_dyn (default), the peak force over the static load F_max / W, or the RMS or
+            peak-to-peak DTE in m.
+
+        Raises
+        ------
+        InputError
+            An unknown quantity.
+
+        Examples
+        --------
+        >>> value, speed, direction = sweep.peak()                    # doctest: +SKIP
+        >>> sweep.peak("peak_force_ratio").speed_rpm                  # doctest: +SKIP
+        """
+        _check_quantity(quantity)
+        best = NO_PEAK
         for c in self.curves:
-            finite = np.isfinite(c.dynamic_factor)
-            if finite.any():
-                i = int(np.argmax(np.where(finite, c.dynamic_factor, -np.inf)))
-                if not best[0] >= c.dynamic_factor[i]:
-                    best = (float(c.dynamic_factor[i]), float(c.speed[i]), c.direction)
+            p = c.peak(quantity)
+            if math.isfinite(p.value) and not best.value >= p.value:
+                best = p
         return best
 
     def __repr__(self) -> str:
