@@ -34,16 +34,23 @@ extensions = [
     "numpydoc",
     "myst_parser",
     "sphinx_gallery.gen_gallery",
+    "sphinx_copybutton",
+    "demo_output",          # runs `gear-dyn demo` for the quick start's figures (_ext/demo_output.py)
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 root_doc = "index"
-exclude_patterns = ["_build", "README.md", "gallery/*.ipynb", "gallery/*.py",
+exclude_patterns = ["_build", "_generated", "README.md", "gallery/*.ipynb", "gallery/*.py",
                     "gallery/*.zip", "gallery/*.md5", "gallery/*.json", "gallery/*.codeobj.json"]
 templates_path = ["_templates"]
 
 # --- MyST: the Markdown pages -----------------------------------------------------------------
-myst_enable_extensions = ["colon_fence", "dollarmath"]
+# equations: $...$ inline, $$...$$ displayed (with a label: $$ ... $$ (name)), and LaTeX
+# environments such as \begin{aligned}; rendered by MathJax (sphinx.ext.mathjax: loaded from
+# its CDN by the reader's browser; to read the pages offline, see docs/development.md)
+myst_enable_extensions = ["colon_fence", "dollarmath", "amsmath", "substitution"]
+myst_dmath_double_inline = True
+myst_substitutions: dict[str, str] = {}   # + the demo's figures, filled by _ext/demo_output.py
 myst_heading_anchors = 3
 suppress_warnings = [
     # pages link to source files of the repository (tests/..., gear_dyn/....py) as plain paths
@@ -77,9 +84,14 @@ sphinx_gallery_conf = {
     "min_reported_time": 1,
 }
 
+# --- copy button: the prompt and the output are not copied -------------------------------------
+copybutton_prompt_text = r"\$ |>>> |\.\.\. "
+copybutton_prompt_is_regexp = True
+copybutton_only_copy_prompt_lines = False
+
 # --- HTML ----------------------------------------------------------------------------------------
 html_theme = "pydata_sphinx_theme"
-html_title = "gear_dyn"
+html_title = f"gear_dyn {version}"
 html_static_path = ["_static"]
 html_css_files = ["custom.css"]
 html_theme_options = {
