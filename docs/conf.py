@@ -50,7 +50,8 @@ templates_path = ["_templates"]
 # its CDN by the reader's browser; to read the pages offline, see docs/development.md)
 myst_enable_extensions = ["colon_fence", "dollarmath", "amsmath", "substitution"]
 myst_dmath_double_inline = True
-myst_substitutions: dict[str, str] = {}   # + the demo's figures, filled by _ext/demo_output.py
+# {{ version }}, + the demo's figures (filled by _ext/demo_output.py)
+myst_substitutions: dict[str, str] = {"version": version}
 myst_heading_anchors = 3
 suppress_warnings = [
     # pages link to source files of the repository (tests/..., gear_dyn/....py) as plain paths
