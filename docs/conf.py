@@ -35,7 +35,7 @@ extensions = [
     "myst_parser",
     "sphinx_gallery.gen_gallery",
     "sphinx_copybutton",
-    "demo_output",          # runs `gear-dyn demo` for the quick start's figures (_ext/demo_output.py)
+    "demo_output",          # runs `gear-dyn demo` for the quick start (_ext/demo_output.py)
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
