@@ -97,7 +97,7 @@ def main(out: Path) -> dict[str, dict[str, float]]:
     top = max(max(r["dynamic_factor"], r["dynamic_factor_reference"]) for r in table.values())
     ax0.set_ylim(0.0, top * 1.25)   # from 0: bar heights compare; headroom for the legend
     ax0.axhline(1.0, color="0.4", lw=0.8, ls="--")
-    ax0.set_ylabel("dynamic factor K_dyn = max F / max F (quasi-static)")
+    ax0.set_ylabel("K_dyn = peak F / quasi-static peak F")
     ax0.legend(loc="upper center", fontsize=8)
     twin.legend(loc="upper right", fontsize=8)
     ax0.set_title("helicopter tail pair, 3319 rpm, 1474.4 N m")
