@@ -53,12 +53,6 @@ myst_dmath_double_inline = True
 # {{ version }}, + the demo's figures (filled by _ext/demo_output.py)
 myst_substitutions: dict[str, str] = {"version": version}
 myst_heading_anchors = 3
-suppress_warnings = [
-    # pages link to source files of the repository (tests/..., gear_dyn/....py) as plain paths
-    "myst.xref_missing",
-    # a docstring's relative :mod:`.contact` matches two modules (modification and plots)
-    "ref.python",
-]
 
 # --- API reference: autodoc + autosummary + numpydoc -------------------------------------------
 autosummary_generate = True

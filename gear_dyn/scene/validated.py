@@ -2,7 +2,7 @@
 words an error of the API in the scene's key paths.
 
 Every scene module uses these; the reading of files (:mod:`.loader`) and the building of objects
-(:mod:`.build`) sit above.
+(:mod:`gear_dyn.scene.build`) sit above.
 """
 
 from __future__ import annotations
