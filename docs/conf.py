@@ -54,6 +54,19 @@ myst_dmath_double_inline = True
 myst_substitutions: dict[str, str] = {"version": version}
 myst_heading_anchors = 3
 
+# nitpicky builds (-n): names of other packages that the docstrings cite stay plain text (the
+# build has no network for intersphinx inventories)
+nitpick_ignore = [
+    ("py:class", "collections.abc.Callable"), ("py:class", "collections.abc.Iterator"),
+    ("py:class", "collections.abc.Iterable"), ("py:class", "abc.ABC"),
+    ("py:class", "concurrent.futures.Executor"), ("py:class", "matplotlib.figure.Figure"),
+    ("py:func", "scipy.linalg.expm"), ("py:func", "dataclasses.asdict"),
+    ("py:class", "pythonfmu.fmi2slave.Fmi2Slave"), ("py:class", "pythonfmu.enums.Fmi2Causality"),
+    ("py:class", "pythonfmu.enums.Fmi2Variability"),
+    ("py:class", "pythonfmu3.fmi3slave.Fmi3Slave"), ("py:class", "pythonfmu3.enums.Fmi3Causality"),
+    ("py:class", "pythonfmu3.enums.Fmi3Variability"),
+]
+
 # --- API reference: autodoc + autosummary + numpydoc -------------------------------------------
 autosummary_generate = True
 autosummary_imported_members = False

@@ -57,3 +57,49 @@ def test_the_check_finds_what_it_looks_for() -> None:
     assert FORBIDDEN["a machine path"].search("wrote /tmp/x/relief.png")
     assert not FORBIDDEN["a machine path"].search("docs/_build/html, benchmarks/out/")
     assert TEST_PATH.search("(tests/fmu/test_fmu_sdof.py)")
+
+
+SUBSTITUTION = re.compile(r"\{\{\s*(\w+)\s*\}\}")
+
+
+def test_pages_quote_the_demo_through_its_substitutions() -> None:
+    """Every ``{{ name }}`` on a page is one the build defines, and the quick start types none
+    of the demo's figures (four-decimal numbers) itself: they come from the demo's run."""
+    import sys
+
+    sys.path.insert(0, str(ROOT / "docs" / "_ext"))
+    try:
+        import demo_output
+    finally:
+        sys.path.remove(str(ROOT / "docs" / "_ext"))
+    defined = set(demo_output.QUOTED) | {"version"}
+    for page in PAGES:
+        if page.suffix == ".md":
+            used = set(SUBSTITUTION.findall(_text(page)))
+            assert used <= defined, (page.name, used - defined)
+    quick = _text(ROOT / "docs" / "quickstart.md")
+    assert "{{ demo_dynamic_factor }}" in quick
+    assert not re.findall(r"\b\d\.\d{4}\b", quick)
+
+
+def test_demo_substitutions_are_the_demo_run(tmp_path: Path) -> None:
+    """The build's figures are those of ``gear-dyn demo``: the same as the packaged scene's
+    run through the Python API (the demo's scene and default settings)."""
+    import sys
+
+    import gear_dyn as gd
+
+    sys.path.insert(0, str(ROOT / "docs" / "_ext"))
+    try:
+        import demo_output
+    finally:
+        sys.path.remove(str(ROOT / "docs" / "_ext"))
+    subs = demo_output.run_demo(tmp_path)
+    printed = (tmp_path / "_generated" / "demo_output.txt").read_text()
+    assert not FORBIDDEN["a machine path"].search(printed)
+    assert "gear_dyn_demo/summary.json" in printed
+    res = gd.run_scene(gd.load_scene("helicopter_tail"))
+    assert subs["demo_dynamic_factor"] == f"{res.dynamic_factor:.4f}"
+    assert subs["demo_peak_force_ratio"] == f"{res.peak_force_ratio:.4f}"
+    assert subs["demo_mesh_frequency"] == f"{res.mesh_frequency:.1f} Hz"
+    assert f"dynamic factor      {subs['demo_dynamic_factor']}" in printed
