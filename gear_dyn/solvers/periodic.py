@@ -114,7 +114,7 @@ def _step_maps(model: Any, t0: float, dt: float, n_steps: int, rtol: float
 
 def gauss_step_maps(model: Any, t0: float, dt: float, n_steps: int, substeps: int = 1
                     ) -> tuple[FloatArray, FloatArray]:
-    """The step maps of :func:`_step_maps` by ``GAUSS_STAGES``-stage Gauss-Legendre
+    """The step maps of ``_step_maps()`` by ``GAUSS_STAGES``-stage Gauss-Legendre
     collocation instead of DOP853: a second method, without error control of its own.
 
     Each step is cut at its switching instants and every piece divided into ``substeps`` equal
