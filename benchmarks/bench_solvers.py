@@ -129,7 +129,8 @@ def profile_summary(fn: Callable[[], Any], rhs_names: tuple[str, ...]) -> str:
         if name in rhs_names:
             rhs_time += tt
     buf = io.StringIO()
-    pstats.Stats(pr, stream=buf).sort_stats("tottime").print_stats(6)
+    # file names without their folders: the record names no machine path
+    pstats.Stats(pr, stream=buf).strip_dirs().sort_stats("tottime").print_stats(6)
     lines = [ln for ln in buf.getvalue().splitlines() if ln.strip()][-7:]
     return (f"right-hand side itself: {100 * rhs_time / total:.0f} % of the profiled time; "
             f"the rest is solve_ivp's Python step machinery:\n\n```\n" + "\n".join(lines)

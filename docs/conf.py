@@ -34,22 +34,37 @@ extensions = [
     "numpydoc",
     "myst_parser",
     "sphinx_gallery.gen_gallery",
+    "sphinx_copybutton",
+    "demo_output",          # runs `gear-dyn demo` for the quick start (_ext/demo_output.py)
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 root_doc = "index"
-exclude_patterns = ["_build", "README.md", "gallery/*.ipynb", "gallery/*.py",
+exclude_patterns = ["_build", "_generated", "README.md", "gallery/*.ipynb", "gallery/*.py",
                     "gallery/*.zip", "gallery/*.md5", "gallery/*.json", "gallery/*.codeobj.json"]
 templates_path = ["_templates"]
 
 # --- MyST: the Markdown pages -----------------------------------------------------------------
-myst_enable_extensions = ["colon_fence", "dollarmath"]
+# equations: $...$ inline, $$...$$ displayed (with a label: $$ ... $$ (name)), and LaTeX
+# environments such as \begin{aligned}; rendered by MathJax (sphinx.ext.mathjax: loaded from
+# its CDN by the reader's browser; to read the pages offline, see docs/development.md)
+myst_enable_extensions = ["colon_fence", "dollarmath", "amsmath", "substitution"]
+myst_dmath_double_inline = True
+# {{ version }}, + the demo's figures (filled by _ext/demo_output.py)
+myst_substitutions: dict[str, str] = {"version": version}
 myst_heading_anchors = 3
-suppress_warnings = [
-    # pages link to source files of the repository (tests/..., gear_dyn/....py) as plain paths
-    "myst.xref_missing",
-    # a docstring's relative :mod:`.contact` matches two modules (modification and plots)
-    "ref.python",
+
+# nitpicky builds (-n): names of other packages that the docstrings cite stay plain text (the
+# build has no network for intersphinx inventories)
+nitpick_ignore = [
+    ("py:class", "collections.abc.Callable"), ("py:class", "collections.abc.Iterator"),
+    ("py:class", "collections.abc.Iterable"), ("py:class", "abc.ABC"),
+    ("py:class", "concurrent.futures.Executor"), ("py:class", "matplotlib.figure.Figure"),
+    ("py:func", "scipy.linalg.expm"), ("py:func", "dataclasses.asdict"),
+    ("py:class", "pythonfmu.fmi2slave.Fmi2Slave"), ("py:class", "pythonfmu.enums.Fmi2Causality"),
+    ("py:class", "pythonfmu.enums.Fmi2Variability"),
+    ("py:class", "pythonfmu3.fmi3slave.Fmi3Slave"), ("py:class", "pythonfmu3.enums.Fmi3Causality"),
+    ("py:class", "pythonfmu3.enums.Fmi3Variability"),
 ]
 
 # --- API reference: autodoc + autosummary + numpydoc -------------------------------------------
@@ -77,9 +92,14 @@ sphinx_gallery_conf = {
     "min_reported_time": 1,
 }
 
+# --- copy button: the prompt and the output are not copied -------------------------------------
+copybutton_prompt_text = r"\$ |>>> |\.\.\. "
+copybutton_prompt_is_regexp = True
+copybutton_only_copy_prompt_lines = False
+
 # --- HTML ----------------------------------------------------------------------------------------
 html_theme = "pydata_sphinx_theme"
-html_title = "gear_dyn"
+html_title = f"gear_dyn {version}"
 html_static_path = ["_static"]
 html_css_files = ["custom.css"]
 html_theme_options = {

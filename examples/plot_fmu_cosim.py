@@ -40,8 +40,12 @@ def main(out: Path, fast: bool = False) -> dict[str, float]:
     ax0.plot(report.t * 1e3, report.fmu_y[0] * 1e6, "--", label="FMU via fmpy")
     ax0.set_ylabel("DTE (µm)")
     ax0.legend(fontsize=8)
-    ax1.plot(report.t * 1e3, (report.fmu_y[0] - report.ref_y[0]) * 1e6)
-    ax1.set_ylabel("FMU - reference (µm)")
+    diff = report.fmu_y[0] - report.ref_y[0]            # m
+    # the difference in the unit that reads without an offset factor (pm, nm or µm)
+    unit, scale = next(((u, f) for u, f in (("µm", 1e6), ("nm", 1e9)) if abs(diff).max() * f >= 1),
+                       ("pm", 1e12))
+    ax1.plot(report.t * 1e3, diff * scale)
+    ax1.set_ylabel(f"FMU - reference ({unit})")
     ax1.set_xlabel("time (ms)")
     save_figure(fig, out / "cosim.png", dpi=100)
     return {"max_diff": max(s.max_diff["dte"] for s in report.steps),

@@ -113,4 +113,4 @@ if __name__ == "__main__":
     order = "earlier" if all(b < a for a, b in zip(pw, pw[1:], strict=False)) else "not monotone"
     print(f"trend 2: at equal amount and length a larger exponent k picks up load {order} "
           f"(pick-up {', '.join(f'{v:.2f}' for v in pw)} mm for k = 1, 1.2, 1.5, 2)")
-    print(f"wrote {out_dir}/relief_trends.png and relief_trends.json")
+    print("wrote relief_trends.png and relief_trends.json")

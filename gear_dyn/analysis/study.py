@@ -168,6 +168,9 @@ def simulate(
     Returns
     -------
     Result
+        With ``extra["estimated_error"]`` (``max_rel``: the estimated max DTE error over the
+        static deflection W/k_m, and its ``basis``) and ``extra["floquet"]`` (the largest
+        Floquet multiplier of the linear model).
 
     Raises
     ------

@@ -128,7 +128,7 @@ class TorsionalNative:
 
     @property
     def stated_error(self) -> float:
-        """Stated error of the DTE relative to :attr:`static_deflection`: :data:`RK_ERROR`."""
+        """Stated error of the DTE relative to :attr:`static_deflection`: :data:`.RK_ERROR`."""
         return RK_ERROR
 
 

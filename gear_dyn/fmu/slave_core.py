@@ -7,7 +7,7 @@ FMUs carry it): the parameters form a scene (SI values, so no pint),
 :class:`gear_dyn.fmu.stepper.Stepper` advances it (keeping the scipy solver alive across
 communication steps, :meth:`~gear_dyn.fmu.stepper.Stepper.step_to`),
 :mod:`gear_dyn.fmu.inputs` applies changed inputs, :mod:`gear_dyn.fmu.outputs` writes the
-outputs as Python floats, and a refused call is logged and raised safely (:meth:`_refuse`).
+outputs as Python floats, and a refused call is logged and raised safely (``_refuse()``).
 The slaves (:class:`gear_dyn.fmu.slave.GearDynSlave`,
 :class:`gear_dyn.fmu.slave3.GearDynSlave3`) name their exporter's variable classes and error
 status and add what their FMI version passes on (FMI 2: the start time, stop time and tolerance
@@ -17,7 +17,7 @@ What each FMI call does and refuses, what an FMU state holds, and how a refusal 
 importer: docs/fmu.md, "Lifecycle and errors". pythonfmu (0.7) and pythonfmu3 (0.3) turn any
 Python exception raised into an FMI call into status Fatal and drop one reference to the class,
 the instance and its log queue, although later calls (and freeing the instance) still use them;
-:meth:`SlaveCore._refuse` therefore logs the reason, hands those references back, and raises.
+``SlaveCore._refuse()`` therefore logs the reason, hands those references back, and raises.
 """
 
 from __future__ import annotations
@@ -80,7 +80,7 @@ class SlaveCore:
     """The FMI-version-independent part of a gear_dyn slave (a mixin placed before the
     exporter's slave class, whose ``do_step`` and friends it provides).
 
-    A slave calls :meth:`_init_core` in its ``__init__`` and names its exporter's classes and
+    A slave calls ``_init_core()`` in its ``__init__`` and names its exporter's classes and
     error status below.
     """
 

@@ -5,7 +5,7 @@ one scipy ``OdeSolver`` object (DOP853, RK45, RK23, Radau, BDF or LSODA) alive a
 communication steps and reads the state at each point from its dense output, so the points
 never disturb the integration; it restarts the solver only where :mod:`gear_dyn.solvers.ode`
 does (the model's switching instants, contact changes) and where the importer changes an input.
-``exact`` carries the state with cached matrix exponentials (:class:`_Propagator`). What this
+``exact`` carries the state with cached matrix exponentials (``_Propagator``). What this
 buys and how it is tested: docs/fmu.md, "Inside doStep".
 
 :meth:`Stepper.snapshot` and :meth:`Stepper.restore` save and restore the whole integrator state

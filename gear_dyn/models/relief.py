@@ -1,9 +1,10 @@
 """Tip relief in the single-DOF model: load-dependent stiffness plus the relief's TE.
 
-The loaded-contact analysis (:mod:`.contact`) at the operating load gives, over one mesh cycle,
-the tangent stiffness ``k_t(p)`` (sum of the loaded pairs) and the transmission error the relief
-adds, ``e(p)``; the single-DOF model ``m x'' + c (x' - e') + k_t(p) (x - e) = W`` then has the
-loaded static transmission error ``delta(p)`` as its quasi-static solution. Alternatively
+The loaded-contact analysis (:mod:`gear_dyn.modification.contact`) at the operating load gives,
+over one mesh cycle, the tangent stiffness ``k_t(p)`` (sum of the loaded pairs) and the
+transmission error the relief adds, ``e(p)``; the single-DOF model
+``m x'' + c (x' - e') + k_t(p) (x - e) = W`` then has the loaded static transmission error
+``delta(p)`` as its quasi-static solution. Alternatively
 (``linearisation="secant"``) the model gets the ``K_TPM = F / delta`` of Wang et al. (2024) and
 no ``e``: the same static solution, with the secant instead of the incremental stiffness (for
 comparison only).

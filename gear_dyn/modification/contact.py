@@ -317,7 +317,7 @@ class PathView:
 
 @dataclass(frozen=True, eq=False)
 class PiecewiseSignal(SampledSignal):
-    """A :class:`SampledSignal` that may jump at given phases.
+    """A :class:`.SampledSignal` that may jump at given phases.
 
     ``value`` interpolates within each segment; ``slope`` is the piecewise slope (a jump carries
     no slope). Build with :meth:`from_segments`.

@@ -39,7 +39,7 @@ RENAMED_RULES: dict[str, str] = {"seed001": "wang2024"}
 
 
 def current_rule(rule: str, where: str = "relief rule") -> str:
-    """``rule``, or the name an old rule name (:data:`RENAMED_RULES`) now has, with a
+    """``rule``, or the name an old rule name (:data:`.RENAMED_RULES`) now has, with a
     :class:`FutureWarning` that names ``where`` (e.g. a scene's key path)."""
     return current_name(rule, RENAMED_RULES, where, "rule", "Wang et al. 2024")
 
@@ -59,7 +59,7 @@ def relief_shape(u: ArrayLike, curve: str) -> tuple[FloatArray, FloatArray]:
         Position along the relief as a fraction of its length (dimensionless); values are clipped
         to [0, 1] (no relief before the start, the full amount beyond the tip).
     curve : str
-        One of :data:`CURVES`.
+        One of :data:`.CURVES`.
 
     Returns
     -------
@@ -105,7 +105,7 @@ class TipRelief:
         Relief length L along the line of action, from the start of the modification to the tip,
         in m (> 0, <= 1 m; checked against the tooth in :meth:`ProfileModification.check`).
     curve : str
-        Relief curve, one of :data:`CURVES` (default ``"linear"``).
+        Relief curve, one of :data:`.CURVES` (default ``"linear"``).
 
     Raises
     ------
@@ -262,7 +262,7 @@ class ReliefRecommendation:
     Attributes
     ----------
     rule : str
-        Rule name (one of :data:`RULES`).
+        Rule name (one of :data:`.RULES`).
     source : str
         Where the rule comes from, with its formula.
     amount_pinion, amount_gear : float
@@ -344,7 +344,7 @@ def recommended_relief(
     torque : float
         Pinion torque T1 in N m (> 0).
     rule : str
-        One of :data:`RULES` (or an old name of one, :data:`RENAMED_RULES`: FutureWarning).
+        One of :data:`.RULES` (or an old name of one, :data:`.RENAMED_RULES`: FutureWarning).
     handbook_a, handbook_b : float
         Constants a (5..13) and b (0..8) of the handbook rule, micrometres.
     face_load_factor : float

@@ -145,7 +145,7 @@ def plot_branch_samples(samples: BranchSamples, ax: Any = None, state: str = "x"
         alike): attractors the branches do not carry (chaos, period-n windows) show there.
     label_points : bool
         Write each fold's and period doubling's parameter value beside its highest sample,
-        where it covers no other label (:func:`gear_dyn.plots._labels.place_labels`).
+        where it covers no other label (``gear_dyn.plots._labels.place_labels()``).
     title : str or None
         Axes title (None: none).
 

@@ -105,7 +105,7 @@ def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = No
         ``ax`` is not one of the Axes counts above (the message names them).
     blocks : int or None
         Draw the whole-run lines as the first, smallest, largest and last sample of this many
-        blocks (:func:`gear_dyn.plots._decimate.envelope`): for a file, about 2 per pixel column
+        blocks (``gear_dyn.plots._decimate.envelope()``): for a file, about 2 per pixel column
         give the same picture from fewer points. None: every sample (a later zoom shows data).
     """
     split = "e_ecc" in result.outputs

@@ -32,7 +32,7 @@ from gear_dyn.stiffness.select import (
 
 
 def build_pair(scene: Scene) -> GearPair:
-    """The :class:`GearPair` of the scene's ``[gear]`` table."""
+    """The :class:`.GearPair` of the scene's ``[gear]`` table."""
     g = scene.get("gear")
     kw: dict[str, Any] = dict(
         z1=g["teeth_pinion"], z2=g["teeth_gear"], module=g["module"],

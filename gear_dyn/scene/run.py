@@ -1,7 +1,7 @@
 """Run a scene: build its plan, simulate it with the run's checks, attach what the scene says.
 
-The step above :mod:`.build`: it adds the simulation (:func:`gear_dyn.analysis.study.simulate`)
-and the ISO 6336-1 K_v beside it (:mod:`.iso`).
+The step above :mod:`gear_dyn.scene.build`: it adds the simulation
+(:func:`gear_dyn.analysis.study.simulate`) and the ISO 6336-1 K_v beside it (:mod:`.iso`).
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 words an error of the API in the scene's key paths.
 
 Every scene module uses these; the reading of files (:mod:`.loader`) and the building of objects
-(:mod:`.build`) sit above.
+(:mod:`gear_dyn.scene.build`) sit above.
 """
 
 from __future__ import annotations
@@ -85,11 +85,11 @@ def _advice(m: re.Match[str]) -> str:
 
 
 def scene_error(source: str, exc: Exception) -> SceneError:
-    """A :class:`SceneError` for an error raised by the API while building a scene.
+    """A :class:`.SceneError` for an error raised by the API while building a scene.
 
     The message gets the file name in front, and Python parameter names used as variables
     (``z1 = 9``, ``x1 >= 0.3``) become the scene key paths (``gear.teeth_pinion = 9``).
-    A :class:`SceneError` is returned unchanged.
+    A :class:`.SceneError` is returned unchanged.
     """
     if isinstance(exc, SceneError):
         return exc

@@ -6,7 +6,7 @@
 - :mod:`.exact`: exact propagation of piecewise-constant linear models;
 - :mod:`.periodic`: step maps of linear mesh-periodic models;
 - :mod:`.simulate_bare`: one run -> :class:`Result` (:mod:`.result`), without the checks that
-  :func:`gear_dyn.simulate` adds.
+  :func:`~gear_dyn.analysis.study.simulate` adds.
 """
 
 from gear_dyn.solvers.exact import exact_applies, propagate_exact, propagate_pieces

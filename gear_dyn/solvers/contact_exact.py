@@ -6,7 +6,7 @@ linear with constant coefficients between a stiffness switch and a contact chang
 three contact states (drive flank u > b, gap ``|u| <= b``, back flank u < -b), so each piece is
 closed-form (:func:`flow` plus the harmonic particular solution of
 :mod:`gear_dyn.solvers.harmonic_forcing`). Contact changes ``u = +-b`` are bracketed on that
-closed form (:func:`_first_crossing`) and closed by :func:`find_root`; pieces that provably
+closed form (``_first_crossing()``) and closed by :func:`find_root`; pieces that provably
 stay in their contact state (:meth:`_Piece.stays_inside`) are not searched. What is left is
 rounding (:func:`rounding_bound`). Method ``exact_contact``; ``auto`` takes it where
 :func:`contact_exact_applies`. The flow's exact sensitivity (:func:`flow_with_sensitivity`,
@@ -303,7 +303,7 @@ def _first_crossing(pc: _Piece, t0: float, x0: float, v0: float, length: float, 
 def _refine(pc: _Piece, zargs: tuple[float, float], t0: float, level: float, inside: float,
             s0: float, s1: float, g0: float, dg0: float, curv0: float, g1: float, xtol: float
             ) -> float | None:
-    """First zero of ``g`` in ``[s0, s1]`` by the proofs of :func:`_first_crossing`, or None."""
+    """First zero of ``g`` in ``[s0, s1]`` by the proofs of ``_first_crossing()``, or None."""
     part = pc.part
 
     def gv(s: float) -> tuple[float, float, float, float]:
@@ -338,7 +338,7 @@ def _refine(pc: _Piece, zargs: tuple[float, float], t0: float, level: float, ins
 
 def _first_crossing_unforced(pc: _Piece, x0: float, v0: float, length: float, xtol: float
                              ) -> float | None:
-    """:func:`_first_crossing` without a transmission error: the motion about each contact
+    """``_first_crossing()`` without a transmission error: the motion about each contact
     state's equilibrium is a damped oscillation (or, in the gap, has one extremum at most), so
     samples a quarter damped period apart hold at most one extremum each; a sign change is
     closed by :func:`find_root`, an extremum below the boundary by the root of the velocity

@@ -114,7 +114,7 @@ def _step_maps(model: Any, t0: float, dt: float, n_steps: int, rtol: float
 
 def gauss_step_maps(model: Any, t0: float, dt: float, n_steps: int, substeps: int = 1
                     ) -> tuple[FloatArray, FloatArray]:
-    """The step maps of :func:`_step_maps` by ``GAUSS_STAGES``-stage Gauss-Legendre
+    """The step maps of ``_step_maps()`` by ``GAUSS_STAGES``-stage Gauss-Legendre
     collocation instead of DOP853: a second method, without error control of its own.
 
     Each step is cut at its switching instants and every piece divided into ``substeps`` equal
@@ -242,7 +242,7 @@ def propagate_periodic(
     ``j = i mod S``, the same in every period. The ``S`` maps are integrated once (DOP853 at
     ``settings.rtol``, one stacked system, restarted at the switching instants), composed into
     the one-period map and its partial products, and the whole span is then filled by matrix
-    products (:func:`fill_periodic`): one period of integration instead of all of them. Falls
+    products (:func:`.fill_periodic`): one period of integration instead of all of them. Falls
     back to LSODA (restarted) where it does not apply (:func:`periodic_map_applies`).
 
     The statistics carry the maps, ``step_maps`` = ``(F, h)``, where they cover a whole mesh

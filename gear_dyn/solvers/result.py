@@ -105,7 +105,10 @@ class Result:
     scene : object or None
         The scene that produced the run (if any).
     extra : dict
-        Checks and model facts for the summary (JSON-ready).
+        Checks and model facts for the summary (JSON-ready); after
+        :func:`~gear_dyn.analysis.study.simulate`: ``extra["estimated_error"]["max_rel"]`` (the
+        run's estimated max DTE error over the static deflection W/k_m), ``extra["floquet"]``
+        and, for explicit Runge-Kutta methods, ``extra["stiffness_check"]``.
     step_maps : tuple of ndarray or None
         Where the solver computed them (methods ``periodic``: the grid steps; ``exact``: its
         pieces, where one ends on the period): the affine maps ``(F, h)``,
@@ -130,7 +133,7 @@ class Result:
     @property
     def plot(self) -> ResultPlots:
         """The run's figures: ``result.plot.time(ax=None)``, ``result.plot.spectrum(ax=None)``
-        (each returns the Figure; :class:`ResultPlots`)."""
+        (each returns the Figure; :class:`.ResultPlots`)."""
         return ResultPlots(self)
 
     @property
@@ -161,7 +164,8 @@ class Result:
         mesh force of the same model (Tamminana, Kahraman & Vijayakar 2007), which tends to 1
         at low speed like ISO 6336-1 K_v: :attr:`peak_force_ratio` over
         ``extra["stiffness_jump_factor"]`` (F_qs,max / W, the stiffness-jump overshoot), which
-        :func:`gear_dyn.simulate` computes (:mod:`gear_dyn.analysis.dynamic_factor`). NaN
+        :func:`~gear_dyn.analysis.study.simulate` computes
+        (:mod:`gear_dyn.analysis.dynamic_factor`). NaN
         without it (a bare run of :func:`gear_dyn.solvers.simulate_bare`)."""
         qs = self.extra.get("stiffness_jump_factor")
         return self.peak_force_ratio / float(qs) if qs else math.nan

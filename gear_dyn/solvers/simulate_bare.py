@@ -1,7 +1,7 @@
 """One bare run of a model: the trajectory on a uniform grid and the solver statistics.
 
-Bare: it does no analysis. :func:`gear_dyn.simulate` (:mod:`gear_dyn.analysis.study`) is the same
-run with its error estimate and stability checks, and what the API and ``run_scene`` use.
+Bare: it does no analysis. :func:`gear_dyn.simulate <gear_dyn.analysis.study.simulate>` is the
+same run with its error estimate and stability checks, and what the API and ``run_scene`` use.
 """
 
 from __future__ import annotations
@@ -61,7 +61,7 @@ def simulate_bare(
 ) -> Result:
     """Integrate ``model`` from 0 to ``t_end``: trajectory, outputs and solver statistics only.
 
-    No error estimate and no stability check (:func:`gear_dyn.simulate` adds them).
+    No error estimate and no stability check (:func:`~gear_dyn.analysis.study.simulate` adds them).
 
     Parameters
     ----------

@@ -3,7 +3,7 @@
 At mesh phase ``p`` in [0, 1) the pairs in contact sit at
 ``s_j = start_of_contact + (p + j) p_bt`` while ``s_j <= end_of_contact`` (phase 0: a new pair
 enters at A); the switching phases are 0 and ``eps_a - floor(eps_a)``. The result is a
-:class:`PiecewiseStiffness`, linear between samples, with the jumps kept exact.
+:class:`~gear_dyn.stiffness.PiecewiseStiffness`, linear between samples, with the jumps kept exact.
 
 Helical pairs: thin slices of the face, each lagging by ``eps_b z / B`` cycles, add; by default
 continuously, ``k(p) = (C(p) - C(p - eps_b)) / eps_b`` with ``C`` the antiderivative of the

@@ -146,7 +146,7 @@ def weber_pair_stiffness(pair: GearPair, s: ArrayLike, slices: int = 20,
     options : ToothOptions
     modulus : str
         "jiang2018" (eq. 11, default), "plane_stress" or "plane_strain" (see
-        :func:`weber_tooth_compliance`).
+        :func:`.weber_tooth_compliance`).
     foundation : bool
         Add the Sainsot fillet-foundation compliance (default False, as Jiang et al. 2018).
 

@@ -63,7 +63,7 @@ def continue_orbits(family: Callable[[float], Model], start: float, stop: float,
         Mesh periods n of the orbits (period-n, 1..16).
     y_guess : ndarray or None
         State [m, m/s] to shoot from at ``start``; None: the static deflection. Where shooting
-        from it fails, the response is integrated for :data:`SETTLE_PERIODS` mesh periods
+        from it fails, the response is integrated for :data:`.SETTLE_PERIODS` mesh periods
         first (the attracting orbit).
     parameter : str
         Name of the parameter (for the result; ``speed``, ``torque``, ``damping_ratio``,

@@ -115,7 +115,7 @@ class OrbitPoint:
 
 
 def is_stable(multipliers: ComplexArray) -> bool:
-    """All multipliers inside the unit circle, up to :data:`UNIT_CIRCLE_TOL`."""
+    """All multipliers inside the unit circle, up to :data:`.UNIT_CIRCLE_TOL`."""
     return bool(np.max(np.abs(multipliers)) <= 1.0 + UNIT_CIRCLE_TOL)
 
 
@@ -206,7 +206,7 @@ class Branch:
         return np.array([getattr(p, name) for p in self.points], dtype=float)
 
     def of_kind(self, kind: str) -> list[Bifurcation]:
-        """The located points of one kind (:data:`KINDS`)."""
+        """The located points of one kind (:data:`~gear_dyn.analysis.continuation.branch.KINDS`)."""
         return [b for b in self.bifurcations if b.kind == kind]
 
     @property

@@ -175,7 +175,7 @@ class StepCurve:
 
     def parameter_error(self, lo: float, hi: float, r: float) -> float:
         """Largest change of the parameter (SI) over ``[lo, hi]`` from its value at ``r``,
-        on the quadratic model of :meth:`_quadratic`."""
+        on the quadratic model of ``_quadratic()``."""
         s0, q0, q1, q2 = self._quadratic(lo, hi)
 
         def q(s: float) -> float:

@@ -11,7 +11,7 @@ From the stroboscopic samples (one per mesh period after settling,
    its run tried once more for a period (a slow escape from an unstable orbit shows a positive
    exponent while it lasts), and without one the exponent decides (:func:`lyapunov_kind`; a
    zero exponent is ``quasi-periodic``: the motion on a torus neither grows nor shrinks along
-   it, Parker & Chua 1989, sec. 6.3). Samples that still repeat to :data:`TRY_TOL` without a
+   it, Parker & Chua 1989, sec. 6.3). Samples that still repeat to :data:`.TRY_TOL` without a
    stable orbit sit near an unstable one (a slow escape): ``not settled``, whatever the
    exponent (that of the unstable orbit while it lasts). Samples beyond :data:`UNBOUNDED`
    state scales are ``unbounded`` (a parametric instability that contact loss does not limit).
@@ -57,7 +57,7 @@ class Motion:
     Attributes
     ----------
     kind : str
-        One of :data:`KINDS`.
+        One of :data:`~gear_dyn.analysis.motion.classify.KINDS`.
     period : int
         Least period in mesh periods of a confirmed orbit (``kind == "periodic"``), else 0.
     label : str
@@ -230,8 +230,8 @@ def find_orbit(model: MeshModel, samples: FloatArray, rtol: float = 1e-10, max_n
                iters: int = 0) -> tuple[Motion | None, int]:
     """A stable orbit of n <= 16 mesh periods that the samples suggest, confirmed by shooting.
 
-    The periods after which the samples repeat to :data:`TRY_TOL` state scales are tried in
-    increasing order, at most :data:`MAX_TRIES`, shooting from the last sample (the most
+    The periods after which the samples repeat to :data:`.TRY_TOL` state scales are tried in
+    increasing order, at most :data:`.MAX_TRIES`, shooting from the last sample (the most
     settled). Multiples of a period that failed are tried too: samples that leave an unstable
     period-1 orbit repeat after one period for a while, and shooting over two periods reaches
     the stable period-2 orbit they are heading for.

@@ -3,7 +3,7 @@
 Where the stiffness is piecewise constant (``linear_segments`` not None) the periodic orbit is
 exact: per speed, the mesh period is cut at the stiffness switches and at the output samples
 (``samples_per_period`` per period), every cell is an affine map ``y -> y* + E (y - y*)`` with
-``E`` the closed-form 2x2 exponential (:func:`gear_dyn.analysis.chart._expm2`) and
+``E`` the closed-form 2x2 exponential (``gear_dyn.analysis.chart._expm2()``) and
 ``y* = [g / kappa, 0]`` the cell's equilibrium; their product is the one-period map, its fixed
 point the orbit, and the same cells carry the orbit to the samples. All speeds of a block go
 through each cell at once (numpy over speeds), so the per-speed cost is a few array rows instead

@@ -64,7 +64,7 @@ def _features(curve: SweepCurve, scale: FloatArray) -> FloatArray:
 
 def candidates(curve: SweepCurve, scale: FloatArray) -> list[int]:
     """Indices ``i`` of the pairs (i, i + 1) with an orbit at both speeds that need the
-    continuation check: an orbit change (:func:`_features`) above :data:`SCREEN_RATIO` times
+    continuation check: an orbit change (``_features()``) above :data:`SCREEN_RATIO` times
     the smaller neighbouring one, status ``settled``, separation or back contact starting or
     ending, or a change of the orbit's mesh periods."""
     n = curve.speed.size

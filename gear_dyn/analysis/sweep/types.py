@@ -345,7 +345,7 @@ class SweepResult:
     @property
     def plot(self) -> SweepPlots:
         """The sweep's figures: ``sweep.plot.response(ax=None)``, ``sweep.plot.waterfall(ax=None)``
-        (each returns the Figure; :class:`SweepPlots`)."""
+        (each returns the Figure; :class:`.SweepPlots`)."""
         return SweepPlots(self)
 
     def peak(self, quantity: str = "dynamic_factor") -> Peak:
