@@ -66,6 +66,14 @@ def checks(model: Model, result: Result, quasi_static: Model | None = None) -> d
         out["stiffness_check"] = stiffness_check(model, result.stats.method)
         if out["stiffness_check"]["advice"]:
             warnings.append(out["stiffness_check"]["advice"])
+    period = int(getattr(model, "excitation_period", 1))
+    window = (result.t[-1] - result.steady_start) * model.mesh_frequency
+    if period > 1 and window < period - 1e-9:
+        warnings.append(
+            f"the steady window ({window:.0f} mesh periods) is shorter than the period of the "
+            f"transmission error ({period} mesh periods: deviations repeat over the hunting "
+            "period): its peaks and spectrum cover part of it; raise solver.steady_periods, or "
+            "use gear-dyn tolerance (exact over that period)")
     out["contact"] = contact_check(model, result)
     if out["contact"].get("warning"):
         warnings.append(out["contact"]["warning"])
