@@ -16,9 +16,8 @@ per revolution of a gear, ``z`` mesh cycles). Three forms:
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray

@@ -44,6 +44,7 @@ profile harmonics of uniform amplitude up to f_fa/2 and uniform phase), ``none``
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -239,7 +240,7 @@ class PairDeviations:
 
 
 def sample_deviations(pair: GearPair, tolerances: tuple[Tolerances, Tolerances], pattern: str,
-                      seed: int | None = None) -> PairDeviations:
+                      seed: int | Sequence[int] | None = None) -> PairDeviations:
     """Deviations of both gears of ``pair`` within ``tolerances`` (pinion, gear), by
     ``pattern`` (module docstring); ``random`` draws from ``numpy.random.default_rng(seed)``.
 
