@@ -187,7 +187,7 @@ def unit_responses(model: MeshModel, orders: FloatArray, spp: int
         mono = np.array([[e11[c], e12[c]], [e21[c], e22[c]]]) @ mono
     rho = float(np.max(np.abs(np.linalg.eigvals(mono))))
     y_end, z_end, _ = sweep_cells(np.zeros(2), np.zeros((2, om.size), dtype=complex), False)
-    y0 = np.linalg.solve(np.eye(2) - mono, y_end)
+    y0 = np.asarray(np.linalg.solve(np.eye(2) - mono, y_end), dtype=np.float64)
     lam = np.exp(2j * math.pi * np.asarray(orders, dtype=float))
     z0 = np.stack([np.linalg.solve(lq * np.eye(2) - mono, z_end[:, i])
                    for i, lq in enumerate(lam)], axis=1) if om.size else z_end
