@@ -130,21 +130,39 @@ def _orders(z1: int, z2: int, h: int) -> tuple[FloatArray, FloatArray, FloatArra
     return np.arange(1, z1 // 2 + 1) / z1, np.arange(1, z2 // 2 + 1) / z2, np.arange(1.0, h + 1)
 
 
-def unit_responses(model: MeshModel, orders: FloatArray, spp: int
-                   ) -> tuple[FloatArray, FloatArray, ComplexArray, ComplexArray, FloatArray]:
-    """Periodic responses of ``model`` (linear, piecewise-constant stiffness, no transmission
-    error) over one mesh period, at ``spp`` samples (phases ``j / spp`` after ``phase0``).
+@dataclass(frozen=True)
+class UnitResponses:
+    """Periodic responses of a linear model over one mesh period, at ``spp`` samples.
 
-    Returns
-    -------
+    Attributes
+    ----------
     force_w, dte_w : ndarray (spp,)
         Mesh force (N) and DTE x (m) under the static load alone (the mesh-periodic orbit).
     force_q, dte_q : ndarray (Q, spp), complex
         Responses to the unit transmission error ``e = e^{2 pi i q p}`` at each order q:
         ``Re(C force_q)`` is the force of ``e = Re(C e^{2 pi i q p})`` in the first mesh
         period; in period n it is ``Re(C e^{2 pi i q n} force_q)``.
-    rho : ndarray (1,)
+    start_w : ndarray (2,)
+        State [x, v] (m, m/s) of the load's orbit at t = 0.
+    start_q : ndarray (2, Q), complex
+        State [x, v] of each unit response at t = 0 (``x = u + e``).
+    rho : float
         Spectral radius of the monodromy matrix (> 1: unstable, no periodic response).
+    """
+
+    force_w: FloatArray
+    dte_w: FloatArray
+    force_q: ComplexArray
+    dte_q: ComplexArray
+    start_w: FloatArray
+    start_q: ComplexArray
+    rho: float
+
+
+def unit_responses(model: MeshModel, orders: FloatArray, spp: int) -> UnitResponses:
+    """Periodic responses of ``model`` (linear, piecewise-constant stiffness, no transmission
+    error) to the static load and to a unit transmission error at each of ``orders`` (mesh
+    orders), over one mesh period at ``spp`` samples (phases ``j / spp`` after ``phase0``).
 
     Raises
     ------
@@ -201,7 +219,9 @@ def unit_responses(model: MeshModel, orders: FloatArray, spp: int
     e_s = np.exp(1j * om[:, None] * t[None, :])
     force_q = (k_s[None, :] * zs[0] + c_m * zs[1]) * shift
     dte_q = (zs[0] + e_s) * shift
-    return k_s * ys[0] + c_m * ys[1], ys[0].copy(), force_q, dte_q, np.array([rho])
+    start_q = (z0 + np.stack([np.ones(om.size), 1j * om])) * shift[:, 0]
+    return UnitResponses(k_s * ys[0] + c_m * ys[1], ys[0].copy(), force_q, dte_q, y0.copy(),
+                         start_q, rho)
 
 
 def _combine(amp: ComplexArray, resp: ComplexArray, z: int) -> FloatArray:
@@ -228,11 +248,12 @@ def sample_figures(model: MeshModel, coef: Coefficients, z1: int, z2: int, spp: 
     ``min_force`` (N), ``rms_dte``, ``mean_dte`` (m), each (N,); ``rho`` (spectral radius)."""
     o1, o2, om = _orders(z1, z2, coef.mesh.shape[1])
     orders = np.concatenate([o1, o2, om])
-    f_w, x_w, f_q, x_q, rho = unit_responses(model, orders, spp)
+    r = unit_responses(model, orders, spp)
+    f_w, x_w, f_q, x_q = r.force_w, r.dte_w, r.force_q, r.dte_q
     n1, n2 = o1.size, o2.size
     g = math.gcd(z1, z2)
-    out: dict[str, FloatArray] = {"rho": np.full(coef.n, rho[0])}
-    if rho[0] > 1.0 + 1e-6:  # no periodic response: the parametric instability of k(t)
+    out: dict[str, FloatArray] = {"rho": np.full(coef.n, r.rho)}
+    if r.rho > 1.0 + 1e-6:  # no periodic response: the parametric instability of k(t)
         for name in ("peak_force", "min_force", "rms_dte", "mean_dte"):
             out[name] = np.full(coef.n, np.nan)
         return out
@@ -538,5 +559,5 @@ def tolerance_study(
         run_time_s=time.perf_counter() - start, name=name, notes=tuple(notes))
 
 
-__all__ = ["METRICS", "Coefficients", "ToleranceResult", "quantile_stderr", "sample_figures",
-           "tolerance_study", "unit_responses"]
+__all__ = ["METRICS", "Coefficients", "ToleranceResult", "UnitResponses", "quantile_stderr",
+           "sample_figures", "tolerance_study", "unit_responses"]
