@@ -19,8 +19,8 @@ from gear_dyn.analysis.tolerance import (
 )
 from gear_dyn.errors import InputError
 from gear_dyn.excitation import HarmonicSignal
-from gear_dyn.modification.deviations import PairDeviations, pair_tolerances, sample_deviations
 from gear_dyn.models.base import MeshModel
+from gear_dyn.modification.deviations import PairDeviations, pair_tolerances, sample_deviations
 from gear_dyn.scene import build_pair
 from gear_dyn.scene.sweep import SceneModels
 from gear_dyn.scene.tolerance import tolerance_scene
