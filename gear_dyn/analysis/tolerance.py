@@ -75,6 +75,8 @@ METRICS = {
 BAND = (0.05, 0.5, 0.95)
 #: speeds per task
 BLOCK = 10
+#: samples combined at once (bounds the memory of a task, not its result)
+CHUNK = 256
 
 
 @dataclass(frozen=True)
@@ -257,20 +259,26 @@ def sample_figures(model: MeshModel, coef: Coefficients, z1: int, z2: int, spp: 
         for name in ("peak_force", "min_force", "rms_dte", "mean_dte"):
             out[name] = np.full(coef.n, np.nan)
         return out
-    for what, w, q in (("force", f_w, f_q), ("dte", x_w, x_q)):
-        mesh = coef.mesh.real @ q[n1 + n2:].real - coef.mesh.imag @ q[n1 + n2:].imag  # (N, spp)
-        a = _combine(coef.pinion, q[:n1], z1) + (w[None, :] + mesh)[:, None, :]
-        b = _combine(coef.gear, q[n1:n1 + n2], z2)
-        ar, br = _residues(a, g), _residues(b, g)
-        if what == "force":
-            out["peak_force"] = np.max(ar.max(axis=1) + br.max(axis=1), axis=(1, 2))
-            out["min_force"] = np.min(ar.min(axis=1) + br.min(axis=1), axis=(1, 2))
-        else:
-            am, bm = ar.mean(axis=1), br.mean(axis=1)
-            mean = np.mean(am + bm, axis=(1, 2))
-            sq = np.mean((ar**2).mean(axis=1) + (br**2).mean(axis=1) + 2 * am * bm, axis=(1, 2))
-            out["mean_dte"] = mean
-            out["rms_dte"] = np.sqrt(np.maximum(sq - mean**2, 0.0))
+    for name in ("peak_force", "min_force", "rms_dte", "mean_dte"):
+        out[name] = np.empty(coef.n)
+    for lo in range(0, coef.n, CHUNK):  # memory: CHUNK x (z1 + z2) x spp per array
+        rows = slice(lo, min(lo + CHUNK, coef.n))
+        c1, c2, cm = coef.pinion[rows], coef.gear[rows], coef.mesh[rows]
+        for what, w, q in (("force", f_w, f_q), ("dte", x_w, x_q)):
+            mesh = cm.real @ q[n1 + n2:].real - cm.imag @ q[n1 + n2:].imag  # (n, spp)
+            a = _combine(c1, q[:n1], z1) + (w[None, :] + mesh)[:, None, :]
+            b = _combine(c2, q[n1:n1 + n2], z2)
+            ar, br = _residues(a, g), _residues(b, g)
+            if what == "force":
+                out["peak_force"][rows] = np.max(ar.max(axis=1) + br.max(axis=1), axis=(1, 2))
+                out["min_force"][rows] = np.min(ar.min(axis=1) + br.min(axis=1), axis=(1, 2))
+            else:
+                am, bm = ar.mean(axis=1), br.mean(axis=1)
+                mean = np.mean(am + bm, axis=(1, 2))
+                sq = np.mean((ar**2).mean(axis=1) + (br**2).mean(axis=1) + 2 * am * bm,
+                             axis=(1, 2))
+                out["mean_dte"][rows] = mean
+                out["rms_dte"][rows] = np.sqrt(np.maximum(sq - mean**2, 0.0))
     return out
 
 
@@ -304,8 +312,11 @@ def quantile_stderr(x: FloatArray, q: float) -> FloatArray:
     """Monte-Carlo standard error of the ``q`` quantile of the samples ``x`` (axis 0),
     distribution-free: half the distance between the order statistics at ranks
     ``N q -+ sqrt(N q (1 - q))`` (one standard deviation of the binomial count below the
-    quantile; David & Nagaraja 2003, sec. 7.1)."""
+    quantile: the distribution-free confidence interval of a quantile, David & Nagaraja
+    2003); NaN for fewer than two samples."""
     n = x.shape[0]
+    if n < 2:  # one sample states no spread
+        return np.full(x.shape[1:], np.nan)
     xs = np.sort(x, axis=0)
     half = math.sqrt(n * q * (1 - q))
     lo = int(np.clip(math.floor(n * q - half), 0, n - 1))
@@ -381,7 +392,7 @@ class ToleranceResult:
             out[name] = np.quantile(x, q, axis=0)
             out[f"{name}_stderr"] = quantile_stderr(x, q)
         out["mean"] = x.mean(axis=0)
-        out["std"] = x.std(axis=0, ddof=1) if n > 1 else np.zeros(x.shape[1])
+        out["std"] = x.std(axis=0, ddof=1) if n > 1 else np.full(x.shape[1], np.nan)
         out["mean_stderr"] = out["std"] / math.sqrt(n)
         return out
 

@@ -52,9 +52,11 @@ def plot_tolerance(result: Any, ax: Any = None, iso_kv: Any = None) -> Any:
         a.grid(True, alpha=0.3)
         a.legend(loc="upper left", fontsize=8)
     axs[-1].set_xlabel("pinion speed (rpm)")
-    se = float(np.nanmax(result.stats("k_dyn")["median_stderr"]))
+    se = result.stats("k_dyn")["median_stderr"]
+    error = (f"median K_dyn within +-{float(np.nanmax(se)):.2g} (1 s.e.)"
+             if np.any(np.isfinite(se)) else "one sample: no Monte-Carlo error")
     axs[0].set_title(f"{result.name or 'tolerance study'}: N = {result.n_samples} samples over "
-                     f"the hunting period ({result.hunting_period} mesh cycles); "
-                     f"median K_dyn within +-{se:.2g} (1 s.e.)", fontsize=9)
+                     f"the hunting period ({result.hunting_period} mesh cycles); {error}",
+                     fontsize=9)
     tidy(fig)
     return fig
