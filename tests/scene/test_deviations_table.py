@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -63,3 +64,19 @@ def test_steady_sweep_and_short_windows_state_the_hunting_period() -> None:
     assert any("shorter than the period of the transmission error (1472" in w
                for w in res.extra["warnings"])
     assert res.extra["deviations"]["hunting_period_mesh_cycles"] == 1472
+
+
+def test_fmu_builds_refuse_deviations(tmp_path: Path) -> None:
+    """Both FMU kinds carry mesh harmonics only: refused at build time, before any compiling."""
+    from gear_dyn.fmu.export_fmu import build_native_fmu
+    from gear_dyn.fmu.variables import fmu_spec
+    from tests.scene_cases import SCENES_DIR
+
+    scene = edited_scene("helicopter_tail", deviations={"grade": 6})
+    with pytest.raises(InputError, match=r"\[deviations\]"):
+        fmu_spec(scene)
+    path = tmp_path / "dev.toml"
+    path.write_text((SCENES_DIR / "helicopter_tail.toml").read_text()
+                    + '\n[deviations]\ngrade = 6\n')
+    with pytest.raises(InputError, match=r"\[deviations\]"):
+        build_native_fmu(path, tmp_path / "dev.fmu")
