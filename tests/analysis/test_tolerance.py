@@ -247,3 +247,20 @@ def test_the_study_refuses_what_it_does_not_cover() -> None:
                         grade=6)
     with pytest.raises(InputError, match="samples"):
         tolerance_scene(edited_scene("helicopter_tail"), ["3000 rpm"], samples=0, grade=6)
+
+
+def test_the_grade_sets_the_response_linearly() -> None:
+    """Grades 4 and 8 of the deterministic pattern (every tolerance a factor 4 apart): the
+    deviations' share of the RMS DTE, sqrt(rms^2 - rms_0^2), is a factor 4 apart at every
+    speed (the response is linear, and with constant stiffness the load's response is a
+    constant, so the shares add in square)."""
+    scene = constant_scene()
+    pair = build_pair(scene)
+    factory = SceneModels.of(scene)
+    devs = [sample_deviations(pair, pair_tolerances(pair, g), "sine") for g in (4, 8)]
+    speeds = np.array([2000.0, 5000.0, 7600.0]) * RPM
+    out = tolerance_study(factory, speeds, devs, samples_per_period=16)
+    base = out.baseline["rms_dte"]
+    share = np.sqrt(out.values["rms_dte"] ** 2 - base**2)
+    np.testing.assert_allclose(share[1] / share[0], 4.0, rtol=1e-6)
+    assert np.all(out.values["peak_force"][1] > out.values["peak_force"][0])
