@@ -29,8 +29,10 @@ from the per-residue means: exact over the hunting period at ``(z1 + z2)`` mesh 
 instead of ``lcm(z1, z2)``.
 
 Figures per sample and speed: peak mesh force (N), K_dyn = peak force / peak quasi-static force
-of the same model without deviations (the deviation forcing ``-m e''`` scales with f_m^2, so at
-the quasi-static speed it adds ``(q f_m / f_n)^2 k |e|``, below 1e-3 W there), RMS DTE (m, the
+of the same model without deviations, the reference of ``gear-dyn run`` and of a sweep of the
+scene without them (the deviation forcing ``-m e''`` scales with f_m^2: at the quasi-static
+speed ``f_m = f_n / 64`` an order q of amplitude C adds about ``(q / 64)^2 k |C|`` to the
+force), RMS DTE (m, the
 standard deviation of x over the hunting period), and the least mesh force (N; negative: the
 teeth would separate, which a linear model does not represent). Over the samples: median,
 5 % and 95 % quantiles, mean, and their Monte-Carlo standard errors (docs/tolerance.md).
@@ -527,7 +529,6 @@ def tolerance_study(
     if base_te is not None and not (isinstance(base_te, HarmonicSignal) and base_te.period == 1):
         raise InputError("tolerance study: the model's own transmission error must be mesh "
                          "harmonics ([transmission_error]); leave [deviations] to the study")
-    bare = cast(MeshModel, _bare(model0))
     coef = Coefficients.of(samples, base_te)
     zero = coef.without_deviations(base_te)
     blocks = speed_blocks(sp, ("up",), BLOCK)
@@ -538,11 +539,11 @@ def tolerance_study(
         base_done = run_blocks(run_map, _run_task, blocks,
                                lambda blk, _s: _Task(factory, zero, z1, z2, spp, blk), None,
                                chained=False)["up"]
-    qs_model = quasi_static_model_of(factory, float(sp[0]), bare)
+    qs_model = quasi_static_model_of(factory, float(sp[0]), model0)
     if qs_model is None:
         raise InputError("tolerance study: the model states no natural frequency (K_dyn needs "
                          "its quasi-static reference)")
-    qs_ratio = float(quasi_static_reference(_bare(qs_model), settings)["peak_force_ratio"])
+    qs_ratio = float(quasi_static_reference(qs_model, settings)["peak_force_ratio"])
     w = float(model0.static_load)
     f_qs = qs_ratio * w
 

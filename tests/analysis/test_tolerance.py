@@ -264,3 +264,17 @@ def test_the_grade_sets_the_response_linearly() -> None:
     share = np.sqrt(out.values["rms_dte"] ** 2 - base**2)
     np.testing.assert_allclose(share[1] / share[0], 4.0, rtol=1e-6)
     assert np.all(out.values["peak_force"][1] > out.values["peak_force"][0])
+
+
+def test_without_deviations_the_study_is_the_sweep() -> None:
+    """The study's response without deviations (its baseline) is the steady sweep's: K_dyn and
+    RMS DTE at the same speeds, with the same quasi-static reference (both exact cells:
+    rounding only)."""
+    from gear_dyn.scene.sweep import sweep_scene
+
+    scene = edited_scene("helicopter_tail")
+    speeds = "2000 rpm:9000 rpm:4"
+    study = tolerance_scene(scene, speeds, samples=1, grade=6)
+    curve = sweep_scene(scene, speeds).curves[0]
+    np.testing.assert_allclose(study.baseline["k_dyn"], curve.dynamic_factor, rtol=1e-12)
+    np.testing.assert_allclose(study.baseline["rms_dte"], curve.rms_dte, rtol=1e-12)
