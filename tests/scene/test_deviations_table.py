@@ -64,6 +64,12 @@ def test_steady_sweep_and_short_windows_state_the_hunting_period() -> None:
     assert any("shorter than the period of the transmission error (1472" in w
                for w in res.extra["warnings"])
     assert res.extra["deviations"]["hunting_period_mesh_cycles"] == 1472
+    # the Floquet multipliers are k(t)'s: stated for the run as without deviations
+    from gear_dyn.analysis.stability import floquet_multipliers
+
+    plain = build_model(edited_scene("helicopter_tail"))
+    rho = float(np.max(np.abs(floquet_multipliers(plain))))  # type: ignore[arg-type]
+    assert res.extra["floquet"]["max_multiplier_modulus"] == pytest.approx(rho, rel=1e-8)
 
 
 def test_fmu_builds_refuse_deviations(tmp_path: Path) -> None:
