@@ -17,7 +17,7 @@ def register(sub: Any) -> None:
         description="Draw N random sets of pitch and profile deviations within the grade "
         "(ISO 1328-1:2013; sample i from the seed pair [SEED, i]) and evaluate SCENE (a linear "
         "single-DOF scene with piecewise-constant stiffness) at every speed, exactly over the "
-        "hunting period. Writes into DIR: tolerance.png (median and 5-95 %% band against speed, "
+        "hunting period. Writes into DIR: tolerance.png (median and 5-95 % band against speed, "
         "the response without deviations and ISO 6336-1 K_v at the same grade), tolerance.csv "
         "(one row per speed) and tolerance.json (every figure's band with its Monte-Carlo "
         "standard error, the seeds, definitions). DIR is replaced as a whole only on success.",
