@@ -74,15 +74,13 @@ def main() -> None:
     fixed = [c2 - 200 * p * 100 / 1e3 for c2, p in zip(cpu[200], per_sample, strict=True)]
     med = statistics.median(cpu[200])
     verdict = f"{'met' if med <= 10 else 'missed'} (median {med:.3g} s)"
-    load = os.getloadavg()
     text = f"""# Tolerance study benchmark: 200 samples x 100 speeds of a linear scene
 
 Command: `python benchmarks/bench_tolerance.py --repeats {args.repeats} --record`. Median of
 {args.repeats} repeats (min..max).
 
-Machine: {platform.machine()}, {os.cpu_count()} cores shared with other jobs (load average at the
-end: {load[0]:.1f}, {load[1]:.1f}, {load[2]:.1f}), Python {platform.python_version()}; BLAS one
-thread.
+Machine: {platform.machine()}, {os.cpu_count()} cores shared with other jobs (wall times
+vary with them; CPU times much less), Python {platform.python_version()}; BLAS one thread.
 
 Scene `helicopter_tail` (ISO 6336 rectangular stiffness, z1 = 23, z2 = 64, hunting period 1472
 mesh cycles), ISO 1328-1:2013 grade 6, random deviations, speeds {SPEEDS}, 64 samples per mesh
