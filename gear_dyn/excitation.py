@@ -1,16 +1,22 @@
 """Periodic excitation signals of the mesh phase: static transmission error e(p).
 
-A signal is a function of the mesh phase ``p`` (cycles, period 1) with its slope ``de/dp``, so a
-model can form ``e'(t) = f_m de/dp``. Two forms:
+A signal is a function of the mesh phase ``p`` (cycles) with its slope ``de/dp``, so a
+model can form ``e'(t) = f_m de/dp``. Each states its ``period`` in mesh cycles: 1 for a signal
+of mesh harmonics, more for one with shaft-order content (manufacturing deviations repeat once
+per revolution of a gear, ``z`` mesh cycles). Three forms:
 
-- :class:`HarmonicSignal`: ``sum_n c_n cos(2 pi n p) + s_n sin(2 pi n p)`` (+ mean), e.g. a
-  measured transmission-error spectrum at mesh harmonics.
+- :class:`HarmonicSignal`: ``sum_n c_n cos(2 pi n p / P) + s_n sin(2 pi n p / P)`` (+ mean),
+  ``P`` its period (1: a measured transmission-error spectrum at mesh harmonics).
 - :class:`SampledSignal`: linear interpolation of samples over one cycle (e.g. the transmission
-  error a tip relief adds, from the loaded-contact analysis).
+  error a tip relief adds, from the loaded-contact analysis); period 1.
+- :class:`SumSignal`: the sum of signals of different periods (a mesh-order part and each
+  gear's once-per-revolution part); its period is the least common multiple of theirs (the
+  hunting period when both gears contribute).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -39,14 +45,24 @@ class HarmonicSignal:
     mean : float
         Mean value (m for a transmission error).
     cos, sin : array_like
-        Coefficients of harmonics 1..N (same unit as ``mean``).
+        Coefficients of harmonics 1..N (same unit as ``mean``) of the fundamental
+        ``1 / period`` (in mesh orders).
+    period : int
+        Period in mesh cycles (1..10^7; default 1: mesh harmonics). ``period = z1`` with
+        coefficient ``n`` at pinion shaft order ``n``.
     """
 
     mean: float
     cos: FloatArray
     sin: FloatArray
+    period: int = 1
 
     def __post_init__(self) -> None:
+        check_range("transmission error: period", self.period, "mesh cycles", low=1, high=1e7)
+        if int(self.period) != self.period:
+            raise InputError(f"transmission error: period = {self.period!r} mesh cycles: "
+                             "expected a whole number")
+        object.__setattr__(self, "period", int(self.period))
         c = _floats(self.cos, "transmission error: cos coefficients")
         s = _floats(self.sin, "transmission error: sin coefficients")
         if c.shape != s.shape or c.ndim != 1:
@@ -60,6 +76,8 @@ class HarmonicSignal:
     def value(self, phase: ArrayLike) -> FloatArray:
         """e(p) at mesh phase ``phase``."""
         p = np.asarray(phase, dtype=float)
+        if self.period > 1:  # reduced to one period first: no loss of digits in the angle
+            p = np.mod(p, self.period) / self.period
         ang = 2 * np.pi * p[..., None] * np.arange(1, self.cos.size + 1)
         return self.mean + np.cos(ang) @ self.cos + np.sin(ang) @ self.sin
 
@@ -67,8 +85,15 @@ class HarmonicSignal:
         """de/dp at mesh phase ``phase`` (unit per cycle)."""
         p = np.asarray(phase, dtype=float)
         w = 2 * np.pi * np.arange(1, self.cos.size + 1)
+        if self.period > 1:
+            p, w = np.mod(p, self.period), w / self.period
         ang = p[..., None] * w
         return np.cos(ang) @ (self.sin * w) - np.sin(ang) @ (self.cos * w)
+
+    @property
+    def orders(self) -> FloatArray:
+        """Mesh orders of the coefficients: ``n / period``, n = 1..N."""
+        return np.arange(1, self.cos.size + 1) / self.period
 
 
 @dataclass(frozen=True, eq=False)
@@ -116,3 +141,40 @@ class SampledSignal:
     def knots(self) -> FloatArray:
         """Sample phases in [0, 1) (where the slope jumps)."""
         return self.phase[1:-1].copy()
+
+    @property
+    def period(self) -> int:
+        """Period in mesh cycles: 1."""
+        return 1
+
+
+@dataclass(frozen=True, eq=False)
+class SumSignal:
+    """The sum of periodic signals of the mesh phase, e.g. of different periods.
+
+    Parameters
+    ----------
+    parts : tuple of signals
+        :class:`HarmonicSignal` or :class:`SampledSignal` (at least one), same unit.
+    """
+
+    parts: tuple[HarmonicSignal | SampledSignal, ...]
+
+    def __post_init__(self) -> None:
+        parts = tuple(self.parts)
+        if not parts or not all(isinstance(q, HarmonicSignal | SampledSignal) for q in parts):
+            raise InputError("sum signal: parts must be one or more harmonic or sampled signals")
+        object.__setattr__(self, "parts", parts)
+
+    @property
+    def period(self) -> int:
+        """Period in mesh cycles: the least common multiple of the parts' periods."""
+        return math.lcm(*(q.period for q in self.parts))
+
+    def value(self, phase: ArrayLike) -> FloatArray:
+        """e(p) at mesh phase ``phase``."""
+        return np.sum([q.value(phase) for q in self.parts], axis=0)
+
+    def slope(self, phase: ArrayLike) -> FloatArray:
+        """de/dp at mesh phase ``phase`` (unit per cycle)."""
+        return np.sum([q.slope(phase) for q in self.parts], axis=0)

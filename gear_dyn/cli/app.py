@@ -26,6 +26,7 @@ COMMANDS: tuple[str, ...] = (
     "gear_dyn.cli.stiffness",
     "gear_dyn.cli.bench",
     "gear_dyn.cli.sweep",
+    "gear_dyn.cli.tolerance",
     "gear_dyn.cli.response",
     "gear_dyn.cli.bifurcation",
     "gear_dyn.cli.compare",

@@ -262,6 +262,9 @@ def build_native_fmu(target: str | Path, out: Path, fmi: int = 2,
     plan = build_plan(scene)
     op = scene.get("operating")
     nm: NativeModel | TorsionalNative
+    if "deviations" in scene.tables:
+        raise InputError("[deviations]: the FMU carries a transmission error of mesh harmonics "
+                         "only; deviations repeat over the hunting period: remove the table")
     if not plan.model.mesh_periodic:  # the torsional model (Model protocol: not one mesh eq.)
         nm = torsional_native(plan.model, build_pair(scene), tolerance)
     else:

@@ -92,7 +92,7 @@ NOT_IN_FMU = ("cli/", "plots/", "fmu/build.py", "fmu/staging.py",
               "scene/packaged.py", "scene/sweep.py", "scenes/", "analysis/sweep/",
               "analysis/bench.py", "analysis/chart.py", "analysis/excitation.py",
               "analysis/report.py", "analysis/spectrum.py", "analysis/spectrum_labels.py",
-              "analysis/stiffness.py")
+              "analysis/stiffness.py", "analysis/tolerance.py", "scene/tolerance.py")
 
 
 def _vendor(dest: Path, package: str, skip: tuple[str, ...] = ("fmu/slave3.py",)) -> None:

@@ -117,6 +117,9 @@ def fmu_spec(scene: Scene) -> dict[str, Any]:
     SceneError
         The scene is invalid or its model cannot be built.
     """
+    if "deviations" in scene.tables:
+        raise InputError("[deviations]: an FMU takes a transmission error of mesh harmonics "
+                         "only; deviations repeat over the hunting period: remove the table")
     plan = build_plan(scene)
     model = plan.model
     kind = scene.get("scene")["model"]

@@ -13,8 +13,9 @@ Capabilities
     ``mesh_periodic``: the model is the single-DOF mesh equation
     ``m x'' + c (x' - e') + k(p) f(x - e) = W`` with coefficients periodic in the mesh period
     (it then also offers ``mass``, ``damping``, ``stiffness``, ``transmission_error``,
-    ``phase0`` and ``phase(t)``: see :class:`MeshModel`); the periodic steady state, the
-    Floquet multipliers and the stability chart apply;
+    ``phase0`` and ``phase(t)``: see :class:`MeshModel`), and its transmission error repeats
+    every mesh period (manufacturing deviations, which repeat over the hunting period, make it
+    False); the periodic steady state, the Floquet multipliers and the stability chart apply;
     ``backlash``: the half gap in m, or None;
     ``linear_segments(t0, t1)``: for a linear model with piecewise-constant coefficients, the
     pieces ``(t_start, t_end, A, g)`` with ``y' = A y + g``; None otherwise (exact propagation);

@@ -23,12 +23,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.errors import InputError, check_range
-from gear_dyn.excitation import HarmonicSignal, SampledSignal
+from gear_dyn.excitation import HarmonicSignal, SampledSignal, SumSignal
 from gear_dyn.geometry import GearPair
 from gear_dyn.stiffness.periodic import FourierStiffness, PeriodicStiffness
 
 FloatArray = NDArray[np.float64]
-Signal = HarmonicSignal | SampledSignal
+Signal = HarmonicSignal | SampledSignal | SumSignal
 
 
 def effective_mass(i1: float, i2: float, rb1: float, rb2: float) -> float:
@@ -100,8 +100,9 @@ class SDOFModel:
         Mesh frequency f_m in Hz (> 0).
     backlash : float or None
         Half gap b_g in m (> 0), or None for no backlash.
-    transmission_error : HarmonicSignal, SampledSignal or None
-        Static transmission error e(p) in m, or None.
+    transmission_error : HarmonicSignal, SampledSignal, SumSignal or None
+        Static transmission error e(p) in m, or None. One whose period is longer than the mesh
+        period (manufacturing deviations: shaft orders) makes the model not ``mesh_periodic``.
     phase0 : float
         Mesh phase at t = 0 in cycles.
 
@@ -121,7 +122,6 @@ class SDOFModel:
     phase0: float = 0.0
     state_labels: tuple[str, ...] = field(default=("x", "v"), init=False)
     output_names: tuple[str, ...] = field(default=("dte", "mesh_force", "stiffness"), init=False)
-    mesh_periodic: bool = field(default=True, init=False)
     damping: float = field(init=False)
     _rhs: Callable[[float, FloatArray], FloatArray] = field(init=False, repr=False)
     _jac: Callable[[float, FloatArray], FloatArray] = field(init=False, repr=False)
@@ -151,6 +151,22 @@ class SDOFModel:
     def natural_frequency(self) -> float:
         """Natural frequency sqrt(k_m / m_e) / (2 pi) in Hz."""
         return math.sqrt(self.mean_stiffness / self.mass) / (2 * math.pi)
+
+    @property
+    def mesh_periodic(self) -> bool:
+        """True unless the transmission error has a period longer than the mesh period.
+
+        With shaft-order content (``transmission_error.period`` > 1 mesh cycles) the forced
+        response repeats only over that period: the one-mesh-period steady state, the periodic
+        step maps and the steady sweep do not apply, and the model says so here (the Floquet
+        multipliers, a property of k(t) alone, are unchanged).
+        """
+        return self.transmission_error is None or self.transmission_error.period == 1
+
+    @property
+    def excitation_period(self) -> int:
+        """Period of the excitation in mesh cycles (1, or the transmission error's)."""
+        return 1 if self.transmission_error is None else int(self.transmission_error.period)
 
     @property
     def is_linear(self) -> bool:

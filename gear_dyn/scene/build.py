@@ -12,10 +12,11 @@ from typing import Any
 import numpy as np
 
 from gear_dyn.errors import InputError, SceneError
-from gear_dyn.excitation import HarmonicSignal
+from gear_dyn.excitation import HarmonicSignal, SumSignal
 from gear_dyn.geometry import GearPair
 from gear_dyn.models.base import Model
 from gear_dyn.models.sdof import sdof_from_pair
+from gear_dyn.scene.deviations import scene_deviations
 from gear_dyn.scene.registry import MODEL_BUILDERS, register_model
 from gear_dyn.scene.validated import Scene, scene_error
 from gear_dyn.solvers import SolverSettings
@@ -126,14 +127,25 @@ def scene_stiffness(scene: Scene, pair: GearPair) -> PeriodicStiffness:
         raise scene_error(scene.source, exc) from None
 
 
-def scene_transmission_error(scene: Scene) -> HarmonicSignal | None:
-    """The ``[transmission_error]`` harmonics as a signal of the mesh phase (None without it).
+def scene_transmission_error(scene: Scene) -> HarmonicSignal | SumSignal | None:
+    """The scene's static transmission error: the ``[transmission_error]`` harmonics, plus the
+    ``[deviations]`` (shaft orders over the hunting period, :mod:`gear_dyn.scene.deviations`);
+    None without either.
 
     Raises
     ------
     SceneError
         ``sin`` and ``cos`` of different lengths.
     """
+    dev = scene_deviations(scene, build_pair(scene)) if scene.has("deviations") else None
+    harmonics = _harmonics(scene)
+    if dev is None:
+        return harmonics
+    parts = dev.signals()
+    return SumSignal(parts if harmonics is None else (*parts, harmonics))
+
+
+def _harmonics(scene: Scene) -> HarmonicSignal | None:
     if not scene.has("transmission_error"):
         return None
     t = scene.tables["transmission_error"]

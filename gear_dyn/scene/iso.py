@@ -17,6 +17,7 @@ from numpy.typing import ArrayLike
 
 from gear_dyn.errors import InputError, SceneError
 from gear_dyn.scene.build import build_pair, scene_inertias
+from gear_dyn.scene.deviations import scene_tolerances
 from gear_dyn.scene.fields import Field, Section
 from gear_dyn.scene.modification import relief_from_scene
 from gear_dyn.scene.registry import register_section
@@ -82,6 +83,11 @@ def scene_iso_kv(scene: Scene, speeds: ArrayLike | None = None) -> tuple[IsoKv, 
                                           for r in (pair.r1, pair.r2)), strict=True))
     src = f"ISO 1328-1 grade {grade}" + ("" if t["accuracy_grade"] is not None
                                           else " (assumed: set [iso] accuracy_grade)")
+    if scene.has("deviations") and scene.tables["deviations"]["pattern"] != "none":
+        # like for like: the deviations that excite the run, at their tolerance values
+        tol, dev_src = scene_tolerances(scene, pair)
+        f_pt, f_fa = max(x.f_pt for x in tol), max(x.f_falpha for x in tol)
+        src = f"[deviations] ({dev_src}; the same deviations excite the run)"
     f_pb = t["f_pb"] if t["f_pb"] is not None else f_pt * math.cos(pair.alpha_t)
     f_falpha = t["f_falpha"] if t["f_falpha"] is not None else f_fa
     if t["f_pb"] is not None and t["f_falpha"] is not None:
@@ -141,7 +147,18 @@ def iso_kv_summary(scene: Scene) -> dict[str, Any]:
         "tip_relief_c_a_m": kv.tip_relief,
         "sources": src,
         "standard": "ISO 6336-1 method B (clause 6.5; eq. numbers of the 2006 edition)",
+        "like_for_like": like_for_like_note(scene),
     }
+
+
+def like_for_like_note(scene: Scene) -> str:
+    """Whether K_dyn and K_v see the same deviations (ISO 6336-1 B_p, B_f; Tamminana,
+    Kahraman & Vijayakar 2007 compare the force-based dynamic factor with K_v)."""
+    if scene.has("deviations") and scene.tables["deviations"]["pattern"] != "none":
+        return ("like for like: K_v takes f_pb and f_falpha (B_p, B_f) of the [deviations] that "
+                "excite this run, so K_dyn includes the same deviations")
+    return ("not like for like: K_v assumes the pitch and profile deviations of its grade "
+            "(B_p, B_f); this simulation has none (add a [deviations] table to include them)")
 
 
 def iso_kv_lines(s: dict[str, Any]) -> list[str]:
@@ -160,6 +177,7 @@ def iso_kv_lines(s: dict[str, Any]) -> list[str]:
         f"  inputs: deviations {src['deviations']}; {src['tip_relief']}; m_red "
         f"{s['m_red_kg_per_m']:.4g} kg/m from {src['mass']}; c_gamma_alpha "
         f"{s['c_gamma_alpha_n_per_m2'] / 1e9:.4g} N/(mm um)",
+        f"  {s['like_for_like']}",
     ]
 
 

@@ -15,7 +15,7 @@ from gear_dyn.errors import SceneError
 
 # the tables and model builders register when their modules are imported: the core tables,
 # then the optional parts (eccentricity and torsional model, tip relief, ISO 6336 K_v)
-from gear_dyn.scene import core, eccentricity, iso, modification  # noqa: F401
+from gear_dyn.scene import core, deviations, eccentricity, iso, modification  # noqa: F401
 from gear_dyn.scene.registry import SECTIONS
 from gear_dyn.scene.validated import Scene
 

@@ -128,7 +128,8 @@ def relief_from_scene(scene: Scene, pair: GearPair | None = None) -> ProfileModi
 
 def _check_combination(scene: Scene) -> None:
     for table, why in (("transmission_error", "the relief sets the transmission error"),
-                       ("backlash", "backlash with tip relief is not implemented")):
+                       ("backlash", "backlash with tip relief is not implemented"),
+                       ("deviations", "deviations with tip relief are not implemented")):
         if scene.has(table):
             raise SceneError(f"{scene.source}: [{table}] cannot be combined with [tip_relief] "
                              f"({why}); remove one of them")

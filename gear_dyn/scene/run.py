@@ -11,7 +11,8 @@ from typing import Any
 from gear_dyn.analysis.dynamic_factor import quasi_static_model_of
 from gear_dyn.analysis.study import simulate
 from gear_dyn.errors import InputError
-from gear_dyn.scene.build import build_model, build_plan, scene_facts
+from gear_dyn.scene.build import build_model, build_pair, build_plan, scene_facts
+from gear_dyn.scene.deviations import deviations_summary
 from gear_dyn.scene.hints import backlash_gap_hint
 from gear_dyn.scene.iso import iso_kv_summary
 from gear_dyn.scene.operating import check_keywords, with_operating
@@ -94,4 +95,6 @@ def run_scene(scene: Scene, speed: Any = None, torque: Any = None, *, si: bool =
     hint = backlash_gap_hint(scene, contact.get("separation_share", 0.0) > 0)
     if hint is not None:
         result.extra.setdefault("warnings", []).append(hint)
+    if (dev := deviations_summary(scene, build_pair(scene))) is not None:
+        result.extra.setdefault("deviations", dev)
     return result

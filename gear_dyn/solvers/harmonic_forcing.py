@@ -65,6 +65,9 @@ class Forcing:
         if not isinstance(te, HarmonicSignal):
             empty = np.zeros(0)
             return cls(fm, p0, empty, empty, empty)
+        if te.period != 1:  # the phase is reduced to one mesh cycle below
+            raise ValueError(f"harmonic forcing: a transmission error of period {te.period} "
+                             "mesh cycles; this closed form takes mesh harmonics only")
         n = np.arange(1, te.cos.size + 1, dtype=float)
         keep = (te.cos != 0.0) | (te.sin != 0.0)
         om2 = (2 * math.pi * n[keep] * fm) ** 2

@@ -198,12 +198,23 @@ def sweep(
     start = time.perf_counter()
     model = factory(float(sp[0]))
     nonlinear = not model.is_linear
+    period = int(getattr(model, "excitation_period", 1))
+    if opts.method == "steady" and period > 1:
+        raise InputError(f"sweep method 'steady' takes one mesh period as the period of the "
+                         f"response; this scene's transmission error repeats every {period} mesh "
+                         f"periods (deviations: shaft orders): use method 'transient' with "
+                         f"steady_periods >= {period}, or the tolerance study (exact over that "
+                         "period)")
     if opts.method == "steady" and not model.mesh_periodic:
         raise InputError(f"sweep method 'steady' covers the single-DOF model; this scene's model "
                          f"is {type(model).__name__}: use method 'transient'")
     dirs = _directions(direction, nonlinear)
     size = _block_size(block, sp.size, nonlinear)
     n_steady = int(periods // 2 if steady_periods is None else steady_periods)
+    if n_steady < period:
+        raise InputError(f"steady_periods = {n_steady}: the transmission error repeats every "
+                         f"{period} mesh periods (deviations: shaft orders); a window shorter "
+                         f"than that misses part of the response: valid range >= {period}")
 
     def task(speeds: tuple[float, ...], state: _ChainState) -> _Block:
         return _Block(factory, settings, opts, int(periods), n_steady, speeds, nonlinear, *state)
