@@ -219,9 +219,9 @@ def sweep(
     reference = None if qs_model is None else quasi_static_reference(qs_model, settings)
     jump = math.nan if reference is None else float(reference["peak_force_ratio"])
     # jumps of the response from the orbits: candidate pairs continued here, in the calling
-    # process
-    curves = tuple(replace(c, jumps=find_jumps(c, factory if opts.method == "steady" else None,
-                                               settings.rtol))
+    # process (none for a linear model: its periodic response is unique)
+    curves = tuple(replace(c, jumps=find_jumps(c, factory, settings.rtol,
+                                               orbits=opts.method == "steady"))
                    for c in (SweepCurve.from_points(d, points[d], jump) for d in dirs))
     orders = np.arange(1, opts.window_periods * opts.harmonics + 1) / opts.window_periods
     fn = model.natural_frequency
