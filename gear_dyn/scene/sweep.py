@@ -58,6 +58,13 @@ class SceneModels:
                    json.dumps(ov, sort_keys=True))
 
     @property
+    def torque(self) -> float:
+        """The scene's pinion torque (``operating.torque``, N m): the torque of every model
+        made here (:class:`gear_dyn.analysis.continuation.SpeedTorqueFamily` reads it)."""
+        scene = _base(self.source, self.tables_json, self.overrides_json)[0]
+        return float(scene.get("operating")["torque"])
+
+    @property
     def plan(self) -> RunPlan:
         """The scene's run plan (model at the scene's own speed, settings, span)."""
         return _base(self.source, self.tables_json, self.overrides_json)[1]

@@ -219,8 +219,10 @@ def follow(sh: Shooting, ev0: Evaluation, t0: FloatArray, window: tuple[float, f
                 continue  # a period-2n branch from an earlier doubling already ended here
             children.append(switch_at_period_doubling(sh, b, window, settings, parameter,
                                                        doublings - 1, follow))
+    fn = ev0.model.natural_frequency
     return Branch(parameter, PARAMETERS.get(parameter, ""), tuple(points), tuple(bifs),
-                  tuple(children), sh.route, stop_reason, sh.n_maps)
+                  tuple(children), sh.route, stop_reason, sh.n_maps,
+                  math.nan if fn is None else float(fn))
 
 
 def _ends_at(child: Branch, pd: Bifurcation) -> bool:
