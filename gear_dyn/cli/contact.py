@@ -11,6 +11,7 @@ import argparse
 from typing import Any
 
 from gear_dyn.choices import PAIR_STIFFNESS_METHODS, RELIEF_CURVES
+from gear_dyn.cli.progress import Stages, add_quiet_flag
 from gear_dyn.cli.run import add_scene_and_out
 from gear_dyn.errors import InputError
 
@@ -31,6 +32,7 @@ def register(sub: Any) -> None:
                    "tip_relief.pair_stiffness, else potential_energy)")
     p.add_argument("--dynamics", action="store_true",
                    help="also run the single-DOF model of every case (slower)")
+    add_quiet_flag(p)
     p.set_defaults(func=run)
 
 
@@ -62,7 +64,8 @@ def compute(scene: Any, curve: str | None = None, pair_method: str | None = None
             "fn": fn, "torque": torque}
 
 
-def _dynamics(scene: Any, res: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
+def _dynamics(scene: Any, res: dict[str, Any], stage: Any = None
+              ) -> tuple[dict[str, Any], dict[str, Any]]:
     """Single-DOF run of every case with the scene's damping, inertias and [solver] settings."""
     from gear_dyn.analysis.study import simulate
     from gear_dyn.models.relief import relief_sdof
@@ -82,7 +85,9 @@ def _dynamics(scene: Any, res: dict[str, Any]) -> tuple[dict[str, Any], dict[str
     steady = sv["steady_periods"] or periods // 2
     dyn: dict[str, Any] = {}
     results: dict[str, Any] = {}
-    for name, case in res["cases"].items():
+    for i, (name, case) in enumerate(res["cases"].items()):
+        if stage is not None and i > 0:
+            stage.next()  # one stage per case (the first started on entering)
         model, _ = relief_sdof(pair, op["speed"], op["torque"], case.modification, res["fn"],
                                scene.get("damping")["ratio"], scene_inertias(scene))
         fm = model.mesh_frequency
@@ -102,8 +107,11 @@ def run(args: argparse.Namespace) -> int:
     from gear_dyn.plots.contact import plot_load_sharing, plot_loaded_stiffness
     from gear_dyn.scene import load_scene
 
-    scene = load_scene(args.scene)
-    res = compute(scene, args.curve, args.pair_stiffness)
+    names = ["load scene", "loaded contact"]
+    with Stages(names, args.quiet) as st:  # the dynamics get their own stages below
+        scene = load_scene(args.scene)
+        st.next()
+        res = compute(scene, args.curve, args.pair_stiffness)
     cases = res["cases"]
     pair = res["pair"]
     report: dict[str, Any] = {
@@ -114,7 +122,11 @@ def run(args: argparse.Namespace) -> int:
         "positions": "m from T1 along the line of action (*_from_a_m: from the start of contact)",
         "cases": [c.row() for c in cases.values()],
     }
-    dyn, results = _dynamics(scene, res) if args.dynamics else ({}, {})
+    dyn: dict[str, Any] = {}
+    results: dict[str, Any] = {}
+    if args.dynamics:
+        with Stages([f"dynamics: {name}" for name in cases], args.quiet) as st:
+            dyn, results = _dynamics(scene, res, st)
     cols: dict[str, Any] = {}
     for name, c in cases.items():
         key = name.replace(" ", "_")

@@ -15,10 +15,12 @@ From the stroboscopic samples (one per mesh period after settling,
    without a stable orbit, or the exponent is not resolved, a second estimate :data:`LONGER`
    times as long decides: a resolved positive exponent is ``chaotic`` (just past a
    period-doubling cascade the attractor lies in narrow bands around an unstable period-n
-   orbit, so its samples nearly repeat after n periods); samples still repeating otherwise
-   sit near an unstable orbit (a slow escape, or with a negative exponent an attracting
-   orbit of more than 16 periods): ``not settled``. Samples beyond :data:`UNBOUNDED`
-   state scales are ``unbounded`` (a parametric instability that contact loss does not limit).
+   orbit, so its samples nearly repeat after n periods) unless the near repeat loosens by
+   more than :data:`GROWTH` over that run (an escape from a saddle orbit); samples still
+   repeating otherwise sit near an unstable orbit (a slow escape, or with a negative
+   exponent an attracting orbit of more than 16 periods): ``not settled``. Samples beyond
+   :data:`UNBOUNDED` state scales are ``unbounded`` (a parametric instability that contact
+   loss does not limit).
 """
 
 from __future__ import annotations
@@ -55,6 +57,9 @@ MAX_TRIES = 4
 #: where the first exponent leaves the motion open (samples nearly repeating without a stable
 #: orbit, or an unresolved exponent), a second estimate runs this many times as long
 LONGER = 5
+#: ... and near-repeating samples whose repeat error grows more than this over it are leaving
+#: a saddle orbit (``not settled``), not on a banded chaotic attractor
+GROWTH = 3.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -219,20 +224,26 @@ def classify_samples(model: MeshModel, samples: FloatArray, rtol: float = 1e-10,
         return found
     kind = lyapunov_kind(est)
     near = repeat_errors(again, scale) <= TRY_TOL
+    banded = False
     if near.any() or kind == "undetermined":
         # samples that nearly repeat without a stable orbit, or an exponent not resolved: a
         # run LONGER times as long decides (just past a period-doubling cascade the chaotic
         # attractor lies in narrow bands around an unstable period-n orbit, so its samples
         # nearly repeat after n periods while the exponent is positive)
+        before = repeat_errors(again, scale)
         est = largest_lyapunov(model, est.y_end, LONGER * lyapunov_periods, lyapunov_block,
                                rtol=rtol, route=route)
         again = stroboscopic(model, est.y_end, 0, samples.shape[0], rtol)
         found, iters = find_orbit(model, again, rtol, max_newton, iters)
         if found is not None:
             return found
+        first = repeat_errors(again, scale)
         kind = lyapunov_kind(est)
-        near = repeat_errors(again, scale) <= TRY_TOL
-    if kind == "chaotic":
+        # near-repeating samples stay so on a banded attractor; leaving a saddle orbit, their
+        # repeat error grows with the escape (a positive exponent then is the saddle's)
+        banded = not near.any() or bool(np.all(first[near] <= GROWTH * before[near]))
+        near = first <= TRY_TOL
+    if kind == "chaotic" and (banded or not near.any()):
         label = f"chaotic, {lyapunov_label(est)}"
     elif near.any():  # repeating, yet no stable orbit: a saddle orbit, left slowly
         kind = "not settled"
