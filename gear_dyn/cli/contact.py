@@ -12,7 +12,7 @@ from typing import Any
 
 from gear_dyn.choices import PAIR_STIFFNESS_METHODS, RELIEF_CURVES
 from gear_dyn.cli.progress import Stages, add_quiet_flag
-from gear_dyn.cli.run import add_scene_and_out
+from gear_dyn.cli.run import add_budget_flag, add_scene_and_out
 from gear_dyn.errors import InputError
 
 
@@ -32,6 +32,7 @@ def register(sub: Any) -> None:
                    "tip_relief.pair_stiffness, else potential_energy)")
     p.add_argument("--dynamics", action="store_true",
                    help="also run the single-DOF model of every case (slower)")
+    add_budget_flag(p)
     add_quiet_flag(p)
     p.set_defaults(func=run)
 
@@ -64,13 +65,13 @@ def compute(scene: Any, curve: str | None = None, pair_method: str | None = None
             "fn": fn, "torque": torque}
 
 
-def _dynamics(scene: Any, res: dict[str, Any], stage: Any = None
-              ) -> tuple[dict[str, Any], dict[str, Any]]:
+def _dynamics(scene: Any, res: dict[str, Any], stage: Any = None,
+              max_nfev: int | None = None) -> tuple[dict[str, Any], dict[str, Any]]:
     """Single-DOF run of every case with the scene's damping, inertias and [solver] settings."""
     from gear_dyn.analysis.study import simulate
     from gear_dyn.models.relief import relief_sdof
     from gear_dyn.scene.build import scene_inertias
-    from gear_dyn.solvers import SolverSettings
+    from gear_dyn.solvers import MAX_NFEV, SolverSettings
 
     pair = res["pair"]
     op = scene.get("operating")
@@ -78,7 +79,8 @@ def _dynamics(scene: Any, res: dict[str, Any], stage: Any = None
     method = sv["method"] if sv["method"] not in ("auto", "exact") else "DOP853"
     try:
         settings = SolverSettings(method=method, rtol=sv["rtol"], atol=sv["atol"],
-                                  samples_per_period=sv["samples_per_period"])
+                                  samples_per_period=sv["samples_per_period"],
+                                  max_nfev=MAX_NFEV if max_nfev is None else max_nfev)
     except InputError as exc:
         raise InputError(f"{scene.source}: {exc}") from None
     periods = sv["periods"]
@@ -126,7 +128,7 @@ def run(args: argparse.Namespace) -> int:
     results: dict[str, Any] = {}
     if args.dynamics:
         with Stages([f"dynamics: {name}" for name in cases], args.quiet) as st:
-            dyn, results = _dynamics(scene, res, st)
+            dyn, results = _dynamics(scene, res, st, args.max_nfev)
     cols: dict[str, Any] = {}
     for name, c in cases.items():
         key = name.replace(" ", "_")

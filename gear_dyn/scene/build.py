@@ -164,6 +164,7 @@ def build_plan(scene: Scene, **overrides: Any) -> RunPlan:
         settings = SolverSettings(
             method=sv["method"], rtol=sv["rtol"], atol=sv["atol"],
             samples_per_period=sv["samples_per_period"],
+            **({"max_nfev": sv["max_nfev"]} if sv.get("max_nfev") is not None else {}),
         )
     except InputError as exc:
         raise scene_error(scene.source, exc) from None

@@ -27,7 +27,8 @@ from gear_dyn.scene.validated import Scene
 
 FloatArray = NDArray[np.float64]
 #: the ``[solver]`` values a sweep may override
-SOLVER_OVERRIDES = ("method", "rtol", "atol", "samples_per_period", "periods", "steady_periods")
+SOLVER_OVERRIDES = ("method", "rtol", "atol", "samples_per_period", "periods", "steady_periods",
+                    "max_nfev")
 
 
 @lru_cache(maxsize=4)
