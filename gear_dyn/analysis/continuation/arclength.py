@@ -33,6 +33,7 @@ from gear_dyn.analysis.continuation.settings import ContinuationSettings
 from gear_dyn.analysis.continuation.shooting import Evaluation, Shooting, tangent
 from gear_dyn.analysis.continuation.switch import switch_at_period_doubling
 from gear_dyn.analysis.stability import shoot
+from gear_dyn.analysis.threads import blas_limited
 from gear_dyn.errors import InputError, SolverError, check_range
 from gear_dyn.models.base import MeshModel, Model
 
@@ -44,6 +45,7 @@ SETTLE_PERIODS = 400
 MERGE_TOL = 1e-6
 
 
+@blas_limited
 def continue_orbits(family: Callable[[float], Model], start: float, stop: float, *,
                     periods: int = 1, y_guess: FloatArray | None = None,
                     parameter: str = "speed", route: str = "auto",

@@ -24,6 +24,7 @@ from gear_dyn.analysis.continuation.arclength import continue_orbits
 from gear_dyn.analysis.continuation.branch import Bifurcation, Branch
 from gear_dyn.analysis.continuation.jump_map import Cusp, FoldMap, JumpRegion
 from gear_dyn.analysis.continuation.settings import ContinuationSettings
+from gear_dyn.analysis.threads import blas_limited
 from gear_dyn.errors import InputError, check_range
 from gear_dyn.models.base import Model
 
@@ -174,6 +175,7 @@ def _cusp(tr: _Tracer, t_has: float, pairs_has: list[_Pair], index: int, t_not: 
                 torque_error=0.5 * abs(t_has - t_not), half_gap=0.5 * (pair[1] - pair[0]))
 
 
+@blas_limited
 def fold_map(family: SpeedTorqueFamily, speeds: tuple[float, float], torques: Sequence[float],
              *, periods: int = 1, settings: ContinuationSettings | None = None,
              cusp_bisections: int = 4, reference_torque: float | None = None) -> FoldMap:

@@ -35,6 +35,7 @@ from gear_dyn.analysis.motion.lyapunov import LyapunovEstimate, largest_lyapunov
 from gear_dyn.analysis.motion.period import MAX_PERIOD, repeat_errors
 from gear_dyn.analysis.motion.samples import flow_periods, stroboscopic
 from gear_dyn.analysis.stability import UNIT_CIRCLE_TOL, PeriodicSolution, shoot
+from gear_dyn.analysis.threads import blas_limited
 from gear_dyn.errors import check_range
 from gear_dyn.models.base import MeshModel
 
@@ -299,6 +300,7 @@ def find_orbit(model: MeshModel, samples: FloatArray, rtol: float = 1e-10, max_n
     return None, iters
 
 
+@blas_limited
 def classify_motion(model: MeshModel, y0: FloatArray, settle: int = 200, samples: int = 64,
                     rtol: float = 1e-10, lyapunov_periods: int = 400,
                     lyapunov_block: int = 40, max_newton: int = 15,

@@ -29,6 +29,7 @@ from gear_dyn.analysis.sweep.types import (
     SweepOptions,
     SweepResult,
 )
+from gear_dyn.analysis.threads import blas_limited
 from gear_dyn.errors import InputError, check_range
 from gear_dyn.models.base import Model
 from gear_dyn.solvers import SolverSettings
@@ -63,6 +64,7 @@ class _Block:
 _ChainState = tuple[FloatArray | None, int]
 
 
+@blas_limited
 def _run_block(block: _Block) -> tuple[list[Point], _ChainState]:
     """Evaluate a block of speeds in order (the worker function; picklable).
 
@@ -122,6 +124,7 @@ def _directions(direction: str, nonlinear: bool) -> tuple[str, ...]:
     return (direction,)
 
 
+@blas_limited
 def sweep(
     factory: ModelFactory,
     speeds: Sequence[float] | FloatArray,
