@@ -16,7 +16,7 @@ from gear_dyn.excitation import HarmonicSignal
 from gear_dyn.geometry import GearPair
 from gear_dyn.models.base import Model
 from gear_dyn.models.sdof import sdof_from_pair
-from gear_dyn.scene.registry import MODEL_BUILDERS, register_model
+from gear_dyn.scene.registry import MODEL_BUILDERS
 from gear_dyn.scene.validated import Scene, scene_error
 from gear_dyn.solvers import SolverSettings
 from gear_dyn.stiffness.periodic import PeriodicStiffness
@@ -113,7 +113,10 @@ def scene_transmission_error(scene: Scene) -> HarmonicSignal | None:
 
 
 def build_sdof(scene: Scene) -> Model:
-    """Single-DOF model of the scene (backlash and transmission error only when present)."""
+    """Single-DOF model of the scene (backlash and transmission error only when present),
+    without tip relief: the ``sdof`` kind's builder
+    (:func:`gear_dyn.scene.modification.build_relief_sdof`) calls it for a scene without
+    ``[tip_relief]``."""
     pair = build_pair(scene)
     op = scene.get("operating")
     k = scene_stiffness(scene, pair)
@@ -126,9 +129,6 @@ def build_sdof(scene: Scene) -> Model:
         )
     except InputError as exc:
         raise scene_error(scene.source, exc) from None
-
-
-register_model("sdof", build_sdof)
 
 
 def build_model(scene: Scene) -> Model:
