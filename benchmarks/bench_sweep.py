@@ -503,9 +503,9 @@ def linear_table(args: argparse.Namespace) -> str:
         "",
         "The continuation the jump check ran on these sweeps before linear models skipped it "
         "(`check_pair` on the candidate pairs of the up sweep, in-process CPU, one run): "
-        "what the skip saves.",
+        "what the skip saves; a linear model has no jump, so every jump it reported was false.",
         "",
-        "| stiffness | speeds | pairs continued | CPU (s) | jumps found |",
+        "| stiffness | speeds | pairs continued | CPU (s) | jumps reported |",
         "|---|---|---|---|---|",
         *skipped, ""])
 
