@@ -421,6 +421,95 @@ def jumps_table(args: argparse.Namespace) -> str:
         *rows, ""])
 
 
+def _cpu_of_command(cmd: list[str], tree: Path = ROOT) -> float:
+    """CPU time (user + system) of ``python -m gear_dyn.cli CMD...`` in a child process, in s,
+    with gear_dyn imported from the source tree ``tree``."""
+    import resource
+
+    env = dict(ENV or os.environ, PYTHONPATH=str(tree))
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    subprocess.run([sys.executable, "-m", "gear_dyn.cli", *cmd], check=True,
+                   capture_output=True, env=env, cwd=tree)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+def linear_table(args: argparse.Namespace) -> str:
+    """Linear sweeps: whole commands, and the jump continuation they skip (``--linear``)."""
+    from gear_dyn.analysis.sweep.orbit_jumps import candidates, check_pair
+
+    span = ("500 rpm", "12000 rpm")
+    with tempfile.TemporaryDirectory() as tmp:
+        pe = Path(tmp) / "helicopter_tail_pe.toml"
+        text = SCENE.read_text()
+        assert 'method = "iso6336"' in text
+        pe.write_text(text.replace('method = "iso6336"', 'method = "potential_energy"', 1))
+        cases = [("potential_energy", pe, 40), ("potential_energy", pe, 160),
+                 ("iso6336", SCENE, 50), ("iso6336", SCENE, 500)]
+        trees = [ROOT] + ([args.before] if args.before else [])
+        cpu: dict[tuple[int, int], list[float]] = {}
+        for _ in range(args.repeats):  # interleaved
+            for i, (_name, path, n) in enumerate(cases):
+                for k, tree in enumerate(trees):
+                    cpu.setdefault((i, k), []).append(_cpu_of_command(
+                        ["sweep", str(path), "--speeds", f"{span[0]}:{span[1]}:{n}",
+                         "--out", str(Path(tmp) / f"out{i}"), "--quiet"], tree))
+        rows = []
+        for i, (name, _p, n) in enumerate(cases):
+            before = ""
+            if args.before:
+                ratio = [a / b for a, b in zip(cpu[(i, 1)], cpu[(i, 0)], strict=True)]
+                before = f" {spread(cpu[(i, 1)])} | {spread(ratio, '.1f', 'x')} |"
+            rows.append(f"| {name} | {n} | {spread(cpu[(i, 0)])} | "
+                        f"{1e3 * statistics.median(cpu[(i, 0)]) / n:.1f} |{before}")
+        skipped = []
+        for name, path, n in (cases[0], cases[2]):  # once each: the skipped work is slow
+            scene = load_scene(path)
+            factory = SceneModels.of(scene)
+            speeds = np.linspace(500.0, 12000.0, n) * RPM
+            res = sweep_scene(scene, speeds, si=True, workers=1)
+            c = res.curves[0]
+            pairs = candidates(c, factory(float(speeds[0])).state_scale)
+            t0 = time.process_time()
+            found = [check_pair(c, i, factory, res.settings.rtol) for i in pairs]
+            dt = time.process_time() - t0
+            n_jumps = sum(j is not None for j in found)
+            skipped.append(f"| {name} | {n} | {len(pairs)} of {n - 1} | {dt:.2f} | "
+                           f"{n_jumps} |")
+    load = ", ".join(f"{x:.1f}" for x in os.getloadavg())
+    return "\n".join([
+        "# Linear sweeps: only the work they need",
+        "",
+        f"Command: `python benchmarks/bench_sweep.py --linear --repeats {args.repeats}"
+        f"{' --before DIR' if args.before else ''}"
+        f"{' --record' if args.record else ''}`. CPU time (user + system) of whole processes, "
+        f"median of {args.repeats} interleaved repeats (min..max); one BLAS thread.",
+        "",
+        f"Machine: {platform.machine()}, 2 cores shared with other jobs (load average at the "
+        f"end: {load}), Python {platform.python_version()}.",
+        "",
+        f"`gear-dyn sweep SCENE --speeds \"{span[0]}:{span[1]}:N\" --quiet` of helicopter_tail "
+        "(linear: no backlash) with its `iso6336` stiffness and with `[stiffness] method = "
+        "\"potential_energy\"`. A linear model has one periodic response per speed where it is "
+        "stable, so the sweep continues no orbit to look for jumps (docs/sweep.md, How jumps "
+        "are found).",
+        "",
+        *(["`before`: the same commands, interleaved, on the source tree before linear "
+           "sweeps skipped the jump continuation (`--before DIR`)", ""] if args.before else []),
+        "| stiffness | speeds | command CPU (s) | per speed (ms) |"
+        + (" before (s) | before / now |" if args.before else ""),
+        "|---|---|---|---|" + ("---|---|" if args.before else ""),
+        *rows,
+        "",
+        "The continuation the jump check ran on these sweeps before linear models skipped it "
+        "(`check_pair` on the candidate pairs of the up sweep, in-process CPU, one run): "
+        "what the skip saves; a linear model has no jump, so every jump it reported was false.",
+        "",
+        "| stiffness | speeds | pairs continued | CPU (s) | jumps reported |",
+        "|---|---|---|---|---|",
+        *skipped, ""])
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=5)
@@ -434,10 +523,21 @@ def main() -> None:
     ap.add_argument("--speeds", type=int, default=500, help="speeds of --methods")
     ap.add_argument("--jumps", action="store_true",
                     help="instead: the cost of the jumps from the orbits (sweep_jumps.md)")
+    ap.add_argument("--linear", action="store_true",
+                    help="instead: the cost of linear sweeps, whole commands (sweep_linear.md)")
+    ap.add_argument("--before", type=Path, default=None, metavar="DIR",
+                    help="with --linear: also time the commands on the gear_dyn source tree "
+                    "DIR (e.g. a checkout of an older commit), interleaved")
     args = ap.parse_args()
     ENV.update(as_installed(ROOT / "gear_dyn"))
     out_dir = ROOT / "benchmarks" / "results" if args.record else args.out
     out_dir.mkdir(parents=True, exist_ok=True)
+    if args.linear:
+        text = linear_table(args)
+        print(text)
+        (out_dir / "sweep_linear.md").write_text(text)
+        print(f"wrote {out_dir / 'sweep_linear.md'}")
+        return
     if args.jumps:
         text = jumps_table(args)
         print(text)

@@ -444,7 +444,13 @@ class GearPair:
 
 def mesh_frequency(pair: GearPair, speed1: float) -> float:
     """Mesh frequency f_m = z1 n1 / 60 in Hz for pinion speed ``speed1`` in rad/s."""
-    return pair.z1 * speed1 / (2 * math.pi)
+    return teeth_mesh_frequency(pair.z1, speed1)
+
+
+def teeth_mesh_frequency(z1: int, speed1: float) -> float:
+    """Mesh frequency f_m = z1 w1 / (2 pi) in Hz of a pinion of ``z1`` teeth at ``speed1``
+    rad/s (the one home of the formula: :func:`mesh_frequency` of a pair uses it)."""
+    return z1 * speed1 / (2 * math.pi)
 
 
 def output_speed(pair: GearPair, speed1: float) -> float:

@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.errors import InputError, check_range
+from gear_dyn.errors import InputError, SolverError, check_range
 
 #: ``map(fn, tasks)``: the builtin or an executor's
 MapFn = Callable[[Callable[[Any], Any], Iterable[Any]], Iterator[Any]]
@@ -70,6 +70,9 @@ def task_map(workers: int | None = None, executor: cf.Executor | None = None
     ------
     InputError
         As :func:`check_workers`.
+    SolverError
+        A process of the pool ended before returning its task (``BrokenProcessPool``): the
+        message names the usual cause, a script without a ``__main__`` guard.
 
     Notes
     -----
@@ -89,6 +92,16 @@ def task_map(workers: int | None = None, executor: cf.Executor | None = None
                                   initializer=_leave_ctrl_c_to_the_caller)
     try:
         yield pool.map, f"process pool, {workers} workers"
+    except cf.process.BrokenProcessPool as exc:
+        for process in set(multiprocessing.active_children()) - before:
+            process.terminate()
+        raise SolverError(
+            f"workers = {workers}: a process of the pool ended before returning its task "
+            f"({exc}). The pool's processes start with 'spawn' and import the calling script "
+            "again: a script that passes workers >= 2 must guard its top level with "
+            "'if __name__ == \"__main__\":' (the processes' own traceback above says so when "
+            "that is the cause); else a process was killed (out of memory?). workers = None "
+            "runs in the calling process") from exc
     except BaseException:
         for process in set(multiprocessing.active_children()) - before:
             process.terminate()

@@ -35,6 +35,7 @@ from gear_dyn.analysis.dynamic_factor import (
     quasi_static_reference,
 )
 from gear_dyn.analysis.stability import shoot
+from gear_dyn.analysis.threads import blas_limited
 from gear_dyn.errors import GearDynError
 from gear_dyn.models.base import MeshModel, Model
 from gear_dyn.solvers import Result, SolverSettings, simulate_bare
@@ -148,6 +149,7 @@ def orbit_check(model: Model, result: Result) -> dict[str, Any]:
                          f"({'stable' if stable else 'unstable'})"}
 
 
+@blas_limited
 def simulate(
     model: Model,
     t_end: float,

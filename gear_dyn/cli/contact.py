@@ -11,7 +11,8 @@ import argparse
 from typing import Any
 
 from gear_dyn.choices import PAIR_STIFFNESS_METHODS, RELIEF_CURVES
-from gear_dyn.cli.run import add_scene_and_out
+from gear_dyn.cli.progress import Stages, add_quiet_flag
+from gear_dyn.cli.run import add_budget_flag, add_scene_and_out
 from gear_dyn.errors import InputError
 
 
@@ -31,6 +32,8 @@ def register(sub: Any) -> None:
                    "tip_relief.pair_stiffness, else potential_energy)")
     p.add_argument("--dynamics", action="store_true",
                    help="also run the single-DOF model of every case (slower)")
+    add_budget_flag(p)
+    add_quiet_flag(p)
     p.set_defaults(func=run)
 
 
@@ -62,12 +65,13 @@ def compute(scene: Any, curve: str | None = None, pair_method: str | None = None
             "fn": fn, "torque": torque}
 
 
-def _dynamics(scene: Any, res: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
+def _dynamics(scene: Any, res: dict[str, Any], stage: Any = None,
+              max_nfev: int | None = None) -> tuple[dict[str, Any], dict[str, Any]]:
     """Single-DOF run of every case with the scene's damping, inertias and [solver] settings."""
     from gear_dyn.analysis.study import simulate
     from gear_dyn.models.relief import relief_sdof
     from gear_dyn.scene.build import scene_inertias
-    from gear_dyn.solvers import SolverSettings
+    from gear_dyn.solvers import MAX_NFEV, SolverSettings
 
     pair = res["pair"]
     op = scene.get("operating")
@@ -75,14 +79,17 @@ def _dynamics(scene: Any, res: dict[str, Any]) -> tuple[dict[str, Any], dict[str
     method = sv["method"] if sv["method"] not in ("auto", "exact") else "DOP853"
     try:
         settings = SolverSettings(method=method, rtol=sv["rtol"], atol=sv["atol"],
-                                  samples_per_period=sv["samples_per_period"])
+                                  samples_per_period=sv["samples_per_period"],
+                                  max_nfev=MAX_NFEV if max_nfev is None else max_nfev)
     except InputError as exc:
         raise InputError(f"{scene.source}: {exc}") from None
     periods = sv["periods"]
     steady = sv["steady_periods"] or periods // 2
     dyn: dict[str, Any] = {}
     results: dict[str, Any] = {}
-    for name, case in res["cases"].items():
+    for i, (name, case) in enumerate(res["cases"].items()):
+        if stage is not None and i > 0:
+            stage.next()  # one stage per case (the first started on entering)
         model, _ = relief_sdof(pair, op["speed"], op["torque"], case.modification, res["fn"],
                                scene.get("damping")["ratio"], scene_inertias(scene))
         fm = model.mesh_frequency
@@ -102,8 +109,11 @@ def run(args: argparse.Namespace) -> int:
     from gear_dyn.plots.contact import plot_load_sharing, plot_loaded_stiffness
     from gear_dyn.scene import load_scene
 
-    scene = load_scene(args.scene)
-    res = compute(scene, args.curve, args.pair_stiffness)
+    names = ["load scene", "loaded contact"]
+    with Stages(names, args.quiet) as st:  # the dynamics get their own stages below
+        scene = load_scene(args.scene)
+        st.next()
+        res = compute(scene, args.curve, args.pair_stiffness)
     cases = res["cases"]
     pair = res["pair"]
     report: dict[str, Any] = {
@@ -114,7 +124,11 @@ def run(args: argparse.Namespace) -> int:
         "positions": "m from T1 along the line of action (*_from_a_m: from the start of contact)",
         "cases": [c.row() for c in cases.values()],
     }
-    dyn, results = _dynamics(scene, res) if args.dynamics else ({}, {})
+    dyn: dict[str, Any] = {}
+    results: dict[str, Any] = {}
+    if args.dynamics:
+        with Stages([f"dynamics: {name}" for name in cases], args.quiet) as st:
+            dyn, results = _dynamics(scene, res, st, args.max_nfev)
     cols: dict[str, Any] = {}
     for name, c in cases.items():
         key = name.replace(" ", "_")

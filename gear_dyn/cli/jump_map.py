@@ -2,7 +2,8 @@
 
 The ``--torques`` part of the response command (:mod:`gear_dyn.cli.response`): folds of the
 scene's periodic orbits followed over torque by :func:`gear_dyn.analysis.continuation.
-fold_map`; writes ``jump_map.png`` and ``fold_curve.csv`` into the staged output folder.
+fold_map`; writes ``jump_map.png``, ``fold_curve.csv`` and ``fold_map.json`` into the staged
+output folder.
 """
 
 from __future__ import annotations
@@ -12,7 +13,6 @@ from typing import Any
 
 import numpy as np
 
-from gear_dyn.analysis.sweep import RPM
 from gear_dyn.errors import InputError
 
 
@@ -44,20 +44,20 @@ def parse_torques(text: str) -> list[float]:
 
 def write_jump_map(scene: Any, speeds: tuple[float, float], torques: list[float],
                    settings: Any, out: Path) -> Any:
-    """Compute the fold map of ``scene`` and write ``jump_map.png`` and ``fold_curve.csv``
-    into ``out``; returns the FoldMap."""
+    """Compute the fold map of ``scene`` and write ``jump_map.png``, ``fold_curve.csv`` and
+    ``fold_map.json`` into ``out``; returns the FoldMap."""
     from gear_dyn.analysis.continuation import SpeedTorqueFamily, fold_map
-    from gear_dyn.io import save_figure, write_rows
+    from gear_dyn.io import save_figure, write_json, write_rows
     from gear_dyn.plots.fold_map import plot_fold_map
     from gear_dyn.scene.sweep import SceneModels
 
-    t_ref = float(scene.get("operating")["torque"])
-    if not t_ref > 0:
+    models = SceneModels.of(scene)
+    if not models.torque > 0:
         raise InputError(f"{scene.name}: operating.torque = 0 N*m: the jump map scales the "
                          "static load with torque and needs a scene torque > 0")
-    family = SpeedTorqueFamily(SceneModels.of(scene), t_ref)
-    fm = fold_map(family, speeds, torques, settings=settings, reference_torque=t_ref)
+    family = SpeedTorqueFamily(models)  # the scene's torque, from the scene
+    fm = fold_map(family, speeds, torques, settings=settings, reference_torque=family.reference)
     save_figure(plot_fold_map(fm), out / "jump_map.png", dpi=120)
-    rows = [{**r, "speed_rpm": r["speed_rad_s"] / RPM} for r in fm.rows()]
-    write_rows(out / "fold_curve.csv", rows, empty=["region"])
+    write_rows(out / "fold_curve.csv", fm.rows(), empty=["region"])
+    write_json(out / "fold_map.json", {"scene": scene.name, **fm.to_dict()})
     return fm

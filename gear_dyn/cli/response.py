@@ -40,7 +40,8 @@ def register(sub: Any) -> None:
                    "period-2 branches; 0: none)")
     p.add_argument("--torques", metavar="LO:HI:N", default=None,
                    help="also the jump map: folds followed over N pinion torques LO..HI with "
-                   "units, e.g. '100 N*m:600 N*m:11' (writes jump_map.png and fold_curve.csv)")
+                   "units, e.g. '100 N*m:600 N*m:11' (writes jump_map.png, fold_curve.csv "
+                   "and fold_map.json)")
     p.add_argument("--max-points", type=int, default=2000, help="points per branch (default "
                    "2000)")
     p.add_argument("--sweep", type=int, default=0, metavar="N",

@@ -16,6 +16,14 @@ def add_solver_flags(p: argparse.ArgumentParser) -> None:
     p.add_argument("--rtol", type=float, help="override [solver] rtol")
     p.add_argument("--atol", type=float, help="override [solver] atol")
     p.add_argument("--periods", type=int, help="override [solver] periods (mesh periods)")
+    add_budget_flag(p)
+
+
+def add_budget_flag(p: argparse.ArgumentParser) -> None:
+    """``--max-nfev N``: the work budget of a solve_ivp run (SolverSettings.max_nfev)."""
+    p.add_argument("--max-nfev", type=int, default=None, metavar="N",
+                   help="work budget of a solve_ivp run: right-hand-side evaluations "
+                   "(default 5000000); a run that needs more stops with an error naming it")
 
 
 def add_scene_and_out(p: argparse.ArgumentParser) -> None:
@@ -48,7 +56,7 @@ def overrides(args: argparse.Namespace) -> dict[str, Any]:
     """Solver overrides from the flags a command has, validated."""
     if args.periods is not None and args.periods < 2:
         raise InputError(f"--periods = {args.periods}: valid range >= 2 mesh periods")
-    return {k: v for k in ("method", "rtol", "atol", "periods")
+    return {k: v for k in ("method", "rtol", "atol", "periods", "max_nfev")
             if (v := getattr(args, k, None)) is not None}
 
 

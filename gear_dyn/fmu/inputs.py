@@ -7,12 +7,11 @@ plain numbers that an FMU state can store.
 
 from __future__ import annotations
 
-import math
 from dataclasses import fields, is_dataclass
 from typing import Any
 
 from gear_dyn.errors import InputError
-from gear_dyn.geometry import GearPair
+from gear_dyn.geometry import GearPair, mesh_frequency
 
 
 def input_changes(model: Any, pair: GearPair, speed: float, torque: float,
@@ -29,7 +28,7 @@ def input_changes(model: Any, pair: GearPair, speed: float, torque: float,
         The model has no known way to take the inputs.
     """
     if model.mesh_periodic:  # the single-DOF mesh model: only f_m, W and the phase change
-        f_m = pair.z1 * speed / (2 * math.pi)
+        f_m = mesh_frequency(pair, speed)
         phase_now = model.mesh_frequency * t + model.phase0
         return {"static_load": torque / pair.rb1, "mesh_frequency": f_m,
                 "phase0": phase_now - f_m * t}

@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 
 from gear_dyn.errors import InputError, check_range
 from gear_dyn.excitation import HarmonicSignal, SampledSignal, SumSignal
-from gear_dyn.geometry import GearPair
+from gear_dyn.geometry import GearPair, mesh_frequency
 from gear_dyn.stiffness.periodic import FourierStiffness, PeriodicStiffness
 
 FloatArray = NDArray[np.float64]
@@ -347,7 +347,7 @@ def sdof_from_pair(
         stiffness=stiffness,
         damping_ratio=damping_ratio,
         static_load=torque / pair.rb1,
-        mesh_frequency=pair.z1 * speed / (2 * math.pi),
+        mesh_frequency=mesh_frequency(pair, speed),
         backlash=backlash,
         transmission_error=transmission_error,
     )

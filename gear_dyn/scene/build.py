@@ -17,7 +17,7 @@ from gear_dyn.geometry import GearPair
 from gear_dyn.models.base import Model
 from gear_dyn.models.sdof import sdof_from_pair
 from gear_dyn.scene.deviations import scene_deviations
-from gear_dyn.scene.registry import MODEL_BUILDERS, register_model
+from gear_dyn.scene.registry import MODEL_BUILDERS
 from gear_dyn.scene.validated import Scene, scene_error
 from gear_dyn.solvers import SolverSettings
 from gear_dyn.stiffness.periodic import PeriodicStiffness
@@ -157,7 +157,10 @@ def _harmonics(scene: Scene) -> HarmonicSignal | None:
 
 
 def build_sdof(scene: Scene) -> Model:
-    """Single-DOF model of the scene (backlash and transmission error only when present)."""
+    """Single-DOF model of the scene (backlash and transmission error only when present),
+    without tip relief: the ``sdof`` kind's builder
+    (:func:`gear_dyn.scene.modification.build_relief_sdof`) calls it for a scene without
+    ``[tip_relief]``."""
     pair = build_pair(scene)
     op = scene.get("operating")
     k = scene_stiffness(scene, pair)
@@ -170,9 +173,6 @@ def build_sdof(scene: Scene) -> Model:
         )
     except InputError as exc:
         raise scene_error(scene.source, exc) from None
-
-
-register_model("sdof", build_sdof)
 
 
 def build_model(scene: Scene) -> Model:
@@ -208,6 +208,7 @@ def build_plan(scene: Scene, **overrides: Any) -> RunPlan:
         settings = SolverSettings(
             method=sv["method"], rtol=sv["rtol"], atol=sv["atol"],
             samples_per_period=sv["samples_per_period"],
+            **({"max_nfev": sv["max_nfev"]} if sv.get("max_nfev") is not None else {}),
         )
     except InputError as exc:
         raise scene_error(scene.source, exc) from None

@@ -190,5 +190,6 @@ def build_relief_sdof(scene: Scene) -> Model:
     return model
 
 
-# other model kinds refuse [tip_relief] at load time (the table declares models=("sdof",))
+# the one builder of the sdof kind (with or without [tip_relief]); other model kinds refuse
+# [tip_relief] at load time (the table declares models=("sdof",))
 register_model("sdof", build_relief_sdof)

@@ -29,5 +29,18 @@ def register_section(section: Section) -> Section:
 
 
 def register_model(name: str, builder: Callable[[Any], Any]) -> None:
-    """Register ``builder(scene) -> Model`` for ``[scene] model = name``."""
+    """Register ``builder(scene) -> Model`` for ``[scene] model = name``: once per name (the
+    packaged kinds: ``sdof`` in :mod:`gear_dyn.scene.modification`, which covers the scenes
+    with and without ``[tip_relief]``, and ``torsional`` in :mod:`gear_dyn.scene.eccentricity`),
+    so no builder silently replaces another by import order.
+
+    Raises
+    ------
+    InputError
+        ``name`` already has another builder.
+    """
+    old = MODEL_BUILDERS.get(name)
+    if old is not None and old is not builder:
+        raise InputError(f"scene model {name!r} registered twice (by {old.__module__} and "
+                         f"{builder.__module__}): one builder per model kind")
     MODEL_BUILDERS[name] = builder

@@ -21,7 +21,7 @@ from gear_dyn.solvers import Result
 
 #: the ``[solver]`` values a run may override (as the CLI's flags do)
 RUN_SOLVER_OVERRIDES = ("method", "rtol", "atol", "periods", "steady_periods",
-                        "samples_per_period")
+                        "samples_per_period", "max_nfev")
 #: every keyword of :func:`run_scene`
 RUN_KEYWORDS = ("speed", "torque", "si", *RUN_SOLVER_OVERRIDES)
 
@@ -47,7 +47,8 @@ def run_scene(scene: Scene, speed: Any = None, torque: Any = None, *, si: bool =
         Plain numbers for ``speed`` and ``torque`` are SI values (rad/s, N m).
     **solver
         ``[solver]`` overrides: ``method``, ``rtol``, ``atol``, ``periods``, ``steady_periods``,
-        ``samples_per_period`` (None keeps the scene's value).
+        ``samples_per_period`` (None keeps the scene's value), and ``max_nfev`` (the work
+        budget of a solve_ivp run, :class:`~gear_dyn.solvers.SolverSettings`).
 
     Returns
     -------

@@ -28,7 +28,8 @@ from gear_dyn.scene.validated import Scene
 
 FloatArray = NDArray[np.float64]
 #: the ``[solver]`` values a sweep may override
-SOLVER_OVERRIDES = ("method", "rtol", "atol", "samples_per_period", "periods", "steady_periods")
+SOLVER_OVERRIDES = ("method", "rtol", "atol", "samples_per_period", "periods", "steady_periods",
+                    "max_nfev")
 
 
 @lru_cache(maxsize=4)
@@ -57,6 +58,13 @@ class SceneModels:
         ov = {k: v for k, v in overrides.items() if v is not None}
         return cls(scene.source, json.dumps(scene.tables, sort_keys=True),
                    json.dumps(ov, sort_keys=True))
+
+    @property
+    def torque(self) -> float:
+        """The scene's pinion torque (``operating.torque``, N m): the torque of every model
+        made here (:class:`gear_dyn.analysis.continuation.SpeedTorqueFamily` reads it)."""
+        scene = _base(self.source, self.tables_json, self.overrides_json)[0]
+        return float(scene.get("operating")["torque"])
 
     @property
     def plan(self) -> RunPlan:

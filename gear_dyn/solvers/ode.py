@@ -81,7 +81,7 @@ def integrate_ode(
                                             settings.method, settings.rtol, atol, max_step, extra)
         for key in counts:
             counts[key] += st.get(key, 0)
-        _check_nfev(counts["nfev"], settings.method, tb)
+        _check_nfev(counts["nfev"], settings.method, tb, settings.max_nfev)
         out[:, i0:i1] = ys[:, : i1 - i0]
     stats: dict[str, Any] = {"nfev": counts["nfev"], "njev": counts["njev"],
                              "nlu": counts["nlu"], "n_segments": int(cuts.size - 1)}
@@ -123,13 +123,14 @@ def check_work(model: Model, t0: float, t1: float, y0: FloatArray) -> None:
         )
 
 
-def _check_nfev(nfev: int, method: str, t: float) -> None:
-    if nfev > limits.MAX_NFEV:
+def _check_nfev(nfev: int, method: str, t: float, limit: int = limits.MAX_NFEV) -> None:
+    if nfev > limit:
         others = ", ".join(m for m in IMPLICIT if m != method)
         advice = (f"an implicit method ({others})" if method not in IMPLICIT
                   else f"another implicit method ({others})")
         raise SolverError(
             f"solve_ivp ({method}) gave up at t = {t:.6g} s after {nfev} right-hand-side "
-            f"evaluations (limit {limits.MAX_NFEV}): the problem is stiff or the tolerance too "
-            f"tight; try {advice}, a looser rtol, or fewer solver.periods"
+            f"evaluations (limit {limit}): the problem is stiff or the tolerance too "
+            f"tight; try {advice}, a looser rtol, or fewer solver.periods, or raise the budget "
+            "(--max-nfev N on the command line, SolverSettings(max_nfev=N) in Python)"
         )

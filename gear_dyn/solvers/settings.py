@@ -52,6 +52,9 @@ class SolverSettings:
         Attach an error estimate to the result (``extra["estimated_error"]``, see
         :mod:`gear_dyn.analysis.accuracy`); for solve_ivp methods it costs a second, tighter run
         over the whole span. Default True.
+    max_nfev : int
+        Work budget of one solve_ivp run: right-hand-side evaluations (checked between pieces;
+        1000..1e12, default :data:`MAX_NFEV`); the CLI's ``--max-nfev`` sets it.
     """
 
     method: str = "auto"
@@ -60,6 +63,7 @@ class SolverSettings:
     samples_per_period: int = 64
     max_step: float = math.inf
     estimate_error: bool = True
+    max_nfev: int = MAX_NFEV
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -78,3 +82,4 @@ class SolverSettings:
         check_range("solver.samples_per_period", self.samples_per_period, "", low=4, high=4096)
         if not (isinstance(self.max_step, int | float) and self.max_step > 0):
             raise InputError(f"solver.max_step = {self.max_step!r} s: valid range > 0 s")
+        check_range("solver.max_nfev (--max-nfev)", self.max_nfev, "", low=1000, high=1e12)

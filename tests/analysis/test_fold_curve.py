@@ -71,7 +71,7 @@ def test_at_the_reference_torque_the_fold_curves_are_the_speed_branch_folds(fmap
     every fold is located by the same bracketing."""
     pairs = fold_pairs(branch)
     assert len(pairs) == 2 == len(fmap.regions)
-    for region, (lo, hi, _el, _eh) in zip(fmap.regions, pairs, strict=True):
+    for region, (lo, hi, *_rest) in zip(fmap.regions, pairs, strict=True):
         assert region.torque[0] == T0
         assert region.low[0] == pytest.approx(lo, rel=1e-8)
         assert region.high[0] == pytest.approx(hi, rel=1e-8)
@@ -193,3 +193,51 @@ def test_bad_input_is_refused_naming_the_field() -> None:
         SpeedTorqueFamily(sdof_family(oscillator(), "speed", teeth=TEETH), 0.0)
     assert _family()(WINDOW[0], 2 * T0).static_load == pytest.approx(2080.0, rel=1e-15)
     assert _ratio(WINDOW[1]) == pytest.approx(1.0)
+
+
+@pytest.mark.slow
+def test_rows_and_json_name_both_speed_units_the_frequency_ratio_and_the_tolerance(fmap, branch
+                                                                                   ) -> None:
+    """fold_curve rows: speed in rad/s and rpm, f_m / f_n from the oscillator's own f_n
+    (f_m = z1 omega / 2 pi), the stability either side of each fold and the locate tolerance;
+    a cusp states its torque error and the folds' half gap, but no speed error (the half gap
+    is not a bound). branch.json rows the same units."""
+    rows = fmap.rows()
+    fn = WN / (2 * math.pi)
+    assert fmap.natural_frequency == pytest.approx(fn, rel=1e-12)
+    for r in rows:
+        assert r["speed_rpm"] == pytest.approx(r["speed_rad_s"] * 60 / (2 * math.pi), rel=1e-15)
+        assert r["frequency_ratio"] == pytest.approx(_ratio(r["speed_rad_s"]), rel=1e-12)
+        assert r["locate_tol"] == SETTINGS.locate_tol
+    folds = [r for r in rows if r["kind"] != "cusp"]
+    assert {r["stability"] for r in folds} == {"stable->unstable", "unstable->stable"}
+    (cusp,) = [r for r in rows if r["kind"] == "cusp"]
+    assert math.isnan(cusp["speed_error_rad_s"]) and cusp["fold_half_gap_rad_s"] > 0
+    assert fmap.to_dict()["cusps"][0]["half_gap"] == cusp["fold_half_gap_rad_s"]
+    data = branch.to_dict()
+    assert data["natural_frequency_hz"] == pytest.approx(fn, rel=1e-12)
+    for b in data["branches"][0]["bifurcations"]:
+        assert b["speed_rad_s"] == b["parameter"]
+        assert b["speed_rpm"] == pytest.approx(b["parameter"] * 60 / (2 * math.pi), rel=1e-15)
+        assert b["frequency_ratio"] == pytest.approx(_ratio(b["parameter"]), rel=1e-12)
+
+
+def test_the_scene_family_takes_its_torque_from_the_scene() -> None:
+    """A scene's speed family knows its torque (operating.torque = 368.6 N m): the torque
+    family reads it, refuses a contradicting torque_ref (which would scale every load by the
+    wrong factor) and doubles the load at twice the torque; a family that does not know its
+    torque needs torque_ref."""
+    from gear_dyn.scene import load_scene
+    from gear_dyn.scene.sweep import SceneModels
+
+    models = SceneModels.of(load_scene("helicopter_tail_backlash"))
+    fam = SpeedTorqueFamily(models)
+    assert fam.reference == models.torque == 368.6
+    w = 5000 * 2 * math.pi / 60
+    assert fam(w, 2 * 368.6).static_load == pytest.approx(2 * models(w).static_load,
+                                                          rel=1e-15)
+    assert SpeedTorqueFamily(models, 368.6).reference == 368.6
+    with pytest.raises(InputError, match=r"torque_ref = 1474.4 N\*m: .* at 368.6 N\*m"):
+        SpeedTorqueFamily(models, 1474.4)
+    with pytest.raises(InputError, match="give torque_ref"):
+        SpeedTorqueFamily(sdof_family(oscillator(), "speed", teeth=TEETH))

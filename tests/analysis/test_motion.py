@@ -17,15 +17,18 @@ from motion_cases import model_of, parametric_scene, te_scene
 
 from gear_dyn.analysis.motion import (
     classify_motion,
+    classify_samples,
     detect_period,
     flow_periods,
     largest_lyapunov,
     repeat_errors,
     stroboscopic,
 )
-from gear_dyn.analysis.stability import flow_on_grid, one_period_map
+from gear_dyn.analysis.motion.classify import SIGMAS, TRY_TOL
+from gear_dyn.analysis.stability import flow_on_grid, one_period_map, shoot
 from gear_dyn.errors import InputError
 from gear_dyn.scene import build_model
+from gear_dyn.scene.sweep import model_at_speed
 
 
 def _liouville(model, periods: int) -> float:
@@ -172,3 +175,24 @@ def test_lyapunov_kind_bounds(value: float, error: float, kind: str) -> None:
 
     est = LyapunovEstimate(value, error, np.zeros(2), 100, 1e-4, "exact", np.zeros(2))
     assert lyapunov_kind(est) == kind
+
+
+def test_chaos_just_past_the_doubling_cascade_is_chaotic_not_unsettled() -> None:
+    """The constant-stiffness scene at 11843 rpm (f_m / f_n = 1.5742), on the attractor met
+    sweeping down from the period-8 orbit at 11850 rpm through the period-16 one: chaos in
+    narrow bands around the unstable period-16 orbit. Its samples nearly repeat after 16 mesh
+    periods (so it was labelled ``not settled``) but no orbit of <= 16 periods is stable, and
+    the exponent of the longer estimate is positive by more than three standard errors."""
+    model = model_at_speed(te_scene(), 11843.0 * 2 * math.pi / 60)
+    y = np.array([-1.6739420822944237e-06, -0.1713605434627])  # on the attractor
+    scale = np.asarray(model.state_scale)
+    samples = stroboscopic(model, y, 0, 64, 1e-10)
+    assert repeat_errors(samples, scale)[15] <= TRY_TOL  # nearly repeating after 16
+    motion = classify_samples(model, samples, 1e-10, 200, 20)
+    assert motion.kind == "chaotic", motion.label
+    est = motion.lyapunov
+    assert est is not None and est.value > SIGMAS * est.error
+    assert motion.label.startswith("chaotic, lambda = ")
+    # no stable orbit of 16 periods next to it (the one Newton finds is unstable)
+    sol = shoot(model, samples[-1], 1e-10, 15, periods=16)
+    assert not sol.converged or sol.spectral_radius > 1.0

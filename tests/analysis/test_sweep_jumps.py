@@ -11,14 +11,22 @@ test is kept and labelled.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from gear_dyn import FourierStiffness, SDOFModel
 from gear_dyn.analysis.continuation import ContinuationSettings, continue_orbits, sdof_family
+from gear_dyn.analysis.continuation.orbit import map_only
 from gear_dyn.analysis.sweep import RPM, SweepOptions, jumps, sweep
-from gear_dyn.analysis.sweep.orbit_jumps import FALLBACK_REL, candidates, spell_counts
+from gear_dyn.analysis.sweep.orbit_jumps import (
+    FALLBACK_REL,
+    SAME_ORBIT,
+    candidates,
+    check_pair,
+    spell_counts,
+)
 from gear_dyn.excitation import HarmonicSignal
 from gear_dyn.scene import load_scene
 from gear_dyn.scene.sweep import SceneModels, sweep_scene
@@ -92,16 +100,24 @@ def test_the_same_jumps_on_a_grid_twice_as_fine(backlash) -> None:
     assert spell_counts(missed_down["pattern_after"]) == (2, 1)  # DGBGD: onto the back flank
 
 
-def test_linear_scene_has_no_jump_where_rms_changes_by_more_than_30_percent() -> None:
+def test_linear_scene_has_no_jump_where_rms_changes_by_more_than_30_percent(monkeypatch
+                                                                           ) -> None:
     """The linear helicopter tail pair across its resonance on a coarse grid: its RMS DTE
-    changes by more than 30 % between neighbouring speeds, the screen sends those pairs to the
-    continuation check, and every orbit continues to the next speed's (a linear model has one
-    periodic orbit per speed)."""
+    changes by more than 30 % between neighbouring speeds and the screen would send those pairs
+    to the continuation check; a linear model has one periodic orbit per speed, so the sweep
+    continues none of them and reports no jump."""
+    import gear_dyn.analysis.sweep.orbit_jumps as oj
+
     scene = load_scene("helicopter_tail")
+    factory = SceneModels.of(scene)
+    continued: list[int] = []
+    real = oj.check_pair
+    monkeypatch.setattr(oj, "check_pair", lambda c, i, *a: continued.append(i) or real(c, i, *a))
     res = sweep_scene(scene, np.arange(6000.0, 9201.0, 400.0) * RPM, si=True, workers=1)
     c = res.curves[0]
     assert len(_old_rms_jumps(c)) >= 3
-    assert candidates(c, SceneModels.of(scene)(c.speed[0]).state_scale)
+    pairs = candidates(c, factory(c.speed[0]).state_scale)
+    assert pairs and continued == []
     assert jumps(c) == []
 
 
@@ -153,3 +169,32 @@ def test_constant_stiffness_jumps_bracket_the_folds_found_by_continuation() -> N
     for j in up + down:
         assert _brackets(j, folds, step)
     assert up[0]["fold_rpm"] > down[0]["fold_rpm"]  # softening: jump up above jump down
+
+
+def test_a_period_2_orbit_met_at_its_other_phase_is_no_jump() -> None:
+    """The constant-stiffness backlash scene at f_m / f_n = 1.24 and 1.26: a period-2 orbit at
+    both. Where the sweep meets the orbit at 1.26 at its other phase (the state one mesh
+    period on), the continued orbit from 1.24 arrives at the first phase: the same orbit,
+    compared modulo its phase, so no jump (before, a false ``branch``)."""
+    scene = load_scene("backlash_constant_stiffness")
+    factory = SceneModels.of(scene)
+    fn = factory(6500 * RPM).natural_frequency
+    speeds = np.array([1.24, 1.26]) * fn * 2 * math.pi / 23
+    res = sweep_scene(scene, speeds, si=True, workers=1, direction="up")
+    c = res.curve("up")
+    assert list(c.orbit_periods) == [2, 2]
+    assert check_pair(c, 0, factory, res.settings.rtol) is None
+    model = factory(float(speeds[1]))
+    other = map_only(model, c.state[1], 1, "exact", res.settings.rtol)
+    scale = np.asarray(model.state_scale)
+    assert np.max(np.abs(other - c.state[1]) / scale) > 100 * SAME_ORBIT  # another state
+    # ... of the same orbit: two mesh periods bring it back (the sweep closes its orbits to
+    # 100 rtol of the state scale)
+    back = map_only(model, other, 1, "exact", res.settings.rtol)
+    assert np.max(np.abs(back - c.state[1]) / scale) <= 100 * res.settings.rtol
+    shifted = replace(c, state=np.vstack([c.state[0], other]))
+    assert check_pair(shifted, 0, factory, res.settings.rtol) is None
+    # a state off the orbit is still told apart: a jump
+    off = replace(c, state=np.vstack([c.state[0], c.state[1] + 0.1 * scale]))
+    j = check_pair(off, 0, factory, res.settings.rtol)
+    assert j is not None and j.kind in ("branch", "contact_pattern")

@@ -33,7 +33,15 @@ def test_jump_map_at_the_scene_torque_has_the_response_folds(tmp_path: Path) -> 
     assert len(at_ref) == len(folds) >= 2
     for a, b in zip(at_ref, folds, strict=True):
         assert a == pytest.approx(b, rel=1e-8)
-    assert {"speed_rpm", "speed_error_rad_s", "region", "kind"} <= set(rows[0])
+    assert {"speed_rpm", "speed_error_rad_s", "region", "kind", "frequency_ratio",
+            "stability", "locate_tol"} <= set(rows[0])
+    # the fold map as JSON, and branch.json with f_n and each fold in rad/s and rpm
+    fmap = json.loads((out / "fold_map.json").read_text())
+    assert fmap["scene"] == "helicopter_tail_backlash" and fmap["reference_torque_n_m"] == 368.6
+    assert len(fmap["rows"]) == len(rows)
+    assert data["natural_frequency_hz"] == pytest.approx(fmap["natural_frequency_hz"])
+    for b in data["branches"][0]["bifurcations"]:
+        assert b["speed_rpm"] == pytest.approx(b["speed_rad_s"] / RPM, rel=1e-15)
 
 
 @pytest.mark.parametrize(("torques", "match"), [

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from gear_dyn.cli.app import build_parser
-from gear_dyn.cli.progress import Stages, counter
+from gear_dyn.cli.progress import Stages, _lines, counter
 
 SCENE = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "helicopter_tail.toml"
 # every command that can run longer than ~2 s, with its required arguments
@@ -25,6 +25,9 @@ LONG = {
     "relief": ["relief", "s.toml"],
     "fmu build": ["fmu", "build", "s.toml", "--out", "f.fmu"],
     "fmu check": ["fmu", "check", "f.fmu"],
+    "contact": ["contact", "s.toml", "--out", "o", "--dynamics"],
+    "bifurcation": ["bifurcation", "s.toml", "--speeds", "1 rpm:2 rpm:2", "--out", "o"],
+    "response": ["response", "s.toml", "--speeds", "1 rpm:2 rpm", "--out", "o"],
 }
 
 
@@ -113,3 +116,28 @@ def test_bar_in_a_pseudo_terminal() -> None:
         out += chunk
     os.waitpid(pid, 0)
     assert b"/2 stages" in out and b"\r" in out
+
+
+def test_a_line_from_the_first_second_off_a_terminal() -> None:
+    """Off a terminal the first line comes when the work has run ``after`` seconds, before any
+    10 % step is reached (the first block of a sweep can take far longer); then per step. The
+    stages say which one is under way. (``after`` is 1 s in the commands.)"""
+    import time
+
+    plain = io.StringIO()
+    show = _lines("speed", plain, after=0.05)
+    show(0, 10)
+    time.sleep(0.4)
+    assert plain.getvalue().startswith("gear-dyn: 0% (0/10 speeds, ")
+    show(10, 10)
+    assert plain.getvalue().splitlines()[-1].startswith("gear-dyn: 100% (10/10 speeds")
+    plain = io.StringIO()
+    with Stages(["load", "solve"], stream=plain, after=0.05) as st:
+        time.sleep(0.4)
+        assert plain.getvalue().startswith("gear-dyn: stage 1/2, load (")
+        st.next()
+        assert plain.getvalue().splitlines()[-1].startswith("gear-dyn: stage 2/2, solve (")
+    quiet = io.StringIO()
+    with Stages(["load"], quiet=True, stream=quiet, after=0.0):
+        time.sleep(0.1)
+    assert quiet.getvalue() == ""

@@ -33,6 +33,7 @@ from gear_dyn.analysis.continuation.settings import ContinuationSettings
 from gear_dyn.analysis.continuation.shooting import Evaluation, Shooting, tangent
 from gear_dyn.analysis.continuation.switch import switch_at_period_doubling
 from gear_dyn.analysis.stability import shoot
+from gear_dyn.analysis.threads import blas_limited
 from gear_dyn.errors import InputError, SolverError, check_range
 from gear_dyn.models.base import MeshModel, Model
 
@@ -44,6 +45,7 @@ SETTLE_PERIODS = 400
 MERGE_TOL = 1e-6
 
 
+@blas_limited
 def continue_orbits(family: Callable[[float], Model], start: float, stop: float, *,
                     periods: int = 1, y_guess: FloatArray | None = None,
                     parameter: str = "speed", route: str = "auto",
@@ -219,8 +221,10 @@ def follow(sh: Shooting, ev0: Evaluation, t0: FloatArray, window: tuple[float, f
                 continue  # a period-2n branch from an earlier doubling already ended here
             children.append(switch_at_period_doubling(sh, b, window, settings, parameter,
                                                        doublings - 1, follow))
+    fn = ev0.model.natural_frequency
     return Branch(parameter, PARAMETERS.get(parameter, ""), tuple(points), tuple(bifs),
-                  tuple(children), sh.route, stop_reason, sh.n_maps)
+                  tuple(children), sh.route, stop_reason, sh.n_maps,
+                  math.nan if fn is None else float(fn))
 
 
 def _ends_at(child: Branch, pd: Bifurcation) -> bool:

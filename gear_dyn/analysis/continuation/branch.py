@@ -11,6 +11,7 @@ importing this module loads no matplotlib, and the analysis layer imports no plo
 from __future__ import annotations
 
 import importlib
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -26,6 +27,8 @@ ComplexArray = NDArray[np.complex128]
 PLOTS_MODULE = "gear_dyn.plots.continuation"
 #: kinds of located points
 KINDS = ("fold", "period_doubling", "branch_point", "grazing")
+#: rpm per rad/s (a pinion speed of 1 rad/s is 60 / (2 pi) rpm)
+RPM_PER_RAD_S = 60 / (2 * math.pi)
 
 
 @dataclass(frozen=True, eq=False)
@@ -182,6 +185,9 @@ class Branch:
         Why the continuation ended (``left the range at ...``, ``max_points``, ...).
     n_maps : int
         n-period maps computed (with or without sensitivity), a cost measure.
+    natural_frequency : float
+        f_n = sqrt(k_m / m_e) / (2 pi) of the model at the branch's start (Hz; NaN where
+        unknown): the rows' ``frequency_ratio`` is f_m / f_n.
     """
 
     parameter_name: str
@@ -192,6 +198,7 @@ class Branch:
     route: str = "exact"
     stop_reason: str = ""
     n_maps: int = 0
+    natural_frequency: float = float("nan")
 
     def __len__(self) -> int:
         return len(self.points)
@@ -228,10 +235,18 @@ class Branch:
 
     def rows(self, recursive: bool = True) -> list[dict[str, Any]]:
         """One row per point (children's after this branch's with ``recursive``), with the
-        branch's index in ``branch``."""
+        branch's index in ``branch``, f_m / f_n in ``frequency_ratio`` and, for a speed
+        branch, the speed in both units (``speed_rad_s``, ``speed_rpm``)."""
         out: list[dict[str, Any]] = []
         for i, b in enumerate(self.walk() if recursive else [self]):
-            out.extend({"branch": i, **p.row()} for p in b.points)
+            out.extend({"branch": i, **p.row(), **self._units(p)} for p in b.points)
+        return out
+
+    def _units(self, point: OrbitPoint) -> dict[str, float]:
+        """f_m / f_n of a point, and its speed in rad/s and rpm on a speed branch."""
+        out = {"frequency_ratio": point.mesh_frequency / self.natural_frequency}
+        if self.parameter_name == "speed":
+            out |= {"speed_rad_s": point.parameter, "speed_rpm": point.parameter * RPM_PER_RAD_S}
         return out
 
     def walk(self) -> list[Branch]:
@@ -242,14 +257,16 @@ class Branch:
         return out
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-able summary: parameter, route, stop reason, located points and all rows."""
+        """JSON-able summary: parameter, f_n, route, stop reason, located points (with
+        f_m / f_n and, on a speed branch, the speed in rad/s and rpm) and all rows."""
         return {
             "parameter": self.parameter_name, "unit": self.unit,
+            "natural_frequency_hz": self.natural_frequency,
             "branches": [
                 {"index": i, "periods": b.periods, "route": b.route,
                  "stop_reason": b.stop_reason, "n_points": len(b.points),
                  "liouville_failures": b.liouville_failures,
-                 "bifurcations": [x.row() for x in b.bifurcations]}
+                 "bifurcations": [{**x.row(), **self._units(x.point)} for x in b.bifurcations]}
                 for i, b in enumerate(self.walk())],
             "points": self.rows(),
         }

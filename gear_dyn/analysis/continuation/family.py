@@ -9,11 +9,11 @@ or backlash.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 from typing import Any
 
 from gear_dyn.errors import InputError, check_range
+from gear_dyn.geometry import teeth_mesh_frequency
 from gear_dyn.models.base import MeshModel
 
 #: parameters :func:`sdof_family` varies, and their SI units
@@ -87,7 +87,7 @@ def sdof_family(model: MeshModel, parameter: str, *, teeth: int | None = None,
         if teeth is None:
             raise InputError("sdof_family(parameter='speed') needs teeth (pinion teeth z1)")
         check_range("teeth", teeth, "", low=1, high=10000)
-        return SDOFFamily(model, parameter, teeth / (2 * math.pi))
+        return SDOFFamily(model, parameter, teeth_mesh_frequency(teeth, 1.0))
     if parameter == "torque":
         if base_radius is None:
             raise InputError("sdof_family(parameter='torque') needs base_radius (m)")

@@ -12,6 +12,7 @@ docs/response.md ("Jump map", **How.**) says why this and not the augmented fold
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, fields, is_dataclass, replace
 from functools import partial
@@ -23,34 +24,61 @@ from gear_dyn.analysis.continuation.arclength import continue_orbits
 from gear_dyn.analysis.continuation.branch import Bifurcation, Branch
 from gear_dyn.analysis.continuation.jump_map import Cusp, FoldMap, JumpRegion
 from gear_dyn.analysis.continuation.settings import ContinuationSettings
+from gear_dyn.analysis.threads import blas_limited
 from gear_dyn.errors import InputError, check_range
 from gear_dyn.models.base import Model
 
-#: a fold pair as (low speed, high speed, low error, high error), rad/s
-_Pair = tuple[float, float, float, float]
+#: a fold pair as (low speed, high speed, low error, high error) in rad/s, and the stability
+#: before and after the low and the high fold along the branch
+_Pair = tuple[float, float, float, float, str, str]
 
 
 @dataclass(frozen=True)
 class SpeedTorqueFamily:
-    """``SpeedTorqueFamily(speed_family, torque_ref)(speed, torque)``: the model of
-    ``speed_family(speed)`` with its static load scaled to ``torque`` (``W = T / r_b1``, so
+    """``SpeedTorqueFamily(speed_family)(speed, torque)``: the model of ``speed_family(speed)``
+    with its static load scaled to ``torque`` (``W = T / r_b1``, so
     ``W(T) = W(T_ref) T / T_ref``; the stiffness of the model is kept as it is).
 
     Parameters
     ----------
     speed_family : callable
-        ``speed (rad/s) -> model`` at the torque ``torque_ref``: :func:`sdof_family` in
-        ``speed``, or :class:`gear_dyn.scene.sweep.SceneModels`; its models must be dataclasses
-        with a ``static_load`` field (the single-DOF mesh model).
-    torque_ref : float
-        The torque (N m, > 0) of ``speed_family``'s models.
+        ``speed (rad/s) -> model`` at the torque ``torque_ref``: :class:`gear_dyn.scene.sweep.
+        SceneModels` (which knows its scene's torque, its ``torque`` attribute), or
+        :func:`sdof_family` in ``speed``; its models must be dataclasses with a
+        ``static_load`` field (the single-DOF mesh model).
+    torque_ref : float or None
+        The torque (N m, > 0) of ``speed_family``'s models. None: the family's own
+        ``torque`` (a scene's ``operating.torque``); needed for a family that does not know
+        its torque (:func:`sdof_family`). Given for a family that knows it, it must agree
+        with it (a wrong value would scale every load by the wrong factor).
+
+    Raises
+    ------
+    InputError
+        No torque known, a torque out of 0..1e8 N m, or one that contradicts the family's.
     """
 
     speed_family: Callable[[float], Model]
-    torque_ref: float
+    torque_ref: float | None = None
 
     def __post_init__(self) -> None:
-        check_range("torque_ref", self.torque_ref, "N*m", low=0.0, low_open=True, high=1e8)
+        own = getattr(self.speed_family, "torque", None)
+        if self.torque_ref is None:
+            if own is None:
+                raise InputError(f"torque_ref: {type(self.speed_family).__name__} does not "
+                                 "know the torque of its models; give torque_ref (N*m)")
+            object.__setattr__(self, "torque_ref", float(own))
+        elif own is not None and abs(float(self.torque_ref) - float(own)) > 1e-9 * abs(own):
+            raise InputError(f"torque_ref = {self.torque_ref:.6g} N*m: the family's models are "
+                             f"at {float(own):.6g} N*m (its scene's operating.torque); leave "
+                             "torque_ref out")
+        check_range("torque_ref", self.reference, "N*m", low=0.0, low_open=True, high=1e8)
+
+    @property
+    def reference(self) -> float:
+        """The torque of ``speed_family``'s models (N m)."""
+        assert self.torque_ref is not None  # set in __post_init__
+        return float(self.torque_ref)
 
     def __call__(self, speed: float, torque: float) -> Any:
         """The model at ``speed`` (rad/s) and ``torque`` (N m).
@@ -65,7 +93,7 @@ class SpeedTorqueFamily:
         if not (is_dataclass(model) and "static_load" in {f.name for f in fields(model)}):
             raise InputError(f"a torque family needs a model with a static_load field (the "
                              f"single-DOF mesh model); got {type(model).__name__}")
-        return replace(model, static_load=model.static_load * torque / self.torque_ref)
+        return replace(model, static_load=model.static_load * torque / self.reference)
 
     def at_torque(self, torque: float) -> Callable[[float], Any]:
         """The speed family ``speed (rad/s) -> model`` at ``torque`` (N m; picklable)."""
@@ -74,17 +102,18 @@ class SpeedTorqueFamily:
 
 def fold_pairs(branch: Branch) -> list[_Pair]:
     """The hysteresis loops of a speed branch: consecutive folds whose first turns the branch
-    from stable to unstable (``after == "unstable"``), as (low, high, low error, high error)
-    speeds in order along the branch."""
+    from stable to unstable (``after == "unstable"``), as (low, high, low error, high error,
+    low stability, high stability) in order along the branch (stability: ``before->after``
+    along the branch)."""
     folds: list[Bifurcation] = branch.of_kind("fold")
     out: list[_Pair] = []
     i = 0
     while i + 1 < len(folds):
         a, b = folds[i], folds[i + 1]
         if a.after == "unstable":
-            (lo, elo), (hi, ehi) = sorted([(a.parameter, a.parameter_error),
-                                           (b.parameter, b.parameter_error)])
-            out.append((lo, hi, elo, ehi))
+            (lo, elo, slo), (hi, ehi, shi) = sorted(
+                [(x.parameter, x.parameter_error, f"{x.before}->{x.after}") for x in (a, b)])
+            out.append((lo, hi, elo, ehi, slo, shi))
             i += 2
         else:
             i += 1
@@ -143,9 +172,10 @@ def _cusp(tr: _Tracer, t_has: float, pairs_has: list[_Pair], index: int, t_not: 
             t_not = t_mid
     pair = pairs_has[index]
     return Cusp(speed=0.5 * (pair[0] + pair[1]), torque=0.5 * (t_has + t_not),
-                torque_error=0.5 * abs(t_has - t_not), speed_error=0.5 * (pair[1] - pair[0]))
+                torque_error=0.5 * abs(t_has - t_not), half_gap=0.5 * (pair[1] - pair[0]))
 
 
+@blas_limited
 def fold_map(family: SpeedTorqueFamily, speeds: tuple[float, float], torques: Sequence[float],
              *, periods: int = 1, settings: ContinuationSettings | None = None,
              cusp_bisections: int = 4, reference_torque: float | None = None) -> FoldMap:
@@ -233,8 +263,14 @@ def fold_map(family: SpeedTorqueFamily, speeds: tuple[float, float], torques: Se
     regions = []
     for track, cs in zip(tracks, cusps, strict=True):
         track.sort(key=lambda x: x[0])
-        a = np.array([[t, *p] for t, p in track], dtype=float)
-        regions.append(JumpRegion(a[:, 0], a[:, 1], a[:, 2], a[:, 3], a[:, 4], tuple(cs)))
+        a = np.array([[t, *p[:4]] for t, p in track], dtype=float)
+        regions.append(JumpRegion(a[:, 0], a[:, 1], a[:, 2], a[:, 3], a[:, 4], tuple(cs),
+                                  tuple(p[4] for _t, p in track),
+                                  tuple(p[5] for _t, p in track)))
     all_t = sorted(tr.cache)
+    model = family(lo, ts[0])
+    fn = model.natural_frequency
     return FoldMap(tuple(regions), np.array(all_t), (lo, hi),
-                   tuple(tr.cache[t][1] for t in all_t), reference_torque, tr.n_maps)
+                   tuple(tr.cache[t][1] for t in all_t), reference_torque, tr.n_maps,
+                   math.nan if fn is None else float(fn), float(model.mesh_frequency) / lo,
+                   tr.settings.locate_tol)

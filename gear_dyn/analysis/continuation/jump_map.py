@@ -11,6 +11,7 @@ so the analysis layer imports no plots).
 from __future__ import annotations
 
 import importlib
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -34,15 +35,19 @@ class Cusp:
     torque : float
         Pinion torque (N m): the middle of the final bracket.
     torque_error : float
-        Half the final torque bracket (N m): the cusp lies within ``torque +- torque_error``.
-    speed_error : float
+        Half the final torque bracket (N m): the cusp lies within ``torque +- torque_error``
+        (a bound, from the bisection).
+    half_gap : float
         Half the speed gap between the two folds at the bracket's end that has them (rad/s).
+        Not a bound on the error of ``speed``: the fold curves move with torque across the
+        bracket, so the cusp's speed can lie further from ``speed`` than this (no speed error
+        is stated for a cusp).
     """
 
     speed: float
     torque: float
     torque_error: float
-    speed_error: float
+    half_gap: float
 
 
 @dataclass(frozen=True, eq=False)
@@ -61,6 +66,9 @@ class JumpRegion:
     cusps : tuple of Cusp
         Cusps ending the band at its lower or upper torque end (none where it reaches the end
         of the torque range).
+    low_stability, high_stability : tuple of str (N,)
+        Stability of the speed branch before and after each fold, in order along the branch
+        (``stable->unstable`` or ``unstable->stable``); empty where not recorded.
     """
 
     torque: FloatArray
@@ -69,6 +77,8 @@ class JumpRegion:
     low_error: FloatArray
     high_error: FloatArray
     cusps: tuple[Cusp, ...] = ()
+    low_stability: tuple[str, ...] = ()
+    high_stability: tuple[str, ...] = ()
 
     def contains(self, speed: float, torque: float) -> bool:
         """True where ``(speed, torque)`` lies between the two fold curves (linear
@@ -98,6 +108,13 @@ class FoldMap:
         The scene's own torque (N m), marked on the figure.
     n_maps : int
         n-period maps computed over all branches (cost).
+    natural_frequency : float
+        f_n of the model (Hz; the stiffness and mass do not change with torque); NaN where
+        unknown.
+    mesh_per_speed : float
+        Mesh frequency per pinion speed, f_m / omega = z1 / (2 pi) (Hz per rad/s).
+    locate_tol : float
+        Relative tolerance to which each fold's speed was located (the continuation's).
     """
 
     regions: tuple[JumpRegion, ...]
@@ -106,6 +123,9 @@ class FoldMap:
     folds: tuple[tuple[float, ...], ...]
     reference_torque: float | None = None
     n_maps: int = 0
+    natural_frequency: float = float("nan")
+    mesh_per_speed: float = float("nan")
+    locate_tol: float = float("nan")
 
     @property
     def cusps(self) -> list[Cusp]:
@@ -123,30 +143,51 @@ class FoldMap:
                 f"{t.max():.6g} N*m at {t.size} torques, speed {self.speed_range[0]:.6g}.."
                 f"{self.speed_range[1]:.6g} rad/s{'; ' + cusp if cusp else ''})")
 
+    def _speed(self, speed: float) -> dict[str, float]:
+        """A speed in rad/s and rpm, and its f_m / f_n."""
+        return {"speed_rad_s": speed, "speed_rpm": speed * 60 / (2 * math.pi),
+                "frequency_ratio": speed * self.mesh_per_speed / self.natural_frequency}
+
     def rows(self) -> list[dict[str, Any]]:
         """One row per fold (``kind`` ``low``/``high``: the region's lower or upper fold) and
-        per cusp (``kind`` ``cusp``), SI units, for CSV and JSON."""
+        per cusp (``kind`` ``cusp``), for CSV and JSON: the speed in rad/s and rpm, f_m / f_n
+        (``frequency_ratio``), the fold's stated speed error and the relative tolerance it was
+        located to (``locate_tol``), the stability of the branch before and after it, and for
+        a cusp its torque error (a bound) and the half gap of the folds at the last torque
+        with the loop (``fold_half_gap_rad_s``; not a bound on the cusp's speed error, which
+        is not stated: NaN)."""
+        nan = math.nan
         out: list[dict[str, Any]] = []
         for i, r in enumerate(self.regions):
             for k, t in enumerate(r.torque):
-                for kind, speed, err in (("low", r.low, r.low_error),
-                                         ("high", r.high, r.high_error)):
+                for kind, speed, err, stab in (("low", r.low, r.low_error, r.low_stability),
+                                               ("high", r.high, r.high_error,
+                                                r.high_stability)):
                     out.append({"region": i, "kind": kind, "torque_n_m": float(t),
-                                "speed_rad_s": float(speed[k]),
-                                "speed_error_rad_s": float(err[k]), "torque_error_n_m": 0.0})
+                                **self._speed(float(speed[k])),
+                                "speed_error_rad_s": float(err[k]),
+                                "locate_tol": self.locate_tol,
+                                "stability": stab[k] if stab else "",
+                                "torque_error_n_m": 0.0, "fold_half_gap_rad_s": nan})
             for c in r.cusps:
                 out.append({"region": i, "kind": "cusp", "torque_n_m": c.torque,
-                            "speed_rad_s": c.speed, "speed_error_rad_s": c.speed_error,
-                            "torque_error_n_m": c.torque_error})
+                            **self._speed(c.speed), "speed_error_rad_s": nan,
+                            "locate_tol": self.locate_tol, "stability": "",
+                            "torque_error_n_m": c.torque_error,
+                            "fold_half_gap_rad_s": c.half_gap})
         return out
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-able: the speed window, torques, folds per torque, cusps and rows."""
+        """JSON-able: the speed window, f_n, torques, folds per torque, cusps and rows."""
         return {"speed_range_rad_s": list(self.speed_range),
+                "speed_range_rpm": [s * 60 / (2 * math.pi) for s in self.speed_range],
+                "natural_frequency_hz": self.natural_frequency,
+                "locate_tol": self.locate_tol,
                 "torques_n_m": [float(t) for t in self.torques],
                 "folds_rad_s": [list(f) for f in self.folds],
                 "reference_torque_n_m": self.reference_torque,
-                "cusps": [c.__dict__ for c in self.cusps], "rows": self.rows()}
+                "cusps": [{**c.__dict__, **self._speed(c.speed)} for c in self.cusps],
+                "rows": self.rows()}
 
     def plot(self, ax: Any = None, **kwargs: Any) -> Any:
         """The jump map (:func:`gear_dyn.plots.fold_map.plot_fold_map`): regions shaded, fold

@@ -11,10 +11,16 @@ From the stroboscopic samples (one per mesh period after settling,
    its run tried once more for a period (a slow escape from an unstable orbit shows a positive
    exponent while it lasts), and without one the exponent decides (:func:`lyapunov_kind`; a
    zero exponent is ``quasi-periodic``: the motion on a torus neither grows nor shrinks along
-   it, Parker & Chua 1989, sec. 6.3). Samples that still repeat to :data:`.TRY_TOL` without a
-   stable orbit sit near an unstable one (a slow escape): ``not settled``, whatever the
-   exponent (that of the unstable orbit while it lasts). Samples beyond :data:`UNBOUNDED`
-   state scales are ``unbounded`` (a parametric instability that contact loss does not limit).
+   it, Parker & Chua 1989, sec. 6.3). Where the samples nearly repeat to :data:`.TRY_TOL`
+   without a stable orbit, or the exponent is not resolved, a second estimate :data:`LONGER`
+   times as long decides: a resolved positive exponent is ``chaotic`` (just past a
+   period-doubling cascade the attractor lies in narrow bands around an unstable period-n
+   orbit, so its samples nearly repeat after n periods) unless the near repeat loosens by
+   more than :data:`GROWTH` over that run (an escape from a saddle orbit); samples still
+   repeating otherwise sit near an unstable orbit (a slow escape, or with a negative
+   exponent an attracting orbit of more than 16 periods): ``not settled``. Samples beyond
+   :data:`UNBOUNDED` state scales are ``unbounded`` (a parametric instability that contact
+   loss does not limit).
 """
 
 from __future__ import annotations
@@ -29,6 +35,7 @@ from gear_dyn.analysis.motion.lyapunov import LyapunovEstimate, largest_lyapunov
 from gear_dyn.analysis.motion.period import MAX_PERIOD, repeat_errors
 from gear_dyn.analysis.motion.samples import flow_periods, stroboscopic
 from gear_dyn.analysis.stability import UNIT_CIRCLE_TOL, PeriodicSolution, shoot
+from gear_dyn.analysis.threads import blas_limited
 from gear_dyn.errors import check_range
 from gear_dyn.models.base import MeshModel
 
@@ -48,6 +55,12 @@ UNBOUNDED = 1e6
 TRY_TOL = 5e-2
 #: periods tried by shooting at most, per set of samples
 MAX_TRIES = 4
+#: where the first exponent leaves the motion open (samples nearly repeating without a stable
+#: orbit, or an unresolved exponent), a second estimate runs this many times as long
+LONGER = 5
+#: ... and near-repeating samples whose repeat error grows more than this over it are leaving
+#: a saddle orbit (``not settled``), not on a banded chaotic attractor
+GROWTH = 3.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -212,7 +225,28 @@ def classify_samples(model: MeshModel, samples: FloatArray, rtol: float = 1e-10,
         return found
     kind = lyapunov_kind(est)
     near = repeat_errors(again, scale) <= TRY_TOL
-    if near.any():  # repeating, yet no stable orbit: a saddle orbit, left slowly
+    banded = False
+    if near.any() or kind == "undetermined":
+        # samples that nearly repeat without a stable orbit, or an exponent not resolved: a
+        # run LONGER times as long decides (just past a period-doubling cascade the chaotic
+        # attractor lies in narrow bands around an unstable period-n orbit, so its samples
+        # nearly repeat after n periods while the exponent is positive)
+        before = repeat_errors(again, scale)
+        est = largest_lyapunov(model, est.y_end, LONGER * lyapunov_periods, lyapunov_block,
+                               rtol=rtol, route=route)
+        again = stroboscopic(model, est.y_end, 0, samples.shape[0], rtol)
+        found, iters = find_orbit(model, again, rtol, max_newton, iters)
+        if found is not None:
+            return found
+        first = repeat_errors(again, scale)
+        kind = lyapunov_kind(est)
+        # near-repeating samples stay so on a banded attractor; leaving a saddle orbit, their
+        # repeat error grows with the escape (a positive exponent then is the saddle's)
+        banded = not near.any() or bool(np.all(first[near] <= GROWTH * before[near]))
+        near = first <= TRY_TOL
+    if kind == "chaotic" and (banded or not near.any()):
+        label = f"chaotic, {lyapunov_label(est)}"
+    elif near.any():  # repeating, yet no stable orbit: a saddle orbit, left slowly
         kind = "not settled"
         label = (f"not settled (near an unstable period-{int(np.argmax(near)) + 1} orbit), "
                  f"{lyapunov_label(est)}")
@@ -266,6 +300,7 @@ def find_orbit(model: MeshModel, samples: FloatArray, rtol: float = 1e-10, max_n
     return None, iters
 
 
+@blas_limited
 def classify_motion(model: MeshModel, y0: FloatArray, settle: int = 200, samples: int = 64,
                     rtol: float = 1e-10, lyapunov_periods: int = 400,
                     lyapunov_block: int = 40, max_newton: int = 15,

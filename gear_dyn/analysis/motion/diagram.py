@@ -33,6 +33,7 @@ from gear_dyn.analysis.motion.classify import (
 )
 from gear_dyn.analysis.motion.period import MAX_PERIOD
 from gear_dyn.analysis.motion.samples import stroboscopic
+from gear_dyn.analysis.threads import blas_limited
 from gear_dyn.errors import InputError, SolverError, check_range
 from gear_dyn.models.base import Model
 
@@ -94,6 +95,7 @@ class _Task:
     y_start: FloatArray | None
 
 
+@blas_limited
 def _run_task(task: _Task) -> tuple[list[_Speed], FloatArray | None]:
     """Evaluate a block of speeds in order, each from the previous speed's final state."""
     opts, y = task.options, task.y_start
@@ -273,6 +275,7 @@ class BifurcationDiagram:
         }
 
 
+@blas_limited
 def bifurcation_diagram(
     factory: ModelFactory,
     speeds: Sequence[float] | FloatArray,

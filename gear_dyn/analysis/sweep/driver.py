@@ -29,6 +29,7 @@ from gear_dyn.analysis.sweep.types import (
     SweepOptions,
     SweepResult,
 )
+from gear_dyn.analysis.threads import blas_limited
 from gear_dyn.errors import InputError, check_range
 from gear_dyn.models.base import Model
 from gear_dyn.solvers import SolverSettings
@@ -63,6 +64,7 @@ class _Block:
 _ChainState = tuple[FloatArray | None, int]
 
 
+@blas_limited
 def _run_block(block: _Block) -> tuple[list[Point], _ChainState]:
     """Evaluate a block of speeds in order (the worker function; picklable).
 
@@ -122,6 +124,7 @@ def _directions(direction: str, nonlinear: bool) -> tuple[str, ...]:
     return (direction,)
 
 
+@blas_limited
 def sweep(
     factory: ModelFactory,
     speeds: Sequence[float] | FloatArray,
@@ -230,9 +233,9 @@ def sweep(
     reference = None if qs_model is None else quasi_static_reference(qs_model, settings)
     jump = math.nan if reference is None else float(reference["peak_force_ratio"])
     # jumps of the response from the orbits: candidate pairs continued here, in the calling
-    # process
-    curves = tuple(replace(c, jumps=find_jumps(c, factory if opts.method == "steady" else None,
-                                               settings.rtol))
+    # process (none for a linear model: its periodic response is unique)
+    curves = tuple(replace(c, jumps=find_jumps(c, factory, settings.rtol,
+                                               orbits=opts.method == "steady"))
                    for c in (SweepCurve.from_points(d, points[d], jump) for d in dirs))
     orders = np.arange(1, opts.window_periods * opts.harmonics + 1) / opts.window_periods
     fn = model.natural_frequency

@@ -55,10 +55,14 @@ class Jump:
     pattern_after: str = ""
 
     def row(self) -> dict[str, Any]:
-        """JSON-able fields, speeds in rpm (``fold_rpm`` None where no fold was located)."""
-        fold = self.fold_speed / RPM if math.isfinite(self.fold_speed) else None
+        """JSON-able fields, speeds in rpm and in rad/s (``fold_rpm``, ``fold_rad_s`` None
+        where no fold was located)."""
+        located = math.isfinite(self.fold_speed)
         return {"kind": self.kind, "from_rpm": self.from_speed / RPM,
-                "to_rpm": self.to_speed / RPM, "fold_rpm": fold,
+                "to_rpm": self.to_speed / RPM,
+                "fold_rpm": self.fold_speed / RPM if located else None,
+                "from_rad_s": self.from_speed, "to_rad_s": self.to_speed,
+                "fold_rad_s": self.fold_speed if located else None,
                 "rms_dte_before_m": self.rms_dte_before, "rms_dte_after_m": self.rms_dte_after,
                 "separation_before": self.separation_before,
                 "separation_after": self.separation_after,

@@ -25,7 +25,7 @@ from gear_dyn.analysis.continuation import (
     OrbitPoint,
     continue_orbits,
 )
-from gear_dyn.analysis.continuation.orbit import orbit_shape, resolve_route
+from gear_dyn.analysis.continuation.orbit import map_only, orbit_shape, resolve_route
 from gear_dyn.analysis.sweep.jump import Jump
 from gear_dyn.analysis.sweep.types import SweepCurve
 from gear_dyn.errors import SolverError
@@ -134,7 +134,8 @@ def check_pair(curve: SweepCurve, i: int, factory: Callable[[float], Model], rto
     k = _reached(br, s1)
     turn = np.flatnonzero(tp[1:] * tp[0] < 0.0)
     if k is not None and (turn.size == 0 or turn[0] + 1 >= k):
-        return _arrival(curve, i, br.points[k], model1, n0, n1, jump, before, pattern_at_1)
+        return _arrival(curve, i, br.points[k], model1, n0, n1, jump, before, pattern_at_1,
+                        lambda y: map_only(model1, y, 1, route, rtol))
     p = br.array("parameter")
     far = float(np.max(p) if s1 > s0 else np.min(p))  # the branch's turning point
     if turn.size == 0 and abs(p[-1] - s0) > 1e-9 * s0:
@@ -151,18 +152,38 @@ def check_pair(curve: SweepCurve, i: int, factory: Callable[[float], Model], rto
     return jump("fold", folds[0].parameter if folds else far, before, pattern_at_1())
 
 
+def same_orbit(a: FloatArray, b: FloatArray, periods: int, one_period: Callable[[FloatArray],
+               FloatArray], scale: FloatArray) -> bool:
+    """Whether the period-``periods`` orbits through the states ``a`` and ``b`` (at t = 0) are
+    one orbit: ``a`` agrees to :data:`SAME_ORBIT` of ``scale`` with ``b`` or with one of its
+    images after 1..n-1 mesh periods (``one_period``: the one-mesh-period map). A period-n
+    orbit passes t = 0 (mod T) at n states; a continuation and a sweep may meet it at
+    different ones of them (its phase modulo n mesh periods)."""
+    y = np.asarray(b, dtype=float)
+    for k in range(periods):
+        if k:
+            y = one_period(y)
+        if float(np.max(np.abs(a - y) / scale)) <= SAME_ORBIT:
+            return True
+    return False
+
+
 def _arrival(curve: SweepCurve, i: int, end: OrbitPoint, model1: MeshModel, n0: int, n1: int,
-             jump: Callable[..., Jump], before: str, pattern_at_1: Callable[[], str]
-             ) -> Jump | None:
+             jump: Callable[..., Jump], before: str, pattern_at_1: Callable[[], str],
+             one_period: Callable[[FloatArray], FloatArray]) -> Jump | None:
     """The orbit at ``i`` continued to ``end`` at speed ``i + 1`` without turning back: a jump
-    only where the sweep found another orbit there."""
+    only where the sweep found another orbit there (compared modulo its phase,
+    :func:`same_orbit`; ``one_period`` is the one-mesh-period map at ``i + 1``)."""
     if n0 != n1:
         # the period-n orbit reached i + 1: the sweep left it only where it lost stability
         # (a period doubling: the response follows the new orbit continuously)
         return jump("branch", before=before, after=pattern_at_1()) if end.stable else None
     scale = np.asarray(model1.state_scale, dtype=float)
-    if float(np.max(np.abs(end.state - curve.state[i + 1]) / scale)) <= SAME_ORBIT:
-        return None
+    try:
+        if same_orbit(end.state, curve.state[i + 1], n1, one_period, scale):
+            return None
+    except SolverError:
+        pass  # the other phases not computed: compared at t = 0 only (above, k = 0)
     after = pattern_at_1()
     kind = "contact_pattern" if spell_counts(end.pattern) != spell_counts(after) else "branch"
     return jump(kind, before=before, after=after)
@@ -177,8 +198,14 @@ def _fallback(curve: SweepCurve, i: int) -> Jump | None:
 
 
 def find_jumps(curve: SweepCurve, factory: Callable[[float], Model] | None,
-               rtol: float = 1e-8) -> tuple[Jump, ...]:
+               rtol: float = 1e-8, *, orbits: bool = True) -> tuple[Jump, ...]:
     """The jumps of one sweep direction, in sweep order.
+
+    A linear model (``is_linear``: no backlash, no friction) has none, and nothing is continued
+    or compared for it: its equation of motion is affine in the state, so at each speed where
+    it is Floquet-stable its periodic response is unique (the fixed point of an affine
+    one-period map whose multipliers lie inside the unit circle) and depends continuously on
+    the speed; where it is unstable there is no steady response to jump to.
 
     Parameters
     ----------
@@ -189,6 +216,9 @@ def find_jumps(curve: SweepCurve, factory: Callable[[float], Model] | None,
         single-DOF mesh model: only the RMS fallback (no orbits to continue).
     rtol : float
         The sweep's solver tolerance.
+    orbits : bool
+        False: the curve has no orbits to continue (the transient method); only the RMS
+        fallback, for a nonlinear model.
 
     Returns
     -------
@@ -204,7 +234,9 @@ def find_jumps(curve: SweepCurve, factory: Callable[[float], Model] | None,
         return ()
     orbit = curve.orbit_periods > 0
     model0 = factory(float(curve.speed[0])) if factory is not None else None
-    mesh = isinstance(model0, MeshModel) and model0.mesh_periodic
+    if model0 is not None and model0.is_linear:
+        return ()  # one periodic response per speed: no jump to look for
+    mesh = orbits and isinstance(model0, MeshModel) and model0.mesh_periodic
     found: dict[int, Jump | None] = {}
     if mesh:
         assert model0 is not None and factory is not None
