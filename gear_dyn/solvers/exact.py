@@ -8,6 +8,13 @@ On each piece ``[ta, tb]`` the model is ``y' = A y + g`` with constant ``A`` and
 rounding. Pieces with the same ``M`` share one (balanced) eigendecomposition, vectorised over
 all their ``s``; an ill-conditioned one falls back to :func:`scipy.linalg.expm` on the distinct
 ``s`` only (docs/solvers.md).
+
+On a uniform grid commensurate with the mesh period of a mesh-periodic model the exponentials
+are taken over one period only: the grid's step maps (each step cut at its switching instants),
+which recur every period, are applied by the compiled kernel
+(:func:`gear_dyn.solvers.kernel.fill_periodic`). Elsewhere every sample is propagated from its
+piece start, whose state the kernel chains from piece to piece
+(:func:`gear_dyn.solvers.kernel.chain`).
 """
 
 from __future__ import annotations
@@ -19,6 +26,8 @@ from numpy.typing import NDArray
 
 from gear_dyn.errors import InputError, SolverError
 from gear_dyn.models.base import Model
+from gear_dyn.solvers import kernel
+from gear_dyn.solvers.periodic import compose_steps, periodic_map_applies
 
 FloatArray = NDArray[np.float64]
 
@@ -96,6 +105,31 @@ class _Exponential:
         return np.einsum("kij,kj->ki", self(s), z)
 
 
+def _distinct(pieces: list[tuple[float, float, FloatArray, FloatArray]]
+              ) -> tuple[list[FloatArray], NDArray[np.intp], FloatArray, FloatArray]:
+    """The distinct augmented matrices of ``pieces``, each piece's index into them, and the
+    piece starts and ends (s). Pieces that share their ``A`` and ``g`` objects (as the models
+    build them) are compared once."""
+    keys: dict[bytes, int] = {}
+    seen: dict[tuple[int, int], int] = {}
+    mats: list[FloatArray] = []
+    n_p = len(pieces)
+    piece_id = np.empty(n_p, dtype=np.intp)
+    starts = np.empty(n_p)
+    ends = np.empty(n_p)
+    for j, (ta, tb, a, g) in enumerate(pieces):
+        u = seen.get((id(a), id(g)))
+        if u is None:
+            m = _augmented(np.asarray(a, float), np.asarray(g, float))
+            u = keys.setdefault(m.tobytes(), len(mats))
+            if u == len(mats):
+                mats.append(m)
+            seen[(id(a), id(g))] = u
+        piece_id[j] = u
+        starts[j], ends[j] = ta, tb
+    return mats, piece_id, starts, ends
+
+
 def propagate_pieces(
     pieces: list[tuple[float, float, FloatArray, FloatArray]], t_grid: FloatArray, y0: FloatArray
 ) -> tuple[FloatArray, dict[str, Any]]:
@@ -125,19 +159,7 @@ def propagate_pieces(
     # rounding of the instants themselves (two ulps): on the Pade route, time offsets closer
     # than this share one exponential
     tol = 2 * float(np.spacing(max(abs(float(t_grid[0])), abs(float(t_grid[-1])))))
-    keys: dict[bytes, int] = {}
-    mats: list[FloatArray] = []
-    piece_id = np.empty(n_p, dtype=np.intp)
-    starts = np.empty(n_p)
-    ends = np.empty(n_p)
-    for j, (ta, tb, a, g) in enumerate(pieces):
-        m = _augmented(np.asarray(a, float), np.asarray(g, float))
-        key = m.tobytes()
-        if key not in keys:
-            keys[key] = len(mats)
-            mats.append(m)
-        piece_id[j] = keys[key]
-        starts[j], ends[j] = ta, tb
+    mats, piece_id, starts, ends = _distinct(pieces)
     exps = [_Exponential(m, tol) for m in mats]
     # which piece each grid point belongs to (a point on a cut belongs to the later piece)
     owner = np.clip(np.searchsorted(starts, t_grid, side="right") - 1, 0, n_p - 1)
@@ -148,12 +170,9 @@ def propagate_pieces(
     for u, ex in enumerate(exps):
         sel = piece_id == u
         phi[sel] = ex(dur[sel])
-    # states at piece starts: one product per piece (the only sequential part)
-    ys = np.empty((n_p, n + 1))
-    z = np.append(y, 1.0)
-    for j in range(n_p):
-        ys[j] = z
-        z = phi[j] @ z
+    # states at piece starts: one product per piece (the only sequential part, in the kernel)
+    ys = np.ones((n_p, n + 1))
+    ys[:, :n] = kernel.chain(phi[:, :n, :n], phi[:, :n, n], y)[:n_p]
     out = np.empty((n, t_grid.size))
     g_id = piece_id[owner]
     for u, ex in enumerate(exps):
@@ -197,8 +216,14 @@ def propagate_exact(
         Non-finite states (a diverging response).
     """
     del settings
+    t_grid = np.asarray(t_grid, dtype=float)
     t0, t1 = float(t_grid[0]), float(t_grid[-1])
-    pieces = model.linear_segments(t0, t1)
+    periodic = getattr(model, "mesh_periodic", False) and periodic_map_applies(model, t_grid)
+    s_per = int(round(1.0 / (model.mesh_frequency * float(t_grid[1] - t_grid[0])))) \
+        if periodic else 0
+    # one period of pieces where the step maps recur, else the whole span
+    pieces = model.linear_segments(t0, float(t_grid[min(s_per, t_grid.size - 1)]) if periodic
+                                   else t1)
     if pieces is None:
         raise InputError(
             "solver.method = 'exact' needs a linear model with piecewise-constant coefficients "
@@ -206,7 +231,11 @@ def propagate_exact(
             "use DOP853 or LSODA"
         )
     y = np.array(model.initial_state() if y0 is None else y0, dtype=float)
-    out, stats = propagate_pieces(pieces, np.asarray(t_grid, dtype=float), y)
+    if periodic:
+        out, stats = _propagate_periodic(pieces, t_grid, y, s_per)
+        stats["n_segments"] = int(np.size(model.switching_times(t0, t1))) + 1
+    else:
+        out, stats = propagate_pieces(pieces, t_grid, y)
     if not np.all(np.isfinite(out)):
         raise SolverError("exact propagation produced non-finite states: the response diverges")
     f, h, ends = stats.pop("piece_maps")
@@ -217,6 +246,44 @@ def propagate_exact(
         k = int(np.searchsorted(ends, t_per - 1e-9 * (t_per - t0)))
         if k < ends.size and abs(ends[k] - t_per) <= 1e-9 * (t_per - t0):
             stats["step_maps"] = (f[: k + 1].copy(), h[: k + 1].copy())
+    return out, stats
+
+
+def _propagate_periodic(pieces: list[tuple[float, float, FloatArray, FloatArray]],
+                        t_grid: FloatArray, y0: FloatArray, s_per: int
+                        ) -> tuple[FloatArray, dict[str, Any]]:
+    """:func:`propagate_pieces` on a uniform grid of ``s_per`` samples per mesh period, from
+    ``pieces`` covering the first period (or the whole span, where shorter): the exact map of
+    each grid step, the product of the exponentials of its parts between switching instants,
+    is computed once and the kernel applies the maps of every later period
+    (:func:`gear_dyn.solvers.kernel.fill_periodic`)."""
+    n = y0.size
+    s_used = min(s_per, t_grid.size - 1)
+    grid = t_grid[: s_used + 1]
+    tol = 2 * float(np.spacing(max(abs(float(t_grid[0])), abs(float(t_grid[-1])))))
+    mats, piece_id, starts, ends = _distinct(pieces)
+    exps = [_Exponential(m, tol) for m in mats]
+    # the steps cut at the switching instants: each part's step, position in it and piece
+    edges = np.unique(np.concatenate([grid, starts[1:]]))
+    left, dur = edges[:-1], np.diff(edges)
+    owner = np.clip(np.searchsorted(grid, left, side="right") - 1, 0, s_used - 1)
+    pos = np.arange(left.size) - np.searchsorted(owner, owner)
+    mid = piece_id[np.clip(np.searchsorted(starts, left, side="right") - 1, 0, starts.size - 1)]
+    parts = np.empty((left.size, n + 1, n + 1))
+    phi = np.empty((starts.size, n + 1, n + 1))  # the pieces' own maps (the Floquet check's)
+    for u, ex in enumerate(exps):
+        sel = mid == u
+        parts[sel] = ex(dur[sel])
+        psel = piece_id == u
+        phi[psel] = ex((ends - starts)[psel])
+    total = compose_steps(parts, owner, pos, s_used)
+    q, r = kernel.products(total[:, :n, :n], total[:, :n, n])
+    out, _finite = kernel.fill_periodic(q, r, y0, t_grid.size, s_per)
+    stats = {
+        "nfev": int(sum(e.n_expm for e in exps)), "njev": 0, "nlu": 0,
+        "n_distinct": len(mats), "eigen": all(e.eigen for e in exps),
+        "piece_maps": (phi[:, :n, :n], phi[:, :n, n], ends),
+    }
     return out, stats
 
 

@@ -1,0 +1,79 @@
+/* gear_dyn flow kernel (see gd_flow.h): products and applications of affine step maps. The
+ * maps themselves (matrix exponentials of the pieces, collocation maps) come from Python; only
+ * the sequential part, which numpy would run one small product per Python iteration, is here. */
+#include <math.h>
+#include <string.h>
+#include "gd_flow.h"
+
+int gd_flow_version(void)
+{
+    return GD_FLOW_VERSION;
+}
+
+/* y = F x + h (y and x distinct) */
+static void affine(int n, const double *F, const double *h, const double *x, double *y)
+{
+    int i, k;
+    for (i = 0; i < n; i++) {
+        double acc = h ? h[i] : 0.0;
+        for (k = 0; k < n; k++) acc += F[i * n + k] * x[k];
+        y[i] = acc;
+    }
+}
+
+void gd_flow_products(int n, long count, const double *F, const double *h, double *Q,
+                      double *R)
+{
+    long j;
+    int i, k, l;
+    size_t nn = (size_t)n * (size_t)n;
+    memset(Q, 0, nn * sizeof(double));
+    memset(R, 0, (size_t)n * sizeof(double));
+    for (i = 0; i < n; i++) Q[i * n + i] = 1.0;
+    for (j = 0; j < count; j++) {
+        const double *f = F + (size_t)j * nn, *q = Q + (size_t)j * nn;
+        double *qn = Q + (size_t)(j + 1) * nn;
+        for (i = 0; i < n; i++)
+            for (l = 0; l < n; l++) {
+                double acc = 0.0;
+                for (k = 0; k < n; k++) acc += f[i * n + k] * q[k * n + l];
+                qn[i * n + l] = acc;
+            }
+        affine(n, f, h + (size_t)j * n, R + (size_t)j * n, R + (size_t)(j + 1) * n);
+    }
+}
+
+void gd_flow_chain(int n, long count, const double *F, const double *h, const double *y0,
+                   double *Y)
+{
+    long j;
+    size_t nn = (size_t)n * (size_t)n;
+    memcpy(Y, y0, (size_t)n * sizeof(double));
+    for (j = 0; j < count; j++)
+        affine(n, F + (size_t)j * nn, h + (size_t)j * n, Y + (size_t)j * n,
+               Y + (size_t)(j + 1) * n);
+}
+
+int gd_flow_fill_periodic(int n, long s_per, long n_samples, const double *Q, const double *R,
+                          const double *y0, double *out)
+{
+    double start[64], next[64], y[64];
+    size_t nn = (size_t)n * (size_t)n;
+    long idx, j = 0;
+    int i;
+    if (n < 1 || n > 64 || s_per < 1) return 1;
+    memcpy(start, y0, (size_t)n * sizeof(double));
+    for (idx = 0; idx < n_samples; idx++, j++) {
+        if (j == s_per) {               /* a period start: the next one from this one */
+            affine(n, Q + (size_t)s_per * nn, R + (size_t)s_per * n, start, next);
+            memcpy(start, next, (size_t)n * sizeof(double));
+            j = 0;
+        }
+        affine(n, Q + (size_t)j * nn, R + (size_t)j * n, start, y);
+        for (i = 0; i < n; i++) {
+            if (!isfinite(y[i])) return 1;
+            out[(size_t)i * (size_t)n_samples + (size_t)idx] = y[i];
+        }
+    }
+    return 0;
+}
