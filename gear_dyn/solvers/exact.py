@@ -19,6 +19,7 @@ piece start, whose state the kernel chains from piece to piece
 
 from __future__ import annotations
 
+import functools
 from typing import Any
 
 import numpy as np
@@ -30,6 +31,7 @@ from gear_dyn.solvers import kernel
 from gear_dyn.solvers.periodic import compose_steps, periodic_map_applies
 
 FloatArray = NDArray[np.float64]
+ComplexArray = NDArray[np.complex128]
 
 #: largest condition number of the eigenvector matrix accepted for the eigen route; beyond it the
 #: rounding error cond * eps could exceed ~1e-12 and the batched Pade expm is used instead
@@ -58,6 +60,34 @@ def _unique_tol(x: FloatArray, tol: float) -> tuple[FloatArray, NDArray[np.intp]
     return xs[new], inv
 
 
+@functools.lru_cache(maxsize=256)
+def _eigen(key: bytes, n: int, max_condition: float
+           ) -> tuple[ComplexArray, ComplexArray, ComplexArray] | None:
+    """The balanced eigendecomposition ``M = (D V) diag(lam) (V^-1 D^-1)`` of the n x n matrix
+    whose bytes are ``key``: ``(lam, D V, V^-1 D^-1)``, or None where it is not finite or the
+    eigenvector matrix's condition number is not below ``max_condition``. Cached: the runs of
+    a sweep or a continuation share their few piece matrices (the stiffness levels do not
+    change with speed)."""
+    # on use: a backlash sweep imports this module but never scipy.linalg (~0.13 s)
+    from scipy.linalg import matrix_balance
+
+    m = np.frombuffer(key, dtype=np.float64).reshape(n, n)
+    try:
+        # balance first: the states of a gear model differ by orders of magnitude (m vs m/s)
+        b, (d, _) = matrix_balance(m, permute=False, separate=True)
+        lam, v = np.linalg.eig(b)
+        vi = np.linalg.inv(v)
+    except (ValueError, np.linalg.LinAlgError):  # non-finite M: expm gives NaN, caught later
+        return None
+    cond = float(np.linalg.norm(v, 2) * np.linalg.norm(vi, 2))
+    if not (np.isfinite(cond) and cond < max_condition):
+        return None
+    left, right = v * d[:, None], vi / d[None, :]  # D V, V^-1 D^-1
+    for a in (lam, left, right):
+        a.setflags(write=False)
+    return lam, left, right
+
+
 class _Exponential:
     """``expm(M s)`` for one constant matrix ``M`` and many ``s``, exact up to rounding."""
 
@@ -65,31 +95,18 @@ class _Exponential:
         self.m = m
         self.tol = tol
         self.n_expm = 0
-        self.eigen = False
-        # on use: a backlash sweep imports this module but never scipy.linalg (~0.13 s)
-        from scipy.linalg import matrix_balance
-
-        try:
-            # balance first: the states of a gear model differ by orders of magnitude (m vs m/s)
-            b, (d, _) = matrix_balance(m, permute=False, separate=True)
-            lam, v = np.linalg.eig(b)
-            vi = np.linalg.inv(v)
-        except (ValueError, np.linalg.LinAlgError):  # non-finite M: expm gives NaN, caught later
-            return
-        cond = float(np.linalg.norm(v, 2) * np.linalg.norm(vi, 2))
-        if np.isfinite(cond) and cond < MAX_EIGEN_CONDITION:
-            self.eigen = True
-            self.lam = lam
-            self.left = v * d[:, None]  # D V
-            self.right = vi / d[None, :]  # V^-1 D^-1
+        found = _eigen(m.tobytes(), m.shape[0], MAX_EIGEN_CONDITION)
+        self.eigen = found is not None
+        if found is not None:
+            self.lam, self.left, self.right = found
 
     def __call__(self, s: FloatArray) -> FloatArray:
         """Stack of ``expm(M s_k)``, shape (len(s), n, n)."""
         s = np.asarray(s, dtype=float)
         if self.eigen:
             ex = np.exp(self.lam[None, :] * s[:, None])
-            p = np.einsum("ij,kj,jl->kil", self.left, ex, self.right)
-            return np.ascontiguousarray(p.real)
+            return np.ascontiguousarray(((self.left[None, :, :] * ex[:, None, :])
+                                         @ self.right).real)
         from scipy.linalg import expm
 
         su, inv = _unique_tol(s, self.tol)

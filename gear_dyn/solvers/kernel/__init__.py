@@ -128,7 +128,7 @@ def fill_periodic(q: FloatArray, r: FloatArray, y0: FloatArray, n_samples: int, 
     if q.shape[0] < need or q.shape[1:] != (n, n) or r.shape != (q.shape[0], n):
         raise ValueError(f"fill_periodic: {q.shape[0]} products of shape {q.shape[1:]} for "
                          f"{n} states, need {need}")
-    out = np.full((n, n_samples), np.nan)
+    out = np.empty((n, n_samples))
     bad = library().gd_flow_fill_periodic(n, s_per, n_samples, _ptr(q), _ptr(r), _ptr(y0),
                                           _ptr(out))
     return out, bad == 0

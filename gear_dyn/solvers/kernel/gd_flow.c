@@ -71,7 +71,13 @@ int gd_flow_fill_periodic(int n, long s_per, long n_samples, const double *Q, co
         }
         affine(n, Q + (size_t)j * nn, R + (size_t)j * n, start, y);
         for (i = 0; i < n; i++) {
-            if (!isfinite(y[i])) return 1;
+            if (!isfinite(y[i])) {      /* NaN from here on: the caller reports divergence */
+                long rest;
+                for (i = 0; i < n; i++)
+                    for (rest = idx; rest < n_samples; rest++)
+                        out[(size_t)i * (size_t)n_samples + (size_t)rest] = NAN;
+                return 1;
+            }
             out[(size_t)i * (size_t)n_samples + (size_t)idx] = y[i];
         }
     }

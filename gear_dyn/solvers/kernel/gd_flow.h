@@ -24,7 +24,7 @@ void gd_flow_chain(int n, long count, const double *F, const double *h, const do
  * min(s_per, n_samples - 1)): sample k s_per + j is Q[j] y_k + R[j], where y_k, the state at
  * the k-th period start, is Q[s_per] y_{k-1} + R[s_per]. out is n x n_samples (row-major:
  * state i at out + i n_samples). Returns 0, or 1 when a state is not finite (a diverging
- * response; out then holds the samples up to it). */
+ * response; out is then NaN from that sample on). */
 int gd_flow_fill_periodic(int n, long s_per, long n_samples, const double *Q, const double *R,
                           const double *y0, double *out);
 
