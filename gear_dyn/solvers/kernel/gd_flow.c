@@ -54,6 +54,41 @@ void gd_flow_chain(int n, long count, const double *F, const double *h, const do
                Y + (size_t)(j + 1) * n);
 }
 
+/* NaN from sample idx on, in every state */
+static int diverged(int n, long idx, long n_samples, double *out)
+{
+    int i;
+    long rest;
+    for (i = 0; i < n; i++)
+        for (rest = idx; rest < n_samples; rest++)
+            out[(size_t)i * (size_t)n_samples + (size_t)rest] = NAN;
+    return 1;
+}
+
+/* gd_flow_fill_periodic for two states (the single-DOF model), unrolled */
+static int fill2(long s_per, long n_samples, const double *Q, const double *R, const double *y0,
+                 double *out)
+{
+    double a = y0[0], b = y0[1], *x = out, *v = out + n_samples;
+    long idx = 0, j;
+    while (idx < n_samples) {
+        for (j = 0; j < s_per && idx < n_samples; j++, idx++) {
+            const double *q = Q + 4 * j, *r = R + 2 * j;
+            double p0 = q[0] * a + q[1] * b + r[0], p1 = q[2] * a + q[3] * b + r[1];
+            if (!(isfinite(p0) && isfinite(p1))) return diverged(2, idx, n_samples, out);
+            x[idx] = p0;
+            v[idx] = p1;
+        }
+        if (idx < n_samples) {          /* the next period start from this one */
+            const double *q = Q + 4 * s_per, *r = R + 2 * s_per;
+            double na = q[0] * a + q[1] * b + r[0];
+            b = q[2] * a + q[3] * b + r[1];
+            a = na;
+        }
+    }
+    return 0;
+}
+
 int gd_flow_fill_periodic(int n, long s_per, long n_samples, const double *Q, const double *R,
                           const double *y0, double *out)
 {
@@ -62,6 +97,7 @@ int gd_flow_fill_periodic(int n, long s_per, long n_samples, const double *Q, co
     long idx, j = 0;
     int i;
     if (n < 1 || n > 64 || s_per < 1) return 1;
+    if (n == 2) return fill2(s_per, n_samples, Q, R, y0, out);
     memcpy(start, y0, (size_t)n * sizeof(double));
     for (idx = 0; idx < n_samples; idx++, j++) {
         if (j == s_per) {               /* a period start: the next one from this one */
@@ -71,13 +107,7 @@ int gd_flow_fill_periodic(int n, long s_per, long n_samples, const double *Q, co
         }
         affine(n, Q + (size_t)j * nn, R + (size_t)j * n, start, y);
         for (i = 0; i < n; i++) {
-            if (!isfinite(y[i])) {      /* NaN from here on: the caller reports divergence */
-                long rest;
-                for (i = 0; i < n; i++)
-                    for (rest = idx; rest < n_samples; rest++)
-                        out[(size_t)i * (size_t)n_samples + (size_t)rest] = NAN;
-                return 1;
-            }
+            if (!isfinite(y[i])) return diverged(n, idx, n_samples, out);
             out[(size_t)i * (size_t)n_samples + (size_t)idx] = y[i];
         }
     }
