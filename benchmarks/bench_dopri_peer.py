@@ -23,6 +23,7 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
 
 import argparse  # noqa: E402
 import statistics  # noqa: E402
+import sys  # noqa: E402
 import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
@@ -30,6 +31,7 @@ import numba  # noqa: E402
 import numpy as np  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))  # this tree's gear_dyn, not another install
 
 # Dormand-Prince 5(4): nodes, stages, 5th-order weights, error weights, dense output (scipy's)
 C = np.array([0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0])
@@ -129,6 +131,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--out", type=Path, default=HERE / "out")
     ap.add_argument("--record", action="store_true")
     args = ap.parse_args(argv)
+    import gear_dyn
+
+    assert Path(gear_dyn.__file__).resolve().parent == HERE.parent / "gear_dyn", gear_dyn.__file__
     plan = build_plan(load_scene(resolve_scene("helicopter_tail")))
     model = plan.model
     t = output_grid(model, float(plan.t_end), plan.settings)

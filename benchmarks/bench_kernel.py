@@ -134,8 +134,9 @@ def main(argv: list[str] | None = None) -> int:
         f"Command: `python benchmarks/bench_kernel.py --repeats {args.repeats} --calls "
         f"{args.calls}`. CPU time (`time.process_time`), one BLAS thread, medians over "
         f"{args.calls} calls in each of {args.repeats} interleaved child processes per tree "
-        f"(the figure is the median of those medians). *Before*: the tree at `{args.before}` "
-        "(the exact route in numpy: an eigendecomposition per run, complex exponentials at "
+        "(the figure is the median of those medians). *Before*: the code before the compiled "
+        "kernel (`--before`, checked out by `git archive`; the exact route in numpy: an "
+        "eigendecomposition per run, complex exponentials at "
         "every sample, a Python loop over the pieces); *after*: this tree (one period of exact "
         "step maps, the span filled by the C kernel). Python "
         f"{platform.python_version()}, {platform.machine()}.",

@@ -28,7 +28,7 @@ from numpy.typing import NDArray
 from gear_dyn.errors import InputError, SolverError
 from gear_dyn.models.base import Model
 from gear_dyn.solvers import kernel
-from gear_dyn.solvers.periodic import compose_steps, periodic_map_applies
+from gear_dyn.solvers.periodic import periodic_map_applies
 
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
@@ -280,11 +280,10 @@ def _propagate_periodic(pieces: list[tuple[float, float, FloatArray, FloatArray]
     tol = 2 * float(np.spacing(max(abs(float(t_grid[0])), abs(float(t_grid[-1])))))
     mats, piece_id, starts, ends = _distinct(pieces)
     exps = [_Exponential(m, tol) for m in mats]
-    # the steps cut at the switching instants: each part's step, position in it and piece
+    # the steps cut at the switching instants: each part's step and piece
     edges = np.unique(np.concatenate([grid, starts[1:]]))
     left, dur = edges[:-1], np.diff(edges)
     owner = np.clip(np.searchsorted(grid, left, side="right") - 1, 0, s_used - 1)
-    pos = np.arange(left.size) - np.searchsorted(owner, owner)
     mid = piece_id[np.clip(np.searchsorted(starts, left, side="right") - 1, 0, starts.size - 1)]
     parts = np.empty((left.size, n + 1, n + 1))
     phi = np.empty((starts.size, n + 1, n + 1))  # the pieces' own maps (the Floquet check's)
@@ -293,7 +292,7 @@ def _propagate_periodic(pieces: list[tuple[float, float, FloatArray, FloatArray]
         parts[sel] = ex(dur[sel])
         psel = piece_id == u
         phi[psel] = ex((ends - starts)[psel])
-    total = compose_steps(parts, owner, pos, s_used)
+    total = kernel.compose(parts, owner, s_used)
     q, r = kernel.products(total[:, :n, :n], total[:, :n, n])
     out, _finite = kernel.fill_periodic(q, r, y0, t_grid.size, s_per)
     stats = {

@@ -138,29 +138,15 @@ def gauss_step_maps(model: Any, t0: float, dt: float, n_steps: int, substeps: in
     grid = t0 + dt * np.arange(n_steps + 1, dtype=np.float64)
     edges = _edges(model, grid)  # the grid with the switching instants inserted
     owner_piece = np.clip(np.searchsorted(grid, edges[:-1], side="right") - 1, 0, n_steps - 1)
-    pos_piece = np.arange(edges.size - 1) - np.searchsorted(owner_piece, owner_piece)
-    # every piece in `substeps` equal parts: start, length, step and position within the step
+    # every piece in `substeps` equal parts: start, length and step
     frac = np.arange(substeps) / substeps
     ta = (edges[:-1, None] + np.diff(edges)[:, None] * frac[None, :]).ravel()
     hh = np.repeat(np.diff(edges) / substeps, substeps)
     owner = np.repeat(owner_piece, substeps)
-    pos = (pos_piece[:, None] * substeps + np.arange(substeps)[None, :]).ravel()
     kt, force = coefficients(model, (ta[:, None] + hh[:, None] * c[None, :]).ravel())
     parts = _collocation_maps(model, hh, kt.reshape(-1, s), force.reshape(-1, s), a, b)
-    total = compose_steps(parts, owner, pos, n_steps)
+    total = kernel.compose(parts, owner, n_steps)  # each step's parts in order
     return total[:, :2, :2].copy(), total[:, :2, 2].copy()
-
-
-def compose_steps(parts: FloatArray, owner: NDArray[np.intp], pos: NDArray[np.intp],
-                  n_steps: int) -> FloatArray:
-    """Augmented maps of ``n_steps`` steps, each the product of its parts in time order:
-    ``parts[i]`` (augmented ``(n+1) x (n+1)``) is part ``pos[i]`` of step ``owner[i]``
-    (identity where a step has fewer parts; vectorised over the steps)."""
-    total = np.tile(np.eye(parts.shape[1]), (n_steps, 1, 1))
-    for q in range(int(pos.max()) + 1 if pos.size else 0):
-        sel = pos == q
-        total[owner[sel]] = parts[sel] @ total[owner[sel]]
-    return total
 
 
 def _collocation_maps(model: Any, h: FloatArray, kt: FloatArray, force: FloatArray,

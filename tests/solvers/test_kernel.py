@@ -70,6 +70,22 @@ def test_products_chain_and_fill_match_numpy(n: int) -> None:
         assert np.max(np.abs(y - numpy_fill(f, h, y0, n_samples))) < 1e-13
 
 
+def test_compose_matches_numpy() -> None:
+    """Steps composed of their parts in time order (one step has none: identity), against
+    numpy products; an owner list out of order is refused."""
+    rng = np.random.default_rng(5)
+    parts = rng.standard_normal((9, 3, 3))
+    owner = np.array([0, 0, 1, 1, 1, 3, 4, 4, 4])
+    total = kernel.compose(parts, owner, 5)
+    for step in range(5):
+        ref = np.eye(3)
+        for i in np.flatnonzero(owner == step):
+            ref = parts[i] @ ref
+        assert np.allclose(total[step], ref, rtol=0, atol=1e-13)
+    with pytest.raises(ValueError, match="non-decreasing"):
+        kernel.compose(parts, owner[::-1], 5)
+
+
 def test_fill_reports_divergence() -> None:
     """A growing map overflows: the fill says so and the samples from there on are NaN."""
     f = np.full((1, 1, 1), 1e10)

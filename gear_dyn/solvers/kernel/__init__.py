@@ -17,6 +17,7 @@ import functools
 import importlib.machinery
 import re
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -31,7 +32,8 @@ SOURCE_DIR = Path(__file__).parent
 FLOW_VERSION = int(re.search(r"#define GD_FLOW_VERSION (\d+)",  # type: ignore[index]
                              (SOURCE_DIR / "gd_flow.h").read_text("utf-8"))[1])
 _NAME = "_gd_kernel"
-_DP = ctypes.POINTER(ctypes.c_double)
+_LONG = np.dtype(f"i{ctypes.sizeof(ctypes.c_long)}")  # C long (4 bytes on Windows)
+_DP = ctypes.c_void_p  # arrays go in by address (ndarray.ctypes.data): float64, C order
 
 
 def library_path() -> Path | None:
@@ -69,14 +71,16 @@ def library() -> ctypes.CDLL:
     lib.gd_flow_products.argtypes = [ctypes.c_int, ctypes.c_long, _DP, _DP, _DP, _DP]
     lib.gd_flow_chain.restype = None
     lib.gd_flow_chain.argtypes = [ctypes.c_int, ctypes.c_long, _DP, _DP, _DP, _DP]
+    lib.gd_flow_compose.restype = None
+    lib.gd_flow_compose.argtypes = [ctypes.c_int, ctypes.c_long, _DP, _DP, ctypes.c_long, _DP]
     lib.gd_flow_fill_periodic.restype = ctypes.c_int
     lib.gd_flow_fill_periodic.argtypes = [ctypes.c_int, ctypes.c_long, ctypes.c_long, _DP, _DP,
                                           _DP, _DP]
     return lib
 
 
-def _ptr(a: FloatArray) -> ctypes._Pointer[ctypes.c_double]:
-    return a.ctypes.data_as(_DP)
+def _ptr(a: NDArray[Any]) -> int:
+    return int(a.ctypes.data)
 
 
 def _c(a: FloatArray) -> FloatArray:
@@ -98,6 +102,23 @@ def products(f: FloatArray, h: FloatArray) -> tuple[FloatArray, FloatArray]:
     q, r = np.empty((count + 1, n, n)), np.empty((count + 1, n))
     library().gd_flow_products(n, count, _ptr(f), _ptr(h), _ptr(q), _ptr(r))
     return q, r
+
+
+def compose(parts: FloatArray, owner: NDArray[np.intp], n_steps: int) -> FloatArray:
+    """Augmented maps of ``n_steps`` steps, each the product of its parts in time order:
+    ``parts[i]`` (``(n+1) x (n+1)``, ``[[F, h], [0, 1]]``) is the next part of step
+    ``owner[i]`` (non-decreasing); a step without parts is the identity. Shape
+    ``(n_steps, n+1, n+1)``."""
+    parts = _c(parts)
+    own = np.ascontiguousarray(owner, dtype=_LONG)
+    if parts.ndim != 3 or parts.shape[1] != parts.shape[2] or own.shape != parts.shape[:1] \
+            or (own.size and (own[0] < 0 or own[-1] >= n_steps or np.any(np.diff(own) < 0))):
+        raise ValueError(f"compose: parts {parts.shape}, owner {own.shape} not non-decreasing "
+                         f"in 0..{n_steps - 1}")
+    total = np.empty((n_steps, parts.shape[1], parts.shape[1]))
+    library().gd_flow_compose(parts.shape[1] - 1, own.size, _ptr(parts), _ptr(own), n_steps,
+                              _ptr(total))
+    return total
 
 
 def chain(f: FloatArray, h: FloatArray, y0: FloatArray) -> FloatArray:

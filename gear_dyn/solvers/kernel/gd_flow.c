@@ -43,6 +43,30 @@ void gd_flow_products(int n, long count, const double *F, const double *h, doubl
     }
 }
 
+void gd_flow_compose(int n, long n_parts, const double *parts, const long *owner, long n_steps,
+                     double *total)
+{
+    int m = n + 1, i, k, l;
+    size_t mm = (size_t)m * (size_t)m;
+    long j;
+    double tmp[65 * 65];
+    if (m > 65) return;
+    memset(total, 0, (size_t)n_steps * mm * sizeof(double));
+    for (j = 0; j < n_steps; j++)
+        for (i = 0; i < m; i++) total[(size_t)j * mm + (size_t)(i * m + i)] = 1.0;
+    for (j = 0; j < n_parts; j++) {
+        const double *p = parts + (size_t)j * mm;
+        double *t = total + (size_t)owner[j] * mm;
+        for (i = 0; i < m; i++)
+            for (l = 0; l < m; l++) {
+                double acc = 0.0;
+                for (k = 0; k < m; k++) acc += p[i * m + k] * t[k * m + l];
+                tmp[i * m + l] = acc;
+            }
+        memcpy(t, tmp, mm * sizeof(double));
+    }
+}
+
 void gd_flow_chain(int n, long count, const double *F, const double *h, const double *y0,
                    double *Y)
 {

@@ -6,7 +6,7 @@
 #define GD_FLOW_H
 
 /* the version of this interface (gear_dyn.solvers.kernel checks it on load) */
-#define GD_FLOW_VERSION 1
+#define GD_FLOW_VERSION 2
 
 int gd_flow_version(void);
 
@@ -14,6 +14,12 @@ int gd_flow_version(void);
  * R[j+1] = F[j] R[j] + h[j], j = 0..count-1 (Q: (count+1) n^2, R: (count+1) n) */
 void gd_flow_products(int n, long count, const double *F, const double *h, double *Q,
                       double *R);
+
+/* maps of n_steps steps, each the product of its parts in time order: parts[i] ((n+1) x (n+1),
+ * augmented: the affine map [[F, h], [0, 1]]) is the next part of step owner[i]; owner is
+ * non-decreasing, in 0..n_steps-1 (total: n_steps (n+1)^2; a step without parts: identity) */
+void gd_flow_compose(int n, long n_parts, const double *parts, const long *owner, long n_steps,
+                     double *total);
 
 /* states at the map boundaries: Y[0] = y0, Y[j+1] = F[j] Y[j] + h[j] (Y: (count+1) n) */
 void gd_flow_chain(int n, long count, const double *F, const double *h, const double *y0,
