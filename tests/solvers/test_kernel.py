@@ -121,6 +121,26 @@ def test_missing_library_names_the_install(monkeypatch: pytest.MonkeyPatch) -> N
         kernel.library.cache_clear()
 
 
+def test_library_of_the_installed_distribution(monkeypatch: pytest.MonkeyPatch,
+                                               tmp_path: Path) -> None:
+    """A source tree without its own build (tests of a checkout after ``pip install .``) loads
+    the installed distribution's library; with neither, there is none."""
+    import importlib.metadata
+
+    built = kernel.library_path()
+    assert built is not None
+
+    class Dist:
+        def locate_file(self, path: str) -> Path:
+            return built.parent if path == "gear_dyn/solvers/kernel" else tmp_path / path
+
+    monkeypatch.setattr(kernel, "SOURCE_DIR", tmp_path)
+    monkeypatch.setattr(importlib.metadata, "distribution", lambda name: Dist())
+    assert kernel.library_path() == built
+    monkeypatch.setattr(Dist, "locate_file", lambda self, path: tmp_path / path)
+    assert kernel.library_path() is None
+
+
 def heli_model(phase0: float = 0.0, xi: float = 0.06) -> SDOFModel:
     """Helicopter-tail magnitudes, rectangular wave of contact ratio 1.58."""
     return SDOFModel(mass=3.0, stiffness=rectangular_stiffness(1.58, 0.7e9, 1.24e9),

@@ -6,8 +6,9 @@ glue) are built at install into one shared library (``setup.py``) and loaded wit
 the Python C API: a call releases the GIL, so threads run kernel calls in parallel. Python
 computes the maps (matrix exponentials, collocation) and the kernel applies them.
 
-Raises :class:`~gear_dyn.errors.SolverError` on first use where the library was not built (a
-source checkout without ``pip install -e .``).
+The library is looked up beside these sources, then in the installed gear_dyn distribution
+(:func:`library_path`); where neither has one, the first use raises
+:class:`~gear_dyn.errors.SolverError` naming the install command.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from __future__ import annotations
 import ctypes
 import functools
 import importlib.machinery
+import importlib.metadata
 import re
 from pathlib import Path
 from typing import Any
@@ -37,11 +39,21 @@ _DP = ctypes.c_void_p  # arrays go in by address (ndarray.ctypes.data): float64,
 
 
 def library_path() -> Path | None:
-    """The built library beside the sources, or None."""
-    for suffix in importlib.machinery.EXTENSION_SUFFIXES:
-        p = SOURCE_DIR / f"{_NAME}{suffix}"
-        if p.is_file():
-            return p
+    """The built library: beside these sources (an installed package, or a source checkout
+    built in place by ``pip install -e .``), else that of the installed gear_dyn distribution
+    (a source checkout whose tests import its own tree after ``pip install .``); None if
+    neither exists."""
+    folders = [SOURCE_DIR]
+    try:
+        dist = importlib.metadata.distribution("gear_dyn")
+        folders.append(Path(str(dist.locate_file("gear_dyn/solvers/kernel"))))
+    except importlib.metadata.PackageNotFoundError:
+        pass
+    for folder in folders:
+        for suffix in importlib.machinery.EXTENSION_SUFFIXES:
+            p = folder / f"{_NAME}{suffix}"
+            if p.is_file():
+                return p
     return None
 
 
