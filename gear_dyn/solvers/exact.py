@@ -235,9 +235,8 @@ def propagate_exact(
     del settings
     t_grid = np.asarray(t_grid, dtype=float)
     t0, t1 = float(t_grid[0]), float(t_grid[-1])
-    periodic = getattr(model, "mesh_periodic", False) and periodic_map_applies(model, t_grid)
-    s_per = int(round(1.0 / (model.mesh_frequency * float(t_grid[1] - t_grid[0])))) \
-        if periodic else 0
+    s_per = _samples_per_period(model, t_grid)
+    periodic = s_per > 0
     # one period of pieces where the step maps recur, else the whole span
     pieces = model.linear_segments(t0, float(t_grid[min(s_per, t_grid.size - 1)]) if periodic
                                    else t1)
@@ -264,6 +263,22 @@ def propagate_exact(
         if k < ends.size and abs(ends[k] - t_per) <= 1e-9 * (t_per - t0):
             stats["step_maps"] = (f[: k + 1].copy(), h[: k + 1].copy())
     return out, stats
+
+
+def _samples_per_period(model: Model, t_grid: FloatArray) -> int:
+    """``S`` where ``model`` is mesh-periodic and ``t_grid`` is ``t0 + i T / S`` (``T`` the mesh
+    period) to rounding, a few ulps of its end time; else 0. Only then do the step maps of the
+    first period hold in every later one to rounding: a grid commensurate to 1e-9 only (enough
+    for the ``periodic`` method's tolerance) would let the switching instants drift against it
+    period after period."""
+    if not (getattr(model, "mesh_periodic", False) and periodic_map_applies(model, t_grid)):
+        return 0
+    f_m = model.mesh_frequency
+    s_per = int(round(1.0 / (f_m * float(t_grid[1] - t_grid[0]))))
+    t0 = float(t_grid[0])
+    ideal = t0 + np.arange(t_grid.size) * (1.0 / (f_m * s_per))
+    ulps = 8 * float(np.spacing(max(abs(t0), abs(float(t_grid[-1])))))
+    return s_per if float(np.max(np.abs(t_grid - ideal))) <= ulps else 0
 
 
 def _propagate_periodic(pieces: list[tuple[float, float, FloatArray, FloatArray]],

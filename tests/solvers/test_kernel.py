@@ -171,6 +171,23 @@ def test_exact_periodic_route_matches_expm_reference(phase0: float, xi: float, s
     assert "step_maps" in st  # the period's piece maps, for the Floquet check
 
 
+def test_nearly_commensurate_grid_takes_the_whole_span() -> None:
+    """A grid commensurate with the mesh period to 1e-8 only (the periodic method accepts it):
+    recurring step maps would drift against the switching instants (2.8e-6 of x_s measured
+    after 30 periods), so exact propagates the whole span and stays at rounding level."""
+    from gear_dyn.solvers.exact import _samples_per_period
+
+    model = heli_model(0.1)
+    t = time_grid(model.mesh_frequency, 30 / model.mesh_frequency, 64)
+    assert _samples_per_period(model, t) == 64
+    t = t * (1 + 1e-8)
+    assert _samples_per_period(model, t) == 0
+    y0 = np.array([1e-5, -0.3])
+    y, _ = propagate_exact(model, t, None, y0)
+    ref = stepwise_reference(model.linear_segments(float(t[0]), float(t[-1])), t, y0)
+    assert np.max(np.abs(y[0] - ref[0])) / (model.static_load / model.mean_stiffness) < 1e-12
+
+
 def test_exact_periodic_route_matches_dop853() -> None:
     """The exact route against DOP853 at rtol 1e-12 (restarted at every jump), 20 periods."""
     from gear_dyn.analysis.accuracy import relative_errors
