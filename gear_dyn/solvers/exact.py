@@ -28,7 +28,6 @@ from numpy.typing import NDArray
 from gear_dyn.errors import InputError, SolverError
 from gear_dyn.models.base import Model
 from gear_dyn.solvers import kernel
-from gear_dyn.solvers.periodic import periodic_map_applies
 
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
@@ -271,14 +270,16 @@ def _samples_per_period(model: Model, t_grid: FloatArray) -> int:
     first period hold in every later one to rounding: a grid commensurate to 1e-9 only (enough
     for the ``periodic`` method's tolerance) would let the switching instants drift against it
     period after period."""
-    if not (getattr(model, "mesh_periodic", False) and periodic_map_applies(model, t_grid)):
+    if not (getattr(model, "mesh_periodic", False) and model.is_linear) or t_grid.size < 3:
         return 0
     f_m = model.mesh_frequency
-    s_per = int(round(1.0 / (f_m * float(t_grid[1] - t_grid[0]))))
+    steps = 1.0 / (f_m * float(t_grid[1] - t_grid[0]))
+    s_per = int(round(steps)) if np.isfinite(steps) else 0
+    if s_per < 1:
+        return 0
     t0 = float(t_grid[0])
-    ideal = t0 + np.arange(t_grid.size) * (1.0 / (f_m * s_per))
     ulps = 8 * float(np.spacing(max(abs(t0), abs(float(t_grid[-1])))))
-    return s_per if float(np.max(np.abs(t_grid - ideal))) <= ulps else 0
+    return s_per if kernel.grid_error(t_grid, t0, 1.0 / (f_m * s_per)) <= ulps else 0
 
 
 def _propagate_periodic(pieces: list[tuple[float, float, FloatArray, FloatArray]],

@@ -86,6 +86,15 @@ def test_compose_matches_numpy() -> None:
         kernel.compose(parts, owner[::-1], 5)
 
 
+def test_grid_error_matches_numpy() -> None:
+    """The distance of a grid from the uniform one, against numpy; NaN propagates."""
+    t = np.arange(1000) * 1e-5 + 0.25
+    t[400] += 3e-12
+    assert kernel.grid_error(t, 0.25, 1e-5) == np.max(np.abs(t - (0.25 + np.arange(1000) * 1e-5)))
+    t[7] = np.nan
+    assert np.isnan(kernel.grid_error(t, 0.25, 1e-5))
+
+
 def test_fill_reports_divergence() -> None:
     """A growing map overflows: the fill says so and the samples from there on are NaN."""
     f = np.full((1, 1, 1), 1e10)
@@ -224,7 +233,7 @@ def _sanitizer_runtime(cc: str) -> str | None:
 
 def test_kernel_under_sanitizers(tmp_path: Path) -> None:
     """The library built with -fsanitize=address,undefined, loaded by ctypes in a child Python
-    (the ASan runtime preloaded), runs products, chain and the periodic fill against numpy."""
+    (the ASan runtime preloaded), runs every entry point of gd_flow.c against numpy."""
     cc = shutil.which(os.environ.get("CC", "cc")) or shutil.which("gcc")
     runtime = _sanitizer_runtime(cc) if cc else None
     if cc is None or runtime is None:
@@ -253,6 +262,10 @@ def test_kernel_under_sanitizers(tmp_path: Path) -> None:
             ref.append(f[i % 16] @ ref[-1] + h[i % 16])
         assert ok and np.allclose(y, np.array(ref).T, rtol=1e-12, atol=1e-12)
         assert np.allclose(ys, np.array(ref[:17]), rtol=1e-12, atol=1e-12)
+        tot = k.compose(rng.standard_normal((5, 3, 3)), np.array([0, 0, 2, 2, 3]), 4)
+        assert tot.shape == (4, 3, 3) and np.array_equal(tot[1], np.eye(3))
+        t = np.arange(50) * 0.1
+        assert k.grid_error(t, 0.0, 0.1) == np.max(np.abs(t - np.arange(50) * 0.1))
         print("ok")
     """)
     env = {**os.environ, "LD_PRELOAD": runtime, "ASAN_OPTIONS": "detect_leaks=0",

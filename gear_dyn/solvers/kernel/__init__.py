@@ -83,6 +83,8 @@ def library() -> ctypes.CDLL:
     lib.gd_flow_products.argtypes = [ctypes.c_int, ctypes.c_long, _DP, _DP, _DP, _DP]
     lib.gd_flow_chain.restype = None
     lib.gd_flow_chain.argtypes = [ctypes.c_int, ctypes.c_long, _DP, _DP, _DP, _DP]
+    lib.gd_flow_grid_error.restype = ctypes.c_double
+    lib.gd_flow_grid_error.argtypes = [ctypes.c_long, _DP, ctypes.c_double, ctypes.c_double]
     lib.gd_flow_compose.restype = None
     lib.gd_flow_compose.argtypes = [ctypes.c_int, ctypes.c_long, _DP, _DP, ctypes.c_long, _DP]
     lib.gd_flow_fill_periodic.restype = ctypes.c_int
@@ -105,6 +107,13 @@ def _maps(f: FloatArray, h: FloatArray) -> tuple[FloatArray, FloatArray, int, in
     if f.shape != (count, n, n) or h.shape != (count, n):
         raise ValueError(f"maps of shapes {f.shape} and {h.shape}: need (count, n, n), (count, n)")
     return f, h, count, n
+
+
+def grid_error(t: FloatArray, t0: float, dt: float) -> float:
+    """Largest ``|t[i] - (t0 + i dt)|`` (s): how far ``t`` is from the uniform grid (NaN where a
+    time is NaN)."""
+    t = _c(t)
+    return float(library().gd_flow_grid_error(t.size, _ptr(t), t0, dt))
 
 
 def products(f: FloatArray, h: FloatArray) -> tuple[FloatArray, FloatArray]:

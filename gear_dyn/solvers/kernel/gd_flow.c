@@ -10,6 +10,18 @@ int gd_flow_version(void)
     return GD_FLOW_VERSION;
 }
 
+double gd_flow_grid_error(long n, const double *t, double t0, double dt)
+{
+    double worst = 0.0;
+    long i;
+    for (i = 0; i < n; i++) {
+        double d = fabs(t[i] - (t0 + (double)i * dt));
+        if (isnan(d)) return d;         /* a NaN time: not uniform */
+        if (d > worst) worst = d;
+    }
+    return worst;
+}
+
 /* y = F x + h (y and x distinct) */
 static void affine(int n, const double *F, const double *h, const double *x, double *y)
 {

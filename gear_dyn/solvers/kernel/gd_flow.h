@@ -6,9 +6,12 @@
 #define GD_FLOW_H
 
 /* the version of this interface (gear_dyn.solvers.kernel checks it on load) */
-#define GD_FLOW_VERSION 2
+#define GD_FLOW_VERSION 3
 
 int gd_flow_version(void);
+
+/* largest |t[i] - (t0 + i dt)| over i = 0..n-1: how far a grid is from a uniform one (s) */
+double gd_flow_grid_error(long n, const double *t, double t0, double dt);
 
 /* partial products of count maps: Q[0] = I, R[0] = 0, Q[j+1] = F[j] Q[j],
  * R[j+1] = F[j] R[j] + h[j], j = 0..count-1 (Q: (count+1) n^2, R: (count+1) n) */
