@@ -10,6 +10,7 @@ DOP853 at rtol 1e-12, DOP853's own global error, 1e-9.
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import subprocess
@@ -140,14 +141,23 @@ def test_library_of_the_installed_distribution(monkeypatch: pytest.MonkeyPatch,
     assert built is not None
 
     class Dist:
+        url = "{}"
+
         def locate_file(self, path: str) -> Path:
             return built.parent if path == "gear_dyn/solvers/kernel" else tmp_path / path
+
+        def read_text(self, name: str) -> str:
+            return self.url
 
     monkeypatch.setattr(kernel, "SOURCE_DIR", tmp_path)
     monkeypatch.setattr(importlib.metadata, "distribution", lambda name: Dist())
     assert kernel.library_path() == built
     monkeypatch.setattr(Dist, "locate_file", lambda self, path: tmp_path / path)
     assert kernel.library_path() is None
+    # an editable install: the library built in its source tree
+    tree = built.parents[3]
+    Dist.url = json.dumps({"url": tree.as_uri(), "dir_info": {"editable": True}})
+    assert kernel.library_path() == built
 
 
 def heli_model(phase0: float = 0.0, xi: float = 0.06) -> SDOFModel:

@@ -17,7 +17,10 @@ import ctypes
 import functools
 import importlib.machinery
 import importlib.metadata
+import json
 import re
+import urllib.parse
+import urllib.request
 from pathlib import Path
 from typing import Any
 
@@ -41,14 +44,23 @@ _DP = ctypes.c_void_p  # arrays go in by address (ndarray.ctypes.data): float64,
 def library_path() -> Path | None:
     """The built library: beside these sources (an installed package, or a source checkout
     built in place by ``pip install -e .``), else that of the installed gear_dyn distribution
-    (a source checkout whose tests import its own tree after ``pip install .``); None if
-    neither exists."""
+    (a source checkout whose tests import its own tree after ``pip install .``: in its files,
+    or in the source tree of an editable install, PEP 610 ``direct_url.json``); None if none
+    exists. :func:`library` checks that the one found matches these sources' interface."""
     folders = [SOURCE_DIR]
     try:
         dist = importlib.metadata.distribution("gear_dyn")
-        folders.append(Path(str(dist.locate_file("gear_dyn/solvers/kernel"))))
     except importlib.metadata.PackageNotFoundError:
-        pass
+        dist = None
+    if dist is not None:
+        folders.append(Path(str(dist.locate_file("gear_dyn/solvers/kernel"))))
+        try:
+            url = json.loads(dist.read_text("direct_url.json") or "{}")
+        except ValueError:
+            url = {}
+        if url.get("dir_info", {}).get("editable") and str(url.get("url")).startswith("file:"):
+            tree = Path(urllib.request.url2pathname(urllib.parse.urlparse(url["url"]).path))
+            folders.append(tree / "gear_dyn" / "solvers" / "kernel")
     for folder in folders:
         for suffix in importlib.machinery.EXTENSION_SUFFIXES:
             p = folder / f"{_NAME}{suffix}"
