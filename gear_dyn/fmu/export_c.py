@@ -18,10 +18,11 @@ from gear_dyn.errors import InputError, SolverError
 from gear_dyn.fmu.export import NativeModel
 from gear_dyn.fmu.export_torsional import TorsionalNative
 from gear_dyn.fmu.toolchain import linux_compiler
+from gear_dyn.solvers.kernel import SOURCE_DIR
 
 #: the fixed C sources (package data): the FMI glue here, the kernel where the solvers live
 NATIVE_DIR = Path(__file__).parent / "native"
-KERNEL_DIR = Path(__file__).parent.parent / "solvers" / "kernel"
+KERNEL_DIR = SOURCE_DIR
 KERNEL_SOURCES = ("gd_kernel.c", "gd_torsional.c")
 GLUE_SOURCES = {2: ("gd_fmi2.c",), 3: ("gd_fmi3.c",)}
 HEADERS = ("gd_kernel.h",)

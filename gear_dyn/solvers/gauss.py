@@ -5,9 +5,9 @@ For a model ``q' = v``, ``v' = u(t) F + g_v`` with one scalar force ``F = f(t) .
 affine map of the state before it. The output grid is cut at ``model.switching_times`` and each
 interval divided into ``n`` substeps, each one ``s``-stage Gauss-Legendre step (order ``2 s``)
 whose stage equations reduce to ``(I - G) F = B y0 + r`` for the stage forces: one batched
-s x s solve for all steps. Only the application of the maps is sequential. Where
-``model.force_form_needs_compression`` and the force is not compressive at a substep end, the
-run falls back to the ODE path (:mod:`~gear_dyn.solvers.ode`).
+s x s solve for all steps. Only the application of the maps is sequential (in the compiled
+kernel). Where ``model.force_form_needs_compression`` and the force is not compressive at a
+substep end, the run falls back to the ODE path (:mod:`~gear_dyn.solvers.ode`).
 
 Substeps: ``n`` is the smallest with ``(omega_n h / 2)^(2 s) <= rtol``; the stated error is the
 difference from a run at rtol / 100 (docs/solvers.md, "Eccentric torsional model").
@@ -23,6 +23,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.models.base import Model
+from gear_dyn.solvers import kernel
 from gear_dyn.solvers.settings import SolverSettings
 
 FloatArray = NDArray[np.float64]
@@ -103,14 +104,9 @@ def _maps(model: Model, ta: FloatArray, h: FloatArray) -> FloatArray:
 
 
 def _apply(maps: FloatArray, z: FloatArray) -> FloatArray:
-    """States after each of the ``maps`` in turn, from the augmented state ``z``: (m, 4)."""
-    out = np.empty((maps.shape[0], 4))
-    phi, c = maps[:, :4, :4], maps[:, :4, 4]
-    y = z[:4].copy()
-    for i in range(maps.shape[0]):
-        y = phi[i] @ y + c[i]
-        out[i] = y
-    return out
+    """States after each of the ``maps`` in turn, from the augmented state ``z``: (m, 4), in
+    the compiled kernel (:func:`gear_dyn.solvers.kernel.chain`)."""
+    return kernel.chain(maps[:, :4, :4], maps[:, :4, 4], z[:4])[1:]
 
 
 def propagate_gauss(

@@ -11,6 +11,7 @@ from numpy.typing import NDArray
 
 from gear_dyn.errors import SolverError
 from gear_dyn.models.base import Model
+from gear_dyn.solvers import kernel
 from gear_dyn.solvers.ode import integrate_ode
 from gear_dyn.solvers.settings import SolverSettings
 
@@ -137,20 +138,14 @@ def gauss_step_maps(model: Any, t0: float, dt: float, n_steps: int, substeps: in
     grid = t0 + dt * np.arange(n_steps + 1, dtype=np.float64)
     edges = _edges(model, grid)  # the grid with the switching instants inserted
     owner_piece = np.clip(np.searchsorted(grid, edges[:-1], side="right") - 1, 0, n_steps - 1)
-    pos_piece = np.arange(edges.size - 1) - np.searchsorted(owner_piece, owner_piece)
-    # every piece in `substeps` equal parts: start, length, step and position within the step
+    # every piece in `substeps` equal parts: start, length and step
     frac = np.arange(substeps) / substeps
     ta = (edges[:-1, None] + np.diff(edges)[:, None] * frac[None, :]).ravel()
     hh = np.repeat(np.diff(edges) / substeps, substeps)
     owner = np.repeat(owner_piece, substeps)
-    pos = (pos_piece[:, None] * substeps + np.arange(substeps)[None, :]).ravel()
     kt, force = coefficients(model, (ta[:, None] + hh[:, None] * c[None, :]).ravel())
     parts = _collocation_maps(model, hh, kt.reshape(-1, s), force.reshape(-1, s), a, b)
-    # compose the parts of each step in order (identity where a step has fewer parts)
-    total = np.tile(np.eye(3), (n_steps, 1, 1))
-    for q in range(int(pos.max()) + 1):
-        sel = pos == q
-        total[owner[sel]] = parts[sel] @ total[owner[sel]]
+    total = kernel.compose(parts, owner, n_steps)  # each step's parts in order
     return total[:, :2, :2].copy(), total[:, :2, 2].copy()
 
 
@@ -191,43 +186,20 @@ def fill_periodic(f: FloatArray, h: FloatArray, y0: FloatArray, n_samples: int, 
     """States on a uniform grid of ``n_samples`` points (``s_per`` per mesh period) from
     ``y0`` and the step maps ``(f[j], h[j])`` of one period (or of all the steps where the span
     is shorter): the period map and the partial products are composed once, then each period
-    start follows from the previous one (sequential products) and every sample is one matrix
-    product from its period start (one batched product for the whole span). ``products``:
-    :func:`step_products` of the maps, if already computed."""
-    n = y0.size
-    s_used = f.shape[0]
+    start follows from the previous one and every sample is one matrix product from its period
+    start, in the compiled kernel (:func:`gear_dyn.solvers.kernel.fill_periodic`; no truncation
+    error, rounding only). ``products``: :func:`step_products` of the maps, if already
+    computed. From the first non-finite state on, the samples are NaN (the callers check)."""
     q, r = step_products(f, h) if products is None else products
-    if s_used < s_per:  # shorter than one period: the partial products are the states
-        return (np.einsum("kij,j->ki", q[:n_samples], y0) + r[:n_samples]).T.copy()
-    n_per = -(-(n_samples - 1) // s_per)
-    starts = np.empty((n_per + 1, n))  # the states at the period starts, in turn
-    starts[0] = y0
-    for k in range(n_per):
-        starts[k + 1] = q[s_per] @ starts[k] + r[s_per]
-    # sample cnum * s_per + j = q[j] @ starts[cnum] + r[j]: one matrix product
-    blk = (q[:s_per].reshape(s_per * n, n) @ starts[:n_per].T).reshape(s_per, n, n_per)
-    blk += r[:s_per, :, None]
-    out = np.empty((n, n_samples))
-    full = blk.transpose(1, 2, 0).reshape(n, n_per * s_per)
-    m = min(n_samples, n_per * s_per)
-    out[:, :m] = full[:, :m]
-    if n_samples > m:  # the grid ends on a period boundary
-        out[:, m] = starts[n_per]
-    return out
+    return kernel.fill_periodic(q, r, np.asarray(y0, dtype=float), n_samples, s_per)[0]
 
 
 def step_products(f: FloatArray, h: FloatArray) -> tuple[FloatArray, FloatArray]:
     """Partial products of the step maps ``(f[j], h[j])``: ``y_j = q[j] y_0 + r[j]``,
     j = 0..len(f); ``(q[-1], r[-1])`` is the map over all the steps (over one mesh period: the
-    one-period map, ``q[-1]`` the monodromy matrix)."""
-    n = f.shape[1]
-    q = np.empty((f.shape[0] + 1, n, n))
-    r = np.empty((f.shape[0] + 1, n))
-    q[0], r[0] = np.eye(n), np.zeros(n)
-    for j in range(f.shape[0]):  # sequential: each product needs the one before
-        q[j + 1] = f[j] @ q[j]
-        r[j + 1] = f[j] @ r[j] + h[j]
-    return q, r
+    one-period map, ``q[-1]`` the monodromy matrix). In the compiled kernel
+    (:func:`gear_dyn.solvers.kernel.products`)."""
+    return kernel.products(f, h)
 
 
 def propagate_periodic(
