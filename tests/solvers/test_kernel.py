@@ -150,7 +150,7 @@ def test_library_of_the_installed_distribution(monkeypatch: pytest.MonkeyPatch,
             return self.url
 
     monkeypatch.setattr(kernel, "SOURCE_DIR", tmp_path)
-    monkeypatch.setattr(importlib.metadata, "distribution", lambda name: Dist())
+    monkeypatch.setattr(importlib.metadata, "distributions", lambda name: [Dist()])
     assert kernel.library_path() == built
     monkeypatch.setattr(Dist, "locate_file", lambda self, path: tmp_path / path)
     assert kernel.library_path() is None

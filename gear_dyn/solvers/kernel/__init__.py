@@ -48,11 +48,9 @@ def library_path() -> Path | None:
     or in the source tree of an editable install, PEP 610 ``direct_url.json``); None if none
     exists. :func:`library` checks that the one found matches these sources' interface."""
     folders = [SOURCE_DIR]
-    try:
-        dist = importlib.metadata.distribution("gear_dyn")
-    except importlib.metadata.PackageNotFoundError:
-        dist = None
-    if dist is not None:
+    # every gear_dyn distribution on the path: a build in a source checkout leaves its
+    # gear_dyn.egg-info there, found first when the checkout is the working directory
+    for dist in importlib.metadata.distributions(name="gear_dyn"):
         folders.append(Path(str(dist.locate_file("gear_dyn/solvers/kernel"))))
         try:
             url = json.loads(dist.read_text("direct_url.json") or "{}")
