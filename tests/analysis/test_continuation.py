@@ -94,6 +94,32 @@ def test_branch_in_full_contact_is_the_linear_response_and_grazes_where_it_separ
     assert grazes[0].parameter_error < 1e-9 * w_graze
 
 
+def test_a_graze_whose_bracket_trials_fail_is_still_reported_within_its_stated_error(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every trial point inside a step failing to converge (the located points' corrector,
+    ``fresh=False``): the grazing point is still reported, at a bracket end, with the
+    parameter's change over the bracket as its stated error, and that error covers the
+    closed-form grazing speed (the linear orbit's smallest x at zero, as above)."""
+    from gear_dyn.analysis.continuation.shooting import Shooting
+
+    correct = Shooting.correct
+
+    def failing(self, *args, **kwargs):
+        return None if kwargs.get("fresh", True) is False else correct(self, *args, **kwargs)
+
+    monkeypatch.setattr(Shooting, "correct", failing)
+    fam = sdof_family(oscillator(), "speed", teeth=TEETH)
+    lin_fam = sdof_family(oscillator(backlash=None), "speed", teeth=TEETH)
+    br = continue_orbits(fam, _speed(0.78), _speed(0.9))
+    grazes = br.of_kind("grazing")
+    assert [g.before + ">" + g.after for g in grazes][:1] == ["D>DGD"]
+    w_graze = brentq(lambda w: _linear_orbit_min(lin_fam(w)), _speed(0.8), _speed(0.86),
+                     xtol=1e-14)
+    g = grazes[0]
+    assert 1e-9 * w_graze < g.parameter_error  # the whole step: far wider than locate_tol
+    assert abs(g.parameter - w_graze) <= g.parameter_error
+
+
 def test_liouville_identity_on_every_point_and_a_point_that_fails_says_so() -> None:
     """det M = exp(-c n T / m_e) (Liouville's formula: tr A = -c/m in every contact state):
     to rounding on the exact route, to the integration tolerance on the variational one; a

@@ -283,17 +283,12 @@ def detect_step(sh: Shooting, ev_a: Evaluation, t_a: FloatArray, ev_b: Evaluatio
         fa, fb = test(ev_a.monodromy), test(ev_b.monodromy)
         if not _sign_change(fa, fb):
             continue
-        hit = locate_root(curve, test, fa, fb)
-        if hit is None:
-            continue
-        ev, s, err = hit
+        ev, s, err = locate_root(curve, test, fa, fb)
         kind = kinds[0] if t_a[2] * t_b[2] < 0.0 else kinds[1]
         found.append((s, Bifurcation(kind, point(ev, s), err, stab[pt_a.stable],
                                      stab[pt_b.stable])))
     if pt_a.pattern != pt_b.pattern:
-        ghit = locate_pattern_change(curve, pt_a.pattern, pt_b.pattern)
-        if ghit is not None:
-            ev, s, err, shape = ghit
-            found.append((s, Bifurcation("grazing", point(ev, s, shape), err, pt_a.pattern,
-                                         shape.pattern)))
+        ev, s, err, shape = locate_pattern_change(curve, pt_a.pattern, pt_b.pattern)
+        found.append((s, Bifurcation("grazing", point(ev, s, shape), err, pt_a.pattern,
+                                     shape.pattern)))
     return [b for _s, b in sorted(found, key=lambda x: x[0])]
