@@ -213,7 +213,9 @@ def follow(sh: Shooting, ev0: Evaluation, t0: FloatArray, window: tuple[float, f
             ds = min(ds * settings.grow, settings.step_max)
         elif it > settings.target_newton + 2:
             ds = max(ds / settings.grow, settings.step_min)
-    bifs = [b for b in bifs if lo <= b.parameter <= hi]
+    # a point whose stated error reaches into the range is kept (a bracket that its trials
+    # could not narrow is reported at an end, which may lie just outside)
+    bifs = [b for b in bifs if lo - b.parameter_error <= b.parameter <= hi + b.parameter_error]
     children: list[Branch] = []
     if doublings > 0:
         for b in bifs:
