@@ -36,8 +36,8 @@ SECANT_AGREEMENT = 1e-4
 #: ``|col| |dz_p|``, exceeds this times ``1 + max|z|``: the map rounds the scaled residual to
 #: about 1e-15 of that, so the column's own rounding error stays below ~1e-5 relative. A
 #: Newton step at the rounding level (a corrector run to ``newton_tol`` near 1e-14) would
-#: otherwise replace a good column by noise (Dennis and Schnabel 1996, sec. 8.1 on the
-#: secant update's loss of accuracy for steps near the noise level).
+#: otherwise replace a good column by noise (a difference quotient over a step near the
+#: function's noise level; Dennis and Schnabel 1996, sec. 5.4).
 SECANT_FLOOR = 1e-10
 
 
