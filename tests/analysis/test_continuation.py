@@ -94,6 +94,35 @@ def test_branch_in_full_contact_is_the_linear_response_and_grazes_where_it_separ
     assert grazes[0].parameter_error < 1e-9 * w_graze
 
 
+@pytest.mark.parametrize("upper", [0.9, 0.86])
+def test_a_graze_whose_bracket_trials_fail_is_still_reported_within_its_stated_error(
+        monkeypatch: pytest.MonkeyPatch, upper: float) -> None:
+    """Every trial point inside a step failing to converge (the located points' corrector,
+    ``fresh=False``): the grazing point is still reported, at a bracket end, with the
+    parameter's change over the bracket as its stated error, and that error covers the
+    closed-form grazing speed (the linear orbit's smallest x at zero, as above). With the
+    range ending at 0.86 the graze (0.857) lies on the step that leaves the range: the end
+    reported lies outside it, within its stated error."""
+    from gear_dyn.analysis.continuation.shooting import Shooting
+
+    correct = Shooting.correct
+
+    def failing(self, *args, **kwargs):
+        return None if kwargs.get("fresh", True) is False else correct(self, *args, **kwargs)
+
+    monkeypatch.setattr(Shooting, "correct", failing)
+    fam = sdof_family(oscillator(), "speed", teeth=TEETH)
+    lin_fam = sdof_family(oscillator(backlash=None), "speed", teeth=TEETH)
+    br = continue_orbits(fam, _speed(0.78), _speed(upper))
+    grazes = br.of_kind("grazing")
+    assert [g.before + ">" + g.after for g in grazes][:1] == ["D>DGD"]
+    w_graze = brentq(lambda w: _linear_orbit_min(lin_fam(w)), _speed(0.8), _speed(0.86),
+                     xtol=1e-14)
+    g = grazes[0]
+    assert 1e-9 * w_graze < g.parameter_error  # the whole step: far wider than locate_tol
+    assert abs(g.parameter - w_graze) <= g.parameter_error
+
+
 def test_liouville_identity_on_every_point_and_a_point_that_fails_says_so() -> None:
     """det M = exp(-c n T / m_e) (Liouville's formula: tr A = -c/m in every contact state):
     to rounding on the exact route, to the integration tolerance on the variational one; a
@@ -206,6 +235,37 @@ def test_torque_branch_points_are_orbits_found_by_plain_shooting() -> None:
         sol = shoot(fam(p.parameter), p.state, rtol=1e-12, periods=1)
         assert sol.converged
         assert np.all(np.abs(sol.y0 - p.state) <= 1e-8 * base.state_scale)
+
+
+@pytest.mark.parametrize(("load", "ratio"), [(1040.0, 0.8), (1040.0, 0.87), (1040.0, 0.95),
+                                           (300.0, 1.9)])
+def test_corrector_run_to_rounding_keeps_its_parameter_column(load: float, ratio: float
+                                                              ) -> None:
+    """The corrector's secant-updated parameter column (a step along the tangent, the start
+    point's column as the chord, ``newton_tol`` 1e-14: the last Newton steps move the
+    parameter by ~1e-17, at the residual's rounding) against the central difference at the
+    converged point. A secant update from such a step is noise over noise (it made the
+    located points of a tight continuation lose their columns, and a graze its bracket);
+    the kept column's error is the secant's truncation, below 2e-4 relative on these
+    steps, within the 1e-3 the branch's columns are held to (test_branch_rows_json_and_repr)."""
+    from gear_dyn.analysis.continuation.arclength import start_orbit
+    from gear_dyn.analysis.continuation.shooting import Shooting, tangent
+
+    fam = sdof_family(oscillator(load), "speed", teeth=TEETH)
+    w = ratio * WN / TEETH
+    model = fam(w)
+    sh = Shooting(fam, 1, "exact", model.state_scale, w, 1e-10, 1e-5)
+    y0 = start_orbit(model, 1, "exact", ContinuationSettings(), None)
+    out = sh.correct(sh.scaled(y0, w), np.array([0.0, 0.0, 1.0]), 1.0, 1e-12, 8)
+    assert out is not None
+    ev0 = out[0]
+    t = tangent(ev0.jac)
+    for ds in (1e-3, 3e-3, 1e-2, 2e-2):
+        zp = ev0.z + ds * t
+        got = sh.correct(zp, t, float(t @ zp), 1e-14, 12, dp_col=ev0.jac[:, 2], fresh=False)
+        assert got is not None
+        col, ref = got[0].jac[:, 2], sh.refresh(got[0]).jac[:, 2]
+        assert np.max(np.abs(col - ref)) <= 1e-3 * np.max(np.abs(ref)), (ds, col, ref)
 
 
 def test_branch_rows_json_and_repr() -> None:

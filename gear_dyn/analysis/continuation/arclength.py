@@ -213,7 +213,9 @@ def follow(sh: Shooting, ev0: Evaluation, t0: FloatArray, window: tuple[float, f
             ds = min(ds * settings.grow, settings.step_max)
         elif it > settings.target_newton + 2:
             ds = max(ds / settings.grow, settings.step_min)
-    bifs = [b for b in bifs if lo <= b.parameter <= hi]
+    # a point whose stated error reaches into the range is kept (a bracket that its trials
+    # could not narrow is reported at an end, which may lie just outside)
+    bifs = [b for b in bifs if lo - b.parameter_error <= b.parameter <= hi + b.parameter_error]
     children: list[Branch] = []
     if doublings > 0:
         for b in bifs:
@@ -283,17 +285,12 @@ def detect_step(sh: Shooting, ev_a: Evaluation, t_a: FloatArray, ev_b: Evaluatio
         fa, fb = test(ev_a.monodromy), test(ev_b.monodromy)
         if not _sign_change(fa, fb):
             continue
-        hit = locate_root(curve, test, fa, fb)
-        if hit is None:
-            continue
-        ev, s, err = hit
+        ev, s, err = locate_root(curve, test, fa, fb)
         kind = kinds[0] if t_a[2] * t_b[2] < 0.0 else kinds[1]
         found.append((s, Bifurcation(kind, point(ev, s), err, stab[pt_a.stable],
                                      stab[pt_b.stable])))
     if pt_a.pattern != pt_b.pattern:
-        ghit = locate_pattern_change(curve, pt_a.pattern, pt_b.pattern)
-        if ghit is not None:
-            ev, s, err, shape = ghit
-            found.append((s, Bifurcation("grazing", point(ev, s, shape), err, pt_a.pattern,
-                                         shape.pattern)))
+        ev, s, err, shape = locate_pattern_change(curve, pt_a.pattern, pt_b.pattern)
+        found.append((s, Bifurcation("grazing", point(ev, s, shape), err, pt_a.pattern,
+                                     shape.pattern)))
     return [b for _s, b in sorted(found, key=lambda x: x[0])]

@@ -121,7 +121,11 @@ class StepCurve:
                           + (-2 * u**3 + 3 * u**2) * z1 + (u**3 - u**2) * h * d1)
 
     def at(self, s: float) -> Evaluation | None:
-        """The corrected point at arclength ``s`` along the step (None: no convergence)."""
+        """The corrected point at arclength ``s`` along the step (None: no convergence).
+
+        The corrector starts with the parameter column interpolated between the nearest
+        points; where that fails, it is run again with the column by the central difference
+        at every iterate (two more maps each)."""
         hit = self.cache.get(s)
         if hit is not None:
             return hit
@@ -133,6 +137,10 @@ class StepCurve:
         out = self.sh.correct(self.predict(s), self.t_a, float(self.t_a @ self.z_a) + s,
                               self.settings.newton_tol, self.settings.max_newton,
                               dp_col=col, fresh=False)
+        if out is None:
+            out = self.sh.correct(self.predict(s), self.t_a, float(self.t_a @ self.z_a) + s,
+                                  self.settings.newton_tol, self.settings.max_newton,
+                                  fresh=False)
         if out is None:
             return None
         self.cache[s] = out[0]
@@ -206,7 +214,7 @@ Probe = Callable[[float], "tuple[bool, float | None] | None"]
 
 
 def bracket_root(curve: StepCurve, probe: Probe, v_lo: float | None, v_hi: float | None,
-                 report_hi: bool) -> tuple[float, float, float] | None:
+                 report_hi: bool) -> tuple[float, float, float]:
     """Narrow ``[0, ds]`` onto the point where ``probe`` changes side (module docstring).
 
     Parameters
@@ -222,8 +230,10 @@ def bracket_root(curve: StepCurve, probe: Probe, v_lo: float | None, v_hi: float
 
     Returns
     -------
-    (s, lo, hi) or None
-        The reported point and the final bracket; None when a trial's corrector fails.
+    (s, lo, hi)
+        The reported point and the final bracket. Where a trial's corrector fails, the
+        bracket reached so far (the point still lies in it: its stated error, from the
+        bracket, is wider than ``locate_tol`` then, never a point dropped).
     """
     lo, hi = 0.0, curve.ds
     vals: dict[float, float | None] = {lo: v_lo, hi: v_hi}
@@ -256,7 +266,7 @@ def bracket_root(curve: StepCurve, probe: Probe, v_lo: float | None, v_hi: float
             s = min(max(s, lo + NUDGE * w_ok), hi - NUDGE * w_ok)
         res = probe(s)
         if res is None:
-            return None
+            return r, lo, hi
         side, val = res
         vals[s] = val
         steps.append(abs(s - recent[-1]))
@@ -269,7 +279,7 @@ def bracket_root(curve: StepCurve, probe: Probe, v_lo: float | None, v_hi: float
 
 
 def locate_root(curve: StepCurve, test: Callable[[FloatArray], float], f_a: float, f_b: float
-                ) -> tuple[Evaluation, float, float] | None:
+                ) -> tuple[Evaluation, float, float]:
     """The point of the step where ``test(M)`` changes sign: bracketed until the parameter
     is known to ``locate_tol`` relative, then the point at the secant root of the final
     bracket (near a fold the bracket is wide in arclength, and the multiplier at its ends
@@ -277,10 +287,9 @@ def locate_root(curve: StepCurve, test: Callable[[FloatArray], float], f_a: floa
 
     Returns
     -------
-    (Evaluation, s, parameter_error) or None
+    (Evaluation, s, parameter_error)
         ``parameter_error``: the stated error (SI), the parameter's largest change over the
-        final bracket and the corrector's error (:meth:`StepCurve.located_error`). None when
-        the corrector fails inside the bracket.
+        final bracket and the corrector's error (:meth:`StepCurve.located_error`).
     """
     hi_positive = f_b > 0.0
 
@@ -291,10 +300,7 @@ def locate_root(curve: StepCurve, test: Callable[[FloatArray], float], f_a: floa
         v = test(ev.monodromy)
         return (v > 0.0) == hi_positive, v
 
-    hit = bracket_root(curve, probe, f_a, f_b, report_hi=False)
-    if hit is None:
-        return None
-    s, lo, hi = hit
+    s, lo, hi = bracket_root(curve, probe, f_a, f_b, report_hi=False)
     f_lo, f_hi = test(curve.cache[lo].monodromy), test(curve.cache[hi].monodromy)
     if f_lo != f_hi:  # the point itself at the secant root inside the final bracket
         s_root = lo - f_lo * (hi - lo) / (f_hi - f_lo)
@@ -304,7 +310,7 @@ def locate_root(curve: StepCurve, test: Callable[[FloatArray], float], f_a: floa
 
 
 def locate_pattern_change(curve: StepCurve, pattern_a: str, pattern_b: str
-                          ) -> tuple[Evaluation, float, float, OrbitShape] | None:
+                          ) -> tuple[Evaluation, float, float, OrbitShape]:
     """The first point of the step where the contact pattern differs from ``pattern_a``.
 
     With the grazing test (:mod:`.graze`) of the step's ends, the bracket is narrowed on its
@@ -316,7 +322,7 @@ def locate_pattern_change(curve: StepCurve, pattern_a: str, pattern_b: str
 
     Returns
     -------
-    (Evaluation, s, parameter_error, OrbitShape) or None (the corrector failed)
+    (Evaluation, s, parameter_error, OrbitShape)
         The shape (with the new pattern) of the located point.
     """
     sh = curve.sh
@@ -360,11 +366,9 @@ def locate_pattern_change(curve: StepCurve, pattern_a: str, pattern_b: str
             return (val > 0.0) == (v_b > 0.0), val
 
         hit = bracket_root(curve, on_test, v_a, v_b, report_hi=True)
-        if hit is not None and (pattern(hit[1]) != pattern_a or pattern(hit[2]) == pattern_a):
+        if pattern(hit[1]) != pattern_a or pattern(hit[2]) == pattern_a:
             hit = None
     if hit is None:
         hit = bracket_root(curve, on_pattern, None, None, report_hi=True)
-    if hit is None:
-        return None
     s, lo, hi = hit
     return curve.cache[s], s, curve.located_error(lo, hi, s), shape(s)

@@ -32,6 +32,13 @@ FloatArray = NDArray[np.float64]
 #: two successive secant parameter columns that agree to this (relative) are taken as the
 #: parameter derivative at a converged point, without the central difference
 SECANT_AGREEMENT = 1e-4
+#: a secant update is made only where the parameter's share of the residual change,
+#: ``|col| |dz_p|``, exceeds this times ``1 + max|z|``: the map rounds the scaled residual to
+#: about 1e-15 of that, so the column's own rounding error stays below ~1e-5 relative. A
+#: Newton step at the rounding level (a corrector run to ``newton_tol`` near 1e-14) would
+#: otherwise replace a good column by noise (a difference quotient over a step near the
+#: function's noise level; Dennis and Schnabel 1996, sec. 5.4).
+SECANT_FLOOR = 1e-10
 
 
 @dataclass(frozen=True, eq=False)
@@ -239,10 +246,14 @@ def _secant_column(ev0: Evaluation, ev1: Evaluation, dz: FloatArray) -> FloatArr
     """The parameter column from the secant condition of the last Newton step (Broyden's
     update restricted to that column; the state columns are exact):
     ``g1 - g0 = A_y dz_y + col dz_p``, ``A_y`` averaged over the two points (second order in
-    the step). None when the step hardly moved the parameter."""
+    the step). None when the step hardly moved the parameter, or so little that the
+    residual's rounding would dominate the column (:data:`SECANT_FLOOR`)."""
     dzp = float(dz[2])
     if abs(dzp) <= 1e-3 * float(np.max(np.abs(dz))):
         return None
+    size = float(np.max(np.abs(ev0.jac[:, 2])))
+    if abs(dzp) * size <= SECANT_FLOOR * (1.0 + float(np.max(np.abs(ev0.z)))):
+        return None  # the step is at the rounding level of the residual: keep the column
     a_y = 0.5 * (ev0.jac[:, :2] + ev1.jac[:, :2])
     return np.asarray((ev1.g - ev0.g - a_y @ dz[:2]) / dzp, dtype=float)
 
