@@ -1,10 +1,12 @@
 """Relief cases side by side: loaded contact, load sharing and contact stress along the path,
-and the table row each case contributes (what ``gear-dyn contact`` and the examples report)."""
+and the table row each case contributes (what ``gear-dyn contact`` and the examples report):
+the spur loaded contact (:class:`ReliefCase`) or the slice method for any pair with lead
+modifications and misalignment (:class:`SliceCase`)."""
 
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -12,12 +14,14 @@ from numpy.typing import NDArray
 
 from gear_dyn.geometry import GearPair
 from gear_dyn.modification.contact import LoadedContact, PathView, loaded_contact
+from gear_dyn.modification.lead import FlankModification
 from gear_dyn.modification.relief import (
     RULES,
     ProfileModification,
     height_from_length,
     recommended_relief,
 )
+from gear_dyn.modification.slice_contact import SliceContact, SliceOptions, slice_contact
 from gear_dyn.modification.stress import contact_stress
 
 FloatArray = NDArray[np.float64]
@@ -52,14 +56,8 @@ class ReliefCase:
         contact A). Keys carry their SI unit.
         """
         pair = self.contact.pair
-        out: dict[str, Any] = {"case": self.name}
-        for gear, name in ((1, "pinion"), (2, "gear")):
-            r = None if self.modification is None else getattr(self.modification, name)
-            out[f"amount_{name}_m"] = 0.0 if r is None else r.amount
-            out[f"length_{name}_m"] = 0.0 if r is None else r.length
-            out[f"height_{name}_m"] = 0.0 if r is None else height_from_length(pair, gear,
-                                                                               r.length)
-            out[f"curve_{name}"] = None if r is None else r.curve
+        out: dict[str, Any] = {"case": self.name, "method": "spur loaded contact"}
+        out |= relief_columns(pair, self.modification)
         out["peak_stress_pa"] = float(np.max(self.stress))
         out["peak_to_peak_static_te_m"] = self.contact.peak_to_peak_error
         out["mean_static_te_m"] = float(np.mean(self.contact.static_transmission_error().value(
@@ -72,6 +70,84 @@ class ReliefCase:
         out["single_contact_start_from_a_m"] = None if zone is None else zone[0] - s_a
         out["single_contact_end_from_a_m"] = None if zone is None else zone[1] - s_a
         return out
+
+
+def relief_columns(pair: GearPair, modification: ProfileModification | None) -> dict[str, Any]:
+    """Amount, length, height (m) and curve of each gear's tip relief, as table columns."""
+    out: dict[str, Any] = {}
+    for gear, name in ((1, "pinion"), (2, "gear")):
+        r = None if modification is None else getattr(modification, name)
+        out[f"amount_{name}_m"] = 0.0 if r is None else r.amount
+        out[f"length_{name}_m"] = 0.0 if r is None else r.length
+        out[f"height_{name}_m"] = 0.0 if r is None else height_from_length(pair, gear,
+                                                                           r.length)
+        out[f"curve_{name}"] = None if r is None else r.curve
+    return out
+
+
+@dataclass(frozen=True)
+class SliceCase:
+    """Slice-method loaded contact of one design (spur or helical pair).
+
+    Attributes
+    ----------
+    name : str
+    modification : FlankModification
+        Tip reliefs, lead modifications and misalignment of the case.
+    contact : SliceContact
+        Result at one torque (or a ladder: :meth:`row` reports the first torque).
+    """
+
+    name: str
+    modification: FlankModification
+    contact: SliceContact
+
+    def row(self, index: int = 0) -> dict[str, Any]:
+        """Table row with the keys of :meth:`ReliefCase.row` (the single-contact zone is None:
+        the slice analysis reports load sharing per mesh position instead) plus the tangent
+        stiffness and the unloaded TE, at torque ``index`` of the ladder."""
+        c = self.contact
+        summary = c.summary()[index]
+        out: dict[str, Any] = {"case": self.name, "method": "slice LTCA"}
+        out |= relief_columns(c.pair, self.modification.profile)
+        out |= {k: summary[k] for k in ("peak_stress_pa", "peak_to_peak_static_te_m",
+                                        "mean_static_te_m", "mean_loaded_stiffness_n_per_m",
+                                        "mean_tangent_stiffness_n_per_m",
+                                        "peak_to_peak_unloaded_te_m", "max_sharing")}
+        for key in ("single_contact_start_m", "single_contact_end_m",
+                    "single_contact_start_from_a_m", "single_contact_end_from_a_m"):
+            out[key] = None
+        return out
+
+
+def rule_modifications(pair: GearPair, torque: float, curve: str = "linear",
+                       extra: Mapping[str, ProfileModification] | None = None,
+                       rule_options: Mapping[str, float] | None = None) -> dict[
+                           str, ProfileModification | None]:
+    """The designs :func:`rule_cases` compares: the unmodified pair (None), ``extra``, then
+    every rule of :data:`~gear_dyn.modification.relief.RULES` with ``curve``."""
+    mods: dict[str, ProfileModification | None] = {"unmodified": None}
+    mods |= dict(extra or {})
+    for rule in RULES:
+        rec = recommended_relief(pair, torque, rule, **(rule_options or {}))
+        mods[rule] = rec.modification(curve)
+    return mods
+
+
+def slice_cases(pair: GearPair, torque: float | FloatArray,
+                designs: Mapping[str, ProfileModification | None],
+                lead: FlankModification | None = None,
+                pair_stiffness: Callable[[FloatArray], FloatArray] | None = None,
+                options: SliceOptions | None = None) -> dict[str, SliceCase]:
+    """Slice-method loaded contact of every profile design, each with the lead modifications
+    and misalignment of ``lead`` (its ``profile`` is replaced by the design's)."""
+    base = lead or FlankModification()
+    out = {}
+    for name, prof in designs.items():
+        mod = replace(base, profile=prof)
+        out[name] = SliceCase(name, mod, slice_contact(pair, torque, mod, pair_stiffness,
+                                                       options))
+    return out
 
 
 def relief_case(name: str, pair: GearPair, pair_stiffness: Callable[[FloatArray], FloatArray],
@@ -103,10 +179,6 @@ def rule_cases(pair: GearPair, pair_stiffness: Callable[[FloatArray], FloatArray
         ``handbook_a``, ``handbook_b``, ``face_load_factor`` (see
         :func:`~gear_dyn.modification.relief.recommended_relief`).
     """
-    cases = {"unmodified": relief_case("unmodified", pair, pair_stiffness, torque, None)}
-    for name, mod in (extra or {}).items():
-        cases[name] = relief_case(name, pair, pair_stiffness, torque, mod)
-    for rule in RULES:
-        mod = recommended_relief(pair, torque, rule, **(rule_options or {})).modification(curve)
-        cases[rule] = relief_case(rule, pair, pair_stiffness, torque, mod)
-    return cases
+    mods = rule_modifications(pair, torque, curve, extra, rule_options)
+    return {name: relief_case(name, pair, pair_stiffness, torque, mod)
+            for name, mod in mods.items()}

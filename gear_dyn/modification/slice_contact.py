@@ -416,8 +416,10 @@ def slice_geometry(pair: GearPair, slices: int, positions: int) -> tuple[
     else:
         share = ((u >= -tol) & (u <= g_a + tol)).astype(float)
     keep = (share > 0.0).any(axis=(0, 2))
-    s = np.asarray(pair.start_of_contact + u[:, keep, :], dtype=float)
-    return np.asarray(phase, dtype=float), y, s, np.asarray(share[:, keep, :], dtype=float)
+    f64 = np.float64
+    return (np.asarray(phase, dtype=f64), np.asarray(y, dtype=f64),
+            np.asarray(pair.start_of_contact + u[:, keep, :], dtype=f64),
+            np.asarray(share[:, keep, :], dtype=f64))
 
 
 def slice_contact(
