@@ -21,11 +21,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.errors import InputError
-from gear_dyn.excitation import SampledSignal
 from gear_dyn.geometry import GearPair
 from gear_dyn.models.base import ModelDefaults
 from gear_dyn.models.sdof import SDOFModel, sdof_from_pair
-from gear_dyn.modification.contact import LoadedContact, loaded_contact
+from gear_dyn.modification.contact import LoadedContact, PiecewiseSignal, loaded_contact
 from gear_dyn.modification.lead import FlankModification
 from gear_dyn.modification.relief import ProfileModification
 from gear_dyn.modification.slice_contact import SliceContact, SliceOptions, slice_contact
@@ -155,7 +154,8 @@ def slice_sdof(
     kt = np.append(sc.tangent_stiffness[0], sc.tangent_stiffness[0, 0])
     k = PiecewiseStiffness(np.array([0.0, 1.0]), ((ph, kt),), name="slice LTCA (tangent)")
     e = sc.relief_error[0]
-    te = None if np.ptp(e) == 0.0 and e[0] == 0.0 else SampledSignal(sc.phase, e)
+    te = None if not np.any(e) else PiecewiseSignal.from_segments(
+        np.array([0.0, 1.0]), np.zeros(ph.size, dtype=int), ph, np.append(e, e[0]))
     base = sdof_from_pair(pair, speed, torque, k, damping_ratio, inertias, transmission_error=te)
     mod = sc.modification
     info = {
