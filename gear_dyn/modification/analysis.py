@@ -10,8 +10,9 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
+from gear_dyn.errors import InputError
 from gear_dyn.geometry import GearPair
 from gear_dyn.modification.contact import LoadedContact, PathView, loaded_contact
 from gear_dyn.modification.lead import FlankModification
@@ -182,3 +183,116 @@ def rule_cases(pair: GearPair, pair_stiffness: Callable[[FloatArray], FloatArray
     mods = rule_modifications(pair, torque, curve, extra, rule_options)
     return {name: relief_case(name, pair, pair_stiffness, torque, mod)
             for name, mod in mods.items()}
+
+
+@dataclass(frozen=True, eq=False)
+class ReliefStudy:
+    """Relief designs compared over a torque range by the slice loaded contact.
+
+    Attributes
+    ----------
+    torque : ndarray (T,)
+        Pinion torques in N m.
+    cases : dict of SliceCase
+        Each design's loaded contact over the whole ladder.
+    """
+
+    torque: FloatArray
+    cases: dict[str, SliceCase]
+
+    @property
+    def names(self) -> list[str]:
+        """Design names, in order."""
+        return list(self.cases)
+
+    @property
+    def ppte(self) -> FloatArray:
+        """Peak-to-peak loaded static TE in m (designs, torques)."""
+        return np.array([c.contact.peak_to_peak_te for c in self.cases.values()])
+
+    @property
+    def peak_pressure(self) -> FloatArray:
+        """Largest Hertz pressure over the cycle in Pa (designs, torques)."""
+        return np.array([c.contact.max_pressure for c in self.cases.values()])
+
+    @property
+    def mean_stiffness(self) -> FloatArray:
+        """Mean secant mesh stiffness in N/m (designs, torques)."""
+        return np.array([c.contact.mean_secant_stiffness for c in self.cases.values()])
+
+    @property
+    def best(self) -> str:
+        """The design with the lowest PPTE averaged over the torque range (the ladder's points
+        weighted equally)."""
+        return self.names[int(np.argmin(self.ppte.mean(axis=1)))]
+
+    def rows(self) -> list[dict[str, Any]]:
+        """One row per design and torque (SI keys)."""
+        out = []
+        for i, name in enumerate(self.names):
+            for k, t in enumerate(self.torque):
+                out.append({"design": name, "torque_n_m": float(t),
+                            "peak_to_peak_static_te_m": float(self.ppte[i, k]),
+                            "peak_stress_pa": float(self.peak_pressure[i, k]),
+                            "mean_loaded_stiffness_n_per_m": float(self.mean_stiffness[i, k])})
+        return out
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summary: the ladder, each design's amounts and series, the best design."""
+        designs = []
+        for i, (name, case) in enumerate(self.cases.items()):
+            designs.append({"design": name,
+                            **relief_columns(case.contact.pair, case.modification.profile),
+                            "peak_to_peak_static_te_m": self.ppte[i].tolist(),
+                            "peak_stress_pa": self.peak_pressure[i].tolist(),
+                            "mean_loaded_stiffness_n_per_m": self.mean_stiffness[i].tolist(),
+                            "mean_ppte_m": float(self.ppte[i].mean())})
+        return {"torque_n_m": self.torque.tolist(), "designs": designs, "best": self.best,
+                "best_rule": "lowest peak-to-peak static TE averaged over the torque range"}
+
+
+def relief_study(pair: GearPair, torques: ArrayLike,
+                 designs: Mapping[str, ProfileModification | None],
+                 lead: FlankModification | None = None,
+                 pair_stiffness: Callable[[FloatArray], FloatArray] | None = None,
+                 options: SliceOptions | None = None) -> ReliefStudy:
+    """PPTE and peak contact pressure of relief designs over a torque range, and the best one.
+
+    Parameters
+    ----------
+    pair : GearPair
+        Spur or helical pair.
+    torques : array_like
+        Pinion torques in N m (each > 0).
+    designs : mapping
+        Name -> tip reliefs (None: unmodified), e.g. :func:`rule_modifications` (the published
+        rules at one torque) or the user's own amounts.
+    lead : FlankModification or None
+        Lead modifications and misalignment applied to every design.
+    pair_stiffness : callable or None
+        Unmodified single-pair stiffness ``K(s)`` in N/m (None: potential energy).
+    options : SliceOptions or None
+
+    Returns
+    -------
+    ReliefStudy
+
+    Raises
+    ------
+    InputError
+        No designs, torques not positive, reliefs the pair cannot take.
+
+    Examples
+    --------
+    >>> import math
+    >>> from gear_dyn.geometry import GearPair
+    >>> p = GearPair(23, 79, 6e-3, math.radians(20), 70e-3, math.radians(20), x1=0.3, x2=-0.1)
+    >>> study = relief_study(p, [500.0, 2000.0], rule_modifications(p, 2000.0))
+    >>> study.best in study.names
+    True
+    """
+    if not designs:
+        raise InputError("relief study: no designs given (give at least one, e.g. "
+                         "rule_modifications(pair, torque))")
+    t = np.atleast_1d(np.asarray(torques, dtype=float)).ravel()
+    return ReliefStudy(t, slice_cases(pair, t, designs, lead, pair_stiffness, options))

@@ -10,7 +10,7 @@ import matplotlib as mpl
 import numpy as np
 
 from gear_dyn.analysis.spectrum import amplitude_spectrum
-from gear_dyn.modification.analysis import ReliefCase, SliceCase
+from gear_dyn.modification.analysis import ReliefCase, ReliefStudy, SliceCase
 from gear_dyn.modification.slice_contact import SliceContact
 from gear_dyn.plots._axes import axes_of, tidy
 from gear_dyn.solvers import Result
@@ -178,3 +178,18 @@ def plot_slice_stiffness(cases: Mapping[str, SliceCase], ax: Any = None) -> Any:
     return _labelled(fig, axs, ("loaded mesh stiffness F_t / delta (N/µm)",
                                 "loaded static TE (µm)"),
                      "mesh phase (cycles; 0 = a contact line enters at A on the front face)")
+
+
+def plot_relief_study(study: ReliefStudy, ax: Any = None) -> Any:
+    """PPTE and peak Hertz pressure of every design against torque; the best design (lowest
+    PPTE over the range) drawn bold. ``ax``: 2 Axes or None."""
+    fig, axs = axes_of(ax, 2, 1, figsize=(8, 7), name="plot_relief_study", sharex=True)
+    best = study.best
+    for (i, name), st in zip(enumerate(study.names), _styles(len(study.names)), strict=True):
+        style = {**st, "lw": 2.6} if name == best else st
+        label = f"{name} (best)" if name == best else name
+        axs[0].plot(study.torque, study.ppte[i] * 1e6, marker="o", ms=3, label=label, **style)
+        axs[1].plot(study.torque, study.peak_pressure[i] / 1e6, marker="o", ms=3, label=label,
+                    **style)
+    return _labelled(fig, axs, ("p-p loaded static TE (µm)", "peak Hertz pressure (MPa)"),
+                     "pinion torque T1 (N m)")

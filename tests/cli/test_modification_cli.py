@@ -214,3 +214,23 @@ def test_scene_tooth_options_reach_the_pair_stiffness() -> None:
                      stiffness={"method": "potential_energy", "weber_slices": 10})
     with pytest.raises(SceneError, match="weber_slices"):
         build_model(bad)
+
+
+def test_relief_study_command(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    scene = tmp_path / "hel.toml"
+    scene.write_text(SCENE.read_text().replace('face_width = "50 mm"',
+                                               'face_width = "50 mm"\nhelix_angle = "15 deg"'))
+    out = tmp_path / "study"
+    assert main(["relief-study", str(scene), "--out", str(out),
+                 "--torques", "500 N*m:1500 N*m:3"]) == 0
+    assert {p.name for p in out.iterdir()} == {"study.json", "study.csv", "study.png"}
+    rep = json.loads((out / "study.json").read_text())
+    names = [d["design"] for d in rep["designs"]]
+    assert rep["best"] in names and rep["torque_n_m"] == pytest.approx([500.0, 1000.0, 1500.0])
+    mean = {d["design"]: d["mean_ppte_m"] for d in rep["designs"]}
+    assert mean[rep["best"]] == min(mean.values())
+    assert "best (lowest PPTE over the range)" in capsys.readouterr().out
+    assert main(["relief-study", str(scene), "--out", str(tmp_path / "bad"),
+                 "--torques", "500:1500:3"]) == 2
+    assert "--torques" in capsys.readouterr().err
+    assert not (tmp_path / "bad").exists()

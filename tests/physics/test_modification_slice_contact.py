@@ -165,3 +165,33 @@ def test_bad_input_is_refused() -> None:
         LeadModification(end_relief=5e-6)
     with pytest.raises(InputError, match="single-pair stiffness"):
         slice_contact(RAIL, 100.0, pair_stiffness=lambda s: np.full(np.shape(s), 1e14))
+
+
+def test_unmodified_aligned_pair_is_linear_in_the_load() -> None:
+    """Perfect, aligned flanks: every slice in contact carries load at any torque, so the
+    approach is F_t / k(p) and the p-p static TE grows in proportion to the torque."""
+    r = slice_contact(RAIL, [100.0, 1000.0, 3000.0], options=SliceOptions(20, 16))
+    inside = np.isfinite(r.position)
+    assert np.all(r.load[:, inside] > 0.0)
+    np.testing.assert_allclose(r.peak_to_peak_te / r.torque, r.peak_to_peak_te[0] / 100.0,
+                               rtol=1e-9)
+    np.testing.assert_allclose(r.secant_stiffness, r.tangent_stiffness, rtol=1e-9)
+
+
+def test_relief_study_ranks_as_single_runs() -> None:
+    """The study's ladder against one slice_contact per design and torque (a second path):
+    same PPTE, and the best design is the lowest mean PPTE."""
+    from gear_dyn.modification.analysis import relief_study, rule_modifications
+
+    designs = rule_modifications(RAIL, 2000.0)
+    torques = [600.0, 2000.0]
+    opts = SliceOptions(12, 12)
+    study = relief_study(RAIL, torques, designs, options=opts)
+    ppte = np.array([[slice_contact(RAIL, t, FlankModification(profile=m),
+                                    options=opts).peak_to_peak_te[0] for t in torques]
+                     for m in designs.values()])
+    np.testing.assert_allclose(study.ppte, ppte, rtol=1e-9)
+    assert study.best == list(designs)[int(np.argmin(ppte.mean(axis=1)))]
+    assert len(study.rows()) == len(designs) * len(torques)
+    with pytest.raises(InputError, match="no designs"):
+        relief_study(RAIL, torques, {})
