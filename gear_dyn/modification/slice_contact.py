@@ -246,10 +246,11 @@ class SliceContact:
 
     def at(self, index: int) -> SliceContact:
         """The result of one torque of the ladder (``index`` into :attr:`torque`)."""
+        n = self.torque.size
         i = int(index)
-        if not -self.torque.size <= i < self.torque.size:
-            raise InputError(f"torque index = {index!r}: valid range 0 .. {self.torque.size - 1}")
-        sl = slice(i, i + 1) if i >= 0 else slice(i, i + 1 if i < -1 else None)
+        if not -n <= i < n:
+            raise InputError(f"torque index = {index!r}: valid range 0 .. {n - 1}")
+        sl = slice(i % n, i % n + 1)
         return SliceContact(self.pair, self.modification, self.options, self.torque[sl],
                             self.phase, self.face, self.position, self.gap, self.share,
                             self.load[sl],
@@ -316,7 +317,6 @@ class SliceContact:
 
     def slice_table(self) -> dict[str, FloatArray]:
         """Columns (one row per torque, position, tooth pair and slice in contact) for CSV."""
-        t_n = self.torque.size
         inside = np.broadcast_to(np.isfinite(self.position), self.load.shape)
         idx = np.nonzero(inside)
         pos = np.broadcast_to(self.position, self.load.shape)
@@ -330,7 +330,7 @@ class SliceContact:
             "load_n": self.load[idx],
             "line_load_n_per_m": self.line_load[idx],
             "pressure_pa": self.pressure[idx],
-        } if t_n else {}
+        }
 
 
 def pasternak_solve(springs: ArrayLike, k_c: float, rhs: ArrayLike) -> FloatArray:
@@ -397,15 +397,17 @@ def slice_geometry(pair: GearPair, slices: int, positions: int) -> tuple[
     or 1). Tooth pairs never in contact are dropped.
     """
     pb, g_a, b = pair.base_pitch, pair.path_of_contact, pair.face_width
-    tan_bb = math.tan(pair.beta_b)
+    tan_bb = abs(math.tan(pair.beta_b))
     dy = b / slices
     y = (np.arange(slices) + 0.5) * dy
+    # a left-hand helix (negative angle, should a pair carry one) enters at the rear face
+    y_lag = y if pair.beta_b >= 0.0 else b - y
     kinks = contact_line_breakpoints(pair)
     phase = np.unique(np.mod(np.concatenate([np.arange(positions) / positions,
                                              kinks - _NUDGE, kinks + _NUDGE]), 1.0))
     n_lines = int(math.floor((g_a + b * tan_bb) / pb)) + 2
     j = np.arange(n_lines)
-    u = (phase[:, None, None] + j[None, :, None]) * pb - y[None, None, :] * tan_bb
+    u = (phase[:, None, None] + j[None, :, None]) * pb - y_lag[None, None, :] * tan_bb
     tol = 1e-12 * pb
     half = 0.5 * dy * tan_bb
     if half > tol:

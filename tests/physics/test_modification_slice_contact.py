@@ -154,6 +154,12 @@ def test_torque_ladder_equals_single_torques() -> None:
     assert d["summary"][0]["peak_to_peak_static_te_m"] == pytest.approx(
         float(one.peak_to_peak_te[0]))
     assert len(one.position_table()["phase"]) == one.phase.size
+    np.testing.assert_array_equal(ladder.at(-1).load, ladder.at(1).load)
+    rows = one.slice_table()
+    assert rows["load_n"].size == int(np.isfinite(one.position).sum())
+    assert rows["load_n"].sum() == pytest.approx(one.load.sum(), rel=1e-12)
+    with pytest.raises(InputError, match="torque index"):
+        ladder.at(2)
 
 
 def test_bad_input_is_refused() -> None:
