@@ -74,16 +74,21 @@ def _overlap_pair(eps_b: float) -> GearPair:
 
 def test_integer_overlap_ratio_gives_small_te_fluctuation() -> None:
     """Liu et al. (2017): with an integer overlap ratio the total contact-line length is
-    constant, so an unmodified pair's static TE barely fluctuates (what is left comes from the
-    stiffness varying along the path); eps_b = n + 0.5 leaves the line length fluctuating."""
+    constant, so an unmodified pair's static TE barely fluctuates; eps_b = n + 0.5 leaves the
+    line length fluctuating. Independent slices isolate that effect (what is left comes from
+    the stiffness varying along the path: measured ratios 0.04 and 0.12 at n = 1, 2). The
+    coupled slices add the support a line gets from the rest of the tooth, which changes as the
+    line ends move along the face edges (ratios 0.42 and 0.36; 60 slices, 64 positions)."""
     ph = np.linspace(0, 1, 101)
     for n in (1, 2):
         whole, half = _overlap_pair(n), _overlap_pair(n + 0.5)
         assert np.ptp(contact_line_length(whole, ph)) < 1e-12
-        # same line load (torque in proportion to the face width)
-        te = [slice_contact(p, 2000.0 * p.face_width / RAIL.face_width).peak_to_peak_te[0]
-              for p in (whole, half)]
-        assert te[0] < 0.45 * te[1], (n, te)
+        for lam, ratio in ((0.0, 0.2), (None, 0.5)):
+            opts = SliceOptions(slices=60, positions=64, coupling_length=lam)
+            # same line load (torque in proportion to the face width)
+            te = [slice_contact(p, 2000.0 * p.face_width / RAIL.face_width,
+                                options=opts).peak_to_peak_te[0] for p in (whole, half)]
+            assert te[0] < ratio * te[1], (n, lam, te)
 
 
 def test_mean_loaded_stiffness_against_iso6336() -> None:
