@@ -13,8 +13,6 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-import numpy as np
-
 from gear_dyn.choices import RELIEF_CURVES
 from gear_dyn.cli.run import add_scene_and_out
 from gear_dyn.errors import InputError
@@ -41,8 +39,11 @@ def register(sub: Any) -> None:
     p.set_defaults(func=run)
 
 
-def parse_torques(text: str | None, scene_torque: float) -> np.ndarray:
-    """Torques in N m from ``START:STOP:N`` (each end with its unit), or the default ladder."""
+def parse_torques(text: str | None, scene_torque: float) -> Any:
+    """Torques in N m from ``START:STOP:N`` (each end with its unit), or the default ladder
+    (an ndarray)."""
+    import numpy as np
+
     from gear_dyn.scene.operating import parse_operating
 
     if text is None:
@@ -95,6 +96,8 @@ def compute(scene: Any, torques: str | None = None, curve: str | None = None) ->
 
 
 def run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from gear_dyn.io import save_figure, staged_output, write_json, write_rows
     from gear_dyn.plots.contact import plot_relief_study
     from gear_dyn.scene import load_scene
