@@ -31,8 +31,8 @@ def register(sub: Any) -> None:
     )
     add_scene_and_out(p)
     p.add_argument("--torques", default=None, metavar="START:STOP:N",
-                   help="pinion torques with their units, N linearly spaced (default: 10 % .. "
-                   "100 % of the scene's torque, 10 points)")
+                   help="pinion torques with their units, N linearly spaced (default: 10 %% .. "
+                   "100 %% of the scene's torque, 10 points)")
     p.add_argument("--curve", choices=RELIEF_CURVES, default=None,
                    help="relief curve for the rules (default: the scene's tip_relief.curve, "
                    "else linear)")
