@@ -35,6 +35,7 @@ COMMANDS: tuple[str, ...] = (
     "gear_dyn.cli.cosim",
     "gear_dyn.cli.relief",
     "gear_dyn.cli.contact",
+    "gear_dyn.cli.relief_study",
     "gear_dyn.cli.scenes",
 )
 

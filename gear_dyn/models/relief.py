@@ -25,9 +25,11 @@ from gear_dyn.errors import InputError
 from gear_dyn.geometry import GearPair
 from gear_dyn.models.base import ModelDefaults
 from gear_dyn.models.sdof import SDOFModel, sdof_from_pair
-from gear_dyn.modification.contact import LoadedContact, loaded_contact
+from gear_dyn.modification.contact import LoadedContact, PiecewiseSignal, loaded_contact
+from gear_dyn.modification.lead import FlankModification
 from gear_dyn.modification.relief import ProfileModification
-from gear_dyn.stiffness.periodic import PeriodicStiffness
+from gear_dyn.modification.slice_contact import SliceContact, SliceOptions, slice_contact
+from gear_dyn.stiffness.periodic import PeriodicStiffness, PiecewiseStiffness
 from gear_dyn.stiffness.select import (  # re-exported: the function's first home
     pair_stiffness_function as pair_stiffness_function,
 )
@@ -105,6 +107,70 @@ def relief_sdof(
         mesh_frequency=base.mesh_frequency, transmission_error=te, info=info,
     )
     return model, lc
+
+
+def slice_sdof(
+    pair: GearPair,
+    speed: float,
+    torque: float,
+    modification: FlankModification | None,
+    pair_stiffness: Callable[[FloatArray], FloatArray] | None = None,
+    damping_ratio: float = 0.06,
+    inertias: tuple[float, float] | None = None,
+    options: SliceOptions | None = None,
+) -> tuple[ReliefSDOFModel, SliceContact]:
+    """Single-DOF model of a spur or helical pair on its slice-method loaded contact.
+
+    The tangent stiffness ``k_t(p)`` and the transmission error of the modifications
+    ``e(p) = delta(p) - F_t / k_t(p)`` at the operating torque
+    (:func:`~gear_dyn.modification.slice_contact.slice_contact`), linear between the mesh
+    positions, feed ``m x'' + c (x' - e') + k_t (x - e) = W`` (the ``"tangent"`` form of
+    :func:`relief_sdof`): its static solution is the loaded static TE.
+
+    Parameters
+    ----------
+    pair : GearPair
+    speed, torque : float
+        Pinion speed (rad/s, > 0) and torque (N m, > 0).
+    modification : FlankModification or None
+        Tip reliefs, lead modifications, misalignment.
+    pair_stiffness : callable or None
+        Unmodified single-pair stiffness ``K(s)`` in N/m (None: potential energy).
+    damping_ratio : float
+    inertias : (float, float) or None
+    options : SliceOptions or None
+
+    Returns
+    -------
+    (ReliefSDOFModel, SliceContact)
+
+    Raises
+    ------
+    InputError
+        As :func:`~gear_dyn.modification.slice_contact.slice_contact` and
+        :func:`~gear_dyn.models.sdof.sdof_from_pair`.
+    """
+    sc = slice_contact(pair, torque, modification, pair_stiffness, options)
+    ph = np.append(sc.phase, 1.0)
+    kt = np.append(sc.tangent_stiffness[0], sc.tangent_stiffness[0, 0])
+    k = PiecewiseStiffness(np.array([0.0, 1.0]), ((ph, kt),), name="slice LTCA (tangent)")
+    e = sc.relief_error[0]
+    te = None if not np.any(e) else PiecewiseSignal.from_segments(
+        np.array([0.0, 1.0]), np.zeros(ph.size, dtype=int), ph, np.append(e, e[0]))
+    base = sdof_from_pair(pair, speed, torque, k, damping_ratio, inertias, transmission_error=te)
+    mod = sc.modification
+    info = {
+        "stiffness_method": "slice LTCA (tangent)",
+        "tip_relief": relief_info(mod.profile),
+        "static_ptp_transmission_error_m": float(sc.peak_to_peak_te[0]),
+        "mean_loaded_stiffness_n_per_m": float(sc.mean_secant_stiffness[0]),
+        "slices": sc.options.slices, "mesh_positions": int(sc.phase.size),
+    }
+    model = ReliefSDOFModel(
+        mass=base.mass, stiffness=k, damping_ratio=damping_ratio, static_load=base.static_load,
+        mesh_frequency=base.mesh_frequency, transmission_error=te, info=info,
+    )
+    return model, sc
 
 
 def relief_info(modification: ProfileModification | None) -> dict[str, Any]:

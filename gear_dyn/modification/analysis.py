@@ -1,23 +1,28 @@
 """Relief cases side by side: loaded contact, load sharing and contact stress along the path,
-and the table row each case contributes (what ``gear-dyn contact`` and the examples report)."""
+and the table row each case contributes (what ``gear-dyn contact`` and the examples report):
+the spur loaded contact (:class:`ReliefCase`) or the slice method for any pair with lead
+modifications and misalignment (:class:`SliceCase`)."""
 
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
+from gear_dyn.errors import InputError
 from gear_dyn.geometry import GearPair
 from gear_dyn.modification.contact import LoadedContact, PathView, loaded_contact
+from gear_dyn.modification.lead import FlankModification
 from gear_dyn.modification.relief import (
     RULES,
     ProfileModification,
     height_from_length,
     recommended_relief,
 )
+from gear_dyn.modification.slice_contact import SliceContact, SliceOptions, slice_contact
 from gear_dyn.modification.stress import contact_stress
 
 FloatArray = NDArray[np.float64]
@@ -52,14 +57,8 @@ class ReliefCase:
         contact A). Keys carry their SI unit.
         """
         pair = self.contact.pair
-        out: dict[str, Any] = {"case": self.name}
-        for gear, name in ((1, "pinion"), (2, "gear")):
-            r = None if self.modification is None else getattr(self.modification, name)
-            out[f"amount_{name}_m"] = 0.0 if r is None else r.amount
-            out[f"length_{name}_m"] = 0.0 if r is None else r.length
-            out[f"height_{name}_m"] = 0.0 if r is None else height_from_length(pair, gear,
-                                                                               r.length)
-            out[f"curve_{name}"] = None if r is None else r.curve
+        out: dict[str, Any] = {"case": self.name, "method": "spur loaded contact"}
+        out |= relief_columns(pair, self.modification)
         out["peak_stress_pa"] = float(np.max(self.stress))
         out["peak_to_peak_static_te_m"] = self.contact.peak_to_peak_error
         out["mean_static_te_m"] = float(np.mean(self.contact.static_transmission_error().value(
@@ -72,6 +71,84 @@ class ReliefCase:
         out["single_contact_start_from_a_m"] = None if zone is None else zone[0] - s_a
         out["single_contact_end_from_a_m"] = None if zone is None else zone[1] - s_a
         return out
+
+
+def relief_columns(pair: GearPair, modification: ProfileModification | None) -> dict[str, Any]:
+    """Amount, length, height (m) and curve of each gear's tip relief, as table columns."""
+    out: dict[str, Any] = {}
+    for gear, name in ((1, "pinion"), (2, "gear")):
+        r = None if modification is None else getattr(modification, name)
+        out[f"amount_{name}_m"] = 0.0 if r is None else r.amount
+        out[f"length_{name}_m"] = 0.0 if r is None else r.length
+        out[f"height_{name}_m"] = 0.0 if r is None else height_from_length(pair, gear,
+                                                                           r.length)
+        out[f"curve_{name}"] = None if r is None else r.curve
+    return out
+
+
+@dataclass(frozen=True)
+class SliceCase:
+    """Slice-method loaded contact of one design (spur or helical pair).
+
+    Attributes
+    ----------
+    name : str
+    modification : FlankModification
+        Tip reliefs, lead modifications and misalignment of the case.
+    contact : SliceContact
+        Result at one torque (or a ladder: :meth:`row` reports the first torque).
+    """
+
+    name: str
+    modification: FlankModification
+    contact: SliceContact
+
+    def row(self, index: int = 0) -> dict[str, Any]:
+        """Table row with the keys of :meth:`ReliefCase.row` (the single-contact zone is None:
+        the slice analysis reports load sharing per mesh position instead) plus the tangent
+        stiffness and the unloaded TE, at torque ``index`` of the ladder."""
+        c = self.contact
+        summary = c.summary()[index]
+        out: dict[str, Any] = {"case": self.name, "method": "slice LTCA"}
+        out |= relief_columns(c.pair, self.modification.profile)
+        out |= {k: summary[k] for k in ("peak_stress_pa", "peak_to_peak_static_te_m",
+                                        "mean_static_te_m", "mean_loaded_stiffness_n_per_m",
+                                        "mean_tangent_stiffness_n_per_m",
+                                        "peak_to_peak_unloaded_te_m", "max_sharing")}
+        for key in ("single_contact_start_m", "single_contact_end_m",
+                    "single_contact_start_from_a_m", "single_contact_end_from_a_m"):
+            out[key] = None
+        return out
+
+
+def rule_modifications(pair: GearPair, torque: float, curve: str = "linear",
+                       extra: Mapping[str, ProfileModification] | None = None,
+                       rule_options: Mapping[str, float] | None = None) -> dict[
+                           str, ProfileModification | None]:
+    """The designs :func:`rule_cases` compares: the unmodified pair (None), ``extra``, then
+    every rule of :data:`~gear_dyn.modification.relief.RULES` with ``curve``."""
+    mods: dict[str, ProfileModification | None] = {"unmodified": None}
+    mods |= dict(extra or {})
+    for rule in RULES:
+        rec = recommended_relief(pair, torque, rule, **(rule_options or {}))
+        mods[rule] = rec.modification(curve)
+    return mods
+
+
+def slice_cases(pair: GearPair, torque: float | FloatArray,
+                designs: Mapping[str, ProfileModification | None],
+                lead: FlankModification | None = None,
+                pair_stiffness: Callable[[FloatArray], FloatArray] | None = None,
+                options: SliceOptions | None = None) -> dict[str, SliceCase]:
+    """Slice-method loaded contact of every profile design, each with the lead modifications
+    and misalignment of ``lead`` (its ``profile`` is replaced by the design's)."""
+    base = lead or FlankModification()
+    out = {}
+    for name, prof in designs.items():
+        mod = replace(base, profile=prof)
+        out[name] = SliceCase(name, mod, slice_contact(pair, torque, mod, pair_stiffness,
+                                                       options))
+    return out
 
 
 def relief_case(name: str, pair: GearPair, pair_stiffness: Callable[[FloatArray], FloatArray],
@@ -103,10 +180,119 @@ def rule_cases(pair: GearPair, pair_stiffness: Callable[[FloatArray], FloatArray
         ``handbook_a``, ``handbook_b``, ``face_load_factor`` (see
         :func:`~gear_dyn.modification.relief.recommended_relief`).
     """
-    cases = {"unmodified": relief_case("unmodified", pair, pair_stiffness, torque, None)}
-    for name, mod in (extra or {}).items():
-        cases[name] = relief_case(name, pair, pair_stiffness, torque, mod)
-    for rule in RULES:
-        mod = recommended_relief(pair, torque, rule, **(rule_options or {})).modification(curve)
-        cases[rule] = relief_case(rule, pair, pair_stiffness, torque, mod)
-    return cases
+    mods = rule_modifications(pair, torque, curve, extra, rule_options)
+    return {name: relief_case(name, pair, pair_stiffness, torque, mod)
+            for name, mod in mods.items()}
+
+
+@dataclass(frozen=True, eq=False)
+class ReliefStudy:
+    """Relief designs compared over a torque range by the slice loaded contact.
+
+    Attributes
+    ----------
+    torque : ndarray (T,)
+        Pinion torques in N m.
+    cases : dict of SliceCase
+        Each design's loaded contact over the whole ladder.
+    """
+
+    torque: FloatArray
+    cases: dict[str, SliceCase]
+
+    @property
+    def names(self) -> list[str]:
+        """Design names, in order."""
+        return list(self.cases)
+
+    @property
+    def ppte(self) -> FloatArray:
+        """Peak-to-peak loaded static TE in m (designs, torques)."""
+        return np.array([c.contact.peak_to_peak_te for c in self.cases.values()])
+
+    @property
+    def peak_pressure(self) -> FloatArray:
+        """Largest Hertz pressure over the cycle in Pa (designs, torques)."""
+        return np.array([c.contact.max_pressure for c in self.cases.values()])
+
+    @property
+    def mean_stiffness(self) -> FloatArray:
+        """Mean secant mesh stiffness in N/m (designs, torques)."""
+        return np.array([c.contact.mean_secant_stiffness for c in self.cases.values()])
+
+    @property
+    def best(self) -> str:
+        """The design with the lowest PPTE averaged over the torque range (the ladder's points
+        weighted equally)."""
+        return self.names[int(np.argmin(self.ppte.mean(axis=1)))]
+
+    def rows(self) -> list[dict[str, Any]]:
+        """One row per design and torque (SI keys)."""
+        out = []
+        for i, name in enumerate(self.names):
+            for k, t in enumerate(self.torque):
+                out.append({"design": name, "torque_n_m": float(t),
+                            "peak_to_peak_static_te_m": float(self.ppte[i, k]),
+                            "peak_stress_pa": float(self.peak_pressure[i, k]),
+                            "mean_loaded_stiffness_n_per_m": float(self.mean_stiffness[i, k])})
+        return out
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summary: the ladder, each design's amounts and series, the best design."""
+        designs = []
+        for i, (name, case) in enumerate(self.cases.items()):
+            designs.append({"design": name,
+                            **relief_columns(case.contact.pair, case.modification.profile),
+                            "peak_to_peak_static_te_m": self.ppte[i].tolist(),
+                            "peak_stress_pa": self.peak_pressure[i].tolist(),
+                            "mean_loaded_stiffness_n_per_m": self.mean_stiffness[i].tolist(),
+                            "mean_ppte_m": float(self.ppte[i].mean())})
+        return {"torque_n_m": self.torque.tolist(), "designs": designs, "best": self.best,
+                "best_rule": "lowest peak-to-peak static TE averaged over the torque range"}
+
+
+def relief_study(pair: GearPair, torques: ArrayLike,
+                 designs: Mapping[str, ProfileModification | None],
+                 lead: FlankModification | None = None,
+                 pair_stiffness: Callable[[FloatArray], FloatArray] | None = None,
+                 options: SliceOptions | None = None) -> ReliefStudy:
+    """PPTE and peak contact pressure of relief designs over a torque range, and the best one.
+
+    Parameters
+    ----------
+    pair : GearPair
+        Spur or helical pair.
+    torques : array_like
+        Pinion torques in N m (each > 0).
+    designs : mapping
+        Name -> tip reliefs (None: unmodified), e.g. :func:`rule_modifications` (the published
+        rules at one torque) or the user's own amounts.
+    lead : FlankModification or None
+        Lead modifications and misalignment applied to every design.
+    pair_stiffness : callable or None
+        Unmodified single-pair stiffness ``K(s)`` in N/m (None: potential energy).
+    options : SliceOptions or None
+
+    Returns
+    -------
+    ReliefStudy
+
+    Raises
+    ------
+    InputError
+        No designs, torques not positive, reliefs the pair cannot take.
+
+    Examples
+    --------
+    >>> import math
+    >>> from gear_dyn.geometry import GearPair
+    >>> p = GearPair(23, 79, 6e-3, math.radians(20), 70e-3, math.radians(20), x1=0.3, x2=-0.1)
+    >>> study = relief_study(p, [500.0, 2000.0], rule_modifications(p, 2000.0))
+    >>> study.best in study.names
+    True
+    """
+    if not designs:
+        raise InputError("relief study: no designs given (give at least one, e.g. "
+                         "rule_modifications(pair, torque))")
+    t = np.atleast_1d(np.asarray(torques, dtype=float)).ravel()
+    return ReliefStudy(t, slice_cases(pair, t, designs, lead, pair_stiffness, options))

@@ -9,7 +9,8 @@ share one approach ``delta`` (the loaded static transmission error), solved exac
 From it: the secant mesh stiffness ``K_TPM = F / delta`` (eqs. 8-12), the load-sharing factors
 ``S_j = F_j / F`` (eqs. 17-26), and for dynamics (decision) the tangent stiffness ``k_t`` (sum of
 ``K_j`` over loaded pairs) with the relief's transmission error ``e = sum K_j g_j / k_t``.
-Spur pairs only. docs/modification.md, "Loaded contact", gives the reasoning and the tests.
+Spur pairs only (helical pairs: :mod:`.slice_contact`, which equals this at helix angle 0).
+docs/modification.md, "Loaded contact", gives the reasoning and the tests.
 """
 
 from __future__ import annotations
@@ -37,8 +38,9 @@ _NUDGE = 1e-9  # cycles: one-sided limits at switching phases
 def _check_spur(pair: GearPair) -> None:
     if pair.helix_angle != 0.0:
         raise InputError(
-            f"helix_angle = {math.degrees(pair.helix_angle):.6g} deg: loaded contact with tip "
-            "relief is implemented for spur pairs only (helix_angle = 0)"
+            f"helix_angle = {math.degrees(pair.helix_angle):.6g} deg: this exact loaded contact "
+            "is for spur pairs only (helix_angle = 0); use the slice loaded contact "
+            "(gear_dyn.modification.slice_contact) for helical pairs"
         )
 
 

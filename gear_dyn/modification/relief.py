@@ -33,7 +33,7 @@ CURVE_EXPONENTS: dict[str, float] = {
 CURVES = RELIEF_CURVES
 
 #: Relief rules of :func:`recommended_relief`.
-RULES: tuple[str, ...] = ("handbook", "dudley", "niemann", "wang2024")
+RULES: tuple[str, ...] = ("handbook", "dudley", "niemann", "wang2024", "kisssoft")
 #: Old rule names -> their names now: still accepted, with a FutureWarning.
 RENAMED_RULES: dict[str, str] = {"seed001": "wang2024"}
 
@@ -332,8 +332,12 @@ def recommended_relief(
     """Recommended tip relief of a pair by one of the published rules.
 
     ``"handbook"`` (the gear handbook of 1993), ``"dudley"`` (Dudley 1984) and ``"niemann"``
-    (Niemann & Winter 1983), as Han (n.d.) quotes them, and ``"wang2024"`` (Wang et al. 2024,
-    eq. 1; its old name ``"seed001"`` still works, with a FutureWarning): amounts from
+    (Niemann & Winter 1983), as Han (n.d.) quotes them, ``"wang2024"`` (Wang et al. 2024,
+    eq. 1; its old name ``"seed001"`` still works, with a FutureWarning), and ``"kisssoft"``,
+    the short relief of KISSsoft that Han (n.d.) compares without printing it, as defined here
+    (decision, docs/modification.md): the amount is the tooth deflection under the line load,
+    ``C_a1 = C_a2 = F_t / (B c')`` with the single stiffness c' of ISO 6336-1 method B, over a
+    short relief, half the long one, ``(eps_a - 1) p_bt / 2``. Amounts from
     ``w_t = F_t / B`` in N/mm (:func:`tangential_load_per_width`) or from m_n, and a relief height
     or a long relief (tip to single-contact point, :func:`long_relief_length`), as tabulated in
     docs/modification.md, "Recommended amounts"; the result's ``source`` states the formula used.
@@ -395,6 +399,15 @@ def recommended_relief(
         source = (f"Dudley: C_a1 = 4.1 C_m F_t/(1e5 B), C_a2 = 6.5 C_m F_t/(1e5 B) mm "
                   f"(F_t N, B mm, C_m = {face_load_factor:g}), long relief (assumed)")
         l1 = l2 = long_relief_length(pair)
+        h1, h2 = height_from_length(pair, 1, l1), height_from_length(pair, 2, l2)
+    elif rule == "kisssoft":
+        from gear_dyn.stiffness.iso6336 import iso6336_stiffness
+
+        # the tooth deflection under the line load, F_t / (B c'), on both gears
+        c1 = c2 = torque / pair.r1 / pair.face_width / iso6336_stiffness(pair).c_single
+        source = ("KISSsoft short relief (as defined here): C_a = F_t / (B c'), c' of ISO 6336-1 "
+                  "method B, over half the long relief, (eps_a - 1) p_bt / 2")
+        l1 = l2 = 0.5 * long_relief_length(pair)
         h1, h2 = height_from_length(pair, 1, l1), height_from_length(pair, 2, l2)
     elif rule == "niemann":
         c1 = c2 = 0.009 * mn_mm * 1e-3

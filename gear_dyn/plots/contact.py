@@ -1,4 +1,5 @@
-"""Figures of the loaded-contact analysis with tip relief (pyplot-free matplotlib)."""
+"""Figures of the loaded-contact analysis with tip relief, spur and slice method (pyplot-free
+matplotlib)."""
 
 from __future__ import annotations
 
@@ -9,7 +10,8 @@ import matplotlib as mpl
 import numpy as np
 
 from gear_dyn.analysis.spectrum import amplitude_spectrum
-from gear_dyn.modification.analysis import ReliefCase
+from gear_dyn.modification.analysis import ReliefCase, ReliefStudy, SliceCase
+from gear_dyn.modification.slice_contact import SliceContact
 from gear_dyn.plots._axes import axes_of, tidy
 from gear_dyn.solvers import Result
 
@@ -107,3 +109,87 @@ def plot_dynamic_comparison(results: Mapping[str, Result], periods: float = 4.0,
         ax.grid(alpha=0.3, which="both")
     tidy(fig)
     return fig
+
+
+def plot_face_load(contact: SliceContact, index: int = 0, title: str | None = None,
+                   ax: Any = None) -> Any:
+    """Slice loaded contact: line load over the field of contact, and the static TE.
+
+    Top: the slices of every mesh position at their place in the plane of action (roll
+    distance from the start of contact A against the face position), their normal line load
+    in N/mm averaged over the cells of a grid; the contact lines of the first position are
+    drawn over it. Bottom: the
+    loaded and unloaded static transmission error over the mesh cycle. ``index``: the torque
+    of a ladder. ``ax``: 2 Axes or None.
+    """
+    fig, (a0, a1) = axes_of(ax, 2, 1, figsize=(8, 7.5), name="plot_face_load",
+                            gridspec_kw={"height_ratios": [1.6, 1.0]})
+    c = contact.at(index)
+    pair = c.pair
+    s_a = pair.start_of_contact
+    load = c.line_load[0] / 1e3  # N/mm, (P, J, S)
+    inside = np.isfinite(c.position)
+    yy = np.broadcast_to(c.face[None, None, :], inside.shape)
+    x = (c.position[inside] - s_a) * 1e3
+    # the mean line load of the samples falling in each cell of a grid over the field
+    n_s = c.face.size
+    # a cell per mesh-position step along the path at most: no empty cells inside the field
+    n_x = max(4, int(0.8 * c.options.positions * pair.contact_ratio))
+    x_edges = np.linspace(0.0, pair.path_of_contact * 1e3, n_x + 1)
+    y_edges = np.linspace(0.0, pair.face_width * 1e3, n_s + 1)
+    total, _, _ = np.histogram2d(x, yy[inside] * 1e3, [x_edges, y_edges], weights=load[inside])
+    count, _, _ = np.histogram2d(x, yy[inside] * 1e3, [x_edges, y_edges])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mean = np.where(count > 0, total / count, np.nan)
+    mesh = a0.pcolormesh(x_edges, y_edges, mean.T, cmap="viridis", shading="flat")
+    fig.colorbar(mesh, ax=a0, label="normal line load (N/mm)")
+    first = inside[0]
+    for j in range(first.shape[0]):
+        sel = first[j]
+        if sel.any():
+            a0.plot((c.position[0, j, sel] - s_a) * 1e3, c.face[sel] * 1e3, color="tab:red",
+                    lw=1.2, ls="--", label="contact lines at phase 0" if j == 0 else None)
+    a0.set_xlim(0.0, pair.path_of_contact * 1e3)
+    a0.set_ylim(0.0, pair.face_width * 1e3)
+    a0.set_xlabel("roll distance from start of contact A (mm)")
+    a0.set_ylabel("face position (mm)")
+    head = f"{title}: " if title else ""
+    a0.set_title(f"{head}T1 = {c.torque[0]:.6g} N m, eps_alpha = {pair.contact_ratio:.3f}, "
+                 f"eps_beta = {pair.overlap_ratio:.3f}; peak {c.max_pressure[0] / 1e6:.0f} MPa",
+                 fontsize=9)
+    a1.plot(c.phase, c.deflection[0] * 1e6, "-o", ms=2.5, label="loaded static TE")
+    a1.plot(c.phase, c.unloaded * 1e6, "--", label="unloaded (gap of the modifications)")
+    a1.set_xlabel("mesh phase (cycles; 0 = a contact line enters at A on the front face)")
+    a1.set_ylabel("static TE (µm)")
+    a1.legend(fontsize=8)
+    a1.grid(alpha=0.3)
+    tidy(fig)
+    return fig
+
+
+def plot_slice_stiffness(cases: Mapping[str, SliceCase], ax: Any = None) -> Any:
+    """Secant mesh stiffness F_t / delta and loaded static TE over one mesh cycle, all cases
+    (slice loaded contact). ``ax``: 2 Axes or None."""
+    fig, axs = axes_of(ax, 2, 1, figsize=(8, 7), name="plot_slice_stiffness", sharex=True)
+    for (name, case), st in zip(cases.items(), _styles(len(cases)), strict=True):
+        c = case.contact
+        axs[0].plot(c.phase, c.secant_stiffness[0] / 1e6, label=name, **st)
+        axs[1].plot(c.phase, c.deflection[0] * 1e6, label=name, **st)
+    return _labelled(fig, axs, ("loaded mesh stiffness F_t / delta (N/µm)",
+                                "loaded static TE (µm)"),
+                     "mesh phase (cycles; 0 = a contact line enters at A on the front face)")
+
+
+def plot_relief_study(study: ReliefStudy, ax: Any = None) -> Any:
+    """PPTE and peak Hertz pressure of every design against torque; the best design (lowest
+    PPTE over the range) drawn bold. ``ax``: 2 Axes or None."""
+    fig, axs = axes_of(ax, 2, 1, figsize=(8, 7), name="plot_relief_study", sharex=True)
+    best = study.best
+    for (i, name), st in zip(enumerate(study.names), _styles(len(study.names)), strict=True):
+        style = {**st, "lw": 2.6} if name == best else st
+        label = f"{name} (best)" if name == best else name
+        axs[0].plot(study.torque, study.ppte[i] * 1e6, marker="o", ms=3, label=label, **style)
+        axs[1].plot(study.torque, study.peak_pressure[i] / 1e6, marker="o", ms=3, label=label,
+                    **style)
+    return _labelled(fig, axs, ("p-p loaded static TE (µm)", "peak Hertz pressure (MPa)"),
+                     "pinion torque T1 (N m)")

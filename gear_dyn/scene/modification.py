@@ -1,8 +1,10 @@
 """The ``[tip_relief]`` scene table and the single-DOF model with tip relief.
 
 A scene with a ``[tip_relief]`` table runs the single-DOF model on the loaded contact of the
-relieved pair (:func:`~gear_dyn.models.relief.relief_sdof`); without the table nothing of this
-module runs. The keys (a rule or custom amounts, the curve, lengths or heights, the
+relieved pair (:func:`~gear_dyn.models.relief.relief_sdof` for spur pairs; the slice loaded
+contact, :func:`~gear_dyn.models.relief.slice_sdof`, for helical pairs or with the tables of
+:mod:`gear_dyn.scene.lead`); without these tables nothing of this module runs. The keys
+(a rule or custom amounts, the curve, lengths or heights, the
 linearisation) are listed in docs/scenes.md and explained in docs/modification.md.
 """
 
@@ -14,7 +16,12 @@ from gear_dyn.choices import PAIR_STIFFNESS_METHODS
 from gear_dyn.errors import InputError, SceneError
 from gear_dyn.geometry import GearPair
 from gear_dyn.models.base import Model
-from gear_dyn.models.relief import ContactSDOFModel, pair_stiffness_function, relief_sdof
+from gear_dyn.models.relief import (
+    ContactSDOFModel,
+    pair_stiffness_function,
+    relief_sdof,
+    slice_sdof,
+)
 from gear_dyn.modification.relief import (
     CURVES,
     RULES,
@@ -26,6 +33,12 @@ from gear_dyn.modification.relief import (
 )
 from gear_dyn.scene.build import build_pair, build_sdof, scene_inertias
 from gear_dyn.scene.fields import Field, Section
+from gear_dyn.scene.lead import (
+    SLICE_TABLES,
+    flank_from_scene,
+    slice_options_from_scene,
+    uses_slice_contact,
+)
 from gear_dyn.scene.registry import register_model, register_section
 from gear_dyn.scene.validated import Scene, scene_error
 from gear_dyn.stiffness.select import stiffness_options_from_table
@@ -127,20 +140,23 @@ def relief_from_scene(scene: Scene, pair: GearPair | None = None) -> ProfileModi
 
 
 def _check_combination(scene: Scene) -> None:
-    for table, why in (("transmission_error", "the relief sets the transmission error"),
-                       ("backlash", "backlash with tip relief is not implemented"),
-                       ("deviations", "deviations with tip relief are not implemented")):
+    part = next(t for t in ("tip_relief", *SLICE_TABLES) if scene.has(t))
+    for table, why in (("transmission_error", "the loaded contact sets the transmission error"),
+                       ("backlash", "backlash with the loaded contact is not implemented"),
+                       ("deviations", "deviations with the loaded contact are not implemented")):
         if scene.has(table):
-            raise SceneError(f"{scene.source}: [{table}] cannot be combined with [tip_relief] "
+            raise SceneError(f"{scene.source}: [{table}] cannot be combined with [{part}] "
                              f"({why}); remove one of them")
-    t = scene.tables["tip_relief"]
+    t = scene.tables.get("tip_relief")
+    method = t["pair_stiffness"] if t is not None else "potential_energy"
+    key = "tip_relief.pair_stiffness" if t is not None else "the pair stiffness"
     if scene.has("stiffness"):
         s = scene.tables["stiffness"]
-        if s["method"] != t["pair_stiffness"] or s["fourier_terms"] is not None:
+        if s["method"] != method or s["fourier_terms"] is not None:
             raise SceneError(
-                f"{scene.source}: [stiffness] with [tip_relief]: the mesh stiffness comes from "
-                f"the loaded contact with tip_relief.pair_stiffness = {t['pair_stiffness']!r}; "
-                f"remove [stiffness] or set stiffness.method = {t['pair_stiffness']!r} without "
+                f"{scene.source}: [stiffness] with [{part}]: the mesh stiffness comes from "
+                f"the loaded contact with {key} = {method!r}; "
+                f"remove [stiffness] or set stiffness.method = {method!r} without "
                 "fourier_terms"
             )
 
@@ -169,11 +185,16 @@ def scene_pair_function(scene: Scene, pair: GearPair, method: str | None = None)
 
 
 def build_relief_sdof(scene: Scene) -> Model:
-    """Single-DOF model of a scene with ``[tip_relief]`` (plain single-DOF without it)."""
-    if not scene.has("tip_relief"):
+    """Single-DOF model of a scene with ``[tip_relief]`` (spur: the spur loaded contact) or
+    with the slice loaded contact (a helical pair with ``[tip_relief]``, or any of
+    ``[lead_modification]``, ``[misalignment]``, ``[slice_contact]``); plain single-DOF
+    otherwise."""
+    if not scene.has("tip_relief") and not any(scene.has(t) for t in SLICE_TABLES):
         return build_sdof(scene)
     _check_combination(scene)
     pair = build_pair(scene)
+    if uses_slice_contact(scene, pair):
+        return _build_slice_sdof(scene, pair)
     mod = relief_from_scene(scene, pair)
     t = scene.tables["tip_relief"]
     op = scene.get("operating")
@@ -187,6 +208,29 @@ def build_relief_sdof(scene: Scene) -> Model:
                                t["linearisation"], t["samples_per_segment"])
     except InputError as exc:
         raise scene_error(scene.source, exc) from None  # Python names -> scene key paths
+    return model
+
+
+def _build_slice_sdof(scene: Scene, pair: GearPair) -> Model:
+    """Single-DOF model on the slice loaded contact at the scene's torque."""
+    t = scene.tables.get("tip_relief")
+    if t is not None and t["linearisation"] != "tangent":
+        raise SceneError(f"{scene.source}: tip_relief.linearisation = {t['linearisation']!r}: "
+                         "the slice loaded contact (helical pair, lead modification or "
+                         "misalignment) gives the tangent form only; set it to 'tangent'")
+    profile = relief_from_scene(scene, pair) if t is not None else None
+    flank = flank_from_scene(scene, pair, profile)
+    op = scene.get("operating")
+    if not op["torque"] > 0:
+        raise SceneError(f"{scene.source}: operating.torque = 0: the loaded contact needs a "
+                         "load (valid range > 0 N*m)")
+    try:
+        fn = scene_pair_function(scene, pair)
+        model, _ = slice_sdof(pair, op["speed"], op["torque"], flank, fn,
+                              scene.get("damping")["ratio"], scene_inertias(scene),
+                              slice_options_from_scene(scene))
+    except InputError as exc:
+        raise scene_error(scene.source, exc) from None
     return model
 
 

@@ -105,10 +105,24 @@ def test_contact_command_outputs(tmp_path: Path, capsys: pytest.CaptureFixture[s
     out = tmp_path / "contact"
     assert main(["contact", str(SCENE), "--out", str(out), "--curve", "parabolic"]) == 0
     assert {p.name for p in out.iterdir()} == {"contact.json", "load_sharing.png",
-                                               "stiffness.png", "path.csv"}
+                                               "stiffness.png", "path.csv", "face_load.png",
+                                               "ltca.csv"}
     rep = json.loads((out / "contact.json").read_text())
     names = [r["case"] for r in rep["cases"]]
-    assert names == ["unmodified", "scene relief", "handbook", "dudley", "niemann", "wang2024"]
+    assert names == ["unmodified", "scene relief", "handbook", "dudley", "niemann", "wang2024",
+                     "kisssoft"]
+    assert rep["method"] == "spur loaded contact"
+    # the slice analysis of the same spur cases agrees with the spur rows: both sample the
+    # same K(s); the slice analysis at 32 uniform phases plus the switching phases, the spur
+    # one segment by segment, so its p-p TE lies within the spur value (sampling; 1e-4: the
+    # one-sided samples next to the jumps sit at slightly different phases)
+    for row in rep["cases"]:
+        ltca = rep["ltca"][row["case"]]["summary"][0]
+        # the mean of 32 uniform samples of a stiffness that jumps where a relieved pair picks
+        # up load (phases the slice analysis does not locate): a few per cent
+        assert ltca["mean_loaded_stiffness_n_per_m"] == pytest.approx(
+            row["mean_loaded_stiffness_n_per_m"], rel=0.05)
+        assert ltca["peak_to_peak_static_te_m"] <= row["peak_to_peak_static_te_m"] * (1 + 1e-4)
     pair = build_pair(load_scene(SCENE))
     unmod = rep["cases"][0]
     # unmodified single-contact zone B..D: E - p_b and A + p_b (1e-9 m: one-sided sampling)
@@ -126,14 +140,22 @@ def test_contact_command_outputs(tmp_path: Path, capsys: pytest.CaptureFixture[s
     assert "niemann" in capsys.readouterr().out
 
 
-def test_contact_command_refuses_helical(tmp_path: Path,
-                                         capsys: pytest.CaptureFixture[str]) -> None:
+def test_contact_command_runs_a_helical_pair_on_the_slice_analysis(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     scene = tmp_path / "hel.toml"
     scene.write_text(SCENE.read_text().replace('face_width = "50 mm"',
                                                'face_width = "50 mm"\nhelix_angle = "15 deg"'))
-    assert main(["contact", str(scene), "--out", str(tmp_path / "o")]) == 2
-    assert "spur pairs only" in capsys.readouterr().err
-    assert not (tmp_path / "o").exists()
+    out = tmp_path / "o"
+    assert main(["contact", str(scene), "--out", str(out)]) == 0
+    assert {p.name for p in out.iterdir()} == {"contact.json", "stiffness.png", "ltca.csv",
+                                               "face_load.png"}
+    rep = json.loads((out / "contact.json").read_text())
+    assert rep["method"] == "slice LTCA"
+    keys = {"peak_to_peak_static_te_m", "mean_loaded_stiffness_n_per_m", "peak_stress_pa"}
+    for row in rep["cases"]:
+        assert keys <= set(row) and row["peak_stress_pa"] > 0
+    text = capsys.readouterr().out
+    assert "eps_beta" in text and "slice LTCA" in text
 
 
 def test_zero_amount_relief_is_the_unmodified_pair() -> None:
@@ -160,7 +182,7 @@ def test_contact_command_dynamics(tmp_path: Path, capsys: pytest.CaptureFixture[
     out = tmp_path / "dyn"
     assert main(["contact", str(scene), "--out", str(out), "--dynamics"]) == 0
     dyn = json.loads((out / "dynamics.json").read_text())
-    assert list(dyn) == ["unmodified", "handbook", "dudley", "niemann", "wang2024"]
+    assert list(dyn) == ["unmodified", "handbook", "dudley", "niemann", "wang2024", "kisssoft"]
     assert (out / "dynamics.png").stat().st_size > 0
     # every peak force ratio is at least 1 (the peak force is at least the mean) and finite;
     # the dynamic factor is that over the case's own quasi-static peak
@@ -192,3 +214,23 @@ def test_scene_tooth_options_reach_the_pair_stiffness() -> None:
                      stiffness={"method": "potential_energy", "weber_slices": 10})
     with pytest.raises(SceneError, match="weber_slices"):
         build_model(bad)
+
+
+def test_relief_study_command(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    scene = tmp_path / "hel.toml"
+    scene.write_text(SCENE.read_text().replace('face_width = "50 mm"',
+                                               'face_width = "50 mm"\nhelix_angle = "15 deg"'))
+    out = tmp_path / "study"
+    assert main(["relief-study", str(scene), "--out", str(out),
+                 "--torques", "500 N*m:1500 N*m:3"]) == 0
+    assert {p.name for p in out.iterdir()} == {"study.json", "study.csv", "study.png"}
+    rep = json.loads((out / "study.json").read_text())
+    names = [d["design"] for d in rep["designs"]]
+    assert rep["best"] in names and rep["torque_n_m"] == pytest.approx([500.0, 1000.0, 1500.0])
+    mean = {d["design"]: d["mean_ppte_m"] for d in rep["designs"]}
+    assert mean[rep["best"]] == min(mean.values())
+    assert "best (lowest PPTE over the range)" in capsys.readouterr().out
+    assert main(["relief-study", str(scene), "--out", str(tmp_path / "bad"),
+                 "--torques", "500:1500:3"]) == 2
+    assert "--torques" in capsys.readouterr().err
+    assert not (tmp_path / "bad").exists()
