@@ -136,8 +136,9 @@ def _attr(a: dict[str, str], keys: tuple[str, ...]) -> str:
 
 
 def model_description(nm: NativeModel | TorsionalNative, ident: str, scene_name: str,
-                      stop_time: float, step: float, fmi: int = 2) -> str:
-    """The FMI 2.0 or 3.0 ``modelDescription.xml`` of a native model."""
+                      stop_time: float, step: float, fmi: int = 2, token: str = "") -> str:
+    """The FMI 2.0 or 3.0 ``modelDescription.xml`` of a native model, with the instantiation
+    token (FMI 2 guid) ``token`` (the one in its ``model_data.c``)."""
     rows = _variables(nm)
     head = ("name", "valueReference", "causality", "variability")
     if fmi == 2:
@@ -155,7 +156,7 @@ def model_description(nm: NativeModel | TorsionalNative, ident: str, scene_name:
         structure = (f"    <Outputs>\n{unknowns}\n    </Outputs>\n"
                      f"    <InitialUnknowns>\n{unknowns}\n    </InitialUnknowns>")
         sources = "".join(f'<File name="{f}"/>' for f in _sources(2))
-        version = f'fmiVersion="2.0" guid="{{{uuid.uuid4()}}}" numberOfEventIndicators="0"'
+        version = f'fmiVersion="2.0" guid="{token}" numberOfEventIndicators="0"'
         cosim = (f'canGetAndSetFMUstate="true" canSerializeFMUstate="true">\n'
                  f"    <SourceFiles>{sources}</SourceFiles>\n  </CoSimulation>")
     else:
@@ -167,7 +168,7 @@ def model_description(nm: NativeModel | TorsionalNative, ident: str, scene_name:
             lines.append(f"    <Float64 {_attr(a, keys)}/>")
         structure = "\n".join(f'    <{tag} valueReference="{vr}"/>' for tag in
                               ("Output", "InitialUnknown") for vr, k, _ in rows if k == "out")
-        version = f'fmiVersion="3.0" instantiationToken="{{{uuid.uuid4()}}}"'
+        version = f'fmiVersion="3.0" instantiationToken="{token}"'
         cosim = 'canGetAndSetFMUState="true" canSerializeFMUState="true"/>'
     variables = "\n".join(lines)
     s_unit = '    <Unit name="s"><BaseUnit s="1"/></Unit>\n' if fmi == 3 else ""
@@ -269,8 +270,9 @@ def build_native_fmu(target: str | Path, out: Path, fmi: int = 2,
     ident = "gd_" + re.sub(r"\W", "_", scene.name)
     f_m = plan.model.mesh_frequency
     step = 1.0 / (f_m * plan.settings.samples_per_period)
-    xml = model_description(nm, ident, scene.name, float(plan.t_end), step, fmi)
-    data = model_data_c(nm, scene.name)
+    token = f"{{{uuid.uuid4()}}}"  # the modelDescription's and the binary's: checked by the glue
+    xml = model_description(nm, ident, scene.name, float(plan.t_end), step, fmi, token)
+    data = model_data_c(nm, scene.name, token)
     if max_size is not None and isinstance(nm, TorsionalNative):
         # the zip holds model_data.c deflated: a lower bound of the FMU, known before compiling
         least = len(zlib.compress(data.encode(), 6))
