@@ -91,6 +91,28 @@ def outputs_of(nm: NativeModel | TorsionalNative) -> tuple[tuple[str, str, str],
     return TORSIONAL_OUTPUTS if isinstance(nm, TorsionalNative) else OUTPUTS
 
 
+def direct_feedthrough(nm: NativeModel | TorsionalNative) -> dict[str, tuple[str, ...]]:
+    """The inputs each output depends on at the same instant (FMI ``dependencies``).
+
+    The kernel computes every output from the state and the current parameters and inputs
+    (``gd_outputs``): the gear speed adds the nominal rotation of the speed input, and where the
+    table has a transmission-error rate de/dp the mesh damping force holds ``f_m de/dp`` with
+    ``f_m = z1 w1 / (2 pi)``, so the force (and the friction torques, proportional to it) moves
+    with the speed input at once. The torque input acts through the state only (from the next
+    doStep). Outputs not in the mapping depend on no input.
+    """
+    speed = ("operating.speed",)
+    rate = bool(np.any(nm.table.coef[:, 1 if isinstance(nm, TorsionalNative) else 2] != 0.0))
+    if not isinstance(nm, TorsionalNative):
+        return {"driven_speed": speed, **({"mesh_force": speed} if rate else {})}
+    out = {"w1": speed, "w2": speed}
+    if rate:
+        out["mesh_force"] = speed
+        if np.any(nm.table.coef[:, 3:] != 0.0):
+            out |= {"friction_torque_pinion": speed, "friction_torque_gear": speed}
+    return out
+
+
 def start_values(nm: NativeModel | TorsionalNative) -> tuple[float, ...]:
     """Start values of :data:`PARAMS` (a model without backlash carries a placeholder gap)."""
     return (nm.speed, nm.torque, nm.damping_ratio,

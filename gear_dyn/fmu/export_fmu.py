@@ -32,6 +32,7 @@ from gear_dyn.fmu.export_c import (
     OUTPUTS,
     PARAMS,
     TORSIONAL_OUTPUTS,
+    direct_feedthrough,
     model_data_c,
     outputs_of,
     start_values,
@@ -141,8 +142,9 @@ def model_description(nm: NativeModel | TorsionalNative, ident: str, scene_name:
     token (FMI 2 guid) ``token`` (the one in its ``model_data.c``)."""
     rows = _variables(nm)
     head = ("name", "valueReference", "causality", "variability")
+    feed = direct_feedthrough(nm)
     if fmi == 2:
-        lines, outs = [], []
+        lines, outs, index = [], [], {}
         for vr, kind, a in rows:
             a = {**a, "valueReference": str(vr)}
             if kind == "out":
@@ -150,11 +152,15 @@ def model_description(nm: NativeModel | TorsionalNative, ident: str, scene_name:
             real = _attr(a, ("start", "unit", "min", "max", "nominal"))
             lines.append(f'    <ScalarVariable {_attr(a, (*head, "initial", "description"))}>'
                          f'<Real {real}/></ScalarVariable>')
+            index[a["name"]] = len(lines)
             if kind == "out":
-                outs.append(len(lines))
-        unknowns = "\n".join(f'      <Unknown index="{i}"/>' for i in outs)
-        structure = (f"    <Outputs>\n{unknowns}\n    </Outputs>\n"
-                     f"    <InitialUnknowns>\n{unknowns}\n    </InitialUnknowns>")
+                outs.append(a["name"])
+        structure = ("    <Outputs>\n" + "\n".join(
+            f'      <Unknown index="{index[o]}" dependencies='
+            f'"{" ".join(str(index[d]) for d in feed.get(o, ()))}"/>' for o in outs) +
+            "\n    </Outputs>\n    <InitialUnknowns>\n" +
+            "\n".join(f'      <Unknown index="{index[o]}"/>' for o in outs) +
+            "\n    </InitialUnknowns>")
         sources = "".join(f'<File name="{f}"/>' for f in _sources(2))
         version = f'fmiVersion="2.0" guid="{token}" numberOfEventIndicators="0"'
         cosim = (f'canGetAndSetFMUstate="true" canSerializeFMUstate="true">\n'
@@ -166,8 +172,12 @@ def model_description(nm: NativeModel | TorsionalNative, ident: str, scene_name:
             a = {**a, "valueReference": str(vr)}
             keys = (*head, "description", "start", "unit", "min", "max", "nominal")
             lines.append(f"    <Float64 {_attr(a, keys)}/>")
-        structure = "\n".join(f'    <{tag} valueReference="{vr}"/>' for tag in
-                              ("Output", "InitialUnknown") for vr, k, _ in rows if k == "out")
+        vrs = {a["name"]: vr for vr, _k, a in rows}
+        structure = "\n".join(
+            [f'    <Output valueReference="{vr}" dependencies='
+             f'"{" ".join(str(vrs[d]) for d in feed.get(a["name"], ()))}"/>'
+             for vr, k, a in rows if k == "out"] +
+            [f'    <InitialUnknown valueReference="{vr}"/>' for vr, k, _ in rows if k == "out"])
         version = f'fmiVersion="3.0" instantiationToken="{token}"'
         cosim = 'canGetAndSetFMUState="true" canSerializeFMUState="true"/>'
     variables = "\n".join(lines)

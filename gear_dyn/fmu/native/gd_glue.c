@@ -50,7 +50,7 @@ void gd_save(const gd_state *s, int mode, gd_saved *out)
     out->st = *s;
 }
 
-static int finite(double v) { return v == v && fabs(v) <= DBL_MAX; }
+static int real_ok(double v) { return v == v && fabs(v) <= DBL_MAX; }
 
 int gd_check_saved(const void *b, size_t size, const gd_model *m, const char *fn,
                    gd_state *out, int *mode, char *msg, size_t len)
@@ -73,8 +73,8 @@ int gd_check_saved(const void *b, size_t size, const gd_model *m, const char *fn
         bad = "the state of another FMU (its instantiation token is not this FMU's)";
     else if (sv.mode < GD_INSTANTIATED || sv.mode > GD_TERMINATED)
         bad = "its instance mode is out of range";
-    else if (!finite(s->t) || !finite(s->x) || !finite(s->v) || !finite(s->frac)
-             || !finite(s->h) || s->h < 0.0)
+    else if (!real_ok(s->t) || !real_ok(s->x) || !real_ok(s->v) || !real_ok(s->frac)
+             || !real_ok(s->h) || s->h < 0.0)
         bad = "non-finite time, state or step size";
     else if (s->piece < 0 || s->piece >= m->n_pieces || !(s->frac >= m->breaks[s->piece])
              || !(s->frac <= m->breaks[s->piece + 1]))
@@ -82,7 +82,7 @@ int gd_check_saved(const void *b, size_t size, const gd_model *m, const char *fn
     else if (s->regime < -1 || s->regime > 1 || s->n_events < 0)
         bad = "its contact regime or event count is out of range";
     for (j = 0; !bad && j < 4; j++)
-        if (!finite(s->q[j])) bad = "non-finite torsional state";
+        if (!real_ok(s->q[j])) bad = "non-finite torsional state";
     for (j = 0; !bad && j < GD_NPAR; j++) {
         const gd_param *p = &m->params[j];
         double v = s->par[j];
