@@ -1,6 +1,6 @@
 """The single-DOF model as data for the native FMU: piecewise polynomials in the mesh phase.
 
-The native FMU's C kernel (``gear_dyn/fmu/native/gd_kernel.c``) steps
+The native FMU's C kernel (``gear_dyn/solvers/kernel/gd_kernel.c``) steps
 
     m_e x'' + c (x' - f_m e'(p)) + k(p) f(x - e(p)) = W,    p = mesh phase (cycles)
 

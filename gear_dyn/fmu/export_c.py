@@ -1,7 +1,7 @@
 """The native FMU's C side: the generated ``model_data.c`` and the compiler call.
 
-The kernel and the FMI glue are fixed sources in ``gear_dyn/fmu/native/``; only
-``model_data.c`` (const arrays and constants, written here from a
+The kernel (``gear_dyn/solvers/kernel/``) and the FMI glue (``gear_dyn/fmu/native/``) are fixed
+sources; only ``model_data.c`` (const arrays and constants, written here from a
 :class:`~gear_dyn.fmu.export.NativeModel`) changes from one FMU to the next.
 """
 
@@ -19,13 +19,15 @@ from gear_dyn.fmu.export import NativeModel
 from gear_dyn.fmu.export_torsional import TorsionalNative
 from gear_dyn.fmu.toolchain import linux_compiler
 
-#: the fixed C sources (package data)
+#: the fixed C sources (package data): the FMI glue here, the kernel where the solvers live
 NATIVE_DIR = Path(__file__).parent / "native"
+KERNEL_DIR = Path(__file__).parent.parent / "solvers" / "kernel"
 KERNEL_SOURCES = ("gd_kernel.c", "gd_torsional.c")
 #: the FMI glue of each version and what both share (status rules, FMU state checks)
 GLUE_SOURCES = {2: ("gd_glue.c", "gd_fmi2.c"), 3: ("gd_glue.c", "gd_fmi3.c")}
-HEADERS = ("gd_kernel.h", "gd_glue.h")
-_HEADER = (NATIVE_DIR / "gd_kernel.h").read_text("utf-8")
+HEADERS = ("gd_kernel.h",)
+GLUE_HEADERS = ("gd_glue.h",)
+_HEADER = (KERNEL_DIR / "gd_kernel.h").read_text("utf-8")
 #: the table format the kernel reads (GD_TABLE_FORMAT in gd_kernel.h)
 TABLE_FORMAT = int(re.search(r"#define GD_TABLE_FORMAT (\d+)", _HEADER)[1])  # type: ignore[index]
 #: the kernel's version (GD_KERNEL_VERSION in gd_kernel.h)
@@ -196,7 +198,7 @@ def compile_shared(sources: list[Path], out: Path, extra: tuple[str, ...] = ()) 
         raise InputError("native FMU: no C compiler found; install a C compiler (gcc or clang, "
                          "e.g. 'apt-get install gcc') and put it on PATH or name it in CC, or "
                          "build with --backend python")
-    cmd = [cc, *CFLAGS, *extra, "-shared", f"-I{NATIVE_DIR}",
+    cmd = [cc, *CFLAGS, *extra, "-shared", f"-I{KERNEL_DIR}",
            *(str(s) for s in sources), "-o", str(out), "-lm"]
     proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
     if proc.returncode != 0:

@@ -24,8 +24,10 @@ from xml.sax.saxutils import quoteattr
 from gear_dyn.errors import InputError
 from gear_dyn.fmu.export import EXACT_ERROR, NativeModel, NotNativeError, native_model
 from gear_dyn.fmu.export_c import (
+    GLUE_HEADERS,
     GLUE_SOURCES,
     HEADERS,
+    KERNEL_DIR,
     KERNEL_SOURCES,
     KERNEL_VERSION,
     NATIVE_DIR,
@@ -292,10 +294,11 @@ def build_native_fmu(target: str | Path, out: Path, fmi: int = 2,
     with tempfile.TemporaryDirectory() as tmp:
         d = Path(tmp)
         (d / "model_data.c").write_text(data)
-        srcs = [NATIVE_DIR / s for s in (*KERNEL_SOURCES, *GLUE_SOURCES[fmi])]
+        srcs = [*(KERNEL_DIR / s for s in KERNEL_SOURCES),
+                *(NATIVE_DIR / s for s in GLUE_SOURCES[fmi])]
         srcs.append(d / "model_data.c")
         # x86_64 Linux always; x86_64 Windows too where MinGW-w64 is installed
-        binaries = compile_binaries(srcs, d / "binaries", ident, fmi, include_dirs=[NATIVE_DIR])
+        binaries = compile_binaries(srcs, d / "binaries", ident, fmi, include_dirs=[KERNEL_DIR])
         buf = d / "fmu.zip"
         with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as z:
             z.writestr("modelDescription.xml", xml)
@@ -307,6 +310,8 @@ def build_native_fmu(target: str | Path, out: Path, fmi: int = 2,
             for s in srcs:
                 z.write(s, f"sources/{s.name}")
             for name in HEADERS:
+                z.write(KERNEL_DIR / name, f"sources/{name}")
+            for name in GLUE_HEADERS:
                 z.write(NATIVE_DIR / name, f"sources/{name}")
             for hdr in sorted((NATIVE_DIR / f"fmi{fmi}").iterdir()):
                 z.write(hdr, f"sources/fmi{fmi}/{hdr.name}")

@@ -1,6 +1,6 @@
 """The torsional model as data for the native FMU: piecewise polynomials in the mesh phase.
 
-The kernel (``gear_dyn/fmu/native/gd_torsional.c``) steps the four states ``[q1, q2, q1', q2']``
+The kernel (``solvers/kernel/gd_torsional.c``) steps the four states ``[q1, q2, q1', q2']``
 of :class:`~gear_dyn.models.torsional.TorsionalModel` (eccentricity and friction; no backlash,
 no transmission error) from a table of its state-free coefficients in the mesh phase
 ``p = z1 th1 / (2 pi)`` (cycles): :data:`QUANTITIES` on pieces between the model's switching

@@ -11,14 +11,14 @@ import re
 from pathlib import Path
 from typing import Any
 
-from gear_dyn.fmu.export_c import KERNEL_SOURCES, NATIVE_DIR, compile_shared, model_data_c
+from gear_dyn.fmu.export_c import KERNEL_DIR, KERNEL_SOURCES, compile_shared, model_data_c
 
 
 def kernel(tmp: Path, nm: Any) -> ctypes.CDLL:
     """The kernel with the model data of ``nm`` (a native model, single-DOF or torsional),
     compiled into ``tmp`` and loaded."""
     (tmp / "model_data.c").write_text(model_data_c(nm, "test"))
-    so = compile_shared([*(NATIVE_DIR / k for k in KERNEL_SOURCES), tmp / "model_data.c"],
+    so = compile_shared([*(KERNEL_DIR / k for k in KERNEL_SOURCES), tmp / "model_data.c"],
                         tmp / "kernel.so")
     lib = ctypes.CDLL(str(so))
     lib.gd_advance.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_double]

@@ -20,7 +20,13 @@ from native_drivers import driver as native_driver
 from native_harness import kernel
 
 from gear_dyn.fmu.export import native_model
-from gear_dyn.fmu.export_c import GLUE_SOURCES, KERNEL_SOURCES, NATIVE_DIR, model_data_c
+from gear_dyn.fmu.export_c import (
+    GLUE_SOURCES,
+    KERNEL_DIR,
+    KERNEL_SOURCES,
+    NATIVE_DIR,
+    model_data_c,
+)
 from gear_dyn.models.sdof import sdof_from_pair
 from gear_dyn.scene import build_pair, build_plan, load_scene
 from gear_dyn.scene.packaged import resolve_scene
@@ -118,7 +124,8 @@ def test_kernel_under_sanitizers(tmp_path: Path) -> None:
             exe = tmp_path / f"drv_{case}_{fmi}"
             cmd = [cc, "-std=c99", "-g", "-Wall", "-Wextra", "-Werror", "-pedantic",
                    "-fsanitize=address,undefined", "-fno-sanitize-recover=all",
-                   f"-I{NATIVE_DIR}", str(drv), *(str(NATIVE_DIR / k) for k in KERNEL_SOURCES),
+                   f"-I{KERNEL_DIR}", f"-I{NATIVE_DIR}", str(drv),
+                   *(str(KERNEL_DIR / k) for k in KERNEL_SOURCES),
                    *(str(NATIVE_DIR / g) for g in GLUE_SOURCES[fmi]),
                    str(tmp_path / "model_data.c"), "-o", str(exe), "-lm"]
             subprocess.run(cmd, check=True, capture_output=True)

@@ -26,6 +26,7 @@ from native_harness import Slave, kernel, stated_error
 
 from gear_dyn.fmu.export_c import (
     GLUE_SOURCES,
+    KERNEL_DIR,
     KERNEL_SOURCES,
     NATIVE_DIR,
     TORSIONAL_OUTPUTS,
@@ -110,8 +111,8 @@ def test_kernel_under_sanitizers(tmp_path: Path) -> None:
         drv.write_text(driver(fmi, (10, 12), "1.0 / 450.0 / 7.3"))
         exe = tmp_path / f"drv{fmi}"
         cmd = [cc, "-std=c99", "-g", "-Wall", "-Wextra", "-Werror", "-pedantic",
-               "-fsanitize=address,undefined", "-fno-sanitize-recover=all", f"-I{NATIVE_DIR}",
-               str(drv), *(str(NATIVE_DIR / k) for k in KERNEL_SOURCES),
+               "-fsanitize=address,undefined", "-fno-sanitize-recover=all", f"-I{KERNEL_DIR}",
+               f"-I{NATIVE_DIR}", str(drv), *(str(KERNEL_DIR / k) for k in KERNEL_SOURCES),
                *(str(NATIVE_DIR / g) for g in GLUE_SOURCES[fmi]),
                str(tmp_path / "model_data.c"), "-o", str(exe), "-lm"]
         subprocess.run(cmd, check=True, capture_output=True)
