@@ -103,7 +103,7 @@ def direct_feedthrough(nm: NativeModel | TorsionalNative) -> dict[str, tuple[str
     with the speed input at once. The torque input acts through the state only (from the next
     doStep). Outputs not in the mapping depend on no input.
     """
-    speed = ("operating.speed",)
+    speed: tuple[str, ...] = ("operating.speed",)
     rate = bool(np.any(nm.table.coef[:, 1 if isinstance(nm, TorsionalNative) else 2] != 0.0))
     if not isinstance(nm, TorsionalNative):
         return {"driven_speed": speed, **({"mesh_force": speed} if rate else {})}
