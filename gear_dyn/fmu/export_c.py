@@ -23,10 +23,12 @@ from gear_dyn.fmu.toolchain import linux_compiler
 NATIVE_DIR = Path(__file__).parent / "native"
 KERNEL_DIR = Path(__file__).parent.parent / "solvers" / "kernel"
 KERNEL_SOURCES = ("gd_kernel.c", "gd_torsional.c")
-#: the FMI glue of each version and what both share (status rules, FMU state checks)
-GLUE_SOURCES = {2: ("gd_glue.c", "gd_fmi2.c"), 3: ("gd_glue.c", "gd_fmi3.c")}
+#: the FMI glue of each version and what both share (status rules, FMU state checks, the
+#: drivetrain interface)
+GLUE_SOURCES = {2: ("gd_glue.c", "gd_drive.c", "gd_fmi2.c"),
+                3: ("gd_glue.c", "gd_drive.c", "gd_fmi3.c")}
 HEADERS = ("gd_kernel.h",)
-GLUE_HEADERS = ("gd_glue.h",)
+GLUE_HEADERS = ("gd_glue.h", "gd_drive.h")
 _HEADER = (KERNEL_DIR / "gd_kernel.h").read_text("utf-8")
 #: the table format the kernel reads (GD_TABLE_FORMAT in gd_kernel.h)
 TABLE_FORMAT = int(re.search(r"#define GD_TABLE_FORMAT (\d+)", _HEADER)[1])  # type: ignore[index]
@@ -127,11 +129,19 @@ def _arr(values: np.ndarray) -> str:
     return "{\n    " + ",\n    ".join(lines) + "\n}"
 
 
-def model_data_c(nm: NativeModel | TorsionalNative, title: str = "", token: str = "") -> str:
+#: the pinion-speed interface: no drivetrain constants (gd_drive.h)
+_NO_DRIVE = """struct gd_drive;
+const struct gd_drive *const gd_drive_data = 0;"""
+
+
+def model_data_c(nm: NativeModel | TorsionalNative, title: str = "", token: str = "",
+                 drive: str = "") -> str:
     """The text of ``model_data.c`` for a native model.
 
     ``token`` is the FMU's instantiation token (FMI 2 guid), as in its modelDescription: the
-    glue refuses to instantiate with another, and a state that carries another.
+    glue refuses to instantiate with another, and a state that carries another. ``drive``: the
+    drivetrain interface's block (:func:`gear_dyn.fmu.export_drive.drive_c`), or "" for the
+    pinion-speed interface.
 
     Raises
     ------
@@ -166,6 +176,7 @@ def model_data_c(nm: NativeModel | TorsionalNative, title: str = "", token: str 
 
 /* the instantiation token (FMI 2 guid) of the modelDescription (gd_glue.h) */
 const char gd_instantiation_token[] = "{token}";
+{drive or _NO_DRIVE}
 static const double breaks[{t.breaks.size}] = {_arr(t.breaks)};
 static const double coef[{t.coef.size}] = {_arr(t.coef)};
 static const unsigned char flat[{n}] = {{{flat}}};

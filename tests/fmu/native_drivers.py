@@ -60,10 +60,10 @@ int main(void) {
     REFUSED(fmi2DeSerializeFMUstate(c, (fmi2Byte *)&sv, size, &s2));
     memcpy(&sv, buf, size); sv.token[0] ^= 'x';
     REFUSED(fmi2DeSerializeFMUstate(c, (fmi2Byte *)&sv, size, &s2));
-    memcpy(&sv, buf, size); sv.st.piece = 1000000;
+    memcpy(&sv, buf, size); sv.st.k.piece = 1000000;
     REFUSED(fmi2DeSerializeFMUstate(c, (fmi2Byte *)&sv, size, &s2));
     REFUSED(fmi2SetFMUstate(c, &sv));
-    memcpy(&sv, buf, size); sv.st.q[2] = NAN; sv.st.x = NAN;
+    memcpy(&sv, buf, size); sv.st.k.q[2] = NAN; sv.st.k.x = NAN;
     REFUSED(fmi2SetFMUstate(c, &sv));
     fmi2DeSerializeFMUstate(c, buf, size, &s2);
     fmi2SetFMUstate(c, s2);
@@ -125,10 +125,10 @@ int main(void) {
     REFUSED(fmi3DeserializeFMUState(c, (fmi3Byte *)&sv, size, &s2));
     memcpy(&sv, buf, size); sv.token[0] ^= 'x';
     REFUSED(fmi3DeserializeFMUState(c, (fmi3Byte *)&sv, size, &s2));
-    memcpy(&sv, buf, size); sv.st.piece = 1000000;
+    memcpy(&sv, buf, size); sv.st.k.piece = 1000000;
     REFUSED(fmi3DeserializeFMUState(c, (fmi3Byte *)&sv, size, &s2));
     REFUSED(fmi3SetFMUState(c, &sv));
-    memcpy(&sv, buf, size); sv.st.q[2] = NAN; sv.st.x = NAN;
+    memcpy(&sv, buf, size); sv.st.k.q[2] = NAN; sv.st.k.x = NAN;
     REFUSED(fmi3SetFMUState(c, &sv));
     fmi3DeserializeFMUState(c, buf, size, &s2);
     fmi3SetFMUState(c, s2);

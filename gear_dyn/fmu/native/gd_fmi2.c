@@ -7,7 +7,7 @@
 #include "gd_glue.h"
 
 typedef struct {
-    gd_state st;
+    gd_dstate st;
     fmi2CallbackFunctions cb;
     char name[128];
     int started, mode;   /* started: fixed parameters locked; mode: GD_INSTANTIATED .. */
@@ -55,7 +55,7 @@ fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid,
     if (!c) return NULL;
     if (cb) c->cb = *cb;
     strncpy(c->name, name ? name : "gear_dyn", sizeof c->name - 1);
-    gd_defaults(&c->st, M);
+    gd_g_defaults(&c->st);
     return c;
 }
 
@@ -70,7 +70,7 @@ fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tol_on, fmi2Real tol
         return fail(i, "fmi2SetupExperiment: allowed only after fmi2Instantiate or fmi2Reset");
     if (!(t0 == t0 && t0 - t0 == 0.0))
         return fail(i, "fmi2SetupExperiment: the start time must be finite");
-    i->st.t = t0;
+    i->st.k.t = t0;
     return fmi2OK;
 }
 
@@ -89,7 +89,7 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component c)
     inst *i = (inst *)c;
     if (i->mode != GD_INIT)
         return fail(i, "fmi2ExitInitializationMode: not in initialization mode");
-    gd_start(&i->st, M, i->st.t);
+    gd_g_start(&i->st, i->st.k.t);
     i->started = 1;
     i->mode = GD_STEP;
     return fmi2OK;
@@ -104,7 +104,7 @@ fmi2Status fmi2Terminate(fmi2Component c)
 fmi2Status fmi2Reset(fmi2Component c)
 {
     inst *i = (inst *)c;
-    gd_defaults(&i->st, M);
+    gd_g_defaults(&i->st);
     i->started = 0;
     i->mode = GD_INSTANTIATED;
     return fmi2OK;
@@ -112,7 +112,7 @@ fmi2Status fmi2Reset(fmi2Component c)
 
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Real v[])
 {
-    if (gd_get(&((inst *)c)->st, M, vr, n, v) != GD_OK)
+    if (gd_g_get(&((inst *)c)->st, vr, n, v) != GD_OK)
         return fail((inst *)c, "fmi2GetReal: unknown value reference");
     return fmi2OK;
 }
@@ -124,7 +124,7 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
     char msg[256];
     size_t k;
     for (k = 0; k < n; k++)
-        if (gd_set(&i->st, M, vr[k], v[k], i->started, msg, sizeof msg) != GD_OK) {
+        if (gd_g_set(&i->st, vr[k], v[k], i->started, msg, sizeof msg) != GD_OK) {
             logmsg(i, fmi2Error, msg);
             return fmi2Error;
         }
@@ -227,9 +227,9 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean no_pr
     inst *i = (inst *)c;
     char msg[320];
     (void)no_prior;
-    if (gd_check_step(i->mode, &i->st, t, h, "fmi2DoStep", msg, sizeof msg) != GD_OK)
+    if (gd_check_step(i->mode, &i->st.k, t, h, "fmi2DoStep", msg, sizeof msg) != GD_OK)
         return fail(i, msg);
-    if (gd_advance(&i->st, M, t + h) == GD_OK) return fmi2OK;
+    if (gd_g_advance(&i->st, t + h) == GD_OK) return fmi2OK;
     return fail(i, GD_STEP_MESSAGE);
 }
 

@@ -8,7 +8,7 @@
 #include "gd_glue.h"
 
 typedef struct {
-    gd_state st;
+    gd_dstate st;
     fmi3InstanceEnvironment env;
     fmi3LogMessageCallback log;
     int started, mode;   /* started: fixed parameters locked; mode: GD_INSTANTIATED .. */
@@ -53,7 +53,7 @@ fmi3Instance fmi3InstantiateCoSimulation(
     if (!c) return NULL;
     c->env = env;
     c->log = log;
-    gd_defaults(&c->st, M);
+    gd_g_defaults(&c->st);
     return c;
 }
 
@@ -86,7 +86,7 @@ fmi3Status fmi3EnterInitializationMode(fmi3Instance c, fmi3Boolean tol_on, fmi3F
                     "fmi3Reset");
     if (!(t0 == t0 && t0 - t0 == 0.0))
         return fail(I, "fmi3EnterInitializationMode: the start time must be finite");
-    I->st.t = t0;
+    I->st.k.t = t0;
     I->mode = GD_INIT;
     return fmi3OK;
 }
@@ -95,7 +95,7 @@ fmi3Status fmi3ExitInitializationMode(fmi3Instance c)
 {
     if (I->mode != GD_INIT)
         return fail(I, "fmi3ExitInitializationMode: not in initialization mode");
-    gd_start(&I->st, M, I->st.t);
+    gd_g_start(&I->st, I->st.k.t);
     I->started = 1;
     I->mode = GD_STEP;
     return fmi3OK;
@@ -109,7 +109,7 @@ fmi3Status fmi3Terminate(fmi3Instance c)
 
 fmi3Status fmi3Reset(fmi3Instance c)
 {
-    gd_defaults(&I->st, M);
+    gd_g_defaults(&I->st);
     I->started = 0;
     I->mode = GD_INSTANTIATED;
     return fmi3OK;
@@ -118,7 +118,7 @@ fmi3Status fmi3Reset(fmi3Instance c)
 fmi3Status fmi3GetFloat64(fmi3Instance c, const fmi3ValueReference vr[], size_t n,
                           fmi3Float64 v[], size_t nv)
 {
-    if (nv != n || gd_get(&I->st, M, vr, n, v) != GD_OK)
+    if (nv != n || gd_g_get(&I->st, vr, n, v) != GD_OK)
         return fail(I, "fmi3GetFloat64: unknown value reference");
     return fmi3OK;
 }
@@ -130,7 +130,7 @@ fmi3Status fmi3SetFloat64(fmi3Instance c, const fmi3ValueReference vr[], size_t 
     size_t k;
     if (nv != n) return fail(I, "fmi3SetFloat64: one value per value reference");
     for (k = 0; k < n; k++)
-        if (gd_set(&I->st, M, vr[k], v[k], I->started, msg, sizeof msg) != GD_OK)
+        if (gd_g_set(&I->st, vr[k], v[k], I->started, msg, sizeof msg) != GD_OK)
             return fail(I, msg);
     return fmi3OK;
 }
@@ -145,11 +145,11 @@ fmi3Status fmi3DoStep(fmi3Instance c, fmi3Float64 t, fmi3Float64 h, fmi3Boolean 
     *event = fmi3False;
     *terminate = fmi3False;
     *early = fmi3False;
-    *last = I->st.t;
-    if (gd_check_step(I->mode, &I->st, t, h, "fmi3DoStep", msg, sizeof msg) != GD_OK)
+    *last = I->st.k.t;
+    if (gd_check_step(I->mode, &I->st.k, t, h, "fmi3DoStep", msg, sizeof msg) != GD_OK)
         return fail(I, msg);
-    rc = gd_advance(&I->st, M, t + h);
-    *last = I->st.t;
+    rc = gd_g_advance(&I->st, t + h);
+    *last = I->st.k.t;
     return rc == GD_OK ? fmi3OK : fail(I, GD_STEP_MESSAGE);
 }
 

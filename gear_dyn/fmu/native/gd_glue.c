@@ -8,6 +8,37 @@
 #include <string.h>
 #include "gd_glue.h"
 
+#define M (&gd_model_data)
+#define D gd_drive_data
+
+void gd_g_defaults(gd_dstate *s)
+{
+    if (D) gd_drive_defaults(s, M, D);
+    else gd_defaults(&s->k, M);
+}
+
+void gd_g_start(gd_dstate *s, double t0)
+{
+    if (D) gd_drive_start(s, M, D, t0);
+    else gd_start(&s->k, M, t0);
+}
+
+int gd_g_advance(gd_dstate *s, double t_end)
+{
+    return D ? gd_drive_advance(s, M, D, t_end) : gd_advance(&s->k, M, t_end);
+}
+
+int gd_g_get(const gd_dstate *s, const unsigned *vr, size_t n, double *v)
+{
+    return D ? gd_drive_get(s, M, D, vr, n, v) : gd_get(&s->k, M, vr, n, v);
+}
+
+int gd_g_set(gd_dstate *s, unsigned vr, double value, int started, char *msg, size_t len)
+{
+    return D ? gd_drive_set(s, D, vr, value, started, msg, len)
+             : gd_set(&s->k, M, vr, value, started, msg, len);
+}
+
 int gd_token_ok(const char *token)
 {
     return token != NULL && strcmp(token, gd_instantiation_token) == 0;
@@ -39,7 +70,7 @@ int gd_check_step(int mode, const gd_state *s, double t, double h, const char *f
     return GD_OK;
 }
 
-void gd_save(const gd_state *s, int mode, gd_saved *out)
+void gd_save(const gd_dstate *s, int mode, gd_saved *out)
 {
     memset(out, 0, sizeof *out);
     out->magic = GD_STATE_MAGIC;
@@ -53,10 +84,10 @@ void gd_save(const gd_state *s, int mode, gd_saved *out)
 static int real_ok(double v) { return v == v && fabs(v) <= DBL_MAX; }
 
 int gd_check_saved(const void *b, size_t size, const gd_model *m, const char *fn,
-                   gd_state *out, int *mode, char *msg, size_t len)
+                   gd_dstate *out, int *mode, char *msg, size_t len)
 {
     gd_saved sv;
-    const gd_state *s = &sv.st;
+    const gd_state *s = &sv.st.k;
     const char *bad = NULL;
     int j;
     if (b == NULL || size != sizeof sv) {
@@ -89,11 +120,17 @@ int gd_check_saved(const void *b, size_t size, const gd_model *m, const char *fn
         if (!(v >= p->low && v <= p->high) || (p->low_open && v == p->low))
             bad = "a parameter or input out of its range";
     }
+    for (j = 0; !bad && j < GV_NPAR; j++) {   /* the drivetrain's (zero, unused, without) */
+        const gd_param *p = D ? &D->params[j] : NULL;
+        double v = sv.st.par[j];
+        if (p ? !(v >= p->low && v <= p->high) || (p->low_open && v == p->low) : v != 0.0)
+            bad = "a parameter or input out of its range";
+    }
     if (bad) {
         snprintf(msg, len, "%s: refused: %s", fn, bad);
         return GD_ERR_VR;
     }
-    if (out) *out = *s;
+    if (out) *out = sv.st;
     if (mode) *mode = sv.mode;
     return GD_OK;
 }
