@@ -37,10 +37,11 @@ def register(sub: Any) -> None:
                    "Python on the importing machine; python: the pythonfmu FMU, every scene "
                    "key a parameter (the default, with a note, where no native FMU can be "
                    "built: a torsional model with backlash or TE)")
-    b.add_argument("--ports", default="speed", choices=("speed", "torque"),
+    b.add_argument("--ports", default="speed", choices=("speed", "torque", "shaft-speed"),
                    help="native FMU interface: speed (default: speed and torque inputs on the "
-                   "pinion) or torque (the drivetrain interface: a torque input on each shaft, "
-                   "the shafts' angles and speeds out; docs/fmu.md)")
+                   "pinion), torque (the drivetrain interface: a torque input on each shaft, "
+                   "the shafts' angles and speeds out) or shaft-speed (its variant with the "
+                   "pinion driven by speed, its torque out; docs/fmu.md)")
     b.add_argument("--no-validate", action="store_true",
                    help="skip the fmpy validation of the built FMU")
     add_quiet_flag(b)
@@ -129,7 +130,7 @@ def _run_build_native(args: argparse.Namespace) -> int:
     with Stages(["build native FMU"], args.quiet):
         built = build_native_fmu(args.scene, args.out, fmi=args.fmi, ports=args.ports)
     t = built.model.table
-    kind = "native FMU" if built.drive is None else "native drivetrain FMU (torque ports)"
+    kind = "native FMU" if built.drive is None else f"native drivetrain FMU ({args.ports} ports)"
     print(f"{built.scene_name}: {kind} -> {built.path} (FMI {args.fmi}.0 co-simulation, "
           f"model identifier {built.model_identifier}; {t.breaks.size - 1} table pieces, "
           f"{'exact' if t.exact else 'fitted'}; {built.path.stat().st_size // 1000} kB)")

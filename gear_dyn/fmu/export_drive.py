@@ -18,9 +18,10 @@ from gear_dyn.fmu.export import NativeModel
 from gear_dyn.fmu.export_c import Param
 from gear_dyn.fmu.export_torsional import TorsionalNative
 
-#: the ``--ports`` choices: the pinion-speed interface (speed and torque on the pinion) and the
-#: drivetrain one
-PORTS = ("speed", "torque")
+#: the ``--ports`` choices: the pinion-speed interface (speed and torque on the pinion), the
+#: drivetrain one (a torque port on each shaft) and its speed-driven variant (the pinion shaft
+#: driven by speed: speed in, torque out; a torque port on the gear)
+PORTS = ("speed", "torque", "shaft-speed")
 
 #: parameters and inputs, in the order of GV_T1 .. GV_W0 (gd_drive.h): value references 1..8
 DRIVE_PARAMS = (
@@ -51,6 +52,25 @@ DRIVE_OUTPUTS = (
      "on the pinion: -r_b1 F)"),
     ("dte", "m", "dynamic transmission error r_b1 th1 - r_b2 th2 along the line of action"),
 )
+#: the speed-driven variant's pinion port: value reference 1 is its speed input, 10 the torque
+#: its shaft delivers (in place of pinion.torque and pinion.speed)
+SPEED_INPUT = Param("pinion.speed", "rad/s", -1e5, 1e5, False, "input",
+                    "pinion speed: the pinion turns at it (held over a step)")
+TORQUE_OUTPUT = ("pinion.torque", "N.m",
+                 "torque the pinion shaft delivers to turn the pinion at its speed: "
+                 "r_b1 F - max(F, 0) phi1 (like the mesh force, it depends directly on "
+                 "pinion.speed, through the mesh damping)")
+
+
+def drive_variables(speed_in: bool) -> tuple[tuple[Param, ...], tuple[tuple[str, str, str], ...]]:
+    """The parameters and inputs (value references 1..8) and the outputs (9..14) of the
+    drivetrain interface, or of its speed-driven variant."""
+    if not speed_in:
+        return DRIVE_PARAMS, DRIVE_OUTPUTS
+    return ((SPEED_INPUT, *DRIVE_PARAMS[1:]),
+            (DRIVE_OUTPUTS[0], TORQUE_OUTPUT, *DRIVE_OUTPUTS[2:]))
+
+
 #: calculated parameters (fixed at build), value references 15..17
 DRIVE_CONSTANTS = (
     ("base_radius.pinion", "m", "base radius r_b1 of the pinion (fixed at build)"),
@@ -65,6 +85,7 @@ class DriveSpec:
     :data:`DRIVE_PARAMS` and the C constants."""
 
     start: tuple[float, ...]
+    speed_in: bool
     nq: int
     idx: tuple[int, int, int, int, int]
     sign_e: float
@@ -73,35 +94,40 @@ class DriveSpec:
 
     def values(self) -> dict[str, float]:
         """The start value of each parameter and input, by name."""
-        return {p.name: v for p, v in zip(DRIVE_PARAMS, self.start, strict=True)}
+        params = drive_variables(self.speed_in)[0]
+        return {p.name: v for p, v in zip(params, self.start, strict=True)}
 
 
-def drive_spec(nm: NativeModel | TorsionalNative, inertias: tuple[float, float]) -> DriveSpec:
-    """The drivetrain interface of native model ``nm`` with polar inertias (kg m^2).
+def drive_spec(nm: NativeModel | TorsionalNative, inertias: tuple[float, float],
+               speed_in: bool = False) -> DriveSpec:
+    """The drivetrain interface of native model ``nm`` with polar inertias (kg m^2), or with
+    ``speed_in`` its speed-driven variant.
 
-    Start values: the build torque on the pinion, the gear loaded by the balancing torque
-    -T1 z2/z1 (steady rotation at the build speed), the build speed.
+    Start values: the build torque on the pinion (speed-driven: the build speed), the gear
+    loaded by the balancing torque -T1 z2/z1 (steady rotation at the build speed), the build
+    speed.
     """
     i1, i2 = (float(v) for v in inertias)
     rb1, rb2 = nm.rb1, nm.rb2
     tors = isinstance(nm, TorsionalNative)
     gap = 1e-5 if tors or nm.half_gap is None else nm.half_gap
-    start = (nm.torque, -nm.torque * rb2 / rb1, nm.damping_ratio, gap, nm.tolerance, i1, i2,
-             nm.speed)
+    start = (nm.speed if speed_in else nm.torque, -nm.torque * rb2 / rb1, nm.damping_ratio,
+             gap, nm.tolerance, i1, i2, nm.speed)
     m_e = i1 * i2 / (i1 * rb2 ** 2 + i2 * rb1 ** 2)
     w_n = math.sqrt(nm.mean_stiffness / m_e)
     x = nm.x_scale
     scale = (x / rb1, x / rb2, x / rb1 * w_n, x / rb2 * w_n)
     if isinstance(nm, TorsionalNative):  # [e, de/dp, k, phi1, phi2]
-        return DriveSpec(start, 5, (0, 1, 2, 3, 4), 1.0, float(nm.table.period), scale)
-    return DriveSpec(start, 3, (1, 2, 0, -1, -1), -1.0, 1.0, scale)  # [k, e, de/dp]
+        return DriveSpec(start, speed_in, 5, (0, 1, 2, 3, 4), 1.0, float(nm.table.period),
+                         scale)
+    return DriveSpec(start, speed_in, 3, (1, 2, 0, -1, -1), -1.0, 1.0, scale)  # [k, e, de/dp]
 
 
 def drive_c(spec: DriveSpec) -> str:
     """The drivetrain block of ``model_data.c``: its parameters and the ``gd_drive`` struct."""
     params = ",\n    ".join(
         f'{{"{p.name}", "{p.unit}", {p.low!r}, {p.high!r}, {int(p.low_open)}}}'
-        for p in DRIVE_PARAMS)
+        for p in drive_variables(spec.speed_in)[0])
     start = ", ".join(repr(float(v)) for v in spec.start)
     idx = ", ".join(str(i) for i in spec.idx)
     scale = ", ".join(repr(float(v)) for v in spec.q_scale)
@@ -111,7 +137,7 @@ static const gd_param drive_params[GV_NPAR] = {{
     {params}
 }};
 static const gd_drive drive = {{
-    {spec.nq}, {{{idx}}}, {spec.sign_e!r}, {spec.period!r}, drive_params,
+    {int(spec.speed_in)}, {spec.nq}, {{{idx}}}, {spec.sign_e!r}, {spec.period!r}, drive_params,
     {{{start}}},
     {{{scale}}}
 }};

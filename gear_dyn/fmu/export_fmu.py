@@ -106,23 +106,29 @@ def _load_note(nm: NativeModel | TorsionalNative) -> str:
             "for another operating torque.")
 
 
-def _drive_description(nm: NativeModel | TorsionalNative, scene_name: str) -> str:
+def _drive_description(nm: NativeModel | TorsionalNative, scene_name: str,
+                       speed_in: bool = False) -> str:
     """The drivetrain FMU's description: the model, its ports and what is fixed at build."""
     t = nm.table
     span = (f"{nm.table.period} mesh cycles"
             if isinstance(nm, TorsionalNative) and nm.table.period > 1 else "one mesh cycle")
     kind = "torsional" if isinstance(nm, TorsionalNative) else "single-DOF"
+    ports = ("the pinion driven by speed (pinion.speed in, held over a step; out the torque "
+             "pinion.torque its shaft delivers; both it and the mesh force depend directly on "
+             "pinion.speed, through the mesh damping), a "
+             "torque input on the gear (gear.torque, positive in its sense of rotation); the "
+             "angles, the gear speed, the mesh force and the DTE out" if speed_in else
+             "a torque input on each (pinion.torque, gear.torque, positive in the shaft's "
+             "sense of rotation), the angle and speed of each shaft, the mesh force and the "
+             "DTE out; no output depends directly on an input")
     return (f"gear_dyn drivetrain interface of scene {scene_name} ({kind} tables), native C "
-            "kernel: the two-DOF torsional mesh between two shafts, a torque input on each "
-            "(pinion.torque, gear.torque, positive in the shaft's sense of rotation), the angle "
-            "and speed of each shaft, the mesh force and the DTE out; no output depends directly "
-            "on an input. Fixed at build: the gear geometry (base radii "
-            f"r_b1 = {nm.rb1!r} m, r_b2 = {nm.rb2!r} m, ratio z2/z1 = {nm.rb2 / nm.rb1!r}; the "
-            f"calculated parameters base_radius.* and ratio) and the tables over {span} in the "
-            f"mesh phase ({t.breaks.size - 1} pieces), which follows the pinion angle. The "
-            "inertias, damping ratio, backlash and tolerance are parameters. Dormand-Prince "
-            "5(4) with absolute error control at solver.tolerance, piece edges located on the "
-            f"pinion angle.{_load_note(nm)}")
+            f"kernel: the two-DOF torsional mesh between two shafts, {ports}. Fixed at build: "
+            f"the gear geometry (base radii r_b1 = {nm.rb1!r} m, r_b2 = {nm.rb2!r} m, ratio "
+            f"z2/z1 = {nm.rb2 / nm.rb1!r}; the calculated parameters base_radius.* and ratio) "
+            f"and the tables over {span} in the mesh phase ({t.breaks.size - 1} pieces), which "
+            "follows the pinion angle. The inertias, damping ratio, backlash and tolerance are "
+            "parameters. Dormand-Prince 5(4) with absolute error control at solver.tolerance, "
+            f"piece edges located on the pinion angle.{_load_note(nm)}")
 
 
 def _units() -> str:
@@ -164,12 +170,14 @@ def _drive_variables(nm: NativeModel | TorsionalNative, drive: DriveSpec
                      ) -> list[tuple[int, str, dict[str, str]]]:
     """The drivetrain interface's variables, as :func:`_variables` ("calc": a calculated
     parameter)."""
-    from gear_dyn.fmu.export_drive import DRIVE_CONSTANTS, DRIVE_OUTPUTS, DRIVE_PARAMS
+    from gear_dyn.fmu.export_drive import DRIVE_CONSTANTS, drive_variables
 
     rows: list[tuple[int, str, dict[str, str]]] = []
     backlash = isinstance(nm, NativeModel) and nm.half_gap is not None
-    for vr, (p, start) in enumerate(zip(DRIVE_PARAMS, drive.start, strict=True), start=1):
-        if p.name == "backlash.half_gap" and not backlash:
+    params, outputs = drive_variables(drive.speed_in)
+    for vr, (p, start) in enumerate(zip(params, drive.start, strict=True), start=1):
+        if (p.name == "backlash.half_gap" and not backlash) or (
+                p.name == "pinion.speed_start" and drive.speed_in):
             continue
         attrs = {"name": p.name, "causality": p.causality,
                  "variability": "continuous" if p.causality == "input" else "fixed",
@@ -179,12 +187,12 @@ def _drive_variables(nm: NativeModel | TorsionalNative, drive: DriveSpec
         if p.unit != "1":
             attrs["unit"] = p.unit
         rows.append((vr, "par", attrs))
-    n = len(DRIVE_PARAMS)
-    for k, (name, unit, doc) in enumerate(DRIVE_OUTPUTS):
+    n = len(params)
+    for k, (name, unit, doc) in enumerate(outputs):
         rows.append((n + 1 + k, "out", {"name": name, "causality": "output",
                                         "variability": "continuous", "description": doc,
                                         "unit": unit}))
-    n += len(DRIVE_OUTPUTS)
+    n += len(outputs)
     for k, (name, unit, doc) in enumerate(DRIVE_CONSTANTS):
         a = {"name": name, "causality": "calculatedParameter", "variability": "fixed",
              "description": doc}
@@ -206,9 +214,12 @@ def model_description(nm: NativeModel | TorsionalNative, ident: str, scene_name:
     interface's (None: the pinion-speed interface)."""
     rows = _variables(nm) if drive is None else _drive_variables(nm, drive)
     head = ("name", "valueReference", "causality", "variability")
-    feed = direct_feedthrough(nm) if drive is None else {}  # the drive's: none (gd_drive.c)
+    # the drive's: none but the speed-driven pinion's torque (gd_drive.c)
+    feed = (direct_feedthrough(nm) if drive is None else
+            {"pinion.torque": ("pinion.speed",), "mesh_force": ("pinion.speed",)}
+            if drive.speed_in else {})
     about = (_description(nm, scene_name) if drive is None
-             else _drive_description(nm, scene_name))
+             else _drive_description(nm, scene_name, drive.speed_in))
     if fmi == 2:
         lines, outs, index = [], [], {}
         for vr, kind, a in rows:
@@ -323,7 +334,8 @@ def build_native_fmu(target: str | Path, out: Path, fmi: int = 2,
         ``speed`` (the default): the pinion-speed interface (speed and torque inputs on the
         pinion, the load fixed by the model); ``torque``: the drivetrain interface
         (:mod:`gear_dyn.fmu.export_drive`: a torque input on each shaft, the angles and speeds
-        out).
+        out); ``shaft-speed``: its speed-driven variant (the pinion driven by speed, the
+        torque its shaft delivers out).
 
     Raises
     ------
@@ -358,11 +370,11 @@ def build_native_fmu(target: str | Path, out: Path, fmi: int = 2,
     f_m = plan.model.mesh_frequency
     step = 1.0 / (f_m * plan.settings.samples_per_period)
     drive = None
-    if ports == "torque":
+    if ports != "speed":
         inertias = (nm.inertias if isinstance(nm, TorsionalNative) else
                     scene_inertias(scene) or build_pair(scene).blank_inertias())
-        drive = drive_spec(nm, inertias)
-        ident += "_drive"
+        drive = drive_spec(nm, inertias, speed_in=ports == "shaft-speed")
+        ident += "_drive" if ports == "torque" else "_speed_drive"
     token = f"{{{uuid.uuid4()}}}"  # the modelDescription's and the binary's: checked by the glue
     xml = model_description(nm, ident, scene.name, float(plan.t_end), step, fmi, token, drive)
     data = model_data_c(nm, scene.name, token, "" if drive is None else drive_c(drive))

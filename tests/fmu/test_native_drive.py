@@ -302,3 +302,51 @@ def test_drive_between_two_shafts_in_libcosim(drives, tmp_path: Path) -> None:
              + spec["inertia.pinion"] * abs(w1[-1] - w1[0]) / (nm.rb1 * 40 / f_m))
     # the motor shaft's own momentum and its coupling lag add to the pinion's: 2x the bound
     assert abs(np.mean(force[1:]) - t_m / nm.rb1) <= 2 * bound, (np.mean(force), t_m / nm.rb1)
+
+
+@pytest.mark.parametrize(("scene", "fmi"), BUILDS)
+def test_speed_driven_variant(tmp_path: Path, scene: str, fmi: int) -> None:
+    """``--ports shaft-speed``: the pinion turns at its speed input, the gear is loaded by
+    T2 = -c_L w2 (held over each step). The gear's angle increment is the pinion's times z1/z2
+    (to 1e-4); the mean torque the pinion shaft delivers is c_L w2 (r_b1 - phi1_mean) /
+    (r_b2 + phi2_mean) (the gear's and the pinion's torque balances; phi = 0 without friction)
+    to the sampling bound of the steady-state test; changing the speed input without a step
+    moves exactly the outputs declared to depend on it, pinion.torque and mesh_force (the mesh
+    damping sees the pinion speed)."""
+    from gear_dyn.fmu.export_fmu import build_native_fmu
+
+    built = build_native_fmu(scene, tmp_path / "s.fmu", fmi=fmi, ports="shaft-speed")
+    nm = built.model
+    md = fmpy.read_model_description(str(built.path))
+    declared = {u.variable.name: [d.name for d in u.dependencies] for u in md.outputs}
+    fed = {n for n, d in declared.items() if d}
+    assert fed == {"pinion.torque", "mesh_force"}
+    assert all(declared[n] == ["pinion.speed"] for n in fed)
+    run = Slave(built.path, fmi)
+    run.start(None)
+    w0, t_start, rb1, ratio = (run.get(n) for n in ("pinion.speed", "gear.torque",
+                                                    "base_radius.pinion", "ratio"))
+    outputs = [v.name for v in md.modelVariables if v.causality == "output"]
+    before = {o: run.get(o) for o in outputs}
+    run.set("pinion.speed", 1.01 * w0)
+    assert {o for o in outputs if run.get(o) != before[o]} == fed
+    run.set("pinion.speed", w0)
+    c_load = -t_start * ratio / w0
+    f_m = w0 * nm.z1 / (2 * math.pi)
+    h = 1 / (PER_PERIOD * f_m)
+    n = 80 * PER_PERIOD
+    names = ["pinion.angle", "gear.angle", "pinion.torque"]
+    rows = np.empty((n, 3))
+    for k in range(n):
+        run.set("gear.torque", -c_load * run.get("gear.speed"))
+        run.fmu.doStep(k * h, (k + 1) * h - k * h)
+        rows[k] = [run.get(o) for o in names]
+    run.close()
+    a1, a2, torque = rows[-40 * PER_PERIOD - 1:].T
+    assert abs((a1[-1] - a1[0]) / (a2[-1] - a2[0]) / ratio - 1) < 1e-4
+    w2 = (a2[-1] - a2[0]) / (40 / f_m)
+    arms = nm.mean_arms if getattr(nm, "friction", False) else (0.0, 0.0)
+    expected = c_load * w2 * (rb1 - arms[0]) / (nm.rb2 + arms[1])
+    variation = np.sum(np.abs(np.diff(torque))) / 40
+    bound = variation / PER_PERIOD + 1e-3 * expected  # 1e-3: the load's decay over the window
+    assert abs(float(np.mean(torque[1:])) - expected) <= bound, (np.mean(torque), expected)

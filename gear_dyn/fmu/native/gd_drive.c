@@ -6,7 +6,9 @@
  *   p = p_0 + z1 th1 / (2 pi),  f_m = z1 w1 / (2 pi),  c = 2 xi sqrt(m_e k_m),
  *   m_e = I1 I2 / (I1 r_b2^2 + I2 r_b1^2)
  *
- * T1, T2 act on the shafts in their positive sense of rotation (a load is a negative T2). The
+ * T1, T2 act on the shafts in their positive sense of rotation (a load is a negative T2). In
+ * the speed-driven variant (speed_in) the pinion turns at its input speed w1 (held over a step)
+ * and the output in w1's place is the torque its shaft delivers, r_b1 F - max(F, 0) phi1. The
  * mesh phase follows the pinion angle, so the table's piece edges are reached when th1 reaches
  * them: each Runge-Kutta step (Dormand-Prince 5(4) with error control, Hairer, Norsett & Wanner
  * 1993; absolute error weights: the angles grow without bound) that would cross an edge is
@@ -63,7 +65,7 @@ static void drhs(const dctx *q, const double *y, double *dy)
     n = f > 0.0 ? f : 0.0;
     dy[0] = y[2];
     dy[1] = y[3];
-    dy[2] = (q->par[GV_T1] - q->m->rb1 * f + n * v[3]) / q->par[GV_I1];
+    dy[2] = q->d->speed_in ? 0.0 : (q->par[GV_T1] - q->m->rb1 * f + n * v[3]) / q->par[GV_I1];
     dy[3] = (q->par[GV_T2] + q->m->rb2 * f + n * v[4]) / q->par[GV_I2];
 }
 
@@ -186,7 +188,7 @@ static void locate(gd_dstate *s, const gd_model *m)
  * speed's kinematics (u' + s f_m de/dp = 0) */
 void gd_drive_start(gd_dstate *s, const gd_model *m, const gd_drive *d, double t0)
 {
-    double v[5], w1 = s->par[GV_W0], el;
+    double v[5], w1 = s->par[d->speed_in ? GV_T1 : GV_W0], el;
     dctx q;
     s->k.t = t0;
     s->k.frac = fmod(fmod(m->phase0, d->period) + d->period, d->period);
@@ -194,7 +196,8 @@ void gd_drive_start(gd_dstate *s, const gd_model *m, const gd_drive *d, double t
     s->k.q[0] = 0.0;
     setup(&q, s, m, d);
     dcoef(&q, 0.0, v);
-    el = s->par[GV_T1] / m->rb1 / (v[2] > 0.0 ? v[2] : m->k_mean);
+    el = (d->speed_in ? -s->par[GV_T2] / m->rb2 : s->par[GV_T1] / m->rb1)
+        / (v[2] > 0.0 ? v[2] : m->k_mean);
     if (m->has_backlash) el += (el >= 0.0 ? 1.0 : -1.0) * s->par[GV_HALF_GAP];
     s->k.q[1] = -(el - d->sign_e * v[0]) / m->rb2;
     s->k.q[2] = w1;
@@ -210,6 +213,7 @@ int gd_drive_advance(gd_dstate *s, const gd_model *m, const gd_drive *d, double 
         dctx q;
         double done = 0.0, dt = t_end - s->k.t;
         int edge, rc;
+        if (d->speed_in) s->k.q[2] = s->par[GV_T1];   /* the pinion at its input speed */
         setup(&q, s, m, d);
         rc = rk_piece(&q, s, dt, &done, &edge);
         if (rc != GD_OK) return rc;
@@ -230,17 +234,19 @@ int gd_drive_advance(gd_dstate *s, const gd_model *m, const gd_drive *d, double 
 int gd_drive_get(const gd_dstate *s, const gd_model *m, const gd_drive *d, const unsigned *vr,
                  size_t n, double *v)
 {
-    double c[5], out[GV_NOUT];
-    const double *y = s->k.q;
+    double c[5], out[GV_NOUT], y[4];
     size_t j;
     dctx q;
+    memcpy(y, s->k.q, sizeof y);
+    if (d->speed_in) y[2] = s->par[GV_T1];   /* the speed input acts at once on the force */
     setup(&q, s, m, d);
     dcoef(&q, y[0], c);
+    out[GV_FORCE] = force(&q, c, y);
     out[GV_A1] = y[0];
-    out[GV_W1] = y[2];
+    out[GV_W1] = !d->speed_in ? y[2]   /* speed_in: the torque the pinion shaft delivers */
+        : m->rb1 * out[GV_FORCE] - (out[GV_FORCE] > 0.0 ? out[GV_FORCE] : 0.0) * c[3];
     out[GV_A2] = y[1];
     out[GV_W2] = y[3];
-    out[GV_FORCE] = force(&q, c, y);
     out[GV_DTE] = m->rb1 * y[0] - m->rb2 * y[1];
     for (j = 0; j < n; j++) {
         if (vr[j] == 0) v[j] = s->k.t;

@@ -6,13 +6,16 @@
 
 #include "gd_kernel.h"
 
-/* value references: 1 pinion.torque, 2 gear.torque (inputs), 3 damping.ratio,
+/* value references: 1 pinion.torque (speed_in: pinion.speed), 2 gear.torque (inputs),
+ * 3 damping.ratio,
  * 4 backlash.half_gap, 5 solver.tolerance, 6 inertia.pinion, 7 inertia.gear,
  * 8 pinion.speed_start (parameters), then the outputs */
 enum { GV_T1, GV_T2, GV_ZETA, GV_HALF_GAP, GV_TOL, GV_I1, GV_I2, GV_W0, GV_NPAR };
 enum { GV_A1, GV_W1, GV_A2, GV_W2, GV_FORCE, GV_DTE, GV_NOUT };
 
 struct gd_drive {
+    int speed_in;               /* 1: the pinion is driven by speed (value reference 1 is its
+                                 * speed, the output GV_W1 the torque it takes), 0: by torque */
     int nq;                     /* quantities per piece in gd_model.coef (3 or 5) */
     int idx[5];                 /* where e, de/dp, k, phi1, phi2 are among them (-1: zero) */
     double sign_e;              /* F = k f(u + sign_e e) + c (u' + sign_e f_m de/dp) */
