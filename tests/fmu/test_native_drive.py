@@ -239,69 +239,124 @@ def _shaft_fmu(out: Path) -> Path:
     return out
 
 
+#: the chain's connections: (from instance, variable) -> (to instance, variable)
+CHAIN = ((("gear", "pinion.angle"), ("motor", "flange.angle")),
+         (("gear", "pinion.speed"), ("motor", "flange.speed")),
+         (("gear", "gear.angle"), ("load", "flange.angle")),
+         (("gear", "gear.speed"), ("load", "flange.speed")),
+         (("motor", "flange.torque"), ("gear", "pinion.torque")),
+         (("load", "flange.torque"), ("gear", "gear.torque")))
+CHAIN_OUT = ["pinion.angle", "gear.angle", "pinion.speed", "mesh_force"]
+
+
+def _chain(built) -> tuple[dict[str, dict[str, float]], float, dict[str, float]]:
+    """The shaft FMUs' start values by instance (a motor inertia with a constant torque T_m on
+    a compliant shaft into the pinion; the gear on a second shaft into a load inertia with a
+    viscous torque -c_L w_L, c_L making the build speed the equilibrium; started there, the
+    shafts twisted by their steady torques), the communication step (a whole number of
+    nanoseconds, for libcosim) and the constants the checks need."""
+    nm, spec = built.model, built.drive.values()
+    t_m, w0, ratio = spec["pinion.torque"], spec["pinion.speed_start"], nm.rb2 / nm.rb1
+    f_m = w0 * nm.z1 / (2 * math.pi)
+    step = round(1e9 / (PER_PERIOD * f_m)) * 1e-9
+    k_s = spec["inertia.pinion"] * (2 * math.pi * 50) ** 2  # shaft modes at 50 Hz: h w << 1
+    run = Slave(built.path, built.fmi)
+    run.start(None)
+    a2_0 = run.get("gear.angle")
+    run.close()
+    values = {"motor": {"shaft.stiffness": k_s, "shaft.damping": 0.1, "end.inertia": 0.1,
+                        "end.torque": t_m, "end.viscous": 0.0, "end.angle_start": t_m / k_s,
+                        "end.speed_start": w0},
+              "load": {"shaft.stiffness": k_s * ratio ** 2, "shaft.damping": 0.1,
+                       "end.inertia": 5.0, "end.torque": 0.0,
+                       "end.viscous": t_m * ratio ** 2 / w0,
+                       "end.angle_start": a2_0 - t_m / (k_s * ratio),
+                       "end.speed_start": w0 / ratio}}
+    return values, step, {"t_m": t_m, "w0": w0, "ratio": ratio, "f_m": f_m,
+                          "i1": spec["inertia.pinion"], "rb1": nm.rb1}
+
+
+def _check_chain(rows: np.ndarray, c: dict[str, float]) -> None:
+    """Over the last 40 mesh periods: the angle increments in the ratio z2/z1 (to 1e-4), the
+    pinion at the build speed (to 1 %), the mean mesh force T_m / r_b1 to the sampling bound
+    of the steady-state test plus the pinion's momentum change, doubled for the motor shaft's
+    own momentum and the coupling's lag."""
+    a1, a2, w1, force = rows[-40 * PER_PERIOD - 1:].T
+    assert abs((a1[-1] - a1[0]) / (a2[-1] - a2[0]) / c["ratio"] - 1) < 1e-4
+    assert abs(np.mean(w1) / c["w0"] - 1) < 1e-2
+    variation = np.sum(np.abs(np.diff(force))) / 40
+    bound = (variation / PER_PERIOD
+             + c["i1"] * abs(w1[-1] - w1[0]) / (c["rb1"] * 40 / c["f_m"]))
+    assert abs(np.mean(force[1:]) - c["t_m"] / c["rb1"]) <= 2 * bound, np.mean(force)
+
+
 def test_drive_between_two_shafts_in_libcosim(drives, tmp_path: Path) -> None:
     """libcosim (FMI 2, fixed step, the shafts' torques into the gear FMU, its angles and speeds
-    back): a motor inertia with a constant torque T_m on a compliant shaft into the pinion, the
-    gear on a second shaft into a load inertia with a viscous torque -c_L w_L, c_L making the
-    build speed the equilibrium; started there (shafts twisted by their steady torques), over
-    the last 40 mesh periods of 120 the mean mesh force is T_m / r_b1 (to the sampling bound of
-    the steady-state test above plus the pinion's momentum change) and the angle increments
-    of the gear and pinion are in the ratio z2/z1 (to 1e-4)."""
+    back; :data:`CHAIN`): 120 mesh periods from the steady start (:func:`_chain`), then the
+    steady-state checks of :func:`_check_chain`."""
     cosim = pytest.importorskip("libcosimpy.CosimExecution")
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
     from libcosimpy.CosimObserver import CosimObserver
     from libcosimpy.CosimSlave import CosimLocalSlave
 
     built = drives["helicopter_tail"]
-    nm, spec = built.model, built.drive.values()
     shaft = _shaft_fmu(tmp_path / "shaft.fmu")
-    t_m, w0, ratio = spec["pinion.torque"], spec["pinion.speed_start"], nm.rb2 / nm.rb1
-    f_m = w0 * nm.z1 / (2 * math.pi)
-    ns = round(1e9 / (PER_PERIOD * f_m))  # the step: libcosim counts whole nanoseconds
-    c_load = t_m * ratio ** 2 / w0
-    k_s = spec["inertia.pinion"] * (2 * math.pi * 50) ** 2  # shaft modes at 50 Hz: h w << 1
+    values, step, consts = _chain(built)
     log_output_level(CosimLogLevel.ERROR)
-    ex = cosim.CosimExecution.from_step_size(step_size=ns)
-    gear = ex.add_local_slave(CosimLocalSlave(fmu_path=str(built.path), instance_name="gear"))
-    motor = ex.add_local_slave(CosimLocalSlave(fmu_path=str(shaft), instance_name="motor"))
-    load = ex.add_local_slave(CosimLocalSlave(fmu_path=str(shaft), instance_name="load"))
-    assert min(gear, motor, load) >= 0
-    # steady start: the motor shaft twisted by T_m, the load shaft by -T_m z2/z1
-    settings = {motor: {6: k_s, 7: 0.1, 8: 0.1, 9: t_m, 10: 0.0, 11: t_m / k_s, 12: w0},
-                load: {6: k_s * ratio ** 2, 7: 0.1, 8: 5.0, 9: 0.0, 10: c_load,
-                       11: 0.0, 12: w0 / ratio}}  # 11 of the load: from the gear's start angle
-    vr = {v.name: v.valueReference for v in fmpy.read_model_description(
-        str(built.path)).modelVariables}
-    run = Slave(built.path, 2)
-    run.start(None)
-    a2_0 = run.get("gear.angle")
-    run.close()
-    settings[load][11] = a2_0 - t_m * ratio / settings[load][6]
-    for index, values in settings.items():
-        for ref, value in values.items():
-            ex.real_initial_value(index, ref, float(value))
-    for out_vr, in_slave, in_vr in ((vr["pinion.angle"], motor, 1), (vr["pinion.speed"], motor, 2),
-                                     (vr["gear.angle"], load, 1), (vr["gear.speed"], load, 2)):
-        assert ex.connect_real_variables(gear, out_vr, in_slave, in_vr) == 0  # the C API's 0
-    assert ex.connect_real_variables(motor, 3, gear, vr["pinion.torque"]) == 0
-    assert ex.connect_real_variables(load, 3, gear, vr["gear.torque"]) == 0
+    ex = cosim.CosimExecution.from_step_size(step_size=round(step * 1e9))
+    index = {name: ex.add_local_slave(CosimLocalSlave(fmu_path=str(path), instance_name=name))
+             for name, path in (("gear", built.path), ("motor", shaft), ("load", shaft))}
+    assert min(index.values()) >= 0
+    vr = {"gear": {v.name: v.valueReference for v in fmpy.read_model_description(
+        str(built.path)).modelVariables}, "shaft": {n: r for n, r, _ in SHAFT_VARS}}
+    for name, settings in values.items():
+        for var, value in settings.items():
+            ex.real_initial_value(index[name], vr["shaft"][var], float(value))
+    for (a, out), (b, inp) in CHAIN:
+        assert ex.connect_real_variables(  # the C API's 0: connected
+            index[a], vr["gear" if a == "gear" else "shaft"][out],
+            index[b], vr["gear" if b == "gear" else "shaft"][inp]) == 0
     obs = CosimObserver.create_last_value()
     ex.add_observer(observer=obs)
-    names = ["pinion.angle", "gear.angle", "pinion.speed", "mesh_force"]
-    refs = [vr[n] for n in names]
+    refs = [vr["gear"][n] for n in CHAIN_OUT]
     rows = []
     for _ in range(120 * PER_PERIOD):
         assert ex.step(1)
-        rows.append(obs.last_real_values(gear, refs))
+        rows.append(obs.last_real_values(index["gear"], refs))
     ex.stop()
-    a1, a2, w1, force = np.array(rows[-40 * PER_PERIOD - 1:]).T
-    assert abs((a1[-1] - a1[0]) / (a2[-1] - a2[0]) / ratio - 1) < 1e-4
-    assert abs(np.mean(w1) / w0 - 1) < 1e-2  # it runs at the build speed
-    variation = np.sum(np.abs(np.diff(force))) / 40
-    bound = (variation / PER_PERIOD
-             + spec["inertia.pinion"] * abs(w1[-1] - w1[0]) / (nm.rb1 * 40 / f_m))
-    # the motor shaft's own momentum and its coupling lag add to the pinion's: 2x the bound
-    assert abs(np.mean(force[1:]) - t_m / nm.rb1) <= 2 * bound, (np.mean(force), t_m / nm.rb1)
+    _check_chain(np.array(rows), consts)
+
+
+@pytest.mark.parametrize("fmi", [2, 3])
+def test_drive_between_two_shafts_in_ecos(drives, tmp_path: Path, fmi: int) -> None:
+    """The same chain in Ecos (ecospy), the gear FMU as FMI 2 and as FMI 3 (the shafts FMI 2):
+    the steady-state checks of :func:`_check_chain`."""
+    try:
+        from ecospy import EcosSimulation, EcosSimulationStructure
+    except (ImportError, OSError) as exc:
+        pytest.skip(f"ecospy not usable ({exc}; pip install ecospy, and libtbb12)")
+    from gear_dyn.fmu.export_fmu import build_native_fmu
+
+    built = (drives["helicopter_tail"] if fmi == 2 else
+             build_native_fmu("helicopter_tail", tmp_path / "g3.fmu", fmi=3, ports="torque"))
+    shaft = _shaft_fmu(tmp_path / "shaft.fmu")
+    values, step, consts = _chain(built)
+    rows = []
+    with EcosSimulationStructure() as ss:
+        for name, path in (("gear", built.path), ("motor", shaft), ("load", shaft)):
+            ss.add_model(name, str(Path(path).resolve()))
+        for (a, out), (b, inp) in CHAIN:
+            ss.make_real_connection(f"{a}::{out}", f"{b}::{inp}")
+        ss.add_parameter_set("start", {f"{name}::{var}": float(value)
+                                       for name, settings in values.items()
+                                       for var, value in settings.items()})
+        with EcosSimulation(structure=ss, step_size=step) as sim:
+            sim.init(parameter_set="start")
+            for _ in range(120 * PER_PERIOD):
+                sim.step(1)
+                rows.append([sim.get_real(f"gear::{n}") for n in CHAIN_OUT])
+            sim.terminate()
+    _check_chain(np.array(rows), consts)
 
 
 @pytest.mark.parametrize(("scene", "fmi"), BUILDS)
