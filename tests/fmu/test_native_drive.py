@@ -87,16 +87,16 @@ def test_steady_state_under_a_speed_proportional_load(drives, scene: str, fmi: i
     assert bound < 0.3 * t1 / rb1  # the check means something
 
 
-def _reference_rhs(nm, drive, par):
-    """The drivetrain equations (module docstring of gd_drive.c) from the exported table."""
+def _mesh(nm, drive, par):
+    """The drivetrain equations (module docstring of gd_drive.c) from the exported table:
+    ``accel(y, t1, t2)``, the derivative of y = [th1, th2, w1, w2] under shaft torques t1, t2."""
     rb1, rb2, z1 = nm.rb1, nm.rb2, nm.z1
     i1, i2, zeta = par["inertia.pinion"], par["inertia.gear"], par["damping.ratio"]
     m_e = i1 * i2 / (i1 * rb2 ** 2 + i2 * rb1 ** 2)
     c = 2 * zeta * math.sqrt(m_e * nm.mean_stiffness)
-    t1, t2 = par["pinion.torque"], par["gear.torque"]
     phase0 = getattr(nm, "phase0", 0.0)
 
-    def rhs(t: float, y: np.ndarray) -> np.ndarray:
+    def accel(y: np.ndarray, t1: float, t2: float) -> np.ndarray:
         p = np.mod(phase0 + z1 * y[0] / (2 * math.pi), drive.period)
         q = nm.table.evaluate(np.array([p]))[:, 0]
         v = [q[i] if i >= 0 else 0.0 for i in drive.idx]  # e, de/dp, k, phi1, phi2
@@ -107,7 +107,13 @@ def _reference_rhs(nm, drive, par):
         return np.array([y[2], y[3], (t1 - rb1 * f + n * v[3]) / i1,
                          (t2 + rb2 * f + n * v[4]) / i2])
 
-    return rhs
+    return accel
+
+
+def _reference_rhs(nm, drive, par):
+    """The drivetrain equations at the constant torques of ``par``."""
+    accel = _mesh(nm, drive, par)
+    return lambda t, y: accel(y, par["pinion.torque"], par["gear.torque"])
 
 
 @pytest.mark.parametrize(("scene", "fmi"), BUILDS)
@@ -262,12 +268,15 @@ def _chain(built) -> tuple[dict[str, dict[str, float]], float, dict[str, float]]
     k_s = spec["inertia.pinion"] * (2 * math.pi * 50) ** 2  # shaft modes at 50 Hz: h w << 1
     run = Slave(built.path, built.fmi)
     run.start(None)
-    a2_0 = run.get("gear.angle")
+    a2_0, w2_0 = run.get("gear.angle"), run.get("gear.speed")
     run.close()
-    values = {"motor": {"shaft.stiffness": k_s, "shaft.damping": 0.1, "end.inertia": 0.1,
+    # the flanges start where the gear FMU starts: a host need not pass its start outputs on
+    values = {"motor": {"flange.angle": 0.0, "flange.speed": w0,
+                        "shaft.stiffness": k_s, "shaft.damping": 0.1, "end.inertia": 0.1,
                         "end.torque": t_m, "end.viscous": 0.0, "end.angle_start": t_m / k_s,
                         "end.speed_start": w0},
-              "load": {"shaft.stiffness": k_s * ratio ** 2, "shaft.damping": 0.1,
+              "load": {"flange.angle": a2_0, "flange.speed": w2_0,
+                       "shaft.stiffness": k_s * ratio ** 2, "shaft.damping": 0.1,
                        "end.inertia": 5.0, "end.torque": 0.0,
                        "end.viscous": t_m * ratio ** 2 / w0,
                        "end.angle_start": a2_0 - t_m / (k_s * ratio),
@@ -290,18 +299,15 @@ def _check_chain(rows: np.ndarray, c: dict[str, float]) -> None:
     assert abs(np.mean(force[1:]) - c["t_m"] / c["rb1"]) <= 2 * bound, np.mean(force)
 
 
-def test_drive_between_two_shafts_in_libcosim(drives, tmp_path: Path) -> None:
-    """libcosim (FMI 2, fixed step, the shafts' torques into the gear FMU, its angles and speeds
-    back; :data:`CHAIN`): 120 mesh periods from the steady start (:func:`_chain`), then the
-    steady-state checks of :func:`_check_chain`."""
+def _libcosim_rows(built, shaft: Path, values: dict[str, dict[str, float]], step: float,
+                   n: int, names: list[str]) -> np.ndarray:
+    """The chain (:data:`CHAIN`) in libcosim (FMI 2, fixed step ``step``, a whole number of
+    nanoseconds): ``names`` of the gear FMU after each of ``n`` steps."""
     cosim = pytest.importorskip("libcosimpy.CosimExecution")
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
     from libcosimpy.CosimObserver import CosimObserver
     from libcosimpy.CosimSlave import CosimLocalSlave
 
-    built = drives["helicopter_tail"]
-    shaft = _shaft_fmu(tmp_path / "shaft.fmu")
-    values, step, consts = _chain(built)
     log_output_level(CosimLogLevel.ERROR)
     ex = cosim.CosimExecution.from_step_size(step_size=round(step * 1e9))
     index = {name: ex.add_local_slave(CosimLocalSlave(fmu_path=str(path), instance_name=name))
@@ -318,13 +324,24 @@ def test_drive_between_two_shafts_in_libcosim(drives, tmp_path: Path) -> None:
             index[b], vr["gear" if b == "gear" else "shaft"][inp]) == 0
     obs = CosimObserver.create_last_value()
     ex.add_observer(observer=obs)
-    refs = [vr["gear"][n] for n in CHAIN_OUT]
+    refs = [vr["gear"][n] for n in names]
     rows = []
-    for _ in range(120 * PER_PERIOD):
+    for _ in range(n):
         assert ex.step(1)
         rows.append(obs.last_real_values(index["gear"], refs))
     ex.stop()
-    _check_chain(np.array(rows), consts)
+    return np.array(rows)
+
+
+def test_drive_between_two_shafts_in_libcosim(drives, tmp_path: Path) -> None:
+    """libcosim (FMI 2, fixed step, the shafts' torques into the gear FMU, its angles and speeds
+    back; :data:`CHAIN`): 120 mesh periods from the steady start (:func:`_chain`), then the
+    steady-state checks of :func:`_check_chain`."""
+    built = drives["helicopter_tail"]
+    shaft = _shaft_fmu(tmp_path / "shaft.fmu")
+    values, step, consts = _chain(built)
+    _check_chain(_libcosim_rows(built, shaft, values, step, 120 * PER_PERIOD, CHAIN_OUT),
+                 consts)
 
 
 @pytest.mark.parametrize("fmi", [2, 3])

@@ -86,6 +86,9 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
     for (k = 0; k < n; k++) {
         if (vr[k] < 1 || vr[k] >= N_VR || vr[k] == VR_TAU) return fmi2Error;
         ((shaft *)c)->v[vr[k]] = v[k];
+        /* the start state at once: a host reads the torque in initialization mode */
+        if (vr[k] == VR_PHI0) ((shaft *)c)->v[VR_PHI_E] = v[k];
+        if (vr[k] == VR_W0) ((shaft *)c)->v[VR_W_E] = v[k];
     }
     return fmi2OK;
 }
