@@ -215,8 +215,10 @@ SHAFT_VARS = (("flange.angle", 1, "input"), ("flange.speed", 2, "input"),
               ("end.angle_start", 11, "parameter"), ("end.speed_start", 12, "parameter"))
 
 
-def _shaft_fmu(out: Path) -> Path:
-    """The test shaft FMU (tests/fmu/shaft_fmu/shaft.c), FMI 2, built as the native FMU is."""
+def _shaft_fmu(out: Path, starts: dict[str, float] | None = None) -> Path:
+    """The test shaft FMU (tests/fmu/shaft_fmu/shaft.c), FMI 2, built as the native FMU is;
+    ``starts``: start values in its modelDescription (a host may read the shaft's torque in
+    initialization mode from the start values of its inputs, before any connection)."""
     import zipfile
 
     from gear_dyn.fmu.toolchain import compile_binaries, fmi_headers
@@ -225,7 +227,8 @@ def _shaft_fmu(out: Path) -> Path:
     for name, vr, causality in SHAFT_VARS:
         extra = ('variability="fixed" initial="exact"' if causality == "parameter" else
                  'variability="continuous"')
-        start = "" if causality == "output" else ' start="0"'
+        start = ("" if causality == "output" else
+                 f' start="{float((starts or {}).get(name, 0.0))!r}"')
         rows.append(f'<ScalarVariable name="{name}" valueReference="{vr}" '
                     f'causality="{causality}" {extra}><Real{start}/></ScalarVariable>')
     md = ('<?xml version="1.0" encoding="UTF-8"?>\n<fmiModelDescription fmiVersion="2.0" '
@@ -299,8 +302,13 @@ def _check_chain(rows: np.ndarray, c: dict[str, float]) -> None:
     assert abs(np.mean(force[1:]) - c["t_m"] / c["rb1"]) <= 2 * bound, np.mean(force)
 
 
-def _libcosim_rows(built, shaft: Path, values: dict[str, dict[str, float]], step: float,
-                   n: int, names: list[str]) -> np.ndarray:
+def _shafts(tmp: Path, values: dict[str, dict[str, float]]) -> dict[str, Path]:
+    """The motor's and the load's shaft FMU, each with the start values of its chain."""
+    return {name: _shaft_fmu(tmp / f"{name}.fmu", values[name]) for name in ("motor", "load")}
+
+
+def _libcosim_rows(built, shafts: dict[str, Path], values: dict[str, dict[str, float]],
+                   step: float, n: int, names: list[str]) -> np.ndarray:
     """The chain (:data:`CHAIN`) in libcosim (FMI 2, fixed step ``step``, a whole number of
     nanoseconds): ``names`` of the gear FMU after each of ``n`` steps."""
     cosim = pytest.importorskip("libcosimpy.CosimExecution")
@@ -311,7 +319,7 @@ def _libcosim_rows(built, shaft: Path, values: dict[str, dict[str, float]], step
     log_output_level(CosimLogLevel.ERROR)
     ex = cosim.CosimExecution.from_step_size(step_size=round(step * 1e9))
     index = {name: ex.add_local_slave(CosimLocalSlave(fmu_path=str(path), instance_name=name))
-             for name, path in (("gear", built.path), ("motor", shaft), ("load", shaft))}
+             for name, path in (("gear", built.path), *shafts.items())}
     assert min(index.values()) >= 0
     vr = {"gear": {v.name: v.valueReference for v in fmpy.read_model_description(
         str(built.path)).modelVariables}, "shaft": {n: r for n, r, _ in SHAFT_VARS}}
@@ -338,9 +346,9 @@ def test_drive_between_two_shafts_in_libcosim(drives, tmp_path: Path) -> None:
     back; :data:`CHAIN`): 120 mesh periods from the steady start (:func:`_chain`), then the
     steady-state checks of :func:`_check_chain`."""
     built = drives["helicopter_tail"]
-    shaft = _shaft_fmu(tmp_path / "shaft.fmu")
     values, step, consts = _chain(built)
-    _check_chain(_libcosim_rows(built, shaft, values, step, 120 * PER_PERIOD, CHAIN_OUT),
+    shafts = _shafts(tmp_path, values)
+    _check_chain(_libcosim_rows(built, shafts, values, step, 120 * PER_PERIOD, CHAIN_OUT),
                  consts)
 
 
@@ -356,11 +364,11 @@ def test_drive_between_two_shafts_in_ecos(drives, tmp_path: Path, fmi: int) -> N
 
     built = (drives["helicopter_tail"] if fmi == 2 else
              build_native_fmu("helicopter_tail", tmp_path / "g3.fmu", fmi=3, ports="torque"))
-    shaft = _shaft_fmu(tmp_path / "shaft.fmu")
     values, step, consts = _chain(built)
+    shafts = _shafts(tmp_path, values)
     rows = []
     with EcosSimulationStructure() as ss:
-        for name, path in (("gear", built.path), ("motor", shaft), ("load", shaft)):
+        for name, path in (("gear", built.path), *shafts.items()):
             ss.add_model(name, str(Path(path).resolve()))
         for (a, out), (b, inp) in CHAIN:
             ss.make_real_connection(f"{a}::{out}", f"{b}::{inp}")
