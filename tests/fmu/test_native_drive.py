@@ -352,6 +352,59 @@ def test_drive_between_two_shafts_in_libcosim(drives, tmp_path: Path) -> None:
                  consts)
 
 
+def test_chain_in_libcosim_matches_solve_ivp(drives, tmp_path: Path) -> None:
+    """The same chain as one ODE (the drivetrain equations, :func:`_mesh`, plus both shafts and
+    end inertias) integrated by solve_ivp DOP853 (rtol 1e-10) against libcosim over 10 mesh
+    periods at the step h and at h/2. The co-simulation's coupling error (inputs held over a
+    step) is of first order in the step: the difference of the two runs estimates the finer
+    one's, and the finer run must agree with solve_ivp within twice that estimate (DTE and
+    gear speed) plus the ODE's own error, and closer than the coarse run. (libcosim reads the
+    gear FMU's outputs in initialization mode: they are those of its start state.)"""
+    from scipy.integrate import solve_ivp
+
+    built = drives["helicopter_tail"]
+    nm = built.model
+    values, step, consts = _chain(built)
+    shafts = _shafts(tmp_path, values)
+    step = 2e-9 * round(step * 1e9 / 2)  # h/2 a whole number of nanoseconds too
+    names = ["dte", "gear.speed"]
+    n = 10 * PER_PERIOD
+    coarse = _libcosim_rows(built, shafts, values, step, n, names)
+    fine = _libcosim_rows(built, shafts, values, step / 2, 2 * n, names)[1::2]
+    run = Slave(built.path, built.fmi)
+    run.start(None)
+    par = {p: run.get(p) for p in built.drive.values() if p in run.vr}
+    y0 = [run.get(o) for o in ("pinion.angle", "gear.angle", "pinion.speed", "gear.speed")]
+    run.close()
+    accel = _mesh(nm, built.drive, par)
+    mo, lo = values["motor"], values["load"]
+
+    def rhs(t: float, y: np.ndarray) -> np.ndarray:
+        tau1 = mo["shaft.stiffness"] * (y[4] - y[0]) + mo["shaft.damping"] * (y[5] - y[2])
+        tau2 = lo["shaft.stiffness"] * (y[6] - y[1]) + lo["shaft.damping"] * (y[7] - y[3])
+        return np.array([*accel(y[:4], tau1, tau2), y[5],
+                         (mo["end.torque"] - mo["end.viscous"] * y[5] - tau1) / mo["end.inertia"],
+                         y[7],
+                         (lo["end.torque"] - lo["end.viscous"] * y[7] - tau2) / lo["end.inertia"]])
+
+    start = [*y0, mo["end.angle_start"], mo["end.speed_start"], lo["end.angle_start"],
+             lo["end.speed_start"]]
+    t = np.arange(1, n + 1) * step
+    scale = np.asarray(built.drive.q_scale)
+    atol = np.concatenate([scale, scale[[0, 2, 1, 3]]]) * 1e-10
+    ref = solve_ivp(rhs, (0.0, t[-1]), start, method="DOP853", t_eval=t, rtol=1e-10,
+                    atol=atol)
+    assert ref.success, ref.message
+    want = np.array([nm.rb1 * ref.y[0] - nm.rb2 * ref.y[1], ref.y[3]]).T
+    for j, name in enumerate(names):
+        estimate = float(np.max(np.abs(coarse[:, j] - fine[:, j])))
+        err_fine = float(np.max(np.abs(fine[:, j] - want[:, j])))
+        err_coarse = float(np.max(np.abs(coarse[:, j] - want[:, j])))
+        floor = 1e-6 * (nm.x_scale if name == "dte" else scale[3])
+        assert err_fine <= 2 * estimate + floor, (name, err_fine, estimate)
+        assert err_fine < err_coarse, name
+
+
 @pytest.mark.parametrize("fmi", [2, 3])
 def test_drive_between_two_shafts_in_ecos(drives, tmp_path: Path, fmi: int) -> None:
     """The same chain in Ecos (ecospy), the gear FMU as FMI 2 and as FMI 3 (the shafts FMI 2):

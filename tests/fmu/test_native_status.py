@@ -120,3 +120,23 @@ def test_instantiation_token_is_checked(fmus, fmi: int) -> None:
                             log.append((status, msg.decode())))
         assert log == [(3, "the instantiationToken is not this FMU's (see its "
                            "modelDescription.xml)")]
+
+
+@pytest.mark.parametrize("fmi", [2, 3])
+def test_outputs_in_initialization_mode_are_the_start_state(fmus, fmi: int) -> None:
+    """In initialization mode the outputs are those of the start state the values set so far
+    give (hosts such as libcosim read them to start their connections): the same, bit for bit,
+    as after ExitInitializationMode, also after an input is changed in initialization mode."""
+    run = Slave(fmus["a", fmi], fmi)
+    if fmi == 2:
+        run.fmu.setupExperiment(startTime=0.0)
+        run.fmu.enterInitializationMode()
+    else:
+        run.fmu.enterInitializationMode(startTime=0.0)
+    run.set("operating.torque", 0.8 * run.get("operating.torque"))
+    names = ["dte", "state.v", "mesh_force"]
+    during = [run.get(n) for n in names]
+    run.fmu.exitInitializationMode()
+    assert [run.get(n) for n in names] == during
+    assert during[0] != 0.0  # the static deflection, not a zeroed state
+    run.close()

@@ -112,7 +112,7 @@ fmi2Status fmi2Reset(fmi2Component c)
 
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Real v[])
 {
-    if (gd_g_get(&((inst *)c)->st, vr, n, v) != GD_OK)
+    if (gd_g_read(&((inst *)c)->st, ((inst *)c)->mode, vr, n, v) != GD_OK)
         return fail((inst *)c, "fmi2GetReal: unknown value reference");
     return fmi2OK;
 }

@@ -118,7 +118,7 @@ fmi3Status fmi3Reset(fmi3Instance c)
 fmi3Status fmi3GetFloat64(fmi3Instance c, const fmi3ValueReference vr[], size_t n,
                           fmi3Float64 v[], size_t nv)
 {
-    if (nv != n || gd_g_get(&I->st, vr, n, v) != GD_OK)
+    if (nv != n || gd_g_read(&I->st, I->mode, vr, n, v) != GD_OK)
         return fail(I, "fmi3GetFloat64: unknown value reference");
     return fmi3OK;
 }

@@ -33,6 +33,15 @@ int gd_g_get(const gd_dstate *s, const unsigned *vr, size_t n, double *v)
     return D ? gd_drive_get(s, M, D, vr, n, v) : gd_get(&s->k, M, vr, n, v);
 }
 
+int gd_g_read(const gd_dstate *s, int mode, const unsigned *vr, size_t n, double *v)
+{
+    gd_dstate start;
+    if (mode != GD_INIT) return gd_g_get(s, vr, n, v);
+    start = *s;   /* in initialization mode: the start state of the values set so far */
+    gd_g_start(&start, s->k.t);
+    return gd_g_get(&start, vr, n, v);
+}
+
 int gd_g_set(gd_dstate *s, unsigned vr, double value, int started, char *msg, size_t len)
 {
     return D ? gd_drive_set(s, D, vr, value, started, msg, len)

@@ -36,6 +36,9 @@ void gd_g_defaults(gd_dstate *s);
 void gd_g_start(gd_dstate *s, double t0);
 int gd_g_advance(gd_dstate *s, double t_end);
 int gd_g_get(const gd_dstate *s, const unsigned *vr, size_t n, double *v);
+/* gd_g_get as an FMI getter answers in mode `mode`: in initialization mode the values of the
+ * start state that ExitInitializationMode will make of the values set so far */
+int gd_g_read(const gd_dstate *s, int mode, const unsigned *vr, size_t n, double *v);
 int gd_g_set(gd_dstate *s, unsigned vr, double value, int started, char *msg, size_t len);
 
 /* the saved form of s in mode `mode` */
