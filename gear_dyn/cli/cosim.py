@@ -116,6 +116,9 @@ def _run(args: argparse.Namespace, st: Stages) -> int:
     if b is not None:
         print(f"  allowed DTE difference {b.total:.3g} m = FMU {b.fmu:.3g} m ({b.fmu_basis}) "
               f"+ solve_ivp {b.reference:.3g} m ({b.reference_basis})")
+        if not b.conclusive:
+            print("  note: the reference's error is not below the FMU's: a PASS does not "
+                  "confirm the FMU's error")
     print(f"verdict: {'PASS' if report.passed else 'FAIL'}")
     print(f"wrote {args.out}/")
     return 0 if report.passed else 3

@@ -37,6 +37,11 @@ def register(sub: Any) -> None:
                    "Python on the importing machine; python: the pythonfmu FMU, every scene "
                    "key a parameter (the default, with a note, where no native FMU can be "
                    "built: a torsional model with backlash or TE)")
+    b.add_argument("--ports", default="speed", choices=("speed", "torque", "shaft-speed"),
+                   help="native FMU interface: speed (default: speed and torque inputs on the "
+                   "pinion), torque (the drivetrain interface: a torque input on each shaft, "
+                   "the shafts' angles and speeds out) or shaft-speed (its variant with the "
+                   "pinion driven by speed, its torque out; docs/fmu.md)")
     b.add_argument("--no-validate", action="store_true",
                    help="skip the fmpy validation of the built FMU")
     add_quiet_flag(b)
@@ -92,13 +97,18 @@ def _validate(path: Path, quiet: bool) -> None:
 def run_build(args: argparse.Namespace) -> int:
     from gear_dyn.fmu.build import build_fmu
 
+    if args.ports != "speed" and args.backend == "python":
+        from gear_dyn.errors import InputError
+
+        raise InputError(f"--ports {args.ports}: the drivetrain interface is native only "
+                         "(leave out --backend python)")
     if args.backend != "python":
         from gear_dyn.fmu.export import NotNativeError
 
         try:
             return _run_build_native(args)
         except NotNativeError as exc:
-            if args.backend == "native":  # asked for explicitly: refuse
+            if args.backend == "native" or args.ports != "speed":  # no pythonfmu fallback
                 raise
             print(f"backend: python (pythonfmu), because {exc.reason}")
     with Stages(["build FMU"], args.quiet):
@@ -118,9 +128,10 @@ def _run_build_native(args: argparse.Namespace) -> int:
     from gear_dyn.fmu.export_fmu import build_native_fmu
 
     with Stages(["build native FMU"], args.quiet):
-        built = build_native_fmu(args.scene, args.out, fmi=args.fmi)
+        built = build_native_fmu(args.scene, args.out, fmi=args.fmi, ports=args.ports)
     t = built.model.table
-    print(f"{built.scene_name}: native FMU -> {built.path} (FMI {args.fmi}.0 co-simulation, "
+    kind = "native FMU" if built.drive is None else f"native drivetrain FMU ({args.ports} ports)"
+    print(f"{built.scene_name}: {kind} -> {built.path} (FMI {args.fmi}.0 co-simulation, "
           f"model identifier {built.model_identifier}; {t.breaks.size - 1} table pieces, "
           f"{'exact' if t.exact else 'fitted'}; {built.path.stat().st_size // 1000} kB)")
     if not args.no_validate:

@@ -1,8 +1,11 @@
-"""Run an FMU through fmpy and compare it with the same scene integrated by solve_ivp.
+"""Run an FMU (FMI 2.0 or 3.0) through fmpy and compare it with the same scene integrated by
+solve_ivp.
 
-:class:`FmuSession` drives one FMU instance step by step through fmpy's FMI 2.0 wrapper and
-turns every failed FMI call into a gear_dyn error carrying the FMU's own log messages (fmpy's
-``simulate_fmu`` would end early without complaint when a step is discarded).
+A session (:class:`~gear_dyn.fmu.session.FmuSession` for FMI 2, re-exported here;
+:class:`~gear_dyn.fmu.session3.Fmu3Session` for FMI 3; :func:`~gear_dyn.fmu.session3.open_session`
+picks one) drives one FMU instance step by step and turns every failed FMI call into a gear_dyn
+error carrying the FMU's own log messages (fmpy's ``simulate_fmu`` would end early without
+complaint when a step is discarded).
 :func:`compare` runs the FMU at several communication steps and the reference once, and reports
 the differences, run times and a verdict (:class:`CosimReport`): the DTE difference at every
 step must stay within the sum of the FMU's error and the reference's estimated error
@@ -28,99 +31,14 @@ from gear_dyn.analysis.accuracy import error_scale, estimate_error
 from gear_dyn.errors import InputError
 from gear_dyn.fmu.fmu_info import FmuInfo, read_fmu
 from gear_dyn.fmu.inputs import driven_speed
-from gear_dyn.fmu.session import FmpySession
-from gear_dyn.fmu.stepper import ODE_CLASSES, stepper_method
+from gear_dyn.fmu.session import FmuSession
+from gear_dyn.fmu.session3 import open_session
+from gear_dyn.fmu.stepper import stepper_method
 from gear_dyn.fmu.variables import EXPERIMENT_KEYS
 from gear_dyn.scene import SECTIONS, Scene, build_pair, build_plan, parse_scene
-from gear_dyn.solvers import DEFAULT_ODE_METHOD, SolverSettings, integrate
+from gear_dyn.solvers import SolverSettings, integrate
 
 FloatArray = NDArray[np.float64]
-
-
-class FmuSession(FmpySession):
-    """One FMI 2.0 co-simulation instance driven through fmpy, with its log messages collected
-    (the parameters and the common methods: :class:`~gear_dyn.fmu.session.FmpySession`).
-
-    Raises
-    ------
-    InputError
-        Not a readable FMI 2.0 co-simulation FMU.
-    """
-
-    _callbacks: Any = None  # the C callbacks of the instance, kept alive as long as it
-    SETTERS = {"Real": "setReal", "Integer": "setInteger", "Enumeration": "setInteger",
-               "Boolean": "setBoolean", "String": "setString"}
-    GET_FLOATS = "getReal"
-
-    def _check_version(self, version: str) -> None:
-        if version != "2.0":
-            raise InputError(f"{self.path}: an FMI {version} FMU; co-simulation "
-                             "against solve_ivp runs FMI 2.0 FMUs (build one with --fmi 2; "
-                             "gear-dyn fmu check runs FMI 3 FMUs)")
-
-    def _logger(self, env: Any, name: Any, status: int, category: Any, message: Any) -> None:
-        self._record(status, message)
-
-    def instantiate(self, logging_on: bool = True) -> None:
-        """Load the binary and create the instance (debug logging on: messages are kept)."""
-        from fmpy.fmi2 import FMU2Slave, defaultCallbacks, fmi2CallbackFunctions
-        from fmpy.fmi2 import fmi2CallbackLoggerTYPE as LoggerType
-
-        cb = fmi2CallbackFunctions()
-        cb.logger = LoggerType(self._logger)
-        cb.allocateMemory = defaultCallbacks.allocateMemory
-        cb.freeMemory = defaultCallbacks.freeMemory
-        self._callbacks = cb
-        self._fmu = FMU2Slave(guid=self.md.guid, unzipDirectory=str(self.dir),
-                              modelIdentifier=self.md.coSimulation.modelIdentifier,
-                              instanceName=self.instance_name)
-        self._instantiated(lambda: self._fmu.instantiate(callbacks=cb, loggingOn=logging_on))
-
-    def enter_init(self, start: float = 0.0, stop: float | None = None,
-                   tolerance: float | None = None) -> None:
-        """setupExperiment (start, stop time and tolerance) and enterInitializationMode."""
-        self._call("setupExperiment", self.fmu.setupExperiment, tolerance, start, stop)
-        self._call("enterInitializationMode", self.fmu.enterInitializationMode,
-                   error=InputError)
-
-    def reset(self) -> None:
-        self._call("reset", self.fmu.reset)
-
-    # ------------------------------------------------------------------ a run
-    def run(self, step: float, stop: float, outputs: Sequence[str],
-            values: dict[str, Any] | None = None, tolerance: float | None = None,
-            stop_time: float | None = None) -> tuple[FloatArray, FloatArray, float]:
-        """Instantiate, run from 0 to ``stop`` with communication step ``step``, terminate.
-
-        ``stop_time`` (default: the last communication point) is the stop time announced in
-        setupExperiment; the FMU finds the switching instants up to it at once.
-
-        Returns
-        -------
-        t : ndarray (n,)
-        y : ndarray (len(outputs), n)
-        run_time : float
-            Wall time in s from instantiation to termination (extraction excluded).
-        """
-        n = int(math.floor(stop / step + 1e-9))
-        if n < 1:
-            raise InputError(f"communication step = {step:.6g} s is longer than the run "
-                             f"({stop:.6g} s)")
-        t = np.arange(n + 1, dtype=np.float64) * float(step)
-        y = np.empty((len(outputs), n + 1))
-        vrs = [self.vr(o) for o in outputs]
-        start = time.perf_counter()
-        self.instantiate()
-        self.initialize(0.0, float(t[-1]) if stop_time is None else stop_time, tolerance,
-                        values)
-        y[:, 0] = self.fmu.getReal(vrs)
-        for k in range(n):
-            self.step(float(t[k]), float(t[k + 1] - t[k]))
-            y[:, k + 1] = self.fmu.getReal(vrs)
-        self.terminate()
-        run_time = time.perf_counter() - start
-        self.free()
-        return t, y, run_time
 
 
 # ---------------------------------------------------------------------- comparison
@@ -166,10 +84,16 @@ class ErrorBounds:
         """The allowed DTE difference, m: the sum of both errors."""
         return self.fmu + self.reference
 
+    @property
+    def conclusive(self) -> bool:
+        """The reference's error is below the FMU's: a PASS confirms the FMU's error."""
+        return self.reference < self.fmu
+
     def as_dict(self) -> dict[str, Any]:
         return {"fmu_m": self.fmu, "fmu_basis": self.fmu_basis,
                 "reference_m": self.reference, "reference_basis": self.reference_basis,
-                "allowed_dte_diff_m": self.total, "static_deflection_m": self.scale}
+                "allowed_dte_diff_m": self.total, "static_deflection_m": self.scale,
+                "reference_below_fmu": self.conclusive}
 
 
 @dataclass(frozen=True)
@@ -249,12 +173,19 @@ def scene_values(spec: dict[str, Any], scene: Scene) -> dict[str, Any]:
     return values
 
 
+#: the reference's solve_ivp method and relative tolerance: tight enough that its own error
+#: (estimated against a run at 1e-13) lies below the FMU's on every packaged scene, so that a
+#: PASS confirms the FMU's error rather than the reference's (tests/fmu/test_native_cosim.py)
+REFERENCE_METHOD = "DOP853"
+REFERENCE_RTOL = 1e-12
+
+
 def reference_settings(settings: SolverSettings) -> SolverSettings:
-    """The solve_ivp settings of the reference: the scene's solve_ivp method, else
-    :data:`~gear_dyn.solvers.DEFAULT_ODE_METHOD` (LSODA; also for ``auto`` and the closed-form
-    methods, so that the reference is always what its label says, a solve_ivp run)."""
-    method = settings.method if settings.method in ODE_CLASSES else DEFAULT_ODE_METHOD
-    return replace(settings, method=method)
+    """The solve_ivp settings of the reference: the scene's settings with
+    :data:`REFERENCE_METHOD` at :data:`REFERENCE_RTOL` (and the default absolute tolerance),
+    whatever the scene's method, so that the reference is always what its label says, a
+    solve_ivp run, and its error is below the FMU's."""
+    return replace(settings, method=REFERENCE_METHOD, rtol=REFERENCE_RTOL, atol=None)
 
 
 def compare(fmu: str | Path, scene: Scene | None = None, steps: Sequence[float] | None = None,
@@ -265,7 +196,7 @@ def compare(fmu: str | Path, scene: Scene | None = None, steps: Sequence[float] 
     Parameters
     ----------
     fmu : str or Path
-        FMU built by gear_dyn, native or pythonfmu (FMI 2.0).
+        FMU built by gear_dyn, native or pythonfmu, FMI 2.0 or 3.0.
     scene : Scene or None
         Scene of the reference; None runs the scene stored in the FMU. A pythonfmu FMU gets its
         values set (every scene key is a parameter); a native FMU runs as built (its geometry
@@ -299,7 +230,7 @@ def compare(fmu: str | Path, scene: Scene | None = None, steps: Sequence[float] 
     scales = {o: float(max(np.sqrt(np.mean(ref[i] ** 2)), 1e-300))
               for i, o in enumerate(outputs)}
     start = time.perf_counter()
-    with FmuSession(fmu, instance_name="cosim_load") as session:
+    with open_session(fmu, instance_name="cosim_load") as session:
         session.instantiate()  # first load imports the FMU's Python code: not a step cost
     load_time = time.perf_counter() - start
     results, finest = _fmu_runs(fmu, grid, h0, ratios, ref, values, outputs)
@@ -426,7 +357,7 @@ def _fmu_runs(fmu: str | Path, grid: FloatArray, h0: float, ratios: list[float],
     finest: FloatArray | None = None
     for r in ratios:
         stride = int(round(r))
-        with FmuSession(fmu, instance_name=f"cosim_{len(results)}") as session:
+        with open_session(fmu, instance_name=f"cosim_{len(results)}") as session:
             # announce the reference's end time: both then cut at the same switching instants
             t, y, run_time = session.run(h0 * stride, grid[-1] + 0.5 * h0, list(outputs),
                                          values, stop_time=float(grid[-1]))
@@ -451,3 +382,7 @@ def extracted(fmu: str | Path) -> tempfile.TemporaryDirectory[str]:
     tmp = tempfile.TemporaryDirectory(prefix="gear_dyn_fmu_run_")
     extract(str(fmu), tmp.name)
     return tmp
+
+
+__all__ = ["CosimReport", "ErrorBounds", "FmuSession", "StepComparison", "compare",
+           "error_bounds", "extracted", "reference_settings", "scene_values"]

@@ -24,6 +24,7 @@ from xml.sax.saxutils import quoteattr
 from gear_dyn.errors import InputError
 from gear_dyn.fmu.export import EXACT_ERROR, NativeModel, NotNativeError, native_model
 from gear_dyn.fmu.export_c import (
+    GLUE_HEADERS,
     GLUE_SOURCES,
     HEADERS,
     KERNEL_DIR,
@@ -33,10 +34,12 @@ from gear_dyn.fmu.export_c import (
     OUTPUTS,
     PARAMS,
     TORSIONAL_OUTPUTS,
+    direct_feedthrough,
     model_data_c,
     outputs_of,
     start_values,
 )
+from gear_dyn.fmu.export_drive import PORTS, DriveSpec, drive_c, drive_spec
 from gear_dyn.fmu.export_torsional import TorsionalNative, torsional_native
 from gear_dyn.fmu.fmu_info import NATIVE_FILE
 from gear_dyn.fmu.toolchain import compile_binaries
@@ -45,7 +48,8 @@ from gear_dyn.io import write_bytes
 
 #: SI base-unit exponents of the units the FMU uses
 BASE_UNITS = {"m": 'm="1"', "rad": 'rad="1"', "m/s": 'm="1" s="-1"', "rad/s": 'rad="1" s="-1"',
-              "N": 'kg="1" m="1" s="-2"', "N.m": 'kg="1" m="2" s="-2"', "N/m": 'kg="1" s="-2"'}
+              "kg.m2": 'kg="1" m="2"', "N": 'kg="1" m="1" s="-2"',
+              "N.m": 'kg="1" m="2" s="-2"', "N/m": 'kg="1" s="-2"'}
 #: largest FMU the build accepts, bytes
 MAX_SIZE = 500_000
 
@@ -59,6 +63,7 @@ class NativeFMU:
     model: NativeModel | TorsionalNative
     scene_name: str
     fmi: int
+    drive: DriveSpec | None = None
 
 
 def _description(nm: NativeModel | TorsionalNative, scene_name: str) -> str:
@@ -101,8 +106,37 @@ def _load_note(nm: NativeModel | TorsionalNative) -> str:
             "for another operating torque.")
 
 
+def _drive_description(nm: NativeModel | TorsionalNative, scene_name: str,
+                       speed_in: bool = False) -> str:
+    """The drivetrain FMU's description: the model, its ports and what is fixed at build."""
+    t = nm.table
+    span = (f"{nm.table.period} mesh cycles"
+            if isinstance(nm, TorsionalNative) and nm.table.period > 1 else "one mesh cycle")
+    kind = "torsional" if isinstance(nm, TorsionalNative) else "single-DOF"
+    ports = ("the pinion driven by speed (pinion.speed in, held over a step; out the torque "
+             "pinion.torque its shaft delivers; both it and the mesh force depend directly on "
+             "pinion.speed, through the mesh damping), a "
+             "torque input on the gear (gear.torque, positive in its sense of rotation); the "
+             "angles, the gear speed, the mesh force and the DTE out" if speed_in else
+             "a torque input on each (pinion.torque, gear.torque, positive in the shaft's "
+             "sense of rotation), the angle and speed of each shaft, the mesh force and the "
+             "DTE out; no output depends directly on an input")
+    return (f"gear_dyn drivetrain interface of scene {scene_name} ({kind} tables), native C "
+            f"kernel: the two-DOF torsional mesh between two shafts, {ports}. Fixed at build: "
+            f"the gear geometry (base radii r_b1 = {nm.rb1!r} m, r_b2 = {nm.rb2!r} m, ratio "
+            f"z2/z1 = {nm.rb2 / nm.rb1!r}; the calculated parameters base_radius.* and ratio) "
+            f"and the tables over {span} in the mesh phase ({t.breaks.size - 1} pieces), which "
+            "follows the pinion angle. The inertias, damping ratio, backlash and tolerance are "
+            "parameters. Dormand-Prince 5(4) with absolute error control at solver.tolerance, "
+            f"piece edges located on the pinion angle.{_load_note(nm)}")
+
+
 def _units() -> str:
-    units = sorted({p.unit for p in PARAMS} | {o[1] for o in OUTPUTS + TORSIONAL_OUTPUTS} - {"1"})
+    from gear_dyn.fmu.export_drive import DRIVE_CONSTANTS, DRIVE_OUTPUTS, DRIVE_PARAMS
+
+    units = sorted({p.unit for p in PARAMS + DRIVE_PARAMS}
+                   | {o[1] for o in OUTPUTS + TORSIONAL_OUTPUTS + DRIVE_OUTPUTS
+                      + DRIVE_CONSTANTS} - {"1"})
     return "\n".join(f'    <Unit name="{u}"><BaseUnit {BASE_UNITS[u]}/></Unit>'
                      for u in units if u in BASE_UNITS)
 
@@ -132,31 +166,81 @@ def _variables(nm: NativeModel | TorsionalNative) -> list[tuple[int, str, dict[s
     return rows
 
 
+def _drive_variables(nm: NativeModel | TorsionalNative, drive: DriveSpec
+                     ) -> list[tuple[int, str, dict[str, str]]]:
+    """The drivetrain interface's variables, as :func:`_variables` ("calc": a calculated
+    parameter)."""
+    from gear_dyn.fmu.export_drive import DRIVE_CONSTANTS, drive_variables
+
+    rows: list[tuple[int, str, dict[str, str]]] = []
+    backlash = isinstance(nm, NativeModel) and nm.half_gap is not None
+    params, outputs = drive_variables(drive.speed_in)
+    for vr, (p, start) in enumerate(zip(params, drive.start, strict=True), start=1):
+        if (p.name == "backlash.half_gap" and not backlash) or (
+                p.name == "pinion.speed_start" and drive.speed_in):
+            continue
+        attrs = {"name": p.name, "causality": p.causality,
+                 "variability": "continuous" if p.causality == "input" else "fixed",
+                 "description": p.description, "start": repr(float(start)),
+                 "min": repr(p.low), "max": repr(p.high),
+                 "nominal": repr(abs(start) if start else 1.0)}
+        if p.unit != "1":
+            attrs["unit"] = p.unit
+        rows.append((vr, "par", attrs))
+    n = len(params)
+    for k, (name, unit, doc) in enumerate(outputs):
+        rows.append((n + 1 + k, "out", {"name": name, "causality": "output",
+                                        "variability": "continuous", "description": doc,
+                                        "unit": unit}))
+    n += len(outputs)
+    for k, (name, unit, doc) in enumerate(DRIVE_CONSTANTS):
+        a = {"name": name, "causality": "calculatedParameter", "variability": "fixed",
+             "description": doc}
+        if unit != "1":
+            a["unit"] = unit
+        rows.append((n + 1 + k, "calc", a))
+    return rows
+
+
 def _attr(a: dict[str, str], keys: tuple[str, ...]) -> str:
     return " ".join(f"{k}={quoteattr(a[k])}" for k in keys if k in a)
 
 
 def model_description(nm: NativeModel | TorsionalNative, ident: str, scene_name: str,
-                      stop_time: float, step: float, fmi: int = 2) -> str:
-    """The FMI 2.0 or 3.0 ``modelDescription.xml`` of a native model."""
-    rows = _variables(nm)
+                      stop_time: float, step: float, fmi: int = 2, token: str = "",
+                      drive: DriveSpec | None = None) -> str:
+    """The FMI 2.0 or 3.0 ``modelDescription.xml`` of a native model, with the instantiation
+    token (FMI 2 guid) ``token`` (the one in its ``model_data.c``); ``drive``: the drivetrain
+    interface's (None: the pinion-speed interface)."""
+    rows = _variables(nm) if drive is None else _drive_variables(nm, drive)
     head = ("name", "valueReference", "causality", "variability")
+    # the drive's: none but the speed-driven pinion's torque (gd_drive.c)
+    feed = (direct_feedthrough(nm) if drive is None else
+            {"pinion.torque": ("pinion.speed",), "mesh_force": ("pinion.speed",)}
+            if drive.speed_in else {})
+    about = (_description(nm, scene_name) if drive is None
+             else _drive_description(nm, scene_name, drive.speed_in))
     if fmi == 2:
-        lines, outs = [], []
+        lines, outs, index = [], [], {}
         for vr, kind, a in rows:
             a = {**a, "valueReference": str(vr)}
-            if kind == "out":
+            if kind in ("out", "calc"):
                 a["initial"] = "calculated"
             real = _attr(a, ("start", "unit", "min", "max", "nominal"))
             lines.append(f'    <ScalarVariable {_attr(a, (*head, "initial", "description"))}>'
                          f'<Real {real}/></ScalarVariable>')
+            index[a["name"]] = len(lines)
             if kind == "out":
-                outs.append(len(lines))
-        unknowns = "\n".join(f'      <Unknown index="{i}"/>' for i in outs)
-        structure = (f"    <Outputs>\n{unknowns}\n    </Outputs>\n"
-                     f"    <InitialUnknowns>\n{unknowns}\n    </InitialUnknowns>")
+                outs.append(a["name"])
+        initial = [a["name"] for _vr, k, a in rows if k in ("out", "calc")]
+        structure = ("    <Outputs>\n" + "\n".join(
+            f'      <Unknown index="{index[o]}" dependencies='
+            f'"{" ".join(str(index[d]) for d in feed.get(o, ()))}"/>' for o in outs) +
+            "\n    </Outputs>\n    <InitialUnknowns>\n" +
+            "\n".join(f'      <Unknown index="{index[o]}"/>' for o in initial) +
+            "\n    </InitialUnknowns>")
         sources = "".join(f'<File name="{f}"/>' for f in _sources(2))
-        version = f'fmiVersion="2.0" guid="{{{uuid.uuid4()}}}" numberOfEventIndicators="0"'
+        version = f'fmiVersion="2.0" guid="{token}" numberOfEventIndicators="0"'
         cosim = (f'canGetAndSetFMUstate="true" canSerializeFMUstate="true">\n'
                  f"    <SourceFiles>{sources}</SourceFiles>\n  </CoSimulation>")
     else:
@@ -166,15 +250,20 @@ def model_description(nm: NativeModel | TorsionalNative, ident: str, scene_name:
             a = {**a, "valueReference": str(vr)}
             keys = (*head, "description", "start", "unit", "min", "max", "nominal")
             lines.append(f"    <Float64 {_attr(a, keys)}/>")
-        structure = "\n".join(f'    <{tag} valueReference="{vr}"/>' for tag in
-                              ("Output", "InitialUnknown") for vr, k, _ in rows if k == "out")
-        version = f'fmiVersion="3.0" instantiationToken="{{{uuid.uuid4()}}}"'
+        vrs = {a["name"]: vr for vr, _k, a in rows}
+        structure = "\n".join(
+            [f'    <Output valueReference="{vr}" dependencies='
+             f'"{" ".join(str(vrs[d]) for d in feed.get(a["name"], ()))}"/>'
+             for vr, k, a in rows if k == "out"] +
+            [f'    <InitialUnknown valueReference="{vr}"/>' for vr, k, _ in rows
+             if k in ("out", "calc")])
+        version = f'fmiVersion="3.0" instantiationToken="{token}"'
         cosim = 'canGetAndSetFMUState="true" canSerializeFMUState="true"/>'
     variables = "\n".join(lines)
     s_unit = '    <Unit name="s"><BaseUnit s="1"/></Unit>\n' if fmi == 3 else ""
     return f"""<?xml version="1.0" encoding="UTF-8"?>
 <fmiModelDescription {version} modelName="{ident}"
-  description={quoteattr(_description(nm, scene_name))}
+  description={quoteattr(about)}
   generationTool="gear_dyn native kernel {KERNEL_VERSION}" variableNamingConvention="structured">
   <CoSimulation modelIdentifier="{ident}" canHandleVariableCommunicationStepSize="true"
     {cosim}
@@ -221,7 +310,8 @@ def build_description(ident: str) -> str:
 
 
 def build_native_fmu(target: str | Path, out: Path, fmi: int = 2,
-                     tolerance: float = 1e-10, max_size: int | None = None) -> NativeFMU:
+                     tolerance: float = 1e-10, max_size: int | None = None,
+                     ports: str = "speed") -> NativeFMU:
     """Build the native FMU of a scene.
 
     Parameters
@@ -240,6 +330,12 @@ def build_native_fmu(target: str | Path, out: Path, fmi: int = 2,
         build interpreter, so a large native FMU is preferred to a small one that does not
         start. ``MAX_SIZE`` (500 kB) is the size target of the benchmark
         (benchmarks/results/native_fmu.md), which the eccentric scene's table exceeds.
+    ports : str
+        ``speed`` (the default): the pinion-speed interface (speed and torque inputs on the
+        pinion, the load fixed by the model); ``torque``: the drivetrain interface
+        (:mod:`gear_dyn.fmu.export_drive`: a torque input on each shaft, the angles and speeds
+        out); ``shaft-speed``: its speed-driven variant (the pinion driven by speed, the
+        torque its shaft delivers out).
 
     Raises
     ------
@@ -254,9 +350,12 @@ def build_native_fmu(target: str | Path, out: Path, fmi: int = 2,
     """
     from gear_dyn.fmu.staging import fmu_target, load_fmu_scene
     from gear_dyn.scene import build_pair, build_plan
+    from gear_dyn.scene.build import scene_inertias
 
     if fmi not in (2, 3):
         raise InputError(f"--fmi {fmi}: valid FMI versions are 2 and 3")
+    if ports not in PORTS:
+        raise InputError(f"--ports {ports}: valid choices are {', '.join(PORTS)}")
     out = fmu_target(out)
     scene = load_fmu_scene(target)
     plan = build_plan(scene)
@@ -273,8 +372,15 @@ def build_native_fmu(target: str | Path, out: Path, fmi: int = 2,
     ident = "gd_" + re.sub(r"\W", "_", scene.name)
     f_m = plan.model.mesh_frequency
     step = 1.0 / (f_m * plan.settings.samples_per_period)
-    xml = model_description(nm, ident, scene.name, float(plan.t_end), step, fmi)
-    data = model_data_c(nm, scene.name)
+    drive = None
+    if ports != "speed":
+        inertias = (nm.inertias if isinstance(nm, TorsionalNative) else
+                    scene_inertias(scene) or build_pair(scene).blank_inertias())
+        drive = drive_spec(nm, inertias, speed_in=ports == "shaft-speed")
+        ident += "_drive" if ports == "torque" else "_speed_drive"
+    token = f"{{{uuid.uuid4()}}}"  # the modelDescription's and the binary's: checked by the glue
+    xml = model_description(nm, ident, scene.name, float(plan.t_end), step, fmi, token, drive)
+    data = model_data_c(nm, scene.name, token, "" if drive is None else drive_c(drive))
     if max_size is not None and isinstance(nm, TorsionalNative):
         # the zip holds model_data.c deflated: a lower bound of the FMU, known before compiling
         least = len(zlib.compress(data.encode(), 6))
@@ -288,7 +394,8 @@ def build_native_fmu(target: str | Path, out: Path, fmi: int = 2,
                 *(NATIVE_DIR / s for s in GLUE_SOURCES[fmi])]
         srcs.append(d / "model_data.c")
         # x86_64 Linux always; x86_64 Windows too where MinGW-w64 is installed
-        binaries = compile_binaries(srcs, d / "binaries", ident, fmi, include_dirs=[KERNEL_DIR])
+        binaries = compile_binaries(srcs, d / "binaries", ident, fmi,
+                                    include_dirs=[KERNEL_DIR, NATIVE_DIR])
         buf = d / "fmu.zip"
         with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as z:
             z.writestr("modelDescription.xml", xml)
@@ -301,6 +408,8 @@ def build_native_fmu(target: str | Path, out: Path, fmi: int = 2,
                 z.write(s, f"sources/{s.name}")
             for name in HEADERS:
                 z.write(KERNEL_DIR / name, f"sources/{name}")
+            for name in GLUE_HEADERS:
+                z.write(NATIVE_DIR / name, f"sources/{name}")
             for hdr in sorted((NATIVE_DIR / f"fmi{fmi}").iterdir()):
                 z.write(hdr, f"sources/fmi{fmi}/{hdr.name}")
             if fmi == 3:
@@ -311,5 +420,5 @@ def build_native_fmu(target: str | Path, out: Path, fmi: int = 2,
             raise _too_large(nm, f"{len(payload) // 1000} kB", max_size)
         raise InputError(f"native FMU: {len(payload)} bytes, valid range <= {max_size} bytes")
     write_bytes(out, payload)
-    return NativeFMU(Path(out), ident, nm, scene.name, fmi)
+    return NativeFMU(Path(out), ident, nm, scene.name, fmi, drive)
 

@@ -2,19 +2,26 @@
 variables by name, setting values the FMU refuses with its own message, calls whose failure
 becomes a gear_dyn error carrying the FMU's log, the life cycle.
 
-:class:`~gear_dyn.fmu.cosim.FmuSession` (FMI 2) and :class:`~gear_dyn.fmu.session3.Fmu3Session`
+:class:`FmuSession` (FMI 2, here) and :class:`~gear_dyn.fmu.session3.Fmu3Session`
 (FMI 3) add what differs: the version they accept, how the instance is made, the setter of each
 variable type, FMI 2's setupExperiment.
 """
 
 from __future__ import annotations
 
+import math
 import shutil
+import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+from numpy.typing import NDArray
+
 from gear_dyn.errors import InputError, SolverError
+
+FloatArray = NDArray[np.float64]
 
 #: fmpy's names of the integer-valued variable types (FMI 2 and FMI 3)
 INTEGER_TYPES = ("Integer", "Int32", "Int64", "Enumeration")
@@ -81,6 +88,10 @@ class FmpySession:
 
     def _check_version(self, version: str) -> None:
         """Raise InputError for an FMI version this session does not run."""
+        raise NotImplementedError
+
+    def instantiate(self, logging_on: bool = True) -> None:
+        """Load the binary and create the instance (debug logging on: messages are kept)."""
         raise NotImplementedError
 
     # ------------------------------------------------------------------ plumbing
@@ -181,5 +192,90 @@ class FmpySession:
     def __exit__(self, *exc: Any) -> None:
         self.close()
 
+    # ------------------------------------------------------------------ a run
+    def run(self, step: float, stop: float, outputs: Sequence[str],
+            values: dict[str, Any] | None = None, tolerance: float | None = None,
+            stop_time: float | None = None) -> tuple[FloatArray, FloatArray, float]:
+        """Instantiate, run from 0 to ``stop`` with communication step ``step``, terminate.
 
-__all__ = ["INTEGER_TYPES", "FmpySession", "host_value"]
+        ``stop_time`` (default: the last communication point) is the stop time announced in
+        setupExperiment; the FMU finds the switching instants up to it at once.
+
+        Returns
+        -------
+        t : ndarray (n,)
+        y : ndarray (len(outputs), n)
+        run_time : float
+            Wall time in s from instantiation to termination (extraction excluded).
+        """
+        n = int(math.floor(stop / step + 1e-9))
+        if n < 1:
+            raise InputError(f"communication step = {step:.6g} s is longer than the run "
+                             f"({stop:.6g} s)")
+        t = np.arange(n + 1, dtype=np.float64) * float(step)
+        y = np.empty((len(outputs), n + 1))
+        vrs = [self.vr(o) for o in outputs]
+        start = time.perf_counter()
+        self.instantiate()
+        self.initialize(0.0, float(t[-1]) if stop_time is None else stop_time, tolerance,
+                        values)
+        y[:, 0] = getattr(self.fmu, self.GET_FLOATS)(vrs)
+        for k in range(n):
+            self.step(float(t[k]), float(t[k + 1] - t[k]))
+            y[:, k + 1] = getattr(self.fmu, self.GET_FLOATS)(vrs)
+        self.terminate()
+        run_time = time.perf_counter() - start
+        self.free()
+        return t, y, run_time
+
+
+class FmuSession(FmpySession):
+    """One FMI 2.0 co-simulation instance driven through fmpy, with its log messages collected
+    (the parameters and the common methods: :class:`~gear_dyn.fmu.session.FmpySession`).
+
+    Raises
+    ------
+    InputError
+        Not a readable FMI 2.0 co-simulation FMU.
+    """
+
+    _callbacks: Any = None  # the C callbacks of the instance, kept alive as long as it
+    SETTERS = {"Real": "setReal", "Integer": "setInteger", "Enumeration": "setInteger",
+               "Boolean": "setBoolean", "String": "setString"}
+    GET_FLOATS = "getReal"
+
+    def _check_version(self, version: str) -> None:
+        if version != "2.0":
+            raise InputError(f"{self.path}: an FMI {version} FMU, not FMI 2.0 (open_session in "
+                             "gear_dyn.fmu.session3 picks the session of either version)")
+
+    def _logger(self, env: Any, name: Any, status: int, category: Any, message: Any) -> None:
+        self._record(status, message)
+
+    def instantiate(self, logging_on: bool = True) -> None:
+        """Load the binary and create the instance (debug logging on: messages are kept)."""
+        from fmpy.fmi2 import FMU2Slave, defaultCallbacks, fmi2CallbackFunctions
+        from fmpy.fmi2 import fmi2CallbackLoggerTYPE as LoggerType
+
+        cb = fmi2CallbackFunctions()
+        cb.logger = LoggerType(self._logger)
+        cb.allocateMemory = defaultCallbacks.allocateMemory
+        cb.freeMemory = defaultCallbacks.freeMemory
+        self._callbacks = cb
+        self._fmu = FMU2Slave(guid=self.md.guid, unzipDirectory=str(self.dir),
+                              modelIdentifier=self.md.coSimulation.modelIdentifier,
+                              instanceName=self.instance_name)
+        self._instantiated(lambda: self._fmu.instantiate(callbacks=cb, loggingOn=logging_on))
+
+    def enter_init(self, start: float = 0.0, stop: float | None = None,
+                   tolerance: float | None = None) -> None:
+        """setupExperiment (start, stop time and tolerance) and enterInitializationMode."""
+        self._call("setupExperiment", self.fmu.setupExperiment, tolerance, start, stop)
+        self._call("enterInitializationMode", self.fmu.enterInitializationMode,
+                   error=InputError)
+
+    def reset(self) -> None:
+        self._call("reset", self.fmu.reset)
+
+
+__all__ = ["INTEGER_TYPES", "FmpySession", "FmuSession", "host_value"]

@@ -1,4 +1,4 @@
-"""Drive an FMI 3.0 co-simulation FMU through fmpy, as :class:`~gear_dyn.fmu.cosim.FmuSession`
+"""Drive an FMI 3.0 co-simulation FMU through fmpy, as :class:`~gear_dyn.fmu.session.FmuSession`
 does for FMI 2 (same method names, so checks and tests run either).
 
 :func:`open_session` picks the session class from the FMU's ``fmiVersion``.
@@ -12,7 +12,7 @@ from typing import Any
 from xml.etree import ElementTree as ET
 
 from gear_dyn.errors import InputError
-from gear_dyn.fmu.session import FmpySession
+from gear_dyn.fmu.session import FmpySession, FmuSession
 
 
 def fmi_version(fmu: str | Path) -> str:
@@ -62,11 +62,9 @@ class Fmu3Session(FmpySession):
                                                          logMessage=self._log))
 
 
-def open_session(fmu: str | Path) -> Any:
-    """An :class:`Fmu3Session` for an FMI 3 FMU, a :class:`~gear_dyn.fmu.cosim.FmuSession`
+def open_session(fmu: str | Path, instance_name: str = "gear_dyn") -> Any:
+    """An :class:`Fmu3Session` for an FMI 3 FMU, a :class:`~gear_dyn.fmu.session.FmuSession`
     for an FMI 2 one."""
     if fmi_version(fmu).startswith("3"):
-        return Fmu3Session(fmu)
-    from gear_dyn.fmu.cosim import FmuSession
-
-    return FmuSession(fmu)
+        return Fmu3Session(fmu, instance_name)
+    return FmuSession(fmu, instance_name)

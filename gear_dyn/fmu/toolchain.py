@@ -6,6 +6,8 @@ with the system compiler into one shared library per platform, linked against li
 - x86_64 Linux: ``cc`` (or ``$CC``), ``-shared -fPIC -fvisibility=hidden``: only the FMI
   functions (marked ``FMI2_Export`` / ``FMI3_Export`` by the standard's headers) are exported,
   so two FMUs in one process do not share each other's internal functions.
+- Both binaries are linked with ``-s`` (stripped: no symbol table or debug sections; the
+  exported FMI functions are dynamic symbols and stay).
 - x86_64 Windows: ``x86_64-w64-mingw32-gcc`` when it is on PATH (Debian/Ubuntu:
   ``apt-get install gcc-mingw-w64-x86-64``), ``-static-libgcc``: the DLL needs only Windows'
   own C runtime (msvcrt.dll / KERNEL32.dll), not the compiler's runtime libraries.
@@ -32,7 +34,7 @@ SUFFIX = {"linux": ".so", "windows": ".dll"}
 #: the MinGW-w64 cross compiler looked up on PATH
 MINGW = "x86_64-w64-mingw32-gcc"
 #: the flags both compilers get: C99, optimized, warnings that catch a wrong FMI signature
-COMMON_FLAGS = ("-std=c99", "-O2", "-Wall", "-Wextra", "-shared")
+COMMON_FLAGS = ("-std=c99", "-O2", "-Wall", "-Wextra", "-shared", "-s")
 
 
 def fmi_headers(fmi: int = 2) -> Path:

@@ -8,7 +8,6 @@ from pathlib import Path
 import pytest
 
 from gear_dyn.cli.app import main
-from gear_dyn.solvers import DEFAULT_ODE_METHOD
 
 pytestmark = pytest.mark.fmu
 
@@ -32,9 +31,9 @@ def test_build_and_validate(built: Path, capsys: pytest.CaptureFixture[str]) -> 
 
 
 def test_cosim_writes_the_comparison(built: Path, tmp_path: Path) -> None:
-    """Two communication steps over 6 mesh periods: the FMU (exact propagation) against
-    solve_ivp (the default ODE method) at rtol 1e-8 differs by solve_ivp's own error,
-    < 100 rtol of the RMS DTE, at both steps (a kept state: the step adds no error)."""
+    """Two communication steps over 6 mesh periods: the FMU (exact propagation) against the
+    reference, solve_ivp DOP853 at rtol 1e-12, within the verdict's bound at both steps (a kept
+    state: the step adds no error)."""
     h = 1 / (16 * F_M)
     out = tmp_path / "cosim"
     code = main(["cosim", str(built), "--out", str(out), "--periods", "6",
@@ -44,10 +43,10 @@ def test_cosim_writes_the_comparison(built: Path, tmp_path: Path) -> None:
                  "convergence.png"):
         assert (out / name).is_file(), name
     s = json.loads((out / "summary.json").read_text())
-    assert s["reference"] == f"solve_ivp {DEFAULT_ODE_METHOD}"
+    assert (s["reference"], s["rtol"]) == ("solve_ivp DOP853", 1e-12)
     assert [st["n_steps"] for st in s["steps"]] == [24, 96]
     for st in s["steps"]:
-        assert st["max_diff"]["dte"] <= 100 * s["rtol"] * s["scales"]["dte"]
+        assert st["max_diff"]["dte"] <= s["bounds"]["allowed_dte_diff_m"]
     header = (out / "steps.csv").read_text().splitlines()[0]
     assert header.startswith("step_s,n_steps,fmu_run_time_s")
 
@@ -66,8 +65,8 @@ def test_cosim_with_a_scene_and_set(built: Path, tmp_path: Path) -> None:
                  "--step", repr(h), "--set", "solver.method=DOP853"]) == 0
     s = json.loads((out / "summary.json").read_text())
     assert s["fmu_method"] == "DOP853"
-    # same method, same pieces, one kept solver: rounding only
-    assert s["steps"][0]["max_diff"]["dte"] <= 1e-9 * s["scales"]["dte"]
+    # the FMU's DOP853 at the scene's rtol against the reference's at 1e-12: the verdict's bound
+    assert s["steps"][0]["max_diff"]["dte"] <= s["bounds"]["allowed_dte_diff_m"]
 
 
 @pytest.mark.parametrize("argv, message", [

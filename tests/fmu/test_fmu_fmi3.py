@@ -258,9 +258,16 @@ def test_fmi3_fmu_state_restores_the_run_bit_for_bit(fmus: dict[str, dict[int, P
     np.testing.assert_array_equal(from_bytes, first)
 
 
-def test_cosim_refuses_fmi3_with_a_clear_message(fmus: dict[str, dict[int, Path]]) -> None:
-    """FmuSession (gear-dyn cosim) is FMI 2 only: an FMI 3 FMU is an InputError saying so."""
-    from gear_dyn.fmu.cosim import FmuSession
+def test_cosim_runs_fmi3_as_fmi2(fmus: dict[str, dict[int, Path]]) -> None:
+    """`gear-dyn cosim` (``compare``) runs the FMI 3 FMU as the FMI 2 one: the same reference,
+    the same DTE differences (the two FMUs give the same outputs) and PASS; the FMI 2 session
+    itself refuses an FMI 3 FMU with a message naming the way to either."""
+    from gear_dyn.fmu.cosim import FmuSession, compare
 
-    with pytest.raises(InputError, match="an FMI 3.0 FMU; co-simulation against solve_ivp"):
+    f_m = 23 * 3319 / 60  # helicopter_tail: z1 n1, Hz
+    reports = {fmi: compare(fmus["helicopter_tail"][fmi], stop_time=2 / f_m) for fmi in (2, 3)}
+    assert all(r.passed for r in reports.values())
+    for a, b in zip(reports[2].steps, reports[3].steps, strict=True):
+        assert b.max_diff["dte"] == pytest.approx(a.max_diff["dte"], rel=1e-6, abs=1e-20)
+    with pytest.raises(InputError, match="an FMI 3.0 FMU, not FMI 2.0 .open_session"):
         FmuSession(fmus["helicopter_tail"][3])

@@ -502,12 +502,12 @@ SOLVE_IVP = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
 @pytest.mark.parametrize("method", ["auto", "exact", "periodic", "exact_contact", "gauss",
                                     *SOLVE_IVP])
 def test_cosim_reference_is_a_solve_ivp_run(method: str) -> None:
-    """The reference of ``gear-dyn cosim`` is labelled "solve_ivp <method>": a scene's solve_ivp
-    method is kept, and any other method (``auto`` and the closed forms) becomes the solve_ivp
-    default, never a closed form run under that label."""
+    """The reference of ``gear-dyn cosim`` is labelled "solve_ivp <method>" and is one: whatever
+    the scene's method (``auto``, the closed forms, any solve_ivp method) and tolerance, it is
+    solve_ivp DOP853 at rtol 1e-12, tight enough that its own error lies below the FMU's
+    (tests/fmu/test_native_cosim.py)."""
     from gear_dyn.fmu.cosim import reference_settings
-    from gear_dyn.solvers import DEFAULT_ODE_METHOD
 
-    ref = reference_settings(SolverSettings(method=method, rtol=1e-9))
-    assert ref.rtol == 1e-9 and DEFAULT_ODE_METHOD in SOLVE_IVP
-    assert ref.method == (method if method in SOLVE_IVP else DEFAULT_ODE_METHOD)
+    ref = reference_settings(SolverSettings(method=method, rtol=1e-9, samples_per_period=40))
+    assert (ref.method, ref.rtol, ref.atol) == ("DOP853", 1e-12, None)
+    assert ref.method in SOLVE_IVP and ref.samples_per_period == 40

@@ -18,6 +18,7 @@ import sys
 import zipfile
 from pathlib import Path
 
+import host_runners as runners
 import numpy as np
 import pytest
 
@@ -69,7 +70,7 @@ def test_trivial_fmu_validates_and_runs_in_fmpy(trivial: dict[int, Path], fmi: i
     _assert_exact(stepped)
     announced = hosts.fmpy_rows(trivial[fmi], ["x"], H, N, stop=N * H, start_values={"k": K})
     np.testing.assert_array_equal(announced, stepped)
-    simulated = hosts.fmpy_simulate_rows(trivial[fmi], ["x"], H, N, start_values={"k": K})
+    simulated = runners.fmpy_simulate_rows(trivial[fmi], ["x"], H, N, start_values={"k": K})
     assert simulated.shape == (N + 1, 2)
     _assert_exact(simulated)
 
@@ -80,7 +81,7 @@ def test_trivial_fmu_passes_fmutool_check(trivial: dict[int, Path], fmi: int,
     """fmutool -check passes; the same FMU with a misspelt causality fails it (so the check
     can fail)."""
     try:
-        ok, text = hosts.fmutool_check(trivial[fmi])
+        ok, text = runners.fmutool_check(trivial[fmi])
     except hosts.HostMissing as exc:
         pytest.skip(str(exc))
     assert ok, text
@@ -91,22 +92,22 @@ def test_trivial_fmu_passes_fmutool_check(trivial: dict[int, Path], fmi: int,
             if name == "modelDescription.xml":
                 data = data.replace(b'causality="output"', b'causality="outptu"')
             dst.writestr(name, data)
-    assert not hosts.fmutool_check(broken)[0]
+    assert not runners.fmutool_check(broken)[0]
 
 
 def test_trivial_fmu_in_libcosimpy(trivial: dict[int, Path]) -> None:
     try:
-        rows = hosts.libcosimpy_rows(trivial[2], ["x"], H, N, start_values={"k": K})
+        rows = runners.libcosimpy_rows(trivial[2], ["x"], H, N, start_values={"k": K})
     except hosts.HostMissing as exc:
         pytest.skip(str(exc))
-    assert rows.shape == (N, 2)  # no row at t = 0 (hosts.libcosimpy_rows)
+    assert rows.shape == (N, 2)  # no row at t = 0 (runners.libcosimpy_rows)
     _assert_exact(rows)
 
 
 @pytest.mark.parametrize("fmi", [2, 3])
 def test_trivial_fmu_in_ecospy(trivial: dict[int, Path], fmi: int) -> None:
     try:
-        rows = hosts.ecospy_rows(trivial[fmi], ["x"], H, N, start_values={"k": K})
+        rows = runners.ecospy_rows(trivial[fmi], ["x"], H, N, start_values={"k": K})
     except hosts.HostMissing as exc:
         pytest.skip(str(exc))
     assert rows.shape == (N + 1, 2)
@@ -124,10 +125,10 @@ def test_trivial_fmu_in_c_host_without_python(trivial: dict[int, Path], fmi: int
     binary = f"{hosts.LINUX_DIR[fmi]}/trivial_decay.so"
     assert [m for m in run.mapped if m.endswith(binary)], run.mapped
     others = [m for m in run.mapped if not m.endswith(binary)]
-    assert hosts.foreign_libraries(others) == [], others
+    assert runners.foreign_libraries(others) == [], others
     with zipfile.ZipFile(trivial[fmi]) as z:
         so = Path(z.extract(f"binaries/{binary}", trivial[fmi].parent / f"x{fmi}"))
-    needs = hosts.binary_libraries(so)
+    needs = runners.binary_libraries(so)
     assert sorted(Path(n).name.split(".so")[0] for n in needs) == ["libc", "libm"], needs
 
 

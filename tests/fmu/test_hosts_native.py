@@ -17,6 +17,7 @@ import subprocess
 import zipfile
 from pathlib import Path
 
+import host_runners as runners
 import numpy as np
 import pytest
 
@@ -70,7 +71,7 @@ def test_native_validates_and_passes_fmutool(native: tuple[Path, list[str], floa
     fmu, _, _ = native
     assert validate_fmu(str(fmu)) == []
     try:
-        ok, text = hosts.fmutool_check(fmu)
+        ok, text = runners.fmutool_check(fmu)
     except hosts.HostMissing as exc:
         pytest.skip(str(exc))
     assert ok, text
@@ -80,7 +81,7 @@ def test_native_fmpy_simulate_and_stop_time(native: tuple[Path, list[str], float
                                             reference: np.ndarray) -> None:
     fmu, names, step = native
     assert np.all(np.isfinite(reference))
-    _agree(hosts.fmpy_simulate_rows(fmu, names, step, N), reference)
+    _agree(runners.fmpy_simulate_rows(fmu, names, step, N), reference)
     _agree(hosts.fmpy_rows(fmu, names, step, N, stop=N * step), reference)
 
 
@@ -90,7 +91,7 @@ def test_native_in_libcosimpy(native: tuple[Path, list[str], float],
     if hosts.describe(fmu).fmi != 2:
         pytest.skip("libcosim runs FMI 1 and 2 FMUs only")
     try:
-        rows = hosts.libcosimpy_rows(fmu, names, step, N)
+        rows = runners.libcosimpy_rows(fmu, names, step, N)
     except hosts.HostMissing as exc:
         pytest.skip(str(exc))
     _agree(rows, reference[1:])
@@ -100,7 +101,7 @@ def test_native_in_ecospy(native: tuple[Path, list[str], float],
                           reference: np.ndarray) -> None:
     fmu, names, step = native
     try:
-        rows = hosts.ecospy_rows(fmu, names, step, N)
+        rows = runners.ecospy_rows(fmu, names, step, N)
     except hosts.HostMissing as exc:
         pytest.skip(str(exc))
     _agree(rows, reference)
@@ -116,10 +117,10 @@ def test_native_in_c_host_without_python(native: tuple[Path, list[str], float],
     assert not [m for m in run.mapped if "python" in Path(m).name.lower()], run.mapped
     binary = f"{hosts.LINUX_DIR[facts.fmi]}/{facts.model_identifier}.so"
     others = [m for m in run.mapped if not m.endswith(binary)]
-    assert hosts.foreign_libraries(others) == [], others
+    assert runners.foreign_libraries(others) == [], others
     with zipfile.ZipFile(fmu) as z:
         so = Path(z.extract(f"binaries/{binary}", tmp_path))
-    assert hosts.foreign_libraries(hosts.binary_libraries(so)) == []
+    assert runners.foreign_libraries(runners.binary_libraries(so)) == []
 
 
 def test_native_rebuilt_from_its_sources(native: tuple[Path, list[str], float],

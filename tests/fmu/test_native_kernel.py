@@ -20,7 +20,13 @@ from native_drivers import driver as native_driver
 from native_harness import kernel
 
 from gear_dyn.fmu.export import native_model
-from gear_dyn.fmu.export_c import KERNEL_DIR, KERNEL_SOURCES, NATIVE_DIR, model_data_c
+from gear_dyn.fmu.export_c import (
+    GLUE_SOURCES,
+    KERNEL_DIR,
+    KERNEL_SOURCES,
+    NATIVE_DIR,
+    model_data_c,
+)
 from gear_dyn.models.sdof import sdof_from_pair
 from gear_dyn.scene import build_pair, build_plan, load_scene
 from gear_dyn.scene.packaged import resolve_scene
@@ -103,7 +109,8 @@ def test_kernel_matches_solver(tmp_path: Path, case: str) -> None:
 
 def test_kernel_under_sanitizers(tmp_path: Path) -> None:
     """Kernel and FMI 2 and 3 glue under AddressSanitizer and UBSan: every model kind, a C driver
-    that instantiates, steps (dividing and non-dividing steps), copies the state, resets."""
+    that instantiates, steps (dividing and non-dividing steps), copies the state, resets, and
+    gets Error for every forbidden call and bad state (tests/fmu/native_drivers.py)."""
     driver = tmp_path / "driver.c"  # outputs 6 and 9, 7 steps per mesh period of 1272.28 Hz
     driver.write_text(native_driver(2, (6, 9), "1.0 / 1272.28 / 7.0"))
     cc = shutil.which("cc")
@@ -113,16 +120,17 @@ def test_kernel_under_sanitizers(tmp_path: Path) -> None:
     for case in sorted(CASES):
         model, nm = CASES[case][0]()
         (tmp_path / "model_data.c").write_text(model_data_c(nm, case))
-        for drv, glue in ((driver, "gd_fmi2.c"), (driver3, "gd_fmi3.c")):
-            exe = tmp_path / f"drv_{case}_{glue[:-2]}"
+        for drv, fmi in ((driver, 2), (driver3, 3)):
+            exe = tmp_path / f"drv_{case}_{fmi}"
             cmd = [cc, "-std=c99", "-g", "-Wall", "-Wextra", "-Werror", "-pedantic",
                    "-fsanitize=address,undefined", "-fno-sanitize-recover=all",
                    f"-I{KERNEL_DIR}", f"-I{NATIVE_DIR}", str(drv),
                    *(str(KERNEL_DIR / k) for k in KERNEL_SOURCES),
-                   str(NATIVE_DIR / glue), str(tmp_path / "model_data.c"), "-o", str(exe), "-lm"]
+                   *(str(NATIVE_DIR / g) for g in GLUE_SOURCES[fmi]),
+                   str(tmp_path / "model_data.c"), "-o", str(exe), "-lm"]
             subprocess.run(cmd, check=True, capture_output=True)
             proc = subprocess.run([str(exe)], capture_output=True, text=True, check=False)
-            assert proc.returncode == 0, f"{case} {glue}: {proc.stdout}{proc.stderr}"
+            assert proc.returncode == 0, f"{case} FMI {fmi}: {proc.stdout}{proc.stderr}"
             assert "runtime error" not in proc.stderr and "ERROR" not in proc.stderr
 
 

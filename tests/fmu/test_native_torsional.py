@@ -25,6 +25,7 @@ from native_drivers import driver
 from native_harness import Slave, kernel, stated_error
 
 from gear_dyn.fmu.export_c import (
+    GLUE_SOURCES,
     KERNEL_DIR,
     KERNEL_SOURCES,
     NATIVE_DIR,
@@ -112,8 +113,8 @@ def test_kernel_under_sanitizers(tmp_path: Path) -> None:
         cmd = [cc, "-std=c99", "-g", "-Wall", "-Wextra", "-Werror", "-pedantic",
                "-fsanitize=address,undefined", "-fno-sanitize-recover=all", f"-I{KERNEL_DIR}",
                f"-I{NATIVE_DIR}", str(drv), *(str(KERNEL_DIR / k) for k in KERNEL_SOURCES),
-               str(NATIVE_DIR / f"gd_fmi{fmi}.c"), str(tmp_path / "model_data.c"), "-o",
-               str(exe), "-lm"]
+               *(str(NATIVE_DIR / g) for g in GLUE_SOURCES[fmi]),
+               str(tmp_path / "model_data.c"), "-o", str(exe), "-lm"]
         subprocess.run(cmd, check=True, capture_output=True)
         proc = subprocess.run([str(exe)], capture_output=True, text=True, check=False)
         assert proc.returncode == 0, f"FMI {fmi}: {proc.stdout}{proc.stderr}"

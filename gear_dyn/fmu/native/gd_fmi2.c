@@ -4,13 +4,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include "fmi2/fmi2Functions.h"
-#include "gd_kernel.h"
+#include "gd_glue.h"
 
 typedef struct {
-    gd_state st;
+    gd_dstate st;
     fmi2CallbackFunctions cb;
     char name[128];
-    int started;
+    int started, mode;   /* started: fixed parameters locked; mode: GD_INSTANTIATED .. */
 } inst;
 
 #define M (&gd_model_data)
@@ -18,6 +18,12 @@ typedef struct {
 static void logmsg(inst *c, fmi2Status status, const char *msg)
 {
     if (c->cb.logger) c->cb.logger(c->cb.componentEnvironment, c->name, status, "logError", msg);
+}
+
+static fmi2Status fail(inst *c, const char *msg)
+{
+    logmsg(c, fmi2Error, msg);
+    return fmi2Error;
 }
 
 const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
@@ -34,13 +40,22 @@ fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid,
                               fmi2Boolean visible, fmi2Boolean logging)
 {
     inst *c;
-    (void)guid; (void)location; (void)visible; (void)logging;
-    if (type != fmi2CoSimulation || M->format != GD_TABLE_FORMAT) return NULL;
+    const char *bad = type != fmi2CoSimulation ? "this FMU supports co-simulation only"
+        : M->format != GD_TABLE_FORMAT ? "model_data.c has another table format than the kernel"
+        : !gd_token_ok(guid) ? "the guid is not this FMU's (see its modelDescription.xml)"
+        : NULL;
+    (void)location; (void)visible; (void)logging;
+    if (bad) {
+        if (cb && cb->logger)
+            cb->logger(cb->componentEnvironment, name ? name : "gear_dyn", fmi2Error, "logError",
+                       bad);
+        return NULL;
+    }
     c = (inst *)calloc(1, sizeof *c);
     if (!c) return NULL;
     if (cb) c->cb = *cb;
     strncpy(c->name, name ? name : "gear_dyn", sizeof c->name - 1);
-    gd_defaults(&c->st, M);
+    gd_g_defaults(&c->st);
     return c;
 }
 
@@ -49,34 +64,57 @@ void fmi2FreeInstance(fmi2Component c) { free(c); }
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tol_on, fmi2Real tol,
                                fmi2Real t0, fmi2Boolean stop_on, fmi2Real stop)
 {
+    inst *i = (inst *)c;
     (void)tol_on; (void)tol; (void)stop_on; (void)stop;
-    ((inst *)c)->st.t = t0;
+    if (i->mode != GD_INSTANTIATED)
+        return fail(i, "fmi2SetupExperiment: allowed only after fmi2Instantiate or fmi2Reset");
+    if (!(t0 == t0 && t0 - t0 == 0.0))
+        return fail(i, "fmi2SetupExperiment: the start time must be finite");
+    i->st.k.t = t0;
     return fmi2OK;
 }
 
-fmi2Status fmi2EnterInitializationMode(fmi2Component c) { (void)c; return fmi2OK; }
+fmi2Status fmi2EnterInitializationMode(fmi2Component c)
+{
+    inst *i = (inst *)c;
+    if (i->mode != GD_INSTANTIATED)
+        return fail(i, "fmi2EnterInitializationMode: allowed only after fmi2Instantiate or "
+                    "fmi2Reset");
+    i->mode = GD_INIT;
+    return fmi2OK;
+}
 
 fmi2Status fmi2ExitInitializationMode(fmi2Component c)
 {
     inst *i = (inst *)c;
-    gd_start(&i->st, M, i->st.t);
+    if (i->mode != GD_INIT)
+        return fail(i, "fmi2ExitInitializationMode: not in initialization mode");
+    gd_g_start(&i->st, i->st.k.t);
     i->started = 1;
+    i->mode = GD_STEP;
     return fmi2OK;
 }
 
-fmi2Status fmi2Terminate(fmi2Component c) { (void)c; return fmi2OK; }
+fmi2Status fmi2Terminate(fmi2Component c)
+{
+    ((inst *)c)->mode = GD_TERMINATED;   /* also after a failed initialization */
+    return fmi2OK;
+}
 
 fmi2Status fmi2Reset(fmi2Component c)
 {
     inst *i = (inst *)c;
-    gd_defaults(&i->st, M);
+    gd_g_defaults(&i->st);
     i->started = 0;
+    i->mode = GD_INSTANTIATED;
     return fmi2OK;
 }
 
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Real v[])
 {
-    return gd_get(&((inst *)c)->st, M, vr, n, v) == GD_OK ? fmi2OK : fmi2Error;
+    if (gd_g_read(&((inst *)c)->st, ((inst *)c)->mode, vr, n, v) != GD_OK)
+        return fail((inst *)c, "fmi2GetReal: unknown value reference");
+    return fmi2OK;
 }
 
 fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
@@ -86,7 +124,7 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
     char msg[256];
     size_t k;
     for (k = 0; k < n; k++)
-        if (gd_set(&i->st, M, vr[k], v[k], i->started, msg, sizeof msg) != GD_OK) {
+        if (gd_g_set(&i->st, vr[k], v[k], i->started, msg, sizeof msg) != GD_OK) {
             logmsg(i, fmi2Error, msg);
             return fmi2Error;
         }
@@ -103,20 +141,24 @@ NOT_USED(Integer)
 NOT_USED(Boolean)
 NOT_USED(String)
 
-/* the FMU state is a plain copy of the kernel's struct */
+/* the FMU state: the kernel's state behind a header naming this FMU (gd_saved, gd_glue.h);
+ * a state handed in is validated before use */
 fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *s)
 {
-    if (!*s) *s = malloc(sizeof(gd_state));
-    if (!*s) return fmi2Error;
-    memcpy(*s, &((inst *)c)->st, sizeof(gd_state));
+    if (!*s) *s = malloc(sizeof(gd_saved));
+    if (!*s) return fail((inst *)c, "fmi2GetFMUstate: out of memory");
+    gd_save(&((inst *)c)->st, ((inst *)c)->mode, (gd_saved *)*s);
     return fmi2OK;
 }
 
 fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate s)
 {
-    if (!s) return fmi2Error;
-    memcpy(&((inst *)c)->st, s, sizeof(gd_state));
-    ((inst *)c)->started = 1;
+    inst *i = (inst *)c;
+    char msg[256];
+    if (gd_check_saved(s, sizeof(gd_saved), M, "fmi2SetFMUstate", &i->st, &i->mode, msg,
+                       sizeof msg) != GD_OK)
+        return fail(i, msg);
+    i->started = i->mode >= GD_STEP;
     return fmi2OK;
 }
 
@@ -131,14 +173,16 @@ fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *s)
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate s, size_t *size)
 {
     (void)c; (void)s;
-    *size = sizeof(gd_state);
+    *size = sizeof(gd_saved);
     return fmi2OK;
 }
 
 fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate s, fmi2Byte b[], size_t size)
 {
-    (void)c;
-    if (size != sizeof(gd_state)) return fmi2Error;
+    char msg[256];
+    if (gd_check_saved(s, size, M, "fmi2SerializeFMUstate", NULL, NULL, msg, sizeof msg)
+        != GD_OK)
+        return fail((inst *)c, msg);
     memcpy(b, s, size);
     return fmi2OK;
 }
@@ -146,8 +190,12 @@ fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate s, fmi2Byte b[], 
 fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte b[], size_t size,
                                    fmi2FMUstate *s)
 {
-    (void)c;
-    if (size != sizeof(gd_state) || !(*s = malloc(size))) return fmi2Error;
+    char msg[256];
+    if (gd_check_saved(b, size, M, "fmi2DeSerializeFMUstate", NULL, NULL, msg, sizeof msg)
+        != GD_OK)
+        return fail((inst *)c, msg);
+    if (!(*s = malloc(sizeof(gd_saved))))
+        return fail((inst *)c, "fmi2DeSerializeFMUstate: out of memory");
     memcpy(*s, b, size);
     return fmi2OK;
 }
@@ -177,12 +225,12 @@ fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReferenc
 fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean no_prior)
 {
     inst *i = (inst *)c;
-    int rc;
+    char msg[320];
     (void)no_prior;
-    rc = gd_advance(&i->st, M, t + h);
-    if (rc == GD_OK) return fmi2OK;
-    logmsg(i, fmi2Error, GD_STEP_MESSAGE);
-    return fmi2Error;
+    if (gd_check_step(i->mode, &i->st.k, t, h, "fmi2DoStep", msg, sizeof msg) != GD_OK)
+        return fail(i, msg);
+    if (gd_g_advance(&i->st, t + h) == GD_OK) return fmi2OK;
+    return fail(i, GD_STEP_MESSAGE);
 }
 
 fmi2Status fmi2CancelStep(fmi2Component c) { (void)c; return fmi2Error; }

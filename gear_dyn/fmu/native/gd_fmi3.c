@@ -5,13 +5,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include "fmi3/fmi3Functions.h"
-#include "gd_kernel.h"
+#include "gd_glue.h"
 
 typedef struct {
-    gd_state st;
+    gd_dstate st;
     fmi3InstanceEnvironment env;
     fmi3LogMessageCallback log;
-    int started;
+    int started, mode;   /* started: fixed parameters locked; mode: GD_INSTANTIATED .. */
 } inst;
 
 #define M (&gd_model_data)
@@ -38,14 +38,22 @@ fmi3Instance fmi3InstantiateCoSimulation(
     fmi3LogMessageCallback log, fmi3IntermediateUpdateCallback update)
 {
     inst *c;
-    (void)name; (void)token; (void)resources; (void)visible; (void)logging;
+    const char *bad = event_mode ? "event mode is not supported"
+        : M->format != GD_TABLE_FORMAT ? "model_data.c has another table format than the kernel"
+        : !gd_token_ok(token) ? "the instantiationToken is not this FMU's (see its "
+                                "modelDescription.xml)"
+        : NULL;
+    (void)name; (void)resources; (void)visible; (void)logging;
     (void)early_return; (void)required; (void)n_required; (void)update;
-    if (event_mode || M->format != GD_TABLE_FORMAT) return NULL;
+    if (bad) {
+        if (log) log(env, fmi3Error, "logStatusError", bad);
+        return NULL;
+    }
     c = (inst *)calloc(1, sizeof *c);
     if (!c) return NULL;
     c->env = env;
     c->log = log;
-    gd_defaults(&c->st, M);
+    gd_g_defaults(&c->st);
     return c;
 }
 
@@ -73,30 +81,44 @@ fmi3Status fmi3EnterInitializationMode(fmi3Instance c, fmi3Boolean tol_on, fmi3F
                                        fmi3Float64 t0, fmi3Boolean stop_on, fmi3Float64 stop)
 {
     (void)tol_on; (void)tol; (void)stop_on; (void)stop;
-    I->st.t = t0;
+    if (I->mode != GD_INSTANTIATED)
+        return fail(I, "fmi3EnterInitializationMode: allowed only after instantiation or "
+                    "fmi3Reset");
+    if (!(t0 == t0 && t0 - t0 == 0.0))
+        return fail(I, "fmi3EnterInitializationMode: the start time must be finite");
+    I->st.k.t = t0;
+    I->mode = GD_INIT;
     return fmi3OK;
 }
 
 fmi3Status fmi3ExitInitializationMode(fmi3Instance c)
 {
-    gd_start(&I->st, M, I->st.t);
+    if (I->mode != GD_INIT)
+        return fail(I, "fmi3ExitInitializationMode: not in initialization mode");
+    gd_g_start(&I->st, I->st.k.t);
     I->started = 1;
+    I->mode = GD_STEP;
     return fmi3OK;
 }
 
-fmi3Status fmi3Terminate(fmi3Instance c) { (void)c; return fmi3OK; }
+fmi3Status fmi3Terminate(fmi3Instance c)
+{
+    I->mode = GD_TERMINATED;   /* also after a failed initialization */
+    return fmi3OK;
+}
 
 fmi3Status fmi3Reset(fmi3Instance c)
 {
-    gd_defaults(&I->st, M);
+    gd_g_defaults(&I->st);
     I->started = 0;
+    I->mode = GD_INSTANTIATED;
     return fmi3OK;
 }
 
 fmi3Status fmi3GetFloat64(fmi3Instance c, const fmi3ValueReference vr[], size_t n,
                           fmi3Float64 v[], size_t nv)
 {
-    if (nv != n || gd_get(&I->st, M, vr, n, v) != GD_OK)
+    if (nv != n || gd_g_read(&I->st, I->mode, vr, n, v) != GD_OK)
         return fail(I, "fmi3GetFloat64: unknown value reference");
     return fmi3OK;
 }
@@ -108,7 +130,7 @@ fmi3Status fmi3SetFloat64(fmi3Instance c, const fmi3ValueReference vr[], size_t 
     size_t k;
     if (nv != n) return fail(I, "fmi3SetFloat64: one value per value reference");
     for (k = 0; k < n; k++)
-        if (gd_set(&I->st, M, vr[k], v[k], I->started, msg, sizeof msg) != GD_OK)
+        if (gd_g_set(&I->st, vr[k], v[k], I->started, msg, sizeof msg) != GD_OK)
             return fail(I, msg);
     return fmi3OK;
 }
@@ -117,29 +139,37 @@ fmi3Status fmi3DoStep(fmi3Instance c, fmi3Float64 t, fmi3Float64 h, fmi3Boolean 
                       fmi3Boolean *event, fmi3Boolean *terminate, fmi3Boolean *early,
                       fmi3Float64 *last)
 {
-    int rc = gd_advance(&I->st, M, t + h);
+    char msg[320];
+    int rc;
     (void)no_prior;
     *event = fmi3False;
     *terminate = fmi3False;
     *early = fmi3False;
-    *last = I->st.t;
+    *last = I->st.k.t;
+    if (gd_check_step(I->mode, &I->st.k, t, h, "fmi3DoStep", msg, sizeof msg) != GD_OK)
+        return fail(I, msg);
+    rc = gd_g_advance(&I->st, t + h);
+    *last = I->st.k.t;
     return rc == GD_OK ? fmi3OK : fail(I, GD_STEP_MESSAGE);
 }
 
-/* the FMU state is a plain copy of the kernel's struct */
+/* the FMU state: the kernel's state behind a header naming this FMU (gd_saved, gd_glue.h);
+ * a state handed in is validated before use */
 fmi3Status fmi3GetFMUState(fmi3Instance c, fmi3FMUState *s)
 {
-    if (!*s) *s = malloc(sizeof(gd_state));
-    if (!*s) return fmi3Error;
-    memcpy(*s, &I->st, sizeof(gd_state));
+    if (!*s) *s = malloc(sizeof(gd_saved));
+    if (!*s) return fail(I, "fmi3GetFMUState: out of memory");
+    gd_save(&I->st, I->mode, (gd_saved *)*s);
     return fmi3OK;
 }
 
 fmi3Status fmi3SetFMUState(fmi3Instance c, fmi3FMUState s)
 {
-    if (!s) return fmi3Error;
-    memcpy(&I->st, s, sizeof(gd_state));
-    I->started = 1;
+    char msg[256];
+    if (gd_check_saved(s, sizeof(gd_saved), M, "fmi3SetFMUState", &I->st, &I->mode, msg,
+                       sizeof msg) != GD_OK)
+        return fail(I, msg);
+    I->started = I->mode >= GD_STEP;
     return fmi3OK;
 }
 
@@ -154,14 +184,16 @@ fmi3Status fmi3FreeFMUState(fmi3Instance c, fmi3FMUState *s)
 fmi3Status fmi3SerializedFMUStateSize(fmi3Instance c, fmi3FMUState s, size_t *size)
 {
     (void)c; (void)s;
-    *size = sizeof(gd_state);
+    *size = sizeof(gd_saved);
     return fmi3OK;
 }
 
 fmi3Status fmi3SerializeFMUState(fmi3Instance c, fmi3FMUState s, fmi3Byte b[], size_t size)
 {
-    (void)c;
-    if (size != sizeof(gd_state)) return fmi3Error;
+    char msg[256];
+    if (gd_check_saved(s, size, M, "fmi3SerializeFMUState", NULL, NULL, msg, sizeof msg)
+        != GD_OK)
+        return fail(I, msg);
     memcpy(b, s, size);
     return fmi3OK;
 }
@@ -169,8 +201,12 @@ fmi3Status fmi3SerializeFMUState(fmi3Instance c, fmi3FMUState s, fmi3Byte b[], s
 fmi3Status fmi3DeserializeFMUState(fmi3Instance c, const fmi3Byte b[], size_t size,
                                    fmi3FMUState *s)
 {
-    (void)c;
-    if (size != sizeof(gd_state) || !(*s = malloc(size))) return fmi3Error;
+    char msg[256];
+    if (gd_check_saved(b, size, M, "fmi3DeserializeFMUState", NULL, NULL, msg, sizeof msg)
+        != GD_OK)
+        return fail(I, msg);
+    if (!(*s = malloc(sizeof(gd_saved))))
+        return fail(I, "fmi3DeserializeFMUState: out of memory");
     memcpy(*s, b, size);
     return fmi3OK;
 }
