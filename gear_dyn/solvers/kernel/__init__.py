@@ -33,12 +33,18 @@ FloatArray = NDArray[np.float64]
 
 #: the folder of the kernel's C sources (package data; the native FMU compiles them too)
 SOURCE_DIR = Path(__file__).parent
-#: the interface version the library must report (GD_FLOW_VERSION in gd_flow.h)
-FLOW_VERSION = int(re.search(r"#define GD_FLOW_VERSION (\d+)",  # type: ignore[index]
-                             (SOURCE_DIR / "gd_flow.h").read_text("utf-8"))[1])
 _NAME = "_gd_kernel"
 _LONG = np.dtype(f"i{ctypes.sizeof(ctypes.c_long)}")  # C long (4 bytes on Windows)
 _DP = ctypes.c_void_p  # arrays go in by address (ndarray.ctypes.data): float64, C order
+
+
+@functools.cache
+def flow_version() -> int:
+    """The interface version the library must report (``GD_FLOW_VERSION`` in ``gd_flow.h``),
+    read on first use: a copy of the Python sources without the C ones (the pythonfmu FMU's)
+    imports this module without needing the kernel."""
+    text = (SOURCE_DIR / "gd_flow.h").read_text("utf-8")
+    return int(re.search(r"#define GD_FLOW_VERSION (\d+)", text)[1])  # type: ignore[index]
 
 
 def library_path() -> Path | None:
@@ -85,9 +91,9 @@ def library() -> ctypes.CDLL:
     lib = ctypes.CDLL(str(path))
     lib.gd_flow_version.restype = ctypes.c_int
     lib.gd_flow_version.argtypes = []
-    if lib.gd_flow_version() != FLOW_VERSION:
+    if lib.gd_flow_version() != flow_version():
         raise SolverError(f"gear_dyn's compiled kernel at {path} reports interface version "
-                          f"{lib.gd_flow_version()}, the sources {FLOW_VERSION}: rebuild it "
+                          f"{lib.gd_flow_version()}, the sources {flow_version()}: rebuild it "
                           "('pip install -e .' in a source checkout)")
     lib.gd_flow_products.restype = None
     lib.gd_flow_products.argtypes = [ctypes.c_int, ctypes.c_long, _DP, _DP, _DP, _DP]
