@@ -317,6 +317,12 @@ class PathView:
     pair_stiffness: FloatArray
 
 
+#: how close (in a piece's normalised phase) to a sample a phase counts as at it: well above
+#: the rounding of a phase f_m t mod 1 after thousands of mesh cycles (~1e-13), well below any
+#: sample spacing (>= 1e-9)
+NODE_TOL = 1e-11
+
+
 @dataclass(frozen=True, eq=False)
 class PiecewiseSignal(SampledSignal):
     """A :class:`.SampledSignal` that may jump at given phases.
@@ -377,7 +383,9 @@ class PiecewiseSignal(SampledSignal):
         p = phase % 1.0
         i = min(max(bisect.bisect_right(e, p) - 1, 0), len(e) - 2)
         u = 2 * i + (p - e[i]) / (e[i + 1] - e[i])
-        k = min(max(bisect.bisect_right(us, u) - 1, 0), len(us) - 2)
+        # a phase within rounding of a sample belongs to the piece that starts there (the
+        # slope is right-continuous there, whichever side a time's rounding puts its phase)
+        k = min(max(bisect.bisect_right(us, u + NODE_TOL) - 1, 0), len(us) - 2)
         if us[k + 1] > us[k]:
             val = v[k] + (v[k + 1] - v[k]) * (u - us[k]) / (us[k + 1] - us[k])
         else:
@@ -396,7 +404,7 @@ class PiecewiseSignal(SampledSignal):
         if isinstance(phase, float | int):
             return self._scalar(float(phase))[1]
         u = self._u_of(phase)
-        k = np.minimum(np.maximum(np.searchsorted(self._u, u, side="right") - 1, 0),
+        k = np.minimum(np.maximum(np.searchsorted(self._u, u + NODE_TOL, side="right") - 1, 0),
                        self._u.size - 1)
         return self._slope[k]
 

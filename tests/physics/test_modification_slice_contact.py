@@ -206,3 +206,24 @@ def test_relief_study_ranks_as_single_runs() -> None:
     assert len(study.rows()) == len(designs) * len(torques)
     with pytest.raises(InputError, match="no designs"):
         relief_study(RAIL, torques, {})
+
+
+def test_piecewise_signal_slope_at_a_sample_does_not_depend_on_rounding() -> None:
+    """A phase a few ulps below a sample of a piecewise-linear signal (a time's rounding puts it
+    on either side) takes the slope of the piece that starts there, as the sample itself does;
+    the value stays continuous (an FMU read every step or every other step gives the same
+    damping force)."""
+    import numpy as np
+
+    from gear_dyn.modification.contact import PiecewiseSignal
+
+    sig = PiecewiseSignal.from_segments(np.array([0.0, 1.0]), np.zeros(4, dtype=int),
+                                        np.array([0.0, 0.25, 0.5, 1.0]),
+                                        np.array([0.0, 1.0, 3.0, 0.0]))
+    node = 0.25
+    below = np.nextafter(np.nextafter(node, 0.0), 0.0)
+    assert sig.slope(node) == sig.slope(below) == 8.0
+    assert float(sig.slope(np.array([below]))[0]) == 8.0
+    assert abs(sig.value(below) - 1.0) < 1e-12
+    # a phase clearly below the sample keeps its own piece
+    assert sig.slope(node - 1e-6) == 4.0
