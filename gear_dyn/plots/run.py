@@ -331,16 +331,19 @@ def _mark_physics(ax: Any, marks: Marks, top: int, fmax: float) -> None:
         ax.axvline(fn, color="tab:red", ls=":", lw=0.8)
         if n % step == 0 or n == 1:
             ax.text(fn, 0.98, f"{n}f_m\n{fn:.0f} Hz", transform=trans, color="tab:red",
-                    fontsize=7, ha="center", va="top", bbox=_BOX)
+                    fontsize=8, ha="center", va="top", bbox=_BOX)
     if marks.natural is not None and marks.natural <= fmax:
         ax.axvline(marks.natural, color="tab:green", ls="--", lw=1.0)
         # beside its line, not across it
         ax.text(marks.natural, 0.75, f" f_n = {marks.natural:.0f} Hz", transform=trans,
-                color="tab:green", fontsize=8, ha="left", va="top", bbox=_BOX)
-    for label, fs in marks.shafts:
+                color="tab:green", fontsize=9, ha="left", va="top", bbox=_BOX)
+    for _, fs in marks.shafts:
         ax.axvline(fs, color="tab:purple", ls="-.", lw=0.7)
-        ax.text(fs, 0.55 if label == "f1" else 0.3, f" {label} = {fs:.3g} Hz", transform=trans,
-                color="tab:purple", fontsize=7, bbox=_BOX)  # legible over the curve
+    if marks.shafts:  # one box right of the highest shaft line, above the curve's tail
+        ax.text(max(fs for _, fs in marks.shafts), 0.9, "\n".join(
+            f" {label} = {fs:.3g} Hz ({'pinion' if label == 'f1' else 'gear'} shaft)"
+            for label, fs in marks.shafts), transform=trans, color="tab:purple", fontsize=8,
+            va="top", bbox=_BOX)
 
 
 def _sideband_zoom(ax: Any, f: Any, amp: Any, marks: Marks, scale: str,
@@ -352,10 +355,16 @@ def _sideband_zoom(ax: Any, f: Any, amp: Any, marks: Marks, scale: str,
     sel = (f >= lo) & (f <= hi)
     _draw_amplitude(ax, f[sel], amp[sel], scale, floor, hi, unit)
     ax.set_xlim(lo, hi)
+    bottom, top = ax.get_ylim()
+    peak = float(np.max(amp[sel])) if np.any(sel) else top
+    if scale == "log" and 0 < bottom < peak:  # the highest peak at 60 %: the labels above it
+        ax.set_ylim(bottom, bottom * (peak / bottom) ** (1 / 0.6))
+    elif scale != "log":
+        ax.set_ylim(0, peak / 0.6)
     trans = ax.get_xaxis_transform()
     ax.axvline(marks.mesh, color="tab:red", ls=":", lw=0.8)
     ax.text(marks.mesh, 0.98, f"f_m\n{marks.mesh:.0f} Hz", transform=trans, color="tab:red",
-            fontsize=7, ha="center", va="top", bbox=_BOX)
+            fontsize=8, ha="center", va="top", bbox=_BOX)
     for label, fs in marks.shafts:
         kmax = 3 if label == "f1" else 2
         for k in range(1, kmax + 1):
@@ -365,8 +374,8 @@ def _sideband_zoom(ax: Any, f: Any, amp: Any, marks: Marks, scale: str,
                 ax.axvline(fb, color="tab:purple", ls=":", lw=0.6)
                 kk = "" if k == 1 else str(k)
                 ax.text(fb, y, f"f_m{'+' if sign > 0 else '-'}{kk}{label}\n{fb:.1f} Hz",
-                        transform=trans, color="tab:purple", fontsize=6, ha="center", va="top",
-                        bbox=_BOX)
+                        transform=trans, color="tab:purple", fontsize=7.5, ha="center",
+                        va="top", bbox=_BOX)
     if title:
         ax.set_title(f"sidebands around f_m: f1 = {marks.shafts[0][1]:.3g} Hz (pinion shaft), "
                      f"f2 = {marks.shafts[1][1]:.3g} Hz (gear shaft)", fontsize=9)
