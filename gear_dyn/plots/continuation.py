@@ -12,7 +12,7 @@ import numpy as np
 from gear_dyn.analysis.continuation.branch import Branch
 from gear_dyn.analysis.sweep import RPM
 from gear_dyn.plots._axes import axes_of, tidy
-from gear_dyn.plots._labels import legend_beside, legend_once, place_labels
+from gear_dyn.plots._labels import label_marks, legend_once
 
 #: y quantities: OrbitPoint field -> (axis label, factor to the plotted unit)
 QUANTITIES = {
@@ -146,11 +146,7 @@ def plot_branch(branch: Branch, ax: Any = None, y: str = "dte_rms", label_points
     axis.set_xlabel(xlabel)
     axis.set_ylabel(ylabel)
     axis.grid(True, alpha=0.3)
-    if label_points:
-        place_labels(axis, labels)
-    legend_beside(axis, own_figure=ax is None, fontsize=7)
-    if ax is None:
-        tidy(fig)
+    label_marks(axis, labels if label_points else [], own_figure=ax is None, layout=tidy)
     return fig
 
 
