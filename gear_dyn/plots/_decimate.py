@@ -98,4 +98,19 @@ def period_envelope(t: Any, y: Any, period: float,
     return edges, lo, hi
 
 
-__all__ = ["envelope", "period_envelope"]
+def draw_band(ax: Any, t: Any, y: Any, period: float, blocks: int | None = None,
+              color: Any = "tab:blue", label: str | None = None,
+              t_scale: float = 1.0) -> tuple[Any, Any, Any]:
+    """Draw ``y`` as the band between its smallest and largest value in each ``period``
+    (:func:`period_envelope`), filled and edged, as steps: every sample lies inside the band at
+    its time. ``t_scale``: factor from s to the axis' time unit (1e3: ms). Returns the
+    envelope ``(edges in s, lo, hi)``."""
+    edges, lo, hi = period_envelope(t, y, period, blocks)
+    x = edges * t_scale
+    ax.stairs(hi, x, baseline=lo, fill=True, color=color, alpha=0.35, lw=0, label=label)
+    ax.stairs(hi, x, baseline=None, color=color, lw=0.8)
+    ax.stairs(lo, x, baseline=None, color=color, lw=0.8)
+    return edges, lo, hi
+
+
+__all__ = ["draw_band", "envelope", "period_envelope"]

@@ -12,6 +12,7 @@ from numpy.typing import NDArray
 
 from gear_dyn.analysis.spectrum_labels import Basis
 from gear_dyn.plots._axes import axes_of, tidy
+from gear_dyn.plots._decimate import draw_band
 from gear_dyn.plots._labels import place_labels
 
 FloatArray = NDArray[np.float64]
@@ -27,7 +28,8 @@ SIGNALS: tuple[tuple[str, str, float], ...] = (
 
 def plot_excitation_time(t: FloatArray, series: Mapping[str, FloatArray], basis: Basis,
                          zoom_periods: float = 5.0, ax: Any = None) -> Any:
-    """Each signal against time: the whole span (left) and the first mesh periods (right).
+    """Each signal against time: the whole span (left; from 40 mesh periods on as its envelope,
+    the largest and smallest value in each mesh period) and the first mesh periods (right).
 
     Parameters
     ----------
@@ -49,14 +51,18 @@ def plot_excitation_time(t: FloatArray, series: Mapping[str, FloatArray], basis:
     zoom = t <= t[0] + zoom_periods / basis.mesh
     for i, (key, label, scale) in enumerate(rows):
         y = np.asarray(series[key]) * scale
-        axes[i, 0].plot(t, y, lw=0.5)
+        if (t[-1] - t[0]) * basis.mesh >= 40:  # thousands of mesh cycles: their envelope
+            draw_band(axes[i, 0], t, y, 1.0 / basis.mesh)
+        else:
+            axes[i, 0].plot(t, y, lw=0.5)
         axes[i, 1].plot(t[zoom] * 1e3, y[zoom], lw=0.9)
         axes[i, 0].set_ylabel(label, fontsize=8)
         for ax in axes[i]:
             ax.grid(alpha=0.3)
     axes[-1, 0].set_xlabel("time (s)")
     axes[-1, 1].set_xlabel("time (ms)")
-    axes[0, 0].set_title("whole span")
+    whole = (t[-1] - t[0]) * basis.mesh >= 40
+    axes[0, 0].set_title("whole span" + (": max / min per mesh period" if whole else ""))
     axes[0, 1].set_title(f"first {zoom_periods:g} mesh periods")
     tidy(fig)
     return fig

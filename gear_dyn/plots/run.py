@@ -19,7 +19,7 @@ from gear_dyn.analysis.report import DTE_DEFINITION, model_kind
 from gear_dyn.analysis.spectrum import amplitude_spectrum
 from gear_dyn.errors import InputError
 from gear_dyn.plots._axes import axes_of, fixed_layout
-from gear_dyn.plots._decimate import envelope, period_envelope
+from gear_dyn.plots._decimate import draw_band, envelope
 from gear_dyn.solvers import Result
 
 #: a whole run of at least this many mesh periods is drawn as its envelope (max/min per mesh
@@ -196,11 +196,8 @@ def _draw_band(ax: Any, t: Any, y: Any, period: float, blocks: int | None, label
                color: str) -> None:
     """The whole run of ``y`` as the band between its smallest and largest value per mesh
     period (at most ``blocks`` bins), filled, edged; a negative mesh force shaded red."""
-    edges, lo, hi = period_envelope(t, y, period, blocks)
+    edges, lo, hi = draw_band(ax, t, y, period, blocks, color=color, label=label, t_scale=1e3)
     ms = edges * 1e3
-    ax.stairs(hi, ms, baseline=lo, fill=True, color=color, alpha=0.35, lw=0, label=label)
-    ax.stairs(hi, ms, baseline=None, color=color, lw=0.8)
-    ax.stairs(lo, ms, baseline=None, color=color, lw=0.8)
     if label == "mesh force" and np.any(lo < 0):
         ax.stairs(np.minimum(lo, 0.0), ms, baseline=0.0, fill=True, color="tab:red", alpha=0.5,
                   lw=0, label="F < 0: teeth would separate (model invalid: add [backlash])")

@@ -123,3 +123,26 @@ def test_whole_run_band_bounds_the_run_and_zoom_is_lines(result: Any) -> None:
     labels = [t.get_text() for t in ax_dte.get_legend().get_texts()]
     assert "steady-state window" in labels and "last 10 mesh periods (right)" in labels
     assert ax_dte.get_title() == "whole run: max / min per mesh period"
+
+
+def test_excitation_whole_span_is_a_band_holding_every_sample() -> None:
+    """gear-dyn excitation's whole-span column: thousands of mesh cycles as the band between
+    each mesh period's extremes (every sample inside it), the first periods as lines."""
+    from matplotlib.patches import StepPatch
+
+    from gear_dyn.cli.excitation import analyse
+    from gear_dyn.plots.excitation import plot_excitation_time
+
+    res = analyse(load_scene("eccentric_helical"), samples_per_mesh=16)
+    fig = plot_excitation_time(res["t"], res["series"], res["basis"])
+    t = res["t"]
+    for row, key in enumerate(k for k in ("w2", "contact_length", "friction_force",
+                                          "friction_torque_pinion") if k in res["series"]):
+        ax = fig.axes[2 * row]
+        (band,) = [p for p in ax.patches if isinstance(p, StepPatch) and p.get_fill()]
+        hi, edges, lo = band.get_data()
+        y = np.asarray(res["series"][key]) * (1e3 if key == "contact_length" else 1.0)
+        b = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, hi.size - 1)
+        assert np.all(lo[b] <= y) and np.all(y <= hi[b])
+        assert hi.size == int((t[-1] - t[0]) * res["basis"].mesh + 1e-9)
+        assert not ax.lines or all(len(line.get_xdata()) <= 2 * hi.size + 2 for line in ax.lines)
