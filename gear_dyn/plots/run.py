@@ -306,7 +306,7 @@ def _draw_amplitude(ax: Any, f: Any, amp: Any, scale: str, floor: float | None,
         if floor:
             low = max(min(low, floor / 10), peak * 1e-12)
         ax.plot(f[sel], np.maximum(amp[sel], low), lw=0.7, color="tab:blue")
-        ax.set_ylim(low, peak * 30)
+        ax.set_ylim(low, peak * 300)  # room for the harmonic labels above the peaks
     else:
         ax.plot(f[sel], amp[sel], lw=0.8, color="tab:blue")
         ax.set_ylim(0, peak * 1.25)
