@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 from gear_dyn.analysis.motion.diagram import RPM, BifurcationDiagram
 from gear_dyn.errors import InputError
 from gear_dyn.plots._axes import axes_of, tidy
-from gear_dyn.plots._labels import legend_beside, legend_once, place_labels
+from gear_dyn.plots._labels import label_marks, legend_once
 
 if TYPE_CHECKING:
     from gear_dyn.analysis.continuation.strobe import BranchSamples
@@ -209,12 +209,11 @@ def plot_branch_samples(samples: BranchSamples, ax: Any = None, state: str = "x"
     if title is not None:
         axes.set_title(title, fontsize=10)
     axes.margins(y=0.08)  # room for the labels below the lowest and above the highest mark
-    if label_points:  # beside the located orbit's highest sample
-        place_labels(axes, [(bx, float(ys.max()), text) for bx, ys, text in labels])
     axes.set_xlabel(xlabel)
     axes.set_ylabel(f"{state} at t = k T_m ({unit})")
     axes.grid(alpha=0.3)
-    legend_beside(axes, own_figure=ax is None, fontsize=7)
-    if ax is None:
-        tidy(fig)
+    # beside the located orbit's highest sample
+    marks = [(bx, float(ys.max()), text) for bx, ys, text in labels] if label_points else []
+    others = [(bx, float(v)) for bx, ys, _ in labels for v in ys] if label_points else []
+    label_marks(axes, marks, own_figure=ax is None, layout=tidy, avoid=others)
     return fig

@@ -12,7 +12,7 @@ import numpy as np
 from gear_dyn.analysis.continuation.branch import Branch
 from gear_dyn.analysis.sweep import RPM
 from gear_dyn.plots._axes import axes_of, tidy
-from gear_dyn.plots._labels import legend_beside, legend_once, place_labels
+from gear_dyn.plots._labels import label_marks, legend_once
 
 #: y quantities: OrbitPoint field -> (axis label, factor to the plotted unit)
 QUANTITIES = {
@@ -116,6 +116,7 @@ def plot_branch(branch: Branch, ax: Any = None, y: str = "dte_rms", label_points
     once = legend_once()
 
     labels: list[tuple[float, float, str]] = []
+    crosses: list[tuple[float, float]] = []  # the grazing marks
     for b in branch.walk():
         if not b.points:
             continue
@@ -138,6 +139,7 @@ def plot_branch(branch: Branch, ax: Any = None, y: str = "dte_rms", label_points
                       label=once("fold" if bif.kind == "fold" else "period doubling"))
             labels.append((bx, by, f"{text} {_fmt(bif.parameter, branch)}"))
         graze = [g for g in b.bifurcations if g.kind == "grazing"]
+        crosses += [(g.parameter * fx, getattr(g.point, y) * fy) for g in graze]
         if graze:
             axis.plot([g.parameter * fx for g in graze], [getattr(g.point, y) * fy for g in graze],
                       "x", color="0.4", ms=5, label=once("grazing (contact pattern changes)"))
@@ -146,11 +148,8 @@ def plot_branch(branch: Branch, ax: Any = None, y: str = "dte_rms", label_points
     axis.set_xlabel(xlabel)
     axis.set_ylabel(ylabel)
     axis.grid(True, alpha=0.3)
-    if label_points:
-        place_labels(axis, labels)
-    legend_beside(axis, own_figure=ax is None, fontsize=7)
-    if ax is None:
-        tidy(fig)
+    label_marks(axis, labels if label_points else [], own_figure=ax is None, layout=tidy,
+                avoid=crosses)  # no label on a grazing mark either
     return fig
 
 

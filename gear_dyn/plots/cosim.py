@@ -15,6 +15,24 @@ from gear_dyn.plots._axes import axes_of, tidy
 
 _LABELS = {"dte": ("DTE", "µm", 1e6), "mesh_force": ("mesh force", "kN", 1e-3),
            "driven_speed": ("driven speed", "rad/s", 1.0)}
+#: units of a difference, finest last: (unit, factor from SI), per output
+_DIFF_UNITS = {"dte": (("µm", 1e6), ("nm", 1e9), ("pm", 1e12), ("fm", 1e15)),
+               "mesh_force": (("kN", 1e-3), ("N", 1.0), ("mN", 1e3), ("µN", 1e6)),
+               "driven_speed": (("rad/s", 1.0), ("mrad/s", 1e3), ("µrad/s", 1e6))}
+
+
+def diff_unit(name: str, diff: Any) -> tuple[str, float]:
+    """(unit, factor from SI) in which the largest ``|diff|`` reads as at least 1, so the axis
+    needs no offset or power-of-ten multiplier (a difference of picometres in pm, not 1e-6 um);
+    the coarsest unit if the difference is larger, or zero."""
+    units = _DIFF_UNITS.get(name)
+    if units is None:
+        return _LABELS.get(name, (name, "SI", 1.0))[1:]
+    top = float(np.max(np.abs(diff))) if np.size(diff) else 0.0
+    for unit, f in units:
+        if top * f >= 1.0:
+            return unit, f
+    return units[-1] if top > 0 else units[0]
 
 
 def overlay_figure(report: Any, periods: float = 5.0, ax: Any = None) -> Any:
@@ -42,13 +60,16 @@ def overlay_figure(report: Any, periods: float = 5.0, ax: Any = None) -> Any:
                label=f"FMU via fmpy, step {h * 1e6:.3g} us")
         a.set_ylabel(f"{title} ({unit})")
         a.legend(loc="upper right", fontsize=8)
-        d.plot(tm, (report.fmu_y[i][keep] - report.ref_y[i][keep]) * f, color="tab:red", lw=0.8)
+        diff = report.fmu_y[i][keep] - report.ref_y[i][keep]
+        dunit, df = diff_unit(name, diff)
+        d.plot(tm, diff * df, color="tab:red", lw=0.8)
         if name == "dte" and bounds is not None:
             for sign in (1, -1):
-                d.axhline(sign * bounds.total * f, color="0.4", lw=0.8, ls=":",
+                d.axhline(sign * bounds.total * df, color="0.4", lw=0.8, ls=":",
                           label="allowed (FMU + solve_ivp error)" if sign > 0 else None)
             d.legend(loc="upper right", fontsize=7)
-        d.set_ylabel(f"diff ({unit})")
+        d.ticklabel_format(axis="y", useOffset=False)
+        d.set_ylabel(f"diff ({dunit})")
     axes[-1].set_xlabel("time (ms)")
     verdict = "" if bounds is None else f": {'PASS' if report.passed else 'FAIL'}"
     axes[0].set_title(f"{report.scene_name}: FMU ({report.fmu_method}) against solve_ivp "

@@ -52,7 +52,8 @@ def plot_fold_map(fold_map: FoldMap, ax: Any = None) -> Any:
             axis.plot([cusp.speed / RPM], [cusp.torque], "k*", ms=10)
             axis.annotate(f"cusp {cusp.speed / RPM:.0f} rpm, {cusp.torque:.4g} N m",
                           (cusp.speed / RPM, cusp.torque), textcoords="offset points",
-                          xytext=(6, 6), fontsize=8)
+                          xytext=(6, 6), fontsize=8, bbox={"facecolor": "white", "alpha": 0.8,
+                                                           "edgecolor": "none", "pad": 0.5})
     if fold_map.reference_torque is not None:
         axis.axhline(fold_map.reference_torque, color="0.4", ls=":", lw=1,
                      label=f"scene torque {fold_map.reference_torque:.4g} N m")

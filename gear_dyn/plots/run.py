@@ -19,8 +19,12 @@ from gear_dyn.analysis.report import DTE_DEFINITION, model_kind
 from gear_dyn.analysis.spectrum import amplitude_spectrum
 from gear_dyn.errors import InputError
 from gear_dyn.plots._axes import axes_of, fixed_layout
-from gear_dyn.plots._decimate import envelope
+from gear_dyn.plots._decimate import draw_band, envelope
 from gear_dyn.solvers import Result
+
+#: a whole run of at least this many mesh periods is drawn as its envelope (max/min per mesh
+#: period, filled); shorter runs as lines
+BAND_PERIODS = 40
 
 _BOX = {"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 0.5}
 
@@ -77,6 +81,11 @@ def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = No
                       blocks: int | None = None) -> Any:
     """DTE and dynamic mesh force against time, the steady-state window shaded.
 
+    A whole run of :data:`BAND_PERIODS` mesh periods or more is drawn as its envelope: the band
+    between the smallest and largest value in each mesh period (drawn as a line, thousands of
+    mesh cycles would fill the panel); the zoom column shows the last ``periods`` as lines, and
+    its span is marked on the whole run.
+
     In the eccentric torsional model the DTE holds the eccentricity's kinematic error (rigid
     teeth, -e_ecc, hundreds of um) and the elastic mesh deflection delta (a few um): a middle row
     shows the elastic part on its own scale, and the DTE row names both parts.
@@ -104,9 +113,11 @@ def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = No
     ValueError
         ``ax`` is not one of the Axes counts above (the message names them).
     blocks : int or None
-        Draw the whole-run lines as the first, smallest, largest and last sample of this many
-        blocks (``gear_dyn.plots._decimate.envelope()``): for a file, about 2 per pixel column
-        give the same picture from fewer points. None: every sample (a later zoom shows data).
+        At most this many bins in a whole-run band (a bin then spans several mesh periods;
+        ``gear_dyn.plots._decimate.period_envelope()``); a whole run drawn as lines is drawn
+        as the first, smallest, largest and last sample of this many blocks
+        (``gear_dyn.plots._decimate.envelope()``): for a file, about 2 per pixel column give
+        the same picture from fewer points. None: every mesh period, every sample.
     """
     split = "e_ecc" in result.outputs
     nrows = 3 if split else 2
@@ -134,13 +145,19 @@ def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = No
         ylabels.append("elastic part (µm)")
     rows.append([(result.outputs["mesh_force"] / 1e3, "mesh force", "tab:blue")])
     ylabels.append("mesh force (kN)")
+    period = 1.0 / result.mesh_frequency
+    band = (t[-1] - t[0]) / period >= BAND_PERIODS  # the whole run as its envelope
+    zoom_start = t[-1] - (periods or 0.0) * period
     for col in range(ncols):
         sel = slice(None)
         if col == 1 and periods:
-            sel = t >= t[-1] - periods / result.mesh_frequency
+            sel = t >= zoom_start
         for r, series in enumerate(rows):
             a = axes[r, col]
             for y, label, color in series:
+                if col == 0 and band:
+                    _draw_band(a, t, y, period, blocks, label, color)
+                    continue
                 xs, ys = t[sel] * 1e3, y[sel]
                 if col == 0 and blocks:
                     xs, ys = envelope(xs, ys, blocks)
@@ -150,8 +167,12 @@ def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = No
             a.set_ylabel(ylabels[r])
             a.grid(alpha=0.3)
             if col == 0:
-                a.axvspan(result.steady_start * 1e3, t[-1] * 1e3, color="tab:green", alpha=0.1,
-                          label="steady-state window" if r == 0 else None)
+                a.axvspan(result.steady_start * 1e3, t[-1] * 1e3, color="tab:green", alpha=0.12,
+                          lw=0, label="steady-state window" if r == 0 else None)
+                a.axvline(result.steady_start * 1e3, color="tab:green", lw=0.8)
+                if ncols == 2 and periods:  # where the zoom on the right is
+                    a.axvspan(zoom_start * 1e3, t[-1] * 1e3, color="0.4", alpha=0.25, lw=0,
+                              label=f"last {periods:g} mesh periods (right)" if r == 0 else None)
         axes[-1, col].set_xlabel("time (ms)")
     axes[-1, 0].axhline(result.static_load / 1e3, color="k", ls="--", lw=0.7,
                         label=f"static load W = {result.static_load / 1e3:.4g} kN")
@@ -163,11 +184,24 @@ def plot_time_history(result: Result, periods: float | None = 10.0, ax: Any = No
     if ncols == 2 and periods:
         span_ms = periods / result.mesh_frequency * 1e3
         axes[0, 1].set_title(f"last {periods:g} mesh periods ({span_ms:.3g} ms)", fontsize=10)
-    axes[0, 0].set_title("whole run", fontsize=10)
+    axes[0, 0].set_title("whole run" + (": max / min per mesh period" if band else ""),
+                         fontsize=10)
     fig.suptitle(DTE_DEFINITION[model_kind(result)], fontsize=8)
     # margins in inches: the look of tight_layout without measuring twice
     fixed_layout(fig, left=0.72, right=0.15, top=0.62, bottom=0.55, wgap=0.75, hgap=0.25)
     return fig
+
+
+def _draw_band(ax: Any, t: Any, y: Any, period: float, blocks: int | None, label: str,
+               color: str) -> None:
+    """The whole run of ``y`` as the band between its smallest and largest value per mesh
+    period (at most ``blocks`` bins), filled, edged; a negative mesh force shaded red."""
+    edges, lo, hi = draw_band(ax, t, y, period, blocks, color=color, label=label, t_scale=1e3)
+    ms = edges * 1e3
+    if label == "mesh force" and np.any(lo < 0):
+        ax.stairs(np.minimum(lo, 0.0), ms, baseline=0.0, fill=True, color="tab:red", alpha=0.5,
+                  lw=0, label="F < 0: teeth would separate (model invalid: add [backlash])")
+        ax.axhline(0.0, color="tab:red", lw=0.6)
 
 
 def _legend_headroom(ax: Any) -> None:
@@ -272,7 +306,7 @@ def _draw_amplitude(ax: Any, f: Any, amp: Any, scale: str, floor: float | None,
         if floor:
             low = max(min(low, floor / 10), peak * 1e-12)
         ax.plot(f[sel], np.maximum(amp[sel], low), lw=0.7, color="tab:blue")
-        ax.set_ylim(low, peak * 30)
+        ax.set_ylim(low, peak * 300)  # room for the harmonic labels above the peaks
     else:
         ax.plot(f[sel], amp[sel], lw=0.8, color="tab:blue")
         ax.set_ylim(0, peak * 1.25)
@@ -294,16 +328,19 @@ def _mark_physics(ax: Any, marks: Marks, top: int, fmax: float) -> None:
         ax.axvline(fn, color="tab:red", ls=":", lw=0.8)
         if n % step == 0 or n == 1:
             ax.text(fn, 0.98, f"{n}f_m\n{fn:.0f} Hz", transform=trans, color="tab:red",
-                    fontsize=7, ha="center", va="top", bbox=_BOX)
+                    fontsize=8, ha="center", va="top", bbox=_BOX)
     if marks.natural is not None and marks.natural <= fmax:
         ax.axvline(marks.natural, color="tab:green", ls="--", lw=1.0)
         # beside its line, not across it
         ax.text(marks.natural, 0.75, f" f_n = {marks.natural:.0f} Hz", transform=trans,
-                color="tab:green", fontsize=8, ha="left", va="top", bbox=_BOX)
-    for label, fs in marks.shafts:
+                color="tab:green", fontsize=9, ha="left", va="top", bbox=_BOX)
+    for _, fs in marks.shafts:
         ax.axvline(fs, color="tab:purple", ls="-.", lw=0.7)
-        ax.text(fs, 0.55 if label == "f1" else 0.3, f" {label} = {fs:.3g} Hz", transform=trans,
-                color="tab:purple", fontsize=7, bbox=_BOX)  # legible over the curve
+    if marks.shafts:  # one box right of the highest shaft line, above the curve's tail
+        ax.text(max(fs for _, fs in marks.shafts), 0.9, "\n".join(
+            f" {label} = {fs:.3g} Hz ({'pinion' if label == 'f1' else 'gear'} shaft)"
+            for label, fs in marks.shafts), transform=trans, color="tab:purple", fontsize=8,
+            va="top", bbox=_BOX)
 
 
 def _sideband_zoom(ax: Any, f: Any, amp: Any, marks: Marks, scale: str,
@@ -315,10 +352,16 @@ def _sideband_zoom(ax: Any, f: Any, amp: Any, marks: Marks, scale: str,
     sel = (f >= lo) & (f <= hi)
     _draw_amplitude(ax, f[sel], amp[sel], scale, floor, hi, unit)
     ax.set_xlim(lo, hi)
+    bottom, top = ax.get_ylim()
+    peak = float(np.max(amp[sel])) if np.any(sel) else top
+    if scale == "log" and 0 < bottom < peak:  # the highest peak at 60 %: the labels above it
+        ax.set_ylim(bottom, bottom * (peak / bottom) ** (1 / 0.6))
+    elif scale != "log":
+        ax.set_ylim(0, peak / 0.6)
     trans = ax.get_xaxis_transform()
     ax.axvline(marks.mesh, color="tab:red", ls=":", lw=0.8)
     ax.text(marks.mesh, 0.98, f"f_m\n{marks.mesh:.0f} Hz", transform=trans, color="tab:red",
-            fontsize=7, ha="center", va="top", bbox=_BOX)
+            fontsize=8, ha="center", va="top", bbox=_BOX)
     for label, fs in marks.shafts:
         kmax = 3 if label == "f1" else 2
         for k in range(1, kmax + 1):
@@ -328,8 +371,8 @@ def _sideband_zoom(ax: Any, f: Any, amp: Any, marks: Marks, scale: str,
                 ax.axvline(fb, color="tab:purple", ls=":", lw=0.6)
                 kk = "" if k == 1 else str(k)
                 ax.text(fb, y, f"f_m{'+' if sign > 0 else '-'}{kk}{label}\n{fb:.1f} Hz",
-                        transform=trans, color="tab:purple", fontsize=6, ha="center", va="top",
-                        bbox=_BOX)
+                        transform=trans, color="tab:purple", fontsize=7.5, ha="center",
+                        va="top", bbox=_BOX)
     if title:
         ax.set_title(f"sidebands around f_m: f1 = {marks.shafts[0][1]:.3g} Hz (pinion shaft), "
                      f"f2 = {marks.shafts[1][1]:.3g} Hz (gear shaft)", fontsize=9)

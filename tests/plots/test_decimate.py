@@ -72,3 +72,77 @@ def test_fixed_layout_margins_in_inches() -> None:
     assert (b01.x0 - b00.x1) * w == pytest.approx(0.75)
     assert (b00.y0 - b10.y1) * h == pytest.approx(0.25)
     assert (1 - b00.y1) * h == pytest.approx(0.62) and b10.y0 * h == pytest.approx(0.55)
+
+
+def test_period_envelope_bounds_every_sample_and_is_attained() -> None:
+    """Each sample lies within its bin's [min, max]; each bin's bounds are samples of it; the
+    bins span the run, one mesh period wide (the last takes the remainder) or whole numbers of
+    periods under ``blocks``."""
+    from gear_dyn.plots._decimate import period_envelope
+
+    rng = np.random.default_rng(2)
+    t = np.linspace(0.0, 0.1234, 9_001)
+    y = np.sin(2 * np.pi * 1000 * t) * (1 + 5 * t) + 0.05 * rng.normal(size=t.size)
+    edges, lo, hi = period_envelope(t, y, 1e-3)
+    assert edges[0] == t[0] and edges[-1] == t[-1] and np.all(np.diff(edges) > 0)
+    assert lo.size == hi.size == edges.size - 1 == 123
+    np.testing.assert_allclose(np.diff(edges)[:-1], 1e-3, rtol=1e-9)
+    b = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, lo.size - 1)
+    assert np.all(lo[b] <= y) and np.all(y <= hi[b])
+    for i in range(lo.size):
+        assert lo[i] in y[b == i] and hi[i] in y[b == i]
+    e50, lo50, _ = period_envelope(t, y, 1e-3, blocks=50)
+    assert lo50.size <= 50 and np.allclose(np.diff(e50)[:-1], 3e-3)
+    assert lo50.min() == y.min()
+    with pytest.raises(ValueError, match="period"):
+        period_envelope(t, y, 0.0)
+
+
+def test_whole_run_band_bounds_the_run_and_zoom_is_lines(result: Any) -> None:
+    """gear-dyn run / demo: the whole-run panels draw no line of every sample (it would fill the
+    panel) but the band between each mesh period's extremes, which holds every sample at its
+    time; the zoom column draws the last 10 periods as lines, their span marked on the left."""
+    from matplotlib.patches import StepPatch
+
+    fig = plot_time_history(result, blocks=1500)
+    ax_dte, ax_force = fig.axes[0], fig.axes[2]
+    assert all(len(line.get_xdata()) < 2000 for line in ax_dte.lines)
+    t_ms = result.t * 1e3
+    for ax, y in ((ax_dte, result.outputs["dte"] * 1e6),
+                  (ax_force, result.outputs["mesh_force"] / 1e3)):
+        bands = [p for p in ax.patches if isinstance(p, StepPatch) and p.get_fill()]
+        assert len(bands) == 1
+        hi, edges, lo = bands[0].get_data()
+        assert edges[0] == t_ms[0] and edges[-1] == t_ms[-1]
+        assert hi.size == int((result.t[-1] - result.t[0]) * result.mesh_frequency + 1e-9)
+        b = np.clip(np.searchsorted(edges, t_ms, side="right") - 1, 0, hi.size - 1)
+        assert np.all(lo[b] <= y) and np.all(y <= hi[b])
+        assert hi.max() == y.max() and lo.min() == y.min()
+    zoom = fig.axes[1].lines[0].get_xdata()
+    assert zoom[-1] - zoom[0] == pytest.approx(10e3 / result.mesh_frequency, rel=0.01)
+    labels = [t.get_text() for t in ax_dte.get_legend().get_texts()]
+    assert "steady-state window" in labels and "last 10 mesh periods (right)" in labels
+    assert ax_dte.get_title() == "whole run: max / min per mesh period"
+
+
+def test_excitation_whole_span_is_a_band_holding_every_sample() -> None:
+    """gear-dyn excitation's whole-span column: thousands of mesh cycles as the band between
+    each mesh period's extremes (every sample inside it), the first periods as lines."""
+    from matplotlib.patches import StepPatch
+
+    from gear_dyn.cli.excitation import analyse
+    from gear_dyn.plots.excitation import plot_excitation_time
+
+    res = analyse(load_scene("eccentric_helical"), samples_per_mesh=16)
+    fig = plot_excitation_time(res["t"], res["series"], res["basis"])
+    t = res["t"]
+    for row, key in enumerate(k for k in ("w2", "contact_length", "friction_force",
+                                          "friction_torque_pinion") if k in res["series"]):
+        ax = fig.axes[2 * row]
+        (band,) = [p for p in ax.patches if isinstance(p, StepPatch) and p.get_fill()]
+        hi, edges, lo = band.get_data()
+        y = np.asarray(res["series"][key]) * (1e3 if key == "contact_length" else 1.0)
+        b = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, hi.size - 1)
+        assert np.all(lo[b] <= y) and np.all(y <= hi[b])
+        assert hi.size == int((t[-1] - t[0]) * res["basis"].mesh + 1e-9)
+        assert not ax.lines or all(len(line.get_xdata()) <= 2 * hi.size + 2 for line in ax.lines)
