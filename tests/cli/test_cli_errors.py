@@ -344,20 +344,15 @@ def test_subprocess_user_error_is_one_line_exit_2(tmp_path: Path) -> None:
 
 def test_subprocess_solver_failure_is_one_line_exit_3(tmp_path: Path) -> None:
     """A solve that cannot finish within the right-hand-side budget is a SolverError (exit 3)
-    naming the method and the advice; checked through a tiny budget set by a wrapper."""
-    script = tmp_path / "wrapper.py"
-    script.write_text(
-        "import sys, gear_dyn.solvers.settings as s\n"
-        "s.MAX_NFEV = 50\n"
-        "from gear_dyn.cli.app import main\n"
-        "sys.exit(main(sys.argv[1:]))\n"
-    )
-    p = subprocess.run([sys.executable, str(script), "run", str(HELI), "--out",
-                        str(tmp_path / "o"), "--method", "RK45", "--periods", "2"],
+    naming the method, the advice and the flag that raises the budget; checked through a tiny
+    budget set by that flag."""
+    p = subprocess.run([sys.executable, "-m", "gear_dyn.cli", "run", str(HELI), "--out",
+                        str(tmp_path / "o"), "--method", "RK45", "--periods", "50",
+                        "--max-nfev", "1000"],
                        capture_output=True, text=True, timeout=300, cwd=tmp_path)
     assert p.returncode == 3, p.stderr
     assert p.stderr.count("\n") == 1 and p.stderr.startswith("gear-dyn: solver failure: ")
-    assert "RK45" in p.stderr and "implicit method" in p.stderr
+    assert "RK45" in p.stderr and "implicit method" in p.stderr and "--max-nfev" in p.stderr
     assert not (tmp_path / "o").exists() and _hidden_leftovers(tmp_path) == []
 
 
