@@ -32,8 +32,8 @@ RPM = 2 * math.pi / 60  # rad/s per rpm
 def main(out: Path, fast: bool = False) -> dict[str, list[float]]:
     scene = gd.load_scene("backlash_constant_stiffness")
     family = SceneModels.of(scene)             # speed (rad/s) -> the scene's model
-    stop = 7300 if fast else 8500
-    branch = gd.continue_orbits(family, 5000 * RPM, stop * RPM, doublings=0)
+    start, stop = (6500, 7300) if fast else (5000, 8500)      # rpm
+    branch = gd.continue_orbits(family, start * RPM, stop * RPM, doublings=0)
     print(repr(branch))
     found: dict[str, list[float]] = {"fold": [], "period_doubling": []}
     for b in branch.walk():
