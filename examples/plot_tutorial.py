@@ -14,6 +14,8 @@ runs, few samples) so that the whole page builds in seconds; the commands give t
 you would use for a design.
 """
 
+# sphinx_gallery_thumbnail_number = 2
+
 # %%
 # 1. A scene of your own
 # ----------------------
@@ -77,11 +79,12 @@ print(f"transverse contact ratio eps_alpha = {pair.contact_ratio:.3f}, "
 # --------
 #
 # The command ``gear-dyn run rail_pair.toml --out run`` writes the time history, the spectrum
-# and ``summary.json``. In Python, :func:`gear_dyn.run_scene` gives the result and
-# :func:`gear_dyn.summarize` its figures: the mesh frequency, the natural frequency of the mesh,
-# the dynamic factor K_dyn (peak dynamic over peak quasi-static mesh force), the peak mesh
-# force over the static load F_max / W and ISO 6336-1 K_v at the same grade. No ``[stiffness]``
-# table: a helical pair gets the contact-line-length stiffness, and the summary says so.
+# and ``summary.json``. In Python, :func:`~gear_dyn.scene.run_scene` gives the result and
+# :func:`~gear_dyn.analysis.report.summarize` its figures: the mesh frequency, the natural
+# frequency of the mesh, the dynamic factor K_dyn (peak dynamic over peak quasi-static mesh
+# force), the peak mesh force over the static load F_max / W and ISO 6336-1 K_v at the same
+# grade. No ``[stiffness]`` table: a helical pair gets the contact-line-length stiffness, and
+# the summary says so.
 
 from gear_dyn.plots.run import plot_time_history  # noqa: E402
 
@@ -104,8 +107,8 @@ save_figure(plot_time_history(result, periods=5), OUT / "run.png", dpi=90)
 #
 # ``gear-dyn sweep rail_pair.toml --speeds "1000 rpm:9000 rpm:161" --out sweep`` computes the
 # steady response at every speed (the periodic orbit, not a long transient) and writes the
-# response curves with ISO K_v beside them. In Python: :func:`gear_dyn.sweep_scene`, here at
-# 17 speeds.
+# response curves with ISO K_v beside them. In Python:
+# :func:`~gear_dyn.scene.sweep.sweep_scene`, here at 17 speeds.
 
 from gear_dyn.plots.sweep import plot_sweep_response  # noqa: E402
 
@@ -133,7 +136,7 @@ save_figure(plot_sweep_response(sweep), OUT / "sweep.png", dpi=90)
 # scene with that angle is the second design; ``gear-dyn compare rail_pair.toml
 # rail_pair_eps1.toml --speeds "1000 rpm:9000 rpm:161" --out compare`` ranks the designs by
 # their peak F_max / W over the range, the first file being the baseline. In Python:
-# :func:`gear_dyn.compare_scenes`.
+# :func:`~gear_dyn.scene.compare.compare_scenes`.
 
 beta_1 = math.degrees(math.asin(math.pi * 6.0 / 70.0))
 variant_file = OUT / "rail_pair_eps1.toml"
@@ -166,7 +169,7 @@ save_figure(comparison.plot(), OUT / "compare.png", dpi=90)
 # scene takes a constant stiffness of that mean (a ``[stiffness]`` table with
 # ``method = "rectangular"`` and equal single and double values): what the band shows is then
 # the deviations' own excitation. In Python:
-# :func:`gear_dyn.scene.tolerance.tolerance_scene`, here with 40 samples.
+# :func:`~gear_dyn.scene.tolerance.tolerance_scene`, here with 40 samples.
 
 from gear_dyn.plots.tolerance import plot_tolerance  # noqa: E402
 from gear_dyn.scene.tolerance import tolerance_scene  # noqa: E402
@@ -208,7 +211,7 @@ save_figure(plot_tolerance(study), OUT / "tolerance.png", dpi=90)
 # ``gear-dyn fmu build rail_pair.toml --ports torque --out rail_drive.fmu`` compiles a native
 # FMI 2.0 co-simulation FMU of the pair with a torque input on each shaft and the angle and
 # speed of each shaft out, with the mesh force and the DTE: it sits between a motor and a load
-# in any FMI host. In Python: :func:`gear_dyn.fmu.export_fmu.build_native_fmu`. Below, a small
+# in any FMI host. In Python: :func:`~gear_dyn.fmu.export_fmu.build_native_fmu`. Below, a small
 # master loop in fmpy drives it: a constant motor torque of 2000 N m on the pinion and a load
 # on the gear proportional to its speed, ``T2 = -c w2``, with c chosen so that the pair settles
 # at 4000 rpm. The pair starts at 90 % of that speed.
