@@ -14,8 +14,6 @@ runs, few samples) so that the whole page builds in seconds; the commands give t
 you would use for a design.
 """
 
-# sphinx_gallery_thumbnail_number = 2
-
 # %%
 # 1. A scene of your own
 # ----------------------
@@ -41,6 +39,7 @@ import gear_dyn as gd
 from gear_dyn.io import save_figure
 from gear_dyn.scene import build_model, build_pair
 
+# sphinx_gallery_thumbnail_number = 2
 OUT = Path(sys.argv[1] if len(sys.argv) > 1 else "tutorial_out")
 OUT.mkdir(parents=True, exist_ok=True)
 
@@ -94,7 +93,9 @@ print(f"stiffness: {summary['stiffness_choice']}")
 print(f"f_m = {summary['mesh_frequency_hz']:.1f} Hz, f_n = {summary['natural_frequency_hz']:.1f} "
       f"Hz, K_dyn = {summary['dynamic_factor']:.4f}, F_max / W = "
       f"{summary['peak_force_ratio']:.4f}, ISO 6336-1 K_v = {summary['iso_6336_kv']['k_v']:.4f}")
-save_figure(plot_time_history(result, periods=5), OUT / "run.png", dpi=90)
+fig = Figure(figsize=(9, 5.5), layout="constrained")     # a figure that reads at page width
+plot_time_history(result, periods=5, ax=fig.subplots(2, 2))   # DTE, zoom; force, zoom
+print("wrote", save_figure(fig, OUT / "run.png", dpi=90).name)
 
 # %%
 # Read the steady window (shaded) of the time history: the DTE and the mesh force oscillate
@@ -118,7 +119,7 @@ peak = sweep.peak("peak_force_ratio")
 resonance_rpm = sweep.natural_frequency / pair.z1 * 60      # where f_m = f_n
 print(f"peak F_max / W = {peak.value:.4f} at {peak.speed_rpm:.0f} rpm; "
       f"f_m = f_n at {resonance_rpm:.0f} rpm")
-save_figure(plot_sweep_response(sweep), OUT / "sweep.png", dpi=90)
+print("wrote", save_figure(plot_sweep_response(sweep), OUT / "sweep.png", dpi=90).name)
 
 # %%
 # Read the speed of the peak against the speed where the mesh frequency meets the natural
@@ -145,7 +146,7 @@ variant_file.write_text(SCENE.replace('name = "rail_pair"', 'name = "rail_pair_e
 comparison = gd.compare_scenes([scene_file, variant_file], SPEEDS)
 print(f"helix angle for eps_beta = 1: {beta_1:.3f} deg")
 print(comparison)                                  # the ranking, peaks and their differences
-save_figure(comparison.plot(), OUT / "compare.png", dpi=90)
+print("wrote", save_figure(comparison.plot(), OUT / "compare.png", dpi=90).name)
 
 # %%
 # Read the ranking printed above: the design listed first has the lower peak F_max / W, and
@@ -195,7 +196,7 @@ print(f"largest median K_dyn {k['median'][i]:.4f} at {study.speeds[i] * 30 / mat
 apart = np.mean(study.values["min_force"][:, i] < 0)
 print(f"at that speed the least mesh force is negative in {100 * apart:.0f} % of the samples "
       "(there the teeth would separate, which the linear model does not represent)")
-save_figure(plot_tolerance(study), OUT / "tolerance.png", dpi=90)
+print("wrote", save_figure(plot_tolerance(study), OUT / "tolerance.png", dpi=90).name)
 
 # %%
 # Read the width of the band against the line without deviations: where the band is wide, the
@@ -283,7 +284,7 @@ ax2.plot((t[zoom] - t[-1]) * 1e3, force[zoom] / load, ".-", ms=3, lw=0.8)
 ax2.axhline(1.0, color="0.5", ls="--", lw=1)
 ax2.set_xlabel("time before the end (ms)")
 ax2.set_title("last 3 mesh periods", fontsize=9)
-save_figure(fig, OUT / "drivetrain.png", dpi=90)
+print("wrote", save_figure(fig, OUT / "drivetrain.png", dpi=90).name)
 
 # %%
 # Read the speed approaching the speed where the load balances the motor torque, within a few
