@@ -7,9 +7,10 @@ helix 20 deg, 70 mm face, 2000 N m) in the slice loaded tooth contact analysis: 
 into slices coupled by a Pasternak foundation (Ajmi & Velex 2005), and the load distribution
 over the field of contact is solved with unilateral contact at every mesh position. The mesh
 misalignment of the scene (f_ma) loads one end of the face; the pinion crowning of the scene
-brings the load back towards the middle; the tip relief of the gear handbook rule lowers the
-load at the entry and exit of contact. Each case gives the peak Hertz pressure, the loaded
-static transmission error and the mesh stiffness. The same from a terminal:
+brings the load back towards the middle; the tip relief of the scene (gear handbook rule,
+linear curve) lowers the load at the entry and exit of contact. Each case gives the peak Hertz
+pressure, the loaded static transmission error and the mesh stiffness. The same from a
+terminal:
 ``gear-dyn contact rail_helical_ltca --out contact``.
 
 Usage: ``python examples/plot_helical_contact.py [OUT_DIR]``; writes ``face_load.png`` (the
@@ -27,13 +28,13 @@ from matplotlib.figure import Figure
 
 import gear_dyn as gd
 from gear_dyn.io import save_figure
-from gear_dyn.modification import recommended_relief
 from gear_dyn.modification.analysis import SliceCase
 from gear_dyn.modification.lead import FlankModification
 from gear_dyn.modification.slice_contact import slice_contact
 from gear_dyn.plots.contact import plot_face_load, plot_slice_stiffness
 from gear_dyn.scene import build_pair
 from gear_dyn.scene.lead import flank_from_scene, slice_options_from_scene
+from gear_dyn.scene.modification import relief_from_scene
 
 
 def main(out: Path, fast: bool = False) -> dict[str, dict[str, float]]:
@@ -41,7 +42,7 @@ def main(out: Path, fast: bool = False) -> dict[str, dict[str, float]]:
     pair = build_pair(scene)
     torque = scene.get("operating")["torque"]
     flank = flank_from_scene(scene, pair)       # the scene's crowning and misalignment
-    relief = recommended_relief(pair, torque, "handbook").modification("linear")
+    relief = relief_from_scene(scene, pair)     # the scene's [tip_relief]: rule and curve
     cases = {
         "aligned, unmodified": FlankModification(),
         "misaligned": FlankModification(misalignment=flank.misalignment),
@@ -54,8 +55,8 @@ def main(out: Path, fast: bool = False) -> dict[str, dict[str, float]]:
     table = {}
     print(f"{pair.z1}/{pair.z2} teeth, eps_alpha {pair.contact_ratio:.3f}, eps_beta "
           f"{pair.overlap_ratio:.3f}, T1 = {torque:.0f} N m; f_ma = "
-          f"{flank.misalignment.f_ma * 1e6:.0f} um, pinion crowning "
-          f"{flank.lead_pinion.crowning * 1e6:.0f} um")
+          f"{scene.get('misalignment')['f_ma'] * 1e6:.0f} um, pinion crowning "
+          f"{scene.get('lead_modification')['crowning_pinion'] * 1e6:.0f} um")
     print(f"{'case':34s} {'peak p (MPa)':>12s} {'PPTE (um)':>10s} {'F_t/delta (N/um)':>16s}")
     for name, case in results.items():
         s = case.contact.summary()[0]
