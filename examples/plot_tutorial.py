@@ -123,9 +123,10 @@ print("wrote", save_figure(plot_sweep_response(sweep), OUT / "sweep.png", dpi=90
 
 # %%
 # Read the speed of the peak against the speed where the mesh frequency meets the natural
-# frequency (both printed above): the main resonance of the mesh lies there, and the smaller
-# peaks below it are the resonances of the higher mesh harmonics (f_m = f_n / 2, f_n / 3).
-# With 17 speeds the curve is coarse; the command's 161 speeds resolve the peaks.
+# frequency (both printed above): the main resonance of the mesh lies there. The dotted lines
+# mark where the second and third mesh harmonics meet it (f_m = f_n / 2, f_n / 3), the speeds
+# of the secondary resonances. With 17 speeds the curve is coarse; the command's 161 speeds
+# resolve the peaks.
 
 # %%
 # 4. A design comparison
