@@ -33,11 +33,18 @@ import sys
 from pathlib import Path
 
 import numpy as np
+from fmpy import extract, read_model_description
+from fmpy.fmi2 import FMU2Slave
 from matplotlib.figure import Figure
 
 import gear_dyn as gd
+from gear_dyn.fmu.export_fmu import build_native_fmu
 from gear_dyn.io import save_figure
+from gear_dyn.plots.run import plot_time_history
+from gear_dyn.plots.sweep import plot_sweep_response
+from gear_dyn.plots.tolerance import plot_tolerance
 from gear_dyn.scene import build_model, build_pair
+from gear_dyn.scene.tolerance import tolerance_scene
 
 # sphinx_gallery_thumbnail_number = 2
 OUT = Path(sys.argv[1] if len(sys.argv) > 1 else "tutorial_out")
@@ -85,8 +92,6 @@ print(f"transverse contact ratio eps_alpha = {pair.contact_ratio:.3f}, "
 # grade. No ``[stiffness]`` table: a helical pair gets the contact-line-length stiffness, and
 # the summary says so.
 
-from gear_dyn.plots.run import plot_time_history  # noqa: E402
-
 result = gd.run_scene(scene, periods=40)      # 40 mesh periods here; the scene's default is 200
 summary = gd.summarize(result)
 print(f"stiffness: {summary['stiffness_choice']}")
@@ -110,8 +115,6 @@ print("wrote", save_figure(fig, OUT / "run.png", dpi=90).name)
 # steady response at every speed (the periodic orbit, not a long transient) and writes the
 # response curves with ISO K_v beside them. In Python:
 # :func:`~gear_dyn.scene.sweep.sweep_scene`, here at 17 speeds.
-
-from gear_dyn.plots.sweep import plot_sweep_response  # noqa: E402
 
 SPEEDS = "1000 rpm:9000 rpm:17"
 sweep = gd.sweep_scene(scene, SPEEDS)
@@ -147,7 +150,12 @@ variant_file.write_text(SCENE.replace('name = "rail_pair"', 'name = "rail_pair_e
 comparison = gd.compare_scenes([scene_file, variant_file], SPEEDS)
 print(f"helix angle for eps_beta = 1: {beta_1:.3f} deg")
 print(comparison)                                  # the ranking, peaks and their differences
-print("wrote", save_figure(comparison.plot(), OUT / "compare.png", dpi=90).name)
+fig = Figure(figsize=(10, 6), layout="constrained")      # a figure that reads at page width
+grid = fig.add_gridspec(2, 2, width_ratios=(1.6, 1.0))
+force_ax = fig.add_subplot(grid[0, 0])
+comparison.plot(ax=[force_ax, fig.add_subplot(grid[1, 0], sharex=force_ax),
+                    fig.add_subplot(grid[:, 1])])
+print("wrote", save_figure(fig, OUT / "compare.png", dpi=90).name)
 
 # %%
 # Read the ranking printed above: the design listed first has the lower peak F_max / W, and
@@ -172,9 +180,6 @@ print("wrote", save_figure(comparison.plot(), OUT / "compare.png", dpi=90).name)
 # ``method = "rectangular"`` and equal single and double values): what the band shows is then
 # the deviations' own excitation. In Python:
 # :func:`~gear_dyn.scene.tolerance.tolerance_scene`, here with 40 samples.
-
-from gear_dyn.plots.tolerance import plot_tolerance  # noqa: E402
-from gear_dyn.scene.tolerance import tolerance_scene  # noqa: E402
 
 k_mesh = build_model(scene).stiffness           # the run's k(t): contact-line length
 print(f"contact-line stiffness {k_mesh.min / k_mesh.mean:.3f}..{k_mesh.max / k_mesh.mean:.3f} "
@@ -217,11 +222,6 @@ print("wrote", save_figure(plot_tolerance(study), OUT / "tolerance.png", dpi=90)
 # master loop in fmpy drives it: a constant motor torque of 2000 N m on the pinion and a load
 # on the gear proportional to its speed, ``T2 = -c w2``, with c chosen so that the pair settles
 # at 4000 rpm. The pair starts at 90 % of that speed.
-
-from fmpy import extract, read_model_description  # noqa: E402
-from fmpy.fmi2 import FMU2Slave  # noqa: E402
-
-from gear_dyn.fmu.export_fmu import build_native_fmu  # noqa: E402
 
 fmu_file = build_native_fmu(scene_file, OUT / "rail_drive.fmu", ports="torque").path
 md = read_model_description(fmu_file)
