@@ -226,7 +226,7 @@ print("wrote", save_figure(plot_tolerance(study), OUT / "tolerance.png", dpi=90)
 fmu_file = build_native_fmu(scene_file, OUT / "rail_drive.fmu", ports="torque").path
 md = read_model_description(fmu_file)
 vr = {v.name: v.valueReference for v in md.modelVariables}
-fmu = FMU2Slave(guid=md.guid, unzipDirectory=extract(fmu_file),
+fmu = FMU2Slave(guid=md.guid, unzipDirectory=extract(fmu_file, OUT / "rail_drive"),
                 modelIdentifier=md.coSimulation.modelIdentifier, instanceName="rail")
 fmu.instantiate()
 t1 = 2000.0                                         # motor torque, N m
