@@ -89,8 +89,9 @@ print(f"transverse contact ratio eps_alpha = {pair.contact_ratio:.3f}, "
 # :func:`~gear_dyn.analysis.report.summarize` its figures: the mesh frequency, the natural
 # frequency of the mesh, the dynamic factor K_dyn (peak dynamic over peak quasi-static mesh
 # force), the peak mesh force over the static load F_max / W and ISO 6336-1 K_v at the same
-# grade. No ``[stiffness]`` table: a helical pair gets the contact-line-length stiffness, and
-# the summary says so.
+# grade. K_v builds in the pitch and profile deviations of the grade, which this run leaves
+# out (the tolerance study below puts them in). No ``[stiffness]`` table: a helical pair gets
+# the contact-line-length stiffness, and the summary says so.
 
 result = gd.run_scene(scene, periods=40)      # 40 mesh periods here; the scene's default is 200
 summary = gd.summarize(result)
