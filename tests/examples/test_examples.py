@@ -105,3 +105,85 @@ def test_every_example_is_tested() -> None:
     names = {p.stem.removeprefix("plot_") for p in scripts} - {"relief_rules"}
     untested = {n for n in names if not any(t.startswith(f"test_{n}") for t in globals())}
     assert not untested, f"examples without a test: {sorted(untested)}"
+
+
+@pytest.mark.slow
+def test_tutorial(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The tutorial runs top to bottom (a script of cells, not a main()); its figures are
+    checked against closed forms where the step has one."""
+    import runpy
+
+    import numpy as np
+
+    monkeypatch.setattr(sys, "argv", ["plot_tutorial.py", str(tmp_path)])
+    ns = runpy.run_path(str(EXAMPLES / "plot_tutorial.py"), run_name="__main__")
+    assert ns["summary"]["mesh_frequency_hz"] == pytest.approx(4000 / 60 * 23, rel=1e-12)
+    # the sweep's peak lies within one grid step (500 rpm) of f_m = f_n
+    assert abs(ns["peak"].speed_rpm - ns["resonance_rpm"]) <= 500
+    # eps_beta = 1 (helix angle to 1e-3 deg): constant contact-line length, hence constant
+    # stiffness and no excitation: F_max / W = 1 up to the rounding of the angle
+    cmp = ns["comparison"]
+    assert cmp.ranking[0] == "rail_pair_eps1"
+    rows = {r["scene"]: r for r in cmp.rows}
+    assert rows["rail_pair_eps1"]["peak_peak_force_ratio"] == pytest.approx(1.0, abs=1e-2)
+    # constant stiffness without deviations: the static response, K_dyn = 1
+    assert np.allclose(ns["study"].baseline["k_dyn"], 1.0, atol=1e-9)
+    # drivetrain FMU: the rigid pair under T1 and -c w2 relaxes as w1 = w0 (1 - 0.1 e^{-t/tau})
+    t, w1, w0, tau, f_m = ns["t"], ns["w1"], ns["w0"], ns["tau"], ns["f_m"]
+    end = t > t[-1] - 1 / f_m                         # the last mesh period: ripple averages out
+    rigid = w0 * (1 - 0.1 * np.exp(-t[end] / tau))
+    assert np.mean(w1[end]) == pytest.approx(np.mean(rigid), rel=1e-4)
+    # mean mesh force: T1 / r_b1 to the rectangle rule's error over whole periods (the force's
+    # total variation per period over the 16 samples of a period) and the pinion's inertia
+    last, force, load = ns["last"], ns["force"], ns["load"]
+    variation = np.sum(np.abs(np.diff(force[last]))) / 20
+    assert abs(np.mean(force[last]) - load) <= variation / 16 + 1e-3 * load
+
+
+def test_helical_contact(tmp_path: Path) -> None:
+    table = _load("helical_contact").main(tmp_path, fast=True)
+    peak = {name: row["peak_stress_pa"] for name, row in table.items()}
+    # misalignment loads one end of the face; crowning and then tip relief relieve it
+    assert peak["misaligned"] > peak["aligned, unmodified"]
+    assert peak["misaligned, crowned"] < peak["misaligned"]
+    assert peak["misaligned, crowned, tip relief"] < peak["misaligned, crowned"]
+    assert (tmp_path / "face_load.png").exists() and (tmp_path / "slice_stiffness.png").exists()
+
+
+def test_tolerance_study(tmp_path: Path) -> None:
+    import numpy as np
+
+    import gear_dyn as gd
+
+    out = _load("tolerance_study").main(tmp_path, fast=True)
+    # the response without deviations by a second route: the steady sweep of the same scene
+    # (both exact for piecewise-constant stiffness, to rounding)
+    sweep = gd.sweep_scene(gd.load_scene("helicopter_tail"), out["speeds"], si=True)
+    assert np.allclose(out["baseline_k_dyn"], sweep.curves[0].dynamic_factor, rtol=1e-9)
+    assert np.all(out["p05"] <= out["median"]) and np.all(out["median"] <= out["p95"])
+    assert (tmp_path / "tolerance.png").exists()
+
+
+def test_response_curve(tmp_path: Path) -> None:
+    import gear_dyn as gd
+    from gear_dyn.scene import build_model
+
+    found = _load("response_curve").main(tmp_path, fast=True)
+    f_n = build_model(gd.load_scene("backlash_constant_stiffness")).natural_frequency
+    resonance_rpm = f_n / 23 * 60
+    # backlash softens the resonance: the curve bends to lower speeds, both folds below f_n
+    assert len(found["fold"]) == 2
+    assert max(found["fold"]) < resonance_rpm
+    assert min(found["period_doubling"]) > max(found["fold"])
+    assert (tmp_path / "response.png").exists()
+
+
+def test_bifurcation_diagram(tmp_path: Path) -> None:
+    periods = _load("bifurcation_diagram").main(tmp_path, fast=True)
+    # speeds 7000, 8375, 9750, 11125, 12500 rpm: 9750 and 11125 lie on the period-2 branch
+    # that the continuation follows from 9163 to 11766 rpm (gear-dyn response, the response
+    # page), in both sweep directions
+    for direction in ("up", "down"):
+        speeds = periods[direction] if direction == "up" else periods[direction][::-1]
+        assert speeds[2] == 2 and speeds[3] == 2, (direction, periods[direction])
+    assert (tmp_path / "bifurcation.png").exists()
