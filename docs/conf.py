@@ -90,6 +90,8 @@ sphinx_gallery_conf = {
     "abort_on_example_error": True,
     "show_memory": False,
     "min_reported_time": 1,
+    # the tutorial first, then the examples by name
+    "within_subsection_order": "gallery_files.TutorialFirst",
 }
 
 # --- copy button: the prompt and the output are not copied -------------------------------------

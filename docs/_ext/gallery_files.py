@@ -43,3 +43,14 @@ def scrape_pngs(block: Any, block_vars: dict[str, Any], gallery_conf: dict[str, 
         images.append(target)
     shown.write_text("\n".join(seen | {str(p.relative_to(out)) for p in new}))
     return figure_rst(images, gallery_conf["src_dir"])
+
+
+class TutorialFirst:
+    """Gallery order: the tutorial first, then the examples by file name (sphinx-gallery's
+    ``within_subsection_order`` sort key)."""
+
+    def __init__(self, src_dir: str) -> None:
+        self.src_dir = src_dir
+
+    def __call__(self, filename: str) -> tuple[int, str]:
+        return (0 if filename == "plot_tutorial.py" else 1, filename)
