@@ -106,7 +106,7 @@ class Misalignment:
     Parameters
     ----------
     f_ma : float
-        Mesh misalignment in the plane of action (ISO 6336-1 ``f_ma``), signed, |f| <= 1 mm.
+        Mesh misalignment in the plane of action (ISO 6336-1 ``f_ma``), signed, ``abs(f) <= 1 mm``.
     f_sigma_beta : float
         Out-of-plane axis deviation ``f_Sigma_beta`` over the face width (ISO/TR 10064-3),
         signed; it acts on the line of action with ``cos a_wt``.
