@@ -215,7 +215,8 @@ def propagate_periodic(
     ``settings.rtol``, one stacked system, restarted at the switching instants), composed into
     the one-period map and its partial products, and the whole span is then filled by matrix
     products (:func:`gear_dyn.solvers.periodic.fill_periodic`): one period of integration
-    instead of all of them. Falls back to LSODA (restarted) where it does not apply (:func:`periodic_map_applies`).
+    instead of all of them. Falls back to LSODA (restarted) where it does not apply
+    (:func:`periodic_map_applies`).
 
     The statistics carry the maps, ``step_maps`` = ``(F, h)``, where they cover a whole mesh
     period from the grid start (the period map, whose eigenvalues are the Floquet multipliers,
