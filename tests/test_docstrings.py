@@ -33,10 +33,19 @@ ENFORCED = {
 }
 
 
+def _inherits_doc(cls: type, name: str, value: Any) -> bool:
+    """An override without a docstring of its own: the reference shows the base's text
+    (autodoc inherits docstrings), which is checked where the base is."""
+    return getattr(value, "__doc__", None) is None and any(
+        getattr(getattr(base, name, None), "__doc__", None) for base in cls.__mro__[1:]
+    )
+
+
 def _public_methods(cls: type) -> Iterator[str]:
-    """Names of the public methods defined in ``cls`` itself (not inherited, no properties)."""
+    """Names of the public methods defined in ``cls`` itself (not inherited, no properties,
+    no undocumented overrides of a documented base method)."""
     for name, value in vars(cls).items():
-        if name.startswith("_"):
+        if name.startswith("_") or _inherits_doc(cls, name, value):
             continue
         if inspect.isfunction(value) or isinstance(value, classmethod | staticmethod):
             yield name

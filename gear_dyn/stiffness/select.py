@@ -264,6 +264,7 @@ def build_stiffness(pair: GearPair, method: str | None = None, *,
     Parameters
     ----------
     pair : GearPair
+        The gear pair.
     method : str or None
         One of ``rectangular``, ``iso6336``, ``potential_energy``, ``weber``,
         ``contact_line``; None: the default of :func:`choose_stiffness` (``contact_line`` for a
@@ -292,6 +293,12 @@ def build_stiffness(pair: GearPair, method: str | None = None, *,
     ------
     InputError
         Unknown method or option, bad values.
+
+    See Also
+    --------
+    iso6336_stiffness : The ISO 6336-1 values behind ``iso6336``.
+    rectangular_stiffness : The rectangular wave behind ``rectangular``.
+    PeriodicStiffness : The face of the result.
 
     Examples
     --------
