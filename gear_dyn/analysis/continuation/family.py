@@ -72,6 +72,12 @@ def sdof_family(model: MeshModel, parameter: str, *, teeth: int | None = None,
         An unknown parameter, a missing ``teeth`` or ``base_radius``, or ``backlash`` for a
         model without backlash.
 
+    See Also
+    --------
+    continue_orbits : Follows the orbits of the family.
+    SpeedTorqueFamily : The family over speed and torque.
+    SDOFModel : The models.
+
     Examples
     --------
     >>> from gear_dyn import SDOFModel, rectangular_stiffness
