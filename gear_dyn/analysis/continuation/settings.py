@@ -69,6 +69,21 @@ class ContinuationSettings:
     ------
     InputError
         Any field outside its range.
+
+    See Also
+    --------
+    continue_orbits : Follows a branch with these settings.
+    fold_map : Uses them for every speed branch.
+
+    Examples
+    --------
+    >>> settings = ContinuationSettings(step=0.01, max_points=200)
+    >>> settings.step_max  # the default bound (scaled)
+    0.1
+    >>> ContinuationSettings(step=0.0)
+    Traceback (most recent call last):
+    ...
+    gear_dyn.errors.InputError: step = 0 is out of range: valid range 1e-07 <= x <= 0.1
     """
 
     step: float = 0.02
