@@ -24,8 +24,8 @@ class GearDynError(Exception):
 
     See Also
     --------
-    InputError : A user mistake.
-    SolverError : A failed numerical solution.
+    :class:`~gear_dyn.errors.InputError` : A user mistake.
+    :class:`~gear_dyn.errors.SolverError` : A failed numerical solution.
 
     Examples
     --------
@@ -42,12 +42,12 @@ class GearDynError(Exception):
 class InputError(GearDynError, ValueError):
     """A user mistake: bad value, unit, key or combination of parameters.
 
-    A :class:`ValueError` as well; the CLI turns it into exit status 2 and one line on stderr.
+    A ``ValueError`` as well; the CLI turns it into exit status 2 and one line on stderr.
 
     See Also
     --------
-    SceneError : The same in a scene file.
-    GearDynError : The root of gear_dyn's errors.
+    :class:`~gear_dyn.errors.SceneError` : The same in a scene file.
+    :class:`~gear_dyn.errors.GearDynError` : The root of gear_dyn's errors.
 
     Examples
     --------
@@ -64,9 +64,9 @@ class SceneError(InputError):
 
     See Also
     --------
-    load_scene : Raises it for a scene file.
-    parse_scene : Raises it for a scene given as a dict.
-    InputError : Its base class.
+    :func:`~gear_dyn.scene.load_scene` : Raises it for a scene file.
+    :func:`~gear_dyn.scene.parse_scene` : Raises it for a scene given as a dict.
+    :class:`~gear_dyn.errors.InputError` : Its base class.
 
     Examples
     --------
@@ -81,12 +81,12 @@ class SceneError(InputError):
 class SolverError(GearDynError, RuntimeError):
     """The numerical solution failed; the message carries the solver's own text and advice.
 
-    A :class:`RuntimeError` as well.
+    A ``RuntimeError`` as well.
 
     See Also
     --------
-    simulate : Raises it when the integration fails.
-    SolverSettings : The method, tolerances and work budget.
+    :func:`~gear_dyn.analysis.study.simulate` : Raises it when the integration fails.
+    :class:`~gear_dyn.solvers.settings.SolverSettings` : The method, tolerances and work budget.
 
     Examples
     --------

@@ -103,9 +103,10 @@ class GearPair:
 
     See Also
     --------
-    mesh_frequency : The mesh frequency of the pair at a pinion speed.
-    sdof_from_pair : The single-DOF model of the pair at an operating point.
-    build_stiffness : Its mesh stiffness by any method.
+    :func:`~gear_dyn.geometry.mesh_frequency` : The mesh frequency of the pair at a pinion speed.
+    :func:`~gear_dyn.models.sdof.sdof_from_pair`
+        The single-DOF model of the pair at an operating point.
+    :func:`~gear_dyn.stiffness.select.build_stiffness` : Its mesh stiffness by any method.
 
     Examples
     --------
@@ -368,7 +369,8 @@ class GearPair:
 
         See Also
         --------
-        GearPair.backlash : The circumferential backlash, from these thicknesses.
+        :attr:`~gear_dyn.geometry.GearPair.backlash`
+            The circumferential backlash, from these thicknesses.
 
         Examples
         --------
@@ -405,7 +407,7 @@ class GearPair:
 
         See Also
         --------
-        sdof_from_pair : Uses them where no inertias are given.
+        :func:`~gear_dyn.models.sdof.sdof_from_pair` : Uses them where no inertias are given.
 
         Examples
         --------
@@ -521,8 +523,8 @@ def mesh_frequency(pair: GearPair, speed1: float) -> float:
 
     See Also
     --------
-    output_speed : The driven gear's speed.
-    GearPair : The pair.
+    :func:`~gear_dyn.geometry.output_speed` : The driven gear's speed.
+    :class:`~gear_dyn.geometry.GearPair` : The pair.
 
     Examples
     --------
@@ -557,8 +559,8 @@ def output_speed(pair: GearPair, speed1: float) -> float:
 
     See Also
     --------
-    mesh_frequency : The mesh frequency at the same speed.
-    GearPair : The pair.
+    :func:`~gear_dyn.geometry.mesh_frequency` : The mesh frequency at the same speed.
+    :class:`~gear_dyn.geometry.GearPair` : The pair.
 
     Examples
     --------

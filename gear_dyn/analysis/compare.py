@@ -203,7 +203,8 @@ COMPARED = ("operating_peak_force_ratio", "peak_peak_force_ratio", "operating_rm
 class Comparison:
     """Designs compared by physical figures (:func:`compare_sweeps`).
 
-    Made by :func:`compare_scenes`; each parameter is kept as the attribute of that name.
+    Made by :func:`~gear_dyn.scene.compare.compare_scenes`; each parameter is kept as the attribute
+    of that name.
 
     Parameters
     ----------
@@ -232,8 +233,8 @@ class Comparison:
 
     See Also
     --------
-    compare_scenes : Makes it from scenes.
-    SweepResult : One design's sweep.
+    :func:`~gear_dyn.scene.compare.compare_scenes` : Makes it from scenes.
+    :class:`~gear_dyn.analysis.sweep.types.SweepResult` : One design's sweep.
 
     Examples
     --------
@@ -278,7 +279,7 @@ class Comparison:
 
         See Also
         --------
-        Comparison.to_csv : Writes it.
+        :meth:`~gear_dyn.analysis.compare.Comparison.to_csv` : Writes it.
 
         Examples
         --------
@@ -308,7 +309,7 @@ class Comparison:
 
         See Also
         --------
-        Comparison.table : The rows in rank order.
+        :meth:`~gear_dyn.analysis.compare.Comparison.table` : The rows in rank order.
 
         Examples
         --------
@@ -349,7 +350,7 @@ class Comparison:
 
         See Also
         --------
-        Comparison.to_dict : The same for JSON.
+        :meth:`~gear_dyn.analysis.compare.Comparison.to_dict` : The same for JSON.
 
         Examples
         --------
@@ -391,7 +392,7 @@ class Comparison:
 
         See Also
         --------
-        SweepResult.plot : One design's sweep.
+        :attr:`~gear_dyn.analysis.sweep.types.SweepResult.plot` : One design's sweep.
 
         Examples
         --------

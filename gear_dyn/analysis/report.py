@@ -67,8 +67,8 @@ def summarize(result: Result) -> dict[str, Any]:
 
     See Also
     --------
-    Result.key_figures : The few figures a notebook shows.
-    simulate : Makes the result.
+    :meth:`~gear_dyn.solvers.result.Result.key_figures` : The few figures a notebook shows.
+    :func:`~gear_dyn.analysis.study.simulate` : Makes the result.
 
     Examples
     --------

@@ -195,10 +195,10 @@ def simulate(
 
     See Also
     --------
-    SolverSettings : Method, tolerances, output grid.
-    Result : The run.
-    run_scene : The same for a scene.
-    summarize : The run's summary.
+    :class:`~gear_dyn.solvers.settings.SolverSettings` : Method, tolerances, output grid.
+    :class:`~gear_dyn.solvers.result.Result` : The run.
+    :func:`~gear_dyn.scene.run_scene` : The same for a scene.
+    :func:`~gear_dyn.analysis.report.summarize` : The run's summary.
 
     Examples
     --------

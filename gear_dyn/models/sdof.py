@@ -113,9 +113,10 @@ class SDOFModel:
 
     See Also
     --------
-    sdof_from_pair : The model of a gear pair at an operating point.
-    simulate : Integrate it.
-    sdof_family : The model as a function of one parameter.
+    :func:`~gear_dyn.models.sdof.sdof_from_pair` : The model of a gear pair at an operating point.
+    :func:`~gear_dyn.analysis.study.simulate` : Integrate it.
+    :func:`~gear_dyn.analysis.continuation.family.sdof_family`
+        The model as a function of one parameter.
 
     Examples
     --------
@@ -203,7 +204,7 @@ class SDOFModel:
 
         See Also
         --------
-        sdof_family : The model over a speed range.
+        :func:`~gear_dyn.analysis.continuation.family.sdof_family` : The model over a speed range.
 
         Examples
         --------
@@ -224,7 +225,8 @@ class SDOFModel:
 
         See Also
         --------
-        SDOFModel.switching_times : The stiffness jumps, known in advance.
+        :meth:`~gear_dyn.models.sdof.SDOFModel.switching_times`
+            The stiffness jumps, known in advance.
 
         Examples
         --------
@@ -270,7 +272,8 @@ class SDOFModel:
 
         See Also
         --------
-        SDOFModel.switching_times : Times at which the stiffness jumps.
+        :meth:`~gear_dyn.models.sdof.SDOFModel.switching_times`
+            Times at which the stiffness jumps.
 
         Examples
         --------
@@ -291,7 +294,7 @@ class SDOFModel:
 
         See Also
         --------
-        simulate : Starts from it.
+        :func:`~gear_dyn.analysis.study.simulate` : Starts from it.
 
         Examples
         --------
@@ -362,7 +365,7 @@ class SDOFModel:
 
         See Also
         --------
-        SDOFModel.jac : Its Jacobian.
+        :meth:`~gear_dyn.models.sdof.SDOFModel.jac` : Its Jacobian.
 
         Examples
         --------
@@ -390,7 +393,7 @@ class SDOFModel:
 
         See Also
         --------
-        SDOFModel.rhs : The right-hand side.
+        :meth:`~gear_dyn.models.sdof.SDOFModel.rhs` : The right-hand side.
 
         Examples
         --------
@@ -416,7 +419,8 @@ class SDOFModel:
 
         See Also
         --------
-        PeriodicStiffness.switching_times : The same for a stiffness.
+        :meth:`~gear_dyn.stiffness.periodic.PeriodicStiffness.switching_times`
+            The same for a stiffness.
 
         Examples
         --------
@@ -444,8 +448,8 @@ class SDOFModel:
 
         See Also
         --------
-        SDOFModel.switching_times : The piece boundaries.
-        SolverSettings : Method ``exact`` uses these pieces.
+        :meth:`~gear_dyn.models.sdof.SDOFModel.switching_times` : The piece boundaries.
+        :class:`~gear_dyn.solvers.settings.SolverSettings` : Method ``exact`` uses these pieces.
 
         Examples
         --------
@@ -480,7 +484,7 @@ class SDOFModel:
 
         See Also
         --------
-        summarize : The run summary that includes them.
+        :func:`~gear_dyn.analysis.report.summarize` : The run summary that includes them.
 
         Examples
         --------
@@ -516,7 +520,7 @@ class SDOFModel:
 
         See Also
         --------
-        Result : Keeps them in ``outputs``.
+        :class:`~gear_dyn.solvers.result.Result` : Keeps them in ``outputs``.
 
         Examples
         --------
@@ -584,9 +588,9 @@ def sdof_from_pair(
 
     See Also
     --------
-    SDOFModel : The model.
-    GearPair : The pair.
-    build_stiffness : Its mesh stiffness.
+    :class:`~gear_dyn.models.sdof.SDOFModel` : The model.
+    :class:`~gear_dyn.geometry.GearPair` : The pair.
+    :func:`~gear_dyn.stiffness.select.build_stiffness` : Its mesh stiffness.
 
     Examples
     --------

@@ -116,9 +116,9 @@ def compare_scenes(scenes: Sequence[Scene | str | Path], speeds: Any, *, si: boo
 
     See Also
     --------
-    sweep_scene : One design's sweep.
-    Comparison : The result.
-    load_scene : Loads each scene file.
+    :func:`~gear_dyn.scene.sweep.sweep_scene` : One design's sweep.
+    :class:`~gear_dyn.analysis.compare.Comparison` : The result.
+    :func:`~gear_dyn.scene.load_scene` : Loads each scene file.
 
     Examples
     --------

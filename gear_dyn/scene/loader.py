@@ -49,8 +49,8 @@ def parse_scene(data: dict[str, Any], source: str = "<dict>", si: bool = False) 
 
     See Also
     --------
-    load_scene : The same from a scene file.
-    run_scene : Simulates a scene.
+    :func:`~gear_dyn.scene.load_scene` : The same from a scene file.
+    :func:`~gear_dyn.scene.run_scene` : Simulates a scene.
 
     Examples
     --------
@@ -115,9 +115,9 @@ def load_scene(path: str | Path) -> Scene:
 
     See Also
     --------
-    parse_scene : The same from a dict.
-    run_scene : Simulates a scene.
-    sweep_scene : Sweeps it over speed.
+    :func:`~gear_dyn.scene.parse_scene` : The same from a dict.
+    :func:`~gear_dyn.scene.run_scene` : Simulates a scene.
+    :func:`~gear_dyn.scene.sweep.sweep_scene` : Sweeps it over speed.
 
     Examples
     --------

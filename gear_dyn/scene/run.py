@@ -66,9 +66,9 @@ def run_scene(scene: Scene, speed: Any = None, torque: Any = None, *, si: bool =
 
     See Also
     --------
-    load_scene : Loads the scene.
-    sweep_scene : The scene over a range of speeds.
-    simulate : The model-level run.
+    :func:`~gear_dyn.scene.load_scene` : Loads the scene.
+    :func:`~gear_dyn.scene.sweep.sweep_scene` : The scene over a range of speeds.
+    :func:`~gear_dyn.analysis.study.simulate` : The model-level run.
 
     Examples
     --------

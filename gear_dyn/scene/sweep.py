@@ -119,7 +119,7 @@ def sweep_scene(scene: Scene, speeds: Any, *, si: bool = False,
     si : bool
         Plain numbers in ``speeds`` are rad/s.
     options : SweepOptions or None
-        How each speed is evaluated (default :class:`SweepOptions`).
+        How each speed is evaluated (default :class:`~gear_dyn.analysis.sweep.types.SweepOptions`).
     direction : {"auto", "up", "down", "both"}
         Sweep directions (``auto``: both for a model with backlash, else up).
     workers : int or None
@@ -149,9 +149,9 @@ def sweep_scene(scene: Scene, speeds: Any, *, si: bool = False,
 
     See Also
     --------
-    run_scene : One speed, in time.
-    compare_scenes : Several designs over the same speeds.
-    SweepOptions : How each speed is evaluated.
+    :func:`~gear_dyn.scene.run_scene` : One speed, in time.
+    :func:`~gear_dyn.scene.compare.compare_scenes` : Several designs over the same speeds.
+    :class:`~gear_dyn.analysis.sweep.types.SweepOptions` : How each speed is evaluated.
 
     Examples
     --------

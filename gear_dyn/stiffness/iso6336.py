@@ -74,8 +74,10 @@ def iso6336_stiffness(pair: GearPair, line_load: float | None = None) -> IsoStif
 
     See Also
     --------
-    build_stiffness : The periodic mesh stiffness (``iso6336`` uses these values).
-    rectangular_stiffness : The rectangular wave of given stiffness values.
+    :func:`~gear_dyn.stiffness.select.build_stiffness`
+        The periodic mesh stiffness (``iso6336`` uses these values).
+    :func:`~gear_dyn.stiffness.periodic.rectangular_stiffness`
+        The rectangular wave of given stiffness values.
 
     Examples
     --------

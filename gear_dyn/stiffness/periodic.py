@@ -43,9 +43,9 @@ class PeriodicStiffness(ABC):
 
     See Also
     --------
-    PiecewiseStiffness : Piecewise-linear with jumps.
-    FourierStiffness : A truncated Fourier series.
-    build_stiffness : The stiffness of a gear pair by any method.
+    :class:`~gear_dyn.stiffness.periodic.PiecewiseStiffness` : Piecewise-linear with jumps.
+    :class:`~gear_dyn.stiffness.periodic.FourierStiffness` : A truncated Fourier series.
+    :func:`~gear_dyn.stiffness.select.build_stiffness` : The stiffness of a gear pair by any method.
 
     Examples
     --------
@@ -88,7 +88,8 @@ class PeriodicStiffness(ABC):
 
         See Also
         --------
-        PeriodicStiffness.truncated : The series as a stiffness.
+        :meth:`~gear_dyn.stiffness.periodic.PeriodicStiffness.truncated`
+            The series as a stiffness.
 
         Examples
         --------
@@ -111,7 +112,7 @@ class PeriodicStiffness(ABC):
 
         See Also
         --------
-        PeriodicStiffness.switching_phases : Where k jumps.
+        :attr:`~gear_dyn.stiffness.periodic.PeriodicStiffness.switching_phases` : Where k jumps.
 
         Examples
         --------
@@ -148,7 +149,7 @@ class PeriodicStiffness(ABC):
         Parameters
         ----------
         n : int
-            Harmonics kept, 1..:data:`MAX_FOURIER_TERMS`.
+            Harmonics kept, 1..10000 (``MAX_FOURIER_TERMS``).
 
         Returns
         -------
@@ -162,7 +163,8 @@ class PeriodicStiffness(ABC):
 
         See Also
         --------
-        PeriodicStiffness.fourier_coefficients : The coefficients.
+        :meth:`~gear_dyn.stiffness.periodic.PeriodicStiffness.fourier_coefficients`
+            The coefficients.
 
         Examples
         --------
@@ -197,7 +199,8 @@ class PeriodicStiffness(ABC):
 
         See Also
         --------
-        PeriodicStiffness.switching_phases : The same in mesh phase.
+        :attr:`~gear_dyn.stiffness.periodic.PeriodicStiffness.switching_phases`
+            The same in mesh phase.
 
         Examples
         --------
@@ -262,8 +265,9 @@ class PiecewiseStiffness(PeriodicStiffness):
 
     See Also
     --------
-    rectangular_stiffness : The rectangular wave from the contact ratio.
-    PeriodicStiffness : The common face of every stiffness.
+    :func:`~gear_dyn.stiffness.periodic.rectangular_stiffness`
+        The rectangular wave from the contact ratio.
+    :class:`~gear_dyn.stiffness.periodic.PeriodicStiffness` : The common face of every stiffness.
 
     Examples
     --------
@@ -394,8 +398,8 @@ class FourierStiffness(PeriodicStiffness):
 
     See Also
     --------
-    PeriodicStiffness.truncated : The series of any stiffness.
-    PiecewiseStiffness : Stiffness with jumps.
+    :meth:`~gear_dyn.stiffness.periodic.PeriodicStiffness.truncated` : The series of any stiffness.
+    :class:`~gear_dyn.stiffness.periodic.PiecewiseStiffness` : Stiffness with jumps.
 
     Examples
     --------
@@ -458,7 +462,7 @@ class FourierStiffness(PeriodicStiffness):
 
         See Also
         --------
-        FourierStiffness : The series.
+        :class:`~gear_dyn.stiffness.periodic.FourierStiffness` : The series.
 
         Examples
         --------
@@ -507,8 +511,8 @@ def rectangular_stiffness(contact_ratio: float, k_single: float, k_double: float
 
     See Also
     --------
-    build_stiffness : The stiffness of a gear pair by any method.
-    iso6336_stiffness : ISO 6336-1 single and mesh stiffness.
+    :func:`~gear_dyn.stiffness.select.build_stiffness` : The stiffness of a gear pair by any method.
+    :func:`~gear_dyn.stiffness.iso6336.iso6336_stiffness` : ISO 6336-1 single and mesh stiffness.
 
     Examples
     --------

@@ -296,9 +296,11 @@ def build_stiffness(pair: GearPair, method: str | None = None, *,
 
     See Also
     --------
-    iso6336_stiffness : The ISO 6336-1 values behind ``iso6336``.
-    rectangular_stiffness : The rectangular wave behind ``rectangular``.
-    PeriodicStiffness : The face of the result.
+    :func:`~gear_dyn.stiffness.iso6336.iso6336_stiffness`
+        The ISO 6336-1 values behind ``iso6336``.
+    :func:`~gear_dyn.stiffness.periodic.rectangular_stiffness`
+        The rectangular wave behind ``rectangular``.
+    :class:`~gear_dyn.stiffness.periodic.PeriodicStiffness` : The face of the result.
 
     Examples
     --------

@@ -94,10 +94,11 @@ def continue_orbits(family: Callable[[float], Model], start: float, stop: float,
 
     See Also
     --------
-    sdof_family : The family of a single-DOF model.
-    ContinuationSettings : Step control, tolerances, detection.
-    Branch : The result.
-    fold_map : The folds followed over torque.
+    :func:`~gear_dyn.analysis.continuation.family.sdof_family` : The family of a single-DOF model.
+    :class:`~gear_dyn.analysis.continuation.settings.ContinuationSettings`
+        Step control, tolerances, detection.
+    :class:`~gear_dyn.analysis.continuation.branch.Branch` : The result.
+    :func:`~gear_dyn.analysis.continuation.fold_curve.fold_map` : The folds followed over torque.
 
     Examples
     --------

@@ -167,7 +167,8 @@ class Bifurcation:
 class Branch:
     """A branch of period-n orbits followed by pseudo-arclength continuation.
 
-    Made by :func:`continue_orbits`; each parameter is kept as the attribute of that name.
+    Made by :func:`~gear_dyn.analysis.continuation.arclength.continue_orbits`; each parameter is
+    kept as the attribute of that name.
 
     Parameters
     ----------
@@ -202,8 +203,8 @@ class Branch:
 
     See Also
     --------
-    continue_orbits : Makes it.
-    FoldMap : Fold points followed over torque.
+    :func:`~gear_dyn.analysis.continuation.arclength.continue_orbits` : Makes it.
+    :class:`~gear_dyn.analysis.continuation.jump_map.FoldMap` : Fold points followed over torque.
 
     Examples
     --------
@@ -249,7 +250,8 @@ class Branch:
 
         See Also
         --------
-        Branch.rows : Every field of every point, as dicts.
+        :meth:`~gear_dyn.analysis.continuation.branch.Branch.rows`
+            Every field of every point, as dicts.
 
         Examples
         --------
@@ -278,7 +280,7 @@ class Branch:
 
         See Also
         --------
-        Branch.bifurcations : All of them.
+        :meth:`~gear_dyn.analysis.continuation.branch.Branch.array` : One field of every point.
 
         Examples
         --------
@@ -325,7 +327,8 @@ class Branch:
 
         See Also
         --------
-        Branch.to_dict : The rows with the branch's summary.
+        :meth:`~gear_dyn.analysis.continuation.branch.Branch.to_dict`
+            The rows with the branch's summary.
 
         Examples
         --------
@@ -358,7 +361,8 @@ class Branch:
 
         See Also
         --------
-        Branch.children : The period-2n branches.
+        :meth:`~gear_dyn.analysis.continuation.branch.Branch.rows`
+            The rows of this branch and its children.
 
         Examples
         --------
@@ -385,7 +389,7 @@ class Branch:
 
         See Also
         --------
-        Branch.rows : The rows alone.
+        :meth:`~gear_dyn.analysis.continuation.branch.Branch.rows` : The rows alone.
 
         Examples
         --------
@@ -427,7 +431,7 @@ class Branch:
 
         See Also
         --------
-        FoldMap.plot : The jump map.
+        :meth:`~gear_dyn.analysis.continuation.jump_map.FoldMap.plot` : The jump map.
 
         Examples
         --------

@@ -74,9 +74,11 @@ def sdof_family(model: MeshModel, parameter: str, *, teeth: int | None = None,
 
     See Also
     --------
-    continue_orbits : Follows the orbits of the family.
-    SpeedTorqueFamily : The family over speed and torque.
-    SDOFModel : The models.
+    :func:`~gear_dyn.analysis.continuation.arclength.continue_orbits`
+        Follows the orbits of the family.
+    :class:`~gear_dyn.analysis.continuation.fold_curve.SpeedTorqueFamily`
+        The family over speed and torque.
+    :class:`~gear_dyn.models.sdof.SDOFModel` : The models.
 
     Examples
     --------

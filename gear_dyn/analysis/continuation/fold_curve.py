@@ -59,8 +59,10 @@ class SpeedTorqueFamily:
 
     See Also
     --------
-    fold_map : The jump regions over speed and torque.
-    sdof_family : A speed family of a single-DOF model.
+    :func:`~gear_dyn.analysis.continuation.fold_curve.fold_map`
+        The jump regions over speed and torque.
+    :func:`~gear_dyn.analysis.continuation.family.sdof_family`
+        A speed family of a single-DOF model.
 
     Examples
     --------
@@ -126,7 +128,7 @@ class SpeedTorqueFamily:
 
         See Also
         --------
-        continue_orbits : Takes such a family.
+        :func:`~gear_dyn.analysis.continuation.arclength.continue_orbits` : Takes such a family.
 
         Examples
         --------
@@ -254,9 +256,9 @@ def fold_map(family: SpeedTorqueFamily, speeds: tuple[float, float], torques: Se
 
     See Also
     --------
-    SpeedTorqueFamily : The family it takes.
-    continue_orbits : One speed branch.
-    FoldMap : The result.
+    :class:`~gear_dyn.analysis.continuation.fold_curve.SpeedTorqueFamily` : The family it takes.
+    :func:`~gear_dyn.analysis.continuation.arclength.continue_orbits` : One speed branch.
+    :class:`~gear_dyn.analysis.continuation.jump_map.FoldMap` : The result.
 
     Examples
     --------

@@ -94,7 +94,8 @@ class JumpRegion:
 class FoldMap:
     """The jump regions of a scene or model in the (speed, torque) plane.
 
-    Made by :func:`fold_map`; each parameter is kept as the attribute of that name.
+    Made by :func:`~gear_dyn.analysis.continuation.fold_curve.fold_map`; each parameter is kept as
+    the attribute of that name.
 
     Parameters
     ----------
@@ -126,8 +127,8 @@ class FoldMap:
 
     See Also
     --------
-    fold_map : Makes it.
-    Branch : One speed branch.
+    :func:`~gear_dyn.analysis.continuation.fold_curve.fold_map` : Makes it.
+    :class:`~gear_dyn.analysis.continuation.branch.Branch` : One speed branch.
 
     Examples
     --------
@@ -175,7 +176,7 @@ class FoldMap:
 
         See Also
         --------
-        FoldMap.regions : The regions.
+        :meth:`~gear_dyn.analysis.continuation.jump_map.FoldMap.plot` : The regions drawn.
 
         Examples
         --------
@@ -218,7 +219,8 @@ class FoldMap:
 
         See Also
         --------
-        FoldMap.to_dict : The rows with the map's summary.
+        :meth:`~gear_dyn.analysis.continuation.jump_map.FoldMap.to_dict`
+            The rows with the map's summary.
 
         Examples
         --------
@@ -262,7 +264,7 @@ class FoldMap:
 
         See Also
         --------
-        FoldMap.rows : The rows alone.
+        :meth:`~gear_dyn.analysis.continuation.jump_map.FoldMap.rows` : The rows alone.
 
         Examples
         --------
@@ -303,7 +305,8 @@ class FoldMap:
 
         See Also
         --------
-        Branch.plot : One speed branch's response curve.
+        :meth:`~gear_dyn.analysis.continuation.branch.Branch.plot`
+            One speed branch's response curve.
 
         Examples
         --------

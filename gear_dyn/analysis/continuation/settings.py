@@ -72,8 +72,9 @@ class ContinuationSettings:
 
     See Also
     --------
-    continue_orbits : Follows a branch with these settings.
-    fold_map : Uses them for every speed branch.
+    :func:`~gear_dyn.analysis.continuation.arclength.continue_orbits`
+        Follows a branch with these settings.
+    :func:`~gear_dyn.analysis.continuation.fold_curve.fold_map` : Uses them for every speed branch.
 
     Examples
     --------

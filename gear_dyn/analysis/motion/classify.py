@@ -67,7 +67,8 @@ GROWTH = 3.0
 class Motion:
     """The motion a trajectory settles on.
 
-    Made by :func:`classify_motion`; each parameter is kept as the attribute of that name.
+    Made by :func:`~gear_dyn.analysis.motion.classify.classify_motion`; each parameter is kept as
+    the attribute of that name.
 
     Parameters
     ----------
@@ -101,8 +102,8 @@ class Motion:
 
     See Also
     --------
-    classify_motion : Makes it.
-    BifurcationDiagram : Motions over a range of speeds.
+    :func:`~gear_dyn.analysis.motion.classify.classify_motion` : Makes it.
+    :class:`~gear_dyn.analysis.motion.diagram.BifurcationDiagram` : Motions over a range of speeds.
 
     Examples
     --------
@@ -358,8 +359,9 @@ def classify_motion(model: MeshModel, y0: FloatArray, settle: int = 200, samples
 
     See Also
     --------
-    Motion : The result.
-    bifurcation_diagram : The motion over a range of speeds.
+    :class:`~gear_dyn.analysis.motion.classify.Motion` : The result.
+    :func:`~gear_dyn.analysis.motion.diagram.bifurcation_diagram`
+        The motion over a range of speeds.
 
     Examples
     --------

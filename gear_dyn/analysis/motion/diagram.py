@@ -75,8 +75,8 @@ class DiagramOptions:
 
     See Also
     --------
-    bifurcation_diagram : Uses them at every speed.
-    SweepOptions : The same for a speed sweep.
+    :func:`~gear_dyn.analysis.motion.diagram.bifurcation_diagram` : Uses them at every speed.
+    :class:`~gear_dyn.analysis.sweep.types.SweepOptions` : The same for a speed sweep.
 
     Examples
     --------
@@ -201,7 +201,8 @@ class DiagramCurve:
 class BifurcationDiagram:
     """Stroboscopic samples against pinion speed, swept up and down.
 
-    Made by :func:`bifurcation_diagram`; each parameter is kept as the attribute of that name.
+    Made by :func:`~gear_dyn.analysis.motion.diagram.bifurcation_diagram`; each parameter is kept as
+    the attribute of that name.
 
     Parameters
     ----------
@@ -222,8 +223,8 @@ class BifurcationDiagram:
 
     See Also
     --------
-    bifurcation_diagram : Makes it.
-    Motion : The motion at one speed.
+    :func:`~gear_dyn.analysis.motion.diagram.bifurcation_diagram` : Makes it.
+    :class:`~gear_dyn.analysis.motion.classify.Motion` : The motion at one speed.
 
     Examples
     --------
@@ -275,7 +276,8 @@ class BifurcationDiagram:
 
         See Also
         --------
-        BifurcationDiagram.columns : All curves as columns.
+        :meth:`~gear_dyn.analysis.motion.diagram.BifurcationDiagram.columns`
+            All curves as columns.
 
         Examples
         --------
@@ -312,7 +314,8 @@ class BifurcationDiagram:
 
         See Also
         --------
-        Branch.plot : The orbits followed by continuation.
+        :meth:`~gear_dyn.analysis.continuation.branch.Branch.plot`
+            The orbits followed by continuation.
 
         Examples
         --------
@@ -341,7 +344,7 @@ class BifurcationDiagram:
 
         See Also
         --------
-        BifurcationDiagram.summary : One entry per speed.
+        :meth:`~gear_dyn.analysis.motion.diagram.BifurcationDiagram.summary` : One entry per speed.
 
         Examples
         --------
@@ -383,7 +386,7 @@ class BifurcationDiagram:
 
         See Also
         --------
-        BifurcationDiagram.columns : Every sample.
+        :meth:`~gear_dyn.analysis.motion.diagram.BifurcationDiagram.columns` : Every sample.
 
         Examples
         --------
@@ -460,9 +463,10 @@ def bifurcation_diagram(
 
     See Also
     --------
-    DiagramOptions : How each speed is evaluated.
-    classify_motion : The motion at one speed.
-    continue_orbits : The orbits followed through their folds.
+    :class:`~gear_dyn.analysis.motion.diagram.DiagramOptions` : How each speed is evaluated.
+    :func:`~gear_dyn.analysis.motion.classify.classify_motion` : The motion at one speed.
+    :func:`~gear_dyn.analysis.continuation.arclength.continue_orbits`
+        The orbits followed through their folds.
 
     Examples
     --------

@@ -50,8 +50,8 @@ class SweepOptions:
 
     See Also
     --------
-    sweep_scene : Sweeps a scene with these options.
-    DiagramOptions : The same for a bifurcation diagram.
+    :func:`~gear_dyn.scene.sweep.sweep_scene` : Sweeps a scene with these options.
+    :class:`~gear_dyn.analysis.motion.diagram.DiagramOptions` : The same for a bifurcation diagram.
 
     Examples
     --------
@@ -309,7 +309,8 @@ class SweepPlots:
 class SweepResult:
     """A speed sweep.
 
-    Made by :func:`sweep_scene`; each parameter is kept as the attribute of that name.
+    Made by :func:`~gear_dyn.scene.sweep.sweep_scene`; each parameter is kept as the attribute of
+    that name.
 
     Parameters
     ----------
@@ -351,8 +352,8 @@ class SweepResult:
 
     See Also
     --------
-    sweep_scene : Makes it.
-    Comparison : Sweeps of several designs compared.
+    :func:`~gear_dyn.scene.sweep.sweep_scene` : Makes it.
+    :class:`~gear_dyn.analysis.compare.Comparison` : Sweeps of several designs compared.
 
     Examples
     --------
@@ -415,7 +416,8 @@ class SweepResult:
 
         See Also
         --------
-        SweepResult.curve : One direction's values at every speed.
+        :meth:`~gear_dyn.analysis.sweep.types.SweepResult.curve`
+            One direction's values at every speed.
 
         Examples
         --------
@@ -467,7 +469,7 @@ class SweepResult:
 
         See Also
         --------
-        SweepResult.peak : The largest value over all curves.
+        :meth:`~gear_dyn.analysis.sweep.types.SweepResult.peak` : The largest value over all curves.
 
         Examples
         --------
