@@ -101,6 +101,15 @@ class GearPair:
         interference, a pointed tip, negative tip clearance, a centre distance too short, a tip
         diameter at or below the base or root circle.
 
+    Attributes
+    ----------
+    r1, r2, rb1, rb2 : float
+        Reference (pitch) and base radii of pinion and gear in m.
+    contact_ratio, overlap_ratio, total_contact_ratio : float
+        eps_a, eps_b and eps_a + eps_b, dimensionless.
+    backlash : float
+        Theoretical backlash along the line of action in m (zero at the zero-backlash a_w).
+
     See Also
     --------
     :func:`~gear_dyn.geometry.mesh_frequency` : The mesh frequency of the pair at a pinion speed.

@@ -111,6 +111,17 @@ class SDOFModel:
     InputError
         Any parameter outside its valid range.
 
+    Attributes
+    ----------
+    mean_stiffness : float
+        k_m in N/m.
+    natural_frequency : float
+        sqrt(k_m / m_e) / (2 pi) in Hz.
+    static_deflection : float
+        W / k_m in m (plus the half gap with backlash).
+    is_linear : bool
+        True without backlash.
+
     See Also
     --------
     :func:`~gear_dyn.models.sdof.sdof_from_pair` : The model of a gear pair at an operating point.
