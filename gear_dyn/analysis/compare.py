@@ -143,7 +143,8 @@ def _ranks(values: Sequence[float]) -> list[int | None]:
 def design_row(name: str, result: SweepResult, operating_speed: float,
                operating: SweepResult | None = None, static_stress: float = math.nan,
                iso_kv_at_peak: float = math.nan) -> dict[str, Any]:
-    """The figures of one design (no deltas, no ranks: :func:`compare_sweeps` adds them).
+    """The figures of one design (no deltas, no ranks:
+    :func:`~gear_dyn.analysis.compare.compare_sweeps` adds them).
 
     Parameters
     ----------
@@ -201,7 +202,7 @@ COMPARED = ("operating_peak_force_ratio", "peak_peak_force_ratio", "operating_rm
 
 @dataclass(frozen=True, eq=False, repr=False)
 class Comparison:
-    """Designs compared by physical figures (:func:`compare_sweeps`).
+    """Designs compared by physical figures (:func:`~gear_dyn.analysis.compare.compare_sweeps`).
 
     Made by :func:`~gear_dyn.scene.compare.compare_scenes`; each parameter is kept as the attribute
     of that name.

@@ -267,7 +267,8 @@ def build_stiffness(pair: GearPair, method: str | None = None, *,
         The gear pair.
     method : str or None
         One of ``rectangular``, ``iso6336``, ``potential_energy``, ``weber``,
-        ``contact_line``; None: the default of :func:`choose_stiffness` (``contact_line`` for a
+        ``contact_line``; None: the default of :func:`~gear_dyn.stiffness.select.choose_stiffness`
+        (``contact_line`` for a
         helical pair, ``iso6336`` for a spur pair).
     fourier_terms : int or None
         If given (>= 1), return the Fourier series truncated at that many harmonics.

@@ -57,7 +57,8 @@ def continue_orbits(family: Callable[[float], Model], start: float, stop: float,
     ----------
     family : callable
         ``value -> MeshModel`` (single-DOF mesh model, SI value of the parameter): e.g.
-        :func:`sdof_family` or the scene layer's ``SceneModels.of(scene)`` (speed in rad/s).
+        :func:`~gear_dyn.analysis.continuation.family.sdof_family` or the scene layer's
+        ``SceneModels.of(scene)`` (speed in rad/s).
     start, stop : float
         The parameter range, SI (rad/s, N m, -, m). The branch starts at ``start`` and ends
         where it leaves ``[min(start, stop), max(start, stop)]`` (after any folds).

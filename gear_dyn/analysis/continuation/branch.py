@@ -3,8 +3,9 @@
 A :class:`Branch` is a sequence of :class:`OrbitPoint` (each with its Floquet multipliers,
 stability verdict, Liouville check and contact pattern) and the :class:`Bifurcation` points
 located on it; branches switched to at period doublings are its ``children``. Rows for CSV
-and JSON come from :meth:`Branch.rows`; the figure is :func:`gear_dyn.plots.continuation.
-plot_branch` (``branch.plot(ax=None)``, which looks the plots module up by name when called:
+and JSON come from :meth:`Branch.rows`; the figure is
+:func:`~gear_dyn.plots.continuation.plot_branch` (``branch.plot(ax=None)``, which looks the plots
+module up by name when called:
 importing this module loads no matplotlib, and the analysis layer imports no plots).
 """
 

@@ -2,7 +2,8 @@
 operating map (Seydel 2010, sec. 5.7; Kuznetsov 2004, sec. 8.2 and 10.2).
 
 Natural-parameter continuation in torque: at each torque of a sequence the speed branch is
-followed by :func:`continue_orbits` over the whole speed window and its folds are located
+followed by :func:`~gear_dyn.analysis.continuation.arclength.continue_orbits` over the whole speed
+window and its folds are located
 there (to the continuation's ``locate_tol``). Consecutive folds that bound an unstable stretch
 are the two ends of one hysteresis loop; loops are matched from one torque to the next, and a
 loop that vanishes between two torques ends at a cusp, located by bisection in torque.
@@ -42,14 +43,17 @@ class SpeedTorqueFamily:
     Parameters
     ----------
     speed_family : callable
-        ``speed (rad/s) -> model`` at the torque ``torque_ref``: :class:`gear_dyn.scene.sweep.
-        SceneModels` (which knows its scene's torque, its ``torque`` attribute), or
-        :func:`sdof_family` in ``speed``; its models must be dataclasses with a
+        ``speed (rad/s) -> model`` at the torque ``torque_ref``:
+        :class:`~gear_dyn.scene.sweep.SceneModels` (which knows its scene's torque, its ``torque``
+        attribute), or
+        :func:`~gear_dyn.analysis.continuation.family.sdof_family` in ``speed``; its models must be
+        dataclasses with a
         ``static_load`` field (the single-DOF mesh model).
     torque_ref : float or None
         The torque (N m, > 0) of ``speed_family``'s models. None: the family's own
         ``torque`` (a scene's ``operating.torque``); needed for a family that does not know
-        its torque (:func:`sdof_family`). Given for a family that knows it, it must agree
+        its torque (:func:`~gear_dyn.analysis.continuation.family.sdof_family`). Given for a family
+        that knows it, it must agree
         with it (a wrong value would scale every load by the wrong factor).
 
     Raises

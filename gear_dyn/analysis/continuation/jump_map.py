@@ -3,8 +3,8 @@
 A :class:`JumpRegion` is the band of speeds between the two folds that bound one unstable
 stretch of the response curve (the two ends of a hysteresis loop), followed over torque; where
 the two folds meet (a cusp) the band and the jumps end. A :class:`FoldMap` holds the regions
-and the folds found at every torque. The figure is :func:`gear_dyn.plots.fold_map.
-plot_fold_map` (``fold_map.plot(ax=None)``; the plots module is looked up by name when called,
+and the folds found at every torque. The figure is :func:`~gear_dyn.plots.fold_map.plot_fold_map`
+(``fold_map.plot(ax=None)``; the plots module is looked up by name when called,
 so the analysis layer imports no plots).
 """
 

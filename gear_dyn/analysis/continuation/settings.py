@@ -13,7 +13,8 @@ from gear_dyn.errors import check_range
 
 @dataclass(frozen=True)
 class ContinuationSettings:
-    """How a branch of periodic orbits is followed (:func:`continue_orbits`).
+    """How a branch of periodic orbits is followed
+    (:func:`~gear_dyn.analysis.continuation.arclength.continue_orbits`).
 
     Lengths are in the scaled space of the unknowns ``z = (x / x_s, v / v_s, p / p_ref)``
     (``x_s, v_s`` the model's ``state_scale``, ``p_ref`` the start value of the parameter), so

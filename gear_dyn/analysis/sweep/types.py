@@ -237,7 +237,8 @@ class SweepCurve:
     jumps: tuple[Jump, ...] = ()
 
     def peak(self, quantity: str = "dynamic_factor") -> Peak:
-        """The largest finite value of ``quantity`` on this curve (:class:`Peak`; speed in rad/s,
+        """The largest finite value of ``quantity`` on this curve
+        (:class:`~gear_dyn.analysis.sweep.types.Peak`; speed in rad/s,
         ``.speed_rpm`` in rpm).
 
         Parameters
@@ -393,7 +394,8 @@ class SweepResult:
         return SweepPlots(self)
 
     def peak(self, quantity: str = "dynamic_factor") -> Peak:
-        """The largest value of ``quantity`` over all curves: a :class:`Peak` (value, pinion
+        """The largest value of ``quantity`` over all curves: a
+        :class:`~gear_dyn.analysis.sweep.types.Peak` (value, pinion
         speed in rad/s, direction; ``.speed_rpm`` in rpm), which unpacks as the 3-tuple
         ``value, speed, direction`` it used to be. NaN where no speed has a finite value; of
         two equal peaks the first curve's (``up``).
