@@ -213,8 +213,12 @@ class Branch:
     >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
     ...               backlash=1e-3)
     >>> branch = continue_orbits(sdof_family(m, "speed", teeth=20), 43.0, 44.5)
-    >>> branch.periods, len(branch), branch.parameter_name, branch.unit
-    (1, 10, 'speed', 'rad/s')
+    >>> branch.periods, branch.parameter_name, branch.unit
+    (1, 'speed', 'rad/s')
+    >>> branch.stop_reason  # past the fold, back down to the start speed
+    'left the range at speed = 43'
+    >>> [b.kind for b in branch.bifurcations]
+    ['grazing', 'fold']
     """
 
     parameter_name: str
