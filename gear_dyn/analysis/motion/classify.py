@@ -107,11 +107,10 @@ class Motion:
 
     Examples
     --------
-    >>> from gear_dyn import SDOFModel, rectangular_stiffness
-    >>> from gear_dyn import classify_motion as gd_classify
+    >>> from gear_dyn import SDOFModel, classify_motion, rectangular_stiffness
     >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 136.9,
     ...               backlash=1e-3)
-    >>> motion = gd_classify(m, m.initial_state(), settle=20, samples=32)
+    >>> motion = classify_motion(m, m.initial_state(), settle=20, samples=32)
     >>> motion.periodic, motion.period, motion.spectral_radius < 1  # a stable period-1 orbit
     (True, 1, True)
     """
