@@ -200,7 +200,7 @@ class GearPair:
 
     @property
     def beta(self) -> float:
-        """Helix angle magnitude ``|b|`` in rad (the geometry's b; :attr:`hand` has the sign)."""
+        """Helix angle magnitude ``abs(b)`` in rad (the geometry's b; :attr:`hand` has the sign)."""
         return abs(self.helix_angle)
 
     @property
@@ -210,7 +210,7 @@ class GearPair:
 
     @property
     def beta_b(self) -> float:
-        """Base helix angle b_b in rad (``tan b_b = tan |b| cos a_t``), >= 0."""
+        """Base helix angle b_b in rad (tan b_b = tan abs(b) cos a_t), >= 0."""
         return math.atan(math.tan(self.beta) * math.cos(self.alpha_t))
 
     @property
