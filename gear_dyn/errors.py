@@ -20,19 +20,79 @@ _PACKAGE_DIR = str(Path(__file__).resolve().parent)
 
 
 class GearDynError(Exception):
-    """Root of all errors raised on purpose by gear_dyn."""
+    """Root of all errors raised on purpose by gear_dyn.
+
+    See Also
+    --------
+    :class:`~gear_dyn.errors.InputError` : A user mistake.
+    :class:`~gear_dyn.errors.SolverError` : A failed numerical solution.
+
+    Examples
+    --------
+    >>> import math
+    >>> from gear_dyn import GearPair
+    >>> try:
+    ...     GearPair(19, 48, -3.2e-3, math.radians(20), 16e-3)
+    ... except GearDynError as err:
+    ...     print(type(err).__name__)
+    InputError
+    """
 
 
 class InputError(GearDynError, ValueError):
-    """A user mistake: bad value, unit, key or combination of parameters."""
+    """A user mistake: bad value, unit, key or combination of parameters.
+
+    A ``ValueError`` as well; the CLI turns it into exit status 2 and one line on stderr.
+
+    See Also
+    --------
+    :class:`~gear_dyn.errors.SceneError` : The same in a scene file.
+    :class:`~gear_dyn.errors.GearDynError` : The root of gear_dyn's errors.
+
+    Examples
+    --------
+    >>> from gear_dyn import rectangular_stiffness
+    >>> rectangular_stiffness(0.8, 1e8, 1.5e8)
+    Traceback (most recent call last):
+    ...
+    gear_dyn.errors.InputError: contact_ratio = 0.8 ...
+    """
 
 
 class SceneError(InputError):
-    """An error in a scene file; the message names the file and the key path."""
+    """An error in a scene file; the message names the file and the key path.
+
+    See Also
+    --------
+    :func:`~gear_dyn.scene.load_scene` : Raises it for a scene file.
+    :func:`~gear_dyn.scene.parse_scene` : Raises it for a scene given as a dict.
+    :class:`~gear_dyn.errors.InputError` : Its base class.
+
+    Examples
+    --------
+    >>> from gear_dyn import parse_scene
+    >>> parse_scene({"gear": {}})
+    Traceback (most recent call last):
+    ...
+    gear_dyn.errors.SceneError: <dict>: ...
+    """
 
 
 class SolverError(GearDynError, RuntimeError):
-    """The numerical solution failed; the message carries the solver's own text and advice."""
+    """The numerical solution failed; the message carries the solver's own text and advice.
+
+    A ``RuntimeError`` as well.
+
+    See Also
+    --------
+    :func:`~gear_dyn.analysis.study.simulate` : Raises it when the integration fails.
+    :class:`~gear_dyn.solvers.settings.SolverSettings` : The method, tolerances and work budget.
+
+    Examples
+    --------
+    >>> issubclass(SolverError, RuntimeError)
+    True
+    """
 
 
 def _fmt(value: object) -> str:

@@ -100,6 +100,35 @@ class GearPair:
         Non-positive sizes, a contact ratio below 1, an undercut pinion or gear, involute
         interference, a pointed tip, negative tip clearance, a centre distance too short, a tip
         diameter at or below the base or root circle.
+
+    Attributes
+    ----------
+    r1, r2, rb1, rb2 : float
+        Reference (pitch) and base radii of pinion and gear in m.
+    contact_ratio, overlap_ratio, total_contact_ratio : float
+        eps_a, eps_b and eps_a + eps_b, dimensionless.
+    backlash : float
+        Theoretical backlash along the line of action in m (zero at the zero-backlash a_w).
+
+    See Also
+    --------
+    :func:`~gear_dyn.geometry.mesh_frequency` : The mesh frequency of the pair at a pinion speed.
+    :func:`~gear_dyn.models.sdof.sdof_from_pair`
+        The single-DOF model of the pair at an operating point.
+    :func:`~gear_dyn.stiffness.select.build_stiffness` : Its mesh stiffness by any method.
+
+    Examples
+    --------
+    >>> import math
+    >>> pair = GearPair(19, 48, 3.2e-3, math.radians(20), 16e-3)
+    >>> round(pair.r1 * 1e3, 2)  # pinion pitch radius in mm
+    30.4
+    >>> round(pair.total_contact_ratio, 3)
+    1.646
+    >>> GearPair(3, 48, 3.2e-3, math.radians(20), 16e-3)
+    Traceback (most recent call last):
+    ...
+    gear_dyn.errors.InputError: z1 = 3 ...
     """
 
     z1: int
@@ -333,7 +362,33 @@ class GearPair:
 
     # ------------------------------------------------------------------ thickness, backlash
     def tooth_thickness(self, gear: int, radius: float) -> float:
-        """Transverse circular tooth thickness (arc) of gear 1 or 2 at ``radius`` in m."""
+        """Transverse circular tooth thickness (arc) of gear 1 or 2 at ``radius`` in m.
+
+        Parameters
+        ----------
+        gear : {1, 2}
+            1 the pinion, 2 the gear.
+        radius : float
+            Radius in m at which the thickness is measured (at or above the base circle).
+
+        Returns
+        -------
+        float
+            Arc thickness in m.
+
+        See Also
+        --------
+        :attr:`~gear_dyn.geometry.GearPair.backlash`
+            The circumferential backlash, from these thicknesses.
+
+        Examples
+        --------
+        >>> import math
+        >>> pair = GearPair(19, 48, 3.2e-3, math.radians(20), 16e-3)
+        >>> s = pair.tooth_thickness(1, pair.r1)  # half the pitch at x = 0
+        >>> abs(s - math.pi * pair.module / 2) < 1e-15
+        True
+        """
         x, r, rb = (self.x1, self.r1, self.rb1) if gear == 1 else (self.x2, self.r2, self.rb2)
         s = self.transverse_module * (math.pi / 2 + 2 * x * math.tan(self.pressure_angle))
         a_y = math.acos(min(1.0, rb / radius))
@@ -352,7 +407,25 @@ class GearPair:
 
     # ------------------------------------------------------------------ inertia
     def blank_inertias(self) -> tuple[float, float]:
-        """Polar moments of inertia (kg m^2) of solid cylinders at the pitch radii, width B."""
+        """Polar moments of inertia (kg m^2) of solid cylinders at the pitch radii, width B.
+
+        Returns
+        -------
+        (float, float)
+            I1, I2 in kg m^2: ``rho pi B r^4 / 2`` of pinion and gear.
+
+        See Also
+        --------
+        :func:`~gear_dyn.models.sdof.sdof_from_pair` : Uses them where no inertias are given.
+
+        Examples
+        --------
+        >>> import math
+        >>> pair = GearPair(19, 48, 3.2e-3, math.radians(20), 16e-3)
+        >>> i1, i2 = pair.blank_inertias()
+        >>> round(i2 / i1, 6) == round((48 / 19) ** 4, 6)
+        True
+        """
         i1 = 0.5 * self.density1 * math.pi * self.face_width * self.r1**4
         i2 = 0.5 * self.density2 * math.pi * self.face_width * self.r2**4
         return i1, i2
@@ -443,7 +516,32 @@ class GearPair:
 
 
 def mesh_frequency(pair: GearPair, speed1: float) -> float:
-    """Mesh frequency f_m = z1 n1 / 60 in Hz for pinion speed ``speed1`` in rad/s."""
+    """Mesh frequency f_m = z1 n1 / 60 in Hz for pinion speed ``speed1`` in rad/s.
+
+    Parameters
+    ----------
+    pair : GearPair
+        The gear pair (its pinion teeth z1 count).
+    speed1 : float
+        Pinion speed w1 in rad/s.
+
+    Returns
+    -------
+    float
+        f_m = z1 w1 / (2 pi) in Hz.
+
+    See Also
+    --------
+    :func:`~gear_dyn.geometry.output_speed` : The driven gear's speed.
+    :class:`~gear_dyn.geometry.GearPair` : The pair.
+
+    Examples
+    --------
+    >>> import math
+    >>> pair = GearPair(19, 48, 3.2e-3, math.radians(20), 16e-3)
+    >>> round(mesh_frequency(pair, 1000 * 2 * math.pi / 60), 6)  # 19 teeth at 1000 rpm, Hz
+    316.666667
+    """
     return teeth_mesh_frequency(pair.z1, speed1)
 
 
@@ -454,5 +552,30 @@ def teeth_mesh_frequency(z1: int, speed1: float) -> float:
 
 
 def output_speed(pair: GearPair, speed1: float) -> float:
-    """Driven speed in rad/s: w2 = w1 z1 / z2."""
+    """Driven speed in rad/s: w2 = w1 z1 / z2.
+
+    Parameters
+    ----------
+    pair : GearPair
+        The gear pair.
+    speed1 : float
+        Pinion speed w1 in rad/s.
+
+    Returns
+    -------
+    float
+        Gear speed w2 in rad/s.
+
+    See Also
+    --------
+    :func:`~gear_dyn.geometry.mesh_frequency` : The mesh frequency at the same speed.
+    :class:`~gear_dyn.geometry.GearPair` : The pair.
+
+    Examples
+    --------
+    >>> import math
+    >>> pair = GearPair(19, 48, 3.2e-3, math.radians(20), 16e-3)
+    >>> output_speed(pair, 48.0)  # rad/s
+    19.0
+    """
     return speed1 * pair.z1 / pair.z2

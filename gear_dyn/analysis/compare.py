@@ -143,7 +143,8 @@ def _ranks(values: Sequence[float]) -> list[int | None]:
 def design_row(name: str, result: SweepResult, operating_speed: float,
                operating: SweepResult | None = None, static_stress: float = math.nan,
                iso_kv_at_peak: float = math.nan) -> dict[str, Any]:
-    """The figures of one design (no deltas, no ranks: :func:`compare_sweeps` adds them).
+    """The figures of one design (no deltas, no ranks:
+    :func:`~gear_dyn.analysis.compare.compare_sweeps` adds them).
 
     Parameters
     ----------
@@ -201,9 +202,12 @@ COMPARED = ("operating_peak_force_ratio", "peak_peak_force_ratio", "operating_rm
 
 @dataclass(frozen=True, eq=False, repr=False)
 class Comparison:
-    """Designs compared by physical figures (:func:`compare_sweeps`).
+    """Designs compared by physical figures (:func:`~gear_dyn.analysis.compare.compare_sweeps`).
 
-    Attributes
+    Made by :func:`~gear_dyn.scene.compare.compare_scenes`; each parameter is kept as the attribute
+    of that name.
+
+    Parameters
     ----------
     names : tuple of str
         The designs, the first is the baseline.
@@ -220,6 +224,32 @@ class Comparison:
         The swept range.
     warnings : tuple of str
         The sweeps' warnings and one line per flag, for the terminal.
+
+    Attributes
+    ----------
+    baseline : str
+        The first design's name.
+    ranking : tuple of str
+        The designs by peak F_max / W, lowest first.
+
+    See Also
+    --------
+    :func:`~gear_dyn.scene.compare.compare_scenes` : Makes it from scenes.
+    :class:`~gear_dyn.analysis.sweep.types.SweepResult` : One design's sweep.
+
+    Examples
+    --------
+    >>> import gear_dyn as gd
+    >>> def design(ratio):  # the helicopter tail pair at damping ratio ``ratio``
+    ...     return gd.parse_scene({
+    ...         "scene": {"name": f"xi={ratio}", "model": "sdof"},
+    ...         "gear": {"teeth_pinion": 23, "teeth_gear": 64, "module": "6 mm",
+    ...                  "pressure_angle": "22.5 deg", "face_width": "50 mm"},
+    ...         "operating": {"speed": "3319 rpm", "torque": "1474.4 N*m"},
+    ...         "damping": {"ratio": ratio}})
+    >>> cmp = gd.compare_scenes([design(0.06), design(0.1)], "3000 rpm:3600 rpm:3")
+    >>> cmp.baseline, cmp.ranking  # more damping, lower peak force
+    ('xi=0.06', ('xi=0.1', 'xi=0.06'))
     """
 
     names: tuple[str, ...]
@@ -241,13 +271,61 @@ class Comparison:
         return tuple(self.names[k] for k in order)
 
     def table(self) -> list[dict[str, Any]]:
-        """The rows in rank order, flags joined by ``;`` (what :meth:`to_csv` writes)."""
+        """The rows in rank order, flags joined by ``;`` (what :meth:`to_csv` writes).
+
+        Returns
+        -------
+        list of dict
+            One per design, best first; SI units (and rpm) in the key names.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.compare.Comparison.to_csv` : Writes it.
+
+        Examples
+        --------
+        >>> import gear_dyn as gd
+        >>> def design(ratio):  # the helicopter tail pair at damping ratio ``ratio``
+        ...     return gd.parse_scene({
+        ...         "scene": {"name": f"xi={ratio}", "model": "sdof"},
+        ...         "gear": {"teeth_pinion": 23, "teeth_gear": 64, "module": "6 mm",
+        ...                  "pressure_angle": "22.5 deg", "face_width": "50 mm"},
+        ...         "operating": {"speed": "3319 rpm", "torque": "1474.4 N*m"},
+        ...         "damping": {"ratio": ratio}})
+        >>> cmp = gd.compare_scenes([design(0.06), design(0.1)], "3000 rpm:3600 rpm:3")
+        >>> [row["scene"] for row in cmp.table()]
+        ['xi=0.1', 'xi=0.06']
+        """
         by_name = {r["scene"]: r for r in self.rows}
         return [{**by_name[n], "flags": ";".join(by_name[n]["flags"])} for n in self.ranking]
 
     def to_dict(self) -> dict[str, Any]:
         """Everything for compare.json: designs, baseline, ranking, rows, definitions, flags
-        with their meaning, warnings (numbers in SI, speeds in rpm)."""
+        with their meaning, warnings (numbers in SI, speeds in rpm).
+
+        Returns
+        -------
+        dict
+            JSON-able.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.compare.Comparison.table` : The rows in rank order.
+
+        Examples
+        --------
+        >>> import gear_dyn as gd
+        >>> def design(ratio):  # the helicopter tail pair at damping ratio ``ratio``
+        ...     return gd.parse_scene({
+        ...         "scene": {"name": f"xi={ratio}", "model": "sdof"},
+        ...         "gear": {"teeth_pinion": 23, "teeth_gear": 64, "module": "6 mm",
+        ...                  "pressure_angle": "22.5 deg", "face_width": "50 mm"},
+        ...         "operating": {"speed": "3319 rpm", "torque": "1474.4 N*m"},
+        ...         "damping": {"ratio": ratio}})
+        >>> cmp = gd.compare_scenes([design(0.06), design(0.1)], "3000 rpm:3600 rpm:3")
+        >>> cmp.to_dict()["baseline"]
+        'xi=0.06'
+        """
         return {"scenes": list(self.names), "baseline": self.baseline,
                 "ranking": list(self.ranking), "ranked_by": "peak_peak_force_ratio",
                 "speed_range_rpm": list(self.speed_range_rpm),
@@ -259,14 +337,79 @@ class Comparison:
                 "warnings": list(self.warnings)}
 
     def to_csv(self, path: str | Path) -> Path:
-        """Write :meth:`table` as CSV (one row per design, rank order) atomically."""
+        """Write :meth:`table` as CSV (one row per design, rank order) atomically.
+
+        Parameters
+        ----------
+        path : str or Path
+            The file to write (replaced if it exists).
+
+        Returns
+        -------
+        Path
+            The file written.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.compare.Comparison.to_dict` : The same for JSON.
+
+        Examples
+        --------
+        >>> import tempfile
+        >>> from pathlib import Path
+        >>> import gear_dyn as gd
+        >>> def design(ratio):  # the helicopter tail pair at damping ratio ``ratio``
+        ...     return gd.parse_scene({
+        ...         "scene": {"name": f"xi={ratio}", "model": "sdof"},
+        ...         "gear": {"teeth_pinion": 23, "teeth_gear": 64, "module": "6 mm",
+        ...                  "pressure_angle": "22.5 deg", "face_width": "50 mm"},
+        ...         "operating": {"speed": "3319 rpm", "torque": "1474.4 N*m"},
+        ...         "damping": {"ratio": ratio}})
+        >>> cmp = gd.compare_scenes([design(0.06), design(0.1)], "3000 rpm:3600 rpm:3")
+        >>> with tempfile.TemporaryDirectory() as folder:
+        ...     path = cmp.to_csv(Path(folder) / "compare.csv")
+        ...     len(path.read_text().splitlines())  # header and two designs
+        3
+        """
         from gear_dyn.io import write_rows
 
         return write_rows(path, self.table())
 
     def plot(self, ax: Any = None, **kwargs: Any) -> Any:
         """The comparison figure (:func:`gear_dyn.plots.compare.plot_comparison`: ``ax`` None
-        or its 3 Axes); returns the Figure."""
+        or its 3 Axes); returns the Figure.
+
+        Parameters
+        ----------
+        ax : sequence of 3 matplotlib.axes.Axes or None
+            Where to draw; None makes a new figure.
+        **kwargs
+            Passed to :func:`gear_dyn.plots.compare.plot_comparison`.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure drawn on.
+
+        See Also
+        --------
+        :attr:`~gear_dyn.analysis.sweep.types.SweepResult.plot` : One design's sweep.
+
+        Examples
+        --------
+        >>> import matplotlib.pyplot as plt
+        >>> import gear_dyn as gd
+        >>> def design(ratio):  # the helicopter tail pair at damping ratio ``ratio``
+        ...     return gd.parse_scene({
+        ...         "scene": {"name": f"xi={ratio}", "model": "sdof"},
+        ...         "gear": {"teeth_pinion": 23, "teeth_gear": 64, "module": "6 mm",
+        ...                  "pressure_angle": "22.5 deg", "face_width": "50 mm"},
+        ...         "operating": {"speed": "3319 rpm", "torque": "1474.4 N*m"},
+        ...         "damping": {"ratio": ratio}})
+        >>> cmp = gd.compare_scenes([design(0.06), design(0.1)], "3000 rpm:3600 rpm:3")
+        >>> fig = cmp.plot()
+        >>> plt.close(fig)
+        """
         plots = importlib.import_module(PLOTS_MODULE)
         return plots.plot_comparison(self, ax=ax, **kwargs)
 

@@ -54,6 +54,29 @@ def summarize(result: Result) -> dict[str, Any]:
     Keys (SI units in the names): mesh_frequency_hz, output_speed_rpm, contact_ratio,
     mean_mesh_stiffness_n_per_m, static_transmission_error_m, dynamic_factor, rms_dte_m,
     ptp_dte_m, mean_dte_m, dominant_frequency_hz, solver {...}; plus what the model offers.
+
+    Parameters
+    ----------
+    result : Result
+        A run of :func:`~gear_dyn.analysis.study.simulate` or :func:`~gear_dyn.scene.run_scene`.
+
+    Returns
+    -------
+    dict
+        JSON-ready; what ``gear-dyn run`` writes as ``summary.json``.
+
+    See Also
+    --------
+    :meth:`~gear_dyn.solvers.result.Result.key_figures` : The few figures a notebook shows.
+    :func:`~gear_dyn.analysis.study.simulate` : Makes the result.
+
+    Examples
+    --------
+    >>> from gear_dyn import SDOFModel, rectangular_stiffness, simulate
+    >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+    >>> summary = summarize(simulate(m, 0.2))
+    >>> summary["mesh_frequency_hz"], round(summary["natural_frequency_hz"], 1)
+    (500.0, 2566.3)
     """
     out: dict[str, Any] = {"mesh_frequency_hz": result.mesh_frequency}
     # what a scene says about the case (run_scene puts it in extra), first as in earlier files

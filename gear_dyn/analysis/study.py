@@ -192,6 +192,27 @@ def simulate(
         Bad time span.
     SolverError
         The integration failed or diverged.
+
+    See Also
+    --------
+    :class:`~gear_dyn.solvers.settings.SolverSettings` : Method, tolerances, output grid.
+    :class:`~gear_dyn.solvers.result.Result` : The run.
+    :func:`~gear_dyn.scene.run_scene` : The same for a scene.
+    :func:`~gear_dyn.analysis.report.summarize` : The run's summary.
+
+    Examples
+    --------
+    >>> from gear_dyn import SDOFModel, rectangular_stiffness
+    >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+    >>> res = simulate(m, 0.2)  # 100 mesh periods (s)
+    >>> round(res.dynamic_factor, 3)  # far below resonance (f_m / f_n = 0.19)
+    0.982
+    >>> res.extra["estimated_error"]["max_rel"] < 1e-6  # error over W / k_m
+    True
+    >>> simulate(m, -1.0)
+    Traceback (most recent call last):
+    ...
+    gear_dyn.errors.InputError: duration = -1 s is out of range: valid range > 0 s
     """
     result = simulate_bare(model, t_end, settings, steady_start, scene)
     result.extra.update(checks(model, result, quasi_static))

@@ -110,6 +110,33 @@ class SDOFModel:
     ------
     InputError
         Any parameter outside its valid range.
+
+    Attributes
+    ----------
+    mean_stiffness : float
+        k_m in N/m.
+    natural_frequency : float
+        sqrt(k_m / m_e) / (2 pi) in Hz.
+    static_deflection : float
+        W / k_m in m (plus the half gap with backlash).
+    is_linear : bool
+        True without backlash.
+
+    See Also
+    --------
+    :func:`~gear_dyn.models.sdof.sdof_from_pair` : The model of a gear pair at an operating point.
+    :func:`~gear_dyn.analysis.study.simulate` : Integrate it.
+    :func:`~gear_dyn.analysis.continuation.family.sdof_family`
+        The model as a function of one parameter.
+
+    Examples
+    --------
+    >>> from gear_dyn import rectangular_stiffness
+    >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+    >>> round(m.natural_frequency, 1)  # sqrt(1.3e8 / 0.5) / (2 pi) in Hz
+    2566.3
+    >>> m.static_deflection  # W / k_m in m
+    7.692307692307692e-06
     """
 
     mass: float
@@ -174,11 +201,54 @@ class SDOFModel:
         return self.backlash is None
 
     def at_mesh_frequency(self, mesh_frequency: float) -> SDOFModel:
-        """The same model at another mesh frequency (only f_m depends on speed here)."""
+        """The same model at another mesh frequency (only f_m depends on speed here).
+
+        Parameters
+        ----------
+        mesh_frequency : float
+            The new f_m in Hz (> 0).
+
+        Returns
+        -------
+        SDOFModel
+            A copy with that mesh frequency.
+
+        See Also
+        --------
+        :func:`~gear_dyn.analysis.continuation.family.sdof_family` : The model over a speed range.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, rectangular_stiffness
+        >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+        >>> m.at_mesh_frequency(100.0).mesh_frequency  # Hz
+        100.0
+        """
         return replace(self, mesh_frequency=mesh_frequency)
 
     def contact_events(self) -> list[Callable[[float, FloatArray], float]]:
-        """With backlash: ``x - e - b`` and ``x - e + b`` (drive and back flank); else none."""
+        """With backlash: ``x - e - b`` and ``x - e + b`` (drive and back flank); else none.
+
+        Returns
+        -------
+        list of callable
+            Event functions ``g(t, y)`` in m (zero where a flank makes or loses contact).
+
+        See Also
+        --------
+        :meth:`~gear_dyn.models.sdof.SDOFModel.switching_times`
+            The stiffness jumps, known in advance.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from gear_dyn import SDOFModel, rectangular_stiffness
+        >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0,
+        ...               backlash=1e-5)
+        >>> drive, back = m.contact_events()
+        >>> float(drive(0.0, np.array([2e-5, 0.0])))  # x - e - b in m
+        1e-05
+        """
         if self.backlash is None:
             return []
         te, fm, p0, bb = self.transmission_error, self.mesh_frequency, self.phase0, self.backlash
@@ -199,11 +269,51 @@ class SDOFModel:
         return np.array([x, x * 2 * math.pi * self.natural_frequency])
 
     def phase(self, t: FloatArray | float) -> FloatArray:
-        """Mesh phase p = f_m t + p0 in cycles."""
+        """Mesh phase p = f_m t + p0 in cycles.
+
+        Parameters
+        ----------
+        t : float or ndarray
+            Time in s.
+
+        Returns
+        -------
+        float or ndarray
+            Mesh phase in cycles.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.models.sdof.SDOFModel.switching_times`
+            Times at which the stiffness jumps.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, rectangular_stiffness
+        >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+        >>> float(m.phase(1e-3))  # 500 Hz for 1 ms
+        0.5
+        """
         return self.mesh_frequency * np.asarray(t, dtype=float) + self.phase0
 
     def initial_state(self) -> FloatArray:
-        """Static deflection under the mean stiffness, at rest relative to e(t)."""
+        """Static deflection under the mean stiffness, at rest relative to e(t).
+
+        Returns
+        -------
+        ndarray
+            [x, v] in m and m/s at t = 0.
+
+        See Also
+        --------
+        :func:`~gear_dyn.analysis.study.simulate` : Starts from it.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, rectangular_stiffness
+        >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+        >>> m.initial_state()
+        array([7.69230769e-06, 0.00000000e+00])
+        """
         x0 = self.static_deflection
         v0 = 0.0
         if self.transmission_error is not None:
@@ -250,20 +360,115 @@ class SDOFModel:
         return jac
 
     def rhs(self, t: float, y: FloatArray) -> FloatArray:
-        """Time derivative [x', v'] of the state y = [x, v] at time t (s)."""
+        """Time derivative [x', v'] of the state y = [x, v] at time t (s).
+
+        Parameters
+        ----------
+        t : float
+            Time in s.
+        y : ndarray
+            State [x, v] in m and m/s.
+
+        Returns
+        -------
+        ndarray
+            [x', v'] in m/s and m/s^2.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.models.sdof.SDOFModel.jac` : Its Jacobian.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, rectangular_stiffness
+        >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+        >>> m.rhs(0.0, m.initial_state())  # k(0) = 1.5e8 N/m > k_m: pushed back (m/s^2)
+        array([   0.        , -307.69230769])
+        """
         return self._rhs(t, y)
 
     def jac(self, t: float, y: FloatArray) -> FloatArray:
-        """Jacobian d rhs / d y (2 x 2)."""
+        """Jacobian d rhs / d y (2 x 2).
+
+        Parameters
+        ----------
+        t : float
+            Time in s.
+        y : ndarray
+            State [x, v] in m and m/s.
+
+        Returns
+        -------
+        ndarray
+            [[0, 1], [-k(t)/m_e, -c_m/m_e]] in 1/s^2 and 1/s.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.models.sdof.SDOFModel.rhs` : The right-hand side.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, rectangular_stiffness
+        >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+        >>> float(m.jac(0.0, m.initial_state())[1, 0])  # -k(0) / m_e in 1/s^2
+        -300000000.0
+        """
         return self._jac(t, y)
 
     def switching_times(self, t0: float, t1: float) -> FloatArray:
-        """Instants in (t0, t1) where k(t) jumps."""
+        """Instants in (t0, t1) where k(t) jumps.
+
+        Parameters
+        ----------
+        t0, t1 : float
+            The open interval in s.
+
+        Returns
+        -------
+        ndarray
+            Sorted times in s.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.stiffness.periodic.PeriodicStiffness.switching_times`
+            The same for a stiffness.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, rectangular_stiffness
+        >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+        >>> m.switching_times(0.0, 0.004)  # phases 0.6, 1, 1.6 at 500 Hz (s)
+        array([0.0012, 0.002 , 0.0032])
+        """
         return self.stiffness.switching_times(t0, t1, self.mesh_frequency, self.phase0)
 
     def linear_segments(self, t0: float, t1: float) -> list[tuple[float, float, FloatArray,
                                                                    FloatArray]] | None:
-        """Pieces ``(ta, tb, A, g)`` with y' = A y + g, or None if not piecewise-constant linear."""
+        """Pieces ``(ta, tb, A, g)`` with y' = A y + g, or None if not piecewise-constant linear.
+
+        Parameters
+        ----------
+        t0, t1 : float
+            The interval in s.
+
+        Returns
+        -------
+        list of (float, float, ndarray, ndarray) or None
+            Start and end in s, the 2 x 2 matrix A and the vector g of each piece; None with
+            backlash or a smooth stiffness.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.models.sdof.SDOFModel.switching_times` : The piece boundaries.
+        :class:`~gear_dyn.solvers.settings.SolverSettings` : Method ``exact`` uses these pieces.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, rectangular_stiffness
+        >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+        >>> [(round(ta, 6), round(tb, 6)) for ta, tb, A, g in m.linear_segments(0.0, 0.002)]
+        [(0.0, 0.0012), (0.0012, 0.002)]
+        """
         seg = self.stiffness.segments()
         if seg is None or self.backlash is not None or self.transmission_error is not None:
             return None
@@ -281,7 +486,24 @@ class SDOFModel:
         return out
 
     def summary_info(self) -> dict[str, float | str]:
-        """Model constants for run summaries (SI units in the key names)."""
+        """Model constants for run summaries (SI units in the key names).
+
+        Returns
+        -------
+        dict
+            Mean stiffness, static transmission error, f_n, m_e, c_m and the stiffness name.
+
+        See Also
+        --------
+        :func:`~gear_dyn.analysis.report.summarize` : The run summary that includes them.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, rectangular_stiffness
+        >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+        >>> m.summary_info()["mean_mesh_stiffness_n_per_m"]
+        130000000.0
+        """
         return {
             "mean_mesh_stiffness_n_per_m": self.mean_stiffness,
             "static_transmission_error_m": self.static_load / self.mean_stiffness,
@@ -293,7 +515,33 @@ class SDOFModel:
 
     # ---------------------------------------------------------------- outputs
     def outputs(self, t: FloatArray, y: FloatArray) -> dict[str, FloatArray]:
-        """Derived series: ``dte`` (m), ``mesh_force`` (N), ``stiffness`` (N/m)."""
+        """Derived series: ``dte`` (m), ``mesh_force`` (N), ``stiffness`` (N/m).
+
+        Parameters
+        ----------
+        t : ndarray
+            Times in s, shape (n,).
+        y : ndarray
+            States [x, v] in m and m/s, shape (2, n).
+
+        Returns
+        -------
+        dict of ndarray
+            Each series of shape (n,).
+
+        See Also
+        --------
+        :class:`~gear_dyn.solvers.result.Result` : Keeps them in ``outputs``.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from gear_dyn import SDOFModel, rectangular_stiffness
+        >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+        >>> out = m.outputs(np.array([0.0]), m.initial_state()[:, None])
+        >>> out["mesh_force"]  # k(0) x at the static deflection (N)
+        array([1153.84615385])
+        """
         t = np.asarray(t, dtype=float)
         x, v = np.asarray(y[0], dtype=float), np.asarray(y[1], dtype=float)
         p = self.phase(t)
@@ -323,6 +571,7 @@ def sdof_from_pair(
     Parameters
     ----------
     pair : GearPair
+        The gear pair (base radii, teeth, blank inertias).
     speed : float
         Pinion speed in rad/s (> 0).
     torque : float
@@ -337,6 +586,34 @@ def sdof_from_pair(
         Half gap in m.
     transmission_error : signal or None
         Static transmission error e(p) in m.
+
+    Returns
+    -------
+    SDOFModel
+        m_e = I1 I2 / (I1 r_b2^2 + I2 r_b1^2) in kg, W = T1 / r_b1 in N, f_m in Hz.
+
+    Raises
+    ------
+    InputError
+        A speed or torque out of range, or any invalid model field.
+
+    See Also
+    --------
+    :class:`~gear_dyn.models.sdof.SDOFModel` : The model.
+    :class:`~gear_dyn.geometry.GearPair` : The pair.
+    :func:`~gear_dyn.stiffness.select.build_stiffness` : Its mesh stiffness.
+
+    Examples
+    --------
+    >>> import math
+    >>> from gear_dyn import GearPair, rectangular_stiffness
+    >>> pair = GearPair(19, 48, 3.2e-3, math.radians(20), 16e-3)
+    >>> k = rectangular_stiffness(pair.total_contact_ratio, 2e8, 3e8)
+    >>> m = sdof_from_pair(pair, 300.0, 100.0, k)  # 300 rad/s, 100 N m
+    >>> round(m.static_load, 1)  # T1 / r_b1 in N
+    3500.6
+    >>> round(m.mesh_frequency, 2)  # 19 * 300 / (2 pi) in Hz
+    907.18
     """
     check_range("speed", speed, "rad/s", low=0.0, high=1e5, low_open=True)
     check_range("torque", torque, "N*m", low=0.0, high=1e8)

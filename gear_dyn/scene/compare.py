@@ -114,13 +114,27 @@ def compare_scenes(scenes: Sequence[Scene | str | Path], speeds: Any, *, si: boo
     SolverError
         An integration failed.
 
+    See Also
+    --------
+    :func:`~gear_dyn.scene.sweep.sweep_scene` : One design's sweep.
+    :class:`~gear_dyn.analysis.compare.Comparison` : The result.
+    :func:`~gear_dyn.scene.load_scene` : Loads each scene file.
+
     Examples
     --------
     >>> import gear_dyn as gd
-    >>> cmp = gd.compare_scenes(["helicopter_tail", "helicopter_tail_relief"],
-    ...                         "3000 rpm:9000 rpm:31")                 # doctest: +SKIP
-    >>> cmp.ranking                                                     # doctest: +SKIP
-    ('helicopter_tail_relief', 'helicopter_tail')
+    >>> def design(ratio):  # the helicopter tail pair at damping ratio ``ratio``
+    ...     return gd.parse_scene({
+    ...         "scene": {"name": f"xi={ratio}", "model": "sdof"},
+    ...         "gear": {"teeth_pinion": 23, "teeth_gear": 64, "module": "6 mm",
+    ...                  "pressure_angle": "22.5 deg", "face_width": "50 mm"},
+    ...         "operating": {"speed": "3319 rpm", "torque": "1474.4 N*m"},
+    ...         "damping": {"ratio": ratio}})
+    >>> cmp = gd.compare_scenes([design(0.06), design(0.1)], "3000 rpm:3600 rpm:3")
+    >>> cmp.ranking  # lowest peak F_max / W first
+    ('xi=0.1', 'xi=0.06')
+    >>> [round(row["peak_peak_force_ratio"], 2) for row in cmp.rows]
+    [2.15, 2.06]
     """
     check_keywords("compare_scenes", solver, (
         "si", "names", "options", "workers", "executor", "progress", *SOLVER_OVERRIDES))

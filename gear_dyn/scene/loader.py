@@ -26,11 +26,46 @@ def parse_scene(data: dict[str, Any], source: str = "<dict>", si: bool = False) 
     Dimensional keys need text with a unit (``"1500 rpm"``); a plain number there is refused,
     unless ``si`` (the values are already SI floats, e.g. a scene's own ``tables``).
 
+    Parameters
+    ----------
+    data : dict
+        Tables (``scene``, ``gear``, ``operating``, ...) of keys and values, as in a scene file
+        (``docs/scenes.md`` lists every key with its unit and range).
+    source : str
+        Name of the source, used in error messages.
+    si : bool
+        Plain numbers for dimensional keys are SI values (m, rad, rad/s, N m, Pa ...).
+
+    Returns
+    -------
+    Scene
+        The validated scene: ``tables`` in SI units, ``name``, ``source``.
+
     Raises
     ------
     SceneError
         Unknown tables or keys (with a did-you-mean), missing required keys, wrong types or
         units, non-finite numbers or out-of-range values; the message names file and key path.
+
+    See Also
+    --------
+    :func:`~gear_dyn.scene.load_scene` : The same from a scene file.
+    :func:`~gear_dyn.scene.run_scene` : Simulates a scene.
+
+    Examples
+    --------
+    >>> scene = parse_scene({
+    ...     "scene": {"name": "spur", "model": "sdof"},
+    ...     "gear": {"teeth_pinion": 23, "teeth_gear": 64, "module": "6 mm",
+    ...              "pressure_angle": "22.5 deg", "face_width": "50 mm"},
+    ...     "operating": {"speed": "3319 rpm", "torque": "1474.4 N*m"}})
+    >>> scene.tables["gear"]["module"]  # m
+    0.006
+    >>> parse_scene({"scene": {"name": "spur", "model": "sdof"},
+    ...              "gear": {"teeth_pinion": 23, "teeth_gear": 64, "module": 6}})
+    Traceback (most recent call last):
+    ...
+    gear_dyn.errors.SceneError: <dict>: gear.module = 6: give a unit, e.g. "6 mm" ...
     """
     if not isinstance(data, dict):
         raise SceneError(f"{source}: a scene must be a TOML table")
@@ -63,10 +98,36 @@ def load_scene(path: str | Path) -> Scene:
     A ``path`` that is no existing file is looked up among the packaged scenes
     (:func:`gear_dyn.scene.packaged.resolve_scene`), so names work from any folder.
 
+    Parameters
+    ----------
+    path : str or Path
+        A TOML scene file, or the name of a packaged scene.
+
+    Returns
+    -------
+    Scene
+        The validated scene: ``tables`` in SI units, ``name``, ``source``.
+
     Raises
     ------
     SceneError
         Missing or unreadable file, invalid TOML, or any invalid value (see :func:`parse_scene`).
+
+    See Also
+    --------
+    :func:`~gear_dyn.scene.parse_scene` : The same from a dict.
+    :func:`~gear_dyn.scene.run_scene` : Simulates a scene.
+    :func:`~gear_dyn.scene.sweep.sweep_scene` : Sweeps it over speed.
+
+    Examples
+    --------
+    >>> scene = load_scene("helicopter_tail")
+    >>> scene.name, scene.tables["gear"]["teeth_pinion"]
+    ('helicopter_tail', 23)
+    >>> load_scene("no_such_scene")
+    Traceback (most recent call last):
+    ...
+    gear_dyn.errors.SceneError: no_such_scene: scene file not found, ...
     """
     from gear_dyn.scene.packaged import resolve_scene
 

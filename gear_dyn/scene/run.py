@@ -53,6 +53,7 @@ def run_scene(scene: Scene, speed: Any = None, torque: Any = None, *, si: bool =
     Returns
     -------
     Result
+        The run, with the scene and its facts in ``extra``.
 
     Raises
     ------
@@ -62,6 +63,12 @@ def run_scene(scene: Scene, speed: Any = None, torque: Any = None, *, si: bool =
         ``[operating]`` keys), bad solver overrides.
     SolverError
         The integration failed.
+
+    See Also
+    --------
+    :func:`~gear_dyn.scene.load_scene` : Loads the scene.
+    :func:`~gear_dyn.scene.sweep.sweep_scene` : The scene over a range of speeds.
+    :func:`~gear_dyn.analysis.study.simulate` : The model-level run.
 
     Examples
     --------

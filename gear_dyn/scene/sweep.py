@@ -109,6 +109,36 @@ def sweep_scene(scene: Scene, speeds: Any, *, si: bool = False,
     (:data:`SOLVER_OVERRIDES`). ``SweepResult.warnings`` states what the scene leaves out
     (:func:`gear_dyn.scene.hints.backlash_gap_hint`).
 
+    Parameters
+    ----------
+    scene : Scene
+        From :func:`~gear_dyn.scene.load_scene` or :func:`~gear_dyn.scene.parse_scene`.
+    speeds : str, sequence of str, or sequence of float
+        Pinion speeds with units, a range ``"START:STOP:N"``, or numbers in rad/s with
+        ``si=True``.
+    si : bool
+        Plain numbers in ``speeds`` are rad/s.
+    options : SweepOptions or None
+        How each speed is evaluated (default :class:`~gear_dyn.analysis.sweep.types.SweepOptions`).
+    direction : {"auto", "up", "down", "both"}
+        Sweep directions (``auto``: both for a model with backlash, else up).
+    workers : int or None
+        Local processes (None or 1: the calling process).
+    executor : concurrent.futures.Executor or None
+        Runs the blocks through its ``map`` (e.g. Dask's).
+    block : int or None
+        Speeds per task.
+    progress : callable or None
+        ``progress(done, total)`` after each block.
+    **solver
+        ``[solver]`` overrides (:data:`SOLVER_OVERRIDES`).
+
+    Returns
+    -------
+    SweepResult
+        One curve per direction, with the dynamic factor, F_max / W, DTE figures (m) and
+        spectra at each speed.
+
     Raises
     ------
     InputError
@@ -116,6 +146,23 @@ def sweep_scene(scene: Scene, speeds: Any, *, si: bool = False,
         block or workers; an unknown keyword.
     SolverError
         An integration failed.
+
+    See Also
+    --------
+    :func:`~gear_dyn.scene.run_scene` : One speed, in time.
+    :func:`~gear_dyn.scene.compare.compare_scenes` : Several designs over the same speeds.
+    :class:`~gear_dyn.analysis.sweep.types.SweepOptions` : How each speed is evaluated.
+
+    Examples
+    --------
+    >>> import gear_dyn as gd
+    >>> sweep = gd.sweep_scene(gd.load_scene("helicopter_tail"), "3000 rpm:3600 rpm:3")
+    >>> sweep.curve("up").dynamic_factor.round(3)
+    array([0.788, 0.85 , 1.195])
+    >>> gd.sweep_scene(gd.load_scene("helicopter_tail"), [300.0, 400.0])
+    Traceback (most recent call last):
+    ...
+    gear_dyn.errors.InputError: ...
     """
     check_keywords("sweep_scene", solver, (
         "si", "options", "direction", "workers", "executor", "block", "progress",

@@ -85,23 +85,29 @@ class SolverStats:
 class Result:
     """A simulation: time series, derived outputs, solver statistics and provenance.
 
-    Attributes
+    Made by :func:`~gear_dyn.analysis.study.simulate` and :func:`~gear_dyn.scene.run_scene`;
+    each parameter is kept as the attribute of that name.
+
+    Parameters
     ----------
     t : ndarray
         Uniform output times in s.
     y : ndarray
         States, shape (n_states, n_times).
     state_labels : tuple of str
+        Names of the state components (``x`` in m, ``v`` in m/s for the single-DOF model).
     outputs : dict of ndarray
         Derived series from ``model.outputs`` (e.g. ``dte`` in m, ``mesh_force`` in N).
     steady_start : float
         Start of the steady-state window in s (the transient is before it).
     mesh_frequency : float
-        Hz.
+        Mesh frequency f_m in Hz.
     static_load : float
         W in N.
     stats : SolverStats
+        What the integration cost: method, tolerances, counts, wall time in s.
     settings : SolverSettings
+        The settings asked for.
     scene : object or None
         The scene that produced the run (if any).
     extra : dict
@@ -115,6 +121,37 @@ class Result:
         ``y(t_{j+1}) = F[j] y(t_j) + h[j]``, of consecutive intervals covering the first mesh
         period; their product is the one-period (monodromy) map, reused by the Floquet check.
         Else None.
+
+    Attributes
+    ----------
+    dynamic_factor : float
+        K_dyn = F_max / F_qs,max.
+    peak_force_ratio : float
+        F_max / W over the steady window.
+    mean_dte, rms_dte, ptp_dte : float
+        Mean, RMS (mean removed) and peak-to-peak DTE over the steady window in m.
+    steady : ndarray of bool
+        Mask of the steady-state window.
+    plot : ResultPlots
+        The figures: ``result.plot.time(ax=None)``, ``result.plot.spectrum(ax=None)``.
+
+    See Also
+    --------
+    :func:`~gear_dyn.analysis.study.simulate` : Makes it from a model.
+    :func:`~gear_dyn.scene.run_scene` : Makes it from a scene.
+    :func:`~gear_dyn.analysis.report.summarize` : The run's summary.
+
+    Examples
+    --------
+    >>> from gear_dyn import SDOFModel, rectangular_stiffness, simulate
+    >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+    >>> res = simulate(m, 0.2)  # 100 mesh periods at 500 Hz
+    >>> res.state_labels, sorted(res.outputs)
+    (('x', 'v'), ['dte', 'mesh_force', 'stiffness'])
+    >>> res.t.shape, res.y.shape  # 64 samples per mesh period
+    ((6401,), (2, 6401))
+    >>> res.extra["estimated_error"]["max_rel"] < 1e-6  # error over W / k_m
+    True
     """
 
     t: FloatArray
@@ -142,7 +179,39 @@ class Result:
         return self.t >= self.steady_start - 1e-12 * max(1.0, abs(self.steady_start))
 
     def series(self, name: str) -> FloatArray:
-        """A state or an output series by name."""
+        """A state or an output series by name.
+
+        Parameters
+        ----------
+        name : str
+            A state label (``x``, ``v``) or an output (``dte``, ``mesh_force`` ...).
+
+        Returns
+        -------
+        ndarray
+            The series over :attr:`t`, SI units.
+
+        Raises
+        ------
+        InputError
+            No such series in this result.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.solvers.result.Result.key_figures` : The run's main figures.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, rectangular_stiffness, simulate
+        >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+        >>> res = simulate(m, 0.2)  # 100 mesh periods at 500 Hz
+        >>> res.series("mesh_force").shape
+        (6401,)
+        >>> res.series("q")
+        Traceback (most recent call last):
+        ...
+        gear_dyn.errors.InputError: series 'q' not in this result; available: x, v, dte, ...
+        """
         if name in self.outputs:
             return self.outputs[name]
         if name in self.state_labels:
@@ -186,7 +255,25 @@ class Result:
         return float(np.ptp(self.outputs["dte"][self.steady]))
 
     def key_figures(self) -> list[tuple[str, str]]:
-        """(name, value with unit) of the figures a notebook shows for this run."""
+        """(name, value with unit) of the figures a notebook shows for this run.
+
+        Returns
+        -------
+        list of (str, str)
+            Method, span, dynamic factor, peak force / W, DTE, estimated error, run time.
+
+        See Also
+        --------
+        :func:`~gear_dyn.analysis.report.summarize` : Every figure, for JSON.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, rectangular_stiffness, simulate
+        >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+        >>> res = simulate(m, 0.2)  # 100 mesh periods at 500 Hz
+        >>> res.key_figures()[1]
+        ('span', '100 mesh periods at f_m = 500.0 Hz')
+        """
         periods = (self.t[-1] - self.t[0]) * self.mesh_frequency
         rows = [("method", f"{self.stats.method} (rtol {self.stats.rtol:g})"),
                 ("span", f"{periods:.0f} mesh periods at f_m = {self.mesh_frequency:.1f} Hz")]

@@ -54,7 +54,27 @@ class SolverSettings:
         over the whole span. Default True.
     max_nfev : int
         Work budget of one solve_ivp run: right-hand-side evaluations (checked between pieces;
-        1000..1e12, default :data:`MAX_NFEV`); the CLI's ``--max-nfev`` sets it.
+        1000..1e12, default :data:`~gear_dyn.solvers.settings.MAX_NFEV`); the CLI's
+        ``--max-nfev`` sets it.
+
+    Raises
+    ------
+    InputError
+        An unknown method or a field outside its range.
+
+    See Also
+    --------
+    :func:`~gear_dyn.analysis.study.simulate` : Integrates with these settings.
+    :class:`~gear_dyn.solvers.result.Result` : Keeps them in ``settings``.
+
+    Examples
+    --------
+    >>> SolverSettings(rtol=1e-10).samples_per_period
+    64
+    >>> SolverSettings(method="Euler")
+    Traceback (most recent call last):
+    ...
+    gear_dyn.errors.InputError: solver.method = 'Euler': valid choices are auto, ...
     """
 
     method: str = "auto"

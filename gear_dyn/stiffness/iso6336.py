@@ -57,9 +57,39 @@ def iso6336_stiffness(pair: GearPair, line_load: float | None = None) -> IsoStif
     Parameters
     ----------
     pair : GearPair
+        The gear pair (its geometry, profile shifts and materials).
     line_load : float or None
         Transverse line load F_t K_A / b in N/m; below 1e5 N/m (100 N/mm) c' is reduced by
         ``(line_load / 1e5) ** 0.25`` as ISO 6336-1 prescribes. None: no reduction.
+
+    Returns
+    -------
+    IsoStiffness
+        c' and c_gamma in N/m^2, k' = c' b and k_m = c_gamma b in N/m, q', C_B.
+
+    Raises
+    ------
+    InputError
+        A non-finite line load.
+
+    See Also
+    --------
+    :func:`~gear_dyn.stiffness.select.build_stiffness`
+        The periodic mesh stiffness (``iso6336`` uses these values).
+    :func:`~gear_dyn.stiffness.periodic.rectangular_stiffness`
+        The rectangular wave of given stiffness values.
+
+    Examples
+    --------
+    >>> import math
+    >>> from gear_dyn import GearPair
+    >>> pair = GearPair(19, 48, 3.2e-3, math.radians(20), 16e-3)
+    >>> iso = iso6336_stiffness(pair)
+    >>> round(iso.k_mesh / 1e6, 1)  # mesh stiffness c_gamma b in N/um
+    304.7
+    >>> light = iso6336_stiffness(pair, line_load=1e4)  # 10 N/mm: reduced by 0.1 ** 0.25
+    >>> round(light.c_single / iso.c_single, 4)
+    0.5623
     """
     cb = math.cos(pair.beta)
     virtual = math.cos(pair.beta_b) ** 2 * cb  # zn = z / (cos^2(beta_b) cos(beta))

@@ -26,7 +26,38 @@ FloatArray = NDArray[np.float64]
 
 
 class PeriodicStiffness(ABC):
-    """Mesh stiffness k(p) in N/m, periodic in the mesh phase p (cycles) with period 1."""
+    """Mesh stiffness k(p) in N/m, periodic in the mesh phase p (cycles) with period 1.
+
+    The abstract base of every stiffness method: call it with phases (cycles) to get N/m.
+
+    Attributes
+    ----------
+    name : str
+        The method, reported in summaries.
+    mean : float
+        Mean stiffness k_m over one mesh cycle in N/m.
+    min, max : float
+        Least and largest stiffness over a cycle in N/m.
+    switching_phases : ndarray
+        Phases in [0, 1) where k jumps.
+
+    See Also
+    --------
+    :class:`~gear_dyn.stiffness.periodic.PiecewiseStiffness` : Piecewise-linear with jumps.
+    :class:`~gear_dyn.stiffness.periodic.FourierStiffness` : A truncated Fourier series.
+    :func:`~gear_dyn.stiffness.select.build_stiffness` : The stiffness of a gear pair by any method.
+
+    Examples
+    --------
+    >>> from gear_dyn import rectangular_stiffness
+    >>> k = rectangular_stiffness(1.6, 1e8, 1.5e8)
+    >>> isinstance(k, PeriodicStiffness)
+    True
+    >>> k([0.1, 0.7])  # two pairs, then one pair in contact (N/m)
+    array([1.5e+08, 1.0e+08])
+    >>> k.mean  # 0.6 * 1.5e8 + 0.4 * 1e8 (N/m)
+    130000000.0
+    """
 
     name: str
 
@@ -41,12 +72,53 @@ class PeriodicStiffness(ABC):
 
     @abstractmethod
     def fourier_coefficients(self, n: int) -> tuple[float, FloatArray, FloatArray]:
-        """Return ``(k0, a, b)``: mean and cosine/sine coefficients for harmonics 1..n in N/m."""
+        """Return ``(k0, a, b)``: mean and cosine/sine coefficients for harmonics 1..n in N/m.
+
+        Parameters
+        ----------
+        n : int
+            Number of harmonics (>= 0).
+
+        Returns
+        -------
+        k0 : float
+            Mean stiffness in N/m.
+        a, b : ndarray
+            Cosine and sine coefficients of harmonics 1..n in N/m, each of length n.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.stiffness.periodic.PeriodicStiffness.truncated`
+            The series as a stiffness.
+
+        Examples
+        --------
+        >>> from gear_dyn import rectangular_stiffness
+        >>> k0, a, b = rectangular_stiffness(1.6, 1e8, 1.5e8).fourier_coefficients(2)
+        >>> k0, a.shape
+        (130000000.0, (2,))
+        """
 
     def segments(self) -> tuple[FloatArray, FloatArray] | None:
         """``(edges, values)`` if k is piecewise constant over one cycle, else None.
 
         ``edges`` has length S+1 from 0 to 1, ``values`` length S.
+
+        Returns
+        -------
+        (ndarray, ndarray) or None
+            Segment edges in cycles and the stiffness of each segment in N/m; None where k is
+            not piecewise constant.
+
+        See Also
+        --------
+        :attr:`~gear_dyn.stiffness.periodic.PeriodicStiffness.switching_phases` : Where k jumps.
+
+        Examples
+        --------
+        >>> from gear_dyn import rectangular_stiffness
+        >>> rectangular_stiffness(1.6, 1e8, 1.5e8).segments()
+        (array([0. , 0.6, 1. ]), array([1.5e+08, 1.0e+08]))
         """
         return None
 
@@ -72,7 +144,35 @@ class PeriodicStiffness(ABC):
         return float(np.max(self._dense()))
 
     def truncated(self, n: int) -> FourierStiffness:
-        """The Fourier series of this stiffness truncated at ``n`` harmonics (1..MAX_TERMS)."""
+        """The Fourier series of this stiffness truncated at ``n`` harmonics (1..MAX_TERMS).
+
+        Parameters
+        ----------
+        n : int
+            Harmonics kept, 1..10000 (``MAX_FOURIER_TERMS``).
+
+        Returns
+        -------
+        FourierStiffness
+            Same mean; named after this stiffness.
+
+        Raises
+        ------
+        InputError
+            ``n`` not a whole number in range.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.stiffness.periodic.PeriodicStiffness.fourier_coefficients`
+            The coefficients.
+
+        Examples
+        --------
+        >>> from gear_dyn import rectangular_stiffness
+        >>> f = rectangular_stiffness(1.6, 1e8, 1.5e8).truncated(2)
+        >>> f.name, f.mean
+        ('rectangular (Fourier, 2 terms)', 130000000.0)
+        """
         if isinstance(n, bool) or not isinstance(n, int | np.integer):
             raise InputError(f"fourier_terms = {n!r}: expected a whole number of harmonics")
         check_range("fourier_terms", n, "harmonics", low=1, high=MAX_FOURIER_TERMS)
@@ -81,7 +181,34 @@ class PeriodicStiffness(ABC):
 
     def switching_times(self, t0: float, t1: float, mesh_frequency: float,
                         phase0: float = 0.0) -> FloatArray:
-        """Times in the open interval (t0, t1) at which k jumps, for ``p = f_m t + phase0``."""
+        """Times in the open interval (t0, t1) at which k jumps, for ``p = f_m t + phase0``.
+
+        Parameters
+        ----------
+        t0, t1 : float
+            The interval in s.
+        mesh_frequency : float
+            f_m in Hz.
+        phase0 : float
+            Mesh phase at t = 0 in cycles.
+
+        Returns
+        -------
+        ndarray
+            Sorted switching times in s (empty for a smooth stiffness).
+
+        See Also
+        --------
+        :attr:`~gear_dyn.stiffness.periodic.PeriodicStiffness.switching_phases`
+            The same in mesh phase.
+
+        Examples
+        --------
+        >>> from gear_dyn import rectangular_stiffness
+        >>> k = rectangular_stiffness(1.6, 1e8, 1.5e8)
+        >>> k.switching_times(0.0, 0.01, 200.0)  # jumps at p = 0.6, 1, 1.6 (s)
+        array([0.003, 0.005, 0.008])
+        """
         sw = self.switching_phases
         if sw.size == 0 or t1 <= t0:
             return np.empty(0)
@@ -135,6 +262,23 @@ class PiecewiseStiffness(PeriodicStiffness):
     ------
     InputError
         Non-increasing edges, samples outside their segment, negative or non-finite values.
+
+    See Also
+    --------
+    :func:`~gear_dyn.stiffness.periodic.rectangular_stiffness`
+        The rectangular wave from the contact ratio.
+    :class:`~gear_dyn.stiffness.periodic.PeriodicStiffness` : The common face of every stiffness.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> k = PiecewiseStiffness(np.array([0.0, 0.5, 1.0]),
+    ...                        ((np.array([0.0, 0.5]), np.array([2e8, 2e8])),
+    ...                         (np.array([0.5, 1.0]), np.array([1e8, 2e8]))))
+    >>> float(k(0.75))  # halfway up the ramp of the second segment (N/m)
+    150000000.0
+    >>> k.switching_phases
+    array([0. , 0.5])
     """
 
     edges: FloatArray
@@ -251,6 +395,19 @@ class FourierStiffness(PeriodicStiffness):
         Cosine and sine coefficients for harmonics 1..N in N/m.
     name : str
         Method name for reports.
+
+    See Also
+    --------
+    :meth:`~gear_dyn.stiffness.periodic.PeriodicStiffness.truncated` : The series of any stiffness.
+    :class:`~gear_dyn.stiffness.periodic.PiecewiseStiffness` : Stiffness with jumps.
+
+    Examples
+    --------
+    >>> k = FourierStiffness(1e8, [1e7], [0.0])
+    >>> float(k(0.0)), float(k(0.5))  # N/m
+    (110000000.0, 90000000.0)
+    >>> k.min, k.max
+    (90000000.0, 110000000.0)
     """
 
     k0: float
@@ -291,7 +448,29 @@ class FourierStiffness(PeriodicStiffness):
         return self.k0 + (self._powers(phase) @ (self.a - 1j * self.b)).real
 
     def derivative(self, phase: ArrayLike) -> FloatArray:
-        """dk/dp in N/m per cycle."""
+        """dk/dp in N/m per cycle.
+
+        Parameters
+        ----------
+        phase : array_like
+            Mesh phase p in cycles.
+
+        Returns
+        -------
+        ndarray
+            dk/dp in N/m per cycle, the shape of ``phase``.
+
+        See Also
+        --------
+        :class:`~gear_dyn.stiffness.periodic.FourierStiffness` : The series.
+
+        Examples
+        --------
+        >>> import math
+        >>> k = FourierStiffness(1e8, [1e7], [0.0])
+        >>> bool(abs(k.derivative(0.25) + 2 * math.pi * 1e7) < 1e-6)  # -2 pi a_1 at p = 1/4
+        True
+        """
         w = 2 * np.pi * np.arange(1, self.a.size + 1)
         # sum n w (-a_n sin + b_n cos) = Re(sum z^n w_n (b_n + i a_n))
         return (self._powers(phase) @ (w * (self.b + 1j * self.a))).real
@@ -317,15 +496,31 @@ def rectangular_stiffness(contact_ratio: float, k_single: float, k_double: float
         Transverse contact ratio eps_a >= 1.
     k_single, k_double : float
         Single- and double-pair stiffness in N/m, 0 < k_single <= k_double.
+    name : str
+        Method name, reported in summaries.
 
     Returns
     -------
     PiecewiseStiffness
+        Piecewise constant, with jumps at phase 0 and ``f``.
 
     Raises
     ------
     InputError
         eps < 1 or inconsistent stiffness values.
+
+    See Also
+    --------
+    :func:`~gear_dyn.stiffness.select.build_stiffness` : The stiffness of a gear pair by any method.
+    :func:`~gear_dyn.stiffness.iso6336.iso6336_stiffness` : ISO 6336-1 single and mesh stiffness.
+
+    Examples
+    --------
+    >>> k = rectangular_stiffness(1.6, 1e8, 1.5e8)
+    >>> k.switching_phases  # a new pair enters at 0, one leaves at 0.6 (cycles)
+    array([0. , 0.6])
+    >>> k.mean  # N/m
+    130000000.0
     """
     contact_ratio = check_range("contact_ratio", contact_ratio, "", low=1.0)
     k_single = check_range("k_single", k_single, "N/m", low=0.0, low_open=True)

@@ -264,9 +264,11 @@ def build_stiffness(pair: GearPair, method: str | None = None, *,
     Parameters
     ----------
     pair : GearPair
+        The gear pair.
     method : str or None
         One of ``rectangular``, ``iso6336``, ``potential_energy``, ``weber``,
-        ``contact_line``; None: the default of :func:`choose_stiffness` (``contact_line`` for a
+        ``contact_line``; None: the default of :func:`~gear_dyn.stiffness.select.choose_stiffness`
+        (``contact_line`` for a
         helical pair, ``iso6336`` for a spur pair).
     fourier_terms : int or None
         If given (>= 1), return the Fourier series truncated at that many harmonics.
@@ -292,6 +294,14 @@ def build_stiffness(pair: GearPair, method: str | None = None, *,
     ------
     InputError
         Unknown method or option, bad values.
+
+    See Also
+    --------
+    :func:`~gear_dyn.stiffness.iso6336.iso6336_stiffness`
+        The ISO 6336-1 values behind ``iso6336``.
+    :func:`~gear_dyn.stiffness.periodic.rectangular_stiffness`
+        The rectangular wave behind ``rectangular``.
+    :class:`~gear_dyn.stiffness.periodic.PeriodicStiffness` : The face of the result.
 
     Examples
     --------

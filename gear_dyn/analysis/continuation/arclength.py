@@ -57,7 +57,8 @@ def continue_orbits(family: Callable[[float], Model], start: float, stop: float,
     ----------
     family : callable
         ``value -> MeshModel`` (single-DOF mesh model, SI value of the parameter): e.g.
-        :func:`sdof_family` or the scene layer's ``SceneModels.of(scene)`` (speed in rad/s).
+        :func:`~gear_dyn.analysis.continuation.family.sdof_family` or the scene layer's
+        ``SceneModels.of(scene)`` (speed in rad/s).
     start, stop : float
         The parameter range, SI (rad/s, N m, -, m). The branch starts at ``start`` and ends
         where it leaves ``[min(start, stop), max(start, stop)]`` (after any folds).
@@ -91,6 +92,23 @@ def continue_orbits(family: Callable[[float], Model], start: float, stop: float,
         mesh models.
     SolverError
         No periodic orbit found at ``start``.
+
+    See Also
+    --------
+    :func:`~gear_dyn.analysis.continuation.family.sdof_family` : The family of a single-DOF model.
+    :class:`~gear_dyn.analysis.continuation.settings.ContinuationSettings`
+        Step control, tolerances, detection.
+    :class:`~gear_dyn.analysis.continuation.branch.Branch` : The result.
+    :func:`~gear_dyn.analysis.continuation.fold_curve.fold_map` : The folds followed over torque.
+
+    Examples
+    --------
+    >>> from gear_dyn import SDOFModel, rectangular_stiffness, sdof_family
+    >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+    ...               backlash=1e-3)
+    >>> branch = continue_orbits(sdof_family(m, "speed", teeth=20), 43.0, 44.5)
+    >>> [(b.kind, round(b.point.parameter, 2)) for b in branch.bifurcations]  # rad/s
+    [('grazing', 43.69), ('fold', 43.96)]
     """
     check_range("start", start, PARAMETERS.get(parameter, ""))
     check_range("stop", stop, PARAMETERS.get(parameter, ""))

@@ -3,8 +3,9 @@
 A :class:`Branch` is a sequence of :class:`OrbitPoint` (each with its Floquet multipliers,
 stability verdict, Liouville check and contact pattern) and the :class:`Bifurcation` points
 located on it; branches switched to at period doublings are its ``children``. Rows for CSV
-and JSON come from :meth:`Branch.rows`; the figure is :func:`gear_dyn.plots.continuation.
-plot_branch` (``branch.plot(ax=None)``, which looks the plots module up by name when called:
+and JSON come from :meth:`Branch.rows`; the figure is
+:func:`~gear_dyn.plots.continuation.plot_branch` (``branch.plot(ax=None)``, which looks the plots
+module up by name when called:
 importing this module loads no matplotlib, and the analysis layer imports no plots).
 """
 
@@ -167,7 +168,10 @@ class Bifurcation:
 class Branch:
     """A branch of period-n orbits followed by pseudo-arclength continuation.
 
-    Attributes
+    Made by :func:`~gear_dyn.analysis.continuation.arclength.continue_orbits`; each parameter is
+    kept as the attribute of that name.
+
+    Parameters
     ----------
     parameter_name : str
         ``speed`` (rad/s), ``torque`` (N m), ``damping_ratio`` or ``backlash`` (m), or the name
@@ -175,6 +179,8 @@ class Branch:
     unit : str
         SI unit of the parameter.
     points : tuple of OrbitPoint
+        The orbits along the branch, in order (parameter, state, Floquet multipliers,
+        stability, DTE figures in m).
     bifurcations : tuple of Bifurcation
         In order along the branch.
     children : tuple of Branch
@@ -188,6 +194,31 @@ class Branch:
     natural_frequency : float
         f_n = sqrt(k_m / m_e) / (2 pi) of the model at the branch's start (Hz; NaN where
         unknown): the rows' ``frequency_ratio`` is f_m / f_n.
+
+    Attributes
+    ----------
+    periods : int
+        Mesh periods n of the branch's orbits.
+    liouville_failures : int
+        Points whose monodromy matrix fails the Liouville check.
+
+    See Also
+    --------
+    :func:`~gear_dyn.analysis.continuation.arclength.continue_orbits` : Makes it.
+    :class:`~gear_dyn.analysis.continuation.jump_map.FoldMap` : Fold points followed over torque.
+
+    Examples
+    --------
+    >>> from gear_dyn import SDOFModel, continue_orbits, rectangular_stiffness, sdof_family
+    >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+    ...               backlash=1e-3)
+    >>> branch = continue_orbits(sdof_family(m, "speed", teeth=20), 43.0, 44.5)
+    >>> branch.periods, branch.parameter_name, branch.unit
+    (1, 'speed', 'rad/s')
+    >>> branch.stop_reason  # past the fold, back down to the start speed
+    'left the range at speed = 43'
+    >>> [b.kind for b in branch.bifurcations]
+    ['grazing', 'fold']
     """
 
     parameter_name: str
@@ -209,11 +240,62 @@ class Branch:
         return self.points[0].periods if self.points else 0
 
     def array(self, name: str) -> FloatArray:
-        """One field of every point as an array, e.g. ``branch.array("parameter")``."""
+        """One field of every point as an array, e.g. ``branch.array("parameter")``.
+
+        Parameters
+        ----------
+        name : str
+            A field of :class:`~gear_dyn.analysis.continuation.branch.OrbitPoint`
+            (``parameter`` in the branch's unit, ``dte_rms`` in m, ``stable`` ...).
+
+        Returns
+        -------
+        ndarray
+            One value per point, in order along the branch.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.continuation.branch.Branch.rows`
+            Every field of every point, as dicts.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, continue_orbits, rectangular_stiffness, sdof_family
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+        ...               backlash=1e-3)
+        >>> branch = continue_orbits(sdof_family(m, "speed", teeth=20), 43.0, 44.5)
+        >>> p = branch.array("parameter")  # rad/s
+        >>> float(p[0]), float(p.max()) < 43.96  # from the start up to the fold
+        (43.0, True)
+        """
         return np.array([getattr(p, name) for p in self.points], dtype=float)
 
     def of_kind(self, kind: str) -> list[Bifurcation]:
-        """The located points of one kind (:data:`~gear_dyn.analysis.continuation.branch.KINDS`)."""
+        """The located points of one kind (:data:`~gear_dyn.analysis.continuation.branch.KINDS`).
+
+        Parameters
+        ----------
+        kind : str
+            ``fold``, ``period_doubling``, ``grazing`` ... (the bifurcations' ``kind``).
+
+        Returns
+        -------
+        list of Bifurcation
+            In order along the branch (empty if none).
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.continuation.branch.Branch.array` : One field of every point.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, continue_orbits, rectangular_stiffness, sdof_family
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+        ...               backlash=1e-3)
+        >>> branch = continue_orbits(sdof_family(m, "speed", teeth=20), 43.0, 44.5)
+        >>> [round(b.point.parameter, 4) for b in branch.of_kind("fold")]  # rad/s
+        [43.9572]
+        """
         return [b for b in self.bifurcations if b.kind == kind]
 
     @property
@@ -236,7 +318,32 @@ class Branch:
     def rows(self, recursive: bool = True) -> list[dict[str, Any]]:
         """One row per point (children's after this branch's with ``recursive``), with the
         branch's index in ``branch``, f_m / f_n in ``frequency_ratio`` and, for a speed
-        branch, the speed in both units (``speed_rad_s``, ``speed_rpm``)."""
+        branch, the speed in both units (``speed_rad_s``, ``speed_rpm``).
+
+        Parameters
+        ----------
+        recursive : bool
+            Include the rows of the children (depth first).
+
+        Returns
+        -------
+        list of dict
+            For CSV and JSON; SI units in the key names.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.continuation.branch.Branch.to_dict`
+            The rows with the branch's summary.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, continue_orbits, rectangular_stiffness, sdof_family
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+        ...               backlash=1e-3)
+        >>> branch = continue_orbits(sdof_family(m, "speed", teeth=20), 43.0, 44.5)
+        >>> round(branch.rows()[0]["speed_rpm"], 1)
+        410.6
+        """
         out: list[dict[str, Any]] = []
         for i, b in enumerate(self.walk() if recursive else [self]):
             out.extend({"branch": i, **p.row(), **self._units(p)} for p in b.points)
@@ -250,7 +357,27 @@ class Branch:
         return out
 
     def walk(self) -> list[Branch]:
-        """This branch and its children, depth first."""
+        """This branch and its children, depth first.
+
+        Returns
+        -------
+        list of Branch
+            This branch first.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.continuation.branch.Branch.rows`
+            The rows of this branch and its children.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, continue_orbits, rectangular_stiffness, sdof_family
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+        ...               backlash=1e-3)
+        >>> branch = continue_orbits(sdof_family(m, "speed", teeth=20), 43.0, 44.5)
+        >>> len(branch.walk())  # no period doubling here: no children
+        1
+        """
         out = [self]
         for c in self.children:
             out.extend(c.walk())
@@ -258,7 +385,26 @@ class Branch:
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-able summary: parameter, f_n, route, stop reason, located points (with
-        f_m / f_n and, on a speed branch, the speed in rad/s and rpm) and all rows."""
+        f_m / f_n and, on a speed branch, the speed in rad/s and rpm) and all rows.
+
+        Returns
+        -------
+        dict
+            Plain numbers and strings, SI units in the key names.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.continuation.branch.Branch.rows` : The rows alone.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, continue_orbits, rectangular_stiffness, sdof_family
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+        ...               backlash=1e-3)
+        >>> branch = continue_orbits(sdof_family(m, "speed", teeth=20), 43.0, 44.5)
+        >>> branch.to_dict()["parameter"]
+        'speed'
+        """
         return {
             "parameter": self.parameter_name, "unit": self.unit,
             "natural_frequency_hz": self.natural_frequency,
@@ -274,6 +420,33 @@ class Branch:
     def plot(self, ax: Any = None, **kwargs: Any) -> Any:
         """The response curve (:func:`gear_dyn.plots.continuation.plot_branch`): stable
         solid, unstable dashed, folds and period doublings marked with their parameter value;
-        returns the Figure."""
+        returns the Figure.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes or None
+            Where to draw; None makes a new figure.
+        **kwargs
+            Passed to :func:`gear_dyn.plots.continuation.plot_branch`.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure drawn on.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.continuation.jump_map.FoldMap.plot` : The jump map.
+
+        Examples
+        --------
+        >>> import matplotlib.pyplot as plt
+        >>> from gear_dyn import SDOFModel, continue_orbits, rectangular_stiffness, sdof_family
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+        ...               backlash=1e-3)
+        >>> branch = continue_orbits(sdof_family(m, "speed", teeth=20), 43.0, 44.5)
+        >>> fig = branch.plot()
+        >>> plt.close(fig)
+        """
         return importlib.import_module(PLOTS_MODULE).plot_branch(self, ax=ax, **kwargs)
 

@@ -72,6 +72,14 @@ def sdof_family(model: MeshModel, parameter: str, *, teeth: int | None = None,
         An unknown parameter, a missing ``teeth`` or ``base_radius``, or ``backlash`` for a
         model without backlash.
 
+    See Also
+    --------
+    :func:`~gear_dyn.analysis.continuation.arclength.continue_orbits`
+        Follows the orbits of the family.
+    :class:`~gear_dyn.analysis.continuation.fold_curve.SpeedTorqueFamily`
+        The family over speed and torque.
+    :class:`~gear_dyn.models.sdof.SDOFModel` : The models.
+
     Examples
     --------
     >>> from gear_dyn import SDOFModel, rectangular_stiffness

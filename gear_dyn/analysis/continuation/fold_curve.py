@@ -2,7 +2,8 @@
 operating map (Seydel 2010, sec. 5.7; Kuznetsov 2004, sec. 8.2 and 10.2).
 
 Natural-parameter continuation in torque: at each torque of a sequence the speed branch is
-followed by :func:`continue_orbits` over the whole speed window and its folds are located
+followed by :func:`~gear_dyn.analysis.continuation.arclength.continue_orbits` over the whole speed
+window and its folds are located
 there (to the continuation's ``locate_tol``). Consecutive folds that bound an unstable stretch
 are the two ends of one hysteresis loop; loops are matched from one torque to the next, and a
 loop that vanishes between two torques ends at a cusp, located by bisection in torque.
@@ -42,20 +43,41 @@ class SpeedTorqueFamily:
     Parameters
     ----------
     speed_family : callable
-        ``speed (rad/s) -> model`` at the torque ``torque_ref``: :class:`gear_dyn.scene.sweep.
-        SceneModels` (which knows its scene's torque, its ``torque`` attribute), or
-        :func:`sdof_family` in ``speed``; its models must be dataclasses with a
+        ``speed (rad/s) -> model`` at the torque ``torque_ref``:
+        :class:`~gear_dyn.scene.sweep.SceneModels` (which knows its scene's torque, its ``torque``
+        attribute), or
+        :func:`~gear_dyn.analysis.continuation.family.sdof_family` in ``speed``; its models must be
+        dataclasses with a
         ``static_load`` field (the single-DOF mesh model).
     torque_ref : float or None
         The torque (N m, > 0) of ``speed_family``'s models. None: the family's own
         ``torque`` (a scene's ``operating.torque``); needed for a family that does not know
-        its torque (:func:`sdof_family`). Given for a family that knows it, it must agree
+        its torque (:func:`~gear_dyn.analysis.continuation.family.sdof_family`). Given for a family
+        that knows it, it must agree
         with it (a wrong value would scale every load by the wrong factor).
 
     Raises
     ------
     InputError
         No torque known, a torque out of 0..1e8 N m, or one that contradicts the family's.
+
+    See Also
+    --------
+    :func:`~gear_dyn.analysis.continuation.fold_curve.fold_map`
+        The jump regions over speed and torque.
+    :func:`~gear_dyn.analysis.continuation.family.sdof_family`
+        A speed family of a single-DOF model.
+
+    Examples
+    --------
+    >>> from gear_dyn import SDOFModel, rectangular_stiffness, sdof_family
+    >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+    ...               backlash=1e-3)
+    >>> fam = SpeedTorqueFamily(sdof_family(m, "speed", teeth=20), torque_ref=52.0)
+    >>> fam.reference  # N m
+    52.0
+    >>> fam(40.0, 26.0).static_load  # half the torque: half the load (N)
+    520.0
     """
 
     speed_family: Callable[[float], Model]
@@ -96,7 +118,30 @@ class SpeedTorqueFamily:
         return replace(model, static_load=model.static_load * torque / self.reference)
 
     def at_torque(self, torque: float) -> Callable[[float], Any]:
-        """The speed family ``speed (rad/s) -> model`` at ``torque`` (N m; picklable)."""
+        """The speed family ``speed (rad/s) -> model`` at ``torque`` (N m; picklable).
+
+        Parameters
+        ----------
+        torque : float
+            Pinion torque in N m (0..1e8).
+
+        Returns
+        -------
+        callable
+            ``speed (rad/s) -> model`` with the static load scaled to ``torque``.
+
+        See Also
+        --------
+        :func:`~gear_dyn.analysis.continuation.arclength.continue_orbits` : Takes such a family.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, rectangular_stiffness, sdof_family
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0)
+        >>> fam = SpeedTorqueFamily(sdof_family(m, "speed", teeth=20), torque_ref=52.0)
+        >>> fam.at_torque(104.0)(40.0).static_load  # N
+        2080.0
+        """
         return partial(self, torque=float(torque))
 
 
@@ -204,6 +249,7 @@ def fold_map(family: SpeedTorqueFamily, speeds: tuple[float, float], torques: Se
     Returns
     -------
     FoldMap
+        The jump regions, the fold speeds at each torque and the cusps.
 
     Raises
     ------
@@ -211,6 +257,12 @@ def fold_map(family: SpeedTorqueFamily, speeds: tuple[float, float], torques: Se
         Fewer than 2 torques, a torque <= 0, an empty speed window, bad ``cusp_bisections``.
     SolverError
         No periodic orbit at the start of a branch.
+
+    See Also
+    --------
+    :class:`~gear_dyn.analysis.continuation.fold_curve.SpeedTorqueFamily` : The family it takes.
+    :func:`~gear_dyn.analysis.continuation.arclength.continue_orbits` : One speed branch.
+    :class:`~gear_dyn.analysis.continuation.jump_map.FoldMap` : The result.
 
     Examples
     --------
@@ -221,6 +273,9 @@ def fold_map(family: SpeedTorqueFamily, speeds: tuple[float, float], torques: Se
     >>> fam = SpeedTorqueFamily(sdof_family(m, "speed", teeth=20), torque_ref=1040.0 * 0.05)
     >>> fam(40.0, 2 * 52.0).static_load  # twice the torque: twice the load (N)
     2080.0
+    >>> fmap = fold_map(fam, (43.0, 44.5), [50.0, 52.0], cusp_bisections=0)
+    >>> [[round(f, 2) for f in folds] for folds in fmap.folds]  # fold speeds (rad/s)
+    [[43.96], [43.96]]
     """
     if len(torques) < 2:
         raise InputError(f"torques: {len(torques)} given, at least 2 needed")

@@ -3,8 +3,8 @@
 A :class:`JumpRegion` is the band of speeds between the two folds that bound one unstable
 stretch of the response curve (the two ends of a hysteresis loop), followed over torque; where
 the two folds meet (a cusp) the band and the jumps end. A :class:`FoldMap` holds the regions
-and the folds found at every torque. The figure is :func:`gear_dyn.plots.fold_map.
-plot_fold_map` (``fold_map.plot(ax=None)``; the plots module is looked up by name when called,
+and the folds found at every torque. The figure is :func:`~gear_dyn.plots.fold_map.plot_fold_map`
+(``fold_map.plot(ax=None)``; the plots module is looked up by name when called,
 so the analysis layer imports no plots).
 """
 
@@ -94,9 +94,13 @@ class JumpRegion:
 class FoldMap:
     """The jump regions of a scene or model in the (speed, torque) plane.
 
-    Attributes
+    Made by :func:`~gear_dyn.analysis.continuation.fold_curve.fold_map`; each parameter is kept as
+    the attribute of that name.
+
+    Parameters
     ----------
     regions : tuple of JumpRegion
+        Each region of coexisting orbits: its fold curves (rad/s against N m) and its cusp.
     torques : ndarray
         Every torque (N m) at which a speed branch was followed, increasing (the requested
         ones and those added to bracket cusps).
@@ -115,6 +119,29 @@ class FoldMap:
         Mesh frequency per pinion speed, f_m / omega = z1 / (2 pi) (Hz per rad/s).
     locate_tol : float
         Relative tolerance to which each fold's speed was located (the continuation's).
+
+    Attributes
+    ----------
+    cusps : list of Cusp
+        All cusps, in order of the regions.
+
+    See Also
+    --------
+    :func:`~gear_dyn.analysis.continuation.fold_curve.fold_map` : Makes it.
+    :class:`~gear_dyn.analysis.continuation.branch.Branch` : One speed branch.
+
+    Examples
+    --------
+    >>> from gear_dyn import (SDOFModel, SpeedTorqueFamily, fold_map, rectangular_stiffness,
+    ...                       sdof_family)
+    >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+    ...               backlash=1e-3)
+    >>> fam = SpeedTorqueFamily(sdof_family(m, "speed", teeth=20), torque_ref=52.0)
+    >>> fmap = fold_map(fam, (43.0, 44.5), [50.0, 52.0], cusp_bisections=0)
+    >>> fmap.torques  # N m
+    array([50., 52.])
+    >>> len(fmap.folds)  # one tuple of fold speeds per torque
+    2
     """
 
     regions: tuple[JumpRegion, ...]
@@ -133,7 +160,35 @@ class FoldMap:
         return [c for r in self.regions for c in r.cusps]
 
     def coexisting(self, speed: float, torque: float) -> bool:
-        """True where two or more orbits coexist (inside any region): a sweep jumps there."""
+        """True where two or more orbits coexist (inside any region): a sweep jumps there.
+
+        Parameters
+        ----------
+        speed : float
+            Pinion speed in rad/s.
+        torque : float
+            Pinion torque in N m.
+
+        Returns
+        -------
+        bool
+            Inside a jump region.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.continuation.jump_map.FoldMap.plot` : The regions drawn.
+
+        Examples
+        --------
+        >>> from gear_dyn import (SDOFModel, SpeedTorqueFamily, fold_map, rectangular_stiffness,
+        ...                       sdof_family)
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+        ...               backlash=1e-3)
+        >>> fam = SpeedTorqueFamily(sdof_family(m, "speed", teeth=20), torque_ref=52.0)
+        >>> fmap = fold_map(fam, (43.0, 44.5), [50.0, 52.0], cusp_bisections=0)
+        >>> fmap.coexisting(43.5, 51.0)  # one fold in the window: no closed region
+        False
+        """
         return any(r.contains(speed, torque) for r in self.regions)
 
     def __repr__(self) -> str:
@@ -155,7 +210,29 @@ class FoldMap:
         located to (``locate_tol``), the stability of the branch before and after it, and for
         a cusp its torque error (a bound) and the half gap of the folds at the last torque
         with the loop (``fold_half_gap_rad_s``; not a bound on the cusp's speed error, which
-        is not stated: NaN)."""
+        is not stated: NaN).
+
+        Returns
+        -------
+        list of dict
+            SI units (and rpm) in the key names.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.continuation.jump_map.FoldMap.to_dict`
+            The rows with the map's summary.
+
+        Examples
+        --------
+        >>> from gear_dyn import (SDOFModel, SpeedTorqueFamily, fold_map, rectangular_stiffness,
+        ...                       sdof_family)
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+        ...               backlash=1e-3)
+        >>> fam = SpeedTorqueFamily(sdof_family(m, "speed", teeth=20), torque_ref=52.0)
+        >>> fmap = fold_map(fam, (43.0, 44.5), [50.0, 52.0], cusp_bisections=0)
+        >>> fmap.rows()  # no closed jump region in this window
+        []
+        """
         nan = math.nan
         out: list[dict[str, Any]] = []
         for i, r in enumerate(self.regions):
@@ -178,7 +255,28 @@ class FoldMap:
         return out
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-able: the speed window, f_n, torques, folds per torque, cusps and rows."""
+        """JSON-able: the speed window, f_n, torques, folds per torque, cusps and rows.
+
+        Returns
+        -------
+        dict
+            Plain numbers and strings, SI units (and rpm) in the key names.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.continuation.jump_map.FoldMap.rows` : The rows alone.
+
+        Examples
+        --------
+        >>> from gear_dyn import (SDOFModel, SpeedTorqueFamily, fold_map, rectangular_stiffness,
+        ...                       sdof_family)
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+        ...               backlash=1e-3)
+        >>> fam = SpeedTorqueFamily(sdof_family(m, "speed", teeth=20), torque_ref=52.0)
+        >>> fmap = fold_map(fam, (43.0, 44.5), [50.0, 52.0], cusp_bisections=0)
+        >>> fmap.to_dict()["torques_n_m"]
+        [50.0, 52.0]
+        """
         return {"speed_range_rad_s": list(self.speed_range),
                 "speed_range_rpm": [s * 60 / (2 * math.pi) for s in self.speed_range],
                 "natural_frequency_hz": self.natural_frequency,
@@ -191,5 +289,35 @@ class FoldMap:
 
     def plot(self, ax: Any = None, **kwargs: Any) -> Any:
         """The jump map (:func:`gear_dyn.plots.fold_map.plot_fold_map`): regions shaded, fold
-        curves drawn, cusps marked; returns the Figure."""
+        curves drawn, cusps marked; returns the Figure.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes or None
+            Where to draw; None makes a new figure.
+        **kwargs
+            Passed to :func:`gear_dyn.plots.fold_map.plot_fold_map`.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure drawn on.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.continuation.branch.Branch.plot`
+            One speed branch's response curve.
+
+        Examples
+        --------
+        >>> import matplotlib.pyplot as plt
+        >>> from gear_dyn import (SDOFModel, SpeedTorqueFamily, fold_map, rectangular_stiffness,
+        ...                       sdof_family)
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+        ...               backlash=1e-3)
+        >>> fam = SpeedTorqueFamily(sdof_family(m, "speed", teeth=20), torque_ref=52.0)
+        >>> fmap = fold_map(fam, (43.0, 44.5), [50.0, 52.0], cusp_bisections=0)
+        >>> fig = fmap.plot()
+        >>> plt.close(fig)
+        """
         return importlib.import_module(PLOTS_MODULE).plot_fold_map(self, ax=ax, **kwargs)

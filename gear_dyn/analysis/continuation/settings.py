@@ -13,7 +13,8 @@ from gear_dyn.errors import check_range
 
 @dataclass(frozen=True)
 class ContinuationSettings:
-    """How a branch of periodic orbits is followed (:func:`continue_orbits`).
+    """How a branch of periodic orbits is followed
+    (:func:`~gear_dyn.analysis.continuation.arclength.continue_orbits`).
 
     Lengths are in the scaled space of the unknowns ``z = (x / x_s, v / v_s, p / p_ref)``
     (``x_s, v_s`` the model's ``state_scale``, ``p_ref`` the start value of the parameter), so
@@ -69,6 +70,22 @@ class ContinuationSettings:
     ------
     InputError
         Any field outside its range.
+
+    See Also
+    --------
+    :func:`~gear_dyn.analysis.continuation.arclength.continue_orbits`
+        Follows a branch with these settings.
+    :func:`~gear_dyn.analysis.continuation.fold_curve.fold_map` : Uses them for every speed branch.
+
+    Examples
+    --------
+    >>> settings = ContinuationSettings(step=0.01, max_points=200)
+    >>> settings.step_max  # the default bound (scaled)
+    0.1
+    >>> ContinuationSettings(step=0.0)
+    Traceback (most recent call last):
+    ...
+    gear_dyn.errors.InputError: step = 0 is out of range: valid range 1e-07 <= x <= 0.1
     """
 
     step: float = 0.02

@@ -67,7 +67,10 @@ GROWTH = 3.0
 class Motion:
     """The motion a trajectory settles on.
 
-    Attributes
+    Made by :func:`~gear_dyn.analysis.motion.classify.classify_motion`; each parameter is kept as
+    the attribute of that name.
+
+    Parameters
     ----------
     kind : str
         One of :data:`~gear_dyn.analysis.motion.classify.KINDS`.
@@ -89,6 +92,27 @@ class Motion:
         (:func:`.period.repeat_errors`).
     shooting_iterations : int
         Newton iterations spent on confirming periods.
+
+    Attributes
+    ----------
+    periodic : bool
+        A stable orbit of ``period`` mesh periods was confirmed by shooting.
+    spectral_radius : float
+        Largest multiplier modulus of the orbit (NaN without an orbit).
+
+    See Also
+    --------
+    :func:`~gear_dyn.analysis.motion.classify.classify_motion` : Makes it.
+    :class:`~gear_dyn.analysis.motion.diagram.BifurcationDiagram` : Motions over a range of speeds.
+
+    Examples
+    --------
+    >>> from gear_dyn import SDOFModel, classify_motion, rectangular_stiffness
+    >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 136.9,
+    ...               backlash=1e-3)
+    >>> motion = classify_motion(m, m.initial_state(), settle=20, samples=32)
+    >>> motion.periodic, motion.period, motion.spectral_radius < 1  # a stable period-1 orbit
+    (True, 1, True)
     """
 
     kind: str
@@ -332,6 +356,20 @@ def classify_motion(model: MeshModel, y0: FloatArray, settle: int = 200, samples
     SolverError
         Integration failure.
 
+    See Also
+    --------
+    :class:`~gear_dyn.analysis.motion.classify.Motion` : The result.
+    :func:`~gear_dyn.analysis.motion.diagram.bifurcation_diagram`
+        The motion over a range of speeds.
+
+    Examples
+    --------
+    >>> from gear_dyn import SDOFModel, rectangular_stiffness
+    >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 136.9,
+    ...               backlash=1e-3)
+    >>> motion = classify_motion(m, m.initial_state(), settle=20, samples=32)
+    >>> motion.label, motion.samples.shape
+    ('period-1', (32, 2))
     """
     check_range("samples", samples, "", low=2 * MAX_PERIOD)
     strobe = stroboscopic(model, y0, settle, samples, rtol)

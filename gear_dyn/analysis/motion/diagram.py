@@ -67,6 +67,25 @@ class DiagramOptions:
         Mesh periods of each Lyapunov estimate where ``classify`` (20..1e6).
     rtol : float
         Relative tolerance where the exact flow does not apply (1e-13..1e-4).
+
+    Raises
+    ------
+    InputError
+        Any field outside its range.
+
+    See Also
+    --------
+    :func:`~gear_dyn.analysis.motion.diagram.bifurcation_diagram` : Uses them at every speed.
+    :class:`~gear_dyn.analysis.sweep.types.SweepOptions` : The same for a speed sweep.
+
+    Examples
+    --------
+    >>> DiagramOptions(settle=50).samples
+    64
+    >>> DiagramOptions(samples=10)
+    Traceback (most recent call last):
+    ...
+    gear_dyn.errors.InputError: samples = 10 is out of range: valid range 32 <= x <= 100000
     """
 
     settle: int = 200
@@ -182,9 +201,13 @@ class DiagramCurve:
 class BifurcationDiagram:
     """Stroboscopic samples against pinion speed, swept up and down.
 
-    Attributes
+    Made by :func:`~gear_dyn.analysis.motion.diagram.bifurcation_diagram`; each parameter is kept as
+    the attribute of that name.
+
+    Parameters
     ----------
     scene_name : str
+        The scene's name (empty for a model family).
     curves : tuple of DiagramCurve
         One per direction (``up`` first).
     state_labels : tuple of str
@@ -192,10 +215,27 @@ class BifurcationDiagram:
     natural_frequency : float
         f_n in Hz (NaN for models without it).
     options : DiagramOptions
+        How each speed was evaluated.
     run_time_s : float
-        Wall time.
+        Wall time in s.
     executor : str
         Where it ran (``serial``, ``process pool, N workers``, or the executor's class name).
+
+    See Also
+    --------
+    :func:`~gear_dyn.analysis.motion.diagram.bifurcation_diagram` : Makes it.
+    :class:`~gear_dyn.analysis.motion.classify.Motion` : The motion at one speed.
+
+    Examples
+    --------
+    >>> from gear_dyn import (DiagramOptions, SDOFModel, bifurcation_diagram,
+    ...                       rectangular_stiffness, sdof_family)
+    >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+    ...               backlash=1e-3)
+    >>> diagram = bifurcation_diagram(sdof_family(m, "speed", teeth=20), [43.0, 44.0],
+    ...                               options=DiagramOptions(settle=20, samples=32))
+    >>> diagram.state_labels, diagram.executor
+    (('x', 'v'), 'serial')
     """
 
     scene_name: str
@@ -219,10 +259,36 @@ class BifurcationDiagram:
     def curve(self, direction: str) -> DiagramCurve:
         """The curve of ``direction`` (``up`` or ``down``).
 
+        Parameters
+        ----------
+        direction : {"up", "down"}
+            The sweep direction.
+
+        Returns
+        -------
+        DiagramCurve
+            Speeds (rad/s), mesh frequencies (Hz), samples (SI), periods and labels.
+
         Raises
         ------
         InputError
             No such direction in this diagram.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.motion.diagram.BifurcationDiagram.columns`
+            All curves as columns.
+
+        Examples
+        --------
+        >>> from gear_dyn import (DiagramOptions, SDOFModel, bifurcation_diagram,
+        ...                       rectangular_stiffness, sdof_family)
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+        ...               backlash=1e-3)
+        >>> diagram = bifurcation_diagram(sdof_family(m, "speed", teeth=20), [43.0, 44.0],
+        ...                               options=DiagramOptions(settle=20, samples=32))
+        >>> diagram.curve("down").speed  # rad/s, in the order swept
+        array([44., 43.])
         """
         for c in self.curves:
             if c.direction == direction:
@@ -232,14 +298,65 @@ class BifurcationDiagram:
 
     def plot(self, ax: Any = None, **kwargs: Any) -> Any:
         """Draw the diagram (:func:`gear_dyn.plots.bifurcation.plot_bifurcation`; ``ax`` None
-        or one Axes; ``kwargs`` as there, e.g. ``state``). Returns the Figure."""
+        or one Axes; ``kwargs`` as there, e.g. ``state``). Returns the Figure.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes or None
+            Where to draw; None makes a new figure.
+        **kwargs
+            Passed to :func:`gear_dyn.plots.bifurcation.plot_bifurcation`.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure drawn on.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.continuation.branch.Branch.plot`
+            The orbits followed by continuation.
+
+        Examples
+        --------
+        >>> import matplotlib.pyplot as plt
+        >>> from gear_dyn import (DiagramOptions, SDOFModel, bifurcation_diagram,
+        ...                       rectangular_stiffness, sdof_family)
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+        ...               backlash=1e-3)
+        >>> diagram = bifurcation_diagram(sdof_family(m, "speed", teeth=20), [43.0, 44.0],
+        ...                               options=DiagramOptions(settle=20, samples=32))
+        >>> fig = diagram.plot()
+        >>> plt.close(fig)
+        """
         plots = importlib.import_module(PLOTS_MODULE)
         return plots.plot_bifurcation(self, ax=ax, **kwargs)
 
     def columns(self) -> dict[str, FloatArray]:
         """One row per sample: direction (+1 up, -1 down), speed (rad/s and rpm), f_m (Hz),
         f_m / f_n, the sample index, each state component (SI), the period, the Lyapunov
-        exponent and its error (1/s; NaN where not computed). For ``io.write_csv``."""
+        exponent and its error (1/s; NaN where not computed). For ``io.write_csv``.
+
+        Returns
+        -------
+        dict of ndarray
+            Columns of equal length, SI units in the names.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.motion.diagram.BifurcationDiagram.summary` : One entry per speed.
+
+        Examples
+        --------
+        >>> from gear_dyn import (DiagramOptions, SDOFModel, bifurcation_diagram,
+        ...                       rectangular_stiffness, sdof_family)
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+        ...               backlash=1e-3)
+        >>> diagram = bifurcation_diagram(sdof_family(m, "speed", teeth=20), [43.0, 44.0],
+        ...                               options=DiagramOptions(settle=20, samples=32))
+        >>> len(diagram.columns()["speed_rad_s"])  # 2 directions x 2 speeds x 32 samples
+        128
+        """
         cols: dict[str, list[Any]] = {k: [] for k in (
             "direction", "speed_rad_s", "speed_rpm", "mesh_frequency_hz", "fm_over_fn",
             "sample", *self.state_labels, "period", "lyapunov_1_s", "lyapunov_error_1_s")}
@@ -260,7 +377,28 @@ class BifurcationDiagram:
 
     def summary(self) -> dict[str, Any]:
         """Per direction and speed: speed (rad/s, rpm), f_m / f_n, period, label, Lyapunov
-        exponent and error (1/s; None where not computed). JSON-able with ``io.write_json``."""
+        exponent and error (1/s; None where not computed). JSON-able with ``io.write_json``.
+
+        Returns
+        -------
+        dict
+            The scene, f_n in Hz, the options, and one list per direction.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.motion.diagram.BifurcationDiagram.columns` : Every sample.
+
+        Examples
+        --------
+        >>> from gear_dyn import (DiagramOptions, SDOFModel, bifurcation_diagram,
+        ...                       rectangular_stiffness, sdof_family)
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+        ...               backlash=1e-3)
+        >>> diagram = bifurcation_diagram(sdof_family(m, "speed", teeth=20), [43.0, 44.0],
+        ...                               options=DiagramOptions(settle=20, samples=32))
+        >>> diagram.summary()["settle_periods"]
+        20
+        """
         return {
             "scene": self.scene_name, "natural_frequency_hz": self.natural_frequency,
             "settle_periods": self.options.settle, "samples": self.options.samples,
@@ -322,6 +460,28 @@ def bifurcation_diagram(
         Bad speeds, direction, block or workers; a model that is not mesh-periodic.
     SolverError
         An integration failed.
+
+    See Also
+    --------
+    :class:`~gear_dyn.analysis.motion.diagram.DiagramOptions` : How each speed is evaluated.
+    :func:`~gear_dyn.analysis.motion.classify.classify_motion` : The motion at one speed.
+    :func:`~gear_dyn.analysis.continuation.arclength.continue_orbits`
+        The orbits followed through their folds.
+
+    Examples
+    --------
+    >>> from gear_dyn import (DiagramOptions, SDOFModel, bifurcation_diagram,
+    ...                       rectangular_stiffness, sdof_family)
+    >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+    ...               backlash=1e-3)
+    >>> diagram = bifurcation_diagram(sdof_family(m, "speed", teeth=20), [43.0, 44.0],
+    ...                               options=DiagramOptions(settle=20, samples=32))
+    >>> [(c.direction, c.period.tolist()) for c in diagram.curves]  # 20 periods: unsettled
+    [('up', [1, 0]), ('down', [1, 1])]
+    >>> settled = bifurcation_diagram(sdof_family(m, "speed", teeth=20), [43.0, 44.0],
+    ...                               options=DiagramOptions(settle=200, samples=32))
+    >>> [(c.direction, c.period.tolist()) for c in settled.curves]  # period-1 everywhere
+    [('up', [1, 1]), ('down', [1, 1])]
     """
     opts = options or DiagramOptions()
     if direction not in ("both", "up", "down"):

@@ -42,6 +42,25 @@ class SweepOptions:
         Steady method, where no orbit of 1..16 mesh periods is found after settling: mesh
         periods of the largest Lyapunov exponent that tells quasi-periodic from chaotic motion
         (20..1e6; :func:`gear_dyn.analysis.motion.classify_samples`).
+
+    Raises
+    ------
+    InputError
+        An unknown method or a field outside its range.
+
+    See Also
+    --------
+    :func:`~gear_dyn.scene.sweep.sweep_scene` : Sweeps a scene with these options.
+    :class:`~gear_dyn.analysis.motion.diagram.DiagramOptions` : The same for a bifurcation diagram.
+
+    Examples
+    --------
+    >>> SweepOptions(window_periods=8).harmonics
+    5
+    >>> SweepOptions(method="implicit")
+    Traceback (most recent call last):
+    ...
+    gear_dyn.errors.InputError: sweep method = 'implicit': valid choices are steady, transient
     """
 
     method: str = "steady"
@@ -218,7 +237,8 @@ class SweepCurve:
     jumps: tuple[Jump, ...] = ()
 
     def peak(self, quantity: str = "dynamic_factor") -> Peak:
-        """The largest finite value of ``quantity`` on this curve (:class:`Peak`; speed in rad/s,
+        """The largest finite value of ``quantity`` on this curve
+        (:class:`~gear_dyn.analysis.sweep.types.Peak`; speed in rad/s,
         ``.speed_rpm`` in rpm).
 
         Parameters
@@ -290,9 +310,13 @@ class SweepPlots:
 class SweepResult:
     """A speed sweep.
 
-    Attributes
+    Made by :func:`~gear_dyn.scene.sweep.sweep_scene`; each parameter is kept as the attribute of
+    that name.
+
+    Parameters
     ----------
     scene_name : str
+        The scene's name.
     curves : tuple of SweepCurve
         One per direction (``up`` first).
     orders : ndarray
@@ -319,6 +343,27 @@ class SweepResult:
     warnings : tuple of str
         What the caller should know about the inputs, one sentence each (e.g. a backlash scene
         with no excitation that can open the gap at light load); printed by the CLI.
+
+    Attributes
+    ----------
+    stiffness_jump_factor : float
+        F_qs,max / W, the quasi-static force overshoot at the jumps of k(t).
+    plot : SweepPlots
+        The figures: ``sweep.plot.response(ax=None)``, ``sweep.plot.waterfall(ax=None)``.
+
+    See Also
+    --------
+    :func:`~gear_dyn.scene.sweep.sweep_scene` : Makes it.
+    :class:`~gear_dyn.analysis.compare.Comparison` : Sweeps of several designs compared.
+
+    Examples
+    --------
+    >>> import gear_dyn as gd
+    >>> sweep = gd.sweep_scene(gd.load_scene("helicopter_tail"), "3000 rpm:3600 rpm:3")
+    >>> [c.direction for c in sweep.curves], sweep.executor
+    (['up'], 'serial')
+    >>> round(sweep.stiffness_jump_factor, 3)  # F_qs,max / W
+    1.75
     """
 
     scene_name: str
@@ -349,7 +394,8 @@ class SweepResult:
         return SweepPlots(self)
 
     def peak(self, quantity: str = "dynamic_factor") -> Peak:
-        """The largest value of ``quantity`` over all curves: a :class:`Peak` (value, pinion
+        """The largest value of ``quantity`` over all curves: a
+        :class:`~gear_dyn.analysis.sweep.types.Peak` (value, pinion
         speed in rad/s, direction; ``.speed_rpm`` in rpm), which unpacks as the 3-tuple
         ``value, speed, direction`` it used to be. NaN where no speed has a finite value; of
         two equal peaks the first curve's (``up``).
@@ -365,10 +411,25 @@ class SweepResult:
         InputError
             An unknown quantity.
 
+        Returns
+        -------
+        Peak
+            ``value`` (of the quantity's unit), ``speed`` in rad/s, ``direction``.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.sweep.types.SweepResult.curve`
+            One direction's values at every speed.
+
         Examples
         --------
-        >>> value, speed, direction = sweep.peak()                    # doctest: +SKIP
-        >>> sweep.peak("peak_force_ratio").speed_rpm                  # doctest: +SKIP
+        >>> import gear_dyn as gd
+        >>> sweep = gd.sweep_scene(gd.load_scene("helicopter_tail"), "3000 rpm:3600 rpm:3")
+        >>> value, speed, direction = sweep.peak()
+        >>> round(value, 3), direction
+        (1.195, 'up')
+        >>> round(sweep.peak("peak_force_ratio").speed_rpm)
+        3600
         """
         _check_quantity(quantity)
         best = NO_PEAK
@@ -391,7 +452,34 @@ class SweepResult:
                 f"  {peak}; f_n = {self.natural_frequency:.1f} Hz; {self.run_time_s:.3g} s)")
 
     def curve(self, direction: str) -> SweepCurve:
-        """The curve of ``direction`` (``up`` or ``down``)."""
+        """The curve of ``direction`` (``up`` or ``down``).
+
+        Parameters
+        ----------
+        direction : {"up", "down"}
+            The sweep direction.
+
+        Returns
+        -------
+        SweepCurve
+            Speeds (rad/s), dynamic factors, peak force ratios, DTE figures (m), spectra.
+
+        Raises
+        ------
+        InputError
+            No such direction in this sweep.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.sweep.types.SweepResult.peak` : The largest value over all curves.
+
+        Examples
+        --------
+        >>> import gear_dyn as gd
+        >>> sweep = gd.sweep_scene(gd.load_scene("helicopter_tail"), "3000 rpm:3600 rpm:3")
+        >>> sweep.curve("up").speed.round(2)  # rad/s
+        array([314.16, 345.58, 376.99])
+        """
         for c in self.curves:
             if c.direction == direction:
                 return c
