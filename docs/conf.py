@@ -2,7 +2,7 @@
 
 Build (warnings are errors), from the repository root::
 
-    pip install ".[docs]" && python -m sphinx -W --keep-going -b html docs docs/_build/html
+    pip install ".[docs]" && python -m sphinx -n -W --keep-going -b html docs docs/_build/html
 
 Pages: Markdown (MyST) beside this file; the API reference from the docstrings (autodoc,
 autosummary, numpydoc; ``docs/api/``); the gallery runs ``examples/plot_*.py``

@@ -5,7 +5,7 @@ Six tip reliefs compared by peak force
 The helicopter tail pair of Jiang et al. (2018) with no relief (the baseline), the four
 recommended reliefs (gear handbook, Dudley, Niemann, Wang et al. 2024) and a short custom relief
 (20 um over 1.2 mm of tooth height), all on the same potential-energy pair stiffness, swept
-from 3000 to 9000 rpm with :func:`gear_dyn.compare_scenes`.
+from 3000 to 9000 rpm with :func:`gear_dyn.compare_scenes <gear_dyn.scene.compare.compare_scenes>`.
 
 The designs are ranked by the peak dynamic mesh force over the static load, F_max / W. The
 dynamic factor K_dyn is divided by each design's own quasi-static peak force and does not rank

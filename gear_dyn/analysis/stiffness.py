@@ -50,7 +50,8 @@ def compare_methods(pair: GearPair, methods: list[str], scene_method: str,
                     ) -> tuple[dict[str, Any], dict[str, Any]]:
     """``(curves, report)``: each method's stiffness and the JSON-ready comparison.
 
-    Per method: mean, min, max and zone values (:func:`stiffness_summary`), the ratio of the
+    Per method: mean, min, max and zone values
+    (:func:`~gear_dyn.stiffness.summary.stiffness_summary`), the ratio of the
     mean to ISO 6336-1 c_gamma b (``ratio_to_iso``) and what the method includes and leaves out
     (``includes``, ``leaves_out``: :func:`gear_dyn.stiffness.select.method_scope`).
 

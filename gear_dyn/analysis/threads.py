@@ -4,7 +4,8 @@ gear_dyn's matrices are 2x2..8x8: BLAS worker threads cannot speed them up and, 
 machine, make every call wait for threads that have nothing to do (with OpenBLAS's default
 threads an ``exact`` run cost several times the CPU from Python that it costs from the
 ``gear-dyn`` command, which sets one thread before numpy loads: docs/python_api.md). The entry
-points of the analysis layer (:func:`gear_dyn.simulate`, sweeps, continuation, fold maps,
+points of the analysis layer (:func:`gear_dyn.simulate <gear_dyn.analysis.study.simulate>`,
+sweeps, continuation, fold maps,
 bifurcation diagrams, motion classification) therefore run inside :func:`one_blas_thread`: a
 limit scoped to the call through threadpoolctl's controller (the libraries' own thread
 setting, restored on return; nested and concurrent calls share one limit, lifted when the

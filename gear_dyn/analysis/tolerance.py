@@ -13,7 +13,7 @@ Per speed, the periodic response to each unit harmonic is computed once, exactly
 period is cut into cells of constant stiffness (at its switches and at the output samples);
 in a cell the particular solution of ``u'' + gamma u' + kappa u = Omega^2 e^{i Omega t}`` is
 ``U e^{i Omega t}``, ``U = Omega^2 / (kappa - Omega^2 + i gamma Omega)``, and the rest follows
-the cell's closed-form 2x2 exponential (:func:`gear_dyn.analysis.chart._expm2`). The response
+the cell's closed-form 2x2 exponential (``gear_dyn.analysis.chart._expm2``). The response
 to order q is quasi-periodic, ``Y(t + T) = e^{2 pi i q} Y(t)`` (T the mesh period): its state
 at the period start solves ``(e^{2 pi i q} I - M) Y0 = r`` with ``M`` the monodromy matrix and
 ``r`` the response over one period from rest. The static load's response (q = 0) is the
@@ -339,8 +339,8 @@ class ToleranceResult:
     values : dict
         ``peak_force`` (N), ``k_dyn``, ``rms_dte`` (m), ``min_force`` (N): arrays (N, S).
     seeds : list
-        The seed of every sample (as given to :func:`gear_dyn.modification.deviations.
-        sample_deviations`).
+        The seed of every sample (as given to
+        :func:`~gear_dyn.modification.deviations.sample_deviations`).
     static_load : float
         W in N.
     quasi_static_peak_ratio : float

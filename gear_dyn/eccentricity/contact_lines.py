@@ -34,7 +34,8 @@ FloatArray = NDArray[np.float64]
 @dataclass(frozen=True)
 class LinePlace:
     """Where the field of contact is at one instant, as the scalar functions read it (a
-    :class:`Kinematics` from a float time has the same attributes): ``travel``, ``l_ac``,
+    :class:`~gear_dyn.eccentricity.kinematics.Kinematics` from a float time has the same
+    attributes): ``travel``, ``l_ac``,
     ``l_cd``, ``l_cp``, ``foot1``, ``foot2`` in m."""
 
     travel: float
@@ -134,7 +135,8 @@ def contact_lines(layout: LineLayout, kin: Kinematics) -> ContactLines:
     layout : LineLayout
         From :meth:`LineLayout.of` for the same mesh.
     kin : Kinematics
-        From :meth:`EccentricMesh.kinematics` (one instant or an array of instants).
+        From :meth:`~gear_dyn.eccentricity.kinematics.EccentricMesh.kinematics` (one instant or
+        an array of instants).
 
     Returns
     -------

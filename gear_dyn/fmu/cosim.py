@@ -99,7 +99,8 @@ class ErrorBounds:
 @dataclass(frozen=True)
 class CosimReport:
     """Co-simulation of an FMU against solve_ivp, at several communication steps, with its
-    verdict: :attr:`passed` when the DTE difference at every step is within
+    verdict: :attr:`~gear_dyn.fmu.cosim.CosimReport.passed` when the DTE difference at every
+    step is within
     ``bounds.total``."""
 
     fmu: str
@@ -182,7 +183,7 @@ REFERENCE_RTOL = 1e-12
 
 def reference_settings(settings: SolverSettings) -> SolverSettings:
     """The solve_ivp settings of the reference: the scene's settings with
-    :data:`REFERENCE_METHOD` at :data:`REFERENCE_RTOL` (and the default absolute tolerance),
+    ``REFERENCE_METHOD`` at ``REFERENCE_RTOL`` (and the default absolute tolerance),
     whatever the scene's method, so that the reference is always what its label says, a
     solve_ivp run, and its error is below the FMU's."""
     return replace(settings, method=REFERENCE_METHOD, rtol=REFERENCE_RTOL, atol=None)

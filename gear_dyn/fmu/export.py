@@ -136,7 +136,7 @@ class NativeModel:
         The table carries a static transmission error.
     load_tables : bool
         The tables come from a loaded-contact analysis at the build torque (tip relief): the
-        torque input then changes W only, the tables stay those of :attr:`torque`.
+        torque input then changes W only, the tables stay those of ``torque``.
     """
 
     table: PhaseTable
@@ -240,7 +240,7 @@ def native_model(model: Any, pair: GearPair, speed: float, torque: float,
     """The native FMU's data for a single-DOF model built at ``speed`` (rad/s), ``torque`` (N m).
 
     ``load_tables``: the model's stiffness and TE come from a loaded-contact analysis at
-    ``torque`` (tip relief), see :attr:`NativeModel.load_tables`.
+    ``torque`` (tip relief), see ``NativeModel.load_tables``.
 
     Raises
     ------

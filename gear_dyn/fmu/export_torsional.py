@@ -6,7 +6,7 @@ no transmission error) from a table of its state-free coefficients in the mesh p
 ``p = z1 th1 / (2 pi)`` (cycles): :data:`QUANTITIES` on pieces between the model's switching
 instants, over the hunting period with eccentricity (one mesh cycle without), each interpolated
 at Chebyshev points with the lowest degree (<= :data:`MAX_DEGREE`) that meets
-:data:`TABLE_ERROR` (:attr:`TorsionalTable.max_error`). Why tables in phase, and the figures:
+:data:`TABLE_ERROR` (``TorsionalTable.max_error``). Why tables in phase, and the figures:
 docs/native_fmu.md, "The torsional model".
 """
 
@@ -40,7 +40,7 @@ class TorsionalTable:
     Attributes
     ----------
     breaks : ndarray (n + 1,)
-        Piece edges in cycles, from 0 to :attr:`period`.
+        Piece edges in cycles, from 0 to ``period``.
     degree : int
         Polynomial degree on every piece.
     coef : ndarray (n, 5, degree + 1)

@@ -1,7 +1,7 @@
 """The FMU's outputs at one communication point, as plain Python floats.
 
 A master reads the outputs after every communication step, one instant at a time; the model's
-vectorised :meth:`outputs` costs tens of microseconds of numpy set-up for one sample, more than
+vectorised ``outputs`` costs tens of microseconds of numpy set-up for one sample, more than
 the exact step itself. :func:`output_writer` returns a function that writes the output values
 at ``(t, y)`` into the slave's dict of outputs:
 

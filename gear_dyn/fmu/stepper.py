@@ -250,7 +250,7 @@ class Stepper:
         return self.y.copy()
 
     def step_to(self, t1: float) -> None:
-        """:meth:`advance` without returning the state (read :attr:`y`; the FMU's per-step
+        """:meth:`advance` without returning the state (read ``y``; the FMU's per-step
         path). Raises as :meth:`advance` does."""
         if not t1 >= self.t:
             raise InputError(f"communication point t = {t1:.9g} s is before the current time "

@@ -4,7 +4,7 @@ ask, never test a class.
 A model is an object with:
 
 Identity and scales
-    ``state_labels`` (names of the states), ``output_names`` (names of :meth:`outputs`),
+    ``state_labels`` (names of the states), ``output_names`` (names of ``outputs``),
     ``mesh_frequency`` (Hz), ``static_load`` (W in N), ``state_scale`` (typical magnitude of each
     state, SI: absolute tolerances and relative error figures), ``natural_frequency`` (Hz of the
     mesh mode, or None), ``mean_stiffness`` (N/m, or None).

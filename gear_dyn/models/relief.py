@@ -123,7 +123,7 @@ def slice_sdof(
 
     The tangent stiffness ``k_t(p)`` and the transmission error of the modifications
     ``e(p) = delta(p) - F_t / k_t(p)`` at the operating torque
-    (:func:`~gear_dyn.modification.slice_contact.slice_contact`), linear between the mesh
+    (:func:`~gear_dyn.modification.slice_contact`), linear between the mesh
     positions, feed ``m x'' + c (x' - e') + k_t (x - e) = W`` (the ``"tangent"`` form of
     :func:`relief_sdof`): its static solution is the loaded static TE.
 
@@ -147,7 +147,7 @@ def slice_sdof(
     Raises
     ------
     InputError
-        As :func:`~gear_dyn.modification.slice_contact.slice_contact` and
+        As :func:`~gear_dyn.modification.slice_contact` and
         :func:`~gear_dyn.models.sdof.sdof_from_pair`.
     """
     sc = slice_contact(pair, torque, modification, pair_stiffness, options)

@@ -5,7 +5,7 @@ The state-independent coefficients (``e_ecc`` and its rate, ``k``, the friction 
 ``phi2``) are smooth between ``TorsionalModel.switching_times``. They are evaluated once,
 vectorised, at the Chebyshev points of every piece, and the right-hand side evaluates a
 polynomial of degree :data:`DEGREE` instead of the eccentric kinematics. The interpolation error
-is measured at build time at the next degree's Chebyshev points (:attr:`ExcitationTable.max_error`,
+is measured at build time at the next degree's Chebyshev points (``ExcitationTable.max_error``,
 relative to each quantity's scale). Blocks of :data:`BLOCK_MESH_PERIODS` mesh periods are built
 when first needed; at most :data:`MAX_BLOCKS` are kept.
 """

@@ -7,7 +7,7 @@ After Wang et al. (2024) and Han (n.d.); docs/modification.md. Public names:
 - :mod:`.contact`: :func:`loaded_contact` (single/double contact decision, K_TPM, load sharing,
   the relief's transmission error), :class:`LoadedContact`
 - :mod:`.stress`: Hertz line contact along the path of contact
-- :mod:`.slice_contact`: :func:`slice_contact`, loaded tooth contact analysis of spur and
+- ``slice_contact``: :func:`slice_contact`, loaded tooth contact analysis of spur and
   helical pairs by the slice method (Pasternak-coupled slices, Ajmi & Velex 2005), at one torque
   or a ladder (:class:`SliceContact`, :class:`SliceOptions`)
 - :mod:`.lead`: lead modifications and misalignment (:class:`LeadModification`,

@@ -1,7 +1,8 @@
 """Relief cases side by side: loaded contact, load sharing and contact stress along the path,
 and the table row each case contributes (what ``gear-dyn contact`` and the examples report):
-the spur loaded contact (:class:`ReliefCase`) or the slice method for any pair with lead
-modifications and misalignment (:class:`SliceCase`)."""
+the spur loaded contact (:class:`~gear_dyn.modification.analysis.ReliefCase`) or the slice
+method for any pair with lead
+modifications and misalignment (:class:`~gear_dyn.modification.analysis.SliceCase`)."""
 
 from __future__ import annotations
 

@@ -9,7 +9,8 @@ share one approach ``delta`` (the loaded static transmission error), solved exac
 From it: the secant mesh stiffness ``K_TPM = F / delta`` (eqs. 8-12), the load-sharing factors
 ``S_j = F_j / F`` (eqs. 17-26), and for dynamics (decision) the tangent stiffness ``k_t`` (sum of
 ``K_j`` over loaded pairs) with the relief's transmission error ``e = sum K_j g_j / k_t``.
-Spur pairs only (helical pairs: :mod:`.slice_contact`, which equals this at helix angle 0).
+Spur pairs only (helical pairs: :func:`~gear_dyn.modification.slice_contact`, which equals this
+at helix angle 0).
 docs/modification.md, "Loaded contact", gives the reasoning and the tests.
 """
 

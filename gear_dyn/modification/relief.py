@@ -421,5 +421,6 @@ def recommended_relief(
 
 def recommended_reliefs(pair: GearPair, torque: float, **kwargs: float) -> tuple[
         ReliefRecommendation, ...]:
-    """All rules of :data:`RULES` for one pair and torque (keywords: :func:`recommended_relief`)."""
+    """All rules of :data:`~gear_dyn.modification.relief.RULES` for one pair and torque
+    (keywords: :func:`recommended_relief`)."""
     return tuple(recommended_relief(pair, torque, rule, **kwargs) for rule in RULES)

@@ -245,7 +245,7 @@ class SliceContact:
         return self.peak_pressure.max(axis=1)
 
     def at(self, index: int) -> SliceContact:
-        """The result of one torque of the ladder (``index`` into :attr:`torque`)."""
+        """The result of one torque of the ladder (``index`` into ``torque``)."""
         n = self.torque.size
         i = int(index)
         if not -n <= i < n:

@@ -128,8 +128,8 @@ def plot_branch_samples(samples: BranchSamples, ax: Any = None, state: str = "x"
     A period-n branch draws n curves (its orbits' states at t = k T_m, k < n): stable stretches
     solid, unstable ones dashed and light; folds (circles) and period doublings (squares) are
     marked on every sample of the located orbit and, with ``label_points``, labelled with their
-    parameter value, as on the response curve (:func:`gear_dyn.plots.continuation.
-    plot_branch`).
+    parameter value, as on the response curve
+    (:func:`~gear_dyn.plots.continuation.plot_branch`).
 
     Parameters
     ----------
@@ -140,8 +140,9 @@ def plot_branch_samples(samples: BranchSamples, ax: Any = None, state: str = "x"
     state : str
         State component drawn: ``x`` (mesh deflection, um) or ``v`` (its rate, m/s).
     diagram : BifurcationDiagram or None
-        A brute-force diagram over speed (:func:`gear_dyn.analysis.motion.
-        bifurcation_diagram`) drawn behind the branches in small grey dots (up and down
+        A brute-force diagram over speed
+        (:func:`~gear_dyn.analysis.motion.diagram.bifurcation_diagram`) drawn behind the
+        branches in small grey dots (up and down
         alike): attractors the branches do not carry (chaos, period-n windows) show there.
     label_points : bool
         Write each fold's and period doubling's parameter value beside its highest sample,

@@ -45,7 +45,8 @@ def plot_comparison(comparison: Comparison, ax: Any = None) -> Any:
     Parameters
     ----------
     comparison : Comparison
-        From :func:`gear_dyn.compare_scenes` or :func:`gear_dyn.analysis.compare.compare_sweeps`.
+        From :func:`gear_dyn.compare_scenes <gear_dyn.scene.compare.compare_scenes>` or
+        :func:`gear_dyn.analysis.compare.compare_sweeps`.
     ax : sequence of 3 Axes or None
         Peak force against speed, RMS DTE against speed, bar chart (None: a new figure).
 

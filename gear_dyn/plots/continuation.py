@@ -95,7 +95,8 @@ def plot_branch(branch: Branch, ax: Any = None, y: str = "dte_rms", label_points
     label_points : bool
         Write each fold's and period doubling's parameter value next to its mark.
     sweep : SweepResult or None
-        A speed sweep of the same scene (:func:`gear_dyn.sweep_scene`) drawn over the branch:
+        A speed sweep of the same scene
+        (:func:`gear_dyn.sweep_scene <gear_dyn.scene.sweep.sweep_scene>`) drawn over the branch:
         its periodic points up and down, and its jumps between two periodic points as arrows
         from the speed before to the speed after (speed branches only).
 

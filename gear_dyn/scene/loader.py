@@ -1,4 +1,5 @@
-"""Read a TOML scene file into a validated :class:`Scene` (SI values, defaults filled).
+"""Read a TOML scene file into a validated :class:`~gear_dyn.scene.validated.Scene` (SI values,
+defaults filled).
 
 Importing this module registers every scene table and model builder (the modules that
 declare them are imported here), so a scene is checked against all of them.

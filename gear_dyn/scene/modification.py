@@ -105,7 +105,8 @@ def _custom_relief(pair: GearPair, t: dict[str, Any], gear: int, where: str) -> 
 
 
 def relief_from_scene(scene: Scene, pair: GearPair | None = None) -> ProfileModification:
-    """The :class:`ProfileModification` of the scene's ``[tip_relief]`` table.
+    """The :class:`~gear_dyn.modification.relief.ProfileModification` of the scene's
+    ``[tip_relief]`` table.
 
     Raises
     ------

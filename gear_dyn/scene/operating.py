@@ -2,7 +2,7 @@
 
 ``run_scene(scene, speed="6000 rpm", torque="200 Nm")`` and ``sweep_scene(scene, ["4000 rpm",
 "6275 rpm"])`` take their speeds and torques with units, through the same fields
-(:data:`gear_dyn.scene.core.OPERATING`) and messages as a scene's ``[operating]`` table: a plain
+(``gear_dyn.scene.core.OPERATING``) and messages as a scene's ``[operating]`` table: a plain
 number is refused with a hint (1500 rad/s is not what anyone meant by ``speed=1500``), unless
 the caller says ``si=True`` (values already in rad/s and N m). Unknown keywords are refused
 with a did-you-mean (:func:`check_keywords`), as the scene's unknown keys are.

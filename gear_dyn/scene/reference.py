@@ -1,4 +1,5 @@
-"""The scene reference, generated from the scene schema (the registered :class:`Section` s).
+"""The scene reference, generated from the scene schema (the registered
+:class:`~gear_dyn.scene.fields.Section` s).
 
 :func:`scene_reference` is what ``docs/scenes.md`` holds (a test keeps the file in sync) and what
 ``gear-dyn scene keys [TABLE]`` prints: for every table and key its type, unit, default, valid

@@ -1,6 +1,7 @@
 """Registries that let each part of the toolkit declare its scene table and model builder.
 
-A feature module (eccentricity, tip relief, ...) declares its own :class:`Section` and calls
+A feature module (eccentricity, tip relief, ...) declares its own
+:class:`~gear_dyn.scene.fields.Section` and calls
 :func:`register_section`; a model kind registers a builder with :func:`register_model`. The
 scene loader (:mod:`gear_dyn.scene.loader`) imports every module that declares a table.
 """

@@ -1,4 +1,5 @@
-"""The validated scene (:class:`Scene`: its tables in SI values) and :func:`scene_error`, which
+"""The validated scene (:class:`~gear_dyn.scene.validated.Scene`: its tables in SI values) and
+:func:`~gear_dyn.scene.validated.scene_error`, which
 words an error of the API in the scene's key paths.
 
 Every scene module uses these; the reading of files (:mod:`.loader`) and the building of objects

@@ -1,11 +1,12 @@
 """Solvers: trajectories and solver statistics only (no analysis, no scene, no plots).
 
 - :mod:`.settings`: :class:`SolverSettings`, the method names and the work limits;
-- :mod:`.integrate`: method choice (``auto``) and dispatch;
+- ``integrate`` (:func:`integrate`): method choice (``auto``) and dispatch;
 - :mod:`.ode`: solve_ivp piece by piece; :mod:`.events`: restarts at contact changes;
 - :mod:`.exact`: exact propagation of piecewise-constant linear models;
 - :mod:`.periodic`: step maps of linear mesh-periodic models;
-- :mod:`.simulate_bare`: one run -> :class:`Result` (:mod:`.result`), without the checks that
+- ``simulate_bare`` (:func:`simulate_bare`): one run -> :class:`Result` (:mod:`.result`),
+  without the checks that
   :func:`~gear_dyn.analysis.study.simulate` adds.
 """
 

@@ -7,7 +7,7 @@ three contact states (drive flank u > b, gap ``|u| <= b``, back flank u < -b), s
 closed-form (:func:`flow` plus the harmonic particular solution of
 :mod:`gear_dyn.solvers.harmonic_forcing`). Contact changes ``u = +-b`` are bracketed on that
 closed form (``_first_crossing()``) and closed by :func:`find_root`; pieces that provably
-stay in their contact state (:meth:`_Piece.stays_inside`) are not searched. What is left is
+stay in their contact state (``_Piece.stays_inside``) are not searched. What is left is
 rounding (:func:`rounding_bound`). Method ``exact_contact``; ``auto`` takes it where
 :func:`contact_exact_applies`. The flow's exact sensitivity (:func:`flow_with_sensitivity`,
 with the :func:`saltation` matrix of each contact change) serves shooting. docs/solvers.md
@@ -456,7 +456,7 @@ class Walk:
 
     def sensitivity(self) -> FloatArray:
         """``d y(t1) / d y(t0)`` (entries dimensionless, s and 1/s): the product, in time
-        order, of each piece's ``exp(A_j s_j)`` (:meth:`_Piece.transition`) and, at each
+        order, of each piece's ``exp(A_j s_j)`` (``_Piece.transition``) and, at each
         contact change, the :func:`saltation` matrix of the surface ``x = +-b``: the identity
         where the field is continuous (the dead zone's ends; a field with a jump gets the
         general formula). A stiffness switch is a fixed instant, not a state surface: the

@@ -189,7 +189,7 @@ class Result:
         Returns
         -------
         ndarray
-            The series over :attr:`t`, SI units.
+            The series over ``t``, SI units.
 
         Raises
         ------

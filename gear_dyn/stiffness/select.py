@@ -154,7 +154,8 @@ def _iso_wave(pair: GearPair, opts: Mapping[str, Any], name: str) -> PiecewiseSt
 
 
 def tooth_options(opts: Mapping[str, Any]) -> ToothOptions:
-    """The :class:`ToothOptions` in a method's options (fillet radius, bore radii, plane
+    """The :class:`~gear_dyn.stiffness.tooth.ToothOptions` in a method's options (fillet radius,
+    bore radii, plane
     strain, grid points); other keys are ignored."""
     kw = {k: opts[k] for k in _TOOTH_KEYS if k in opts and opts[k] is not None}
     return ToothOptions(**kw)

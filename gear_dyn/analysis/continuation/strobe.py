@@ -99,7 +99,8 @@ class BranchSamples:
     parameter_name, unit : str
         The continuation parameter and its SI unit (from the branch).
     curves : tuple of BranchCurve
-        The branch and its children, depth first (as :meth:`Branch.walk`).
+        The branch and its children, depth first (as
+        :meth:`~gear_dyn.analysis.continuation.branch.Branch.walk`).
     n_maps : int
         Runs of the flow made for the samples (one per point and located point of a period-n
         branch, n > 1), a cost measure.

@@ -6,7 +6,7 @@ functions of the mesh phase only: ``kappa(p) = k(p) / m`` and the forcing
 ``g(p) = g0(p) + f_m g1(p)`` with ``g0 = (W + k e) / m`` and ``g1 = c e' / m``. These phase
 tables are computed once per block and serve every speed of it; only the step length
 ``h = (phase step) / f_m`` depends on speed. (The model itself, with its stiffness tables or
-loaded-contact analysis, is built once per sweep: :meth:`Model.at_mesh_frequency`.)
+loaded-contact analysis, is built once per sweep: ``model.at_mesh_frequency``.)
 
 Per speed, the mesh period is cut at the output samples (``samples_per_period``), at the
 stiffness switches and at the kinks of the tables (the samples of a piecewise-linear stiffness or

@@ -169,7 +169,7 @@ class SweepCurve:
     dynamic_factor : ndarray
         K_dyn = F_max / F_qs,max: the peak dynamic mesh force over the peak quasi-static mesh
         force of the same model (one quasi-static run per sweep,
-        :attr:`SweepResult.quasi_static`), like ``gear-dyn run``'s; tends to 1 at low speed,
+        ``SweepResult.quasi_static``), like ``gear-dyn run``'s; tends to 1 at low speed,
         like ISO 6336-1 K_v. NaN without a quasi-static reference.
     peak_force_ratio : ndarray
         F_max / W: the peak dynamic mesh force over the static load W = T1 / r_b1, the dynamic
@@ -194,7 +194,7 @@ class SweepCurve:
     iterations : ndarray of int
         Shooting iterations.
     spectrum : ndarray (n_speeds, n_orders)
-        DTE amplitude (m) at the orders of :attr:`SweepResult.orders`.
+        DTE amplitude (m) at the orders of ``SweepResult.orders``.
     state : ndarray (n_speeds, n_states)
         State on the periodic orbit at t = 0 (steady method) or at the end of the run
         (transient, aperiodic), SI; NaN where unstable.
@@ -210,7 +210,8 @@ class SweepCurve:
         (NaN elsewhere).
     jumps : tuple of Jump
         Where the response jumps between neighbouring speeds, found from the orbits
-        (:func:`gear_dyn.analysis.sweep.orbit_jumps.find_jumps`; :func:`sweep` fills it in).
+        (:func:`gear_dyn.analysis.sweep.orbit_jumps.find_jumps`;
+        :func:`~gear_dyn.analysis.sweep.driver.sweep` fills it in).
     """
 
     direction: str
