@@ -1,7 +1,7 @@
 """The docs site covers the public API, and the README's commands and example work.
 
 The API reference (docs/api/) is generated from the docstrings when the docs are built
-(``python -m sphinx -W --keep-going -b html docs docs/_build/html``); these tests check its
+(``python -m sphinx -n -W --keep-going -b html docs docs/_build/html``); these tests check its
 sources, so a new public name without a line in the reference fails here, without a docs build.
 Where the docs were built, the built inventory (objects.inv) is checked too.
 """
@@ -58,7 +58,7 @@ def _inventory() -> set[str]:
 
 def test_built_reference_documents_every_public_name() -> None:
     if not INVENTORY.exists():
-        pytest.skip("docs not built here (python -m sphinx -W --keep-going -b html docs "
+        pytest.skip("docs not built here (python -m sphinx -n -W --keep-going -b html docs "
                     "docs/_build/html): the sources are checked above")
     names = _inventory()
     missing = [_canonical(n) for n in gear_dyn.__all__ if _canonical(n) not in names]
