@@ -6,8 +6,9 @@ import math
 
 from matplotlib.figure import Figure
 
+from gear_dyn.analysis.relief_study import relief_study
 from gear_dyn.geometry import GearPair
-from gear_dyn.modification.analysis import relief_study, rule_modifications, slice_cases
+from gear_dyn.modification.analysis import rule_modifications, slice_cases
 from gear_dyn.modification.slice_contact import SliceOptions, slice_contact
 from gear_dyn.plots.contact import plot_face_load, plot_relief_study, plot_slice_stiffness
 
