@@ -94,7 +94,7 @@ def main() -> None:
         envs = {k: {**as_installed(t / "gear_dyn"), **ONE_THREAD} for k, t in trees.items()}
         cpu: dict[str, dict[str, list[float]]] = {c[0]: {"before": [], "after": []}
                                                   for c in commands}
-        for name, cmd, _target in commands:  # warm-up: bytecode, pint's cache, file caches
+        for _name, cmd, _target in commands:  # warm-up: bytecode, pint's cache, file caches
             for key, tree in trees.items():
                 cpu_of(tree, cmd, work / "o", envs[key])
         for _ in range(args.repeats):
