@@ -4,10 +4,10 @@ Run:  python benchmarks/bench_commands.py [--before REF] [--repeats 2] [--out DI
 
 Each command below is run as a whole process (``python -m gear_dyn.cli ...``, one BLAS thread,
 bytecode compiled as after ``pip install``) from two source trees in turn, before, after,
-before, after, ...: the git ref ``--before`` (default ``main``; extracted with ``git archive``
-into a temporary folder) and this checkout. The figure is CPU time (user + system of the process
-and its children, from the operating system's accounting): on a machine shared with other work
-the wall time grows with the load, the CPU time much less.
+before, after, ...: the git ref ``--before`` (default: where HEAD left main; extracted with
+``git archive`` into a temporary folder) and this checkout. The figure is CPU time (user +
+system of the process and its children, from the operating system's accounting): on a machine
+shared with other work the wall time grows with the load, the CPU time much less.
 
 Targets (whole commands, CPU):
 
@@ -68,6 +68,18 @@ def cpu_of(tree: Path, args: list[str], out: Path, env: dict[str, str]) -> float
     return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
 
+#: what a command that reads units and writes a figure imports before any work
+FLOOR = "import numpy, scipy.integrate, pint, matplotlib.figure, matplotlib.backends.backend_agg"
+
+
+def import_cpu(env: dict[str, str]) -> float:
+    """CPU s of a process that only imports :data:`FLOOR`."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    subprocess.run([sys.executable, "-c", FLOOR], check=True, env=env)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
 def extract(ref: str, dest: Path) -> Path:
     """The source tree of git ``ref`` in ``dest`` (``git archive``)."""
     archive = subprocess.run(["git", "archive", ref], cwd=ROOT, check=True,
@@ -78,7 +90,8 @@ def extract(ref: str, dest: Path) -> Path:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--before", default="main", help="git ref of the 'before' tree")
+    ap.add_argument("--before", default="",
+                    help="git ref of the 'before' tree (default: where HEAD left main)")
     ap.add_argument("--repeats", type=int, default=2)
     ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "out")
     ap.add_argument("--record", action="store_true", help="write into benchmarks/results/")
@@ -87,10 +100,13 @@ def main() -> None:
     out_dir = ROOT / "benchmarks" / "results" if args.record else args.out
     out_dir.mkdir(parents=True, exist_ok=True)
     commands = [c for c in COMMANDS if args.only in c[0]]
+    before = args.before or subprocess.run(["git", "merge-base", "HEAD", "main"], cwd=ROOT,
+                                           check=True, capture_output=True,
+                                           text=True).stdout.strip()
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
         (work / "before").mkdir()
-        trees = {"before": extract(args.before, work / "before"), "after": ROOT}
+        trees = {"before": extract(before, work / "before"), "after": ROOT}
         envs = {k: {**as_installed(t / "gear_dyn"), **ONE_THREAD} for k, t in trees.items()}
         cpu: dict[str, dict[str, list[float]]] = {c[0]: {"before": [], "after": []}
                                                   for c in commands}
@@ -102,10 +118,15 @@ def main() -> None:
                 for key, tree in trees.items():
                     cpu[name][key].append(cpu_of(tree, cmd, work / "o", envs[key]))
                 print(name, {k: round(v[-1], 2) for k, v in cpu[name].items()}, flush=True)
+        floor = [import_cpu(envs["after"]) for _ in range(args.repeats)]
     med = {n: {k: statistics.median(v) for k, v in d.items()} for n, d in cpu.items()}
     lines = ["# Long study commands: CPU time before and after", "",
-             f"`python benchmarks/bench_commands.py --before {args.before} --repeats "
-             f"{args.repeats}{' --record' if args.record else ''}` on {platform.machine()}, "
+             f"`python benchmarks/bench_commands.py --repeats {args.repeats}"
+             f"{f' --before {args.before}' if args.before else ''}"
+             f"{f' --only {args.only!r}' if args.only else ''}"
+             f"{' --record' if args.record else ''}` (before: "
+             f"{args.before or 'the commit where this branch left main'}; after: this "
+             f"checkout) on {platform.machine()}, "
              f"Python {platform.python_version()}, {len(commands)} commands, each run "
              f"{args.repeats} times from each tree in turn after a warm-up, one BLAS thread. "
              "CPU s, median (min..max).", "",
@@ -118,6 +139,8 @@ def main() -> None:
                    f"<= {target:g} s: {'met' if med[name]['after'] <= target else 'not met'}")
         lines.append(f"| {name} | {spread(b)} | {spread(a)} | {spread(ratios, unit='x')} | "
                      f"{verdict} |")
+    lines += ["", f"Floor of any command that parses units and draws: `python -c \"{FLOOR}\"` "
+              f"{spread(floor)} CPU s."]
     per_speed = {}
     for s in LINEAR:
         fine, coarse = (f"sweep {s} {n} speeds" for n in reversed(SWEEP_GRIDS))
