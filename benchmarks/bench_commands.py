@@ -29,12 +29,14 @@ writes it into ``benchmarks/results/``.
 from __future__ import annotations
 
 import argparse
+import os
 import platform
 import resource
 import statistics
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 from _timing import as_installed, spread  # noqa: E402  (benchmarks/ is on sys.path)
@@ -82,6 +84,28 @@ def import_cpu(env: dict[str, str]) -> float:
     return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
 
+def per_speed_cpu(name: str) -> float:
+    """CPU s per speed of ``sweep_scene`` of the packaged scene ``name``, in this process
+    (this checkout): (361 speeds - 37 speeds) / 324 over 1000-6000 rpm, so the fixed cost
+    (model, quasi-static run) drops out, as ``bench_sweep_stiffness.py`` measures it."""
+    if str(ROOT) not in sys.path:  # this checkout's gear_dyn, not another installed one
+        sys.path.insert(0, str(ROOT))
+    import numpy as np
+
+    from gear_dyn.scene import load_scene
+    from gear_dyn.scene.sweep import sweep_scene
+
+    scene = load_scene(ROOT / "gear_dyn" / "scenes" / f"{name}.toml")
+    rpm = 2 * np.pi / 60
+
+    def cpu(n: int) -> float:
+        t0 = time.process_time()
+        sweep_scene(scene, np.linspace(1000, 6000, n) * rpm, si=True)
+        return time.process_time() - t0
+    cpu(2)  # imports, caches
+    return (cpu(361) - cpu(37)) / 324
+
+
 def extract(ref: str, dest: Path) -> Path:
     """The source tree of git ``ref`` in ``dest`` (``git archive``)."""
     archive = subprocess.run(["git", "archive", ref], cwd=ROOT, check=True,
@@ -121,6 +145,11 @@ def main() -> None:
                     cpu[name][key].append(cpu_of(tree, cmd, work / "o", envs[key]))
                 print(name, {k: round(v[-1], 2) for k, v in cpu[name].items()}, flush=True)
         floor = [import_cpu(envs["after"]) for _ in range(args.repeats)]
+    os.environ.update(ONE_THREAD)
+    inproc = {s: [] for s in LINEAR}
+    for _ in range(args.repeats):
+        for s in LINEAR:
+            inproc[s].append(per_speed_cpu(s))
     med = {n: {k: statistics.median(v) for k, v in d.items()} for n, d in cpu.items()}
     lines = ["# Long study commands: CPU time before and after", "",
              f"`python benchmarks/bench_commands.py --repeats {args.repeats}"
@@ -165,6 +194,14 @@ def main() -> None:
         for s, d in per_speed.items():
             lines.append(f"| {s} | {1e3 * d['before']:.3g} | {1e3 * d['after']:.3g} | "
                          f"{rel(d, 'before')} | {rel(d, 'after')} |")
+    ratios_in = {s: [a / b for a, b in zip(v, inproc[LINEAR[0]], strict=True)]
+                 for s, v in inproc.items()}
+    lines += ["", "The same, in one process (this checkout; `sweep_scene`, 361 - 37 speeds over "
+              "1000-6000 rpm, CPU; the ratio within each repeat):", "",
+              "| scene | CPU ms/speed | / iso6336 (target <= 5x) |", "| --- | --- | --- |"]
+    for s in LINEAR:
+        lines.append(f"| {s} | {spread([1e3 * x for x in inproc[s]])} | "
+                     f"{spread(ratios_in[s], '.2g', 'x')} |")
     text = "\n".join(lines) + "\n"
     (out_dir / "commands.md").write_text(text)
     print(text)
