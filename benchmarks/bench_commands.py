@@ -146,7 +146,7 @@ def main() -> None:
                 print(name, {k: round(v[-1], 2) for k, v in cpu[name].items()}, flush=True)
         floor = [import_cpu(envs["after"]) for _ in range(args.repeats)]
     os.environ.update(ONE_THREAD)
-    inproc = {s: [] for s in LINEAR}
+    inproc: dict[str, list[float]] = {s: [] for s in LINEAR}
     for _ in range(args.repeats):
         for s in LINEAR:
             inproc[s].append(per_speed_cpu(s))
