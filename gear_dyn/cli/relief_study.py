@@ -3,8 +3,9 @@ a torque range by the slice loaded contact.
 
 The designs are the unmodified pair, the scene's ``[tip_relief]`` (if any) and every published
 rule (at the scene's torque, with the scene's curve), each with the scene's lead modifications
-and misalignment. Writes ``study.png`` (PPTE and peak contact pressure against torque),
-``study.csv`` and ``study.json`` into DIR (whole or not at all) and prints the ranking
+and misalignment. Writes ``study.png`` (PPTE and peak contact pressure against torque; with
+``--speeds`` also peak mesh force and p-p DTE against speed), ``study.csv``, ``study.json``
+(and ``dynamics.csv`` with ``--speeds``) into DIR (whole or not at all) and prints the ranking
 (docs/modification.md, "Relief design study").
 """
 
@@ -33,6 +34,10 @@ def register(sub: Any) -> None:
     p.add_argument("--torques", default=None, metavar="START:STOP:N",
                    help="pinion torques with their units, N linearly spaced (default: 10 %% .. "
                    "100 %% of the scene's torque, 10 points)")
+    p.add_argument("--speeds", default=None, metavar="START:STOP:N",
+                   help="pinion speeds with their units, e.g. '1000 rpm:6000 rpm:40': each "
+                   "design's peak mesh force F_max / W and p-p DTE over the range at the "
+                   "scene's torque (single-DOF periodic steady state; default: off)")
     p.add_argument("--curve", choices=RELIEF_CURVES, default=None,
                    help="relief curve for the rules (default: the scene's tip_relief.curve, "
                    "else linear)")
@@ -68,17 +73,22 @@ def parse_torques(text: str | None, scene_torque: float) -> Any:
     return t
 
 
-def compute(scene: Any, torques: str | None = None, curve: str | None = None) -> Any:
+def compute(scene: Any, torques: str | None = None, curve: str | None = None,
+            speeds: str | None = None) -> Any:
     """The :class:`~gear_dyn.modification.analysis.ReliefStudy` of a scene."""
-    from gear_dyn.modification.analysis import relief_study, rule_modifications
+    from gear_dyn.analysis.relief_study import relief_study
+    from gear_dyn.modification.analysis import rule_modifications
     from gear_dyn.scene import build_pair
+    from gear_dyn.scene.build import scene_inertias
     from gear_dyn.scene.lead import flank_from_scene, slice_options_from_scene
     from gear_dyn.scene.modification import relief_from_scene, rule_options, scene_pair_function
+    from gear_dyn.scene.operating import parse_speed_range
 
     pair = build_pair(scene)
     torque = scene.get("operating")["torque"]
     try:
         ladder = parse_torques(torques, torque)
+        sp = None if speeds is None else parse_speed_range(speeds)
     except InputError as exc:
         raise InputError(f"{scene.source}: {exc}") from None
     t = scene.tables.get("tip_relief")
@@ -90,7 +100,9 @@ def compute(scene: Any, torques: str | None = None, curve: str | None = None) ->
         designs = rule_modifications(pair, rule_torque, curve, extra,
                                      rule_options(t) if t is not None else None)
         return relief_study(pair, ladder, designs, flank_from_scene(scene, pair), fn,
-                            slice_options_from_scene(scene))
+                            slice_options_from_scene(scene), speeds=sp, torque=rule_torque,
+                            damping_ratio=scene.get("damping")["ratio"],
+                            inertias=scene_inertias(scene))
     except InputError as exc:
         raise InputError(f"{scene.source}: {exc}") from None
 
@@ -103,7 +115,7 @@ def run(args: argparse.Namespace) -> int:
     from gear_dyn.scene import load_scene
 
     scene = load_scene(args.scene)
-    study = compute(scene, args.torques, args.curve)
+    study = compute(scene, args.torques, args.curve, args.speeds)
     pair = next(iter(study.cases.values())).contact.pair
     report = {"scene": scene.name, "contact_ratio": pair.contact_ratio,
               "overlap_ratio": pair.overlap_ratio, **study.to_dict()}
@@ -111,6 +123,8 @@ def run(args: argparse.Namespace) -> int:
         save_figure(plot_relief_study(study), tmp / "study.png", dpi=120)
         write_rows(tmp / "study.csv", study.rows())
         write_json(tmp / "study.json", report)
+        if study.dynamics is not None:
+            write_rows(tmp / "dynamics.csv", study.dynamics.rows())
     t = study.torque
     print(f"{scene.name}: relief designs over T1 = {t[0]:.6g} .. {t[-1]:.6g} N m "
           f"({t.size} torques; eps_alpha = {pair.contact_ratio:.4f}, "
@@ -123,5 +137,15 @@ def run(args: argparse.Namespace) -> int:
         print(f"{name:<14} {study.ppte[i].mean() * 1e6:12.3f} {study.ppte[i].max() * 1e6:12.3f} "
               f"{study.ppte[i, -1] * 1e6:14.3f} {study.peak_pressure[i, -1] / 1e6:18.1f}")
     print(f"best (lowest PPTE over the range): {study.best}")
+    d = study.dynamics
+    if d is not None:
+        rpm = d.speed * 30 / np.pi
+        print(f"dynamics at T1 = {d.torque:.6g} N m over {rpm[0]:.6g} .. {rpm[-1]:.6g} rpm "
+              f"({d.speed.size} speeds; single-DOF periodic steady state)")
+        print(f"{'design':<14} {'max F/W':>12} {'max p-p DTE um':>15}")
+        for i in np.argsort(d.peak_over_range):
+            print(f"{d.names[i]:<14} {d.peak_over_range[i]:12.4f} "
+                  f"{d.ptp_dte[i].max() * 1e6:15.3f}")
+        print(f"lowest peak mesh force over the speed range: {d.best}")
     print(f"wrote {args.out}/")
     return 0

@@ -11,9 +11,8 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
-from gear_dyn.errors import InputError
 from gear_dyn.geometry import GearPair
 from gear_dyn.modification.contact import LoadedContact, PathView, loaded_contact
 from gear_dyn.modification.lead import FlankModification
@@ -187,6 +186,68 @@ def rule_cases(pair: GearPair, pair_stiffness: Callable[[FloatArray], FloatArray
 
 
 @dataclass(frozen=True, eq=False)
+class ReliefDynamics:
+    """Dynamic consequence of relief designs: the single-DOF periodic steady state of each
+    design's slice loaded contact (tangent stiffness and TE at one torque) over a speed range.
+
+    Attributes
+    ----------
+    torque : float
+        Pinion torque in N m at which each design's loaded contact feeds the model.
+    speed : ndarray (N,)
+        Pinion speeds in rad/s.
+    names : tuple of str
+        Design names, in the study's order.
+    peak_force_ratio : ndarray (designs, N)
+        Peak dynamic mesh force over the cycle divided by the static load W = T1 / r_b1.
+    ptp_dte : ndarray (designs, N)
+        Peak-to-peak dynamic transmission error in m.
+    status : tuple of tuple of str
+        The sweep's status per design and speed (``periodic``: the orbit solved directly).
+    """
+
+    torque: float
+    speed: FloatArray
+    names: tuple[str, ...]
+    peak_force_ratio: FloatArray
+    ptp_dte: FloatArray
+    status: tuple[tuple[str, ...], ...]
+
+    @property
+    def peak_over_range(self) -> FloatArray:
+        """Largest F_max / W over the speed range, per design."""
+        return np.max(self.peak_force_ratio, axis=1)
+
+    @property
+    def best(self) -> str:
+        """The design with the lowest peak mesh force over the speed range."""
+        return self.names[int(np.argmin(self.peak_over_range))]
+
+    def rows(self) -> list[dict[str, Any]]:
+        """One row per design and speed (SI keys, the speed also in rpm)."""
+        out = []
+        for i, name in enumerate(self.names):
+            for k, w in enumerate(self.speed):
+                out.append({"design": name, "torque_n_m": self.torque,
+                            "speed_rad_s": float(w), "speed_rpm": float(w * 30 / np.pi),
+                            "peak_force_ratio": float(self.peak_force_ratio[i, k]),
+                            "ptp_dte_m": float(self.ptp_dte[i, k]),
+                            "status": self.status[i][k]})
+        return out
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: the speeds, each design's series and peak, the best design."""
+        return {"torque_n_m": self.torque, "speed_rad_s": self.speed.tolist(),
+                "speed_rpm": (self.speed * 30 / np.pi).tolist(),
+                "designs": [{"design": n, "peak_force_ratio": self.peak_force_ratio[i].tolist(),
+                             "ptp_dte_m": self.ptp_dte[i].tolist(),
+                             "max_peak_force_ratio": float(self.peak_over_range[i])}
+                            for i, n in enumerate(self.names)],
+                "best": self.best,
+                "best_rule": "lowest peak dynamic mesh force F_max / W over the speed range"}
+
+
+@dataclass(frozen=True, eq=False)
 class ReliefStudy:
     """Relief designs compared over a torque range by the slice loaded contact.
 
@@ -196,10 +257,14 @@ class ReliefStudy:
         Pinion torques in N m.
     cases : dict of SliceCase
         Each design's loaded contact over the whole ladder.
+    dynamics : ReliefDynamics or None
+        Each design's single-DOF response over a speed range at one torque (None: not asked
+        for; :func:`gear_dyn.analysis.relief_study.relief_study` with ``speeds``).
     """
 
     torque: FloatArray
     cases: dict[str, SliceCase]
+    dynamics: ReliefDynamics | None = None
 
     @property
     def names(self) -> list[str]:
@@ -248,52 +313,8 @@ class ReliefStudy:
                             "peak_stress_pa": self.peak_pressure[i].tolist(),
                             "mean_loaded_stiffness_n_per_m": self.mean_stiffness[i].tolist(),
                             "mean_ppte_m": float(self.ppte[i].mean())})
-        return {"torque_n_m": self.torque.tolist(), "designs": designs, "best": self.best,
-                "best_rule": "lowest peak-to-peak static TE averaged over the torque range"}
-
-
-def relief_study(pair: GearPair, torques: ArrayLike,
-                 designs: Mapping[str, ProfileModification | None],
-                 lead: FlankModification | None = None,
-                 pair_stiffness: Callable[[FloatArray], FloatArray] | None = None,
-                 options: SliceOptions | None = None) -> ReliefStudy:
-    """PPTE and peak contact pressure of relief designs over a torque range, and the best one.
-
-    Parameters
-    ----------
-    pair : GearPair
-        Spur or helical pair.
-    torques : array_like
-        Pinion torques in N m (each > 0).
-    designs : mapping
-        Name -> tip reliefs (None: unmodified), e.g. :func:`rule_modifications` (the published
-        rules at one torque) or the user's own amounts.
-    lead : FlankModification or None
-        Lead modifications and misalignment applied to every design.
-    pair_stiffness : callable or None
-        Unmodified single-pair stiffness ``K(s)`` in N/m (None: potential energy).
-    options : SliceOptions or None
-
-    Returns
-    -------
-    ReliefStudy
-
-    Raises
-    ------
-    InputError
-        No designs, torques not positive, reliefs the pair cannot take.
-
-    Examples
-    --------
-    >>> import math
-    >>> from gear_dyn.geometry import GearPair
-    >>> p = GearPair(23, 79, 6e-3, math.radians(20), 70e-3, math.radians(20), x1=0.3, x2=-0.1)
-    >>> study = relief_study(p, [500.0, 2000.0], rule_modifications(p, 2000.0))
-    >>> study.best in study.names
-    True
-    """
-    if not designs:
-        raise InputError("relief study: no designs given (give at least one, e.g. "
-                         "rule_modifications(pair, torque))")
-    t = np.atleast_1d(np.asarray(torques, dtype=float)).ravel()
-    return ReliefStudy(t, slice_cases(pair, t, designs, lead, pair_stiffness, options))
+        out = {"torque_n_m": self.torque.tolist(), "designs": designs, "best": self.best,
+               "best_rule": "lowest peak-to-peak static TE averaged over the torque range"}
+        if self.dynamics is not None:
+            out["dynamics"] = self.dynamics.to_dict()
+        return out

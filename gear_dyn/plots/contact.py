@@ -182,14 +182,35 @@ def plot_slice_stiffness(cases: Mapping[str, SliceCase], ax: Any = None) -> Any:
 
 def plot_relief_study(study: ReliefStudy, ax: Any = None) -> Any:
     """PPTE and peak Hertz pressure of every design against torque; the best design (lowest
-    PPTE over the range) drawn bold. ``ax``: 2 Axes or None."""
-    fig, axs = axes_of(ax, 2, 1, figsize=(8, 7), name="plot_relief_study", sharex=True)
+    PPTE over the range) drawn bold. With the study's dynamics, a right-hand column: peak mesh
+    force F_max / W and p-p DTE against speed (rpm), the design with the lowest peak force over
+    the range drawn bold. ``ax``: 2 Axes (4 with dynamics, row-major) or None."""
+    dyn = study.dynamics
+    if dyn is None:
+        fig, axs = axes_of(ax, 2, 1, figsize=(8, 7), name="plot_relief_study", sharex=True)
+        left = axs
+    else:
+        fig, grid = axes_of(ax, 2, 2, figsize=(14, 7), name="plot_relief_study", sharex="col")
+        grid = np.asarray(grid).reshape(2, 2)
+        left, right = grid[:, 0], grid[:, 1]
     best = study.best
-    for (i, name), st in zip(enumerate(study.names), _styles(len(study.names)), strict=True):
+    styles = _styles(len(study.names))
+    for (i, name), st in zip(enumerate(study.names), styles, strict=True):
         style = {**st, "lw": 2.6} if name == best else st
         label = f"{name} (best)" if name == best else name
-        axs[0].plot(study.torque, study.ppte[i] * 1e6, marker="o", ms=3, label=label, **style)
-        axs[1].plot(study.torque, study.peak_pressure[i] / 1e6, marker="o", ms=3, label=label,
-                    **style)
-    return _labelled(fig, axs, ("p-p loaded static TE (µm)", "peak Hertz pressure (MPa)"),
+        left[0].plot(study.torque, study.ppte[i] * 1e6, marker="o", ms=3, label=label, **style)
+        left[1].plot(study.torque, study.peak_pressure[i] / 1e6, marker="o", ms=3, label=label,
+                     **style)
+    if dyn is not None:
+        rpm = dyn.speed * 30 / np.pi
+        for (i, name), st in zip(enumerate(dyn.names), styles, strict=True):
+            top = name == dyn.best
+            style = {**st, "lw": 2.6} if top else st
+            label = f"{name} (lowest peak force)" if top else name
+            right[0].plot(rpm, dyn.peak_force_ratio[i], label=label, **style)
+            right[1].plot(rpm, dyn.ptp_dte[i] * 1e6, label=label, **style)
+        right[0].set_title(f"single-DOF steady state at T1 = {dyn.torque:.6g} N m", fontsize=9)
+        _labelled(fig, right, ("peak mesh force F_max / W", "p-p dynamic TE (µm)"),
+                  "pinion speed (rpm)")
+    return _labelled(fig, left, ("p-p loaded static TE (µm)", "peak Hertz pressure (MPa)"),
                      "pinion torque T1 (N m)")

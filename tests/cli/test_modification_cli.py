@@ -234,3 +234,29 @@ def test_relief_study_command(tmp_path: Path, capsys: pytest.CaptureFixture[str]
                  "--torques", "500:1500:3"]) == 2
     assert "--torques" in capsys.readouterr().err
     assert not (tmp_path / "bad").exists()
+
+
+def test_relief_study_command_with_speeds(tmp_path: Path,
+                                          capsys: pytest.CaptureFixture[str]) -> None:
+    """--speeds adds each design's peak mesh force and p-p DTE over the range: dynamics.csv,
+    the JSON block and the design with the lowest peak force, which is the minimum of the
+    designs' peaks."""
+    scene = tmp_path / "hel.toml"
+    scene.write_text(SCENE.read_text().replace('face_width = "50 mm"',
+                                               'face_width = "50 mm"\nhelix_angle = "15 deg"'))
+    out = tmp_path / "study"
+    assert main(["relief-study", str(scene), "--out", str(out), "--torques",
+                 "1000 N*m:1500 N*m:2", "--speeds", "1000 rpm:5000 rpm:3"]) == 0
+    assert {p.name for p in out.iterdir()} == {"study.json", "study.csv", "study.png",
+                                              "dynamics.csv"}
+    dyn = json.loads((out / "study.json").read_text())["dynamics"]
+    assert dyn["speed_rpm"] == pytest.approx([1000.0, 3000.0, 5000.0])
+    peaks = {d["design"]: d["max_peak_force_ratio"] for d in dyn["designs"]}
+    assert peaks[dyn["best"]] == min(peaks.values())
+    assert all(p > 1.0 for p in peaks.values())  # the static load is carried at least
+    assert f"lowest peak mesh force over the speed range: {dyn['best']}" in \
+        capsys.readouterr().out
+    assert main(["relief-study", str(scene), "--out", str(tmp_path / "bad"),
+                 "--speeds", "1000:5000:3"]) == 2
+    assert "1000" in capsys.readouterr().err
+    assert not (tmp_path / "bad").exists()

@@ -192,7 +192,8 @@ def test_unmodified_aligned_pair_is_linear_in_the_load() -> None:
 def test_relief_study_ranks_as_single_runs() -> None:
     """The study's ladder against one slice_contact per design and torque (a second path):
     same PPTE, and the best design is the lowest mean PPTE."""
-    from gear_dyn.modification.analysis import relief_study, rule_modifications
+    from gear_dyn.analysis.relief_study import relief_study
+    from gear_dyn.modification.analysis import rule_modifications
 
     designs = rule_modifications(RAIL, 2000.0)
     torques = [600.0, 2000.0]

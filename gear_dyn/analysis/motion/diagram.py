@@ -147,7 +147,9 @@ def _run_task(task: _Task) -> tuple[list[_Speed], FloatArray | None]:
             y = strobe[-1]
             continue
         if motion.periodic:  # the orbit itself, sampled: no settling remainder drawn
-            strobe = stroboscopic(model, motion.state, 0, opts.samples, opts.rtol)
+            # its n samples repeat every n mesh periods: one period of the orbit is walked
+            one = stroboscopic(model, motion.state, 0, motion.period, opts.rtol)
+            strobe = np.tile(one, (-(-opts.samples // motion.period), 1))[:opts.samples]
         est = motion.lyapunov
         out.append((s, model.mesh_frequency, strobe, motion.period, motion.label,
                     nan if est is None else est.value, nan if est is None else est.error))
