@@ -140,9 +140,13 @@ def _lines_c(nm: TorsionalNative) -> tuple[str, str]:
         return "", "0"
     lay = g.layout
     mu = -1.0 if g.friction is None else float(g.friction)
-    block = f"""static const double kin_fourier[{g.fourier.size}] = {_arr(g.fourier)};
+    k, q = np.nonzero(np.any(g.fourier != 0.0, axis=2))  # by rising k, then quantity
+    n = max(k.size, 1)
+    block = f"""static const unsigned short term_k[{n}] = {{{", ".join(map(str, k)) or "0"}}};
+static const unsigned char term_q[{n}] = {{{", ".join(map(str, q)) or "0"}}};
+static const double term_ab[{2 * n}] = {_arr(g.fourier[k, q])};
 static const gd_lines lines = {{
-    {g.fourier.shape[0] - 1}, {float(g.period)!r}, kin_fourier,
+    {k.size}, {float(g.period)!r}, term_k, term_q, term_ab,
     {lay.pitch!r}, {lay.width!r}, {lay.sin_bb!r}, {lay.face_width!r}, {lay.l_ac0!r},
     {int(lay.index[0])}, {int(lay.index.size)}, {g.per_length!r}, {mu!r}
 }};

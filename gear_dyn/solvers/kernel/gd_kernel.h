@@ -33,9 +33,11 @@ typedef struct {
 #define GD_NKIN 7               /* e_ecc, travel - p p_bt, L_AC, L_CD, L_CP, foot1, foot2 (m) */
 
 typedef struct {                /* the contact-line form of an eccentric pair (gd_torsional.c) */
-    int n_harm;                 /* K: harmonics 0..K of the hunting period */
+    int n_terms;                /* the non-zero Fourier terms, by rising harmonic k */
     double period;              /* P, the hunting period in mesh cycles */
-    const double *fourier;      /* [K + 1][GD_NKIN][cos, sin] amplitudes in 2 pi k p / P (m) */
+    const unsigned short *term_k;   /* harmonic k of each term: cos, sin of 2 pi k p / P */
+    const unsigned char *term_q;    /* its quantity, 0 .. GD_NKIN - 1 */
+    const double *term_ab;      /* [n_terms][cos, sin] amplitudes (m) */
     double pitch, width, sin_bb, face_width, l_ac0;   /* the contact-line layout (m) */
     int index0, n_index;        /* contact-line pair indices evaluated */
     double per_length;          /* k_l (N/m^2): k = k_l L */

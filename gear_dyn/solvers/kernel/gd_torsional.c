@@ -31,19 +31,21 @@ typedef struct {                 /* one piece at constant inputs */
  * at the pitch line (gear_dyn.eccentricity.friction.line_state_scalar) */
 static void lines_eval(const gd_lines *g, double p, double v[NQ])
 {
-    const double *f = g->fourier;
     double th = 2.0 * PI * p / g->period, c1 = cos(th), s1 = sin(th), ck = 1.0, sk = 0.0;
-    double kin[GD_NKIN], rate = 0.0, travel, d, total = 0.0, t1 = 0.0, t2 = 0.0;
+    double kin[GD_NKIN] = {0.0}, rate = 0.0, travel, d, total = 0.0, t1 = 0.0, t2 = 0.0;
     double l_ac, l_cd, l_cp, f1, f2, w = g->width;
-    int k, j;
-    for (j = 0; j < GD_NKIN; j++) kin[j] = f[2 * j];
-    for (k = 1; k <= g->n_harm; k++) {
-        double cn = ck * c1 - sk * s1;
-        sk = sk * c1 + ck * s1;
-        ck = cn;
-        f += 2 * GD_NKIN;
-        for (j = 0; j < GD_NKIN; j++) kin[j] += f[2 * j] * ck + f[2 * j + 1] * sk;
-        rate += k * (f[1] * ck - f[0] * sk);
+    int k, i = 0;
+    for (k = 0; i < g->n_terms; k++) {
+        if (k > 0) {
+            double cn = ck * c1 - sk * s1;
+            sk = sk * c1 + ck * s1;
+            ck = cn;
+        }
+        for (; i < g->n_terms && g->term_k[i] == k; i++) {
+            const double *ab = g->term_ab + 2 * i;
+            kin[g->term_q[i]] += ab[0] * ck + ab[1] * sk;
+            if (g->term_q[i] == 0) rate += k * (ab[1] * ck - ab[0] * sk);
+        }
     }
     travel = kin[1] + p * g->pitch;
     l_ac = kin[2];
