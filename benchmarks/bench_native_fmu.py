@@ -14,7 +14,7 @@ taking turns over the FMUs:
 - the FMU file sizes (target: <= 500 KB).
 
 The native rows are absent while the native build (gear_dyn.fmu.export_fmu) is not in the
-tree. The torsional FMUs are built without the size limit (the eccentric scene's is over it):
+tree. The torsional FMUs are built without the size limit (both are within it now):
 their size is reported.
 """
 

@@ -107,13 +107,13 @@ def direct_feedthrough(nm: NativeModel | TorsionalNative) -> dict[str, tuple[str
     doStep). Outputs not in the mapping depend on no input.
     """
     speed: tuple[str, ...] = ("operating.speed",)
-    rate = bool(np.any(nm.table.coef[:, 1 if isinstance(nm, TorsionalNative) else 2] != 0.0))
     if not isinstance(nm, TorsionalNative):
+        rate = bool(np.any(nm.table.coef[:, 2] != 0.0))
         return {"driven_speed": speed, **({"mesh_force": speed} if rate else {})}
     out = {"w1": speed, "w2": speed}
-    if rate:
+    if nm.table.has_rate:
         out["mesh_force"] = speed
-        if np.any(nm.table.coef[:, 3:] != 0.0):
+        if nm.table.has_friction:
             out |= {"friction_torque_pinion": speed, "friction_torque_gear": speed}
     return out
 
@@ -125,9 +125,33 @@ def start_values(nm: NativeModel | TorsionalNative) -> tuple[float, ...]:
 
 
 def _arr(values: np.ndarray) -> str:
-    items = [repr(float(v)) if np.isfinite(v) else "0.0" for v in np.ravel(values)]
+    """A C initialiser (shortest round-trip repr of each double; C has no empty arrays: an
+    empty ``values`` gives one unread 0.0)."""
+    items = [repr(float(v)) if np.isfinite(v) else "0.0" for v in np.ravel(values)] or ["0.0"]
     lines = [", ".join(items[i:i + 4]) for i in range(0, len(items), 4)]
     return "{\n    " + ",\n    ".join(lines) + "\n}"
+
+
+def _lines_c(nm: TorsionalNative) -> tuple[str, str]:
+    """The contact-line form's block of ``model_data.c`` (gd_lines) and its pointer, or no block
+    and a null pointer."""
+    g = nm.table.lines
+    if g is None:
+        return "", "0"
+    lay = g.layout
+    mu = -1.0 if g.friction is None else float(g.friction)
+    k, q = np.nonzero(np.any(g.fourier != 0.0, axis=2))  # by rising k, then quantity
+    n = max(k.size, 1)
+    block = f"""static const unsigned short term_k[{n}] = {{{", ".join(map(str, k)) or "0"}}};
+static const unsigned char term_q[{n}] = {{{", ".join(map(str, q)) or "0"}}};
+static const double term_ab[{2 * n}] = {_arr(g.fourier[k, q])};
+static const gd_lines lines = {{
+    {k.size}, {float(g.period)!r}, term_k, term_q, term_ab,
+    {lay.pitch!r}, {lay.width!r}, {lay.sin_bb!r}, {lay.face_width!r}, {lay.l_ac0!r},
+    {int(lay.index[0])}, {int(lay.index.size)}, {g.per_length!r}, {mu!r}
+}};
+"""
+    return block, "&lines"
 
 
 #: the pinion-speed interface: no drivetrain constants (gd_drive.h)
@@ -162,9 +186,10 @@ def model_data_c(nm: NativeModel | TorsionalNative, title: str = "", token: str 
         flat, te, gap, phase0, tors = "0", 0, 0, 0.0, "&tors"
         load = -1.0 if nm.load_torque is None else nm.load_torque
         scale = ", ".join(repr(float(v)) for v in nm.q_scale)
-        extra = f"""static const gd_tors tors = {{
+        lines, lines_ptr = _lines_c(nm)
+        extra = f"""{lines}static const gd_tors tors = {{
     {{{nm.inertias[0]!r}, {nm.inertias[1]!r}}}, {float(nm.z2)!r},
-    {{{nm.mean_arms[0]!r}, {nm.mean_arms[1]!r}}}, {load!r}, {{{scale}}}
+    {{{nm.mean_arms[0]!r}, {nm.mean_arms[1]!r}}}, {load!r}, {{{scale}}}, {lines_ptr}
 }};
 """
     else:
@@ -179,7 +204,7 @@ def model_data_c(nm: NativeModel | TorsionalNative, title: str = "", token: str 
 const char gd_instantiation_token[] = "{token}";
 {drive or _NO_DRIVE}
 static const double breaks[{t.breaks.size}] = {_arr(t.breaks)};
-static const double coef[{t.coef.size}] = {_arr(t.coef)};
+static const double coef[{max(t.coef.size, 1)}] = {_arr(t.coef)};
 static const unsigned char flat[{n}] = {{{flat}}};
 static const gd_param params[GD_NPAR] = {{
     {params}

@@ -87,11 +87,16 @@ def _torsional_description(nm: TorsionalNative, scene_name: str) -> str:
     err = max(t.max_error.values())
     span = (f"the hunting period ({t.period} mesh cycles)" if t.period > 1 else
             "one mesh cycle")
+    form = (f"the tables of e_ecc, k, phi1, phi2 over {span} in the mesh phase are fixed at "
+            f"build ({t.breaks.size - 1} pieces between the switching instants, degree "
+            f"{t.degree}, max relative table error {err:.1e})" if t.lines is None else
+            f"the eccentric kinematics over {span} as Fourier series in the mesh phase "
+            f"({t.lines.fourier.shape[0] - 1} harmonics), from which the kernel evaluates the "
+            f"contact lines, k, phi1 and phi2, are fixed at build ({t.breaks.size - 1} pieces "
+            f"between the switching instants, max relative error {err:.1e})")
     return (f"gear_dyn torsional model (two DOF{', friction' if nm.friction else ''}) of scene "
-            f"{scene_name}, native C kernel. The gear geometry and the tables of e_ecc, k, phi1, "
-            f"phi2 over {span} in the mesh phase are fixed at build ({t.breaks.size - 1} pieces "
-            f"between the switching instants, degree {t.degree}, max relative table error "
-            f"{err:.1e}); the parameters are what the kernel applies without geometry. Stated "
+            f"{scene_name}, native C kernel. The gear geometry and {form}; the parameters are "
+            "what the kernel applies without geometry. Stated "
             f"error of the DTE: {nm.stated_error:.0e} of the static deflection W/k_m "
             "(Dormand-Prince 5(4) at solver.tolerance <= 1e-10).")
 

@@ -13,7 +13,7 @@
 #include <stddef.h>
 
 #define GD_KERNEL_VERSION "1.1.0"
-#define GD_TABLE_FORMAT 2
+#define GD_TABLE_FORMAT 3
 
 /* parameters and inputs, in this order (value references 1..5) */
 enum { GD_SPEED, GD_TORQUE, GD_ZETA, GD_HALF_GAP, GD_TOL, GD_NPAR };
@@ -30,12 +30,28 @@ typedef struct {
     int low_open;       /* 1: low itself is refused */
 } gd_param;
 
+#define GD_NKIN 7               /* e_ecc, travel - p p_bt, L_AC, L_CD, L_CP, foot1, foot2 (m) */
+
+typedef struct {                /* the contact-line form of an eccentric pair (gd_torsional.c) */
+    int n_terms;                /* the non-zero Fourier terms, by rising harmonic k */
+    double period;              /* P, the hunting period in mesh cycles */
+    const unsigned short *term_k;   /* harmonic k of each term: cos, sin of 2 pi k p / P */
+    const unsigned char *term_q;    /* its quantity, 0 .. GD_NKIN - 1 */
+    const double *term_ab;      /* [n_terms][cos, sin] amplitudes (m) */
+    double pitch, width, sin_bb, face_width, l_ac0;   /* the contact-line layout (m) */
+    int index0, n_index;        /* contact-line pair indices evaluated */
+    double per_length;          /* k_l (N/m^2): k = k_l L */
+    double mu;                  /* friction coefficient; < 0: no friction */
+} gd_lines;
+
 typedef struct {                /* the torsional model's constants (gd_torsional.c) */
     double inertia[2];          /* I1, I2 (kg m^2) */
     double z2;                  /* gear teeth (nominal w2 = w1 z1 / z2) */
     double arm[2];              /* mean friction arms (m): W = T1 / (r_b1 - arm1) */
     double load_fixed;          /* T2 (N m); < 0: T2 = W (r_b2 + arm2) */
     double q_scale[4];          /* state scales of the error control (rad, rad/s) */
+    const gd_lines *lines;      /* NULL: coef holds the polynomials; else e, de/dp, k, phi1,
+                                 * phi2 come from these series and the contact lines */
 } gd_tors;
 
 typedef struct {

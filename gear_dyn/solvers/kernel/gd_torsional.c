@@ -6,7 +6,10 @@
  *   p' = f_m = z1 w1 / (2 pi),  c = 2 xi sqrt(m_e k_m)
  *
  * e, de/dp, k, phi1, phi2 are polynomials of the mesh phase p on each piece of the table (its
- * breaks are the switching instants; data in model_data.c, written by gear_dyn). Each piece is
+ * breaks are the switching instants; data in model_data.c, written by gear_dyn), or, for an
+ * eccentric pair with contact-line stiffness (gd_tors.lines), they come from Fourier series of
+ * the kinematics over the hunting period and the contact-line overlap of Liu et al. (2017),
+ * eqs. 14-27 (gear_dyn.eccentricity.contact_lines and .friction). Each piece is
  * stepped by the Dormand-Prince 5(4) pair with error control (Hairer, Norsett & Wanner 1993);
  * piece edges are time events and a communication point ends the last step exactly. */
 #include <math.h>
@@ -23,11 +26,77 @@ typedef struct {                 /* one piece at constant inputs */
     double t0, p0, fm, cd, t1, t2;
 } tctx;
 
+/* e, de/dp, k, phi1, phi2 at phase p of the contact-line form: the kinematic series (cos k th,
+ * sin k th by rotation) and the overlap of each contact line with the field of contact, split
+ * at the pitch line (gear_dyn.eccentricity.friction.line_state_scalar) */
+static void lines_eval(const gd_lines *g, double p, double v[NQ])
+{
+    double th = 2.0 * PI * p / g->period, c1 = cos(th), s1 = sin(th), ck = 1.0, sk = 0.0;
+    double kin[GD_NKIN] = {0.0}, rate = 0.0, travel, d, total = 0.0, t1 = 0.0, t2 = 0.0;
+    double l_ac, l_cd, l_cp, f1, f2, w = g->width;
+    int k, i = 0;
+    for (k = 0; i < g->n_terms; k++) {
+        if (k > 0) {
+            double cn = ck * c1 - sk * s1;
+            sk = sk * c1 + ck * s1;
+            ck = cn;
+        }
+        for (; i < g->n_terms && g->term_k[i] == k; i++) {
+            const double *ab = g->term_ab + 2 * i;
+            kin[g->term_q[i]] += ab[0] * ck + ab[1] * sk;
+            if (g->term_q[i] == 0) rate += k * (ab[1] * ck - ab[0] * sk);
+        }
+    }
+    travel = kin[1] + p * g->pitch;
+    l_ac = kin[2];
+    l_cd = kin[3];
+    l_cp = kin[4];
+    f1 = kin[5];
+    f2 = kin[6];
+    d = travel - g->pitch * floor(travel / g->pitch) - g->pitch + g->l_ac0 - l_ac
+        + g->index0 * g->pitch;
+    for (k = 0; k < g->n_index; k++, d += g->pitch) {
+        if (w == 0.0) {
+            if (0.0 <= d && d < l_cd) {
+                double b = g->face_width, mid = d + l_ac, sg = d < l_cp ? -1.0 : 1.0;
+                total += b;
+                t1 -= sg * b * (mid - f1);
+                t2 += sg * b * (f2 - mid);
+            }
+        } else {
+            double back = d - w, lo2 = fmax(back, 0.0), hi2 = fmin(d, l_cp);
+            double lo1 = fmax(back, l_cp), hi1 = fmin(d, l_cd);
+            if (hi2 > lo2) {
+                double sg = (hi2 - lo2) / g->sin_bb, mid = 0.5 * (lo2 + hi2) + l_ac;
+                total += sg;
+                t1 += sg * (mid - f1);
+                t2 -= sg * (f2 - mid);
+            }
+            if (hi1 > lo1) {
+                double sg = (hi1 - lo1) / g->sin_bb, mid = 0.5 * (lo1 + hi1) + l_ac;
+                total += sg;
+                t1 -= sg * (mid - f1);
+                t2 += sg * (f2 - mid);
+            }
+        }
+    }
+    v[0] = kin[0];
+    v[1] = rate * 2.0 * PI / g->period;
+    v[2] = g->per_length * total;
+    v[3] = g->mu >= 0.0 && total > 0.0 ? g->mu / total * t1 : 0.0;
+    v[4] = g->mu >= 0.0 && total > 0.0 ? g->mu / total * t2 : 0.0;
+}
+
 static void tcoef(const tctx *q, double t, double v[NQ])
 {
     int d = q->m->degree, k, j;
-    double p = q->p0 + q->fm * (t - q->t0), s = (2.0 * p - q->a - q->b) / (q->b - q->a);
+    double p = q->p0 + q->fm * (t - q->t0), s;
     const double *c = q->c;
+    if (q->m->tors->lines) {
+        lines_eval(q->m->tors->lines, p, v);
+        return;
+    }
+    s = (2.0 * p - q->a - q->b) / (q->b - q->a);
     for (k = 0; k < NQ; k++, c += d + 1) {
         double acc = c[0];
         for (j = 1; j <= d; j++) acc = acc * s + c[j];
@@ -103,7 +172,7 @@ static void setup(tctx *q, const gd_state *s, const gd_model *m)
     const gd_tors *g = m->tors;
     double w = s->par[GD_TORQUE] / (m->rb1 - g->arm[0]);
     q->m = m;
-    q->c = m->coef + (long)s->piece * NQ * (m->degree + 1);
+    q->c = g->lines ? m->coef : m->coef + (long)s->piece * NQ * (m->degree + 1);
     q->a = m->breaks[s->piece];
     q->b = m->breaks[s->piece + 1];
     q->t0 = s->t;
