@@ -57,7 +57,7 @@ class LineKinematics:
     ----------
     fourier : ndarray (K + 1, 7, 2)
         Amplitudes (m) of ``cos(2 pi k p / P)`` and ``sin(2 pi k p / P)``, k = 0..K, of
-        :data:`KINEMATICS` (P = :attr:`period` cycles). ``de_ecc/dp`` is the series' derivative.
+        :data:`KINEMATICS` (P = ``period`` cycles). ``de_ecc/dp`` is the series' derivative.
     period : int
         P, the hunting period in mesh cycles.
     layout : LineLayout
