@@ -92,7 +92,9 @@ NOT_IN_FMU = ("cli/", "plots/", "fmu/build.py", "fmu/staging.py",
               "scene/packaged.py", "scene/sweep.py", "scenes/", "analysis/sweep/",
               "analysis/bench.py", "analysis/chart.py", "analysis/excitation.py",
               "analysis/report.py", "analysis/spectrum.py", "analysis/spectrum_labels.py",
-              "analysis/stiffness.py", "analysis/tolerance.py", "scene/tolerance.py")
+              "analysis/stiffness.py", "analysis/tolerance.py", "scene/tolerance.py",
+              "analysis/compare.py", "scene/compare.py", "analysis/relief_study.py",
+              "analysis/continuation/", "analysis/motion/", "scene/bifurcation.py")
 
 
 def _vendor(dest: Path, package: str, skip: tuple[str, ...] = ("fmu/slave3.py",)) -> None:
