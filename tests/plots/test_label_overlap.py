@@ -68,5 +68,5 @@ def test_excitation_spectrum_labels_do_not_overlap() -> None:
     fig = plot_excitation_spectra(res["spectra"], res["peaks"], res["basis"])
     assert fig.get_size_inches()[0] == 12
     for ax in fig.axes:
-        assert 1 <= len(ax.texts) <= 6
+        assert len(ax.texts) in range(1, 7)  # the 6 strongest peaks at most, at least one
     assert overlapping_texts(fig) == []
