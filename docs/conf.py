@@ -20,6 +20,8 @@ import gear_dyn
 
 DOCS = Path(__file__).resolve().parent
 sys.path.insert(0, str(DOCS / "_ext"))
+import external_inventories  # noqa: E402  (docs/_ext, on the path just above)
+
 os.environ.setdefault("MPLBACKEND", "Agg")
 
 project = "gear_dyn"
@@ -30,6 +32,7 @@ release = version = gear_dyn.__version__
 extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
+    "sphinx.ext.intersphinx",
     "sphinx.ext.mathjax",
     "sphinx.ext.viewcode",
     "numpydoc",
@@ -55,16 +58,17 @@ myst_dmath_double_inline = True
 myst_substitutions: dict[str, str] = {"version": version}
 myst_heading_anchors = 3
 
+# --- links into the other packages' docs: intersphinx, offline -----------------------------------
+# Each project's inventory is a small local file (docs/_inventories/, written by
+# _ext/external_inventories.py from its list of the names our docs cite, with their real
+# addresses): the links point at the published pages, and the build reads no network.
+intersphinx_mapping = external_inventories.intersphinx_mapping()
+
 # nitpicky builds (-n, as CI runs them): every cross-reference must resolve. The only exceptions
-# are these names of other packages (the standard library, scipy, matplotlib, pythonfmu), cited
-# by docstrings or shown as base classes: their inventories would come from intersphinx, which
-# needs the network at build time, and the build must work offline. They stay plain text. One
-# exact name per entry (no patterns), and no warning type is suppressed (no suppress_warnings).
+# are the names of pythonfmu and pythonfmu3, shown as base classes, which have no inventory in
+# docs/_inventories/. They stay plain text. One exact name per entry (no patterns), and no warning
+# type is suppressed (no suppress_warnings).
 nitpick_ignore = [
-    ("py:class", "collections.abc.Callable"), ("py:class", "collections.abc.Iterator"),
-    ("py:class", "collections.abc.Iterable"), ("py:class", "abc.ABC"),
-    ("py:class", "concurrent.futures.Executor"), ("py:class", "matplotlib.figure.Figure"),
-    ("py:func", "scipy.linalg.expm"), ("py:func", "dataclasses.asdict"),
     ("py:class", "pythonfmu.fmi2slave.Fmi2Slave"), ("py:class", "pythonfmu.enums.Fmi2Causality"),
     ("py:class", "pythonfmu.enums.Fmi2Variability"),
     ("py:class", "pythonfmu3.fmi3slave.Fmi3Slave"), ("py:class", "pythonfmu3.enums.Fmi3Causality"),
@@ -79,7 +83,16 @@ autodoc_default_options = {"member-order": "bysource"}
 autodoc_typehints = "none"          # the numpydoc Parameters sections give types and units
 numpydoc_show_class_members = False
 numpydoc_class_members_toctree = False
-numpydoc_xref_param_type = False
+# the types of Parameters/Returns sections link to their docs: numpydoc's aliases (float, int,
+# str, bool, None, ndarray, array_like, ...: numpydoc.xref.DEFAULT_LINKS) and those below; any
+# other word stays plain text ("all")
+numpydoc_xref_param_type = True
+numpydoc_xref_ignore = "all"
+numpydoc_xref_aliases = {
+    "matplotlib.figure.Figure": ":class:`matplotlib.figure.Figure`",
+    "matplotlib.axes.Axes": ":class:`matplotlib.axes.Axes`",
+    "numpy.random.Generator": ":class:`numpy.random.Generator`",
+}
 
 # --- gallery -------------------------------------------------------------------------------------
 sphinx_gallery_conf = {

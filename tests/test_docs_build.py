@@ -2,16 +2,24 @@
 
 The build command (``-n``: every reference resolves; ``-W``: a warning is an error) is the same
 in CI, on the development page and in the README, and docs/conf.py suppresses no warning type;
-the only references let through unresolved are names of other packages (no network for their
-intersphinx inventories), never a name of gear_dyn. These checks read the sources and need no
-docs build.
+the only references let through unresolved are names of other packages that have no inventory,
+never a name of gear_dyn. The names of Python, NumPy, SciPy and Matplotlib resolve through
+intersphinx from the local inventories of docs/_inventories/ (the build reads no network),
+written by docs/_ext/external_inventories.py. These checks read the sources and need no docs
+build.
 """
 
 from __future__ import annotations
 
 import ast
+import io
+import posixpath
 import re
+import sys
 from pathlib import Path
+from types import ModuleType
+
+from sphinx.util.inventory import InventoryFile
 
 ROOT = Path(__file__).resolve().parents[1]
 BUILD = re.compile(r"python -m sphinx( -\S+)* -b html docs docs/_build/html")
@@ -49,3 +57,42 @@ def test_nitpick_ignore_names_only_other_packages() -> None:
         assert role.startswith("py:"), (role, target)
         assert re.fullmatch(r"[A-Za-z_][\w.]*", target), target   # one exact dotted name
         assert target.split(".")[0] != "gear_dyn", f"a gear_dyn name left unresolved: {target}"
+
+
+def _inventories() -> ModuleType:
+    sys.path.insert(0, str(ROOT / "docs" / "_ext"))
+    try:
+        import external_inventories
+    finally:
+        sys.path.remove(str(ROOT / "docs" / "_ext"))
+    return external_inventories
+
+
+def test_inventories_are_written_from_their_list() -> None:
+    """Each shipped inventory is the script's output for its list (rerun the script after an
+    edit), and Sphinx's own reader reads back every entry at an https address on the project's
+    published docs."""
+    inv = _inventories()
+    for project, (root, _) in inv.PROJECTS.items():
+        data = inv.inventory_path(project).read_bytes()
+        assert data == inv.inventory_bytes(project), f"rerun external_inventories.py ({project})"
+        read = InventoryFile.load(io.BytesIO(data), root, posixpath.join)
+        names = {(role, name) for role, items in read.items() for name in items}
+        assert names == {(role, name) for name, role, _, _ in inv.ENTRIES[project]}
+        for items in read.values():
+            for item in items.values():
+                uri = getattr(item, "uri", None) or item[2]
+                assert uri.startswith(root) and root.startswith("https://") and "#" in uri, uri
+
+
+def test_intersphinx_reads_only_the_local_inventories() -> None:
+    """conf.py maps every project to its published root and its local file, none to a URL
+    fetched at build time; and nitpick_ignore holds no name that an inventory resolves."""
+    inv = _inventories()
+    src = (ROOT / "docs" / "conf.py").read_text(encoding="utf-8")
+    assert "intersphinx_mapping = external_inventories.intersphinx_mapping()" in src
+    for project, (root, local) in inv.intersphinx_mapping().items():
+        assert root == inv.PROJECTS[project][0] and Path(local).is_file(), project
+    held = {name for entries in inv.ENTRIES.values() for name, _, _, _ in entries}
+    ignored = {target for _, target in ast.literal_eval(_conf()["nitpick_ignore"])}
+    assert not ignored & held, ignored & held

@@ -1,7 +1,8 @@
 """scipy's solve_ivp, piece by piece between switching instants, restarted at contact changes.
 
-The span is cut at ``model.switching_times`` and each piece is one ``solve_ivp`` call; a model
-with contact changes (``model.contact_events()``: backlash) is also restarted at each of them
+The span is cut at ``model.switching_times`` and each piece is one
+:func:`scipy.integrate.solve_ivp` call; a model with contact changes
+(``model.contact_events()``: backlash) is also restarted at each of them
 (:mod:`gear_dyn.solvers.events`). The dense output's interpolation error is not controlled by
 solve_ivp, so explicit Runge-Kutta steps are limited to ``omega_n h <= (pi / 4)
 (rtol / 1e-8)^(1 / (q + 1))`` (:func:`step_limit`, ``q`` the interpolant's order). A reported
