@@ -103,3 +103,28 @@ def test_demo_substitutions_are_the_demo_run(tmp_path: Path) -> None:
     assert subs["demo_peak_force_ratio"] == f"{res.peak_force_ratio:.4f}"
     assert subs["demo_mesh_frequency"] == f"{res.mesh_frequency:.1f} Hz"
     assert f"dynamic factor      {subs['demo_dynamic_factor']}" in printed
+
+
+def test_commands_table_names_every_command_and_real_files() -> None:
+    """The table at the top of the commands page has a row for every subcommand of the CLI,
+    and every output file it names is one a command module writes."""
+    import argparse
+
+    from gear_dyn.cli.app import build_parser
+
+    commands = set()
+    for action in build_parser()._actions:
+        if isinstance(action, argparse._SubParsersAction):  # noqa: SLF001
+            commands = set(action.choices)
+    assert commands
+    rows = [line.split("|")[1:4] for line in
+            (ROOT / "docs" / "commands.md").read_text(encoding="utf-8").splitlines()
+            if line.startswith("| `gear-dyn ")]
+    named = {m for first, _, _ in rows for m in re.findall(r"`(?:gear-dyn )?([a-z-]+)", first)}
+    assert commands <= named, commands - named
+    written = "\n".join(p.read_text(encoding="utf-8")
+                        for p in (ROOT / "gear_dyn" / "cli").glob("*.py"))
+    output = re.compile(r"`([\w.]+\.(?:png|csv|json|md|toml))`")
+    files = {f for _, _, out in rows for f in output.findall(out)}
+    assert files and all(f'"{f}"' in written for f in files), sorted(
+        f for f in files if f'"{f}"' not in written)
