@@ -1,5 +1,6 @@
 """The docs pages speak of the product, not of its making: no issue numbers, commit hashes,
-machine paths, remarks on the load of the machine that measured, or test-file paths.
+machine paths, remarks on the load of the machine that measured, test-file paths, or remarks on
+how the code was before (the changelog is the page for that).
 
 Checked on every page source of the site (docs/**/*.md, the README and the gallery scripts,
 whose printed output lands on the gallery pages). HTML comments (not shown) are skipped; the
@@ -27,6 +28,11 @@ FORBIDDEN = {
     "a remark on machine load": re.compile(r"load average|loaded (?:2-core )?machine|"
                                            r"shared 2-core|2 shared cores|machine's load", re.I),
     "a CI script": re.compile(r"\.ci/run"),
+    # how the code was before: the pages describe what it does (the changelog is exempt)
+    "a remark on the project's history": re.compile(
+        r"\b(?:used\s+to\s+(?:pick|be|take|run|give|use|say)|previously|formerly|"
+        r"no\s+longer\s+(?:relies|uses|picks|takes)|"
+        r"now\s+(?:says|iterates?|takes?|picks?|uses?)|ran\s+into\s[\w\s]{0,30}before)\b", re.I),
 }
 TEST_PATH = re.compile(r"\btests/[\w/*.-]*\.py")
 
@@ -41,6 +47,8 @@ def _text(path: Path) -> str:
 def test_page_speaks_of_the_product(path: Path) -> None:
     text = _text(path)
     checks = dict(FORBIDDEN)
+    if path.name == "changelog.md":     # the page about the project's history
+        del checks["a remark on the project's history"]
     if path.name != "development.md":   # the page about running the tests and CI
         checks["a test-file path"] = TEST_PATH
     else:
@@ -57,6 +65,11 @@ def test_the_check_finds_what_it_looks_for() -> None:
     assert FORBIDDEN["a machine path"].search("wrote /tmp/x/relief.png")
     assert not FORBIDDEN["a machine path"].search("docs/_build/html, benchmarks/out/")
     assert TEST_PATH.search("(tests/fmu/test_fmu_sdof.py)")
+    history = FORBIDDEN["a remark on the project's history"]
+    assert history.search("`auto` used to pick LSODA there")
+    assert history.search("(it ran into the iteration cap before, 60 evaluations)")
+    assert not history.search("Where Newton no longer converges (the branch ended at a fold)")
+    assert not history.search("the model is no longer `mesh_periodic`")
 
 
 SUBSTITUTION = re.compile(r"\{\{\s*(\w+)\s*\}\}")
