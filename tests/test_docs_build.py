@@ -96,3 +96,24 @@ def test_intersphinx_reads_only_the_local_inventories() -> None:
     held = {name for entries in inv.ENTRIES.values() for name, _, _, _ in entries}
     ignored = {target for _, target in ast.literal_eval(_conf()["nitpick_ignore"])}
     assert not ignored & held, ignored & held
+
+
+def test_every_type_alias_has_its_target() -> None:
+    """Each target of numpydoc's type aliases (its defaults and conf.py's own) is in an
+    inventory with its role, so any aliased word in a docstring's type links and the nitpicky
+    build does not fail on it."""
+    from numpydoc.xref import DEFAULT_LINKS
+
+    inv = _inventories()
+    held = {(project, role, name) for project, entries in inv.ENTRIES.items()
+            for name, role, _, _ in entries}
+    roles = {"data": "py:data", "class": "py:class", "func": "py:function", "mod": "py:module",
+             "ref": "std:label", "term": "std:term"}
+    aliases = {**DEFAULT_LINKS, **ast.literal_eval(_conf()["numpydoc_xref_aliases"])}
+    for word, target in aliases.items():
+        m = re.fullmatch(r":(\w+):`(?:[^<`]*<)?([^<>`]+?)>?`", target)
+        role, name = (roles[m.group(1)], m.group(2)) if m else ("py:*", target)  # bare: :obj:
+        project, _, name = name.rpartition(":") if ":" in name else ("", "", name)
+        found = {(p, r) for p, r, n in held if n == name}
+        assert any((not project or p == project) and (r == role or role == "py:*" and
+                   r.startswith("py:")) for p, r in found), (word, target)

@@ -38,10 +38,10 @@ PROJECTS: dict[str, tuple[str, str]] = {
 }
 
 # project -> [(name, domain:role, page and anchor relative to the project's root, display)].
-# The python entries and numpy's ndarray and array_like are the targets of numpydoc's type
-# aliases that our docstrings use (float, int, str, bool, None, dict, tuple, list, callable,
-# sequence, iterable, ndarray, array, array_like: numpydoc.xref.DEFAULT_LINKS); the others
-# are cited by name.
+# They hold every target of numpydoc's type aliases (float, int, str, bool, None, dict, tuple,
+# list, callable, sequence, iterable, generator, ndarray, array_like, scalar, ...:
+# numpydoc.xref.DEFAULT_LINKS), so that any of those words in a docstring's type links, and the
+# names the docstrings and pages cite.
 ENTRIES: dict[str, list[tuple[str, str, str, str]]] = {
     "python": [
         ("None", "py:data", "library/constants.html#None", "-"),
@@ -59,6 +59,11 @@ ENTRIES: dict[str, list[tuple[str, str, str, str]]] = {
          "Boolean Type - bool"),
         ("iterable", "std:term", "glossary.html#term-iterable", "-"),
         ("sequence", "std:term", "glossary.html#term-sequence", "-"),
+        ("generator", "std:term", "glossary.html#term-generator", "-"),
+        ("contextlib.contextmanager", "py:function",
+         "library/contextlib.html#contextlib.contextmanager", "-"),
+        ("collections.namedtuple", "py:function",
+         "library/collections.html#collections.namedtuple", "-"),
         ("abc.ABC", "py:class", "library/abc.html#abc.ABC", "-"),
         ("collections.abc.Callable", "py:class",
          "library/collections.abc.html#collections.abc.Callable", "-"),
@@ -74,6 +79,13 @@ ENTRIES: dict[str, list[tuple[str, str, str, str]]] = {
         ("numpy.ndarray", "py:class", "reference/generated/numpy.ndarray.html#numpy.ndarray",
          "-"),
         ("array_like", "std:term", "glossary.html#term-array_like", "-"),
+        ("arrays.scalars", "std:label", "reference/arrays.scalars.html#arrays-scalars",
+         "Scalars"),
+        ("numpy", "py:module", "reference/index.html#module-numpy", "-"),
+        ("numpy.inf", "py:data", "reference/constants.html#numpy.inf", "-"),
+        ("numpy.nan", "py:data", "reference/constants.html#numpy.nan", "-"),
+        ("numpy.random.RandomState", "py:class",
+         "reference/random/legacy.html#numpy.random.RandomState", "-"),
         ("numpy.random.Generator", "py:class",
          "reference/random/generator.html#numpy.random.Generator", "-"),
         ("numpy.random.default_rng", "py:function",
