@@ -276,6 +276,28 @@ class Walk:
             raise SolverError("exact_contact produced non-finite states: the response diverges")
         return phi
 
+    def mark_sensitivities(self) -> FloatArray:
+        """``d y(m_{j+1}) / d y(m_j)`` over each span between consecutive marks of
+        :func:`walk` (``m_0 = t0``, the last ``t1``), shape ``(len(marks) + 1, 2, 2)``, as
+        :meth:`sensitivity` per span (no product over the whole walk, which can overflow
+        where the motion is chaotic).
+
+        Raises
+        ------
+        InputError
+            The walk had no marks.
+        SolverError
+            As :meth:`sensitivity`.
+        """
+        phis = self._segs.phis
+        if phis is None:
+            raise InputError("mark_sensitivities: walk(..., marks=...) was called without marks")
+        if self._segs.status == ck.GRAZE:
+            self.sensitivity()  # raises, naming the graze
+        if not (np.all(np.isfinite(self.end)) and np.all(np.isfinite(phis))):
+            raise SolverError("exact_contact produced non-finite states: the response diverges")
+        return phis.copy()
+
     def on_grid(self, t_grid: FloatArray) -> FloatArray:
         """States ``[x, v]`` (m, m/s), shape ``(2, len(t_grid))``, at times ``t_grid`` (s)
         within ``[t0, t1]``, each from the closed form of the piece it falls in (the kernel).
@@ -303,7 +325,8 @@ def _piece_tables(mm: Any, k_values: FloatArray) -> tuple[FloatArray, FloatArray
     return _model_header(mm, forcing), np.array(rows)
 
 
-def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0) -> Walk:
+def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0,
+         marks: FloatArray | None = None) -> Walk:
     """The exact propagation of ``model`` from ``y(t0) = y0`` to ``t1``, kept as its pieces.
 
     :func:`propagate_contact_exact` and :func:`flow_with_sensitivity` are its states on a grid
@@ -324,11 +347,15 @@ def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0) -> Walk:
         End time in s (> t0).
     t0 : float
         Start time in s.
+    marks : ndarray or None
+        Increasing times in ``(t0, t1)`` (s) at which the walk also takes the sensitivity
+        apart (:meth:`Walk.mark_sensitivities`), e.g. every mesh period for a Lyapunov
+        exponent; the pieces are cut there too.
 
     Raises
     ------
     InputError
-        The model is not of that kind.
+        The model is not of that kind, or marks outside ``(t0, t1)`` or not increasing.
     SolverError
         A chattering contact (too many events in one stiffness piece).
     """
@@ -340,14 +367,23 @@ def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0) -> Walk:
     mm: Any = model  # a mesh model with backlash: checked above
     t0, t1 = float(t0), float(t1)
     x0, v0 = (float(u) for u in y0)
-    cuts = np.concatenate([[t0], mm.switching_times(t0, t1), [t1]])
+    inner = np.asarray(mm.switching_times(t0, t1), dtype=float)
+    slots = None
+    if marks is not None:
+        marks = np.asarray(marks, dtype=float).ravel()
+        if marks.size and not (marks[0] > t0 and marks[-1] < t1 and np.all(np.diff(marks) > 0)):
+            raise InputError(f"walk: marks must increase strictly inside ({t0:.6g}, {t1:.6g}) s")
+        inner = np.union1d(inner, marks)
+    cuts = np.concatenate([[t0], inner, [t1]])
+    if marks is not None:
+        slots = np.searchsorted(marks, cuts[:-1], side="right")
     kts = np.asarray(mm.stiffness(mm.phase(0.5 * (cuts[:-1] + cuts[1:]))), dtype=float)
     k_values, kidx = np.unique(kts, return_inverse=True)
     tables = _piece_tables(mm, k_values)
     xtol = 4 * float(np.spacing(max(abs(t0), abs(t1), 1e-300)))
     e0, ed0 = _te_shift(mm, np.array([t0]))
     segs = ck.walk(*tables, cuts, kidx.ravel(), x0 - float(e0[0]), v0 - float(ed0[0]), xtol,
-                   MAX_EVENTS_PER_PIECE)
+                   MAX_EVENTS_PER_PIECE, slots)
     if segs.status == ck.CHATTER:
         raise SolverError(
             f"exact_contact: more than {MAX_EVENTS_PER_PIECE} contact changes in one "

@@ -46,6 +46,8 @@ class Segments(NamedTuple):
         discontinuous field crossed tangentially); ``fail_time`` says where.
     fail_time : float
         Time of the failure (s; 0 when none).
+    phis : ndarray (n_slots, 2, 2) or None
+        The sensitivity over each slot's stiffness pieces (with ``slots``).
     """
 
     table: FloatArray
@@ -54,6 +56,7 @@ class Segments(NamedTuple):
     phi: FloatArray
     status: int
     fail_time: float
+    phis: FloatArray | None
 
 
 def _tables(model: FloatArray, pieces: FloatArray) -> tuple[FloatArray, FloatArray, int]:
@@ -109,9 +112,12 @@ def first_crossing(model: FloatArray, pieces: FloatArray, row: int, t0: float, u
 
 
 def walk(model: FloatArray, pieces: FloatArray, cuts: FloatArray, kidx: NDArray[np.intp],
-         u0: float, v0: float, xtol: float, max_events: int) -> Segments:
+         u0: float, v0: float, xtol: float, max_events: int,
+         slots: NDArray[np.intp] | None = None) -> Segments:
     """Walk from ``(u0, v0)`` at ``cuts[0]`` to ``cuts[-1]``; stiffness piece i spans
-    ``cuts[i]..cuts[i+1]`` with stiffness value ``kidx[i]`` (rows ``3 kidx + state + 1``)."""
+    ``cuts[i]..cuts[i+1]`` with stiffness value ``kidx[i]`` (rows ``3 kidx + state + 1``).
+    ``slots[i]`` (non-decreasing from 0; None: none) names the slot of piece i: the walk also
+    returns the sensitivity over each slot."""
     model, pieces, n = _tables(model, pieces)
     cuts = _c(cuts)
     kid = np.ascontiguousarray(kidx, dtype=_LONG)
@@ -119,22 +125,32 @@ def walk(model: FloatArray, pieces: FloatArray, cuts: FloatArray, kidx: NDArray[
             or (kid.size and (kid.min() < 0 or 3 * kid.max() + 2 >= n)):
         raise ValueError(f"contact walk: {cuts.size} cuts, {kid.size} stiffness indices, "
                          f"{n} piece rows")
+    slot, phis = None, None
+    if slots is not None:
+        slot = np.ascontiguousarray(slots, dtype=_LONG)
+        if slot.shape != kid.shape or (slot.size and (slot[0] < 0 or np.any(np.diff(slot) < 0))):
+            raise ValueError(f"contact walk: slots {slot.shape} not non-decreasing from 0 for "
+                             f"{kid.size} pieces")
     cap = 4 * kid.size + 64
     out = np.zeros(7)
     count = np.zeros(1, dtype=_LONG)
     lib = library()
     while True:
+        if slot is not None:
+            phis = np.tile(np.eye(2), (int(slot[-1]) + 1 if slot.size else 0, 1, 1))
         table = np.empty((cap, 4))
         ids = np.empty((cap, 2), dtype=_LONG)
         status = lib.gd_contact_walk(_ptr(model), _ptr(pieces), kid.size, _ptr(cuts), _ptr(kid),
                                      u0, v0, xtol, max_events, cap, _ptr(table), _ptr(ids),
-                                     _ptr(count), _ptr(out))
+                                     _ptr(count), _ptr(out),
+                                     None if slot is None else _ptr(slot),
+                                     None if phis is None else _ptr(phis))
         if status != FULL:
             break
         cap = int(count[0])  # the number the walk needed: once more with room for all
     ns = min(int(count[0]), cap)
     return Segments(table[:ns], ids[:ns].astype(np.int64), out[:2].copy(),
-                    out[2:6].reshape(2, 2).copy(), int(status), float(out[6]))
+                    out[2:6].reshape(2, 2).copy(), int(status), float(out[6]), phis)
 
 
 def on_grid(model: FloatArray, pieces: FloatArray, table: FloatArray, ids: NDArray[np.int64],

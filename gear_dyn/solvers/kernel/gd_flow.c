@@ -563,16 +563,36 @@ static int next_state(int state, double x, double v)
     return 0;
 }
 
-/* phi <- exp(A s) phi for one contact state (the closed form with unit starts, no load) */
-static void transition(const cw_model *md, const cw_piece *pc, double s, double *phi)
+/* phi <- exp(A s) phi for one contact state (the closed form with unit starts, no load), and
+ * the same for part (NULL: none), the sensitivity since the start of its slot */
+static void transition(const cw_model *md, const cw_piece *pc, double s, double *phi,
+                       double *part)
 {
-    double t00, t10, t01, t11, p0 = phi[0], p1 = phi[1], p2 = phi[2], p3 = phi[3];
-    flow1(pc->state, pc->k, md->m, md->c, 0.0, 0.0, 1.0, 0.0, s, &t00, &t10);
-    flow1(pc->state, pc->k, md->m, md->c, 0.0, 0.0, 0.0, 1.0, s, &t01, &t11);
-    phi[0] = t00 * p0 + t01 * p2;
-    phi[1] = t00 * p1 + t01 * p3;
-    phi[2] = t10 * p0 + t11 * p2;
-    phi[3] = t10 * p1 + t11 * p3;
+    double t[4];
+    int j;
+    flow1(pc->state, pc->k, md->m, md->c, 0.0, 0.0, 1.0, 0.0, s, t, t + 2);
+    flow1(pc->state, pc->k, md->m, md->c, 0.0, 0.0, 0.0, 1.0, s, t + 1, t + 3);
+    for (j = 0; j < 2; j++) {
+        double *p = j ? part : phi, p0, p1, p2, p3;
+        if (!p) continue;
+        p0 = p[0]; p1 = p[1]; p2 = p[2]; p3 = p[3];
+        p[0] = t[0] * p0 + t[1] * p2;
+        p[1] = t[0] * p1 + t[1] * p3;
+        p[2] = t[2] * p0 + t[3] * p2;
+        p[3] = t[2] * p1 + t[3] * p3;
+    }
+}
+
+/* the saltation [[1, 0], [r, 1]] (r NaN: no derivative) applied to p */
+static void saltate(double r, double *p)
+{
+    if (!p) return;
+    if (isnan(r)) {
+        p[0] = p[1] = p[2] = p[3] = NAN;
+        return;
+    }
+    p[2] += r * p[0];
+    p[3] += r * p[1];
 }
 
 /* (w - c v - spring) / m: the field's acceleration without the forcing, which is the same on
@@ -585,7 +605,8 @@ static double accel(const cw_model *md, int state, double k, double x, double v)
 
 int gd_contact_walk(const double *model, const double *pieces, long n_cuts, const double *cuts,
                     const long *kidx, double u0, double v0, double xtol, long max_events,
-                    long cap, double *seg, long *seg_id, long *n_seg, double *out)
+                    long cap, double *seg, long *seg_id, long *n_seg, double *out,
+                    const long *slot, double *phis)
 {
     cw_model md = cw_model_of(model);
     double x = u0, v = v0, b = md.b, phi[4] = {1.0, 0.0, 0.0, 1.0};
@@ -593,7 +614,7 @@ int gd_contact_walk(const double *model, const double *pieces, long n_cuts, cons
     long i, ns = 0;
     out[6] = 0.0;
     for (i = 0; i < n_cuts && status == GD_CW_OK; i++) {
-        double t = cuts[i], tb = cuts[i + 1];
+        double t = cuts[i], tb = cuts[i + 1], *part = phis && slot ? phis + 4 * slot[i] : NULL;
         long n_ev = 0;
         while (t < tb) {
             long row = 3 * kidx[i] + state + 1;
@@ -612,7 +633,7 @@ int gd_contact_walk(const double *model, const double *pieces, long n_cuts, cons
             ns++;
             z_of(&md, &pc, x, v, t, &z0, &zv0);
             piece_eval(&md, &pc, z0, zv0, s, t + s, &xn, &vn);
-            transition(&md, &pc, s, phi);
+            transition(&md, &pc, s, phi, part);
             x = xn;
             v = vn;
             if (!ev) {
@@ -623,17 +644,18 @@ int gd_contact_walk(const double *model, const double *pieces, long n_cuts, cons
             x = fabs(x - b) < fabs(x + b) ? b : -b;     /* exactly on the boundary crossed */
             {
                 int nxt = next_state(state, x, v);
-                double f_minus = accel(&md, state, pc.k, x, v), f_plus = accel(&md, nxt, pc.k, x, v);
+                double f_minus = accel(&md, state, pc.k, x, v);
+                double f_plus = accel(&md, nxt, pc.k, x, v);
                 if (f_plus != f_minus) {        /* saltation I + (f+ - f-) n^T / (n^T f-) */
-                    if (v == 0.0) {             /* no derivative: the walk goes on, phi NaN */
+                    double r = NAN;
+                    if (v != 0.0) {
+                        r = (f_plus - f_minus) / v;
+                    } else {                    /* no derivative: the walk goes on, phi NaN */
                         if (!grazed) out[6] = t;
                         grazed = 1;
-                        phi[0] = phi[1] = phi[2] = phi[3] = NAN;
-                    } else {
-                        double r = (f_plus - f_minus) / v;
-                        phi[2] += r * phi[0];
-                        phi[3] += r * phi[1];
                     }
+                    saltate(r, phi);
+                    saltate(r, part);
                 }
                 state = nxt;
             }

@@ -81,10 +81,13 @@ int gd_contact_first_crossing(const double *model, const double *pieces, long pi
  * segment: start time, u, u' at the start, duration) and seg_id (2 per segment: piece row,
  * 1 if it ends at a contact change), up to cap segments, their number in *n_seg; out[0..1]
  * the end state, out[2..5] the sensitivity d y(end) / d y(start) (row-major), out[6] the time
- * of a failure. Returns a GD_CW_ status. */
+ * of a failure. With slot and phis (else NULL), slot[i] (non-decreasing) names the slot of
+ * piece i and phis (4 per slot, identities on entry) receives the sensitivity over each
+ * slot's pieces (e.g. one slot per mesh period). Returns a GD_CW_ status. */
 int gd_contact_walk(const double *model, const double *pieces, long n_cuts, const double *cuts,
                     const long *kidx, double u0, double v0, double xtol, long max_events,
-                    long cap, double *seg, long *seg_id, long *n_seg, double *out);
+                    long cap, double *seg, long *seg_id, long *n_seg, double *out,
+                    const long *slot, double *phis);
 
 /* u, u' at n_t times t (inside the walked span) from n_seg segments of gd_contact_walk (in
  * time order), each from the closed form of the segment it falls in; out is 2 x n_t
