@@ -151,8 +151,9 @@ class _Piece:
 
     def row(self) -> FloatArray:
         """The kernel's row of this piece: state, k, a, w2, q, x_eq, h, the particular
-        solution's amplitude and curvature bounds (:class:`~gear_dyn.solvers.harmonic_forcing.
-        Particular`), its cosine and sine coefficients (m)."""
+        solution's amplitude and curvature bounds
+        (:class:`~gear_dyn.solvers.harmonic_forcing.Particular`), its cosine and sine
+        coefficients (m)."""
         p = self.part
         return np.concatenate([[float(self.state), self.k, self.a, self.w2, self.q, self.x_eq,
                                 self.h, p.amplitude, p.curvature], p.ca, p.cb])

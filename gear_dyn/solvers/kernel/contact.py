@@ -13,7 +13,7 @@ check shapes and turn status codes into errors; they hold no algorithm.
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import NamedTuple
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
@@ -28,7 +28,8 @@ MODEL_FIELDS, ROW_FIELDS = 7, 9
 OK, FULL, CHATTER, GRAZE = 0, 1, 2, 3
 
 
-class Segments(NamedTuple):
+@dataclass(frozen=True, eq=False)
+class Segments:
     """The closed-form segments of one walk, in time order.
 
     Attributes
