@@ -22,8 +22,9 @@ Targets (whole commands, CPU):
   cost, start-up, scene, quasi-static run and figures, is 1-2 s: a few hundred speeds are
   needed for the per-speed part to stand out of the run-to-run spread).
 
-Writes ``commands.md`` into ``--out`` (default ``benchmarks/out/``, git-ignored); ``--record``
-writes it into ``benchmarks/results/``.
+Writes ``commands.md`` (``--name``) into ``--out`` (default ``benchmarks/out/``, git-ignored);
+``--record`` writes it into ``benchmarks/results/``. The in-process sweep table is made only
+when a sweep command is among those run (``--only``).
 """
 
 from __future__ import annotations
@@ -122,6 +123,8 @@ def main() -> None:
     ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "out")
     ap.add_argument("--record", action="store_true", help="write into benchmarks/results/")
     ap.add_argument("--only", default="", help="run only commands whose name contains this")
+    ap.add_argument("--name", default="commands",
+                    help="file name of the table, without .md (default: commands)")
     args = ap.parse_args()
     out_dir = ROOT / "benchmarks" / "results" if args.record else args.out
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -146,8 +149,9 @@ def main() -> None:
                 print(name, {k: round(v[-1], 2) for k, v in cpu[name].items()}, flush=True)
         floor = [import_cpu(envs["after"]) for _ in range(args.repeats)]
     os.environ.update(ONE_THREAD)
-    inproc: dict[str, list[float]] = {s: [] for s in LINEAR}
-    for _ in range(args.repeats):
+    inproc: dict[str, list[float]] = {s: [] for s in LINEAR
+                                      if any(c[0].startswith(f"sweep {s} ") for c in commands)}
+    for _ in range(args.repeats if inproc else 0):
         for s in LINEAR:
             inproc[s].append(per_speed_cpu(s))
     med = {n: {k: statistics.median(v) for k, v in d.items()} for n, d in cpu.items()}
@@ -155,6 +159,7 @@ def main() -> None:
              f"`python benchmarks/bench_commands.py --repeats {args.repeats}"
              f"{f' --before {args.before}' if args.before else ''}"
              f"{f' --only {args.only!r}' if args.only else ''}"
+             f"{f' --name {args.name}' if args.name != 'commands' else ''}"
              f"{' --record' if args.record else ''}` (before: "
              f"{args.before or 'the commit where this branch left main'}; after: this "
              f"checkout) on {platform.machine()}, "
@@ -194,16 +199,17 @@ def main() -> None:
         for s, d in per_speed.items():
             lines.append(f"| {s} | {1e3 * d['before']:.3g} | {1e3 * d['after']:.3g} | "
                          f"{rel(d, 'before')} | {rel(d, 'after')} |")
-    ratios_in = {s: [a / b for a, b in zip(v, inproc[LINEAR[0]], strict=True)]
-                 for s, v in inproc.items()}
-    lines += ["", "The same, in one process (this checkout; `sweep_scene`, 361 - 37 speeds over "
-              "1000-6000 rpm, CPU; the ratio within each repeat):", "",
-              "| scene | CPU ms/speed | / iso6336 (target <= 5x) |", "| --- | --- | --- |"]
-    for s in LINEAR:
-        lines.append(f"| {s} | {spread([1e3 * x for x in inproc[s]])} | "
-                     f"{spread(ratios_in[s], '.2g', 'x')} |")
+    if LINEAR[0] in inproc:
+        ratios_in = {s: [a / b for a, b in zip(v, inproc[LINEAR[0]], strict=True)]
+                     for s, v in inproc.items()}
+        lines += ["", "The same, in one process (this checkout; `sweep_scene`, 361 - 37 speeds "
+                  "over 1000-6000 rpm, CPU; the ratio within each repeat):", "",
+                  "| scene | CPU ms/speed | / iso6336 (target <= 5x) |", "| --- | --- | --- |"]
+        for s in inproc:
+            lines.append(f"| {s} | {spread([1e3 * x for x in inproc[s]])} | "
+                         f"{spread(ratios_in[s], '.2g', 'x')} |")
     text = "\n".join(lines) + "\n"
-    (out_dir / "commands.md").write_text(text)
+    (out_dir / f"{args.name}.md").write_text(text)
     print(text)
 
 

@@ -11,7 +11,10 @@ Independent check: the flow from the down sweep's state (DOP853 with located con
 a second integrator) returns to it after six mesh periods and not after one, two or three.
 
 Scene 2 (tests/analysis/motion_cases.py): rectangular stiffness 0.5e9 / 1.5e9 N/m, damping ratio
-0.02, at f_m / f_n = 1.98 and 2.02: chaos in both directions (positive Lyapunov exponents). Up
+0.02, at f_m / f_n = 1.94 and 1.98: chaos in both directions (positive Lyapunov exponents; every
+one of 12 starts perturbed by 1e-13 is chaotic there, while at 2.0 and 2.02 a stable period-8
+and period-4 orbit attract about one start in six, so those speeds' label depends on the last
+bits of the transient). Up
 and down differ, but neither is periodic: no hysteresis, the speeds are reported as aperiodic
 with their motion's label (sweep summary and terminal alike). At 2.06..2.1 the same scene has a
 stable period-4 orbit, reported as such in both directions.
@@ -40,7 +43,7 @@ from gear_dyn.scene.sweep import model_at_speed, sweep_scene
 from gear_dyn.solvers import SolverSettings, integrate
 
 RATIOS = (1.55, 1.6)  # f_m / f_n
-CHAOS = (1.98, 2.02)
+CHAOS = (1.94, 1.98)
 
 
 @pytest.fixture(scope="module")

@@ -243,7 +243,8 @@ def _sanitizer_runtime(cc: str) -> str | None:
 
 def test_kernel_under_sanitizers(tmp_path: Path) -> None:
     """The library built with -fsanitize=address,undefined, loaded by ctypes in a child Python
-    (the ASan runtime preloaded), runs every entry point of gd_flow.c against numpy."""
+    (the ASan runtime preloaded), runs every entry point of gd_flow.c against numpy (the
+    contact walk's against DOP853)."""
     cc = shutil.which(os.environ.get("CC", "cc")) or shutil.which("gcc")
     runtime = _sanitizer_runtime(cc) if cc else None
     if cc is None or runtime is None:
@@ -276,6 +277,37 @@ def test_kernel_under_sanitizers(tmp_path: Path) -> None:
         assert tot.shape == (4, 3, 3) and np.array_equal(tot[1], np.eye(3))
         t = np.arange(50) * 0.1
         assert k.grid_error(t, 0.0, 0.1) == np.max(np.abs(t - np.arange(50) * 0.1))
+        # the contact walk: a backlash model with a two-harmonic transmission error at
+        # resonance (the bounded crossing search) and without one (the unforced search)
+        from gear_dyn.excitation import HarmonicSignal
+        from gear_dyn.models.sdof import SDOFModel
+        from gear_dyn.solvers import SolverSettings, integrate
+        from gear_dyn.solvers import contact_exact as ce
+        from gear_dyn.solvers.kernel import contact as ck
+        from gear_dyn.stiffness.periodic import rectangular_stiffness
+        te = HarmonicSignal(2e-6, np.array([8e-6, 1.5e-6]), np.array([3e-6, -2e-6]))
+        fn = np.sqrt(1e9 / 3.0) / (2 * np.pi)
+        for sig in (te, None):
+            m = SDOFModel(mass=3.0, stiffness=rectangular_stiffness(1.41, 1e9, 1.3e9),
+                          damping_ratio=0.06, static_load=2000.0, mesh_frequency=fn,
+                          backlash=1e-5, transmission_error=sig)
+            tg = np.linspace(0.0, 8 / fn, 257)
+            y, st = ce.propagate_contact_exact(m, tg)
+            yd, _ = integrate(m, tg, SolverSettings(method="DOP853", rtol=1e-10))
+            assert st["n_contact_events"] > 4
+            assert np.max(np.abs(y - yd) / m.state_scale[:, None]) < 1e-6
+            w = ce.walk(m, m.initial_state(), 8 / fn, marks=np.arange(1, 8) / fn)
+            assert np.all(np.isfinite(w.mark_sensitivities())) and w.sensitivity().shape == (2, 2)
+            if sig is not None:  # one piece of 30 periods: the segment table grows
+                mm, pieces = w._tables
+                segs = ck.walk(mm, pieces, np.array([0.0, 30 / fn]), np.array([0]),
+                               *m.initial_state(), 1e-18, 1000)
+                assert segs.status == ck.OK and segs.table.shape[0] > 68
+            pc = ce._Piece(m, 1e9, ce.GAP)
+            ce._first_crossing(pc, 0.0, 0.0, 0.02, 3 * pc.h, 1e-18)
+            pc.stays_inside(0.0, 0.0)
+            pc.at(0.0, 0.02, np.linspace(0.0, pc.h, 9), 1e-4)
+        assert abs(ce.find_root(lambda x: x - 0.3, 0.0, 1.0, -0.3, 0.7, 1e-15) - 0.3) < 1e-14
         print("ok")
     """)
     env = {**os.environ, "LD_PRELOAD": runtime, "ASAN_OPTIONS": "detect_leaks=0",

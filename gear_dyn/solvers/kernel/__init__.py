@@ -1,6 +1,7 @@
 """gear_dyn's compiled kernel: one C99 library (libm only) for the sequential loops of the solvers.
 
-The sources here (``gd_flow.c``: products and applications of affine step maps;
+The sources here (``gd_flow.c``: products and applications of affine step maps, and the
+exact contact walk of the backlash model, :mod:`gear_dyn.solvers.kernel.contact`;
 ``gd_kernel.c``, ``gd_torsional.c``: the native FMU's steppers, which the FMU compiles with its
 glue) are built at install into one shared library (``setup.py``) and loaded with ctypes, not
 the Python C API: a call releases the GIL, so threads run kernel calls in parallel. Python
@@ -36,6 +37,8 @@ SOURCE_DIR = Path(__file__).parent
 _NAME = "_gd_kernel"
 _LONG = np.dtype(f"i{ctypes.sizeof(ctypes.c_long)}")  # C long (4 bytes on Windows)
 _DP = ctypes.c_void_p  # arrays go in by address (ndarray.ctypes.data): float64, C order
+#: the C type of the function :func:`gear_dyn.solvers.kernel.contact.find_root` closes on
+ROOT_FUNCTION = ctypes.CFUNCTYPE(ctypes.c_double, ctypes.c_double, ctypes.c_void_p)
 
 
 @functools.cache
@@ -106,6 +109,20 @@ def library() -> ctypes.CDLL:
     lib.gd_flow_fill_periodic.restype = ctypes.c_int
     lib.gd_flow_fill_periodic.argtypes = [ctypes.c_int, ctypes.c_long, ctypes.c_long, _DP, _DP,
                                           _DP, _DP]
+    _d, _l = ctypes.c_double, ctypes.c_long
+    lib.gd_contact_flow.restype = None
+    lib.gd_contact_flow.argtypes = [ctypes.c_int, _d, _d, _d, _d, _d, _d, _d, _l, _DP, _DP, _DP]
+    lib.gd_find_root.restype = _d
+    lib.gd_find_root.argtypes = [ROOT_FUNCTION, ctypes.c_void_p, _d, _d, _d, _d, _d]
+    lib.gd_contact_stays_inside.restype = ctypes.c_int
+    lib.gd_contact_stays_inside.argtypes = [_DP, _DP, _l, _d, _d, _d]
+    lib.gd_contact_first_crossing.restype = ctypes.c_int
+    lib.gd_contact_first_crossing.argtypes = [_DP, _DP, _l, _d, _d, _d, _d, _d, _DP]
+    lib.gd_contact_walk.restype = ctypes.c_int
+    lib.gd_contact_walk.argtypes = [_DP, _DP, _l, _DP, _DP, _d, _d, _d, _l, _l, _DP, _DP, _DP,
+                                    _DP, _DP, _DP]
+    lib.gd_contact_on_grid.restype = ctypes.c_int
+    lib.gd_contact_on_grid.argtypes = [_DP, _DP, _l, _DP, _DP, _l, _DP, _DP]
     return lib
 
 

@@ -149,3 +149,559 @@ int gd_flow_fill_periodic(int n, long s_per, long n_samples, const double *Q, co
     }
     return 0;
 }
+
+/* ---- the contact walk (gd_flow.h; gear_dyn.solvers.contact_exact) ----
+ * The same algorithm the Python walk ran, step for step: closed form in each contact state;
+ * a contact change bracketed on samples a quarter damped (and top harmonic) period apart and
+ * closed by gd_find_root; pieces that provably stay in their state are not searched. */
+
+#define CW_STACK 256            /* bisection depth of a crossing search (~60 is the most used) */
+
+typedef struct {
+    double m, c, w, b, fm, p0;
+    long nh;
+    const double *tn, *om;
+} cw_model;
+
+typedef struct {
+    int state;
+    double k, a, w2, q, x_eq, h, amp, curv;
+    const double *ca, *cb;
+} cw_piece;
+
+static cw_model cw_model_of(const double *model)
+{
+    cw_model md;
+    md.m = model[0];
+    md.c = model[1];
+    md.w = model[2];
+    md.b = model[3];
+    md.fm = model[4];
+    md.p0 = model[5];
+    md.nh = (long)model[6];
+    md.tn = model + GD_CW_MODEL;
+    md.om = model + GD_CW_MODEL + md.nh;
+    return md;
+}
+
+static cw_piece cw_piece_of(const cw_model *md, const double *pieces, long row)
+{
+    const double *r = pieces + (size_t)row * (size_t)(GD_CW_ROW + 2 * md->nh);
+    cw_piece pc;
+    pc.state = (int)r[0];
+    pc.k = r[1];
+    pc.a = r[2];
+    pc.w2 = r[3];
+    pc.q = r[4];
+    pc.x_eq = r[5];
+    pc.h = r[6];
+    pc.amp = r[7];
+    pc.curv = r[8];
+    pc.ca = r + GD_CW_ROW;
+    pc.cb = r + GD_CW_ROW + md->nh;
+    return pc;
+}
+
+/* x(s), v(s) in one contact state: the closed form of contact_exact.flow */
+static void flow1(int state, double k, double m, double c, double w, double b, double x0,
+                  double v0, double s, double *x, double *v)
+{
+    double a = c / m, w2, x_eq, u0, q2, q, cs, sn, dec;
+    if (state == 0) {
+        double e1;
+        if (a == 0.0) {
+            *x = x0 + v0 * s + 0.5 * (w / m) * s * s;
+            *v = v0 + (w / m) * s;
+            return;
+        }
+        e1 = -expm1(-a * s) / a;        /* (1 - e^{-a s}) / a, exact also for small a s */
+        *x = x0 + v0 * e1 + (w / m) * (s - e1) / a;
+        *v = v0 + (w / m - a * v0) * e1;
+        return;
+    }
+    w2 = k / m;
+    x_eq = state * b + w / k;
+    u0 = x0 - x_eq;
+    q2 = 0.25 * a * a - w2;
+    if (q2 < 0.0) {                     /* underdamped */
+        q = sqrt(-q2);
+        cs = cos(q * s);
+        sn = sin(q * s) / q;
+    } else if (q2 > 0.0) {              /* overdamped */
+        q = sqrt(q2);
+        cs = cosh(q * s);
+        sn = sinh(q * s) / q;
+    } else {
+        cs = 1.0;
+        sn = s;
+    }
+    dec = exp(-0.5 * a * s);
+    *x = x_eq + dec * (cs * u0 + sn * (v0 + 0.5 * a * u0));
+    *v = dec * (cs * v0 - sn * (w2 * u0 + 0.5 * a * v0));
+}
+
+void gd_contact_flow(int state, double k, double m, double c, double w, double b, double x0,
+                     double v0, long n, const double *s, double *x, double *v)
+{
+    long i;
+    for (i = 0; i < n; i++) flow1(state, k, m, c, w, b, x0, v0, s[i], x + i, v + i);
+}
+
+/* u_p(t), u_p'(t) of a piece's particular solution (zero without harmonics) */
+static void part_at(const cw_model *md, const cw_piece *pc, double t, double *pu, double *pv)
+{
+    double p, u = 0.0, v = 0.0;
+    long i;
+    if (md->nh > 0) {
+        p = fmod(md->fm * t + md->p0, 1.0);
+        for (i = 0; i < md->nh; i++) {
+            double cs = cos(md->tn[i] * p), sn = sin(md->tn[i] * p);
+            u += pc->ca[i] * cs + pc->cb[i] * sn;
+            v += md->om[i] * (pc->cb[i] * cs - pc->ca[i] * sn);
+        }
+    }
+    *pu = u;
+    *pv = v;
+}
+
+/* the state of z = u - u_p at t0 */
+static void z_of(const cw_model *md, const cw_piece *pc, double u0, double v0, double t0,
+                 double *z0, double *zv0)
+{
+    double pu, pv;
+    if (md->nh == 0) {
+        *z0 = u0;
+        *zv0 = v0;
+        return;
+    }
+    part_at(md, pc, t0, &pu, &pv);
+    *z0 = u0 - pu;
+    *zv0 = v0 - pv;
+}
+
+static void hom(const cw_model *md, const cw_piece *pc, double z0, double zv0, double s,
+                double *zx, double *zv)
+{
+    flow1(pc->state, pc->k, md->m, md->c, md->w, md->b, z0, zv0, s, zx, zv);
+}
+
+/* u, u' at time t from (z0, zv0), the state of z at t0 (s = t - t0) */
+static void piece_eval(const cw_model *md, const cw_piece *pc, double z0, double zv0,
+                       double s, double t, double *x, double *v)
+{
+    double pu, pv;
+    hom(md, pc, z0, zv0, s, x, v);
+    if (md->nh > 0) {
+        part_at(md, pc, t, &pu, &pv);
+        *x += pu;
+        *v += pv;
+    }
+}
+
+static int stays_inside(const cw_model *md, const cw_piece *pc, double u0, double v0,
+                        double t0)
+{
+    double z0, zv0, u, amp;
+    if (pc->q == 0.0) return 0;
+    z_of(md, pc, u0, v0, t0, &z0, &zv0);
+    u = z0 - pc->x_eq;
+    amp = hypot(u, (zv0 + 0.5 * pc->a * u) / pc->q) + pc->amp;
+    return pc->state * (pc->x_eq - pc->state * md->b) > amp * (1.0 + 1e-6);
+}
+
+int gd_contact_stays_inside(const double *model, const double *pieces, long piece, double u0,
+                            double v0, double t0)
+{
+    cw_model md = cw_model_of(model);
+    cw_piece pc = cw_piece_of(&md, pieces, piece);
+    return stays_inside(&md, &pc, u0, v0, t0);
+}
+
+/* a bound on |u''| over [s, s + h] from the state (z, zv) of z at s */
+static double curvature_bound(const cw_model *md, const cw_piece *pc, double z, double zv,
+                              double h)
+{
+    double a = pc->a, w2 = pc->w2, u, cu, cv, amp_u, amp_v;
+    if (pc->state == 0) return fabs(md->w / md->m - a * zv) + pc->curv;
+    u = z - pc->x_eq;
+    cu = zv + 0.5 * a * u;
+    cv = w2 * u + 0.5 * a * zv;
+    if (pc->q > 0.0) {
+        amp_u = hypot(u, cu / pc->q);
+        amp_v = hypot(zv, cv / pc->q);
+    } else {
+        amp_u = fabs(u) + h * fabs(cu);
+        amp_v = fabs(zv) + h * fabs(cv);
+    }
+    return a * amp_v + w2 * amp_u + pc->curv;
+}
+
+double gd_find_root(double (*f)(double, void *), void *ctx, double lo, double hi, double f_lo,
+                    double f_hi, double xtol)
+{
+    int hi_positive = f_hi > 0.0 || (f_hi == 0.0 && f_lo < 0.0), side = 0, it;
+    double width = hi - lo;
+    for (it = 0; it < 200; it++) {
+        double den, t, ft;
+        int secant;
+        if (hi - lo <= xtol) break;
+        den = f_hi - f_lo;
+        secant = den != 0.0;
+        t = secant ? (lo * f_hi - hi * f_lo) / den : 0.0;
+        /* the midpoint also when the secant is degenerate (equal end values) */
+        if (!secant || !(lo < t && t < hi) || (it % 2 == 1 && hi - lo > 0.5 * width))
+            t = 0.5 * (lo + hi);
+        width = hi - lo;
+        ft = f(t, ctx);
+        if (ft == 0.0) return t;
+        if ((ft > 0.0) == hi_positive) {
+            hi = t;
+            f_hi = ft;
+            if (side == -1) f_lo *= 0.5;
+            side = -1;
+        } else {
+            lo = t;
+            f_lo = ft;
+            if (side == 1) f_hi *= 0.5;
+            side = 1;
+        }
+    }
+    return 0.5 * (lo + hi);
+}
+
+/* the distance g to one boundary, >= 0 while in the state, and its slope, at s after t0 */
+typedef struct {
+    const cw_model *md;
+    const cw_piece *pc;
+    double z0, zv0, t0, level, inside;
+} cw_gap;
+
+static void g_eval(const cw_gap *g, double s, double *gv, double *dgv, double *zx, double *zv)
+{
+    double pu, pv;
+    hom(g->md, g->pc, g->z0, g->zv0, s, zx, zv);
+    part_at(g->md, g->pc, g->t0 + s, &pu, &pv);
+    *gv = (*zx + pu - g->level) * g->inside;
+    *dgv = (*zv + pv) * g->inside;
+}
+
+static double g_value(double s, void *ctx)
+{
+    double gv, dgv, zx, zv;
+    g_eval((const cw_gap *)ctx, s, &gv, &dgv, &zx, &zv);
+    return gv;
+}
+
+static double g_slope(double s, void *ctx)
+{
+    double gv, dgv, zx, zv;
+    g_eval((const cw_gap *)ctx, s, &gv, &dgv, &zx, &zv);
+    return dgv;
+}
+
+/* first zero of g in [s0, s1]: each interval is proved free of a zero (g above its chord less
+ * the curvature bound's parabola), or g monotone (then a root is closed), else halved, left
+ * half first; a tangential graze is bisected down to xtol. Returns 1 with *hit, else 0. */
+static int refine(cw_gap *g, double s0, double s1, double g0, double dg0, double c0,
+                  double g1, double xtol, double *hit)
+{
+    double st[CW_STACK][6];
+    int top = 0;
+    if (!(isfinite(g0) && isfinite(g1))) return 0;
+    st[0][0] = s0; st[0][1] = s1; st[0][2] = g0; st[0][3] = dg0; st[0][4] = c0; st[0][5] = g1;
+    top = 1;
+    while (top > 0) {
+        double a, b, ga, dga, ca, gb, wd, mid, gm, dgm, zx, zv, cm;
+        top--;
+        a = st[top][0]; b = st[top][1]; ga = st[top][2];
+        dga = st[top][3]; ca = st[top][4]; gb = st[top][5];
+        wd = b - a;
+        if (ga > 0.0 && gb > 0.0 && fmin(ga, gb) > ca * wd * wd / 8) continue;
+        if (fabs(dga) > ca * wd) {      /* monotone on [a, b] */
+            if (gb < 0.0) {
+                *hit = gd_find_root(g_value, g, a, b, ga, gb, xtol);
+                return 1;
+            }
+            continue;
+        }
+        if (wd <= xtol || top + 2 > CW_STACK) {
+            if (gb < 0.0) {
+                *hit = b;
+                return 1;
+            }
+            continue;
+        }
+        mid = 0.5 * (a + b);
+        g_eval(g, mid, &gm, &dgm, &zx, &zv);
+        cm = curvature_bound(g->md, g->pc, zx, zv, b - mid);
+        st[top][0] = mid; st[top][1] = b; st[top][2] = gm;
+        st[top][3] = dgm; st[top][4] = cm; st[top][5] = gb;
+        top++;
+        st[top][0] = a; st[top][1] = mid; st[top][2] = ga;
+        st[top][3] = dga; st[top][4] = ca; st[top][5] = gm;
+        top++;
+    }
+    return 0;
+}
+
+/* the boundaries a state can leave through, and the sign that makes g >= 0 inside */
+static int levels_of(const cw_model *md, const cw_piece *pc, double *level, double *inside)
+{
+    if (pc->state == 0) {
+        level[0] = md->b;
+        inside[0] = -1.0;
+        level[1] = -md->b;
+        inside[1] = 1.0;
+        return 2;
+    }
+    level[0] = pc->state * md->b;
+    inside[0] = pc->state == 1 ? 1.0 : -1.0;
+    return 1;
+}
+
+static int first_crossing(const cw_model *md, const cw_piece *pc, double t0, double u0,
+                          double v0, double length, double xtol, double *hit)
+{
+    double level[2], inside[2], g0[2], dg0[2], z0, zv0, step, nn, s_j, zx, zv, pu, pv, c_j;
+    double best = 0.0;
+    int nl, l, done[2] = {0, 0}, have = 0, forced = md->nh > 0;
+    long n, j;
+    cw_gap gap[2];
+    if (!(isfinite(u0) && isfinite(v0))) return 0;      /* diverged: nothing to locate */
+    if (stays_inside(md, pc, u0, v0, forced ? t0 : 0.0)) return 0;
+    if (isfinite(pc->h)) {
+        nn = ceil(length / pc->h);
+        n = nn > 2.0 ? (long)nn : 2;
+    } else {
+        n = 4;
+    }
+    step = length / (double)n;
+    z_of(md, pc, u0, v0, t0, &z0, &zv0);
+    nl = levels_of(md, pc, level, inside);
+    hom(md, pc, z0, zv0, 0.0, &zx, &zv);
+    part_at(md, pc, t0, &pu, &pv);
+    c_j = forced ? curvature_bound(md, pc, zx, zv, step) : 0.0;
+    for (l = 0; l < nl; l++) {
+        gap[l].md = md;
+        gap[l].pc = pc;
+        gap[l].z0 = z0;
+        gap[l].zv0 = zv0;
+        gap[l].t0 = t0;
+        gap[l].level = level[l];
+        gap[l].inside = inside[l];
+        g0[l] = fabs((zx + pu - level[l]) * inside[l]);  /* starts on or inside the boundary */
+        dg0[l] = (zv + pv) * inside[l];
+    }
+    s_j = 0.0;
+    for (j = 0; j < n; j++) {
+        double s1 = j + 1 == n ? length : (double)(j + 1) * step, c1 = 0.0;
+        int open = 0;
+        hom(md, pc, z0, zv0, s1, &zx, &zv);
+        part_at(md, pc, t0 + s1, &pu, &pv);
+        if (forced) c1 = curvature_bound(md, pc, zx, zv, step);
+        for (l = 0; l < nl; l++) {
+            double g1 = (zx + pu - level[l]) * inside[l], dg1 = (zv + pv) * inside[l], h1;
+            int found = 0;
+            if (done[l]) continue;
+            if (have && s_j >= best) {
+                done[l] = 1;
+                continue;
+            }
+            if (forced) {
+                int clear = (g0[l] > 0.0 && g1 > 0.0 && fmin(g0[l], g1) > c_j * step * step / 8)
+                            || (fabs(dg0[l]) > c_j * step && g1 >= 0.0);
+                if (!clear)
+                    found = refine(&gap[l], s_j, s1, g0[l], dg0[l], c_j, g1, xtol, &h1);
+            } else if (g1 < 0.0) {      /* a sign change */
+                h1 = gd_find_root(g_value, &gap[l], s_j, s1, g0[l], g1, xtol);
+                found = 1;
+            } else if (dg0[l] < 0.0 && dg1 > 0.0) {     /* a minimum of g inside */
+                double sm = gd_find_root(g_slope, &gap[l], s_j, s1, dg0[l], dg1, xtol);
+                double gm = g_value(sm, &gap[l]);
+                if (gm < 0.0) {         /* dips below the boundary and returns */
+                    h1 = gd_find_root(g_value, &gap[l], s_j, sm, g0[l], gm, xtol);
+                    found = 1;
+                }
+            }
+            if (found) {
+                done[l] = 1;
+                if (!have || h1 < best) best = h1;
+                have = 1;
+                continue;
+            }
+            g0[l] = g1;
+            dg0[l] = dg1;
+            open = 1;
+        }
+        if (!open) break;
+        s_j = s1;
+        c_j = c1;
+    }
+    if (have) *hit = best;
+    return have;
+}
+
+int gd_contact_first_crossing(const double *model, const double *pieces, long piece, double t0,
+                              double u0, double v0, double length, double xtol, double *hit)
+{
+    cw_model md = cw_model_of(model);
+    cw_piece pc = cw_piece_of(&md, pieces, piece);
+    return first_crossing(&md, &pc, t0, u0, v0, length, xtol, hit);
+}
+
+/* the contact state of (x, v) and the one entered at a located change */
+static int state_at(double x, double v, double b)
+{
+    if (x > b || (x == b && v > 0)) return 1;
+    if (x < -b || (x == -b && v < 0)) return -1;
+    return 0;
+}
+
+static int next_state(int state, double x, double v)
+{
+    if (state == 0) return v > 0 || x > 0 ? 1 : -1;
+    return 0;
+}
+
+/* phi <- exp(A s) phi for one contact state (the closed form with unit starts, no load), and
+ * the same for part (NULL: none), the sensitivity since the start of its slot */
+static void transition(const cw_model *md, const cw_piece *pc, double s, double *phi,
+                       double *part)
+{
+    double t[4];
+    int j;
+    flow1(pc->state, pc->k, md->m, md->c, 0.0, 0.0, 1.0, 0.0, s, t, t + 2);
+    flow1(pc->state, pc->k, md->m, md->c, 0.0, 0.0, 0.0, 1.0, s, t + 1, t + 3);
+    for (j = 0; j < 2; j++) {
+        double *p = j ? part : phi, p0, p1, p2, p3;
+        if (!p) continue;
+        p0 = p[0]; p1 = p[1]; p2 = p[2]; p3 = p[3];
+        p[0] = t[0] * p0 + t[1] * p2;
+        p[1] = t[0] * p1 + t[1] * p3;
+        p[2] = t[2] * p0 + t[3] * p2;
+        p[3] = t[2] * p1 + t[3] * p3;
+    }
+}
+
+/* the saltation [[1, 0], [r, 1]] (r NaN: no derivative) applied to p */
+static void saltate(double r, double *p)
+{
+    if (!p) return;
+    if (isnan(r)) {
+        p[0] = p[1] = p[2] = p[3] = NAN;
+        return;
+    }
+    p[2] += r * p[0];
+    p[3] += r * p[1];
+}
+
+/* (w - c v - spring) / m: the field's acceleration without the forcing, which is the same on
+ * both sides of a contact change */
+static double accel(const cw_model *md, int state, double k, double x, double v)
+{
+    double spring = state == 0 ? 0.0 : k * (x - state * md->b);
+    return (md->w - md->c * v - spring) / md->m;
+}
+
+int gd_contact_walk(const double *model, const double *pieces, long n_cuts, const double *cuts,
+                    const long *kidx, double u0, double v0, double xtol, long max_events,
+                    long cap, double *seg, long *seg_id, long *n_seg, double *out,
+                    const long *slot, double *phis)
+{
+    cw_model md = cw_model_of(model);
+    double x = u0, v = v0, b = md.b, phi[4] = {1.0, 0.0, 0.0, 1.0};
+    int state = state_at(x, v, b), status = GD_CW_OK, grazed = 0;
+    long i, ns = 0;
+    out[6] = 0.0;
+    for (i = 0; i < n_cuts && status == GD_CW_OK; i++) {
+        double t = cuts[i], tb = cuts[i + 1], *part = phis && slot ? phis + 4 * slot[i] : NULL;
+        long n_ev = 0;
+        while (t < tb) {
+            long row = 3 * kidx[i] + state + 1;
+            cw_piece pc = cw_piece_of(&md, pieces, row);
+            double hit = 0.0, s, z0, zv0, xn, vn;
+            int ev = first_crossing(&md, &pc, t, x, v, tb - t, xtol, &hit) && t + hit < tb;
+            s = ev ? hit : tb - t;
+            if (ns < cap) {
+                seg[4 * ns] = t;
+                seg[4 * ns + 1] = x;
+                seg[4 * ns + 2] = v;
+                seg[4 * ns + 3] = s;
+                seg_id[2 * ns] = row;
+                seg_id[2 * ns + 1] = ev;
+            }
+            ns++;
+            z_of(&md, &pc, x, v, t, &z0, &zv0);
+            piece_eval(&md, &pc, z0, zv0, s, t + s, &xn, &vn);
+            transition(&md, &pc, s, phi, part);
+            x = xn;
+            v = vn;
+            if (!ev) {
+                t = tb;
+                break;
+            }
+            t = t + hit;
+            x = fabs(x - b) < fabs(x + b) ? b : -b;     /* exactly on the boundary crossed */
+            {
+                int nxt = next_state(state, x, v);
+                double f_minus = accel(&md, state, pc.k, x, v);
+                double f_plus = accel(&md, nxt, pc.k, x, v);
+                if (f_plus != f_minus) {        /* saltation I + (f+ - f-) n^T / (n^T f-) */
+                    double r = NAN;
+                    if (v != 0.0) {
+                        r = (f_plus - f_minus) / v;
+                    } else {                    /* no derivative: the walk goes on, phi NaN */
+                        if (!grazed) out[6] = t;
+                        grazed = 1;
+                    }
+                    saltate(r, phi);
+                    saltate(r, part);
+                }
+                state = nxt;
+            }
+            if (++n_ev > max_events) {
+                out[6] = t;
+                status = GD_CW_CHATTER;
+                break;
+            }
+        }
+    }
+    out[0] = x;
+    out[1] = v;
+    memcpy(out + 2, phi, sizeof phi);
+    *n_seg = ns;
+    if (status == GD_CW_OK && ns > cap) status = GD_CW_FULL;
+    if (status == GD_CW_OK && grazed) status = GD_CW_GRAZE;
+    return status;
+}
+
+int gd_contact_on_grid(const double *model, const double *pieces, long n_seg, const double *seg,
+                       const long *seg_id, long n_t, const double *t, double *out)
+{
+    cw_model md = cw_model_of(model);
+    long i, o = 0, cached = -1;
+    double z0 = 0.0, zv0 = 0.0;
+    cw_piece pc;
+    int bad = 0;
+    if (n_seg < 1) return 1;
+    pc = cw_piece_of(&md, pieces, seg_id[0]);
+    for (i = 0; i < n_t; i++) {
+        double ti = t[i];
+        if (!(o < n_seg && seg[4 * o] <= ti && (o + 1 == n_seg || ti < seg[4 * (o + 1)]))) {
+            long lo = 0, hi = n_seg;          /* the last segment starting at or before ti */
+            while (hi - lo > 1) {
+                long mid = lo + (hi - lo) / 2;
+                if (seg[4 * mid] <= ti) lo = mid; else hi = mid;
+            }
+            o = lo;
+        }
+        if (o != cached) {              /* the state of z = u - u_p at this segment's start */
+            pc = cw_piece_of(&md, pieces, seg_id[2 * o]);
+            z_of(&md, &pc, seg[4 * o + 1], seg[4 * o + 2], seg[4 * o], &z0, &zv0);
+            cached = o;
+        }
+        piece_eval(&md, &pc, z0, zv0, ti - seg[4 * o], ti, out + i, out + n_t + i);
+        if (!(isfinite(out[i]) && isfinite(out[n_t + i]))) bad = 1;
+    }
+    return bad;
+}

@@ -6,7 +6,7 @@
 #define GD_FLOW_H
 
 /* the version of this interface (gear_dyn.solvers.kernel checks it on load) */
-#define GD_FLOW_VERSION 3
+#define GD_FLOW_VERSION 4
 
 int gd_flow_version(void);
 
@@ -36,5 +36,63 @@ void gd_flow_chain(int n, long count, const double *F, const double *h, const do
  * response; out is then NaN from that sample on). */
 int gd_flow_fill_periodic(int n, long s_per, long n_samples, const double *Q, const double *R,
                           const double *y0, double *out);
+
+/* ---- the contact walk: the single-DOF model with backlash, exactly (gear_dyn.solvers.
+ * contact_exact). m u'' + c u' + k f(u) = W + sum_n (forcing harmonics), f the dead zone of
+ * half gap b, in u = x - e(t); linear with constant coefficients in each contact state
+ * (state -1 back flank, 0 gap, +1 drive flank) of each stiffness piece. Python exports:
+ *   model  [GD_CW_MODEL + 2 nh]: m (kg), c (N s/m), w (N), b (m), fm (Hz), p0 (cycles), nh,
+ *          then tn[nh] = 2 pi n (rad per cycle) and om[nh] = 2 pi n fm (rad/s);
+ *   pieces [n_pieces (GD_CW_ROW + 2 nh)], one row per contact state and stiffness value:
+ *          state, k (N/m), a = c/m (1/s), w2 = k/m (1/s^2, 0 in the gap), q (damped rad/s,
+ *          0: none), x_eq (m), h (sampling step, s; inf: none), amp (bound of |u_p|, m),
+ *          curv (bound of |u_p''|, m/s^2), then the particular solution's ca[nh], cb[nh] (m):
+ *          u_p(t) = sum_n ca cos(tn p) + cb sin(tn p), p = fmod(fm t + p0, 1).
+ * Row 3 j + state + 1 is contact state `state` of stiffness value j. */
+#define GD_CW_MODEL 7
+#define GD_CW_ROW 9
+
+/* status codes of gd_contact_walk */
+#define GD_CW_OK 0
+#define GD_CW_FULL 1      /* more segments than cap: call again with a larger one */
+#define GD_CW_CHATTER 2   /* more than max_events contact changes in one stiffness piece */
+#define GD_CW_GRAZE 3     /* a discontinuous field crossed tangentially: walked, phi NaN */
+
+/* closed form x(s), v(s) of one contact state from (x0, v0) at s = 0, at n times s */
+void gd_contact_flow(int state, double k, double m, double c, double w, double b, double x0,
+                     double v0, long n, const double *s, double *x, double *v);
+
+/* a root of f in [lo, hi] (f_lo, f_hi of opposite signs) to xtol: Illinois false position
+ * safeguarded by bisection (the contact walk's root finder, exported for tests) */
+double gd_find_root(double (*f)(double, void *), void *ctx, double lo, double hi, double f_lo,
+                    double f_hi, double xtol);
+
+/* 1 when the motion of piece `piece` from (u0, v0) at t0 provably never leaves its state */
+int gd_contact_stays_inside(const double *model, const double *pieces, long piece, double u0,
+                            double v0, double t0);
+
+/* time after t0 of the first contact change of piece `piece` from (u0, v0) at t0 within
+ * length (s), in *hit; returns 1 if there is one, else 0 */
+int gd_contact_first_crossing(const double *model, const double *pieces, long piece, double t0,
+                              double u0, double v0, double length, double xtol, double *hit);
+
+/* the walk from (u0, v0) at cuts[0] to cuts[n_cuts]: stiffness piece i spans cuts[i] ..
+ * cuts[i+1] with stiffness value kidx[i]. Records each closed-form segment in seg (4 per
+ * segment: start time, u, u' at the start, duration) and seg_id (2 per segment: piece row,
+ * 1 if it ends at a contact change), up to cap segments, their number in *n_seg; out[0..1]
+ * the end state, out[2..5] the sensitivity d y(end) / d y(start) (row-major), out[6] the time
+ * of a failure. With slot and phis (else NULL), slot[i] (non-decreasing) names the slot of
+ * piece i and phis (4 per slot, identities on entry) receives the sensitivity over each
+ * slot's pieces (e.g. one slot per mesh period). Returns a GD_CW_ status. */
+int gd_contact_walk(const double *model, const double *pieces, long n_cuts, const double *cuts,
+                    const long *kidx, double u0, double v0, double xtol, long max_events,
+                    long cap, double *seg, long *seg_id, long *n_seg, double *out,
+                    const long *slot, double *phis);
+
+/* u, u' at n_t times t (inside the walked span) from n_seg segments of gd_contact_walk (in
+ * time order), each from the closed form of the segment it falls in; out is 2 x n_t
+ * (row-major). Returns 1 when a state is not finite, else 0. */
+int gd_contact_on_grid(const double *model, const double *pieces, long n_seg, const double *seg,
+                       const long *seg_id, long n_t, const double *t, double *out);
 
 #endif
