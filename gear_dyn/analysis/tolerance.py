@@ -13,7 +13,7 @@ Per speed, the periodic response to each unit harmonic is computed once, exactly
 period is cut into cells of constant stiffness (at its switches and at the output samples);
 in a cell the particular solution of ``u'' + gamma u' + kappa u = Omega^2 e^{i Omega t}`` is
 ``U e^{i Omega t}``, ``U = Omega^2 / (kappa - Omega^2 + i gamma Omega)``, and the rest follows
-the cell's closed-form 2x2 exponential (``gear_dyn.analysis.chart._expm2``). The response
+the cell's closed-form 2x2 exponential (:func:`gear_dyn.solvers.linear_maps.expm2`). The response
 to order q is quasi-periodic, ``Y(t + T) = e^{2 pi i q} Y(t)`` (T the mesh period): its state
 at the period start solves ``(e^{2 pi i q} I - M) Y0 = r`` with ``M`` the monodromy matrix and
 ``r`` the response over one period from rest. The static load's response (q = 0) is the
@@ -50,15 +50,14 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.analysis.chart import _expm2
 from gear_dyn.analysis.dynamic_factor import quasi_static_model_of, quasi_static_reference
 from gear_dyn.analysis.executor import check_workers, run_blocks, speed_blocks, task_map
-from gear_dyn.analysis.sweep.batch import _cells
 from gear_dyn.errors import InputError, check_range
 from gear_dyn.excitation import HarmonicSignal
 from gear_dyn.models.base import MeshModel, Model
 from gear_dyn.modification.deviations import PairDeviations
 from gear_dyn.solvers import SolverSettings
+from gear_dyn.solvers.linear_maps import cells, expm2
 
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
@@ -173,15 +172,15 @@ def unit_responses(model: MeshModel, orders: FloatArray, spp: int) -> UnitRespon
     InputError
         The model is not linear with piecewise-constant stiffness, or has a transmission error.
     """
-    cells = _cells(model, spp) if model.transmission_error is None else None
-    if cells is None or model.backlash is not None:
+    found = cells(model, spp) if model.transmission_error is None else None
+    if found is None or model.backlash is not None:
         raise InputError("tolerance study: the model must be the linear single-DOF model with "
                          "piecewise-constant stiffness (stiffness method iso6336 or rectangular), "
                          "no backlash")
-    edges, kappa, gamma, g = cells
+    edges, kappa, gamma, g = found
     fm = model.mesh_frequency
     dt = np.diff(edges) / fm
-    e11, e12, e21, e22 = _expm2(0.0, dt, -kappa * dt, -gamma * dt)
+    e11, e12, e21, e22 = expm2(0.0, dt, -kappa * dt, -gamma * dt)
     om = 2 * math.pi * np.asarray(orders, dtype=float) * fm
     t_edge = edges / fm
     rot = np.exp(1j * om[None, :] * t_edge[:, None])  # (C+1, Q)

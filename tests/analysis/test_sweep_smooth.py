@@ -11,10 +11,10 @@ import pytest
 from gear_dyn.analysis.sweep import RPM, SweepOptions
 from gear_dyn.analysis.sweep.batch import linear_block
 from gear_dyn.analysis.sweep.points import steady_point
-from gear_dyn.analysis.sweep.smooth import _expm2, covered
 from gear_dyn.scene import load_scene
 from gear_dyn.scene.loader import Scene
 from gear_dyn.scene.sweep import SceneModels
+from gear_dyn.solvers.linear_maps import expm2, magnus_applies
 
 SCENES = Path(__file__).resolve().parents[2] / "gear_dyn" / "scenes"
 
@@ -33,7 +33,7 @@ def test_expm2_matches_scipy() -> None:
     rng = np.random.default_rng(3)
     for scale in (1e-6, 1e-2, 1.0, 5.0):
         b = rng.normal(size=(2, 2)) * scale
-        got = np.array(_expm2(*(np.array([v]) for v in b.ravel()))).reshape(2, 2)
+        got = np.array(expm2(*(np.array([v]) for v in b.ravel()))).reshape(2, 2)
         assert np.allclose(got, expm(b), rtol=1e-12, atol=1e-14)
 
 
@@ -46,7 +46,7 @@ def test_block_matches_per_speed_dop853(name: str, method: str | None) -> None:
     opts = SweepOptions()
     speeds = np.array([4000.0, 7600.0]) * RPM
     models = [factory(s) for s in speeds]
-    assert covered(models)
+    assert magnus_applies(models)
     got = linear_block(models, speeds, settings, opts)
     assert got is not None
     ref_settings = dataclasses.replace(settings, method="DOP853", rtol=1e-11)
