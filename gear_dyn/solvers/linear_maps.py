@@ -21,6 +21,8 @@ the output samples.
   ``(omega h / 2)^4 <= rtol`` with ``omega = sqrt(max kappa)`` and ``h`` the longest substep at
   the block's lowest speed, the rule of :mod:`gear_dyn.solvers.gauss` for a fourth-order
   method; the local error of one step grows as ``(omega h)^5``.
+- :func:`harmonic_orbits`: the same cells with the responses to unit harmonics of a
+  transmission error (the tolerance study's superposition).
 - :func:`cell_monodromy`: the monodromy matrix of a staircase stiffness over any grid of
   masses, dampings and mesh frequencies (the stability charts).
 
@@ -44,6 +46,7 @@ from numpy.typing import NDArray
 from gear_dyn.models.base import MeshModel, Model
 
 FloatArray = NDArray[np.float64]
+ComplexArray = NDArray[np.complex128]
 
 #: most substeps per period (memory and time bound: a sweep far below resonance would need more)
 MAX_SUBSTEPS = 200_000
@@ -232,6 +235,85 @@ def cell_monodromy(mass: float, edges: FloatArray, values: FloatArray, damping: 
     return p11, p12, p21, p22
 
 
+def harmonic_orbits(model: MeshModel, orders: FloatArray, spp: int
+                    ) -> tuple[FloatArray, FloatArray, ComplexArray, ComplexArray, float] | None:
+    """The load's periodic orbit and the responses to unit harmonics of the transmission error,
+    exactly, cell by cell (:func:`cells`), for the linear single-DOF model with
+    piecewise-constant stiffness and no transmission error of its own; None for any other model.
+
+    With ``u = x - e`` the model reads ``u'' + gamma u' + kappa u = g - e''``. For the unit
+    harmonic ``e = e^{i Omega t}`` (``Omega = 2 pi q f_m``, ``q`` a mesh order) the particular
+    solution in a cell is ``U e^{i Omega t}``, ``U = Omega^2 / (kappa - Omega^2 + i gamma
+    Omega)``, and the rest follows the cell's exponential (:func:`expm2`). The response is
+    quasi-periodic, ``Z(t + T) = e^{2 pi i q} Z(t)``: its state at the period start solves
+    ``(e^{2 pi i q} I - M) Z0 = r`` with ``M`` the monodromy matrix and ``r`` the response over
+    one period from rest.
+
+    Parameters
+    ----------
+    model : MeshModel
+    orders : ndarray (Q,)
+        Mesh orders q.
+    spp : int
+        Samples per mesh period (phases ``j / spp`` after ``phase0``).
+
+    Returns
+    -------
+    y0 : ndarray (2,)
+        The load's orbit [x, v] (m, m/s) at t = 0.
+    ys : ndarray (2, spp)
+        That orbit at the samples.
+    z0 : ndarray (2, Q), complex
+        ``[u, u']`` of each unit response at t = 0 (m per m of e, 1/s).
+    zs : ndarray (2, Q, spp), complex
+        Those responses at the samples.
+    rho : float
+        Spectral radius of the monodromy matrix.
+    """
+    found = cells(model, spp) if model.transmission_error is None else None
+    if found is None or model.backlash is not None:
+        return None
+    edges, kappa, gamma, g = found
+    fm = model.mesh_frequency
+    dt = np.diff(edges) / fm
+    e11, e12, e21, e22 = expm2(0.0, dt, -kappa * dt, -gamma * dt)
+    om = 2 * math.pi * np.asarray(orders, dtype=float) * fm
+    t_edge = edges / fm
+    rot = np.exp(1j * om[None, :] * t_edge[:, None])  # (C+1, Q)
+    u_part = om[None, :] ** 2 / (kappa[:, None] - om[None, :] ** 2
+                                 + 1j * gamma[:, None] * om[None, :])  # (C, Q)
+    xs = g / kappa
+    at_sample = np.isin(np.round(edges * spp, 9), np.arange(spp))
+
+    def sweep_cells(y: FloatArray, z: ComplexArray, record: bool
+                    ) -> tuple[FloatArray, ComplexArray, list[Any]]:
+        kept = []
+        for c in range(dt.size):
+            if record and at_sample[c]:
+                kept.append((y.copy(), z.copy()))
+            d1, d2 = y[0] - xs[c], y[1]
+            y = np.array([xs[c] + e11[c] * d1 + e12[c] * d2, e21[c] * d1 + e22[c] * d2])
+            pa0, pa1 = u_part[c] * rot[c], 1j * om * u_part[c] * rot[c]
+            pb0, pb1 = u_part[c] * rot[c + 1], 1j * om * u_part[c] * rot[c + 1]
+            w1, w2 = z[0] - pa0, z[1] - pa1
+            z = np.array([pb0 + e11[c] * w1 + e12[c] * w2, pb1 + e21[c] * w1 + e22[c] * w2])
+        return y, z, kept
+
+    mono = np.eye(2)
+    for c in range(dt.size):
+        mono = np.array([[e11[c], e12[c]], [e21[c], e22[c]]]) @ mono
+    rho = float(np.max(np.abs(np.linalg.eigvals(mono))))
+    y_end, z_end, _ = sweep_cells(np.zeros(2), np.zeros((2, om.size), dtype=complex), False)
+    y0 = np.asarray(np.linalg.solve(np.eye(2) - mono, y_end), dtype=np.float64)
+    lam = np.exp(2j * math.pi * np.asarray(orders, dtype=float))
+    z0 = np.stack([np.linalg.solve(lq * np.eye(2) - mono, z_end[:, i])
+                   for i, lq in enumerate(lam)], axis=1) if om.size else z_end
+    _, _, kept = sweep_cells(y0, z0, True)
+    ys = np.stack([k[0] for k in kept], axis=1)  # (2, spp)
+    zs = np.stack([k[1] for k in kept], axis=2)  # (2, Q, spp)
+    return y0, ys, z0, zs, rho
+
+
 def substep_grid(model: MeshModel, spp: int, fm_min: float, rtol: float
                  ) -> tuple[FloatArray, FloatArray, NDArray[np.intp]]:
     """Substeps of one period in phase: (starts, lengths, index of the substep ending at each
@@ -333,5 +415,5 @@ def compose_period(maps: tuple[FloatArray, ...], at_sample: NDArray[np.intp], sp
 
 
 __all__ = ["MAX_SUBSTEPS", "cell_monodromy", "cells", "compose_period", "expm2",
-           "magnus_applies", "magnus_orbits", "phase_cells", "piecewise_orbits", "same_values",
-           "substep_grid"]
+           "harmonic_orbits", "magnus_applies", "magnus_orbits", "phase_cells",
+           "piecewise_orbits", "same_values", "substep_grid"]
