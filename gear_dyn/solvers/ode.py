@@ -147,7 +147,9 @@ def flow(
     events: list[Callable[[float, FloatArray], float]] = list(model.contact_events())
     if variational:
         z = np.concatenate([z, np.eye(n).ravel()])
-        tol = np.concatenate([tol, (tol[:, None] / scale[None, :]).ravel()])
+        ratio = (tol[:, None] / scale[None, :]).ravel() if atol is not None else (
+            rtol * (scale[:, None] / scale[None, :]).ravel())  # the same, rounded as rtol * ratio
+        tol = np.concatenate([tol, ratio])
         # the events see the state, not the variational part after it
         events = [_on_state(g, n) for g in events]
     cuts = np.concatenate([[t0], model.switching_times(t0, t1), [t1]])
