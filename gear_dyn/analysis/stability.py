@@ -2,7 +2,8 @@
 
 Linear models: the affine one-period map ``y(T) = Phi y(0) + q``, its fixed point and the
 eigenvalues of ``Phi``; models with backlash: shooting, Newton's method on ``P(y0) - y0 = 0``
-(:func:`integrate_with_sensitivity` gives ``Phi = dP/dy0``). docs/sweep.md, "How the steady
+(:func:`gear_dyn.solvers.sensitivity.integrate_with_sensitivity`, re-exported here, gives
+``Phi = dP/dy0``). docs/sweep.md, "How the steady
 state is found", gives the routes; docs/solvers.md the checks and their tests. Stability charts
 are in :mod:`gear_dyn.analysis.chart`.
 """
@@ -18,10 +19,11 @@ from numpy.typing import NDArray
 
 from gear_dyn.errors import InputError, SolverError, check_range
 from gear_dyn.models.base import MeshModel, Model
-from gear_dyn.solvers.contact_exact import contact_exact_applies, flow_with_sensitivity
 from gear_dyn.solvers.exact import propagate_pieces
 from gear_dyn.solvers.ode import flow
 from gear_dyn.solvers.periodic import step_products
+from gear_dyn.solvers.sensitivity import SENSITIVITY_ROUTES as SENSITIVITY_ROUTES
+from gear_dyn.solvers.sensitivity import integrate_with_sensitivity
 
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
@@ -239,55 +241,6 @@ def periodic_steady_state(
         mult = np.linalg.eigvals(phi).astype(np.complex128)
         return PeriodicSolution(y0, period, phi, mult, True, 0, how)
     return shoot(model, model.initial_state() if y_guess is None else y_guess, rtol, max_iter)
-
-
-#: routes of :func:`integrate_with_sensitivity`
-SENSITIVITY_ROUTES = ("auto", "exact", "variational")
-
-
-def integrate_with_sensitivity(model: MeshModel, y0: FloatArray, t1: float, rtol: float = 1e-10,
-                               route: str = "auto") -> tuple[FloatArray, FloatArray]:
-    """State ``y(t1)`` from ``y(0) = y0`` and its sensitivity ``d y(t1) / d y0``, by the route
-    asked for: the backlash propagator's closed form or the variational equations.
-
-    Parameters
-    ----------
-    model : MeshModel
-        Single-DOF mesh model.
-    y0 : ndarray
-        Start state [m, m/s].
-    t1 : float
-        End time in s.
-    rtol : float
-        Relative tolerance of the variational integration (unused by the exact route).
-    route : str
-        ``exact``: the closed-form pieces and saltation matrices of the backlash propagator
-        (:func:`gear_dyn.solvers.contact_exact.flow_with_sensitivity`; single-DOF model with
-        backlash, piecewise-constant stiffness and at most a harmonic transmission error),
-        exact up to rounding; ``variational``: the variational equations with DOP853 (any single-DOF
-        model; imports scipy.integrate); ``auto``: ``exact`` where it applies.
-
-    Returns
-    -------
-    y : ndarray (n,)
-        State at ``t1``.
-    phi : ndarray (n, n)
-        ``d y(t1) / d y0``.
-
-    Raises
-    ------
-    InputError
-        An unknown route, or ``exact`` for a model it does not cover.
-    SolverError
-        Integration failure or a diverging response.
-    """
-    if route not in SENSITIVITY_ROUTES:
-        raise InputError(f"route = {route!r}: valid choices are {', '.join(SENSITIVITY_ROUTES)}")
-    if route == "exact" or (route == "auto" and contact_exact_applies(model)):
-        return flow_with_sensitivity(model, y0, t1)
-    n = len(model.state_labels)
-    z = flow(_require_sdof(model), y0, np.array([0.0, t1]), rtol=rtol, variational=True)[0][:, -1]
-    return z[:n].copy(), z[n:].reshape(n, n).copy()
 
 
 def shoot(model: MeshModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: int = 15,
