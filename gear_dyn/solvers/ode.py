@@ -228,6 +228,33 @@ def frozen_functions(model: Model, ta: float, tb: float) -> tuple[Any, Any]:
     return rhs_b, jac_b
 
 
+def solve_once(model: Model, t_grid: FloatArray, method: str, rtol: float
+               ) -> tuple[FloatArray, dict[str, Any]]:
+    """One solve_ivp call over the whole span from ``model.initial_state()``: no cuts at the
+    switching instants, no contact restarts, no Jacobian, ``atol = rtol * state_scale``. Not a
+    method: the hand-written use of solve_ivp that ``gear-dyn bench`` (mode ``once``) measures
+    :func:`flow` against.
+
+    Returns
+    -------
+    y : ndarray (n_states, n_t)
+    stats : dict with nfev, njev, nlu, n_segments (1)
+
+    Raises
+    ------
+    SolverError
+        solve_ivp failure or non-finite states.
+    """
+    from scipy.integrate import solve_ivp
+
+    atol = rtol * np.asarray(model.state_scale, dtype=float)
+    sol = solve_ivp(model.rhs, (float(t_grid[0]), float(t_grid[-1])), model.initial_state(),
+                    method=method, t_eval=t_grid, rtol=rtol, atol=atol)
+    if sol.status != 0 or not np.all(np.isfinite(sol.y)):
+        raise SolverError(f"solve_ivp ({method}, once over the span) failed: {sol.message}")
+    return sol.y, {"nfev": sol.nfev, "njev": sol.njev, "nlu": sol.nlu, "n_segments": 1}
+
+
 def check_work(model: Model, t0: float, t1: float, y0: FloatArray) -> None:
     """Refuse an ODE run that cannot give a sensible answer in reasonable time.
 
