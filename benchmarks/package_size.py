@@ -49,6 +49,7 @@ ADDED_BY_LATER_ISSUES = {
     ],
     "24 first week": [
         "gear_dyn/analysis/dynamic_factor.py", "gear_dyn/analysis/sweep/smooth.py",
+        "gear_dyn/solvers/linear_maps.py",  # sweep/smooth.py, moved
         "gear_dyn/cli/compare.py", "gear_dyn/scene/operating.py",
     ],
     "25 nonlinear response": [

@@ -19,7 +19,6 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.integrate import solve_ivp
 
 from gear_dyn.analysis.accuracy import error_series, relative_errors, rounding_estimate
 from gear_dyn.errors import InputError, SolverError
@@ -31,6 +30,7 @@ from gear_dyn.solvers import (
     periodic_map_applies,
     time_grid,
 )
+from gear_dyn.solvers.ode import solve_once
 
 FloatArray = NDArray[np.float64]
 
@@ -122,17 +122,6 @@ def reference_solution(model: Model, t_grid: FloatArray) -> Reference:
                      run_time)
 
 
-def _once(model: Model, t_grid: FloatArray, method: str, rtol: float
-          ) -> tuple[FloatArray, dict[str, Any]]:
-    """One solve_ivp call over the whole span (no restarts): the hand-written baseline."""
-    atol = rtol * np.asarray(model.state_scale, dtype=float)
-    sol = solve_ivp(model.rhs, (float(t_grid[0]), float(t_grid[-1])), model.initial_state(),
-                    method=method, t_eval=t_grid, rtol=rtol, atol=atol)
-    if sol.status != 0 or not np.all(np.isfinite(sol.y)):
-        raise SolverError(f"solve_ivp ({method}, once over the span) failed: {sol.message}")
-    return sol.y, {"nfev": sol.nfev, "njev": sol.njev, "nlu": sol.nlu, "n_segments": 1}
-
-
 def run_case(model: Model, ref: Reference, method: str, mode: str, rtol: float,
              repeats: int = 3, budget_s: float = math.inf) -> BenchCase:
     """Time one case (median of ``repeats``; one run only if it exceeds ``budget_s``)."""
@@ -144,7 +133,7 @@ def run_case(model: Model, ref: Reference, method: str, mode: str, rtol: float,
         for _ in range(max(1, repeats)):
             start = time.perf_counter()
             if mode == "once":
-                y, st = _once(model, t_grid, method, rtol)
+                y, st = solve_once(model, t_grid, method, rtol)
             else:
                 m = mode if mode in ("exact", "periodic") else method
                 y, st = integrate(model, t_grid,

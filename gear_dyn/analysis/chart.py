@@ -1,8 +1,9 @@
 """Stability charts of the linear single-DOF mesh model.
 
 :func:`stability_chart` maps the largest Floquet multiplier modulus over a grid of mesh frequency
-and stiffness variation (or damping) for the linear model, with closed-form 2x2 matrix
-exponentials over a staircase of the stiffness (exact for a rectangular wave).
+and stiffness variation (or damping) for the linear model, with the monodromy matrix of a
+staircase of the stiffness (exact for a rectangular wave) from the solvers' closed-form 2x2
+exponentials (:func:`gear_dyn.solvers.linear_maps.cell_monodromy`).
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from numpy.typing import NDArray
 from gear_dyn.analysis.stability import _require_sdof
 from gear_dyn.errors import InputError
 from gear_dyn.models.base import MeshModel
+from gear_dyn.solvers.linear_maps import cell_monodromy
 
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
@@ -49,25 +51,6 @@ def staircase(model: MeshModel, pieces: int = 128) -> tuple[FloatArray, FloatArr
     return edges, vals
 
 
-def _expm2(b11: FloatArray | float, b12: FloatArray, b21: FloatArray, b22: FloatArray
-           ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    """exp of 2x2 matrices given by components (closed form, any shape)."""
-    mu = 0.5 * (b11 + b22)
-    det = b11 * b22 - b12 * b21
-    d2 = mu * mu - det
-    s = np.sqrt(np.abs(d2))
-    small = s < 1e-4
-    osc = d2 < 0
-    s_osc, s_hyp = np.where(osc, s, 0.0), np.where(osc, 0.0, s)  # each only where it is taken
-    with np.errstate(invalid="ignore", divide="ignore"):
-        ch = np.where(osc, np.cos(s_osc), np.cosh(s_hyp))
-        sh = np.where(small, 1 + d2 / 6 + d2 * d2 / 120,
-                      np.where(osc, np.sin(s_osc), np.sinh(s_hyp)) / np.where(small, 1.0, s))
-    em = np.exp(mu)
-    return (em * (ch + sh * (b11 - mu)), em * sh * b12, em * sh * b21,
-            em * (ch + sh * (b22 - mu)))
-
-
 def spectral_radius_grid(mass: float, edges: FloatArray, values: FloatArray,
                          damping: FloatArray, mesh_frequency: FloatArray) -> FloatArray:
     """Largest Floquet multiplier modulus of ``m x'' + c x' + k(f_m t) x = 0``, vectorised.
@@ -91,21 +74,7 @@ def spectral_radius_grid(mass: float, edges: FloatArray, values: FloatArray,
     ndarray (...)
         Spectral radius of the monodromy matrix (> 1: parametrically unstable).
     """
-    values = np.asarray(values, dtype=float)
-    widths = np.diff(np.asarray(edges, dtype=float))
-    damping = np.asarray(damping, dtype=float)
-    fm = np.asarray(mesh_frequency, dtype=float)
-    shape = np.broadcast_shapes(values.shape[:-1], damping.shape, fm.shape)
-    p11 = np.ones(shape)
-    p12 = np.zeros(shape)
-    p21 = np.zeros(shape)
-    p22 = np.ones(shape)
-    gamma = damping / mass
-    for j, w in enumerate(widths):
-        dt = w / fm  # exp of [[0, 1], [-k/m, -c/m]] dt
-        e11, e12, e21, e22 = _expm2(0.0, dt, -values[..., j] / mass * dt, -gamma * dt)
-        p11, p12, p21, p22 = (e11 * p11 + e12 * p21, e11 * p12 + e12 * p22,
-                              e21 * p11 + e22 * p21, e21 * p12 + e22 * p22)
+    p11, p12, p21, p22 = cell_monodromy(mass, edges, values, damping, mesh_frequency)
     tr = p11 + p22
     det = p11 * p22 - p12 * p21
     disc = np.sqrt((0.25 * tr**2 - det).astype(np.complex128))

@@ -2,7 +2,8 @@
 
 Linear models: the affine one-period map ``y(T) = Phi y(0) + q``, its fixed point and the
 eigenvalues of ``Phi``; models with backlash: shooting, Newton's method on ``P(y0) - y0 = 0``
-(:func:`integrate_with_sensitivity` gives ``Phi = dP/dy0``). docs/sweep.md, "How the steady
+(:func:`gear_dyn.solvers.sensitivity.integrate_with_sensitivity`, re-exported here, gives
+``Phi = dP/dy0``). docs/sweep.md, "How the steady
 state is found", gives the routes; docs/solvers.md the checks and their tests. Stability charts
 are in :mod:`gear_dyn.analysis.chart`.
 """
@@ -18,11 +19,11 @@ from numpy.typing import NDArray
 
 from gear_dyn.errors import InputError, SolverError, check_range
 from gear_dyn.models.base import MeshModel, Model
-from gear_dyn.solvers.contact_exact import contact_exact_applies, flow_with_sensitivity
-from gear_dyn.solvers.events import solve_piece_with_events
 from gear_dyn.solvers.exact import propagate_pieces
+from gear_dyn.solvers.ode import flow
 from gear_dyn.solvers.periodic import step_products
-from gear_dyn.solvers.pieces import pieces
+from gear_dyn.solvers.sensitivity import SENSITIVITY_ROUTES as SENSITIVITY_ROUTES
+from gear_dyn.solvers.sensitivity import integrate_with_sensitivity
 
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
@@ -150,9 +151,9 @@ def flow_on_grid(model: MeshModel, y0: FloatArray, t_grid: FloatArray, rtol: flo
                  atol: FloatArray | float | None = None) -> FloatArray:
     """States of a single-DOF model on ``t_grid`` from ``y(t_grid[0]) = y0`` (DOP853).
 
-    The same integration as :func:`gear_dyn.solvers.integrate` with DOP853 (cut at the switching
-    instants, dense output on the grid), with the stiffness evaluated once per piece where it
-    is piecewise constant: several times faster for sweeps.
+    The solvers' solve_ivp driver (:func:`gear_dyn.solvers.ode.flow`: cut at the switching
+    instants, restarted at contact changes, dense output on the grid), with the stiffness
+    evaluated once per piece where it is piecewise constant: several times faster for sweeps.
 
     Parameters
     ----------
@@ -175,87 +176,7 @@ def flow_on_grid(model: MeshModel, y0: FloatArray, t_grid: FloatArray, rtol: flo
     SolverError
         Integration failure or non-finite states.
     """
-    model = _require_sdof(model)
-    if atol is None:
-        atol = rtol * np.asarray(model.state_scale, dtype=float)
-    return _run_cut(model, lambda ta, tb: _piece_functions(model, ta, tb)[0], y0,
-                    np.asarray(t_grid, dtype=float), rtol, atol)
-
-
-def _run_cut(model: MeshModel, rhs_on: Any, z0: FloatArray, t_grid: FloatArray, rtol: float,
-             atol: Any, diverged: str = "") -> FloatArray:
-    """States on ``t_grid`` from ``z0`` (at its first time) by DOP853, restarted at every
-    switching instant and at every contact change, so that no step crosses a kink of the dead
-    zone; ``rhs_on(ta, tb)`` is the right-hand side on the piece ``[ta, tb]`` (so a stiffness
-    constant on the piece is evaluated once, not at every step). ``diverged``: the message of
-    non-finite states (default: solve_ivp's times and advice).
-
-    Across a contact change the vector field is continuous, so the saltation matrix is the
-    identity and the variational equations need no correction at the restart; what the restart
-    buys is the integrator's full order on both sides (a step across the kink loses it, and with
-    it the accuracy of the sensitivities: 3e-4 in a Floquet multiplier, seen in a test).
-    """
-    from scipy.integrate import solve_ivp  # on use: scipy.integrate costs ~0.25 s to import
-
-    t0, t1 = float(t_grid[0]), float(t_grid[-1])
-    cuts = np.concatenate([[t0], model.switching_times(t0, t1), [t1]])
-    z = np.array(z0, dtype=float)
-    out = np.empty((z.size, t_grid.size))
-    out[:, 0] = z
-    n = len(model.state_labels)  # the events see the state, not the variational part after it
-    events: list[Any] = [lambda t, z, g=g: g(t, z[:n]) for g in model.contact_events()]
-    for ta, tb, i0, i1, t_eval in pieces(t_grid, cuts):
-        if events:
-            zs, z, _ = solve_piece_with_events(rhs_on(ta, tb), ta, tb, z, t_eval, events,
-                                               "DOP853", rtol, atol, math.inf, {})
-        else:
-            sol = solve_ivp(rhs_on(ta, tb), (ta, tb), z, method="DOP853", t_eval=t_eval,
-                            rtol=rtol, atol=atol)
-            if sol.status != 0:
-                raise SolverError(f"solve_ivp (DOP853) failed at t = {ta:.6g}..{tb:.6g} s: "
-                                  f"{sol.message}; try a looser rtol")
-            zs, z = sol.y, sol.y[:, -1]
-        if not np.all(np.isfinite(zs)):
-            raise SolverError(diverged or (
-                f"solve_ivp (DOP853) produced non-finite states at t = {ta:.6g}..{tb:.6g} s: "
-                "the response diverges or the tolerances are too loose"))
-        out[:, i0:i1] = zs[:, : i1 - i0]
-    return out
-
-
-def _piece_functions(model: MeshModel, ta: float, tb: float) -> tuple[Any, Any]:
-    """(rhs, jac) of the model on the piece [ta, tb].
-
-    Where the stiffness is constant on the piece and there is no transmission error, fast
-    closures with k fixed (the model's own rhs evaluates k(t) at every call); otherwise the
-    model's own functions.
-    """
-    if model.stiffness.segments() is None or model.transmission_error is not None:
-        return model.rhs, model.jac
-    kt = float(model.stiffness(model.phase(0.5 * (ta + tb))))
-    m, c, w = model.mass, model.damping, model.static_load
-    b = model.backlash
-    if b is None:
-        a = np.array([[0.0, 1.0], [-kt / m, -c / m]])
-
-        def rhs(t: float, y: FloatArray) -> FloatArray:
-            return np.array([y[1], (w - c * y[1] - kt * y[0]) / m])
-
-        def jac(t: float, y: FloatArray) -> FloatArray:
-            return a
-        return rhs, jac
-    a_in = np.array([[0.0, 1.0], [0.0, -c / m]])
-    a_out = np.array([[0.0, 1.0], [-kt / m, -c / m]])
-    bb = float(b)
-
-    def rhs_b(t: float, y: FloatArray) -> FloatArray:
-        x, v = y[0], y[1]
-        fx = x - bb if x > bb else (x + bb if x < -bb else 0.0)
-        return np.array([v, (w - c * v - kt * fx) / m])
-
-    def jac_b(t: float, y: FloatArray) -> FloatArray:
-        return a_in if abs(y[0]) <= bb else a_out
-    return rhs_b, jac_b
+    return flow(_require_sdof(model), y0, t_grid, rtol=rtol, atol=atol)[0]
 
 
 def floquet_multipliers(model: MeshModel, rtol: float = 1e-10) -> ComplexArray:
@@ -320,69 +241,6 @@ def periodic_steady_state(
         mult = np.linalg.eigvals(phi).astype(np.complex128)
         return PeriodicSolution(y0, period, phi, mult, True, 0, how)
     return shoot(model, model.initial_state() if y_guess is None else y_guess, rtol, max_iter)
-
-
-#: routes of :func:`integrate_with_sensitivity`
-SENSITIVITY_ROUTES = ("auto", "exact", "variational")
-
-
-def integrate_with_sensitivity(model: MeshModel, y0: FloatArray, t1: float, rtol: float = 1e-10,
-                               route: str = "auto") -> tuple[FloatArray, FloatArray]:
-    """State ``y(t1)`` from ``y(0) = y0`` and its sensitivity ``d y(t1) / d y0``, by the route
-    asked for: the backlash propagator's closed form or the variational equations.
-
-    Parameters
-    ----------
-    model : MeshModel
-        Single-DOF mesh model.
-    y0 : ndarray
-        Start state [m, m/s].
-    t1 : float
-        End time in s.
-    rtol : float
-        Relative tolerance of the variational integration (unused by the exact route).
-    route : str
-        ``exact``: the closed-form pieces and saltation matrices of the backlash propagator
-        (:func:`gear_dyn.solvers.contact_exact.flow_with_sensitivity`; single-DOF model with
-        backlash, piecewise-constant stiffness and at most a harmonic transmission error),
-        exact up to rounding; ``variational``: the variational equations with DOP853 (any single-DOF
-        model; imports scipy.integrate); ``auto``: ``exact`` where it applies.
-
-    Returns
-    -------
-    y : ndarray (n,)
-        State at ``t1``.
-    phi : ndarray (n, n)
-        ``d y(t1) / d y0``.
-
-    Raises
-    ------
-    InputError
-        An unknown route, or ``exact`` for a model it does not cover.
-    SolverError
-        Integration failure or a diverging response.
-    """
-    if route not in SENSITIVITY_ROUTES:
-        raise InputError(f"route = {route!r}: valid choices are {', '.join(SENSITIVITY_ROUTES)}")
-    if route == "exact" or (route == "auto" and contact_exact_applies(model)):
-        return flow_with_sensitivity(model, y0, t1)
-    n = len(model.state_labels)
-
-    def rhs_on(ta: float, tb: float) -> Any:
-        f, jac = _piece_functions(model, ta, tb)
-
-        def rhs(t: float, z: FloatArray) -> FloatArray:
-            y = z[:n]
-            return np.concatenate([f(t, y), (jac(t, y) @ z[n:].reshape(n, n)).ravel()])
-        return rhs
-
-    scale = np.asarray(model.state_scale, dtype=float)
-    atol = rtol * np.concatenate([scale, (scale[:, None] / scale[None, :]).ravel()])
-    z0 = np.concatenate([np.asarray(y0, dtype=float), np.eye(n).ravel()])
-    z = _run_cut(model, rhs_on, z0, np.array([0.0, t1]), rtol, atol,
-                 "the one-period map produced non-finite states: the response diverges within "
-                 "one mesh period")[:, -1]
-    return z[:n].copy(), z[n:].reshape(n, n).copy()
 
 
 def shoot(model: MeshModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: int = 15,

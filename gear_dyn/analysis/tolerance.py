@@ -13,9 +13,10 @@ Per speed, the periodic response to each unit harmonic is computed once, exactly
 period is cut into cells of constant stiffness (at its switches and at the output samples);
 in a cell the particular solution of ``u'' + gamma u' + kappa u = Omega^2 e^{i Omega t}`` is
 ``U e^{i Omega t}``, ``U = Omega^2 / (kappa - Omega^2 + i gamma Omega)``, and the rest follows
-the cell's closed-form 2x2 exponential (``gear_dyn.analysis.chart._expm2``). The response
-to order q is quasi-periodic, ``Y(t + T) = e^{2 pi i q} Y(t)`` (T the mesh period): its state
-at the period start solves ``(e^{2 pi i q} I - M) Y0 = r`` with ``M`` the monodromy matrix and
+the cell's closed-form 2x2 exponential (the solvers' cell maps,
+:func:`gear_dyn.solvers.linear_maps.harmonic_orbits`). The response to order q is
+quasi-periodic, ``Y(t + T) = e^{2 pi i q} Y(t)`` (T the mesh period): its state at the period
+start solves ``(e^{2 pi i q} I - M) Y0 = r`` with ``M`` the monodromy matrix and
 ``r`` the response over one period from rest. The static load's response (q = 0) is the
 sweep's orbit. Every sample is then a linear combination of these responses (one matrix
 product per speed for all samples), with no time integration per sample.
@@ -50,15 +51,14 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.analysis.chart import _expm2
 from gear_dyn.analysis.dynamic_factor import quasi_static_model_of, quasi_static_reference
 from gear_dyn.analysis.executor import check_workers, run_blocks, speed_blocks, task_map
-from gear_dyn.analysis.sweep.batch import _cells
 from gear_dyn.errors import InputError, check_range
 from gear_dyn.excitation import HarmonicSignal
 from gear_dyn.models.base import MeshModel, Model
 from gear_dyn.modification.deviations import PairDeviations
 from gear_dyn.solvers import SolverSettings
+from gear_dyn.solvers.linear_maps import harmonic_orbits
 
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
@@ -173,49 +173,14 @@ def unit_responses(model: MeshModel, orders: FloatArray, spp: int) -> UnitRespon
     InputError
         The model is not linear with piecewise-constant stiffness, or has a transmission error.
     """
-    cells = _cells(model, spp) if model.transmission_error is None else None
-    if cells is None or model.backlash is not None:
+    orbit = harmonic_orbits(model, orders, spp)
+    if orbit is None:
         raise InputError("tolerance study: the model must be the linear single-DOF model with "
                          "piecewise-constant stiffness (stiffness method iso6336 or rectangular), "
                          "no backlash")
-    edges, kappa, gamma, g = cells
+    y0, ys, z0, zs, rho = orbit
     fm = model.mesh_frequency
-    dt = np.diff(edges) / fm
-    e11, e12, e21, e22 = _expm2(0.0, dt, -kappa * dt, -gamma * dt)
     om = 2 * math.pi * np.asarray(orders, dtype=float) * fm
-    t_edge = edges / fm
-    rot = np.exp(1j * om[None, :] * t_edge[:, None])  # (C+1, Q)
-    u_part = om[None, :] ** 2 / (kappa[:, None] - om[None, :] ** 2
-                                 + 1j * gamma[:, None] * om[None, :])  # (C, Q)
-    xs = g / kappa
-    at_sample = np.isin(np.round(edges * spp, 9), np.arange(spp))
-
-    def sweep_cells(y: FloatArray, z: ComplexArray, record: bool
-                    ) -> tuple[FloatArray, ComplexArray, list[Any]]:
-        kept = []
-        for c in range(dt.size):
-            if record and at_sample[c]:
-                kept.append((y.copy(), z.copy()))
-            d1, d2 = y[0] - xs[c], y[1]
-            y = np.array([xs[c] + e11[c] * d1 + e12[c] * d2, e21[c] * d1 + e22[c] * d2])
-            pa0, pa1 = u_part[c] * rot[c], 1j * om * u_part[c] * rot[c]
-            pb0, pb1 = u_part[c] * rot[c + 1], 1j * om * u_part[c] * rot[c + 1]
-            w1, w2 = z[0] - pa0, z[1] - pa1
-            z = np.array([pb0 + e11[c] * w1 + e12[c] * w2, pb1 + e21[c] * w1 + e22[c] * w2])
-        return y, z, kept
-
-    mono = np.eye(2)
-    for c in range(dt.size):
-        mono = np.array([[e11[c], e12[c]], [e21[c], e22[c]]]) @ mono
-    rho = float(np.max(np.abs(np.linalg.eigvals(mono))))
-    y_end, z_end, _ = sweep_cells(np.zeros(2), np.zeros((2, om.size), dtype=complex), False)
-    y0 = np.asarray(np.linalg.solve(np.eye(2) - mono, y_end), dtype=np.float64)
-    lam = np.exp(2j * math.pi * np.asarray(orders, dtype=float))
-    z0 = np.stack([np.linalg.solve(lq * np.eye(2) - mono, z_end[:, i])
-                   for i, lq in enumerate(lam)], axis=1) if om.size else z_end
-    _, _, kept = sweep_cells(y0, z0, True)
-    ys = np.stack([k[0] for k in kept], axis=1)  # (2, spp)
-    zs = np.stack([k[1] for k in kept], axis=2)  # (2, Q, spp)
     t = np.arange(spp) / (spp * fm)
     k_s = np.asarray(model.stiffness(model.phase(t)), dtype=float)
     c_m = model.damping

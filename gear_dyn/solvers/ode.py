@@ -1,10 +1,13 @@
-"""scipy's solve_ivp, piece by piece between switching instants, restarted at contact changes.
+"""The solve_ivp driver: scipy's solve_ivp piece by piece between switching instants,
+restarted at contact changes, optionally with the variational equations.
 
-The span is cut at ``model.switching_times`` and each piece is one
-:func:`scipy.integrate.solve_ivp` call; a model with contact changes
-(``model.contact_events()``: backlash) is also restarted at each of them
-(:mod:`gear_dyn.solvers.events`). The dense output's interpolation error is not controlled by
-solve_ivp, so explicit Runge-Kutta steps are limited to ``omega_n h <= (pi / 4)
+:func:`flow` is the one loop: the span is cut at ``model.switching_times`` and each piece is one
+:func:`scipy.integrate.solve_ivp` call; a model with contact changes (``model.contact_events()``: backlash) is also
+restarted at each of them (:mod:`gear_dyn.solvers.events`); ``variational=True`` carries
+``d y / d y0`` along (augmented state). :func:`integrate_ode` is that loop with a
+:class:`~gear_dyn.solvers.settings.SolverSettings` (the methods RK45 ... LSODA of
+:func:`~gear_dyn.solvers.integrate`). The dense output's interpolation error is not controlled
+by solve_ivp, so there explicit Runge-Kutta steps are limited to ``omega_n h <= (pi / 4)
 (rtol / 1e-8)^(1 / (q + 1))`` (:func:`step_limit`, ``q`` the interpolant's order). A reported
 failure or a non-finite state raises :class:`~gear_dyn.errors.SolverError` with scipy's message.
 """
@@ -12,6 +15,7 @@ failure or a non-finite state raises :class:`~gear_dyn.errors.SolverError` with 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -52,7 +56,8 @@ def step_limit(model: Model, settings: SolverSettings) -> float:
 def integrate_ode(
     model: Model, t_grid: FloatArray, settings: SolverSettings, y0: FloatArray | None = None
 ) -> tuple[FloatArray, dict[str, Any]]:
-    """States on ``t_grid`` with the solve_ivp method ``settings.method``, piece by piece.
+    """States on ``t_grid`` with the solve_ivp method ``settings.method``, piece by piece
+    (:func:`flow` with the settings' tolerances, step limit and work budget).
 
     Returns
     -------
@@ -69,26 +74,185 @@ def integrate_ode(
     t0, t1 = float(t_grid[0]), float(t_grid[-1])
     y = np.array(model.initial_state() if y0 is None else y0, dtype=float)
     check_work(model, t0, t1, y)
-    cuts = np.concatenate([[t0], model.switching_times(t0, t1), [t1]])
-    atol = atol_of(model, settings)
-    out = np.empty((len(model.state_labels), t_grid.size))
-    out[:, 0] = y
-    extra: dict[str, Any] = {"jac": model.jac} if settings.method in IMPLICIT else {}
-    events = list(model.contact_events())
-    max_step = step_limit(model, settings)
-    counts = {"nfev": 0, "njev": 0, "nlu": 0, "n_events": 0}
-    for ta, tb, i0, i1, t_eval in pieces(t_grid, cuts):
-        ys, y, st = solve_piece_with_events(model.rhs, ta, tb, y, t_eval, events,
-                                            settings.method, settings.rtol, atol, max_step, extra)
-        for key in counts:
-            counts[key] += st.get(key, 0)
-        _check_nfev(counts["nfev"], settings.method, tb, settings.max_nfev)
-        out[:, i0:i1] = ys[:, : i1 - i0]
+    out, counts = flow(model, y, t_grid, method=settings.method, rtol=settings.rtol,
+                       atol=atol_of(model, settings), max_step=step_limit(model, settings),
+                       frozen=False, max_nfev=settings.max_nfev)
     stats: dict[str, Any] = {"nfev": counts["nfev"], "njev": counts["njev"],
-                             "nlu": counts["nlu"], "n_segments": int(cuts.size - 1)}
-    if events:
+                             "nlu": counts["nlu"], "n_segments": counts["n_segments"]}
+    if "n_events" in counts:
         stats["n_contact_events"] = counts["n_events"]
     return out, stats
+
+
+def flow(
+    model: Model, y0: FloatArray, t_grid: FloatArray, *, method: str = "DOP853",
+    rtol: float = 1e-8, atol: FloatArray | float | None = None, max_step: float = math.inf,
+    frozen: bool = True, variational: bool = False, max_nfev: int = limits.MAX_NFEV,
+) -> tuple[FloatArray, dict[str, int]]:
+    """The solve_ivp driver: states on ``t_grid`` from ``y(t_grid[0]) = y0``, one solve_ivp
+    call per piece between the model's switching instants, restarted at every contact change
+    (:func:`~gear_dyn.solvers.events.solve_piece_with_events`), so that no step crosses a jump
+    or kink of the coefficients or of the dead zone.
+
+    Parameters
+    ----------
+    model : Model
+    y0 : ndarray
+        Initial state (SI units of ``model.state_labels``).
+    t_grid : ndarray
+        Increasing output times in s; the first is the initial time.
+    method : str
+        solve_ivp method; the implicit ones (:data:`~gear_dyn.solvers.settings.IMPLICIT`) get
+        the Jacobian (not with ``variational``: they difference the augmented system).
+    rtol : float
+        Relative tolerance.
+    atol : float, ndarray (n,) or None
+        Absolute tolerance of the states; None: ``rtol * model.state_scale``.
+    max_step : float
+        Largest step in s.
+    frozen : bool
+        On a piece where the single-DOF model's stiffness is constant and there is no
+        transmission error, integrate closures with that stiffness fixed
+        (:func:`frozen_functions`): the model's own ``rhs`` evaluates ``k(t)`` at every call.
+        The same equation; several times faster for sweeps.
+    variational : bool
+        Integrate the variational equations with the state (augmented state ``[y, vec(Phi)]``,
+        ``Phi' = J(t, y) Phi``, ``Phi(t0) = I``): the returned rows ``n..n + n^2`` are
+        ``d y(t) / d y0`` row by row. The absolute tolerance of ``Phi[i, j]`` is
+        ``atol[i] / state_scale[j]``. Across a contact change the vector field is continuous,
+        so the saltation matrix is the identity: the restart needs no correction; what it buys
+        is the integrator's full order on both sides (a step across the kink loses it, and with
+        it the accuracy of the sensitivities: 3e-4 in a Floquet multiplier, seen in a test).
+    max_nfev : int
+        Right-hand-side evaluations allowed (checked between pieces).
+
+    Returns
+    -------
+    z : ndarray (n, n_t), or (n + n^2, n_t) with ``variational``
+    counts : dict
+        nfev, njev, nlu, n_segments, and n_events where the model has contact events.
+
+    Raises
+    ------
+    SolverError
+        solve_ivp failure, non-finite states, a chattering contact or the work budget spent,
+        with scipy's message where it gave one.
+    """
+    t_grid = np.asarray(t_grid, dtype=float)
+    t0, t1 = float(t_grid[0]), float(t_grid[-1])
+    n = len(model.state_labels)
+    scale = np.asarray(model.state_scale, dtype=float)
+    tol = rtol * scale if atol is None else np.broadcast_to(np.asarray(atol, dtype=float), (n,))
+    z = np.array(y0, dtype=float)
+    events: list[Callable[[float, FloatArray], float]] = list(model.contact_events())
+    if variational:
+        z = np.concatenate([z, np.eye(n).ravel()])
+        ratio = (tol[:, None] / scale[None, :]).ravel() if atol is not None else (
+            rtol * (scale[:, None] / scale[None, :]).ravel())  # the same, rounded as rtol * ratio
+        tol = np.concatenate([tol, ratio])
+        # the events see the state, not the variational part after it
+        events = [_on_state(g, n) for g in events]
+    cuts = np.concatenate([[t0], model.switching_times(t0, t1), [t1]])
+    out = np.empty((z.size, t_grid.size))
+    out[:, 0] = z
+    counts = {"nfev": 0, "njev": 0, "nlu": 0, "n_events": 0}
+    for ta, tb, i0, i1, t_eval in pieces(t_grid, cuts):
+        f, jac = frozen_functions(model, ta, tb) if frozen else (model.rhs, model.jac)
+        rhs = _augmented(f, jac, n) if variational else f
+        extra: dict[str, Any] = {"jac": jac} if method in IMPLICIT and not variational else {}
+        zs, z, st = solve_piece_with_events(rhs, ta, tb, z, t_eval, events, method, rtol, tol,
+                                            max_step, extra)
+        for key in counts:
+            counts[key] += st.get(key, 0)
+        _check_nfev(counts["nfev"], method, tb, max_nfev)
+        out[:, i0:i1] = zs[:, : i1 - i0]
+    counts["n_segments"] = int(cuts.size - 1)
+    if not events:
+        del counts["n_events"]
+    return out, counts
+
+
+def _on_state(g: Callable[[float, FloatArray], float], n: int
+              ) -> Callable[[float, FloatArray], float]:
+    """The event ``g`` of the state, evaluated on an augmented state (its first ``n`` rows)."""
+    def ev(t: float, z: FloatArray) -> float:
+        return g(t, z[:n])
+    return ev
+
+
+def _augmented(f: Callable[[float, FloatArray], FloatArray],
+               jac: Callable[[float, FloatArray], FloatArray], n: int
+               ) -> Callable[[float, FloatArray], FloatArray]:
+    """Right-hand side of the state with its variational equations, ``[f(t, y); J Phi]``."""
+    def rhs(t: float, z: FloatArray) -> FloatArray:
+        y = z[:n]
+        return np.concatenate([f(t, y), (jac(t, y) @ z[n:].reshape(n, n)).ravel()])
+    return rhs
+
+
+def frozen_functions(model: Model, ta: float, tb: float) -> tuple[Any, Any]:
+    """(rhs, jac) of the model on the piece [ta, tb].
+
+    Where the single-DOF model's stiffness is constant on the piece and there is no
+    transmission error, closures with that ``k`` fixed (the model's own ``rhs`` evaluates
+    ``k(t)`` at every call); otherwise the model's own functions.
+    """
+    mm: Any = model
+    stiffness = getattr(mm, "stiffness", None)
+    if (not model.mesh_periodic or stiffness is None or stiffness.segments() is None
+            or getattr(mm, "transmission_error", None) is not None):
+        return model.rhs, model.jac
+    kt = float(stiffness(mm.phase(0.5 * (ta + tb))))
+    m, c, w = mm.mass, mm.damping, model.static_load
+    b = model.backlash
+    if b is None:
+        a = np.array([[0.0, 1.0], [-kt / m, -c / m]])
+
+        def rhs(t: float, y: FloatArray) -> FloatArray:
+            return np.array([y[1], (w - c * y[1] - kt * y[0]) / m])
+
+        def jac(t: float, y: FloatArray) -> FloatArray:
+            return a
+        return rhs, jac
+    a_in = np.array([[0.0, 1.0], [0.0, -c / m]])
+    a_out = np.array([[0.0, 1.0], [-kt / m, -c / m]])
+    bb = float(b)
+
+    def rhs_b(t: float, y: FloatArray) -> FloatArray:
+        x, v = y[0], y[1]
+        fx = x - bb if x > bb else (x + bb if x < -bb else 0.0)
+        return np.array([v, (w - c * v - kt * fx) / m])
+
+    def jac_b(t: float, y: FloatArray) -> FloatArray:
+        return a_in if abs(y[0]) <= bb else a_out
+    return rhs_b, jac_b
+
+
+def solve_once(model: Model, t_grid: FloatArray, method: str, rtol: float
+               ) -> tuple[FloatArray, dict[str, Any]]:
+    """One solve_ivp call over the whole span from ``model.initial_state()``: no cuts at the
+    switching instants, no contact restarts, no Jacobian, ``atol = rtol * state_scale``. Not a
+    method: the hand-written use of solve_ivp that ``gear-dyn bench`` (mode ``once``) measures
+    :func:`flow` against.
+
+    Returns
+    -------
+    y : ndarray (n_states, n_t)
+    stats : dict with nfev, njev, nlu, n_segments (1)
+
+    Raises
+    ------
+    SolverError
+        solve_ivp failure or non-finite states.
+    """
+    from scipy.integrate import solve_ivp
+
+    atol = rtol * np.asarray(model.state_scale, dtype=float)
+    sol = solve_ivp(model.rhs, (float(t_grid[0]), float(t_grid[-1])), model.initial_state(),
+                    method=method, t_eval=t_grid, rtol=rtol, atol=atol)
+    if sol.status != 0 or not np.all(np.isfinite(sol.y)):
+        raise SolverError(f"solve_ivp ({method}, once over the span) failed: {sol.message}")
+    return sol.y, {"nfev": sol.nfev, "njev": sol.njev, "nlu": sol.nlu, "n_segments": 1}
 
 
 def check_work(model: Model, t0: float, t1: float, y0: FloatArray) -> None:

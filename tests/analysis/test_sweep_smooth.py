@@ -11,10 +11,13 @@ import pytest
 from gear_dyn.analysis.sweep import RPM, SweepOptions
 from gear_dyn.analysis.sweep.batch import linear_block
 from gear_dyn.analysis.sweep.points import steady_point
-from gear_dyn.analysis.sweep.smooth import _expm2, covered
+from gear_dyn.excitation import HarmonicSignal
+from gear_dyn.models.sdof import SDOFModel
 from gear_dyn.scene import load_scene
 from gear_dyn.scene.loader import Scene
 from gear_dyn.scene.sweep import SceneModels
+from gear_dyn.solvers.linear_maps import expm2, magnus_applies, magnus_orbits
+from gear_dyn.stiffness.periodic import FourierStiffness
 
 SCENES = Path(__file__).resolve().parents[2] / "gear_dyn" / "scenes"
 
@@ -33,7 +36,7 @@ def test_expm2_matches_scipy() -> None:
     rng = np.random.default_rng(3)
     for scale in (1e-6, 1e-2, 1.0, 5.0):
         b = rng.normal(size=(2, 2)) * scale
-        got = np.array(_expm2(*(np.array([v]) for v in b.ravel()))).reshape(2, 2)
+        got = np.array(expm2(*(np.array([v]) for v in b.ravel()))).reshape(2, 2)
         assert np.allclose(got, expm(b), rtol=1e-12, atol=1e-14)
 
 
@@ -46,7 +49,7 @@ def test_block_matches_per_speed_dop853(name: str, method: str | None) -> None:
     opts = SweepOptions()
     speeds = np.array([4000.0, 7600.0]) * RPM
     models = [factory(s) for s in speeds]
-    assert covered(models)
+    assert magnus_applies(models)
     got = linear_block(models, speeds, settings, opts)
     assert got is not None
     ref_settings = dataclasses.replace(settings, method="DOP853", rtol=1e-11)
@@ -59,3 +62,27 @@ def test_block_matches_per_speed_dop853(name: str, method: str | None) -> None:
         for field in ("peak_force_ratio", "rms_dte", "ptp_dte", "mean_dte"):
             assert getattr(p, field) == pytest.approx(getattr(r, field), rel=tol), field
         assert p.spectral_radius == pytest.approx(r.spectral_radius, rel=1e-6)
+
+
+def _built(a1: float = 1e7, te_cos: float = 2e-6) -> list[SDOFModel]:
+    """The same linear model at two speeds, every part built afresh (new arrays, new objects)."""
+    k = FourierStiffness(1.2e8, np.array([a1, 2e6]), np.array([0.0, 1e6]))
+    te = HarmonicSignal(0.0, np.array([te_cos]), np.array([0.0]))
+    return [SDOFModel(0.5, k, 0.05, 1000.0, fm, transmission_error=te) for fm in (900.0, 2400.0)]
+
+
+def test_models_built_twice_take_the_block_path() -> None:
+    # two speeds whose stiffness and transmission error are equal but separate objects: the
+    # same model, so the Magnus block applies, and its orbit equals that of one shared model
+    # (the same arithmetic on equal values: rounding only)
+    a, b = _built()[0], _built()[1]
+    assert a.stiffness is not b.stiffness and a.transmission_error is not b.transmission_error
+    assert magnus_applies([a, b])
+    shared = _built()
+    y_sep, phi_sep = magnus_orbits([a, b], 16, 1e-8)
+    y_one, phi_one = magnus_orbits(shared, 16, 1e-8)
+    assert np.array_equal(y_sep, y_one) and np.array_equal(phi_sep, phi_one)
+    # a different stiffness or transmission error is not the same model
+    assert not magnus_applies([a, _built(a1=1.1e7)[1]])
+    assert not magnus_applies([a, _built(te_cos=3e-6)[1]])
+    assert not magnus_applies([a, dataclasses.replace(b, transmission_error=None)])
