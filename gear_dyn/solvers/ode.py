@@ -1,10 +1,11 @@
 """The solve_ivp driver: scipy's solve_ivp piece by piece between switching instants,
 restarted at contact changes, optionally with the variational equations.
 
-:func:`flow` is the one loop: the span is cut at ``model.switching_times`` and each piece is one
-:func:`scipy.integrate.solve_ivp` call; a model with contact changes (``model.contact_events()``: backlash) is also
-restarted at each of them (:mod:`gear_dyn.solvers.events`); ``variational=True`` carries
-``d y / d y0`` along (augmented state). :func:`integrate_ode` is that loop with a
+:func:`flow` is the one loop: the span is cut at ``model.switching_times`` and each piece is
+one :func:`scipy.integrate.solve_ivp` call; a model with contact changes
+(``model.contact_events()``: backlash) is also restarted at each of them
+(:mod:`gear_dyn.solvers.events`); ``variational=True`` carries ``d y / d y0`` along (augmented
+state). :func:`integrate_ode` is that loop with a
 :class:`~gear_dyn.solvers.settings.SolverSettings` (the methods RK45 ... LSODA of
 :func:`~gear_dyn.solvers.integrate`). The dense output's interpolation error is not controlled
 by solve_ivp, so there explicit Runge-Kutta steps are limited to ``omega_n h <= (pi / 4)
