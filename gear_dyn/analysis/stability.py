@@ -386,16 +386,16 @@ def integrate_with_sensitivity(model: MeshModel, y0: FloatArray, t1: float, rtol
 
 
 def shoot(model: MeshModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: int = 15,
-          periods: int = 1, route: str = "auto") -> PeriodicSolution:
+          periods: int = 1, route: str = "auto", tol: float | None = None) -> PeriodicSolution:
     """Periodic orbit by Newton's method on the one-period map (shooting).
 
     With ``periods = 2`` the map over two mesh periods: a period-2 (subharmonic) orbit, as
     found inside a parametric instability zone of a pair with backlash.
 
-    Converged when the closing error ``|P(y0) - y0|`` is below ``100 rtol`` times the larger of
-    the state scale and the state itself, component by component (the map is only known to
-    about ``rtol``). Gives up early when from the fourth iteration on the error no longer
-    halves (Newton is not converging from this guess).
+    Converged when the closing error ``|P(y0) - y0|`` is below ``tol`` (default ``100 rtol``)
+    times the larger of the state scale and the state itself, component by component (the map
+    is only known to about ``rtol``). Gives up early when from the fourth iteration on the
+    error no longer halves (Newton is not converging from this guess).
 
     Parameters
     ----------
@@ -412,6 +412,10 @@ def shoot(model: MeshModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: 
         How the one-period map and its Jacobian are computed
         (:func:`integrate_with_sensitivity`):
         ``auto`` (exact where it applies, else variational), ``exact`` or ``variational``.
+    tol : float or None
+        Relative closing error to stop at; None: ``100 rtol``. Each study's ``max_iter`` and
+        ``tol`` are a :class:`gear_dyn.analysis.newton.NewtonSettings` (its table gives the
+        defaults).
 
     Returns
     -------
@@ -433,12 +437,13 @@ def shoot(model: MeshModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: 
     phi = np.eye(n)
     res = math.inf
     it = 0
+    stop = 100 * rtol if tol is None else tol
     for it in range(1, max_iter + 1):
         yt, phi = integrate_with_sensitivity(model, y, period, rtol, route)
         r = yt - y
         ref = np.maximum(scale, np.abs(y))
         res_prev, res = res, float(np.max(np.abs(r) / ref))
-        if res <= 100 * rtol:
+        if res <= stop:
             mult = np.linalg.eigvals(phi).astype(np.complex128)
             return PeriodicSolution(y, period, phi, mult, True, it, "shooting", res)
         if it >= 4 and res > 0.5 * res_prev:

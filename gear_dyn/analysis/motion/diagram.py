@@ -33,6 +33,7 @@ from gear_dyn.analysis.motion.classify import (
 )
 from gear_dyn.analysis.motion.period import MAX_PERIOD
 from gear_dyn.analysis.motion.samples import stroboscopic
+from gear_dyn.analysis.newton import NewtonSettings
 from gear_dyn.analysis.threads import blas_limited
 from gear_dyn.errors import InputError, SolverError, check_range
 from gear_dyn.models.base import Model
@@ -67,6 +68,9 @@ class DiagramOptions:
         Mesh periods of each Lyapunov estimate where ``classify`` (20..1e6).
     rtol : float
         Relative tolerance where the exact flow does not apply (1e-13..1e-4).
+    newton : NewtonSettings
+        Shooting that confirms each period (default 15 iterations to 100 ``rtol``;
+        :func:`gear_dyn.analysis.motion.find_orbit`).
 
     Raises
     ------
@@ -93,6 +97,7 @@ class DiagramOptions:
     classify: bool = False
     lyapunov_periods: int = 200
     rtol: float = 1e-10
+    newton: NewtonSettings = NewtonSettings(max_iter=15)
 
     def __post_init__(self) -> None:
         check_range("settle", self.settle, "", low=0, high=1_000_000)
@@ -139,9 +144,9 @@ def _run_task(task: _Task) -> tuple[list[_Speed], FloatArray | None]:
         if opts.classify:
             motion: Motion | None = classify_samples(
                 model, strobe, opts.rtol, opts.lyapunov_periods,
-                max(10, opts.lyapunov_periods // 10))
+                max(10, opts.lyapunov_periods // 10), opts.newton)
         else:
-            motion, _iters = find_orbit(model, strobe, opts.rtol)
+            motion, _iters = find_orbit(model, strobe, opts.rtol, opts.newton)
         if motion is None:  # not classified, no orbit confirmed
             out.append((s, model.mesh_frequency, strobe, 0, "", nan, nan))
             y = strobe[-1]

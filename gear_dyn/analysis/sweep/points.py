@@ -170,7 +170,8 @@ def steady_point(model: Model, speed: float, settings: SolverSettings, opts: Swe
                             "periodic", 0), sol.y0
     guess = mesh.initial_state() if y_guess is None else np.asarray(y_guess, dtype=float)
     first = n_prev if 1 <= n_prev <= MAX_PERIOD else 1
-    sol = shoot(mesh, guess, settings.rtol, opts.max_newton, periods=first)
+    sol = shoot(mesh, guess, settings.rtol, opts.newton.max_iter, periods=first,
+                tol=opts.newton.tolerance)
     if sol.converged and sol.stable:
         return _orbit_point(mesh, speed, sol.y0, settings, opts, sol.spectral_radius, True,
                             orbit_status(first), sol.iterations, first), sol.y0
@@ -196,14 +197,15 @@ def _settle_and_shoot(model: MeshModel, speed: float, settings: SolverSettings,
         y_end = _flow(model, np.arange(n * spp + 1) / (fm * spp), loose, y_end)[:, -1]
         settled += n
         for per in (1, 2):
-            sol = shoot(model, y_end, settings.rtol, opts.max_newton, periods=per)
+            sol = shoot(model, y_end, settings.rtol, opts.newton.max_iter, periods=per,
+                        tol=opts.newton.tolerance)
             iters += sol.iterations
             if sol.converged and sol.spectral_radius <= 1.0 + UNIT_CIRCLE_TOL:
                 return _orbit_point(model, speed, sol.y0, settings, opts, sol.spectral_radius,
                                     True, orbit_status(per, continuing), iters, per), sol.y0
     motion = classify_motion(model, y_end, 0, CLASSIFY_SAMPLES, settings.rtol,
                              opts.lyapunov_periods, max(10, opts.lyapunov_periods // 10),
-                             opts.max_newton)
+                             opts.newton)
     iters += motion.shooting_iterations
     if motion.periodic:
         return _orbit_point(model, speed, motion.state, settings, opts, motion.spectral_radius,
