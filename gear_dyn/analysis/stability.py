@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, overload
 
 import numpy as np
 from numpy.typing import NDArray
@@ -31,6 +31,26 @@ ComplexArray = NDArray[np.complex128]
 #: systems have multipliers on the unit circle; rounding and the integrator's tolerance move them
 #: off it by far less than this.
 UNIT_CIRCLE_TOL = 1e-6
+
+
+@overload
+def floquet_stable(spectral_radius: float) -> bool: ...
+@overload
+def floquet_stable(spectral_radius: FloatArray) -> NDArray[np.bool_]: ...
+def floquet_stable(spectral_radius: float | FloatArray) -> bool | NDArray[np.bool_]:
+    """The stability rule of every orbit and every linear system here: all Floquet multipliers
+    inside the unit circle, i.e. the spectral radius ``rho = max |mu|`` at most
+    ``1 + UNIT_CIRCLE_TOL`` (a conservative system's multipliers on the circle count as
+    stable; NaN, no multipliers, is not stable). Vectorised: an array of radii gives an
+    array of verdicts.
+
+    Examples
+    --------
+    >>> floquet_stable(1.0 + 1e-9), floquet_stable(1.01), floquet_stable(float("nan"))
+    (True, False, False)
+    """
+    verdict = np.asarray(spectral_radius, dtype=float) <= 1.0 + UNIT_CIRCLE_TOL
+    return bool(verdict) if verdict.ndim == 0 else verdict
 
 
 @dataclass(frozen=True, eq=False)
@@ -73,8 +93,8 @@ class PeriodicSolution:
 
     @property
     def stable(self) -> bool:
-        """All multipliers inside the unit circle (up to :data:`UNIT_CIRCLE_TOL`)."""
-        return self.converged and self.spectral_radius <= 1.0 + UNIT_CIRCLE_TOL
+        """Converged, with all multipliers inside the unit circle (:func:`floquet_stable`)."""
+        return self.converged and floquet_stable(self.spectral_radius)
 
 
 def _require_sdof(model: Any) -> MeshModel:

@@ -53,6 +53,7 @@ from numpy.typing import NDArray
 from gear_dyn.analysis.chart import _expm2
 from gear_dyn.analysis.dynamic_factor import quasi_static_model_of, quasi_static_reference
 from gear_dyn.analysis.executor import check_workers, run_blocks, speed_blocks, task_map
+from gear_dyn.analysis.stability import floquet_stable
 from gear_dyn.analysis.sweep.batch import _cells
 from gear_dyn.errors import InputError, check_range
 from gear_dyn.excitation import HarmonicSignal
@@ -257,7 +258,7 @@ def sample_figures(model: MeshModel, coef: Coefficients, z1: int, z2: int, spp: 
     n1, n2 = o1.size, o2.size
     g = math.gcd(z1, z2)
     out: dict[str, FloatArray] = {"rho": np.full(coef.n, r.rho)}
-    if r.rho > 1.0 + 1e-6:  # no periodic response: the parametric instability of k(t)
+    if not floquet_stable(r.rho):  # no periodic response: the parametric instability of k(t)
         for name in ("peak_force", "min_force", "rms_dte", "mean_dte"):
             out[name] = np.full(coef.n, np.nan)
         return out

@@ -19,8 +19,6 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.analysis.stability import UNIT_CIRCLE_TOL
-
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
 
@@ -47,7 +45,8 @@ class OrbitPoint:
     multipliers : ndarray of complex (2,)
         Floquet multipliers of the n-period map.
     stable : bool
-        All multipliers inside the unit circle (up to ``UNIT_CIRCLE_TOL``).
+        All multipliers inside the unit circle
+        (:func:`gear_dyn.analysis.stability.floquet_stable`).
     liouville : float
         ``|det M / exp(-c n T / m_e) - 1|`` (-).
     liouville_ok : bool
@@ -116,11 +115,6 @@ class OrbitPoint:
             "arclength": self.arclength, "tangent_p": self.tangent_p,
             "iterations": self.iterations, "dp_error": self.dp_error,
         }
-
-
-def is_stable(multipliers: ComplexArray) -> bool:
-    """All multipliers inside the unit circle, up to :data:`.UNIT_CIRCLE_TOL`."""
-    return bool(np.max(np.abs(multipliers)) <= 1.0 + UNIT_CIRCLE_TOL)
 
 
 @dataclass(frozen=True, eq=False)

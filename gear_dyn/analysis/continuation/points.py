@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from gear_dyn.analysis.continuation.branch import OrbitPoint, is_stable
+from gear_dyn.analysis.continuation.branch import OrbitPoint
 from gear_dyn.analysis.continuation.orbit import OrbitShape, liouville_residual, orbit_shape
 from gear_dyn.analysis.continuation.settings import ContinuationSettings
 from gear_dyn.analysis.continuation.shooting import Evaluation, Shooting
+from gear_dyn.analysis.stability import floquet_stable
 
 
 def make_point(sh: Shooting, ev: Evaluation, settings: ContinuationSettings,
@@ -24,12 +25,13 @@ def make_point(sh: Shooting, ev: Evaluation, settings: ContinuationSettings,
     """
     y = sh.state(ev.z)
     mu = np.linalg.eigvals(ev.monodromy).astype(np.complex128)
+    rho = float(np.max(np.abs(mu)))
     liou = liouville_residual(ev.model, ev.monodromy, sh.periods)
     if shape is None:
         shape = orbit_shape(ev.model, y, sh.periods, sh.route, sh.rtol, ev.walked)
     return OrbitPoint(
         parameter=sh.param(ev.z), state=y, periods=sh.periods, multipliers=mu,
-        stable=is_stable(mu), liouville=liou, liouville_ok=liou <= settings.liouville_tol,
+        stable=floquet_stable(rho), liouville=liou, liouville_ok=liou <= settings.liouville_tol,
         residual=float(np.max(np.abs(ev.g))), pattern=shape.pattern,
         separation=shape.separation, back=shape.back, dte_rms=shape.dte_rms,
         dte_ptp=shape.dte_ptp, dte_mean=shape.dte_mean,

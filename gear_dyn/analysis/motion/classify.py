@@ -35,7 +35,7 @@ from gear_dyn.analysis.motion.lyapunov import LyapunovEstimate, largest_lyapunov
 from gear_dyn.analysis.motion.period import MAX_PERIOD, repeat_errors
 from gear_dyn.analysis.motion.samples import flow_periods, stroboscopic
 from gear_dyn.analysis.newton import NewtonSettings
-from gear_dyn.analysis.stability import UNIT_CIRCLE_TOL, PeriodicSolution, shoot
+from gear_dyn.analysis.stability import PeriodicSolution, shoot
 from gear_dyn.analysis.threads import blas_limited
 from gear_dyn.errors import check_range
 from gear_dyn.models.base import MeshModel
@@ -192,7 +192,7 @@ def confirm_period(model: MeshModel, y: FloatArray, n: int, rtol: float = 1e-10,
     """
     check_range("n", n, "", low=1, high=MAX_PERIOD)
     sol = shoot(model, y, rtol, newton.max_iter, periods=n, tol=newton.tolerance)
-    if not (sol.converged and sol.spectral_radius <= 1.0 + UNIT_CIRCLE_TOL):
+    if not sol.stable:
         return sol, 0
     least = n
     if n > 1:

@@ -12,8 +12,8 @@ from numpy.typing import NDArray
 from gear_dyn.analysis.motion.classify import Motion, classify_motion
 from gear_dyn.analysis.motion.period import MAX_PERIOD
 from gear_dyn.analysis.stability import (
-    UNIT_CIRCLE_TOL,
     floquet_multipliers,
+    floquet_stable,
     flow_on_grid,
     periodic_steady_state,
     shoot,
@@ -146,8 +146,8 @@ def _window_point(model: Model, speed: float, t: FloatArray, y: FloatArray, n_wi
     closing = np.abs(y[:, -1] - y[:, -1 - spp]) / np.maximum(scale, np.abs(y[:, -1]))
     periodic = bool(np.max(closing) <= 1e3 * settings.rtol)
     est = None if motion is None else motion.lyapunov
-    return Point(speed, model.mesh_frequency, df, rms, ptp, mean, rho, math.isfinite(rho) and
-                 rho <= 1.0, periodic, status, sep, back, iterations, spec, y[:, -1].copy(),
+    return Point(speed, model.mesh_frequency, df, rms, ptp, mean, rho, floquet_stable(rho),
+                 periodic, status, sep, back, iterations, spec, y[:, -1].copy(),
                  0, "" if motion is None else motion.label,
                  math.nan if est is None else est.value, math.nan if est is None else est.error)
 
@@ -200,7 +200,7 @@ def _settle_and_shoot(model: MeshModel, speed: float, settings: SolverSettings,
             sol = shoot(model, y_end, settings.rtol, opts.newton.max_iter, periods=per,
                         tol=opts.newton.tolerance)
             iters += sol.iterations
-            if sol.converged and sol.spectral_radius <= 1.0 + UNIT_CIRCLE_TOL:
+            if sol.stable:
                 return _orbit_point(model, speed, sol.y0, settings, opts, sol.spectral_radius,
                                     True, orbit_status(per, continuing), iters, per), sol.y0
     motion = classify_motion(model, y_end, 0, CLASSIFY_SAMPLES, settings.rtol,
@@ -226,7 +226,7 @@ def transient_point(model: Model, speed: float, settings: SolverSettings,
     if model.mesh_periodic and model.is_linear:
         assert isinstance(model, MeshModel)
         rho = float(np.max(np.abs(floquet_multipliers(model, settings.rtol))))
-        if rho > 1.0 + UNIT_CIRCLE_TOL:
+        if not floquet_stable(rho):
             return _nan_point(model, speed, rho, "unstable", opts), None
         y_guess = None  # linear: every speed from the static state, as run_scene
     spp = settings.samples_per_period
