@@ -53,18 +53,43 @@ def floquet_stable(spectral_radius: float | FloatArray) -> bool | NDArray[np.boo
     return bool(verdict) if verdict.ndim == 0 else verdict
 
 
-@dataclass(frozen=True, eq=False)
-class PeriodicSolution:
-    """A periodic orbit of a mesh model and its Floquet multipliers.
+@dataclass(frozen=True)
+class OrbitShape:
+    """What an orbit looks like over its n mesh periods (part of :class:`PeriodicSolution`).
 
     Attributes
+    ----------
+    pattern : str
+        Contact pattern in time order from t = 0, one letter per spell (``D`` drive flank,
+        ``G`` gap, ``B`` back flank), e.g. ``DGD``.
+    separation, back : float
+        Shares of the n periods with the teeth apart and on the back flank (-).
+    dte_rms, dte_ptp, dte_mean : float
+        Standard deviation, peak-to-peak and mean of the DTE over the orbit (m).
+    """
+
+    pattern: str
+    separation: float
+    back: float
+    dte_rms: float
+    dte_ptp: float
+    dte_mean: float
+
+
+@dataclass(frozen=True, eq=False)
+class PeriodicSolution:
+    """A periodic orbit of a mesh model: the one orbit type of shooting, sweeps, continuation
+    (:class:`~gear_dyn.analysis.continuation.branch.OrbitPoint` adds a branch's data to one)
+    and motion classification (:class:`~gear_dyn.analysis.motion.classify.Motion` holds one).
+
+    Parameters
     ----------
     y0 : ndarray
         State on the orbit at t = 0 (mesh phase ``model.phase0``), SI units.
     period : float
-        Mesh period T = 1/f_m in s.
+        Period of the orbit in s: ``periods`` mesh periods, ``periods / f_m``.
     monodromy : ndarray (n, n)
-        d y(T) / d y(0) along the orbit.
+        d y(period) / d y(0) along the orbit.
     multipliers : ndarray of complex
         Floquet multipliers (eigenvalues of the monodromy matrix).
     converged : bool
@@ -72,9 +97,25 @@ class PeriodicSolution:
     iterations : int
         Newton iterations (0 for linear models: one direct solve).
     how : str
-        ``expm`` (exact product), ``variational`` (solve_ivp over one period) or ``shooting``.
+        ``expm`` (exact product), ``variational`` (solve_ivp over one period), ``shooting``
+        or ``continuation`` (a corrector's point).
     residual : float
-        Final relative closing error ``max_i |P(y0)_i - y0_i| / scale_i`` (0 for linear models).
+        Final closing error: relative, ``max_i |P(y0)_i - y0_i| / scale_i``, for shooting
+        (0 for linear models); the scaled residual of the shooting equations for
+        ``continuation``.
+    periods : int
+        Mesh periods n of the orbit (period-n).
+    shape : OrbitShape or None
+        Contact pattern, contact shares and DTE measures over the orbit, where computed.
+
+    Attributes
+    ----------
+    spectral_radius : float
+        Largest multiplier modulus.
+    stable : bool
+        Converged and :func:`floquet_stable`.
+    separation, back : float
+        Contact shares of ``shape`` (NaN without one).
     """
 
     y0: FloatArray
@@ -85,11 +126,23 @@ class PeriodicSolution:
     iterations: int
     how: str
     residual: float = 0.0
+    periods: int = 1
+    shape: OrbitShape | None = None
 
     @property
     def spectral_radius(self) -> float:
         """Largest Floquet multiplier modulus."""
         return float(np.max(np.abs(self.multipliers)))
+
+    @property
+    def separation(self) -> float:
+        """Share of the orbit with the teeth apart (NaN where no ``shape`` was computed)."""
+        return math.nan if self.shape is None else self.shape.separation
+
+    @property
+    def back(self) -> float:
+        """Share of the orbit on the back flank (NaN where no ``shape`` was computed)."""
+        return math.nan if self.shape is None else self.shape.back
 
     @property
     def stable(self) -> bool:
@@ -465,7 +518,7 @@ def shoot(model: MeshModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: 
         res_prev, res = res, float(np.max(np.abs(r) / ref))
         if res <= stop:
             mult = np.linalg.eigvals(phi).astype(np.complex128)
-            return PeriodicSolution(y, period, phi, mult, True, it, "shooting", res)
+            return PeriodicSolution(y, period, phi, mult, True, it, "shooting", res, int(periods))
         if it >= 4 and res > 0.5 * res_prev:
             break  # no Newton convergence: the guess is outside the orbit's basin of Newton
         try:
@@ -478,4 +531,4 @@ def shoot(model: MeshModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: 
         if not np.all(np.isfinite(y)):
             break
     mult = np.linalg.eigvals(phi).astype(np.complex128)
-    return PeriodicSolution(y, period, phi, mult, False, it, "shooting", res)
+    return PeriodicSolution(y, period, phi, mult, False, it, "shooting", res, int(periods))

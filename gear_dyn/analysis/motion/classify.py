@@ -26,7 +26,7 @@ From the stroboscopic samples (one per mesh period after settling,
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -78,8 +78,6 @@ class Motion:
     ----------
     kind : str
         One of :data:`~gear_dyn.analysis.motion.classify.KINDS`.
-    period : int
-        Least period in mesh periods of a confirmed orbit (``kind == "periodic"``), else 0.
     label : str
         ``period-4``, ``quasi-periodic``, ``chaotic, lambda = 2054 +- 98 1/s`` ...
     state : ndarray
@@ -87,8 +85,8 @@ class Motion:
         SI units.
     samples : ndarray (n_samples, n_states)
         The stroboscopic samples classified, SI units.
-    multipliers : ndarray of complex
-        Floquet multipliers of the orbit over its ``period`` mesh periods (empty if none).
+    orbit : PeriodicSolution or None
+        The confirmed orbit over its least period (``kind == "periodic"``), else None.
     lyapunov : LyapunovEstimate or None
         Computed where no orbit was confirmed.
     repeat_error : ndarray
@@ -101,6 +99,10 @@ class Motion:
     ----------
     periodic : bool
         A stable orbit of ``period`` mesh periods was confirmed by shooting.
+    period : int
+        Least period in mesh periods of the confirmed orbit, else 0.
+    multipliers : ndarray of complex
+        Floquet multipliers of the orbit over its ``period`` mesh periods (empty if none).
     spectral_radius : float
         Largest multiplier modulus of the orbit (NaN without an orbit).
 
@@ -120,11 +122,10 @@ class Motion:
     """
 
     kind: str
-    period: int
     label: str
     state: FloatArray
     samples: FloatArray
-    multipliers: ComplexArray = field(default_factory=lambda: np.zeros(0, complex))
+    orbit: PeriodicSolution | None = None
     lyapunov: LyapunovEstimate | None = None
     repeat_error: FloatArray = field(default_factory=lambda: np.zeros(0))
     shooting_iterations: int = 0
@@ -135,9 +136,19 @@ class Motion:
         return self.kind == "periodic"
 
     @property
+    def period(self) -> int:
+        """Least period in mesh periods of the confirmed orbit, else 0."""
+        return 0 if self.orbit is None else self.orbit.periods
+
+    @property
+    def multipliers(self) -> ComplexArray:
+        """Floquet multipliers of the orbit over its ``period`` mesh periods (empty if none)."""
+        return np.zeros(0, complex) if self.orbit is None else self.orbit.multipliers
+
+    @property
     def spectral_radius(self) -> float:
         """Largest multiplier modulus of the orbit (NaN without an orbit)."""
-        return float(np.max(np.abs(self.multipliers))) if self.multipliers.size else math.nan
+        return math.nan if self.orbit is None else self.orbit.spectral_radius
 
     def __repr__(self) -> str:
         return f"Motion({self.label})"
@@ -239,7 +250,7 @@ def classify_samples(model: MeshModel, samples: FloatArray, rtol: float = 1e-10,
     samples = np.asarray(samples, dtype=float)
     scale = np.asarray(model.state_scale, dtype=float)
     if not np.all(np.isfinite(samples)) or np.max(np.abs(samples) / scale) > UNBOUNDED:
-        return Motion("unbounded", 0, "unbounded", samples[-1].copy(), samples)
+        return Motion("unbounded", "unbounded", samples[-1].copy(), samples)
     found, iters = find_orbit(model, samples, rtol, newton)
     if found is not None:
         return found
@@ -284,7 +295,7 @@ def classify_samples(model: MeshModel, samples: FloatArray, rtol: float = 1e-10,
         label = f"undetermined (exponent not resolved: run longer), {lyapunov_label(est)}"
     else:
         label = f"{kind}, {lyapunov_label(est)}"
-    return Motion(kind, 0, label, est.y_end.copy(), samples, np.zeros(0, complex), est,
+    return Motion(kind, label, est.y_end.copy(), samples, None, est,
                   repeat_errors(samples, scale), iters)
 
 
@@ -320,10 +331,11 @@ def find_orbit(model: MeshModel, samples: FloatArray, rtol: float = 1e-10,
         sol, least = confirm_period(model, samples[-1], n, rtol, newton)
         iters += sol.iterations
         if least:
-            # the multipliers over the least period
-            mult = (sol.multipliers if least == n
-                    else shoot(model, sol.y0, rtol, 3, periods=least).multipliers)
-            return Motion("periodic", least, f"period-{least}", sol.y0.copy(), samples, mult,
+            # the orbit over its least period: the state confirmed, the least period's
+            # multipliers
+            orbit = (sol if least == n
+                     else replace(shoot(model, sol.y0, rtol, 3, periods=least), y0=sol.y0))
+            return Motion("periodic", f"period-{least}", sol.y0.copy(), samples, orbit,
                           None, err, iters), iters
     return None, iters
 
