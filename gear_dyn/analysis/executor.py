@@ -22,6 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.errors import InputError, SolverError, check_range
+from gear_dyn.geometry import check_speed
 
 #: ``map(fn, tasks)``: the builtin or an executor's
 MapFn = Callable[[Callable[[Any], Any], Iterable[Any]], Iterator[Any]]
@@ -108,6 +109,28 @@ def task_map(workers: int | None = None, executor: cf.Executor | None = None
         raise
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
+
+
+def check_speeds(speeds: Any, what: str) -> NDArray[np.float64]:
+    """The speeds of a scan in rad/s, sorted, duplicates removed, each in the one speed range
+    (:func:`gear_dyn.geometry.check_speed`); ``what`` names the scan in the message.
+
+    Raises
+    ------
+    InputError
+        No speeds, or one out of range.
+
+    Examples
+    --------
+    >>> check_speeds([400.0, 300.0, 400.0], "sweep")
+    array([300., 400.])
+    """
+    sp = np.unique(np.asarray(speeds, dtype=float))
+    if sp.size < 1:
+        raise InputError(f"{what}: no speeds given")
+    for s in (sp[0], sp[-1]):
+        check_speed(float(s))
+    return sp
 
 
 def speed_blocks(speeds: NDArray[np.float64], directions: Sequence[str], size: int

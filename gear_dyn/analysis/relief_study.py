@@ -20,8 +20,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from gear_dyn.analysis.sweep import sweep
 from gear_dyn.errors import InputError, check_range
-from gear_dyn.geometry import GearPair, teeth_mesh_frequency
-from gear_dyn.models.base import Model
+from gear_dyn.geometry import GearPair, check_speed
+from gear_dyn.models.base import Model, at_speed
 from gear_dyn.models.relief import slice_sdof
 from gear_dyn.modification.analysis import ReliefDynamics, ReliefStudy, slice_cases
 from gear_dyn.modification.lead import FlankModification
@@ -40,7 +40,7 @@ class _AtSpeed:
     z1: int
 
     def __call__(self, speed: float) -> Model:
-        other = self.model.at_mesh_frequency(teeth_mesh_frequency(self.z1, speed))
+        other = at_speed(self.model, self.z1, speed)
         if other is None:  # not reached for the single-DOF model; a clear error if it were
             raise InputError("relief study: the design's model cannot change speed alone")
         return other
@@ -114,7 +114,7 @@ def relief_study(pair: GearPair, torques: ArrayLike,
     if sp.size < 1:
         raise InputError("relief study: speeds is empty (give at least one speed in rad/s)")
     for s in (sp.min(), sp.max()):
-        check_range("speeds", float(s), "rad/s", low=0.0, high=1e5, low_open=True)
+        check_speed(float(s), "speeds")
     t_dyn = float(t.max()) if torque is None else float(torque)
     check_range("torque", t_dyn, "N m", low=0.0, low_open=True)
     peak, ptp, status = [], [], []

@@ -52,7 +52,13 @@ from numpy.typing import NDArray
 
 from gear_dyn.analysis.chart import _expm2
 from gear_dyn.analysis.dynamic_factor import quasi_static_model_of, quasi_static_reference
-from gear_dyn.analysis.executor import check_workers, run_blocks, speed_blocks, task_map
+from gear_dyn.analysis.executor import (
+    check_speeds,
+    check_workers,
+    run_blocks,
+    speed_blocks,
+    task_map,
+)
 from gear_dyn.analysis.stability import floquet_stable
 from gear_dyn.analysis.sweep.batch import _cells
 from gear_dyn.errors import InputError, check_range
@@ -513,11 +519,7 @@ def tolerance_study(
     z1, z2 = samples[0].z1, samples[0].z2
     if any((d.z1, d.z2) != (z1, z2) for d in samples):
         raise InputError("tolerance study: samples of different tooth counts")
-    sp = np.unique(np.asarray(speeds, dtype=float))
-    if sp.size < 1:
-        raise InputError("tolerance study: no speeds given")
-    for s in (sp[0], sp[-1]):
-        check_range("speed", s, "rad/s", low=0.0, high=1e5, low_open=True)
+    sp = check_speeds(speeds, "tolerance study")
     settings = settings or SolverSettings()
     spp = int(samples_per_period or settings.samples_per_period)
     check_range("samples_per_period", spp, "", low=4, high=4096)

@@ -42,6 +42,8 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import NDArray
 
+from gear_dyn.geometry import check_speed, teeth_mesh_frequency
+
 FloatArray = NDArray[np.float64]
 EventFn = Callable[[float, FloatArray], float]
 Segment = tuple[float, float, FloatArray, FloatArray]
@@ -163,3 +165,26 @@ class ModelDefaults:
     def summary_info(self) -> dict[str, Any]:
         """No model constants to report."""
         return {}
+
+
+def at_speed(model: Model, teeth: int, speed: float) -> Model | None:
+    """The one rule for a model at another pinion speed: ``speed`` in rad/s checked
+    (:func:`gear_dyn.geometry.check_speed`), its mesh frequency ``f_m = z1 w / (2 pi)``
+    (:func:`gear_dyn.geometry.teeth_mesh_frequency`, ``teeth`` = z1) and
+    ``model.at_mesh_frequency(f_m)``: None where more than f_m depends on speed and the model
+    has to be rebuilt from its parameters (:class:`gear_dyn.scene.sweep.SceneModels` rebuilds
+    the scene's).
+
+    Raises
+    ------
+    InputError
+        A speed out of range.
+
+    Examples
+    --------
+    >>> from gear_dyn import SDOFModel, rectangular_stiffness
+    >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+    >>> round(at_speed(m, 20, 100.0).mesh_frequency, 6)  # 20 * 100 / (2 pi) Hz
+    318.309886
+    """
+    return model.at_mesh_frequency(teeth_mesh_frequency(teeth, check_speed(speed)))

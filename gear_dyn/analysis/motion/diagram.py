@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.analysis.executor import run_blocks, speed_blocks, task_map
+from gear_dyn.analysis.executor import check_speeds, run_blocks, speed_blocks, task_map
 from gear_dyn.analysis.motion.classify import (
     UNBOUNDED,
     Motion,
@@ -494,11 +494,7 @@ def bifurcation_diagram(
     if direction not in ("both", "up", "down"):
         raise InputError(f"direction = {direction!r}: valid choices are both, up, down")
     size = BLOCK if block is None else int(check_range("block", block, "", low=1, high=10_000))
-    sp = np.unique(np.asarray(speeds, dtype=float))
-    if sp.size < 1:
-        raise InputError("bifurcation_diagram: no speeds given")
-    for s in (sp[0], sp[-1]):
-        check_range("speed", s, "rad/s", low=0.0, high=1e5, low_open=True)
+    sp = check_speeds(speeds, "bifurcation_diagram")
     model = factory(float(sp[0]))
     if not model.mesh_periodic:
         raise InputError(f"a bifurcation diagram needs the single-DOF mesh model; this model is "

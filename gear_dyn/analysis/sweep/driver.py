@@ -18,7 +18,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.analysis.dynamic_factor import quasi_static_model_of, quasi_static_reference
-from gear_dyn.analysis.executor import check_workers, run_blocks, speed_blocks, task_map
+from gear_dyn.analysis.executor import (
+    check_speeds,
+    check_workers,
+    run_blocks,
+    speed_blocks,
+    task_map,
+)
 from gear_dyn.analysis.sweep.batch import linear_block
 from gear_dyn.analysis.sweep.orbit_jumps import find_jumps
 from gear_dyn.analysis.sweep.points import steady_point, transient_point
@@ -99,12 +105,7 @@ def _checked(speeds: Sequence[float] | FloatArray, direction: str, block: int | 
     if block is not None:
         check_range("block", block, "", low=1, high=10_000)
     check_workers(workers, executor)
-    sp = np.unique(np.asarray(speeds, dtype=float))
-    if sp.size < 1:
-        raise InputError("sweep: no speeds given")
-    for s in (sp[0], sp[-1]):
-        check_range("speed", s, "rad/s", low=0.0, high=1e5, low_open=True)
-    return sp
+    return check_speeds(speeds, "sweep")
 
 
 def _block_size(block: int | None, n: int, nonlinear: bool) -> int:
