@@ -53,6 +53,7 @@ from numpy.typing import NDArray
 from gear_dyn.analysis.chart import _expm2
 from gear_dyn.analysis.dynamic_factor import quasi_static_model_of, quasi_static_reference
 from gear_dyn.analysis.executor import (
+    SpeedBlock,
     check_speeds,
     check_workers,
     run_blocks,
@@ -292,21 +293,22 @@ def sample_figures(model: MeshModel, coef: Coefficients, z1: int, z2: int, spp: 
 
 
 @dataclass(frozen=True)
-class _Task:
+class _Job:
+    """What the study does at each speed (the job of its :class:`.executor.SpeedBlock`)."""
+
     factory: ModelFactory
     coef: Coefficients
     z1: int
     z2: int
     spp: int
-    speeds: tuple[float, ...]
 
 
-def _run_task(task: _Task) -> tuple[list[dict[str, FloatArray]], None]:
+def _run_task(task: SpeedBlock[_Job]) -> tuple[list[dict[str, FloatArray]], None]:
     """One block of speeds, every sample (the worker function; picklable)."""
-    out = []
+    job, out = task.job, []
     for s in task.speeds:
-        model = cast(MeshModel, _bare(task.factory(s)))
-        out.append(sample_figures(model, task.coef, task.z1, task.z2, task.spp))
+        model = cast(MeshModel, _bare(job.factory(s)))
+        out.append(sample_figures(model, job.coef, job.z1, job.z2, job.spp))
     return out, None
 
 
@@ -536,12 +538,10 @@ def tolerance_study(
     zero = coef.without_deviations(base_te)
     blocks = speed_blocks(sp, ("up",), BLOCK)
     with task_map(workers, executor) as (run_map, label):
-        done = run_blocks(run_map, _run_task, blocks,
-                          lambda blk, _s: _Task(factory, coef, z1, z2, spp, blk), None,
+        done = run_blocks(run_map, _run_task, blocks, _Job(factory, coef, z1, z2, spp), None,
                           chained=False)["up"]
-        base_done = run_blocks(run_map, _run_task, blocks,
-                               lambda blk, _s: _Task(factory, zero, z1, z2, spp, blk), None,
-                               chained=False)["up"]
+        base_done = run_blocks(run_map, _run_task, blocks, _Job(factory, zero, z1, z2, spp),
+                               None, chained=False)["up"]
     qs_model = quasi_static_model_of(factory, float(sp[0]), model0)
     if qs_model is None:
         raise InputError("tolerance study: the model states no natural frequency (K_dyn needs "

@@ -24,7 +24,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.analysis.executor import check_speeds, run_blocks, speed_blocks, task_map
+from gear_dyn.analysis.executor import (
+    SpeedBlock,
+    check_speeds,
+    run_blocks,
+    speed_blocks,
+    task_map,
+)
 from gear_dyn.analysis.motion.classify import (
     UNBOUNDED,
     Motion,
@@ -112,20 +118,20 @@ _Speed = tuple[float, float, FloatArray, int, str, float, float]
 
 
 @dataclass(frozen=True)
-class _Task:
+class _Job:
+    """What a diagram does at each speed (the job of its :class:`.executor.SpeedBlock`)."""
+
     factory: ModelFactory
     options: DiagramOptions
-    speeds: tuple[float, ...]
-    y_start: FloatArray | None
 
 
 @blas_limited
-def _run_task(task: _Task) -> tuple[list[_Speed], FloatArray | None]:
+def _run_task(task: SpeedBlock[_Job]) -> tuple[list[_Speed], FloatArray | None]:
     """Evaluate a block of speeds in order, each from the previous speed's final state."""
-    opts, y = task.options, task.y_start
+    opts, y = task.job.options, task.start
     out = []
     for s in task.speeds:
-        model: Any = task.factory(s)
+        model: Any = task.job.factory(s)
         y0 = model.initial_state() if y is None else y
         nan = math.nan
         try:
@@ -502,9 +508,8 @@ def bifurcation_diagram(
     start = time.perf_counter()
     dirs = ("up", "down") if direction == "both" else (direction,)
     with task_map(workers, executor) as (run_map, label):
-        pts = run_blocks(run_map, _run_task, speed_blocks(sp, dirs, size),
-                         lambda speeds, y: _Task(factory, opts, speeds, y), None,
-                         progress=progress)
+        pts = run_blocks(run_map, _run_task, speed_blocks(sp, dirs, size), _Job(factory, opts),
+                         None, progress=progress)
     fn = model.natural_frequency
     return BifurcationDiagram(
         scene_name=name, curves=tuple(DiagramCurve.from_speeds(d, pts[d]) for d in dirs),
