@@ -48,6 +48,7 @@ class NewtonSettings:
     ``SweepOptions.newton`` (each speed of a sweep)             12        100 rtol
     ``DiagramOptions.newton`` (each speed of a diagram)         15        100 rtol
     ``classify_motion``, ``shoot``, ``periodic_steady_state``   15        100 rtol
+    ``classify.LEAST_PERIOD_NEWTON`` (an orbit's least period)  3         100 rtol
     ``study.orbit_check`` (the check of ``gear-dyn run``)       12        100 rtol
     ==========================================================  ========  =========
 

@@ -7,8 +7,9 @@ import numpy as np
 import pytest
 
 from gear_dyn import InputError, SDOFModel, rectangular_stiffness
+from gear_dyn.analysis import study
 from gear_dyn.analysis.continuation import ContinuationSettings
-from gear_dyn.analysis.motion import DiagramOptions
+from gear_dyn.analysis.motion import DiagramOptions, classify
 from gear_dyn.analysis.newton import NewtonSettings
 from gear_dyn.analysis.stability import shoot
 from gear_dyn.analysis.sweep import SweepOptions
@@ -21,6 +22,8 @@ def test_each_study_keeps_its_documented_default() -> None:
     assert (c.start_newton.max_iter, c.start_newton.tolerance) == (30, None)
     assert (SweepOptions().newton.max_iter, SweepOptions().newton.tolerance) == (12, None)
     assert (DiagramOptions().newton.max_iter, DiagramOptions().newton.tolerance) == (15, None)
+    assert (classify.NEWTON.max_iter, classify.LEAST_PERIOD_NEWTON.max_iter) == (15, 3)
+    assert study.ORBIT_NEWTON.max_iter == 12
 
 
 def test_bad_settings_are_refused_with_the_field_name() -> None:

@@ -46,6 +46,9 @@ ComplexArray = NDArray[np.complex128]
 #: shooting of each period tried, unless the caller gives its own (15 iterations to 100 rtol;
 #: the table of :class:`~gear_dyn.analysis.newton.NewtonSettings`)
 NEWTON = NewtonSettings()
+#: shooting over the least period d from a confirmed n-period orbit (already closed to 1e3 rtol
+#: after d periods), for the multipliers over d periods
+LEAST_PERIOD_NEWTON = NewtonSettings(max_iter=3)
 #: kinds of motion
 KINDS = ("periodic", "quasi-periodic", "chaotic", "not settled", "undetermined", "unbounded")
 #: a Lyapunov exponent within this many standard errors of zero counts as zero ...
@@ -334,7 +337,9 @@ def find_orbit(model: MeshModel, samples: FloatArray, rtol: float = 1e-10,
             # the orbit over its least period: the state confirmed, the least period's
             # multipliers
             orbit = (sol if least == n
-                     else replace(shoot(model, sol.y0, rtol, 3, periods=least), y0=sol.y0))
+                     else replace(shoot(model, sol.y0, rtol, LEAST_PERIOD_NEWTON.max_iter,
+                                        periods=least, tol=LEAST_PERIOD_NEWTON.tolerance),
+                                  y0=sol.y0))
             return Motion("periodic", f"period-{least}", sol.y0.copy(), samples, orbit,
                           None, err, iters), iters
     return None, iters
