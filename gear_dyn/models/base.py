@@ -37,12 +37,14 @@ Dynamics
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import fields, is_dataclass, replace
 from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.geometry import check_speed, teeth_mesh_frequency
+from gear_dyn.errors import InputError
+from gear_dyn.geometry import check_speed, check_torque, teeth_mesh_frequency
 
 FloatArray = NDArray[np.float64]
 EventFn = Callable[[float, FloatArray], float]
@@ -188,3 +190,34 @@ def at_speed(model: Model, teeth: int, speed: float) -> Model | None:
     318.309886
     """
     return model.at_mesh_frequency(teeth_mesh_frequency(teeth, check_speed(speed)))
+
+
+def at_torque(model: Any, torque: float, reference_load: float,
+              reference_torque: float = 1.0) -> Any:
+    """The one rule for a model at another pinion torque: ``torque`` in N m checked
+    (:func:`gear_dyn.geometry.check_torque`) and the static load, proportional to the torque,
+    ``W = reference_load * torque / reference_torque`` in N (W = T / r_b1: ``reference_load``
+    ``1 / r_b1`` per N m, or the load ``W_ref`` at ``reference_torque`` T_ref), set on the
+    model, whose other fields are kept (only W depends on torque in the single-DOF model: its
+    stiffness is the model's own).
+
+    Raises
+    ------
+    InputError
+        A torque out of range, or a model without a ``static_load`` field (only the
+        single-DOF mesh model changes torque alone; rebuild others from the scene).
+
+    Examples
+    --------
+    >>> from gear_dyn import SDOFModel, rectangular_stiffness
+    >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+    >>> at_torque(m, 120.0, 500.0, 20.0).static_load  # 500 N at 20 N m: 3000 N at 120 N m
+    3000.0
+    """
+    check_torque(torque)
+    if (isinstance(model, type) or not is_dataclass(model)
+            or "static_load" not in {f.name for f in fields(model)}):
+        raise InputError(f"a model at another torque needs a static_load field (the "
+                         f"single-DOF mesh model); got {type(model).__name__}")
+    same: Any = model  # (is_dataclass narrows ``model`` to a class or an instance)
+    return replace(same, static_load=reference_load * torque / reference_torque)

@@ -50,3 +50,23 @@ def test_every_scan_refuses_a_speed_out_of_range_alike(bad: float) -> None:
             call()
     with pytest.raises(InputError, match="scan: no speeds given"):
         check_speeds([], "scan")
+
+
+def test_model_at_torque_equals_the_pair_built_at_that_torque() -> None:
+    """sdof_family over torque and the speed-torque family against sdof_from_pair (W = T / r_b1)
+    at the same torque."""
+    from gear_dyn import GearPair, rectangular_stiffness, sdof_from_pair
+    from gear_dyn.analysis.continuation import SpeedTorqueFamily
+
+    pair = GearPair(19, 48, 3.2e-3, math.radians(20), 16e-3)
+    k = rectangular_stiffness(pair.total_contact_ratio, 2e8, 3e8)
+    ref = sdof_from_pair(pair, 300.0, 100.0, k)
+    built = sdof_from_pair(pair, 300.0, 250.0, k)
+    by_torque = sdof_family(ref, "torque", base_radius=pair.rb1)(250.0)
+    speeds = sdof_family(ref, "speed", teeth=pair.z1)
+    both = SpeedTorqueFamily(speeds, torque_ref=100.0)(300.0, 250.0)
+    for m in (by_torque, both):
+        assert m.static_load == pytest.approx(built.static_load, rel=1e-15)
+        assert m.mesh_frequency == pytest.approx(built.mesh_frequency, rel=1e-15)
+    with pytest.raises(InputError, match="torque = -1 N\\*m is out of range"):
+        SpeedTorqueFamily(speeds, torque_ref=100.0)(300.0, -1.0)

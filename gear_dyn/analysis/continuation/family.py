@@ -13,8 +13,7 @@ from dataclasses import dataclass, replace
 from typing import Any, cast
 
 from gear_dyn.errors import InputError, check_range
-from gear_dyn.geometry import check_torque
-from gear_dyn.models.base import MeshModel, at_speed
+from gear_dyn.models.base import MeshModel, at_speed, at_torque
 
 #: parameters :func:`sdof_family` varies, and their SI units
 PARAMETERS: dict[str, str] = {
@@ -40,9 +39,8 @@ class SDOFFamily:
                 raise InputError(f"sdof_family: a {type(self.model).__name__} cannot change "
                                  "speed alone; use the scene's model factory")
             return cast(MeshModel, model)
-        if self.parameter == "torque":
-            check_torque(value)
-            return replace(self.model, static_load=self.factor * value)
+        if self.parameter == "torque":  # the one rule of the model at a torque
+            return cast(MeshModel, at_torque(self.model, value, self.factor))
         if self.parameter == "damping_ratio":
             return replace(self.model, damping_ratio=value)
         return replace(self.model, backlash=value)

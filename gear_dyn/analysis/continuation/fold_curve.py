@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, fields, is_dataclass, replace
+from dataclasses import dataclass
 from functools import partial
 from typing import Any
 
@@ -28,7 +28,7 @@ from gear_dyn.analysis.continuation.settings import ContinuationSettings
 from gear_dyn.analysis.threads import blas_limited
 from gear_dyn.errors import InputError, check_range
 from gear_dyn.geometry import check_speed, check_torque
-from gear_dyn.models.base import Model
+from gear_dyn.models.base import Model, at_torque
 
 #: a fold pair as (low speed, high speed, low error, high error) in rad/s, and the stability
 #: before and after the low and the high fold along the branch
@@ -111,12 +111,9 @@ class SpeedTorqueFamily:
         InputError
             A torque out of 0..1e8 N m, or a model without a ``static_load`` field.
         """
-        check_torque(torque)
+        check_torque(torque)  # before the model is built
         model = self.speed_family(speed)
-        if not (is_dataclass(model) and "static_load" in {f.name for f in fields(model)}):
-            raise InputError(f"a torque family needs a model with a static_load field (the "
-                             f"single-DOF mesh model); got {type(model).__name__}")
-        return replace(model, static_load=model.static_load * torque / self.reference)
+        return at_torque(model, torque, getattr(model, "static_load", math.nan), self.reference)
 
     def at_torque(self, torque: float) -> Callable[[float], Any]:
         """The speed family ``speed (rad/s) -> model`` at ``torque`` (N m; picklable).
