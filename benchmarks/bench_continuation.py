@@ -15,7 +15,7 @@ interleaved per repeat:
    jumping at folds);
 3. brute force: at every 5th of those speeds, iterate the exact flow one mesh period at a
    time from the previous speed's state until the orbit closes to the continuation's
-   tolerance (``|P(y) - y| <= newton_tol`` in scaled units, the continuation's accuracy);
+   tolerance (``|P(y) - y| <= newton.tolerance`` in scaled units, the continuation's accuracy);
    time per speed, with the mesh periods it needed.
 
 The model (scene plan, pint) is built before timing. Writes ``continuation.md`` into ``--out``
