@@ -28,8 +28,9 @@ typedef struct {                 /* one piece at constant inputs */
 
 /* e, de/dp, k, phi1, phi2 at phase p of the contact-line form: the kinematic series (cos k th,
  * sin k th by rotation) and the overlap of each contact line with the field of contact, split
- * at the pitch line (gear_dyn.eccentricity.friction.line_state_scalar) */
-static void lines_eval(const gd_lines *g, double p, double v[NQ])
+ * at the pitch line (gear_dyn.eccentricity.friction.line_state_scalar); the drivetrain
+ * interface (gd_drive.c) evaluates the same */
+void gd_lines_eval(const gd_lines *g, double p, double v[NQ])
 {
     double th = 2.0 * PI * p / g->period, c1 = cos(th), s1 = sin(th), ck = 1.0, sk = 0.0;
     double kin[GD_NKIN] = {0.0}, rate = 0.0, travel, d, total = 0.0, t1 = 0.0, t2 = 0.0;
@@ -93,7 +94,7 @@ static void tcoef(const tctx *q, double t, double v[NQ])
     double p = q->p0 + q->fm * (t - q->t0), s;
     const double *c = q->c;
     if (q->m->tors->lines) {
-        lines_eval(q->m->tors->lines, p, v);
+        gd_lines_eval(q->m->tors->lines, p, v);
         return;
     }
     s = (2.0 * p - q->a - q->b) / (q->b - q->a);
