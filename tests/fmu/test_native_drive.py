@@ -63,6 +63,7 @@ def fmus(tmp_path_factory: pytest.TempPathFactory):
 
 @pytest.fixture(scope="module")
 def drives(fmus) -> dict[str, object]:
+    """The drivetrain FMUs of :data:`BUILDS`, by scene."""
     return {s: fmus(s, fmi) for s, fmi in BUILDS}
 
 
@@ -294,8 +295,8 @@ SPEED_CHAIN = CHAIN[2:4] + CHAIN[5:]
 CHAIN_OUT = ["pinion.angle", "gear.angle", "pinion.speed", "mesh_force", "dte", "gear.speed",
              "pinion.torque", "gear.torque"]
 #: communication steps per mesh cycle of a chain over an eccentric pair's hunting period (630
-#: mesh cycles): its shafts' modes (70 Hz at most) and the mesh cycle's sampling (the force's
-#: mean) need no more; a quarter of the steps of the others
+#: mesh cycles): its shafts' modes (near 70 Hz) and the sampling of the friction torques' mean
+#: need no more; a quarter of the steps of the others
 LONG_PER_PERIOD = 8
 #: the shafts' first modes (rad/s) and their damping ratio against a fixed end
 SHAFT_MODE, SHAFT_DAMPING = 2 * math.pi * 50, 0.5
