@@ -1,0 +1,239 @@
+"""The measured figures that the docs pages type by hand, recomputed from the code (or read from
+the recorded benchmark result, for timings and costly studies) and checked to the precision the
+page states them with.
+
+Each test reads its figures from the page itself (the sentence, table row or printed block that
+holds them), so a page edited without re-measuring, or code that no longer gives the page's
+figure, fails here. Figures the build computes itself (the quick start's and the demo's,
+``{{ demo_* }}``, ``docs/_ext/demo_output.py``) are not repeated here.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import math
+import re
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+RPM = 2 * math.pi / 60
+
+
+def _page(name: str) -> str:
+    return (ROOT / "docs" / f"{name}.md").read_text(encoding="utf-8")
+
+
+def _recorded(name: str) -> str:
+    return (ROOT / "benchmarks" / "results" / f"{name}.md").read_text(encoding="utf-8")
+
+
+def _block_after(text: str, marker: str) -> list[str]:
+    """The lines of the first fenced block after ``marker``."""
+    start = text.index(marker)
+    body = text[text.index("```", start):].split("\n", 1)[1]
+    return body[:body.index("```")].rstrip("\n").splitlines()
+
+
+def _matches(stated: str, value: float) -> bool:
+    """``value`` rounded to the decimals of ``stated`` (a page's figure) gives ``stated``."""
+    decimals = len(stated.split(".")[1]) if "." in stated else 0
+    return f"{value:.{decimals}f}" == stated
+
+
+def _decimals(text: str) -> list[str]:
+    return re.findall(r"\d+\.\d+", text)
+
+
+# ------------------------------------------------------------------ modification page
+def _cli(*argv: str) -> str:
+    from gear_dyn.cli.app import main
+
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        assert main(list(argv)) == 0
+    return buf.getvalue()
+
+
+def test_relief_command_block_is_what_it_prints() -> None:
+    """The page's `gear-dyn relief` block is the command's output, line for line, and the
+    KISSsoft amounts and lengths quoted in the text are its rows (helicopter and rail pairs)."""
+    text = _page("modification")
+    printed = _cli("relief", "examples/scenes/helicopter_tail_relief.toml").splitlines()
+    block = _block_after(text, "`gear-dyn relief examples/scenes/helicopter_tail_relief.toml`")
+    assert block == printed[:len(block)]
+    rail = _cli("relief", "examples/scenes/rail_helical_ltca.toml")
+    m = re.search(r"For the helicopter tail pair it\s+gives ([\d.]+) um over ([\d.]+) mm; for the "
+                  r"rail pair ([\d.]+) um over ([\d.]+) mm", text)
+    assert m, "the KISSsoft sentence moved"
+    for (amount, length), out in (((m[1], m[2]), "\n".join(printed)), ((m[3], m[4]), rail)):
+        row = re.search(r"^kisssoft\s+(\S+)\s+(\S+)\s+\S+\s+\S+\s+(\S+)", out, re.M)
+        assert row and row[1] == amount and _matches(length, float(row[3])), (row, amount, length)
+
+
+def test_spur_contact_table_is_the_loaded_contact() -> None:
+    """The `gear-dyn contact` table of the helicopter relief scene: amounts, peak stress, p-p
+    static TE and single-contact zone of every case, from the spur loaded contact."""
+    from gear_dyn.cli.contact import compute
+    from gear_dyn.scene import load_scene
+
+    block = _block_after(_page("modification"),
+                         "`gear-dyn contact examples/scenes/helicopter_tail_relief.toml --out out`")
+    res = compute(load_scene("examples/scenes/helicopter_tail_relief.toml"))
+    rows = {r["case"]: r for r in (c.row() for c in res["cases"].values())}
+    assert len(block) - 1 == len(rows)
+    for line in block[1:]:
+        name, figures = re.match(r"(.+?)\s{2,}(\S.*)", line).groups()  # type: ignore[union-attr]
+        a1, a2, peak, ptp, z0, _, z1 = figures.split()
+        r = rows[name]
+        for stated, value in ((a1, r["amount_pinion_m"] * 1e6), (a2, r["amount_gear_m"] * 1e6),
+                              (peak, r["peak_stress_pa"] / 1e6),
+                              (ptp, r["peak_to_peak_static_te_m"] * 1e6),
+                              (z0, r["single_contact_start_from_a_m"] * 1e3),
+                              (z1, r["single_contact_end_from_a_m"] * 1e3)):
+            assert _matches(stated, value), (name, stated, value)
+
+
+def test_slice_contact_figures_are_the_recorded_benchmark() -> None:
+    """The slice loaded contact's coupling sensitivity, convergence, stiffness against ISO and
+    run times on the page are those of `benchmarks/results/ltca.md`."""
+    text = " ".join(_page("modification").split())
+    rec = _recorded("ltca")
+    lam = re.findall(r"^\| ([\d.]+) \| ([\d.]+) \| ([\d.e+]+) \|$",
+                     rec.split("## Coupling decay length")[1], re.M)
+    m = re.search(r"\$\\lambda\$ = ([\d., ]+) mm give p-p static TE ([\d., ]+) um and mean mesh "
+                  r"stiffness ([\d., ]+)e9 N/m", text)
+    assert m and len(lam) == 4, "the sensitivity sentence or the recorded table moved"
+    for col, scale in ((1, 1.0), (2, 1.0), (3, 1e-9)):
+        stated = [s.strip() for s in m[col].split(",")]
+        assert all(_matches(s, float(row[col - 1]) * scale)
+                   for s, row in zip(stated, lam, strict=True)), (stated, lam)
+    conv = re.findall(r"^\| (\d+) \| (\d+) \| ([\d.]+) \| ([\d.e+]+) \| ([\d.]+) \|$",
+                      rec.split("## Convergence")[1].split("##")[0], re.M)
+    ppte = {(int(s), int(p)): float(t) for s, p, t, _, _ in conv}
+    m = re.search(r"60 slices x 64\s+positions to 120 x 128 changes the PPTE by ([\d.]+) %.*?"
+                  r"default 30 x 32 is within ([\d.]+) % of the finest grid", text)
+    assert m
+    assert _matches(m[1], 100 * abs(ppte[60, 64] - ppte[120, 128]) / ppte[120, 128])
+    assert _matches(m[2], 100 * abs(ppte[30, 32] - ppte[240, 256]) / ppte[240, 256])
+    iso = float(conv[0][4])             # coupled slices, 30 x 32, over ISO c_gamma b
+    k_coupled, k_free = float(conv[0][3]), float(lam[0][2])
+    m = re.search(r"independent slices ([\d.]+)e9 N/m \(([\d.]+) x ISO .*? coupled slices "
+                  r"([\d.]+)e9 N/m \(([\d.]+) x ISO, ([\d.]+) x", text)
+    assert m
+    assert _matches(m[1], k_free * 1e-9) and _matches(m[3], k_coupled * 1e-9)
+    assert _matches(m[2], iso * k_free / k_coupled) and _matches(m[4], iso)
+    assert _matches(m[5], iso * 0.8)    # c_gamma b / C_M with C_M = 0.8
+    # run times
+    one = re.search(r"one torque \(2000 N m\) \| ([\d.]+) ", rec)
+    ladder = re.search(r"10-torque ladder .*? \| ([\d.]+) \(", rec)
+    m = re.search(r"one torque, 32 positions, 30 slices, (\d+) ms; a ladder of 10 torques, "
+                  r"([\d.]+) s", text)
+    assert one and ladder and m
+    assert _matches(m[1], float(one[1])) and _matches(m[2], float(ladder[1]))
+    per = dict(re.findall(r"^\| (.*?) \| ([\d.]+) \(", rec, re.M))
+    m = re.search(r"([\d.]+) ms per speed and design at 40 speeds; the whole study of 7 designs, "
+                  r"10 torques and 40 speeds ([\d.]+) s\. A model rebuilt at every speed costs "
+                  r"(\d+) to (\d+) times more per speed", text)
+    study = re.search(r"7 designs x 10 torques x 40 speeds: ([\d.]+) ", rec)
+    assert m and study
+    rebuilt = float(per["loaded contact rebuilt per speed, steady"])
+    batched = float(per["built once, steady, 40 speeds"])
+    assert _matches(m[1], batched) and _matches(m[2], float(study[1]))
+    ratios = (rebuilt / float(per["built once, steady (periodic orbit)"]), rebuilt / batched)
+    assert int(m[3]) <= min(ratios) * 1.1 and max(ratios) <= int(m[4]) * 1.1, ratios
+
+
+# ------------------------------------------------------------------ response page
+@pytest.fixture(scope="module")
+def backlash_branch() -> Any:
+    import gear_dyn as gd
+    from gear_dyn.scene.sweep import SceneModels
+
+    scene = gd.load_scene("helicopter_tail_backlash")
+    return gd.continue_orbits(SceneModels.of(scene), 3000 * RPM, 9500 * RPM)
+
+
+def test_response_captions_quote_the_located_folds(backlash_branch: Any) -> None:
+    """The fold speeds in the response page's first caption, the jump map's caption at the
+    scene's torque and the API example's branch summary are those the continuation locates."""
+    text = _page("response")
+    folds = [p.parameter / RPM for p in backlash_branch.of_kind("fold")]
+    first = re.search(r'--sweep 66 --out\s+resp`:(.*?)\*\n', text, re.S)
+    assert first and "six folds" in first[1] and len(folds) == 6
+    jump = re.search(r'--doublings 0 --out resp`:(.*?)\*\n', text, re.S)
+    assert jump
+    scene_torque = re.findall(r"([\d.]+) rpm at the scene's 368\.6 N m|\(([\d.]+)-([\d.]+) rpm at "
+                              r"the scene's torque\)|at ([\d.]+) rpm at every torque", jump[1])
+    stated = _decimals(first[1]) + [s for groups in scene_torque for s in groups if s]
+    assert len(stated) >= 6
+    for s in stated:
+        assert any(_matches(s, f) for f in folds), (s, folds)
+    lo, hi = re.search(r"narrow band at\s+(\d+)-(\d+) rpm", jump[1]).groups()  # type: ignore[union-attr]
+    assert {lo, hi} <= {f"{f:.0f}" for f in folds}
+    summary = re.search(r"# (Branch\(period-1, speed [\d.]+\.\.[\d.]+ rad/s, \d+ points),", text)
+    assert summary and repr(backlash_branch).startswith(summary[1])
+
+
+# ------------------------------------------------------------------ stiff-cases table
+@pytest.fixture(scope="module")
+def heli() -> Any:
+    from gear_dyn.scene import load_scene
+    from gear_dyn.scene.build import build_plan
+
+    return build_plan(load_scene("examples/scenes/helicopter_tail.toml")).model
+
+
+def _row(case: str) -> str:
+    rows = [line for line in _page("solvers_cases").splitlines() if line.startswith(f"| {case}")]
+    assert len(rows) == 1, case
+    return rows[0]
+
+
+def test_stiff_cases_heavy_damping_row(heli: Any) -> None:
+    """The heavy-damping row: the eigenvalues, each method's right-hand-side evaluations and
+    their ratios at rtol 1e-3 over 5 mesh periods, and the stiffness check's figures."""
+    from gear_dyn.analysis.accuracy import stiffness_check
+    from gear_dyn.solvers import SolverSettings, integrate, time_grid
+
+    row = _row("heavy damping")
+    xi = float(re.search(r"xi = ([\d.]+)", row)[1])  # type: ignore[index]
+    lam = sorted(-xi + s * math.sqrt(xi * xi - 1) for s in (1, -1))
+    eig = re.search(r"eigenvalues (-[\d.]+) and (-[\d.]+) w_n", row)
+    assert eig and _matches(eig[1].lstrip("-"), -lam[1]) and _matches(eig[2].lstrip("-"), -lam[0])
+    model = replace(heli, stiffness=heli.stiffness.truncated(5), damping_ratio=xi)
+    t = time_grid(model.mesh_frequency, 5 / model.mesh_frequency, 64)
+    nfev = {m: int(integrate(model, t, SolverSettings(method=m, rtol=1e-3))[1]["nfev"])
+            for m in ("RK45", "Radau", "BDF", "LSODA", "periodic")}
+    m = re.search(r"RK45 (\d+) evaluations \(([\d.]+)x Radau, ([\d.]+)x LSODA\).*?Radau (\d+), "
+                  r"BDF (\d+) evaluations.*?fine: (\d+) evaluations, switches to BDF.*?"
+                  r"\(linear\): (\d+) evaluations", row)
+    assert m
+    stated = dict(zip(("RK45", "Radau", "BDF", "LSODA", "periodic"),
+                      (int(m[i]) for i in (1, 4, 5, 6, 7)), strict=True))
+    assert stated == nfev
+    assert _matches(m[2], nfev["RK45"] / nfev["Radau"])
+    assert _matches(m[3], nfev["RK45"] / nfev["LSODA"])
+    chk = stiffness_check(model, "RK45")
+    m = re.search(r"stiffness ratio (\d+) over the cycle, >= (\d+) explicit steps", row)
+    assert m and _matches(m[1], chk["stiffness_ratio"])
+    assert int(m[2]) == math.ceil(chk["explicit_steps_per_period"])
+
+
+def test_stiff_cases_parametric_resonance_row(heli: Any) -> None:
+    """The parametric-resonance row: the largest Floquet multiplier at 2 f_n / f_m = 1."""
+    from gear_dyn.analysis.stability import floquet_multipliers
+
+    row = _row("parametric resonance")
+    xi = float(re.search(r"xi = ([\d.]+)", row)[1])  # type: ignore[index]
+    ratio = 2 * heli.natural_frequency / heli.mesh_frequency
+    mu = float(np.max(np.abs(floquet_multipliers(
+        replace(heli, mass=heli.mass * ratio**2, damping_ratio=xi)))))
+    stated = re.findall(r"grows ([\d.]+)x per period|largest multiplier ([\d.]+) > 1", row)
+    figures = [s for groups in stated for s in groups if s]
+    assert len(figures) == 2 and all(_matches(s, mu) for s in figures), (figures, mu)
