@@ -180,6 +180,21 @@ def test_response_captions_quote_the_located_folds(backlash_branch: Any) -> None
     assert summary and repr(backlash_branch).startswith(summary[1])
 
 
+def test_subharmonic_caption_quotes_the_located_period_doublings() -> None:
+    """The period doublings of the second caption (the principal parametric resonance) are
+    those the continuation of the period-1 branch locates."""
+    import gear_dyn as gd
+    from gear_dyn.scene.sweep import SceneModels
+
+    family = SceneModels.of(gd.load_scene("helicopter_tail_backlash"))
+    branch = gd.continue_orbits(family, 9500 * RPM, 17000 * RPM, doublings=0)
+    doublings = [p.parameter / RPM for p in branch.of_kind("period_doubling")]
+    m = re.search(r"period doubling at ([\d.]+) rpm \(a\s+multiplier through -1\) and regains "
+                  r"it at ([\d.]+) rpm", _page("response"))
+    assert m and len(doublings) == 2
+    assert _matches(m[1], min(doublings)) and _matches(m[2], max(doublings)), doublings
+
+
 # ------------------------------------------------------------------ stiff-cases table
 @pytest.fixture(scope="module")
 def heli() -> Any:
