@@ -74,6 +74,11 @@ def test_relief_command_block_is_what_it_prints() -> None:
     for (amount, length), out in (((m[1], m[2]), "\n".join(printed)), ((m[3], m[4]), rail)):
         row = re.search(r"^kisssoft\s+(\S+)\s+(\S+)\s+\S+\s+\S+\s+(\S+)", out, re.M)
         assert row and row[1] == amount and _matches(length, float(row[3])), (row, amount, length)
+    # the helical caveat: how far the rail pair's contact-line length swings
+    m = re.search(r"swings by ([\d.]+) % of its mean ([\d.]+) mm, against ([\d.]+) % for a spur",
+                  " ".join(text.split()))
+    said = re.search(r"swings by ([\d.]+)% of its mean ([\d.]+) mm .*?eps_a: ([\d.]+)%\)", rail)
+    assert m and said and m.groups() == said.groups(), (m, said)
 
 
 def test_spur_contact_table_is_the_loaded_contact() -> None:
@@ -193,6 +198,24 @@ def test_subharmonic_caption_quotes_the_located_period_doublings() -> None:
                   r"it at ([\d.]+) rpm", _page("response"))
     assert m and len(doublings) == 2
     assert _matches(m[1], min(doublings)) and _matches(m[2], max(doublings)), doublings
+
+
+def test_bifurcation_diagram_costs_are_the_recorded_benchmark() -> None:
+    """The cost of the continued orbits' samples and of the brute-force diagram on the response
+    page is that of `benchmarks/results/response_diagram.md`."""
+    text = " ".join(_page("response").split())
+    rec = " ".join(_recorded("response_diagram").split())
+    m = re.search(r"that is (\d+) runs of one mesh period \((\d+) period-2 points and their "
+                  r"three folds\), (\d+) % of the continuation's time; the brute-force diagram "
+                  r"costs (\d+) ms per speed and direction on the packaged scene \(median\), so "
+                  r"`--diagram 128` takes ([\d.]+) times as long", text)
+    runs = re.search(r"\| (\d+) \(one per period-2 orbit: points and located folds\)", rec)
+    per = re.search(r"costs ([\d.]+) \([^)]*\) ms per speed and direction.*?([\d.]+)x "
+                    r"\([^)]*\) the continuation at N = 128.*?samples cost ([\d.]+)x", rec)
+    assert m and runs and per
+    assert m[1] == runs[1] and int(m[2]) + 3 == int(runs[1])
+    assert _matches(m[3], 100 * float(per[3])) and _matches(m[4], float(per[1]))
+    assert _matches(m[5], float(per[2]))
 
 
 # ------------------------------------------------------------------ stiff-cases table
