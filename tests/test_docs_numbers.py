@@ -218,6 +218,23 @@ def test_bifurcation_diagram_costs_are_the_recorded_benchmark() -> None:
     assert _matches(m[5], float(per[2]))
 
 
+def test_motion_route_costs_are_the_recorded_benchmark() -> None:
+    """The motion page's cost per mesh period of the two routes (samples, Lyapunov exponent)
+    and the diagram's speed count are those of `benchmarks/results/motion.md`."""
+    text = " ".join(_page("motion").split())
+    rec = _recorded("motion")
+    m = re.search(r"per mesh period ([\d.]+) ms against ([\d.]+) ms for the samples and "
+                  r"([\d.]+) ms against ([\d.]+) ms for the Lyapunov exponent", text)
+    rows = re.findall(r"^\| (stroboscopic samples|Lyapunov exponent).*? \| ([\d.]+) \(.*?\) \| "
+                      r"([\d.]+) \(", rec, re.M)
+    assert m and len(rows) == 2
+    (_, s_exact, s_dop), (_, l_exact, l_dop) = rows
+    for stated, value in zip(m.groups(), (s_dop, s_exact, l_dop, l_exact), strict=True):
+        assert _matches(stated, float(value)), (stated, value)
+    speeds = re.search(r"`workers=2` bought nothing for (\d+) speeds", text)
+    assert speeds and f"{speeds[1]} speeds up and down" in rec
+
+
 # ------------------------------------------------------------------ stiff-cases table
 @pytest.fixture(scope="module")
 def heli() -> Any:
