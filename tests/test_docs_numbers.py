@@ -41,13 +41,85 @@ def _block_after(text: str, marker: str) -> list[str]:
 
 
 def _matches(stated: str, value: float) -> bool:
-    """``value`` rounded to the decimals of ``stated`` (a page's figure) gives ``stated``."""
+    """``stated`` (a page's figure) is ``value`` rounded to the page's decimals (half a unit of
+    its last digit; a tie, from a recorded figure rounded once already, either way)."""
     decimals = len(stated.split(".")[1]) if "." in stated else 0
-    return f"{value:.{decimals}f}" == stated
+    return abs(float(stated) - value) <= 0.5 * 10.0 ** -decimals * (1 + 1e-9)
 
 
 def _decimals(text: str) -> list[str]:
     return re.findall(r"\d+\.\d+", text)
+
+
+NUMBER = re.compile(r"-?\d+(?:\.\d+)?(?:e[-+]?\d+)?")
+
+
+def _agrees(stated: str, recorded: str) -> bool:
+    """A page's figure is the recorded one rounded to the page's digits."""
+    if "e" not in stated:
+        return _matches(stated.lstrip("-"), abs(float(recorded))) and (
+            stated.startswith("-") == recorded.startswith("-"))
+    mantissa, exponent = stated.split("e")
+    digits = len(mantissa.split(".")[1]) if "." in mantissa else 0
+    return abs(float(recorded) - float(stated)) <= 0.5001 * 10.0 ** (int(exponent) - digits)
+
+
+def _table(text: str, header: str) -> list[list[str]]:
+    """The body rows (cells) of the Markdown table whose header line starts with ``header``."""
+    lines = text[text.index(header):].splitlines()
+    rows = []
+    for line in lines[2:]:
+        if not line.startswith("|"):
+            break
+        rows.append([c.strip() for c in line.strip("|").split("|")])
+    return rows
+
+
+def _same_figures(page_rows: list[list[str]], recorded_rows: list[list[str]]) -> None:
+    """Row by row and cell by cell, every figure on the page is the recorded one."""
+    assert len(page_rows) == len(recorded_rows)
+    for page_row, rec_row in zip(page_rows, recorded_rows, strict=True):
+        for page_cell, rec_cell in zip(page_row, rec_row, strict=True):
+            said, rec = NUMBER.findall(page_cell), NUMBER.findall(rec_cell)
+            assert len(said) == len(rec) and all(map(_agrees, said, rec)), (page_row, rec_row)
+
+
+# ------------------------------------------------------------------ FMU validation page
+def test_fmu_validation_tables_are_the_recorded_benchmarks() -> None:
+    """The three measured tables of the FMU validation page and the ranges its prose draws
+    from them are those of `benchmarks/results/fmu.md` and `fmu_per_step.md`."""
+    text = _page("fmu_validation")
+    fmu, per_step = _recorded("fmu"), _recorded("fmu_per_step")
+    _same_figures(_table(text, "| scene | FMU method | reference |"),
+                  _table(fmu, "| scene | FMU method | reference |"))
+    overhead = _table(fmu, "| scene | method | steps per mesh period |")
+    _same_figures(_table(text, "| scene | method | steps per mesh period |"), overhead)
+    _same_figures(_table(text, "| FMU | method | outputs read |"),
+                  _table(per_step, "| FMU | method | outputs read |"))
+    prose = " ".join(text.split())
+
+    def span(values: list[float]) -> tuple[float, float]:
+        return min(values), max(values)
+
+    def seconds(cell: str) -> float:
+        return float(cell.split()[0])
+
+    fresh = span([seconds(r[7]) / seconds(r[4]) for r in overhead if r[7] != "-"])
+    heli = span([seconds(r[8]) for r in overhead if r[0] == "helicopter_tail"])
+    ecc = span([seconds(r[8]) / 1e3 for r in overhead if r[0] == "eccentric_helical"])
+    m = re.search(r"costs ([\d.]+)-([\d.]+)x the direct solve here.*?\(FMU - direct\) / steps: "
+                  r"(\d+)-(\d+) us for the single-DOF model.*? and ([\d.]+)-([\d.]+) ms for the "
+                  r"torsional model", prose)
+    assert m
+    for (lo, hi), (s_lo, s_hi) in zip((fresh, heli, ecc),
+                                      ((m[1], m[2]), (m[3], m[4]), (m[5], m[6])), strict=True):
+        assert _matches(s_lo, lo) and _matches(s_hi, hi), (s_lo, s_hi, lo, hi)
+    trivial = {r[0]: seconds(r[3]) for r in _table(per_step, "| FMU | method | outputs read |")}
+    m = re.search(r"the FMI 3 exact step [\d.]+ us against [\d.]+ us \(([\d.]+)x the trivial "
+                  r"pythonfmu", prose)
+    exact3 = next(seconds(r[3]) for r in _table(per_step, "| FMU | method | outputs read |")
+                  if r[0] == "helicopter_tail FMI 3" and r[1] == "exact")
+    assert m and _matches(m[1], exact3 / trivial["trivial pythonfmu"])
 
 
 # ------------------------------------------------------------------ modification page
