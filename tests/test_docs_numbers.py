@@ -122,6 +122,53 @@ def test_fmu_validation_tables_are_the_recorded_benchmarks() -> None:
     assert m and _matches(m[1], exact3 / trivial["trivial pythonfmu"])
 
 
+# ------------------------------------------------------------------ solvers page
+def _bench(scene: str) -> dict[tuple[str, str, float], list[str]]:
+    """`gear-dyn bench`'s recorded table of a scene: (method, mode, rtol) -> row."""
+    text = (ROOT / "benchmarks" / "results" / "solvers_bench" / scene / "bench.md").read_text()
+    return {(r[0], r[1], float(r[2]) if r[2] != "-" else 0.0): r
+            for r in _table(text, "| method | mode | rtol |")}
+
+
+def test_solver_benchmark_tables_are_the_recorded_benchmarks() -> None:
+    """The solvers page's two work-precision tables (time, max error, evaluations) and the
+    figures of the sentences under them are those `gear-dyn bench` recorded."""
+    text = _page("solvers")
+    heli = _bench("helicopter_tail")
+    rows = _table(text, "| method (restarted) | rtol for max error <= 1e-6 |")
+    assert len(rows) == 7
+    for method, rtol, time_s, err, nfev in rows:
+        name = method.split()[0]
+        mode = "exact" if name == "exact" else "once" if "once" in method else "restart"
+        rec = heli[name, mode, float(NUMBER.findall(rtol)[0]) if mode != "exact" else 0.0]
+        assert _matches(time_s, float(rec[3])) and _agrees(err.split()[0], rec[4]), (method, rec)
+        assert nfev.replace(" ", "") == ("-" if mode == "exact" else rec[6]), (method, rec)
+    prose = " ".join(text.split())
+    m = re.search(r"use \*\*exact\*\* \(([\d.]+) s, (\d+)x faster than RK45 once over the span\)",
+                  prose)
+    once = float(heli["RK45", "once", 1e-10][3])
+    assert m and _matches(m[1], float(heli["exact", "exact", 0.0][3]))
+    assert abs(int(m[2]) - once / float(heli["exact", "exact", 0.0][3])) <= 50   # "1100x": 2 digits
+    m = re.search(r"for the same evaluations \(([\d.e-]+) against ([\d.e-]+) at\s+rtol 1e-8\)",
+                  prose)
+    assert m and _agrees(m[1], heli["RK45", "once", 1e-8][4])
+    assert _agrees(m[2], heli["RK45", "restart", 1e-8][4])
+
+    ecc = _bench("eccentric_helical")
+    for target, case, time_s, err, runner_up in _table(text, "| target max error | fastest case |"):
+        method, rtol = re.match(r"(\w+) rtol (1e-\d+)", case).groups()  # type: ignore[union-attr]
+        rec = ecc[method, "restart", float(rtol)]
+        assert float(rec[4]) <= float(target), (case, rec)
+        assert _matches(time_s, float(rec[3])) and _agrees(err, rec[4]), (case, rec)
+        for other, o_rtol, o_time in re.findall(r"(\w+) (1e-\d+): ([\d.]+) s", runner_up):
+            assert _matches(o_time, float(ecc[other, "restart", float(o_rtol)][3])), runner_up
+    m = re.search(r"RK45 once over the span needs rtol (1e-\d+) for ([\d.e-]+) \(([\d.]+) s\)",
+                  prose)
+    assert m
+    rec = ecc["RK45", "once", float(m[1])]
+    assert _agrees(m[2], rec[4]) and _matches(m[3], float(rec[3]))
+
+
 # ------------------------------------------------------------------ modification page
 def _cli(*argv: str) -> str:
     from gear_dyn.cli.app import main
