@@ -122,6 +122,51 @@ def test_fmu_validation_tables_are_the_recorded_benchmarks() -> None:
     assert m and _matches(m[1], exact3 / trivial["trivial pythonfmu"])
 
 
+# ------------------------------------------------------------------ recorded costs
+def test_stiffness_build_costs_are_the_recorded_benchmark() -> None:
+    """The stiffness page's build and evaluation costs span the recorded table's medians."""
+    rows = _table(_recorded("stiffness"), "| pair | method | build (ms, median) |")
+    text = " ".join(_page("stiffness").split())
+    m = re.search(r"a spur curve takes ([\d.]+)-([\d.]+) ms \(iso6336, rectangular, contact_line\) "
+                  r"and ([\d.]+)-([\d.]+) ms \(potential_energy, weber\); a helical curve "
+                  r"\(continuous face slicing\) ([\d.]+) ms \(potential_energy\) and ([\d.]+) ms "
+                  r"\(weber\)\. Evaluating k\(p\) at one phase, as the solver does, costs "
+                  r"([\d.]+)-([\d.]+) us", text)
+    assert m
+
+    def build(spur: bool, methods: set[str]) -> list[float]:
+        return [float(r[2]) for r in rows if ("(spur)" in r[0]) == spur and r[1] in methods]
+
+    cheap = build(True, {"iso6336", "rectangular", "contact_line"})
+    slow = build(True, {"potential_energy", "weber"})
+    calls = [float(r[3]) for r in rows]
+    for (lo, hi), values in (((m[1], m[2]), cheap), ((m[3], m[4]), slow), ((m[7], m[8]), calls)):
+        assert _matches(lo, min(values)) and _matches(hi, max(values)), (lo, hi, values)
+    assert _matches(m[5], *build(False, {"potential_energy"}))
+    assert _matches(m[6], *build(False, {"weber"}))
+
+
+def test_eccentric_and_tolerance_costs_are_the_recorded_benchmarks() -> None:
+    """The eccentricity page's costs and the tolerance study's cost per sample and speed are
+    those of `benchmarks/results/eccentricity.md` and `tolerance.md`."""
+    rows = _table(_recorded("eccentricity"), "| task | median time |")
+    rec = [float(NUMBER.findall(r[1])[0]) for r in rows]
+    text = " ".join(_page("eccentricity").split())
+    m = re.search(r"excitation analysis of one hunting period ([\d.]+) s; one torsional right-hand "
+                  r"side with eccentricity, contact lines and friction ([\d.]+) us; 45 mesh "
+                  r"periods ([\d.]+) s", text)
+    assert m and len(rec) == 3
+    assert all(map(_matches, m.groups(), rec)), (m.groups(), rec)
+    text = " ".join(_page("tolerance").split())
+    recorded = " ".join(_recorded("tolerance").split())
+    m = re.search(r"200 samples over 100 speeds of the helicopter tail pair take ([\d.]+) s of "
+                  r"CPU, or ([\d.]+) ms per sample and speed", text)
+    total = re.search(r"N = 200: \*\*met \(median ([\d.]+) s\)", recorded)
+    slope = re.search(r"Cost per sample and speed .*?: \*\*([\d.]+) \(", recorded)
+    assert m and total and slope
+    assert _matches(m[1], float(total[1])) and _matches(m[2], float(slope[1]))
+
+
 # ------------------------------------------------------------------ solvers page
 def _bench(scene: str) -> dict[tuple[str, str, float], list[str]]:
     """`gear-dyn bench`'s recorded table of a scene: (method, mode, rtol) -> row."""
