@@ -214,6 +214,20 @@ def test_solver_benchmark_tables_are_the_recorded_benchmarks() -> None:
     assert _agrees(m[2], rec[4]) and _matches(m[3], float(rec[3]))
 
 
+def test_default_path_speedups_are_the_two_recorded_runs() -> None:
+    """The run-to-run spread the solvers page quotes is that of the two recorded runs."""
+    text = " ".join(_page("solvers").split())
+    m = re.search(r"the same script gave (\d+)x and (\d+)x for the default-vs-hand-written ratio "
+                  r"of medians in two recorded runs \((\d+)x and (\d+)x as medians of "
+                  r"interleaved pairs\)", text)
+    assert m
+    for name, medians, pairs in (("solvers", m[1], m[3]), ("solvers_run2", m[2], m[4])):
+        rec = re.search(r"default path vs hand-written RK45: \*\*([\d.]+)x faster\*\* "
+                        r"\(requirement: >= 20x\); in 5 interleaved pairs: ([\d.]+)x",
+                        _recorded(name))
+        assert rec and _matches(medians, float(rec[1])) and _matches(pairs, float(rec[2])), name
+
+
 # ------------------------------------------------------------------ modification page
 def _cli(*argv: str) -> str:
     from gear_dyn.cli.app import main
