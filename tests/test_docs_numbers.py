@@ -146,6 +146,40 @@ def test_stiffness_build_costs_are_the_recorded_benchmark() -> None:
     assert _matches(m[6], *build(False, {"weber"}))
 
 
+def test_stiffness_command_block_is_what_it_reports() -> None:
+    """The stiffness page's `gear-dyn stiffness eccentric_helical` block is the command's report
+    (but for the build times, left out there), and the Weber and potential-energy ratios the
+    text quotes are its rows."""
+    from gear_dyn.cli.stiffness import compute, report_lines
+    from gear_dyn.scene import load_scene
+
+    text = _page("stiffness")
+    start = text.index("`gear-dyn stiffness eccentric_helical --out out/stiffness`")
+    block = [line[4:] for line in text[start:].split("\n\n")[1].splitlines()]
+    methods = [line.split()[0] for line in block[3:]]
+    _, _, report = compute(load_scene("eccentric_helical"), methods)
+    said = [re.sub(r", \S+ ms\)$", ", ...)", line) for line in report_lines(report)
+            if not line.lstrip().startswith(("includes:", "leaves out:"))]
+    assert block == said
+    m = re.search(r"separates Weber \(([\d.]+) x ISO\) from potential energy \(([\d.]+) x ISO\)",
+                  text)
+    ratio = {k: v["ratio_to_iso"] for k, v in report["methods"].items()}
+    assert m and _matches(m[1], ratio["weber"]) and _matches(m[2], ratio["potential_energy"])
+
+
+def test_stiffness_page_tables_are_the_recorded_benchmark() -> None:
+    """The centre-distance table and the helix-angle sentence of the stiffness page are the
+    tables of `benchmarks/results/stiffness.md`."""
+    text, rec = _page("stiffness"), _recorded("stiffness")
+    _same_figures(_table(text, "| d_a | eps_a | single-contact share |"),
+                  _table(rec, "| offset | eps_a | single-contact share |"))
+    helix = {r[0]: float(r[1]) for r in _table(rec, "| helix angle | PEM mean / ISO c_gamma b |")}
+    m = re.search(r"is ([\d.]+),\s+([\d.]+), ([\d.]+), ([\d.]+) at b = 0, 15, 20, 30 deg", text)
+    assert m
+    for stated, angle in zip(m.groups(), (0, 15, 20, 30), strict=True):
+        assert _matches(stated, helix[f"{angle} deg"]), (stated, angle)
+
+
 def test_eccentric_and_tolerance_costs_are_the_recorded_benchmarks() -> None:
     """The eccentricity page's costs and the tolerance study's cost per sample and speed are
     those of `benchmarks/results/eccentricity.md` and `tolerance.md`."""
