@@ -180,6 +180,46 @@ def test_stiffness_page_tables_are_the_recorded_benchmark() -> None:
         assert _matches(stated, helix[f"{angle} deg"]), (stated, angle)
 
 
+def test_excitation_peaks_table_is_the_excitation_analysis() -> None:
+    """The eccentricity page's table of the largest excitation peaks (one hunting period of
+    the paper's pair) is what `gear-dyn excitation` finds: every label's amplitude."""
+    from gear_dyn.cli.excitation import analyse
+    from gear_dyn.scene import load_scene
+
+    peaks = analyse(load_scene("examples/scenes/eccentric_helical.toml"))["peaks"]
+    signals = {"driven speed w2 (rad/s)": ("w2", 1.0), "contact-line length L (mm)":
+               ("contact_length", 1e3), "friction force (N)": ("friction_force", 1.0),
+               "friction torque on pinion (N m)": ("friction_torque_pinion", 1.0)}
+    rows = _table(_page("eccentricity"), "| signal | largest peaks (label: amplitude) |")
+    assert [r[0] for r in rows] == list(signals)
+    for signal, cell in rows:
+        key, scale = signals[signal]
+        amplitude = {p["label"]: p["amplitude"] * scale for p in peaks[key]}
+        entries = re.findall(r"(\w+(?:[+-]\w+)?)(?: [\d.]+ Hz)?: ([\d.e-]+)", cell)
+        assert len(entries) >= 4
+        for label, stated in entries:
+            assert _agrees(stated, repr(amplitude[label])), (signal, label, stated, amplitude)
+    ordered = [p["label"] for p in peaks["friction_force"][:5]]
+    assert ordered == ["f1", "fm", "2fm", "f2", "3fm"]     # the order the page lists them in
+
+
+def test_rigid_limit_and_mesh_loss_are_the_recorded_benchmark() -> None:
+    """The eccentricity page's rigid-limit table and mesh loss are those of
+    `benchmarks/results/eccentricity.md`."""
+    text, rec = _page("eccentricity"), _recorded("eccentricity")
+    _same_figures(_table(text, "| stiffness factor | k_m (N/m) |"),
+                  [r[:4] for r in _table(rec, "| stiffness factor | k_m (N/m) |")])
+    ptp = {r[4] for r in _table(rec, "| stiffness factor | k_m (N/m) |")}
+    m = re.search(r"ptp of w2 ([\d.]+) rad/s", text)
+    assert m and len(ptp) == 1 and _matches(m[1], float(ptp.pop()))
+    m = re.search(r"mu = 0\.05: ([\d.]+) % \(balanced load torque ([\d.]+) N m against\s+"
+                  r"T1 z2/z1 = ([\d.]+) N m\)", text)
+    said = re.search(r"mu = 0\.05: ([\d.]+) % \(W = [\d.]+ N, T2 = ([\d.]+) N m vs T1 z2/z1 = "
+                     r"([\d.]+) N m\)", rec)
+    assert m and said
+    assert all(_matches(a, float(b)) for a, b in zip(m.groups(), said.groups(), strict=True))
+
+
 def test_eccentric_and_tolerance_costs_are_the_recorded_benchmarks() -> None:
     """The eccentricity page's costs and the tolerance study's cost per sample and speed are
     those of `benchmarks/results/eccentricity.md` and `tolerance.md`."""
