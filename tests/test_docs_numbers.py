@@ -220,6 +220,16 @@ def test_rigid_limit_and_mesh_loss_are_the_recorded_benchmark() -> None:
     assert all(_matches(a, float(b)) for a, b in zip(m.groups(), said.groups(), strict=True))
 
 
+def test_native_eccentric_step_cost_is_the_recorded_benchmark() -> None:
+    """The native FMU page's step cost of the eccentric scene against its polynomial-table twin
+    is that of `benchmarks/results/native_fmu.md`."""
+    m = re.search(r"cost: (\d+) us per doStep \(([\d.]+) us with the polynomial table in the "
+                  r"same run\)", " ".join(_page("native_fmu").split()))
+    rec = re.search(r"its C-host step costs (\d+) us instead of ([\d.]+) us per doStep",
+                    " ".join(_recorded("native_fmu").split()))
+    assert m and rec and m.groups() == rec.groups()
+
+
 def test_eccentric_and_tolerance_costs_are_the_recorded_benchmarks() -> None:
     """The eccentricity page's costs and the tolerance study's cost per sample and speed are
     those of `benchmarks/results/eccentricity.md` and `tolerance.md`."""
@@ -435,6 +445,19 @@ def test_response_captions_quote_the_located_folds(backlash_branch: Any) -> None
     assert {lo, hi} <= {f"{f:.0f}" for f in folds}
     summary = re.search(r"# (Branch\(period-1, speed [\d.]+\.\.[\d.]+ rad/s, \d+ points),", text)
     assert summary and repr(backlash_branch).startswith(summary[1])
+
+
+def test_sweep_accuracy_quotes_the_located_folds(backlash_branch: Any) -> None:
+    """The folds the sweep-accuracy page names beside the backlash sweep's jumps are the
+    continuation's, each between the two grid speeds it says the sweep jumps between."""
+    folds = [p.parameter / RPM for p in backlash_branch.of_kind("fold")]
+    text = " ".join(_page("sweep_accuracy").split())
+    stated = re.findall(r"between (\d+) and (\d+) rpm[^;()]*?\(?[^()]*?\(?fold at ([\d.]+) rpm",
+                        text)
+    assert len(stated) == 5, stated
+    for a, b, fold in stated:
+        assert any(_matches(fold, f) for f in folds), (fold, folds)
+        assert min(int(a), int(b)) <= float(fold) <= max(int(a), int(b)), (a, b, fold)
 
 
 def test_subharmonic_caption_quotes_the_located_period_doublings() -> None:
