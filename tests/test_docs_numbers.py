@@ -230,6 +230,36 @@ def test_native_eccentric_step_cost_is_the_recorded_benchmark() -> None:
     assert m and rec and m.groups() == rec.groups()
 
 
+def test_exact_route_response_time_is_the_recorded_benchmark() -> None:
+    """The backlash closed form's whole `gear-dyn response` time and point counts on the
+    stiff-cases page are those of `benchmarks/results/continuation.md`."""
+    text = " ".join(_page("solvers_cases").split())
+    rec = " ".join(_recorded("continuation").split())
+    m = re.search(r"--out resp` took ([\d.]+) s \(whole process, median of 3 in "
+                  r"`benchmarks/results/continuation.md`; (\d+) \+ (\d+) points", text)
+    said = re.search(r"\| exact \(closed form[^|]*\| ([\d.]+) s \(", rec)
+    points = re.search(r"the period-1 branch \((\d+) points.*?period-2 branch switched to at its "
+                       r"doubling \((\d+) points", rec)
+    assert m and said and points
+    assert _matches(m[1], float(said[1])) and (m[2], m[3]) == points.groups()
+
+
+def test_period2_multipliers_multiply_to_liouvilles_determinant() -> None:
+    """The motion page's period-2 multipliers multiply to the determinant it states, and that
+    is Liouville's exp(-2 c T / m) = exp(-8 pi zeta f_n / f_m) for the stated damping ratio and
+    frequency ratio (to the page's three decimals)."""
+    text = " ".join(_page("motion").split())
+    m = re.search(r"period-2 at f_m / f_n = ([\d.]+) on the constant-stiffness scene .*?damping "
+                  r"ratio ([\d.]+)\).*?multipliers \((-[\d.]+), (-[\d.]+) over two mesh periods\) "
+                  r"multiply to the Liouville determinant exp\(-2 c T / m\) = ([\d.]+)", text)
+    assert m
+    ratio, zeta, mu1, mu2, det = (float(g) for g in m.groups())
+    # to the three decimals the page gives f_m / f_n with (1.24: +-0.005)
+    dets = [math.exp(-8 * math.pi * zeta / r) for r in (ratio - 0.005, ratio + 0.005)]
+    assert min(dets) - 5e-4 <= det <= max(dets) + 5e-4
+    assert abs(mu1 * mu2 - det) <= 5e-4 * (abs(mu1) + abs(mu2)) + 5e-4
+
+
 def test_eccentric_and_tolerance_costs_are_the_recorded_benchmarks() -> None:
     """The eccentricity page's costs and the tolerance study's cost per sample and speed are
     those of `benchmarks/results/eccentricity.md` and `tolerance.md`."""
