@@ -342,6 +342,26 @@ def test_default_path_speedups_are_the_two_recorded_runs() -> None:
         assert rec and _matches(medians, float(rec[1])) and _matches(pairs, float(rec[2])), name
 
 
+# ------------------------------------------------------------------ dynamic-factor page
+def test_dynamic_factor_page_quotes_the_run_line() -> None:
+    """The terminal line the dynamic-factor page shows is the one `gear-dyn run` prints for the
+    demo's scene, but for its elided middle; the quasi-static run's stated error it quotes for
+    the helicopter tail scene is that run's."""
+    import gear_dyn as gd
+    from gear_dyn.analysis.report import summarize
+    from gear_dyn.cli.run import jump_lines
+
+    text = _page("dynamic_factor")
+    start = text.index("      peak mesh force ")
+    shown = " ".join(text[start:text.index("\n\n", start)].split())
+    head, tail = shown.split(" ...; ")
+    (line,) = jump_lines(summarize(gd.run_scene(gd.load_scene("helicopter_tail"))))
+    assert line.startswith(head.rstrip(":") + ":") and line.endswith("; " + tail), (line, shown)
+    m = re.search(r"of the overshoot\): ([\d.]+) for the helicopter tail scene", " ".join(
+        text.split()))
+    assert m and line.endswith(f"error {m[1]})")
+
+
 # ------------------------------------------------------------------ modification page
 def _cli(*argv: str) -> str:
     from gear_dyn.cli.app import main
