@@ -393,6 +393,36 @@ def test_relief_command_block_is_what_it_prints() -> None:
     assert m and said and m.groups() == said.groups(), (m, said)
 
 
+def test_relief_trends_block_is_what_the_example_prints(tmp_path: Path) -> None:
+    """The trends table of Wang et al. (2024) on the modification page (pick-up, transition,
+    entry load of each relief length and curve) is what `examples/plot_relief_trends.py`
+    computes, and the pick-up distances quoted in the text are its curve rows."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(
+        "example_relief_trends", ROOT / "examples" / "plot_relief_trends.py")
+    assert spec and spec.loader
+    trends = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(trends)
+    table = trends.main(tmp_path)
+    text = _page("modification")
+    block = _block_after(text, "`python examples/plot_relief_trends.py OUT`")
+    rows = {name: m for group in ("length", "curve") for name, m in table[group].items()}
+    assert len(block) - 1 == len(rows)
+    for line in block[1:]:
+        name, pick, transition, entry = re.match(  # type: ignore[union-attr]
+            r"(.+?)\s{2,}(\S+)\s+(\S+)\s+(\S+)$", line).groups()
+        m = rows[name]
+        for stated, value in ((pick, m["pickup_mm"]), (transition, m["transition_mm"]),
+                              (entry, m["entry_load_share"])):
+            assert _matches(stated, value), (name, stated, value)
+    said = re.search(r"picks up load earlier \(([\d., ]+) mm for \$k\$ = 1, 1\.2, 1\.5, 2\)",
+                     " ".join(text.split()))
+    assert said
+    picks = [rows[c]["pickup_mm"] for c in ("linear", "yoshio", "walker", "parabolic")]
+    assert all(map(_matches, [s.strip() for s in said[1].split(",")], picks)), (said[1], picks)
+
+
 def test_spur_contact_table_is_the_loaded_contact() -> None:
     """The `gear-dyn contact` table of the helicopter relief scene: amounts, peak stress, p-p
     static TE and single-contact zone of every case, from the spur loaded contact."""
