@@ -6,7 +6,7 @@
 #define GD_FLOW_H
 
 /* the version of this interface (gear_dyn.solvers.kernel checks it on load) */
-#define GD_FLOW_VERSION 3
+#define GD_FLOW_VERSION 4
 
 int gd_flow_version(void);
 

@@ -167,8 +167,13 @@ def _period_cycles(model: Any) -> int:
     return int(round(n))
 
 
-def torsional_table(model: Any) -> TorsionalTable:
+def torsional_table(model: Any, lines: bool = True) -> TorsionalTable:
     """Tabulate the torsional model's state-free coefficients in the mesh phase.
+
+    ``lines``: an eccentric pair with contact-line stiffness gets the contact-line form
+    (:class:`LineKinematics`: small, for the FMU; each right-hand side then sums the series and
+    the overlap); False gives it polynomials on every piece like any other model (larger,
+    about 10x cheaper to step: the solvers' ``kernel`` method).
 
     Raises
     ------
@@ -196,7 +201,7 @@ def torsional_table(model: Any) -> TorsionalTable:
     u = np.linspace(-0.98, 0.98, CHECK_POINTS)
     chk = (mid[:, None] + half[:, None] * u[None, :]).ravel()
     exact = direct(chk)
-    if model.eccentric and isinstance(model.stiffness, ContactLineStiffness):
+    if lines and model.eccentric and isinstance(model.stiffness, ContactLineStiffness):
         return _line_table(model, br, chk, exact, scale)
     for degree in range(MIN_DEGREE, MAX_DEGREE + 1):
         s, to_mono = node_matrix(degree)
