@@ -269,9 +269,8 @@ def run(km: KernelModel, t_grid: FloatArray, y0: FloatArray, tolerance: float
     else:
         s.q[:] = [float(v) for v in y0]
     status = ctypes.c_int(0)
-    done = lib.gd_run(ctypes.byref(s), ctypes.byref(km.c_model), t.size,
-                      t.ctypes.data_as(_P(ctypes.c_double)), out.ctypes.data_as(_P(ctypes.c_double)),
-                      ctypes.byref(status))
+    done = lib.gd_run(ctypes.byref(s), ctypes.byref(km.c_model), t.size, t.ctypes.data,
+                      out.ctypes.data, ctypes.byref(status))
     if status.value != 0 or done != t.size:
         at = float(t[min(int(done), t.size - 1)])
         raise SolverError(f"kernel: step failed at t = {at:.6g} s (step size underflow, too many "
