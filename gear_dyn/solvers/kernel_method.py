@@ -35,6 +35,8 @@ from numpy.typing import NDArray
 
 from gear_dyn.errors import GearDynError, InputError
 from gear_dyn.models.base import Model
+from gear_dyn.models.sdof import SDOFModel
+from gear_dyn.models.torsional import TorsionalModel
 from gear_dyn.solvers import kernel
 from gear_dyn.solvers.kernel.run import TOL_RANGE, KernelModel, kernel_model, run
 from gear_dyn.solvers.settings import SolverSettings
@@ -68,14 +70,12 @@ def _available() -> bool:
 
 
 def kernel_applies(model: Model) -> bool:
-    """True for a single-DOF model (two states, ``SDOFModel``) and an eccentric torsional model
-    without backlash and transmission error, with the compiled kernel present."""
-    name = type(model).__name__
-    if name == "SDOFModel" and len(model.state_labels) == 2:
-        ok = True
-    elif name == "TorsionalModel":
-        ok = bool(getattr(model, "eccentric", False)) and getattr(model, "backlash", 1) is None \
-            and getattr(model, "transmission_error", 1) is None
+    """True for a single-DOF model (``SDOFModel`` and its subclasses) and an eccentric torsional
+    model without backlash and transmission error, with the compiled kernel present."""
+    if isinstance(model, SDOFModel):  # and its subclasses (the tip-relief model's)
+        ok = len(model.state_labels) == 2
+    elif isinstance(model, TorsionalModel):
+        ok = model.eccentric and model.backlash is None and model.transmission_error is None
     else:
         ok = False
     return ok and _available()
@@ -97,7 +97,7 @@ def kernel_auto(model: Model, t_grid: FloatArray | None = None) -> bool:
         if t_grid is None or len(t_grid) < 2:
             return False
         span = (float(t_grid[-1]) - float(t_grid[0])) * float(model.mesh_frequency)
-        hunting = float(model.mesh.hunting_period) * float(model.mesh_frequency)  # type: ignore[attr-defined]
+        hunting = float(model.mesh.hunting_period) * float(model.mesh_frequency)
         if span < AUTO_MIN_SHARE * hunting:
             return False
     try:

@@ -132,13 +132,13 @@ def test_singular_matrix_rigid_body_mode() -> None:
 
 def test_auto_uses_exact_and_rejects_nonlinear() -> None:
     """auto picks exact for the linear piecewise-constant model; exact refuses backlash
-    (auto then takes exact_contact, tests/solvers/test_contact_exact.py)."""
+    (auto then takes the compiled kernel, tests/solvers/test_kernel_method.py)."""
     k = rectangular_stiffness(1.58, 0.7e9, 1.24e9)
     model = SDOFModel(mass=M_E, stiffness=k, damping_ratio=0.06, static_load=W,
                       mesh_frequency=FM)
     assert exact_applies(model) and resolve_auto(model) == "exact"
     bl = replace(model, backlash=1e-5)
-    assert not exact_applies(bl) and resolve_auto(bl) == "exact_contact"  # closed form + events
+    assert not exact_applies(bl) and resolve_auto(bl) == "kernel"  # closed form + events, in C
     with pytest.raises(InputError, match="piecewise-constant"):
         propagate_exact(bl, time_grid(FM, 2 / FM, 16))
 
