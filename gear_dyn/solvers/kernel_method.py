@@ -21,7 +21,9 @@ table's transmission error or eccentric offset). The stated error (:func:`check_
 :func:`table_bound`, composed in :func:`gear_dyn.analysis.accuracy.estimate_error`) is twice the
 difference from a run at :data:`CHECK_TIGHTEN` times tighter tolerance (a 100-fold tightening is
 not enough: where piece edges, not the tolerance, set the steps, two runs 100 times apart can
-take the same steps), plus a bound on the table's interpolation error carried to the DTE.
+take the same steps) from a start moved by :data:`CHECK_NUDGE` of the state scale (closed-form
+pieces do not depend on the tolerance: the nudge shows rounding that an unstable response
+amplifies), plus a bound on the table's interpolation error carried to the DTE.
 """
 
 from __future__ import annotations
@@ -45,6 +47,8 @@ FloatArray = NDArray[np.float64]
 
 #: the check run's tolerance is this many times tighter than the run's
 CHECK_TIGHTEN = 1e4
+#: ... from a start moved by this share of the state scale
+CHECK_NUDGE = 1e-12
 #: safety factor of the table part of the stated error
 TABLE_SAFETY = 2.0
 #: models whose kernel form is kept
@@ -161,12 +165,15 @@ def propagate_kernel(model: Model, t_grid: FloatArray, settings: SolverSettings,
 
 def check_run(model: Model, t_grid: FloatArray, y0: FloatArray, rtol: float
               ) -> tuple[FloatArray, float]:
-    """The check run of the error estimate of a run at ``rtol``: the same start at
-    :data:`CHECK_TIGHTEN` times the run's kernel tolerance (down to the kernel's 1e-14), and
-    that tolerance."""
+    """The check run of the error estimate of a run at ``rtol``: at :data:`CHECK_TIGHTEN` times
+    the run's kernel tolerance (down to the kernel's 1e-14), from the start moved by
+    :data:`CHECK_NUDGE` of the state scale, and that tolerance. The closed-form pieces do not
+    depend on the tolerance; the nudge shows where rounding grows (an unstable or chaotic
+    response), as ``exact_contact``'s check does."""
     km = kernel_form(model)
     tol = max(kernel_tolerance(model, km, rtol) / CHECK_TIGHTEN, TOL_RANGE[0])
-    return run(km, t_grid, y0, tol)[0], tol
+    start = np.asarray(y0, dtype=float) + CHECK_NUDGE * np.asarray(model.state_scale, float)
+    return run(km, t_grid, start, tol)[0], tol
 
 
 def table_bound(model: Model, t_grid: FloatArray, y: FloatArray) -> float:

@@ -1,5 +1,6 @@
-"""The backlash sweep samples its orbits and settles with the exact contact propagator
-(gear_dyn.analysis.sweep.points ``_flow``: ``exact_contact`` where ``auto`` picks it), not DOP853.
+"""The backlash sweep samples its orbits and settles with a closed-form contact propagator
+(gear_dyn.analysis.sweep.points ``_flow``: ``auto`` picks the compiled kernel, closed form on the
+flat pieces with located contact changes; ``exact_contact`` is its Python twin), not DOP853.
 
 Case: the packaged backlash scene, 24 speeds 3000..9000 rpm up and down (as
 benchmarks/bench_sweep.py's backlash case): teeth in contact, separation, back-flank contact,
@@ -42,6 +43,10 @@ BACKLASH = Path(__file__).resolve().parents[2] / "gear_dyn" / "scenes" / \
     "helicopter_tail_backlash.toml"
 SPEEDS = np.linspace(3000.0, 9000.0, 24) * RPM
 FIGURES = ("peak_force_ratio", "rms_dte", "ptp_dte", "mean_dte")
+#: the kernel route's stated error on this scene (run_scene at its mesh resonance states 1.3e-9
+#: of W/k_m): auto (the kernel) and exact_contact agree within it, relative to each figure's
+#: largest value (both are closed forms on the same pieces: they differ by rounding)
+KERNEL_STATED = 1.3e-9
 
 
 @pytest.fixture(scope="module")
@@ -54,15 +59,19 @@ def sweeps():
 
 
 def test_auto_sweep_takes_the_exact_route(sweeps) -> None:
-    """``auto`` gives bitwise the sweep with ``exact_contact`` pinned, which covers contact,
+    """``auto`` (the kernel) gives the sweep with ``exact_contact`` pinned within the kernel's
+    stated error, with the same statuses, shares and iterations, which covers contact,
     separation, back flanks and the settled jumps; pinned DOP853 is another route."""
     scene, runs = sweeps
     assert scene.tables["solver"]["method"] == "auto"
     for d in ("up", "down"):
         a, e, o = (runs[k].curve(d) for k in ("auto", "exact_contact", "dop"))
         assert a.status == e.status
-        for name in (*FIGURES, "spectrum", "state", "separation", "backside", "iterations"):
+        for name in ("separation", "backside", "iterations"):
             assert np.array_equal(getattr(a, name), getattr(e, name)), name
+        for name in (*FIGURES, "spectrum", "state"):
+            x, y = np.asarray(getattr(a, name)), np.asarray(getattr(e, name))
+            assert np.max(np.abs(x - y)) <= KERNEL_STATED * np.max(np.abs(y)), name
         assert not np.array_equal(a.rms_dte, o.rms_dte)
     up, down = runs["auto"].curve("up"), runs["auto"].curve("down")
     assert np.max(up.separation) > 0.4 and np.max(down.backside) > 0.1
@@ -85,7 +94,7 @@ def test_orbit_samples_closer_to_dop853_reference(sweeps) -> None:
             scale = np.asarray(model.state_scale, dtype=float)[:, None]
             y_new, _ = integrate(model, t, settings, y0)  # what the sweep's _flow calls
             y_ex, st = propagate_contact_exact(model, t, y0=y0)
-            assert np.array_equal(y_new, y_ex)
+            assert np.all(np.abs(y_new - y_ex) <= KERNEL_STATED * scale)
             y_old = flow_on_grid(model, y0, t, settings.rtol)
             ref, tight = (flow_on_grid(model, y0, t, r) for r in (1e-12, 1e-13))
             stated_ref = 2 * float(np.max(np.abs(ref - tight) / scale))
