@@ -101,7 +101,8 @@ def kernel_auto(model: Model, t_grid: FloatArray | None = None) -> bool:
         if t_grid is None or len(t_grid) < 2:
             return False
         span = (float(t_grid[-1]) - float(t_grid[0])) * float(model.mesh_frequency)
-        hunting = float(model.mesh.hunting_period) * float(model.mesh_frequency)
+        tm: Any = model  # a TorsionalModel (kernel_applies)
+        hunting = float(tm.mesh.hunting_period) * float(model.mesh_frequency)
         if span < AUTO_MIN_SHARE * hunting:
             return False
     try:
@@ -120,7 +121,11 @@ def kernel_form(model: Model) -> KernelModel:
     km = kernel_model(model)
     if len(_CACHE) >= CACHE_SIZE:
         _CACHE.pop(next(iter(_CACHE)))
-    _CACHE[key] = (weakref.ref(model, lambda _r, k=key: _CACHE.pop(k, None)), km)
+
+    def forget(_ref: weakref.ref[Any], k: int = key) -> None:
+        _CACHE.pop(k, None)
+
+    _CACHE[key] = (weakref.ref(model, forget), km)
     return km
 
 
@@ -205,7 +210,7 @@ def table_bound(model: Model, t_grid: FloatArray, y: FloatArray) -> float:
         err_k, err_e, err_de = errs["stiffness"], errs["e_ecc"], errs["de_dp"]
         err_k = max(err_k, errs["phi1"], errs["phi2"])  # friction arms: relative to r_b
     d = float(np.max(np.abs(u))) / x_s
-    kk = float(np.max(k)) / float(model.mean_stiffness)
+    kk = float(np.max(k)) / float(model.mean_stiffness or 1.0)
     fn = float(model.natural_frequency or km.mesh_frequency)
     force = err_k * d + err_e * kk + err_de * 2 * xi * km.mesh_frequency / (2 * math.pi * fn)
     return TABLE_SAFETY * (1.0 + 1.0 / (2.0 * xi)) * force

@@ -164,40 +164,27 @@ def kernel_model(model: Any) -> KernelModel:
     keep.append(params)
     fm = float(model.mesh_frequency)
     if len(model.state_labels) == 2:
-        tab: PhaseTable | TorsionalTable = phase_table(model)
-        br, p_br = _arr(tab.breaks, np.float64, ctypes.c_double)
-        cf, p_cf = _arr(tab.coef, np.float64, ctypes.c_double)
-        fl, p_fl = _arr(tab.flat, np.uint8, ctypes.c_ubyte)
+        sd = phase_table(model)
+        br, p_br = _arr(sd.breaks, np.float64, ctypes.c_double)
+        cf, p_cf = _arr(sd.coef, np.float64, ctypes.c_double)
+        fl, p_fl = _arr(sd.flat, np.uint8, ctypes.c_ubyte)
         keep += [br, cf, fl]
         gap = 0.0 if model.backlash is None else float(model.backlash)
         par = (2 * math.pi * fm, float(model.static_load), float(model.damping_ratio),
                gap or 1e-5, 1e-8)
-        c_model = GdModel(_table_format(), br.size - 1, tab.degree,
+        c_model = GdModel(_table_format(), br.size - 1, sd.degree,
                           int(model.transmission_error is not None),
                           int(model.backlash is not None), p_br, p_cf, p_fl, p_params,
                           (ctypes.c_double * NPAR)(*par), float(model.mass),
                           float(model.mean_stiffness), 1.0, 1.0, 1.0, 0.0,
                           float(model.state_scale[0]), None)
-        return KernelModel(c_model, tuple(keep), tab, par, 1.0, fm, float(model.phase0), 2)
+        return KernelModel(c_model, tuple(keep), sd, par, 1.0, fm, float(model.phase0), 2)
     tab = torsional_table(model, lines=False)  # polynomials: cheaper to step
     br, p_br = _arr(tab.breaks, np.float64, ctypes.c_double)
     cf, p_cf = _arr(tab.coef, np.float64, ctypes.c_double)
     fl, p_fl = _arr(np.zeros(br.size - 1), np.uint8, ctypes.c_ubyte)
     keep += [br, cf, fl]
-    p_lines = None
-    if tab.lines is not None:
-        g = tab.lines
-        k, q = np.nonzero(np.any(g.fourier != 0.0, axis=2))  # by rising k, then quantity
-        tk, p_tk = _arr(k, np.uint16, ctypes.c_ushort)
-        tq, p_tq = _arr(q, np.uint8, ctypes.c_ubyte)
-        ab, p_ab = _arr(g.fourier[k, q], np.float64, ctypes.c_double)
-        lay = g.layout
-        lines = GdLines(int(k.size), float(g.period), p_tk, p_tq, p_ab, lay.pitch, lay.width,
-                        lay.sin_bb, lay.face_width, lay.l_ac0, int(lay.index[0]),
-                        int(lay.index.size), float(g.per_length),
-                        -1.0 if g.friction is None else float(g.friction))
-        keep += [tk, tq, ab, lines]
-        p_lines = ctypes.pointer(lines)
+    p_lines = None  # polynomials: no contact-line form (GdLines, the FMU's)
     pair = model.pair
     arms = model.mean_friction_arms
     tors = GdTors((ctypes.c_double * 2)(*model.inertias), float(pair.z2),
