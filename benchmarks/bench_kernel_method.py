@@ -147,7 +147,7 @@ def main(argv: list[str] | None = None) -> int:
         lines.append(f"| `{name}` | {m('after', f'{key}_table') * 1e3:.4g} ms | "
                      f"{m('after', f'{key}_kernel_run') * 1e3:.4g} ms |")
     lines += ["", "Raw medians per child (s): " + json.dumps(
-        {k: [{kk: (round(v, 7) if isinstance(v, float) else v) for kk, v in g.items()
+        {k: [{kk: (float(f"{v:.4g}") if isinstance(v, float) else v) for kk, v in g.items()
               if kk != "gear_dyn"} for g in got[k]] for k in trees})]
     text = "\n".join(lines) + "\n"
     out_dir = HERE / "results" if args.record else args.out

@@ -85,9 +85,10 @@ def integrate(
     elif method == "kernel":
         if not kernel_applies(model):
             raise InputError(f"solver.method = 'kernel' does not apply to the "
-                             f"{type(model).__name__} model: it steps the single-DOF model and "
-                             "the eccentric torsional model without backlash and transmission "
-                             "error, with the compiled kernel built; use method 'auto'")
+                             f"{type(model).__name__} model: it steps the single-DOF mesh "
+                             "equation with mesh-periodic coefficients and the eccentric "
+                             "torsional model without backlash and transmission error, with the "
+                             "compiled kernel built; use method 'auto'")
         y, st = propagate_kernel(model, t_grid, run, y0)
     elif method == "periodic":
         y, st = propagate_periodic(model, t_grid, run, y0)

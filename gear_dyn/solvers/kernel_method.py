@@ -8,10 +8,10 @@ with ``lines=False``) and the kernel advances it over the grid in one call
 the others by the Dormand-Prince 5(4) pair (Dormand & Prince 1980), backlash contact changes
 located on the closed form or the dense output.
 
-Where it applies (:func:`kernel_applies`): the single-DOF model (``SDOFModel``, with or without
-backlash and transmission error) and the eccentric torsional model without backlash and
-transmission error, when the compiled library is present. The tables are built once per model
-(kept for the model's lifetime, at most :data:`CACHE_SIZE` models).
+Where it applies (:func:`kernel_applies`): the single-DOF mesh equation (with or without
+backlash and a mesh-periodic transmission error) and the eccentric torsional model without
+backlash and transmission error, when the compiled library is present. The tables are built
+once per model (kept for the model's lifetime, at most :data:`CACHE_SIZE` models).
 
 Error control: the kernel weighs each state's error by ``tol (scale + |y|)``, so a state far
 from zero (the gear angle of an eccentric pair holds the eccentric offset, tens of static
@@ -29,6 +29,7 @@ amplifies), plus a bound on the table's interpolation error carried to the DTE.
 from __future__ import annotations
 
 import math
+import threading
 import weakref
 from typing import Any
 
@@ -37,8 +38,6 @@ from numpy.typing import NDArray
 
 from gear_dyn.errors import GearDynError, InputError
 from gear_dyn.models.base import Model
-from gear_dyn.models.sdof import SDOFModel
-from gear_dyn.models.torsional import TorsionalModel
 from gear_dyn.solvers import kernel
 from gear_dyn.solvers.kernel.run import TOL_RANGE, KernelModel, kernel_model, run
 from gear_dyn.solvers.settings import SolverSettings
@@ -55,6 +54,7 @@ TABLE_SAFETY = 2.0
 CACHE_SIZE = 4
 
 _CACHE: dict[int, tuple[weakref.ref[Any], KernelModel]] = {}
+_LOCK = threading.RLock()  # re-entrant: a weakref callback may run inside a locked block
 
 
 #: largest table error (relative, ``max_error``) for which ``auto`` picks the kernel
@@ -74,12 +74,17 @@ def _available() -> bool:
 
 
 def kernel_applies(model: Model) -> bool:
-    """True for a single-DOF model (``SDOFModel`` and its subclasses) and an eccentric torsional
-    model without backlash and transmission error, with the compiled kernel present."""
-    if isinstance(model, SDOFModel):  # and its subclasses (the tip-relief model's)
-        ok = len(model.state_labels) == 2
-    elif isinstance(model, TorsionalModel):
-        ok = model.eccentric and model.backlash is None and model.transmission_error is None
+    """True for the single-DOF mesh equation with mesh-periodic coefficients (``mesh_periodic``:
+    its table spans one mesh cycle) and for the eccentric torsional model (two inertias,
+    ``force_form``, ``eccentric``) without backlash and transmission error, with the compiled
+    kernel present."""
+    n = len(model.state_labels)
+    if n == 2:
+        ok = bool(model.mesh_periodic)
+    elif n == 4:
+        ok = (bool(getattr(model, "eccentric", False)) and model.backlash is None
+              and callable(getattr(model, "force_form", None))
+              and getattr(model, "transmission_error", None) is None)
     else:
         ok = False
     return ok and _available()
@@ -113,19 +118,23 @@ def kernel_auto(model: Model, t_grid: FloatArray | None = None) -> bool:
 
 
 def kernel_form(model: Model) -> KernelModel:
-    """The model's kernel form, built on first use and kept while the model lives."""
+    """The model's kernel form, built on first use and kept while the model lives (threads of a
+    sweep share the cache under a lock; a model is built once per thread at most)."""
     key = id(model)
-    hit = _CACHE.get(key)
+    with _LOCK:
+        hit = _CACHE.get(key)
     if hit is not None and hit[0]() is model:
         return hit[1]
     km = kernel_model(model)
-    if len(_CACHE) >= CACHE_SIZE:
-        _CACHE.pop(next(iter(_CACHE)))
 
     def forget(_ref: weakref.ref[Any], k: int = key) -> None:
-        _CACHE.pop(k, None)
+        with _LOCK:
+            _CACHE.pop(k, None)
 
-    _CACHE[key] = (weakref.ref(model, forget), km)
+    with _LOCK:
+        while len(_CACHE) >= CACHE_SIZE:
+            _CACHE.pop(next(iter(_CACHE)))
+        _CACHE[key] = (weakref.ref(model, forget), km)
     return km
 
 
