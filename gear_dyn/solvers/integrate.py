@@ -1,9 +1,10 @@
 """Choose the integration method for a model and grid, and run it.
 
 ``auto`` picks, in order: ``exact`` (:mod:`~gear_dyn.solvers.exact`), ``kernel``
-(:mod:`~gear_dyn.solvers.kernel_method`: the single-DOF model with backlash and the eccentric
-torsional model, stepped by the native FMU's compiled kernel from their tables in the mesh phase,
-where the table meets its error limit and the library is built), ``exact_contact``
+(:mod:`~gear_dyn.solvers.kernel_method`: the single-DOF model with backlash and
+piecewise-constant stiffness, and the eccentric torsional model over most of its hunting
+period, stepped by the native FMU's compiled kernel from their tables in the mesh phase, where
+the table meets its error limit and the library is built), ``exact_contact``
 (:mod:`~gear_dyn.solvers.contact_exact`), ``periodic`` (:mod:`~gear_dyn.solvers.periodic`),
 ``gauss`` (:mod:`~gear_dyn.solvers.gauss`), else solve_ivp with
 :data:`~gear_dyn.solvers.settings.DEFAULT_ODE_METHOD` (:mod:`~gear_dyn.solvers.ode`), each where
@@ -34,9 +35,9 @@ FloatArray = NDArray[np.float64]
 
 def resolve_auto(model: Model) -> str:
     """The method ``auto`` picks without a grid: ``exact``, ``kernel`` (the single-DOF model
-    with backlash) or ``exact_contact`` where they apply (in that order), else LSODA (which
-    :func:`resolve_method` may turn into ``kernel``, ``periodic`` or ``gauss``: those choices
-    need the grid or the model's table)."""
+    with backlash and piecewise-constant stiffness) or ``exact_contact`` where they apply (in
+    that order), else LSODA (which :func:`resolve_method` may turn into ``kernel``,
+    ``periodic`` or ``gauss``: those choices need the grid or the model's table)."""
     if exact_applies(model):
         return "exact"
     if kernel_auto(model):

@@ -91,16 +91,21 @@ def kernel_applies(model: Model) -> bool:
 
 
 def kernel_auto(model: Model, t_grid: FloatArray | None = None) -> bool:
-    """True where ``auto`` picks the kernel (:func:`kernel_applies`), with a table that meets
-    :data:`AUTO_TABLE_ERROR`: a single-DOF model with backlash (its table spans one mesh cycle);
-    an eccentric torsional model on a grid spanning at least :data:`AUTO_MIN_SHARE` of its
-    table (the hunting period: the table's cost grows with it, not with the run; shorter runs,
-    such as the quasi-static reference of the dynamic factor, keep ``gauss``). Linear
-    single-DOF models keep their exact and periodic routes."""
+    """True where ``auto`` picks the kernel (:func:`kernel_applies`): a single-DOF model with
+    backlash whose table is exact with constant coefficients on every piece (piecewise-constant
+    stiffness, no transmission error: the kernel is then closed form throughout, as
+    ``exact_contact``, and its result does not depend on a tolerance; with a transmission error
+    the kernel's Runge-Kutta pieces would be less accurate than ``exact_contact`` at the same
+    rtol, so ``auto`` keeps that); an eccentric torsional model whose table meets
+    :data:`AUTO_TABLE_ERROR`, on a grid spanning at least :data:`AUTO_MIN_SHARE` of its table
+    (the hunting period: the table's cost grows with it, not with the run; shorter runs, such
+    as the quasi-static reference of the dynamic factor, keep ``gauss``). Linear single-DOF
+    models keep their exact and periodic routes."""
     if not kernel_applies(model):
         return False
-    if len(model.state_labels) == 2:
-        if getattr(model, "backlash", None) is None:
+    sdof = len(model.state_labels) == 2
+    if sdof:
+        if model.backlash is None:
             return False
     else:
         if t_grid is None or len(t_grid) < 2:
@@ -114,6 +119,9 @@ def kernel_auto(model: Model, t_grid: FloatArray | None = None) -> bool:
         km = kernel_form(model)
     except InputError:  # no table fits
         return False
+    if sdof:  # closed form on every piece (flat, exact table), as exact_contact: no RK error
+        table: Any = km.table
+        return bool(table.exact and np.all(table.flat))
     return km.table_error <= AUTO_TABLE_ERROR
 
 

@@ -31,8 +31,9 @@ class SolverSettings:
     ----------
     method : str
         ``auto`` (default: the exact propagator where it applies; ``kernel`` for the
-        single-DOF model with backlash and the eccentric torsional model where their tables
-        meet the error limit and the compiled kernel is built; else ``exact_contact`` for the
+        single-DOF model with backlash and piecewise-constant stiffness and for the eccentric
+        torsional model over most of its hunting period, where the compiled kernel is built;
+        else ``exact_contact`` for the
         single-DOF model with backlash; else, for a linear single-DOF model on the usual
         uniform grid, ``periodic``; else ``gauss`` where it applies; else LSODA), or one of
         RK45, RK23, DOP853, Radau, BDF, LSODA (solve_ivp), ``exact`` (piecewise-exact

@@ -57,10 +57,9 @@ def te_model(ratio: float, te: HarmonicSignal = ONE, k_double: float = K1, xi: f
 
 
 def test_applies_to_harmonic_te_only() -> None:
-    """A harmonic TE is covered (auto picks the compiled kernel before it); a sampled one or an
-    undamped model with a TE is not (the variational route then); ``exact_contact`` asked for
-    names it."""
-    assert contact_exact_applies(te_model(1.5)) and resolve_auto(te_model(1.5)) == "kernel"
+    """A harmonic TE is covered (auto picks exact_contact); a sampled one or an undamped model
+    with a TE is not (the variational route then); ``exact_contact`` asked for names it."""
+    assert contact_exact_applies(te_model(1.5)) and resolve_auto(te_model(1.5)) == "exact_contact"
     sampled = SampledSignal(np.array([0.0, 0.5]), np.array([0.0, 1e-5]))
     for model in (te_model(1.5, te=sampled), te_model(1.5, xi=0.0)):  # type: ignore[arg-type]
         assert not contact_exact_applies(model)
@@ -240,10 +239,10 @@ def test_crossing_search_misses_no_dip() -> None:
     assert found > 30
 
 
-def test_integrate_runs_the_te_scene_by_the_closed_form() -> None:
+def test_auto_integrates_the_te_scene_by_the_closed_form() -> None:
     model = te_model(1.5)
     t = np.linspace(0.0, 10 / model.mesh_frequency, 641)
-    y, st = integrate(model, t, SolverSettings(method="exact_contact"))
+    y, st = integrate(model, t, SolverSettings())
     assert st["method"] == "exact_contact"
     y_d, _ = integrate(model, t, SolverSettings(method="DOP853", rtol=1e-10))
     assert np.max(np.abs(y - y_d) / model.state_scale[:, None]) < 1e-6
