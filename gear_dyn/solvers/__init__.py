@@ -5,6 +5,7 @@
 - :mod:`.ode`: solve_ivp piece by piece; :mod:`.events`: restarts at contact changes;
 - :mod:`.exact`: exact propagation of piecewise-constant linear models;
 - :mod:`.periodic`: step maps of linear mesh-periodic models;
+- :mod:`.kernel_method`: the native FMU's compiled stepper over the whole grid (``kernel``);
 - ``simulate_bare`` (:func:`simulate_bare`): one run -> :class:`Result` (:mod:`.result`),
   without the checks that
   :func:`~gear_dyn.analysis.study.simulate` adds.

@@ -13,6 +13,7 @@ output. Here the same ``gd_model`` is built as ctypes structures from those arra
 from __future__ import annotations
 
 import ctypes
+import functools
 import math
 from dataclasses import dataclass
 from typing import Any
@@ -139,7 +140,9 @@ def _params() -> tuple[Any, Any]:
     return p, ctypes.cast(p, _P(GdParam))
 
 
+@functools.cache
 def _table_format() -> int:
+    """GD_TABLE_FORMAT of gd_kernel.h (read once)."""
     import re
 
     text = (kernel.SOURCE_DIR / "gd_kernel.h").read_text("utf-8")
