@@ -58,7 +58,6 @@ def test_eccentric_scene_matches_gauss() -> None:
     est = k.extra["estimated_error"]
     assert gap <= _stated(k) + _stated(g), (gap, _stated(k), _stated(g))
     assert 0.0 < est["table_part"] < est["max_rel"] < 1e-6
-    assert est["check_run_time_s"] < k.stats.run_time_s  # the check is a small share
 
 
 def test_relief_scene_matches_its_linear_route() -> None:
