@@ -3,7 +3,8 @@
 The sources here (``gd_flow.c``: products and applications of affine step maps, and the
 exact contact walk of the backlash model, :mod:`gear_dyn.solvers.kernel.contact`;
 ``gd_kernel.c``, ``gd_torsional.c``: the native FMU's steppers, which the FMU compiles with its
-glue) are built at install into one shared library (``setup.py``) and loaded with ctypes, not
+glue; ``gd_run.c``: those steppers over an output grid, the solvers' ``kernel`` method,
+:mod:`.run`) are built at install into one shared library (``setup.py``) and loaded with ctypes, not
 the Python C API: a call releases the GIL, so threads run kernel calls in parallel. Python
 computes the maps (matrix exponentials, collocation) and the kernel applies them.
 
@@ -123,6 +124,12 @@ def library() -> ctypes.CDLL:
                                     _DP, _DP, _DP]
     lib.gd_contact_on_grid.restype = ctypes.c_int
     lib.gd_contact_on_grid.argtypes = [_DP, _DP, _l, _DP, _DP, _l, _DP, _DP]
+    # the steppers (gd_kernel.c, gd_torsional.c, gd_run.c: :mod:`.run` builds their structures)
+    lib.gd_start.restype = None
+    lib.gd_start.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_double]
+    lib.gd_run.restype = ctypes.c_long
+    lib.gd_run.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_long, ctypes.c_void_p,
+                           ctypes.c_void_p, ctypes.c_void_p]
     return lib
 
 
