@@ -24,8 +24,8 @@ Formulas (ISO 21771 / any gear text; Liu et al. 2017, eqs. 14, 28, 29, with its 
 from __future__ import annotations
 
 import math
-from functools import cached_property
 from dataclasses import dataclass
+from functools import cached_property
 
 from gear_dyn.errors import InputError, check_range
 
