@@ -363,10 +363,9 @@ class PiecewiseStiffness(PeriodicStiffness):
         return v_list[j] + (v_list[j + 1] - v_list[j]) * (u - u0) / (u1 - u0)
 
     def segments(self) -> tuple[FloatArray, FloatArray] | None:
-        vals = [np.asarray(v, dtype=float) for _ph, v in self.samples]
-        if any(np.ptp(v) > 0 for v in vals):
+        if self._levels is None:
             return None
-        return self.edges.copy(), np.array([float(v[0]) for v in vals])
+        return self.edges.copy(), self._levels.copy()
 
     def fourier_coefficients(self, n: int) -> tuple[float, FloatArray, FloatArray]:
         e = self.edges
