@@ -63,7 +63,8 @@ def _worker(case: str) -> None:
         fn = factory(100.0).natural_frequency
         return factory(2.0 * fn * 2 * math.pi / 23)
 
-    from gear_dyn.analysis.stability import flow_on_grid, integrate_with_sensitivity
+    from gear_dyn.analysis.stability import flow_on_grid
+    from gear_dyn.solvers.sensitivity import integrate_with_sensitivity
 
     if case in ("flow_on_grid", "variational"):
         model = backlash_model()

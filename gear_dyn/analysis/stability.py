@@ -2,7 +2,7 @@
 
 Linear models: the affine one-period map ``y(T) = Phi y(0) + q``, its fixed point and the
 eigenvalues of ``Phi``; models with backlash: shooting, Newton's method on ``P(y0) - y0 = 0``
-(:func:`gear_dyn.solvers.sensitivity.integrate_with_sensitivity`, re-exported here, gives
+(:func:`gear_dyn.solvers.sensitivity.integrate_with_sensitivity` gives
 ``Phi = dP/dy0``). docs/sweep.md, "How the steady
 state is found", gives the routes; docs/solvers.md the checks and their tests. Stability charts
 are in :mod:`gear_dyn.analysis.chart`.
@@ -22,7 +22,6 @@ from gear_dyn.models.base import MeshModel, Model
 from gear_dyn.solvers.exact import propagate_pieces
 from gear_dyn.solvers.ode import flow
 from gear_dyn.solvers.periodic import step_products
-from gear_dyn.solvers.sensitivity import SENSITIVITY_ROUTES as SENSITIVITY_ROUTES
 from gear_dyn.solvers.sensitivity import integrate_with_sensitivity
 
 FloatArray = NDArray[np.float64]

@@ -50,7 +50,7 @@ def run(args: argparse.Namespace) -> int:
     from gear_dyn.plots.bifurcation import plot_bifurcation
     from gear_dyn.scene import load_scene
     from gear_dyn.scene.bifurcation import bifurcation_scene
-    from gear_dyn.scene.sweep import parse_speed_range
+    from gear_dyn.scene.operating import parse_speed_range
 
     scene = load_scene(args.scene)
     speeds = parse_speed_range(args.speeds)

@@ -55,7 +55,8 @@ def register(sub: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     from gear_dyn.analysis.sweep import SweepOptions
     from gear_dyn.scene import load_scene
-    from gear_dyn.scene.sweep import parse_speed_range, sweep_scene
+    from gear_dyn.scene.operating import parse_speed_range
+    from gear_dyn.scene.sweep import sweep_scene
 
     scene = load_scene(args.scene)
     speeds = parse_speed_range(args.speeds)

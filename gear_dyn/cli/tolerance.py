@@ -47,7 +47,7 @@ def run(args: argparse.Namespace) -> int:
     from gear_dyn.plots.tolerance import plot_tolerance
     from gear_dyn.scene import load_scene
     from gear_dyn.scene.iso import like_for_like_note, scene_iso_kv
-    from gear_dyn.scene.sweep import parse_speed_range
+    from gear_dyn.scene.operating import parse_speed_range
     from gear_dyn.scene.tolerance import tolerance_scene
 
     scene = load_scene(args.scene)

@@ -22,7 +22,6 @@ from gear_dyn.models.base import Model, at_speed
 from gear_dyn.scene.build import RunPlan, build_model, build_pair, build_plan
 from gear_dyn.scene.hints import backlash_gap_hint
 from gear_dyn.scene.operating import check_keywords, parse_speeds
-from gear_dyn.scene.operating import parse_speed_range as parse_speed_range  # its old home
 from gear_dyn.scene.validated import Scene
 
 FloatArray = NDArray[np.float64]

@@ -380,7 +380,7 @@ def test_fold_on_the_variational_route_agrees_with_the_extended_system() -> None
     located contacts) against the minimally extended system solved by MINPACK on the same
     route. Both use the map at rtol 1e-10, whose step-size selection makes it smooth only to
     about that; 1e-7 relative in speed is the margin for it."""
-    from gear_dyn.analysis.stability import integrate_with_sensitivity
+    from gear_dyn.solvers.sensitivity import integrate_with_sensitivity
 
     k0, e1 = 1e6, 6e-4
     model = _kahraman_singh(k0, e1)

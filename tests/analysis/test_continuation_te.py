@@ -23,9 +23,10 @@ import pytest
 from extended_system import solve_extended
 
 from gear_dyn.analysis.continuation import ContinuationSettings, continue_orbits, fold_test
-from gear_dyn.analysis.stability import integrate_with_sensitivity, shoot
+from gear_dyn.analysis.stability import shoot
 from gear_dyn.scene import load_scene
 from gear_dyn.scene.sweep import SceneModels
+from gear_dyn.solvers.sensitivity import integrate_with_sensitivity
 
 RPM = 2 * math.pi / 60
 

@@ -1,5 +1,5 @@
 """Exact one-period map and sensitivity of the backlash model, and shooting on it
-(gear_dyn.analysis.stability.integrate_with_sensitivity / shoot, route ``exact``).
+(gear_dyn.solvers.sensitivity.integrate_with_sensitivity / shoot, route ``exact``).
 
 Second methods: the variational equations integrated with DOP853 (route ``variational``, the
 route shooting used before), and central differences of the exact flow. The cases are the
@@ -28,11 +28,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from gear_dyn.analysis.stability import integrate_with_sensitivity, shoot
+from gear_dyn.analysis.stability import shoot
 from gear_dyn.errors import InputError
 from gear_dyn.models.sdof import SDOFModel
 from gear_dyn.scene import build_plan, load_scene
 from gear_dyn.solvers.contact_exact import propagate_contact_exact, rounding_bound
+from gear_dyn.solvers.sensitivity import integrate_with_sensitivity
 
 SCENES = Path(__file__).resolve().parents[2] / "gear_dyn" / "scenes"
 BACKLASH = SCENES / "helicopter_tail_backlash.toml"

@@ -27,7 +27,8 @@ from gear_dyn.analysis.sweep import (
 from gear_dyn.cli.app import main
 from gear_dyn.errors import InputError
 from gear_dyn.scene import build_model, load_scene, parse_scene, run_scene
-from gear_dyn.scene.sweep import model_at_speed, parse_speed_range, sweep_scene
+from gear_dyn.scene.operating import parse_speed_range
+from gear_dyn.scene.sweep import model_at_speed, sweep_scene
 from gear_dyn.solvers import SolverSettings, integrate, time_grid
 
 SCENES = Path(__file__).resolve().parents[2] / "gear_dyn" / "scenes"

@@ -15,7 +15,7 @@ import pytest
 
 from gear_dyn.errors import InputError, SceneError
 from gear_dyn.scene import parse_scene
-from gear_dyn.scene.sweep import parse_speed_range
+from gear_dyn.scene.operating import parse_speed_range
 
 ROOT = Path(__file__).resolve().parents[2]
 HELI = ROOT / "gear_dyn" / "scenes" / "helicopter_tail.toml"

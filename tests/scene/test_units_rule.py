@@ -10,7 +10,7 @@ import pytest
 from gear_dyn.cli import main
 from gear_dyn.errors import InputError, SceneError
 from gear_dyn.scene import parse_scene
-from gear_dyn.scene.sweep import parse_speed_range
+from gear_dyn.scene.operating import parse_speed_range
 from gear_dyn.units import parse_quantity
 
 BASE = {

@@ -2,7 +2,7 @@
 multipliers, Liouville check, contact pattern and response measures.
 
 The n-period map ``P(y0) = y(n T)`` and its derivative ``M = dP/dy0`` (the monodromy matrix of
-a period-n orbit) come from :func:`gear_dyn.analysis.stability.integrate_with_sensitivity`:
+a period-n orbit) come from :func:`gear_dyn.solvers.sensitivity.integrate_with_sensitivity`:
 the closed-form pieces and saltation matrices of the backlash propagator where the stiffness
 is piecewise constant and the transmission error, if any, harmonic (route ``exact``,
 :func:`gear_dyn.solvers.contact_exact.contact_exact_applies`), else the variational equations
@@ -21,7 +21,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.analysis.stability import OrbitShape, flow_on_grid, integrate_with_sensitivity
+from gear_dyn.analysis.stability import OrbitShape, flow_on_grid
 from gear_dyn.errors import InputError, SolverError
 from gear_dyn.models.base import MeshModel
 from gear_dyn.solvers.contact_exact import (
@@ -29,6 +29,7 @@ from gear_dyn.solvers.contact_exact import (
     contact_exact_applies,
     walk,
 )
+from gear_dyn.solvers.sensitivity import integrate_with_sensitivity
 
 FloatArray = NDArray[np.float64]
 

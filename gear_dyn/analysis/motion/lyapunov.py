@@ -9,7 +9,7 @@ are summed in blocks of periods; the estimate is the mean over the blocks and it
 the blocks' standard error (``std / sqrt(n_blocks)``), which shrinks as ``1/sqrt(time)`` for
 a chaotic attractor.
 
-The sensitivity comes from :func:`gear_dyn.analysis.stability.integrate_with_sensitivity`: the
+The sensitivity comes from :func:`gear_dyn.solvers.sensitivity.integrate_with_sensitivity`: the
 exact flow or the variational equations, two independent integrators of the same tangent flow.
 On the exact route the whole run is one walk of the closed-form pieces
 (:func:`gear_dyn.solvers.contact_exact.walk`) that hands back each period's sensitivity.
@@ -23,10 +23,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.analysis.stability import integrate_with_sensitivity
 from gear_dyn.errors import check_range
 from gear_dyn.models.base import MeshModel
 from gear_dyn.solvers.contact_exact import contact_exact_applies, walk
+from gear_dyn.solvers.sensitivity import integrate_with_sensitivity
 
 FloatArray = NDArray[np.float64]
 
@@ -49,7 +49,7 @@ class LyapunovEstimate:
         T = 1/f_m in s.
     route : str
         ``exact`` or ``variational``
-        (:func:`gear_dyn.analysis.stability.integrate_with_sensitivity`).
+        (:func:`gear_dyn.solvers.sensitivity.integrate_with_sensitivity`).
     y_end : ndarray
         State at the end of the run, SI units.
     """
@@ -93,7 +93,8 @@ def largest_lyapunov(model: MeshModel, y0: FloatArray, periods: int = 400, block
     rtol : float
         Relative tolerance of the variational route (unused by the exact route).
     route : {"auto", "exact", "variational"}
-        Sensitivity of each period (:func:`gear_dyn.analysis.stability.integrate_with_sensitivity`).
+        Sensitivity of each period
+        (:func:`gear_dyn.solvers.sensitivity.integrate_with_sensitivity`).
 
     Returns
     -------
