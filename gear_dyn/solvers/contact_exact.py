@@ -434,14 +434,15 @@ def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0,
     kidx = seg_k.take(np.searchsorted(edges, mid, side="right") - 1, mode="clip")
     tables = _walk_tables(mm, k_values)
     xtol = 4 * float(np.spacing(max(abs(t0), abs(t1), 1e-300)))
-    e0, ed0 = _te_shift(mm, np.array([t0]))
+    shifted = getattr(mm, "transmission_error", None) is not None
+    e0, ed0 = _te_shift(mm, np.array([t0])) if shifted else (np.zeros(1), np.zeros(1))
     segs = ck.walk(*tables, cuts, kidx.ravel(), x0 - float(e0[0]), v0 - float(ed0[0]), xtol,
                    MAX_EVENTS_PER_PIECE, slots)
     if segs.status == ck.CHATTER:
         raise SolverError(
             f"exact_contact: more than {MAX_EVENTS_PER_PIECE} contact changes in one "
             f"stiffness piece at t = {segs.fail_time:.6g} s (a chattering graze); use LSODA")
-    e1, ed1 = _te_shift(mm, np.array([t1]))
+    e1, ed1 = _te_shift(mm, np.array([t1])) if shifted else (e0, ed0)
     x, v = (float(u) for u in segs.end)
     return Walk(model, t0, t1, (x0, v0), tables, segs, (x + float(e1[0]), v + float(ed1[0])))
 
