@@ -15,7 +15,7 @@ interleaved per repeat:
    jumping at folds);
 3. brute force: at every 5th of those speeds, iterate the exact flow one mesh period at a
    time from the previous speed's state until the orbit closes to the continuation's
-   tolerance (``|P(y) - y| <= newton_tol`` in scaled units, the continuation's accuracy);
+   tolerance (``|P(y) - y| <= newton.tolerance`` in scaled units, the continuation's accuracy);
    time per speed, with the mesh periods it needed.
 
 The model (scene plan, pint) is built before timing. Writes ``continuation.md`` into ``--out``
@@ -103,7 +103,7 @@ def main(argv: list[str] | None = None) -> int:
         speeds = np.linspace(LO, HI, n_pts) * RPM
         dt, _sw = timed(lambda s=speeds: sweep_scene(scene, s, si=True, direction="up"))
         t_sweep.append(dt / n_pts)
-        dt, periods = brute_force(factory, speeds[::5], settings.newton_tol)
+        dt, periods = brute_force(factory, speeds[::5], settings.newton.tolerance)
         t_brute.append(dt / len(periods))
     ms = [1e3 * x for x in t_off]
     ms_on = [1e3 * x for x in t_on]
@@ -118,7 +118,7 @@ def main(argv: list[str] | None = None) -> int:
         f"Scene `helicopter_tail_backlash` (packaged), pinion speed {LO:.0f}..{HI:.0f} rpm, "
         f"period-1 orbits, exact route. The continuation has {n_pts} points (the whole curve: "
         f"stable and unstable branches, 6 folds), worst scaled closing residual "
-        f"{worst_residual:.1e} (newton_tol {settings.newton_tol:g}); with detection on, "
+        f"{worst_residual:.1e} (newton_tol {settings.newton.tolerance:g}); with detection on, "
         f"{n_special} special points are located as well ({kinds}), each to "
         f"locate_tol {settings.locate_tol:g} relative in speed (largest stated error "
         f"{worst_error:.1e} relative, the corrector's included): secant steps on the test "

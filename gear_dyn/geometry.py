@@ -545,6 +545,47 @@ def mesh_frequency(pair: GearPair, speed1: float) -> float:
     return teeth_mesh_frequency(pair.z1, speed1)
 
 
+#: the largest pinion speed anywhere (rad/s; about 955000 rpm): the one speed range, checked by
+#: :func:`check_speed`
+MAX_SPEED = 1e5
+#: the largest pinion torque anywhere (N m), checked by :func:`check_torque`
+MAX_TORQUE = 1e8
+
+
+def check_speed(speed: float, name: str = "speed") -> float:
+    """The one speed-range rule: a pinion speed in rad/s, ``0 < speed <= MAX_SPEED``.
+
+    Returns the speed as a float.
+
+    Raises
+    ------
+    InputError
+        Out of range, naming ``name``, the value and the unit.
+
+    Examples
+    --------
+    >>> check_speed(314.0)
+    314.0
+    >>> check_speed(0.0)
+    Traceback (most recent call last):
+    ...
+    gear_dyn.errors.InputError: speed = 0 rad/s is out of range: valid range 0 < x <= 100000 rad/s
+    """
+    return check_range(name, speed, "rad/s", low=0.0, high=MAX_SPEED, low_open=True)
+
+
+def check_torque(torque: float, name: str = "torque", positive: bool = False) -> float:
+    """The one torque-range rule: a pinion torque in N m, ``0 <= torque <= MAX_TORQUE``
+    (``0 < torque`` where ``positive``). Returns it as a float.
+
+    Raises
+    ------
+    InputError
+        Out of range, naming ``name``, the value and the unit.
+    """
+    return check_range(name, torque, "N*m", low=0.0, high=MAX_TORQUE, low_open=positive)
+
+
 def teeth_mesh_frequency(z1: int, speed1: float) -> float:
     """Mesh frequency f_m = z1 w1 / (2 pi) in Hz of a pinion of ``z1`` teeth at ``speed1``
     rad/s (the one home of the formula: :func:`mesh_frequency` of a pair uses it)."""

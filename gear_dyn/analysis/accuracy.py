@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.analysis.stability import (
-    UNIT_CIRCLE_TOL,
+    floquet_stable,
     is_linear_periodic,
     one_period_map,
     period_map,
@@ -361,7 +361,7 @@ def floquet_check(model: Model, step_maps: StepMaps | None = None,
                      "(DOP853, rtol 1e-10)")
     except GearDynError:
         return None
-    unstable = rho > 1.0 + UNIT_CIRCLE_TOL
+    unstable = not floquet_stable(rho)
     advice = ""
     if unstable:
         advice = (f"parametrically unstable: the free response grows by {rho:.4g} per mesh "

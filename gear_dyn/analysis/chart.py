@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.analysis.stability import _require_sdof
+from gear_dyn.analysis.stability import _require_sdof, floquet_stable
 from gear_dyn.errors import InputError
 from gear_dyn.models.base import MeshModel
 from gear_dyn.solvers.linear_maps import cell_monodromy
@@ -204,6 +204,7 @@ def sweep_charts(model: MeshModel, ratio_lo: float, ratio_hi: float, which: str 
 
 def chart_summary(charts: list[StabilityChart]) -> dict[str, Any]:
     """Per chart parameter: the scene's value and the unstable share of the chart."""
-    return {ch.parameter_name: {"scene_value": ch.scene_value,
-                                "unstable_share_of_chart": float(np.mean(ch.spectral_radius > 1))}
+    return {ch.parameter_name: {
+        "scene_value": ch.scene_value,
+        "unstable_share_of_chart": float(np.mean(~floquet_stable(ch.spectral_radius)))}
             for ch in charts}

@@ -5,8 +5,8 @@ diagram (:mod:`gear_dyn.analysis.motion.diagram`): ``workers=None`` (or 1) runs 
 process with the builtin ``map``; ``workers=N`` on a process pool of N processes (started with
 ``spawn``, shut down at the end); an ``executor`` (any :class:`concurrent.futures.Executor`, e.g.
 a Dask ``distributed.Client(...).get_executor()``) through its own ``map``, not shut down. Both
-cut each direction's speeds into blocks (:func:`speed_blocks`) and run them with
-:func:`run_blocks`.
+(and the tolerance study) cut each direction's speeds into blocks (:func:`speed_blocks`) and run
+them with :func:`run_blocks`, one :class:`SpeedBlock` per task.
 """
 
 from __future__ import annotations
@@ -16,12 +16,14 @@ import multiprocessing
 import signal
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
-from typing import Any
+from dataclasses import dataclass
+from typing import Any, Generic, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.errors import InputError, SolverError, check_range
+from gear_dyn.geometry import check_speed
 
 #: ``map(fn, tasks)``: the builtin or an executor's
 MapFn = Callable[[Callable[[Any], Any], Iterable[Any]], Iterator[Any]]
@@ -110,6 +112,28 @@ def task_map(workers: int | None = None, executor: cf.Executor | None = None
         pool.shutdown(wait=True, cancel_futures=True)
 
 
+def check_speeds(speeds: Any, what: str) -> NDArray[np.float64]:
+    """The speeds of a scan in rad/s, sorted, duplicates removed, each in the one speed range
+    (:func:`gear_dyn.geometry.check_speed`); ``what`` names the scan in the message.
+
+    Raises
+    ------
+    InputError
+        No speeds, or one out of range.
+
+    Examples
+    --------
+    >>> check_speeds([400.0, 300.0, 400.0], "sweep")
+    array([300., 400.])
+    """
+    sp = np.unique(np.asarray(speeds, dtype=float))
+    if sp.size < 1:
+        raise InputError(f"{what}: no speeds given")
+    for s in (sp[0], sp[-1]):
+        check_speed(float(s))
+    return sp
+
+
 def speed_blocks(speeds: NDArray[np.float64], directions: Sequence[str], size: int
                  ) -> dict[str, list[tuple[float, ...]]]:
     """Each direction's speeds in its order (``up``: as sorted, ``down``: reversed), cut into
@@ -118,14 +142,39 @@ def speed_blocks(speeds: NDArray[np.float64], directions: Sequence[str], size: i
             for d in directions for order in [speeds if d == "up" else speeds[::-1]]}
 
 
+#: what a scan does at each speed (its model factory and settings)
+Job = TypeVar("Job")
+
+
+@dataclass(frozen=True)
+class SpeedBlock(Generic[Job]):
+    """One task of a speed scan (sweep, bifurcation diagram, tolerance study).
+
+    Attributes
+    ----------
+    job : object
+        What the scan does at each speed: its model factory and settings (the same for every
+        block of the scan; picklable for a pool).
+    speeds : tuple of float
+        The block's pinion speeds in rad/s, in the order evaluated.
+    start : object
+        Where the block's chain starts (the state the previous block of its direction ended
+        in; the scan's start value for the first block, or every block not chained).
+    """
+
+    job: Job
+    speeds: tuple[float, ...]
+    start: Any = None
+
+
 def run_blocks(run_map: MapFn, fn: Callable[[Any], tuple[list[Any], Any]],
-               blocks: dict[str, list[tuple[float, ...]]],
-               task: Callable[[tuple[float, ...], Any], Any], start: Any, chained: bool = True,
-               progress: Callable[[int, int], None] | None = None) -> dict[str, list[Any]]:
+               blocks: dict[str, list[tuple[float, ...]]], job: Any, start: Any,
+               chained: bool = True, progress: Callable[[int, int], None] | None = None
+               ) -> dict[str, list[Any]]:
     """Every block of every direction through ``run_map`` (the builtin ``map`` or an executor's).
 
-    ``task(speeds, state)`` makes a block's task, ``fn(task)`` returns its points and the state
-    where it ended (``fn`` and the tasks picklable for a pool). Chained, one call per round:
+    ``fn(SpeedBlock(job, speeds, state))`` returns a block's points and the state where it
+    ended (``fn`` and ``job`` picklable for a pool). Chained, one call per round:
     the i-th block of every direction, each from the state where its direction's previous
     block ended (``start`` for the first). Not chained, all blocks in one call, each from
     ``start``. The tasks do not depend on ``run_map``, so neither do the points.
@@ -140,7 +189,7 @@ def run_blocks(run_map: MapFn, fn: Callable[[Any], tuple[list[Any], Any]],
                for i in range(max(len(c) for c in blocks.values()))] if chained
               else [[(d, blk) for d, c in blocks.items() for blk in c]])
     for jobs in rounds:
-        tasks = [task(blk, state[d]) for d, blk in jobs]
+        tasks = [SpeedBlock(job, blk, state[d]) for d, blk in jobs]
         for (d, _blk), (pts, end) in zip(jobs, run_map(fn, tasks), strict=True):
             points[d] += pts
             state[d] = end

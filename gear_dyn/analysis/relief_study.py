@@ -5,23 +5,25 @@ The static part is the slice loaded contact of each design
 (:func:`gear_dyn.modification.analysis.slice_cases`). The dynamic part builds each design's
 single-DOF model once at the chosen torque (:func:`gear_dyn.models.relief.slice_sdof`: the
 loaded contact does not depend on speed) and sweeps it with the one sweep driver
-(:func:`gear_dyn.analysis.sweep.sweep`) through ``at_mesh_frequency``: the model is linear and
-mesh-periodic, so each speed is one periodic-orbit solve (the monodromy matrix), not a
-rebuilt loaded contact and a transient run.
+(:func:`gear_dyn.analysis.sweep.sweep`) over its speed family
+(:func:`gear_dyn.analysis.continuation.family.sdof_family`: only f_m changes with speed,
+:func:`gear_dyn.models.base.at_speed`): the model is linear and mesh-periodic, so each
+speed is one periodic-orbit solve (the monodromy matrix), not a rebuilt loaded contact and a
+transient run.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from gear_dyn.analysis.continuation.family import sdof_family
 from gear_dyn.analysis.sweep import sweep
 from gear_dyn.errors import InputError, check_range
-from gear_dyn.geometry import GearPair, teeth_mesh_frequency
-from gear_dyn.models.base import Model
+from gear_dyn.geometry import GearPair, check_speed
 from gear_dyn.models.relief import slice_sdof
 from gear_dyn.modification.analysis import ReliefDynamics, ReliefStudy, slice_cases
 from gear_dyn.modification.lead import FlankModification
@@ -30,20 +32,6 @@ from gear_dyn.modification.slice_contact import SliceOptions
 from gear_dyn.solvers import SolverSettings
 
 FloatArray = NDArray[np.float64]
-
-
-@dataclass(frozen=True, eq=False)
-class _AtSpeed:
-    """One design's model at any pinion speed (only the mesh frequency depends on speed)."""
-
-    model: Model
-    z1: int
-
-    def __call__(self, speed: float) -> Model:
-        other = self.model.at_mesh_frequency(teeth_mesh_frequency(self.z1, speed))
-        if other is None:  # not reached for the single-DOF model; a clear error if it were
-            raise InputError("relief study: the design's model cannot change speed alone")
-        return other
 
 
 def relief_study(pair: GearPair, torques: ArrayLike,
@@ -114,14 +102,15 @@ def relief_study(pair: GearPair, torques: ArrayLike,
     if sp.size < 1:
         raise InputError("relief study: speeds is empty (give at least one speed in rad/s)")
     for s in (sp.min(), sp.max()):
-        check_range("speeds", float(s), "rad/s", low=0.0, high=1e5, low_open=True)
+        check_speed(float(s), "speeds")
     t_dyn = float(t.max()) if torque is None else float(torque)
     check_range("torque", t_dyn, "N m", low=0.0, low_open=True)
     peak, ptp, status = [], [], []
     for case in study.cases.values():
         model, _ = slice_sdof(pair, float(sp[0]), t_dyn, case.modification, pair_stiffness,
                               damping_ratio, inertias, options)
-        curve = sweep(_AtSpeed(model, pair.z1), sp, settings=settings).curves[0]
+        family = sdof_family(model, "speed", teeth=pair.z1)  # the design at any speed
+        curve = sweep(family, sp, settings=settings).curves[0]
         peak.append(curve.peak_force_ratio)
         ptp.append(curve.ptp_dte)
         status.append(tuple(str(v) for v in curve.status))

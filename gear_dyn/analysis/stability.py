@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, overload
 
 import numpy as np
 from numpy.typing import NDArray
@@ -34,18 +34,63 @@ ComplexArray = NDArray[np.complex128]
 UNIT_CIRCLE_TOL = 1e-6
 
 
-@dataclass(frozen=True, eq=False)
-class PeriodicSolution:
-    """A periodic orbit of a mesh model and its Floquet multipliers.
+@overload
+def floquet_stable(spectral_radius: float) -> bool: ...
+@overload
+def floquet_stable(spectral_radius: FloatArray) -> NDArray[np.bool_]: ...
+def floquet_stable(spectral_radius: float | FloatArray) -> bool | NDArray[np.bool_]:
+    """The stability rule of every orbit and every linear system here: all Floquet multipliers
+    inside the unit circle, i.e. the spectral radius ``rho = max |mu|`` at most
+    ``1 + UNIT_CIRCLE_TOL`` (a conservative system's multipliers on the circle count as
+    stable; NaN, no multipliers, is not stable). Vectorised: an array of radii gives an
+    array of verdicts.
+
+    Examples
+    --------
+    >>> floquet_stable(1.0 + 1e-9), floquet_stable(1.01), floquet_stable(float("nan"))
+    (True, False, False)
+    """
+    verdict = np.asarray(spectral_radius, dtype=float) <= 1.0 + UNIT_CIRCLE_TOL
+    return bool(verdict) if verdict.ndim == 0 else verdict
+
+
+@dataclass(frozen=True)
+class OrbitShape:
+    """What an orbit looks like over its n mesh periods (part of :class:`PeriodicSolution`).
 
     Attributes
+    ----------
+    pattern : str
+        Contact pattern in time order from t = 0, one letter per spell (``D`` drive flank,
+        ``G`` gap, ``B`` back flank), e.g. ``DGD``.
+    separation, back : float
+        Shares of the n periods with the teeth apart and on the back flank (-).
+    dte_rms, dte_ptp, dte_mean : float
+        Standard deviation, peak-to-peak and mean of the DTE over the orbit (m).
+    """
+
+    pattern: str
+    separation: float
+    back: float
+    dte_rms: float
+    dte_ptp: float
+    dte_mean: float
+
+
+@dataclass(frozen=True, eq=False)
+class PeriodicSolution:
+    """A periodic orbit of a mesh model: the one orbit type of shooting, sweeps, continuation
+    (:class:`~gear_dyn.analysis.continuation.branch.OrbitPoint` adds a branch's data to one)
+    and motion classification (:class:`~gear_dyn.analysis.motion.classify.Motion` holds one).
+
+    Parameters
     ----------
     y0 : ndarray
         State on the orbit at t = 0 (mesh phase ``model.phase0``), SI units.
     period : float
-        Mesh period T = 1/f_m in s.
+        Period of the orbit in s: ``periods`` mesh periods, ``periods / f_m``.
     monodromy : ndarray (n, n)
-        d y(T) / d y(0) along the orbit.
+        d y(period) / d y(0) along the orbit.
     multipliers : ndarray of complex
         Floquet multipliers (eigenvalues of the monodromy matrix).
     converged : bool
@@ -53,9 +98,25 @@ class PeriodicSolution:
     iterations : int
         Newton iterations (0 for linear models: one direct solve).
     how : str
-        ``expm`` (exact product), ``variational`` (solve_ivp over one period) or ``shooting``.
+        ``expm`` (exact product), ``variational`` (solve_ivp over one period), ``shooting``
+        or ``continuation`` (a corrector's point).
     residual : float
-        Final relative closing error ``max_i |P(y0)_i - y0_i| / scale_i`` (0 for linear models).
+        Final closing error: relative, ``max_i |P(y0)_i - y0_i| / scale_i``, for shooting
+        (0 for linear models); the scaled residual of the shooting equations for
+        ``continuation``.
+    periods : int
+        Mesh periods n of the orbit (period-n).
+    shape : OrbitShape or None
+        Contact pattern, contact shares and DTE measures over the orbit, where computed.
+
+    Attributes
+    ----------
+    spectral_radius : float
+        Largest multiplier modulus.
+    stable : bool
+        Converged and :func:`floquet_stable`.
+    separation, back : float
+        Contact shares of ``shape`` (NaN without one).
     """
 
     y0: FloatArray
@@ -66,6 +127,8 @@ class PeriodicSolution:
     iterations: int
     how: str
     residual: float = 0.0
+    periods: int = 1
+    shape: OrbitShape | None = None
 
     @property
     def spectral_radius(self) -> float:
@@ -73,9 +136,19 @@ class PeriodicSolution:
         return float(np.max(np.abs(self.multipliers)))
 
     @property
+    def separation(self) -> float:
+        """Share of the orbit with the teeth apart (NaN where no ``shape`` was computed)."""
+        return math.nan if self.shape is None else self.shape.separation
+
+    @property
+    def back(self) -> float:
+        """Share of the orbit on the back flank (NaN where no ``shape`` was computed)."""
+        return math.nan if self.shape is None else self.shape.back
+
+    @property
     def stable(self) -> bool:
-        """All multipliers inside the unit circle (up to :data:`UNIT_CIRCLE_TOL`)."""
-        return self.converged and self.spectral_radius <= 1.0 + UNIT_CIRCLE_TOL
+        """Converged, with all multipliers inside the unit circle (:func:`floquet_stable`)."""
+        return self.converged and floquet_stable(self.spectral_radius)
 
 
 def _require_sdof(model: Any) -> MeshModel:
@@ -244,16 +317,16 @@ def periodic_steady_state(
 
 
 def shoot(model: MeshModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: int = 15,
-          periods: int = 1, route: str = "auto") -> PeriodicSolution:
+          periods: int = 1, route: str = "auto", tol: float | None = None) -> PeriodicSolution:
     """Periodic orbit by Newton's method on the one-period map (shooting).
 
     With ``periods = 2`` the map over two mesh periods: a period-2 (subharmonic) orbit, as
     found inside a parametric instability zone of a pair with backlash.
 
-    Converged when the closing error ``|P(y0) - y0|`` is below ``100 rtol`` times the larger of
-    the state scale and the state itself, component by component (the map is only known to
-    about ``rtol``). Gives up early when from the fourth iteration on the error no longer
-    halves (Newton is not converging from this guess).
+    Converged when the closing error ``|P(y0) - y0|`` is below ``tol`` (default ``100 rtol``)
+    times the larger of the state scale and the state itself, component by component (the map
+    is only known to about ``rtol``). Gives up early when from the fourth iteration on the
+    error no longer halves (Newton is not converging from this guess).
 
     Parameters
     ----------
@@ -270,6 +343,10 @@ def shoot(model: MeshModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: 
         How the one-period map and its Jacobian are computed
         (:func:`integrate_with_sensitivity`):
         ``auto`` (exact where it applies, else variational), ``exact`` or ``variational``.
+    tol : float or None
+        Relative closing error to stop at; None: ``100 rtol``. Each study's ``max_iter`` and
+        ``tol`` are a :class:`gear_dyn.analysis.newton.NewtonSettings` (its table gives the
+        defaults).
 
     Returns
     -------
@@ -291,14 +368,15 @@ def shoot(model: MeshModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: 
     phi = np.eye(n)
     res = math.inf
     it = 0
+    stop = 100 * rtol if tol is None else tol
     for it in range(1, max_iter + 1):
         yt, phi = integrate_with_sensitivity(model, y, period, rtol, route)
         r = yt - y
         ref = np.maximum(scale, np.abs(y))
         res_prev, res = res, float(np.max(np.abs(r) / ref))
-        if res <= 100 * rtol:
+        if res <= stop:
             mult = np.linalg.eigvals(phi).astype(np.complex128)
-            return PeriodicSolution(y, period, phi, mult, True, it, "shooting", res)
+            return PeriodicSolution(y, period, phi, mult, True, it, "shooting", res, int(periods))
         if it >= 4 and res > 0.5 * res_prev:
             break  # no Newton convergence: the guess is outside the orbit's basin of Newton
         try:
@@ -311,4 +389,4 @@ def shoot(model: MeshModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: 
         if not np.all(np.isfinite(y)):
             break
     mult = np.linalg.eigvals(phi).astype(np.complex128)
-    return PeriodicSolution(y, period, phi, mult, False, it, "shooting", res)
+    return PeriodicSolution(y, period, phi, mult, False, it, "shooting", res, int(periods))

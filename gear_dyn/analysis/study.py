@@ -34,11 +34,15 @@ from gear_dyn.analysis.dynamic_factor import (
     quasi_static_model,
     quasi_static_reference,
 )
+from gear_dyn.analysis.newton import NewtonSettings
 from gear_dyn.analysis.stability import shoot
 from gear_dyn.analysis.threads import blas_limited
 from gear_dyn.errors import GearDynError
 from gear_dyn.models.base import MeshModel, Model
 from gear_dyn.solvers import Result, SolverSettings, simulate_bare
+
+#: shooting of the orbit check from a run's end state (:func:`orbit_check`)
+ORBIT_NEWTON = NewtonSettings(max_iter=12)
 
 
 def checks(model: Model, result: Result, quasi_static: Model | None = None) -> dict[str, Any]:
@@ -135,7 +139,8 @@ def orbit_check(model: Model, result: Result) -> dict[str, Any]:
     mesh = cast(MeshModel, model)
     rtol = min(max(result.settings.rtol, 1e-10), 1e-6)
     try:
-        sol = shoot(mesh, result.y[:, -1], rtol=rtol, max_iter=12)
+        sol = shoot(mesh, result.y[:, -1], rtol=rtol, max_iter=ORBIT_NEWTON.max_iter,
+                    tol=ORBIT_NEWTON.tolerance)
     except GearDynError as exc:
         return {"period1": False, "statement": f"shooting failed: {exc}"}
     if not sol.converged:

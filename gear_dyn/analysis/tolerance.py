@@ -52,7 +52,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.analysis.dynamic_factor import quasi_static_model_of, quasi_static_reference
-from gear_dyn.analysis.executor import check_workers, run_blocks, speed_blocks, task_map
+from gear_dyn.analysis.executor import (
+    SpeedBlock,
+    check_speeds,
+    check_workers,
+    run_blocks,
+    speed_blocks,
+    task_map,
+)
+from gear_dyn.analysis.stability import floquet_stable
 from gear_dyn.errors import InputError, check_range
 from gear_dyn.excitation import HarmonicSignal
 from gear_dyn.models.base import MeshModel, Model
@@ -222,7 +230,7 @@ def sample_figures(model: MeshModel, coef: Coefficients, z1: int, z2: int, spp: 
     n1, n2 = o1.size, o2.size
     g = math.gcd(z1, z2)
     out: dict[str, FloatArray] = {"rho": np.full(coef.n, r.rho)}
-    if r.rho > 1.0 + 1e-6:  # no periodic response: the parametric instability of k(t)
+    if not floquet_stable(r.rho):  # no periodic response: the parametric instability of k(t)
         for name in ("peak_force", "min_force", "rms_dte", "mean_dte"):
             out[name] = np.full(coef.n, np.nan)
         return out
@@ -250,21 +258,22 @@ def sample_figures(model: MeshModel, coef: Coefficients, z1: int, z2: int, spp: 
 
 
 @dataclass(frozen=True)
-class _Task:
+class _Job:
+    """What the study does at each speed (the job of its :class:`.executor.SpeedBlock`)."""
+
     factory: ModelFactory
     coef: Coefficients
     z1: int
     z2: int
     spp: int
-    speeds: tuple[float, ...]
 
 
-def _run_task(task: _Task) -> tuple[list[dict[str, FloatArray]], None]:
+def _run_task(task: SpeedBlock[_Job]) -> tuple[list[dict[str, FloatArray]], None]:
     """One block of speeds, every sample (the worker function; picklable)."""
-    out = []
+    job, out = task.job, []
     for s in task.speeds:
-        model = cast(MeshModel, _bare(task.factory(s)))
-        out.append(sample_figures(model, task.coef, task.z1, task.z2, task.spp))
+        model = cast(MeshModel, _bare(job.factory(s)))
+        out.append(sample_figures(model, job.coef, job.z1, job.z2, job.spp))
     return out, None
 
 
@@ -477,11 +486,7 @@ def tolerance_study(
     z1, z2 = samples[0].z1, samples[0].z2
     if any((d.z1, d.z2) != (z1, z2) for d in samples):
         raise InputError("tolerance study: samples of different tooth counts")
-    sp = np.unique(np.asarray(speeds, dtype=float))
-    if sp.size < 1:
-        raise InputError("tolerance study: no speeds given")
-    for s in (sp[0], sp[-1]):
-        check_range("speed", s, "rad/s", low=0.0, high=1e5, low_open=True)
+    sp = check_speeds(speeds, "tolerance study")
     settings = settings or SolverSettings()
     spp = int(samples_per_period or settings.samples_per_period)
     check_range("samples_per_period", spp, "", low=4, high=4096)
@@ -498,12 +503,10 @@ def tolerance_study(
     zero = coef.without_deviations(base_te)
     blocks = speed_blocks(sp, ("up",), BLOCK)
     with task_map(workers, executor) as (run_map, label):
-        done = run_blocks(run_map, _run_task, blocks,
-                          lambda blk, _s: _Task(factory, coef, z1, z2, spp, blk), None,
+        done = run_blocks(run_map, _run_task, blocks, _Job(factory, coef, z1, z2, spp), None,
                           chained=False)["up"]
-        base_done = run_blocks(run_map, _run_task, blocks,
-                               lambda blk, _s: _Task(factory, zero, z1, z2, spp, blk), None,
-                               chained=False)["up"]
+        base_done = run_blocks(run_map, _run_task, blocks, _Job(factory, zero, z1, z2, spp),
+                               None, chained=False)["up"]
     qs_model = quasi_static_model_of(factory, float(sp[0]), model0)
     if qs_model is None:
         raise InputError("tolerance study: the model states no natural frequency (K_dyn needs "

@@ -27,7 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gear_dyn.errors import InputError, check_range
-from gear_dyn.geometry import GearPair
+from gear_dyn.geometry import GearPair, check_speed
 
 FloatArray = NDArray[np.float64]
 Scalar = float | FloatArray
@@ -185,7 +185,7 @@ class EccentricMesh:
     _c: dict[str, float] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
-        check_range("speed", self.speed, "rad/s", low=0.0, high=1e5, low_open=True)
+        check_speed(self.speed)
         p, ec = self.pair, self.eccentricity
         rbs = p.rb1 + p.rb2
         h = p.a_w

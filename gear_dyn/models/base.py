@@ -37,10 +37,14 @@ Dynamics
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import fields, is_dataclass, replace
 from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
+
+from gear_dyn.errors import InputError
+from gear_dyn.geometry import check_speed, check_torque, teeth_mesh_frequency
 
 FloatArray = NDArray[np.float64]
 EventFn = Callable[[float, FloatArray], float]
@@ -163,3 +167,57 @@ class ModelDefaults:
     def summary_info(self) -> dict[str, Any]:
         """No model constants to report."""
         return {}
+
+
+def at_speed(model: Model, teeth: int, speed: float) -> Model | None:
+    """The one rule for a model at another pinion speed: ``speed`` in rad/s checked
+    (:func:`gear_dyn.geometry.check_speed`), its mesh frequency ``f_m = z1 w / (2 pi)``
+    (:func:`gear_dyn.geometry.teeth_mesh_frequency`, ``teeth`` = z1) and
+    ``model.at_mesh_frequency(f_m)``: None where more than f_m depends on speed and the model
+    has to be rebuilt from its parameters (:class:`gear_dyn.scene.sweep.SceneModels` rebuilds
+    the scene's).
+
+    Raises
+    ------
+    InputError
+        A speed out of range.
+
+    Examples
+    --------
+    >>> from gear_dyn import SDOFModel, rectangular_stiffness
+    >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+    >>> round(at_speed(m, 20, 100.0).mesh_frequency, 6)  # 20 * 100 / (2 pi) Hz
+    318.309886
+    """
+    return model.at_mesh_frequency(teeth_mesh_frequency(teeth, check_speed(speed)))
+
+
+def at_torque(model: Any, torque: float, reference_load: float,
+              reference_torque: float = 1.0) -> Any:
+    """The one rule for a model at another pinion torque: ``torque`` in N m checked
+    (:func:`gear_dyn.geometry.check_torque`) and the static load, proportional to the torque,
+    ``W = reference_load * torque / reference_torque`` in N (W = T / r_b1: ``reference_load``
+    ``1 / r_b1`` per N m, or the load ``W_ref`` at ``reference_torque`` T_ref), set on the
+    model, whose other fields are kept (only W depends on torque in the single-DOF model: its
+    stiffness is the model's own).
+
+    Raises
+    ------
+    InputError
+        A torque out of range, or a model without a ``static_load`` field (only the
+        single-DOF mesh model changes torque alone; rebuild others from the scene).
+
+    Examples
+    --------
+    >>> from gear_dyn import SDOFModel, rectangular_stiffness
+    >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+    >>> at_torque(m, 120.0, 500.0, 20.0).static_load  # 500 N at 20 N m: 3000 N at 120 N m
+    3000.0
+    """
+    check_torque(torque)
+    if (isinstance(model, type) or not is_dataclass(model)
+            or "static_load" not in {f.name for f in fields(model)}):
+        raise InputError(f"a model at another torque needs a static_load field (the "
+                         f"single-DOF mesh model); got {type(model).__name__}")
+    same: Any = model  # (is_dataclass narrows ``model`` to a class or an instance)
+    return replace(same, static_load=reference_load * torque / reference_torque)

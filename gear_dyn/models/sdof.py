@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 
 from gear_dyn.errors import InputError, check_range
 from gear_dyn.excitation import HarmonicSignal, SampledSignal, SumSignal
-from gear_dyn.geometry import GearPair, mesh_frequency
+from gear_dyn.geometry import GearPair, check_speed, check_torque, mesh_frequency
 from gear_dyn.stiffness.periodic import FourierStiffness, PeriodicStiffness
 
 FloatArray = NDArray[np.float64]
@@ -615,8 +615,8 @@ def sdof_from_pair(
     >>> round(m.mesh_frequency, 2)  # 19 * 300 / (2 pi) in Hz
     907.18
     """
-    check_range("speed", speed, "rad/s", low=0.0, high=1e5, low_open=True)
-    check_range("torque", torque, "N*m", low=0.0, high=1e8)
+    check_speed(speed)
+    check_torque(torque)
     i1, i2 = inertias if inertias is not None else pair.blank_inertias()
     m = effective_mass(i1, i2, pair.rb1, pair.rb2)
     return SDOFModel(

@@ -29,7 +29,7 @@ from gear_dyn.eccentricity.friction import friction_factors
 from gear_dyn.eccentricity.kinematics import Eccentricity, EccentricMesh, Kinematics
 from gear_dyn.errors import InputError, check_range
 from gear_dyn.excitation import HarmonicSignal, SampledSignal
-from gear_dyn.geometry import GearPair
+from gear_dyn.geometry import GearPair, check_speed, check_torque
 from gear_dyn.models.sdof import dead_zone, effective_mass
 from gear_dyn.models.torsional_parts import (
     ContactLineStiffness,
@@ -113,8 +113,8 @@ class TorsionalModel:
     _rhs: Callable[[float, FloatArray], FloatArray] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
-        check_range("speed", self.speed, "rad/s", low=0.0, high=1e5, low_open=True)
-        check_range("torque", self.torque, "N*m", low=0.0, high=1e8)
+        check_speed(self.speed)
+        check_torque(self.torque)
         check_range("damping_ratio", self.damping_ratio, "", low=0.0, high=10.0)
         if len(self.inertias) != 2:
             raise InputError("inertias: expected (I1, I2) in kg*m^2")

@@ -26,7 +26,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from gear_dyn.errors import InputError, check_range
 from gear_dyn.excitation import SampledSignal
-from gear_dyn.geometry import GearPair
+from gear_dyn.geometry import GearPair, check_torque
 from gear_dyn.modification.relief import ProfileModification
 from gear_dyn.stiffness.periodic import PiecewiseStiffness, distinct_phases
 
@@ -487,7 +487,7 @@ def loaded_contact(
     2.0
     """
     _check_spur(pair)
-    check_range("torque", torque, "N*m", low=0.0, high=1e8, low_open=True)
+    check_torque(torque, positive=True)
     check_range("samples_per_segment", samples_per_segment, "", low=2, high=10000)
     load = torque / pair.rb1
     eps = pair.contact_ratio

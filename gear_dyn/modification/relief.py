@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from gear_dyn.choices import RELIEF_CURVES
 from gear_dyn.errors import InputError, check_range, current_name
-from gear_dyn.geometry import GearPair
+from gear_dyn.geometry import GearPair, check_torque
 
 FloatArray = NDArray[np.float64]
 
@@ -299,7 +299,7 @@ def tangential_load_per_width(pair: GearPair, torque: float) -> float:
     torque : float
         Pinion torque T1 in N m (> 0).
     """
-    check_range("torque", torque, "N*m", low=0.0, high=1e8, low_open=True)
+    check_torque(torque, positive=True)
     return torque / pair.r1 / (pair.face_width * 1e3)
 
 

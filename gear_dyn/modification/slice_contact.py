@@ -59,7 +59,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gear_dyn.errors import InputError, SolverError, check_range
-from gear_dyn.geometry import GearPair
+from gear_dyn.geometry import GearPair, check_torque
 from gear_dyn.modification.lead import FlankModification
 from gear_dyn.modification.stress import contact_stress
 from gear_dyn.stiffness.contact_line import contact_line_breakpoints
@@ -474,7 +474,7 @@ def slice_contact(
     if torques.size == 0:
         raise InputError("torque: empty ladder; give at least one torque in N*m (> 0)")
     for t in torques:
-        check_range("torque", float(t), "N*m", low=0.0, high=1e8, low_open=True)
+        check_torque(float(t), positive=True)
     if mod.profile is not None:
         mod.profile.check(pair)
     fn = pair_stiffness or _default_pair_stiffness(pair)

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 from gear_dyn.choices import STIFFNESS_METHODS
+from gear_dyn.geometry import MAX_SPEED, MAX_TORQUE
 from gear_dyn.scene.fields import REQUIRED, Field, Section
 from gear_dyn.scene.registry import register_section
 from gear_dyn.stiffness.weber import MODULI, current_modulus
@@ -54,9 +55,10 @@ GEAR = register_section(Section("gear", (
 ), optional=False, doc="the involute gear pair"))
 
 OPERATING = register_section(Section("operating", (
-    Field("speed", "rad/s", default=REQUIRED, low=0.0, high=1e5, low_open=True,
+    Field("speed", "rad/s", default=REQUIRED, low=0.0, high=MAX_SPEED, low_open=True,
           doc="pinion (input) speed"),
-    Field("torque", "N*m", default=REQUIRED, low=0.0, high=1e8, doc="pinion (input) torque T1"),
+    Field("torque", "N*m", default=REQUIRED, low=0.0, high=MAX_TORQUE,
+          doc="pinion (input) torque T1"),
 ), optional=False, doc="operating point"))
 
 INERTIA = register_section(Section("inertia", (

@@ -17,9 +17,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.analysis.sweep import SweepOptions, SweepResult, sweep
-from gear_dyn.errors import check_range
-from gear_dyn.geometry import GearPair, mesh_frequency
-from gear_dyn.models.base import Model
+from gear_dyn.geometry import GearPair
+from gear_dyn.models.base import Model, at_speed
 from gear_dyn.scene.build import RunPlan, build_model, build_pair, build_plan
 from gear_dyn.scene.hints import backlash_gap_hint
 from gear_dyn.scene.operating import check_keywords, parse_speeds
@@ -72,10 +71,10 @@ class SceneModels:
         return _base(self.source, self.tables_json, self.overrides_json)[1]
 
     def __call__(self, speed: float) -> Model:
-        """The scene's model at pinion speed ``speed`` in rad/s, as ``run_scene`` builds it."""
-        check_range("speed", speed, "rad/s", low=0.0, high=1e5, low_open=True)
+        """The scene's model at pinion speed ``speed`` in rad/s, as ``run_scene`` builds it
+        (:func:`gear_dyn.models.base.at_speed`, else the scene rebuilt at that speed)."""
         scene, plan, pair = _base(self.source, self.tables_json, self.overrides_json)
-        model = plan.model.at_mesh_frequency(mesh_frequency(pair, speed))
+        model = at_speed(plan.model, pair.z1, speed)
         if model is not None:
             return model
         tables = {**scene.tables, "operating": {**scene.tables["operating"], "speed": speed}}

@@ -27,6 +27,7 @@ from gear_dyn.analysis.continuation import (
     liouville_residual,
     sdof_family,
 )
+from gear_dyn.analysis.newton import NewtonSettings
 from gear_dyn.analysis.stability import one_period_map, shoot
 from gear_dyn.excitation import HarmonicSignal
 from gear_dyn.solvers.contact_exact import DRIVE, flow, flow_with_sensitivity
@@ -81,7 +82,7 @@ def test_branch_in_full_contact_is_the_linear_response_and_grazes_where_it_separ
         lin = lin_fam(p.parameter)
         phi, q, _ = one_period_map(lin)
         y_lin = np.linalg.solve(np.eye(2) - phi, q) + np.array([B, 0.0])
-        # the corrector closes the orbit to newton_tol = 1e-10 (scaled); the state's error is
+        # the corrector closes the orbit to newton.tolerance = 1e-10 (scaled); the state's error is
         # that over (1 - |mu|) <= 1 / 0.3 here: 1e-8 of the scale is a wide margin
         assert np.all(np.abs(p.state - y_lin) <= 1e-8 * scale)
     grazes = br.of_kind("grazing")
@@ -242,7 +243,7 @@ def test_torque_branch_points_are_orbits_found_by_plain_shooting() -> None:
 def test_corrector_run_to_rounding_keeps_its_parameter_column(load: float, ratio: float
                                                               ) -> None:
     """The corrector's secant-updated parameter column (a step along the tangent, the start
-    point's column as the chord, ``newton_tol`` 1e-14: the last Newton steps move the
+    point's column as the chord, ``newton.tolerance`` 1e-14: the last Newton steps move the
     parameter by ~1e-17, at the residual's rounding) against the central difference at the
     converged point. A secant update from such a step is noise over noise (it made the
     located points of a tight continuation lose their columns, and a graze its bracket);
@@ -256,13 +257,15 @@ def test_corrector_run_to_rounding_keeps_its_parameter_column(load: float, ratio
     model = fam(w)
     sh = Shooting(fam, 1, "exact", model.state_scale, w, 1e-10, 1e-5)
     y0 = start_orbit(model, 1, "exact", ContinuationSettings(), None)
-    out = sh.correct(sh.scaled(y0, w), np.array([0.0, 0.0, 1.0]), 1.0, 1e-12, 8)
+    out = sh.correct(sh.scaled(y0, w), np.array([0.0, 0.0, 1.0]), 1.0,
+                     NewtonSettings(max_iter=8, tolerance=1e-12))
     assert out is not None
     ev0 = out[0]
     t = tangent(ev0.jac)
     for ds in (1e-3, 3e-3, 1e-2, 2e-2):
         zp = ev0.z + ds * t
-        got = sh.correct(zp, t, float(t @ zp), 1e-14, 12, dp_col=ev0.jac[:, 2], fresh=False)
+        got = sh.correct(zp, t, float(t @ zp), NewtonSettings(max_iter=12, tolerance=1e-14),
+                         dp_col=ev0.jac[:, 2], fresh=False)
         assert got is not None
         col, ref = got[0].jac[:, 2], sh.refresh(got[0]).jac[:, 2]
         assert np.max(np.abs(col - ref)) <= 1e-3 * np.max(np.abs(ref)), (ds, col, ref)
@@ -328,7 +331,7 @@ def test_variational_route_constant_stiffness_with_transmission_error_is_the_clo
         h = (k0 + 1j * m.damping * om) / (k0 - om**2 + 1j * m.damping * om)
         closed = np.array([B + 1000.0 / k0 + (h * e1).real, (1j * om * h * e1).real])
         assert p.pattern == "D"
-        # DOP853 at rtol 1e-10 over one mesh period, shooting to newton_tol 1e-10 (scaled):
+        # DOP853 at rtol 1e-10 over one mesh period, shooting to newton.tolerance 1e-10 (scaled):
         # 1e-7 of the state scale is a wide margin
         assert np.all(np.abs(p.state - closed) <= 1e-7 * m.state_scale)
         assert p.liouville < 1e-7

@@ -33,6 +33,7 @@ from gear_dyn.analysis.continuation import (
     pd_test,
     sdof_family,
 )
+from gear_dyn.analysis.newton import NewtonSettings
 from gear_dyn.solvers.contact_exact import flow_with_sensitivity
 
 #: the issue's promise: folds and period doublings to 1e-8 in speed, relative
@@ -77,7 +78,7 @@ def test_located_folds_and_doublings_meet_their_stated_error(load, lo, hi, kind,
 def test_packaged_scene_special_points_meet_their_stated_error() -> None:
     """The packaged backlash scene near its first resonance (two folds, three grazing points:
     spells appearing and vanishing) against the same continuation with the location and the
-    corrector 1000 times tighter (locate_tol 1e-13, newton_tol 1e-13)."""
+    corrector 1000 times tighter (locate_tol 1e-13, newton tolerance 1e-13)."""
     from gear_dyn.scene import load_scene
     from gear_dyn.scene.sweep import SceneModels
 
@@ -86,7 +87,7 @@ def test_packaged_scene_special_points_meet_their_stated_error() -> None:
     a, b = 3400 * rpm, 3700 * rpm
     loose = continue_orbits(fam, a, b).bifurcations
     tight = continue_orbits(fam, a, b, settings=ContinuationSettings(
-        locate_tol=1e-13, newton_tol=1e-13)).bifurcations
+        locate_tol=1e-13, newton=NewtonSettings(max_iter=8, tolerance=1e-13))).bifurcations
     assert [x.kind for x in loose] == [y.kind for y in tight]
     assert sorted(x.kind for x in loose) == ["fold"] * 2 + ["grazing"] * 3
     for x, y in zip(loose, tight, strict=True):

@@ -1,7 +1,7 @@
 """Stiff and extreme cases: each test states what must happen and checks it.
 
 All on the helicopter-tail single-DOF pair (Jiang et al. 2018; f_n = 2.9 kHz, f_m = 1272 Hz) with
-one thing pushed to an extreme. The table in docs/solvers.md summarises what each method does
+one thing pushed to an extreme. The table in docs/solvers_cases.md summarises what each method does
 here and what the toolkit does about it. Spans are a few mesh periods to keep CI short; the long
 measurements are in benchmarks/bench_solvers.py.
 """
@@ -43,7 +43,7 @@ def test_heavy_damping_explicit_slow_implicit_fine_toolkit_advises(heli: Any) ->
     """xi = 5 (over-damped, eigenvalues -0.1 w_n and -9.9 w_n: stiffness ratio ~100), smooth
     Fourier stiffness so no exact propagator. Must happen: at a loose rtol (1e-3) the explicit
     RK45 is held by stability, needing > 3x the evaluations of Radau and of LSODA (measured
-    4.5x and 3.5x); the toolkit flags the stiffness and advises when an explicit method is
+    4.6x and 3.6x); the toolkit flags the stiffness and advises when an explicit method is
     chosen; the default path (auto: periodic step maps, this model being linear) is accurate
     (error < 1e-4 at rtol 1e-6), and so is LSODA, auto's choice for nonlinear models."""
     model = replace(heli, stiffness=heli.stiffness.truncated(5), damping_ratio=5.0)

@@ -19,6 +19,7 @@ import pytest
 from gear_dyn import FourierStiffness, SDOFModel
 from gear_dyn.analysis.continuation import ContinuationSettings, continue_orbits, sdof_family
 from gear_dyn.analysis.continuation.orbit import map_only
+from gear_dyn.analysis.newton import NewtonSettings
 from gear_dyn.analysis.sweep import RPM, SweepOptions, jumps, sweep
 from gear_dyn.analysis.sweep.orbit_jumps import (
     FALLBACK_REL,
@@ -159,9 +160,9 @@ def test_constant_stiffness_jumps_bracket_the_folds_found_by_continuation() -> N
     # at the sweep's tolerance; the folds to 1e-4 (relative) are ample to decide which 4 %
     # speed step brackets them
     branch = continue_orbits(fam, 0.86 * w1, 0.94 * w1, doublings=0,
-                             settings=ContinuationSettings(rtol=1e-8, newton_tol=1e-6,
-                                                           locate_tol=1e-4, step=0.05,
-                                                           step_max=0.5))
+                             settings=ContinuationSettings(
+                                 rtol=1e-8, newton=NewtonSettings(max_iter=8, tolerance=1e-6),
+                                 locate_tol=1e-4, step=0.05, step_max=0.5))
     folds = [f.parameter for f in branch.of_kind("fold")]
     assert len(folds) == 2
     up, down = jumps(res.curve("up")), jumps(res.curve("down"))

@@ -128,8 +128,7 @@ def continue_orbits(family: Callable[[float], Model], start: float, stop: float,
                   settings.fd_step)
     y0 = start_orbit(model0, periods, rroute, settings, y_guess)
     e_p = np.array([0.0, 0.0, 1.0])
-    out = sh.correct(sh.scaled(y0, start), e_p, start / p_ref, settings.newton_tol,
-                     settings.max_newton)
+    out = sh.correct(sh.scaled(y0, start), e_p, start / p_ref, settings.newton)
     if out is None:
         raise SolverError(f"no period-{periods} orbit converged at {parameter} = {start:.6g}")
     ev0, _it = out
@@ -150,13 +149,15 @@ def start_orbit(model: MeshModel, periods: int, route: str, settings: Continuati
         No orbit found.
     """
     guess = model.initial_state() if y_guess is None else np.asarray(y_guess, dtype=float)
-    sol = shoot(model, guess, settings.rtol, 30, periods, route)
+    sol = shoot(model, guess, settings.rtol, settings.start_newton.max_iter, periods, route,
+                settings.start_newton.tolerance)
     if sol.converged:
         return np.asarray(sol.y0, dtype=float)
     y = guess
     for _ in range(SETTLE_PERIODS // periods):
         y = map_only(model, y, periods, route, settings.rtol)
-    sol = shoot(model, y, settings.rtol, 30, periods, route)
+    sol = shoot(model, y, settings.rtol, settings.start_newton.max_iter, periods, route,
+                settings.start_newton.tolerance)
     if not sol.converged:
         raise SolverError(f"no period-{periods} orbit found (shooting from the guess and after "
                           f"{SETTLE_PERIODS} mesh periods); give y_guess or another start")
@@ -180,7 +181,7 @@ def follow(sh: Shooting, ev0: Evaluation, t0: FloatArray, window: tuple[float, f
     stop_reason = f"max_points ({settings.max_points}) reached"
     while len(points) < settings.max_points:
         zp = ev.z + ds * t
-        out = sh.correct(zp, t, float(t @ zp), settings.newton_tol, settings.max_newton,
+        out = sh.correct(zp, t, float(t @ zp), settings.newton,
                          dp_col=ev.jac[:, 2])
         t_b: FloatArray | None = None
         if out is not None:
@@ -263,8 +264,7 @@ def _end_point(sh: Shooting, ev_a: Evaluation, ev_b: Evaluation, bound: float,
     p_a, p_b = sh.param(ev_a.z), sh.param(ev_b.z)
     frac = (bound - p_a) / (p_b - p_a)
     z = ev_a.z + frac * (ev_b.z - ev_a.z)
-    out = sh.correct(z, np.array([0.0, 0.0, 1.0]), bound / sh.p_ref, settings.newton_tol,
-                     settings.max_newton)
+    out = sh.correct(z, np.array([0.0, 0.0, 1.0]), bound / sh.p_ref, settings.newton)
     if out is None:
         return None
     return make_point(sh, out[0], settings, float("nan"), float("nan"), out[1])

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.analysis.stability import UNIT_CIRCLE_TOL
+from gear_dyn.analysis.stability import OrbitShape, PeriodicSolution
 
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
@@ -34,12 +34,35 @@ RPM_PER_RAD_S = 60 / (2 * math.pi)
 
 @dataclass(frozen=True, eq=False)
 class OrbitPoint:
-    """One periodic orbit on a branch.
+    """One periodic orbit on a branch: the orbit
+    (:class:`~gear_dyn.analysis.stability.PeriodicSolution`, with its shape) and where on the
+    branch it lies. The orbit's fields read through (``point.state``, ``point.stable`` ...).
 
-    Attributes
+    Parameters
     ----------
     parameter : float
         Value of the continuation parameter (SI: rad/s, N m, -, m).
+    orbit : PeriodicSolution
+        The orbit: ``y0``, ``periods``, ``monodromy``, ``multipliers``, the corrector's
+        ``iterations`` and scaled ``residual`` (``how`` is ``continuation``) and its
+        ``shape`` (contact pattern, shares, DTE measures).
+    liouville : float
+        ``|det M / exp(-c n T / m_e) - 1|`` (-).
+    liouville_ok : bool
+        ``liouville`` within the run's ``liouville_tol``; False flags a doubtful monodromy.
+    mesh_frequency : float
+        Mesh frequency f_m of the model at this point (Hz).
+    arclength : float
+        Scaled arclength from the branch start.
+    tangent_p : float
+        Parameter component of the unit tangent (its sign change marks a fold).
+    dp_error : float
+        Estimated relative error of the parameter derivative ``dP/dp`` the tangent was built
+        from (secant columns' agreement, or the central difference's one-sided disagreement;
+        nan where not computed).
+
+    Attributes
+    ----------
     state : ndarray (2,)
         Orbit state [x (m), v (m/s)] at t = 0 (mesh phase ``phase0``).
     periods : int
@@ -47,57 +70,102 @@ class OrbitPoint:
     multipliers : ndarray of complex (2,)
         Floquet multipliers of the n-period map.
     stable : bool
-        All multipliers inside the unit circle (up to ``UNIT_CIRCLE_TOL``).
-    liouville : float
-        ``|det M / exp(-c n T / m_e) - 1|`` (-).
-    liouville_ok : bool
-        ``liouville`` within the run's ``liouville_tol``; False flags a doubtful monodromy.
+        All multipliers inside the unit circle
+        (:func:`gear_dyn.analysis.stability.floquet_stable`).
+    spectral_radius : float
+        Largest multiplier modulus.
     residual : float
         Scaled closing residual of the shooting equations.
+    iterations : int
+        Corrector iterations.
     pattern : str
         Contact pattern (``D`` drive, ``G`` gap, ``B`` back flank), e.g. ``DGD``.
     separation, back : float
         Shares of the period with the teeth apart and on the back flank.
     dte_rms, dte_ptp, dte_mean : float
         Standard deviation, peak-to-peak and mean of the DTE over the orbit (m).
-    mesh_frequency : float
-        Mesh frequency f_m of the model at this point (Hz).
-    arclength : float
-        Scaled arclength from the branch start.
-    tangent_p : float
-        Parameter component of the unit tangent (its sign change marks a fold).
-    iterations : int
-        Corrector iterations.
-    dp_error : float
-        Estimated relative error of the parameter derivative ``dP/dp`` the tangent was built
-        from (secant columns' agreement, or the central difference's one-sided disagreement;
-        nan where not computed).
     """
 
     parameter: float
-    state: FloatArray
-    periods: int
-    multipliers: ComplexArray
-    stable: bool
+    orbit: PeriodicSolution
     liouville: float
     liouville_ok: bool
-    residual: float
-    pattern: str
-    separation: float
-    back: float
-    dte_rms: float
-    dte_ptp: float
-    dte_mean: float
     mesh_frequency: float
     arclength: float
     tangent_p: float
-    iterations: int
     dp_error: float = float("nan")
+
+    @property
+    def state(self) -> FloatArray:
+        """Orbit state [x (m), v (m/s)] at t = 0."""
+        return self.orbit.y0
+
+    @property
+    def periods(self) -> int:
+        """Mesh periods n of the orbit."""
+        return self.orbit.periods
+
+    @property
+    def multipliers(self) -> ComplexArray:
+        """Floquet multipliers of the n-period map."""
+        return self.orbit.multipliers
+
+    @property
+    def stable(self) -> bool:
+        """All multipliers inside the unit circle (the orbit's verdict)."""
+        return self.orbit.stable
 
     @property
     def spectral_radius(self) -> float:
         """Largest multiplier modulus."""
-        return float(np.max(np.abs(self.multipliers)))
+        return self.orbit.spectral_radius
+
+    @property
+    def residual(self) -> float:
+        """Scaled closing residual of the shooting equations."""
+        return self.orbit.residual
+
+    @property
+    def iterations(self) -> int:
+        """Corrector iterations."""
+        return self.orbit.iterations
+
+    @property
+    def shape(self) -> OrbitShape:
+        """Contact pattern, contact shares and DTE measures of the orbit."""
+        if self.orbit.shape is None:
+            raise ValueError("OrbitPoint: the orbit has no shape")  # made with one always
+        return self.orbit.shape
+
+    @property
+    def pattern(self) -> str:
+        """Contact pattern, e.g. ``DGD``."""
+        return self.shape.pattern
+
+    @property
+    def separation(self) -> float:
+        """Share of the period with the teeth apart."""
+        return self.shape.separation
+
+    @property
+    def back(self) -> float:
+        """Share of the period on the back flank."""
+        return self.shape.back
+
+    @property
+    def dte_rms(self) -> float:
+        """Standard deviation of the DTE over the orbit (m)."""
+        return self.shape.dte_rms
+
+    @property
+    def dte_ptp(self) -> float:
+        """Peak-to-peak DTE over the orbit (m)."""
+        return self.shape.dte_ptp
+
+    @property
+    def dte_mean(self) -> float:
+        """Mean DTE over the orbit (m)."""
+        return self.shape.dte_mean
 
     def row(self) -> dict[str, Any]:
         """Flat, JSON- and CSV-able fields (multipliers as real and imaginary parts)."""
@@ -116,11 +184,6 @@ class OrbitPoint:
             "arclength": self.arclength, "tangent_p": self.tangent_p,
             "iterations": self.iterations, "dp_error": self.dp_error,
         }
-
-
-def is_stable(multipliers: ComplexArray) -> bool:
-    """All multipliers inside the unit circle, up to :data:`.UNIT_CIRCLE_TOL`."""
-    return bool(np.max(np.abs(multipliers)) <= 1.0 + UNIT_CIRCLE_TOL)
 
 
 @dataclass(frozen=True, eq=False)

@@ -30,7 +30,7 @@ ends and the nearest third point. Near a fold the parameter is stationary along 
 a bracket of width ``w`` in arclength fixes it to about ``p'' w^2 / 2``; at a period doubling
 or a graze to about ``p' w``. A located point's stated ``parameter_error`` is that change plus
 the parameter component of the Newton step its own residual would still take (the corrector
-stops at ``newton_tol``). Which point of the final bracket is reported, and how the contact
+stops at ``newton.tolerance``). Which point of the final bracket is reported, and how the contact
 pattern checks a graze: :func:`locate_root`, :func:`locate_pattern_change`.
 """
 
@@ -135,11 +135,11 @@ class StepCurve:
         u = (s - x0) / (x1 - x0)
         col = (1 - u) * self.cache[x0].jac[:, 2] + u * self.cache[x1].jac[:, 2]
         out = self.sh.correct(self.predict(s), self.t_a, float(self.t_a @ self.z_a) + s,
-                              self.settings.newton_tol, self.settings.max_newton,
+                              self.settings.newton,
                               dp_col=col, fresh=False)
         if out is None:
             out = self.sh.correct(self.predict(s), self.t_a, float(self.t_a @ self.z_a) + s,
-                                  self.settings.newton_tol, self.settings.max_newton,
+                                  self.settings.newton,
                                   fresh=False)
         if out is None:
             return None
@@ -149,7 +149,7 @@ class StepCurve:
     def newton_error(self, s: float) -> float:
         """The parameter's first-order error (SI) at the cached point ``s``: the parameter
         component of the Newton step its residual would still take (the corrector stops
-        once the residual is below ``newton_tol``)."""
+        once the residual is below ``newton.tolerance``)."""
         ev = self.cache[s]
         f = np.append(ev.g, float(self.t_a @ (ev.z - self.z_a)) - s)
         try:

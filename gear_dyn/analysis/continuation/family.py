@@ -10,11 +10,10 @@ or backlash.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import Any, cast
 
 from gear_dyn.errors import InputError, check_range
-from gear_dyn.geometry import teeth_mesh_frequency
-from gear_dyn.models.base import MeshModel
+from gear_dyn.models.base import MeshModel, at_speed, at_torque
 
 #: parameters :func:`sdof_family` varies, and their SI units
 PARAMETERS: dict[str, str] = {
@@ -25,7 +24,8 @@ PARAMETERS: dict[str, str] = {
 @dataclass(frozen=True)
 class SDOFFamily:
     """``SDOFFamily(model, parameter, factor)(value)``: ``model`` with one field set from
-    ``value`` (see :func:`sdof_family`). Picklable when the model is."""
+    ``value`` (see :func:`sdof_family`; ``factor`` is the pinion teeth z1 for ``speed``, one
+    over the base radius r_b1 for ``torque``). Picklable when the model is."""
 
     model: Any
     parameter: str
@@ -33,13 +33,14 @@ class SDOFFamily:
 
     def __call__(self, value: float) -> MeshModel:
         """The model at ``value`` (SI unit of the parameter, :data:`PARAMETERS`)."""
-        unit = PARAMETERS[self.parameter]
-        if self.parameter == "speed":
-            check_range("speed", value, unit, low=0.0, low_open=True, high=1e5)
-            return replace(self.model, mesh_frequency=self.factor * value)
-        if self.parameter == "torque":
-            check_range("torque", value, unit, low=0.0, high=1e8)
-            return replace(self.model, static_load=self.factor * value)
+        if self.parameter == "speed":  # the one rule of the model at a speed
+            model = at_speed(self.model, int(self.factor), value)
+            if model is None:
+                raise InputError(f"sdof_family: a {type(self.model).__name__} cannot change "
+                                 "speed alone; use the scene's model factory")
+            return cast(MeshModel, model)
+        if self.parameter == "torque":  # the one rule of the model at a torque
+            return cast(MeshModel, at_torque(self.model, value, self.factor))
         if self.parameter == "damping_ratio":
             return replace(self.model, damping_ratio=value)
         return replace(self.model, backlash=value)
@@ -95,7 +96,7 @@ def sdof_family(model: MeshModel, parameter: str, *, teeth: int | None = None,
         if teeth is None:
             raise InputError("sdof_family(parameter='speed') needs teeth (pinion teeth z1)")
         check_range("teeth", teeth, "", low=1, high=10000)
-        return SDOFFamily(model, parameter, teeth_mesh_frequency(teeth, 1.0))
+        return SDOFFamily(model, parameter, int(teeth))
     if parameter == "torque":
         if base_radius is None:
             raise InputError("sdof_family(parameter='torque') needs base_radius (m)")

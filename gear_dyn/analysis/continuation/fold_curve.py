@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, fields, is_dataclass, replace
+from dataclasses import dataclass
 from functools import partial
 from typing import Any
 
@@ -27,7 +27,8 @@ from gear_dyn.analysis.continuation.jump_map import Cusp, FoldMap, JumpRegion
 from gear_dyn.analysis.continuation.settings import ContinuationSettings
 from gear_dyn.analysis.threads import blas_limited
 from gear_dyn.errors import InputError, check_range
-from gear_dyn.models.base import Model
+from gear_dyn.geometry import check_speed, check_torque
+from gear_dyn.models.base import Model, at_torque
 
 #: a fold pair as (low speed, high speed, low error, high error) in rad/s, and the stability
 #: before and after the low and the high fold along the branch
@@ -94,7 +95,7 @@ class SpeedTorqueFamily:
             raise InputError(f"torque_ref = {self.torque_ref:.6g} N*m: the family's models are "
                              f"at {float(own):.6g} N*m (its scene's operating.torque); leave "
                              "torque_ref out")
-        check_range("torque_ref", self.reference, "N*m", low=0.0, low_open=True, high=1e8)
+        check_torque(self.reference, "torque_ref", positive=True)
 
     @property
     def reference(self) -> float:
@@ -110,12 +111,9 @@ class SpeedTorqueFamily:
         InputError
             A torque out of 0..1e8 N m, or a model without a ``static_load`` field.
         """
-        check_range("torque", torque, "N*m", low=0.0, high=1e8)
+        check_torque(torque)  # before the model is built
         model = self.speed_family(speed)
-        if not (is_dataclass(model) and "static_load" in {f.name for f in fields(model)}):
-            raise InputError(f"a torque family needs a model with a static_load field (the "
-                             f"single-DOF mesh model); got {type(model).__name__}")
-        return replace(model, static_load=model.static_load * torque / self.reference)
+        return at_torque(model, torque, getattr(model, "static_load", math.nan), self.reference)
 
     def at_torque(self, torque: float) -> Callable[[float], Any]:
         """The speed family ``speed (rad/s) -> model`` at ``torque`` (N m; picklable).
@@ -280,10 +278,10 @@ def fold_map(family: SpeedTorqueFamily, speeds: tuple[float, float], torques: Se
     if len(torques) < 2:
         raise InputError(f"torques: {len(torques)} given, at least 2 needed")
     for t in torques:
-        check_range("torque", t, "N*m", low=0.0, low_open=True, high=1e8)
+        check_torque(t, positive=True)
     lo, hi = (float(s) for s in speeds)
-    check_range("speeds[0]", lo, "rad/s", low=0.0, low_open=True, high=1e5)
-    check_range("speeds[1]", hi, "rad/s", low=0.0, low_open=True, high=1e5)
+    check_speed(lo, "speeds[0]")
+    check_speed(hi, "speeds[1]")
     if lo == hi:
         raise InputError(f"speeds = ({lo:.6g}, {hi:.6g}) rad/s: the window is empty")
     check_range("cusp_bisections", cusp_bisections, "", low=0, high=30)

@@ -17,12 +17,11 @@ the identity). The relative mismatch checks the monodromy matrix of every point.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.analysis.stability import flow_on_grid, integrate_with_sensitivity
+from gear_dyn.analysis.stability import OrbitShape, flow_on_grid, integrate_with_sensitivity
 from gear_dyn.errors import InputError, SolverError
 from gear_dyn.models.base import MeshModel
 from gear_dyn.solvers.contact_exact import (
@@ -108,20 +107,6 @@ def liouville_residual(model: MeshModel, monodromy: FloatArray, periods: int) ->
     return abs(float(np.linalg.det(monodromy)) / expected - 1.0)
 
 
-@dataclass(frozen=True)
-class OrbitShape:
-    """What an orbit looks like over its n mesh periods: the fields of the same names of
-    :class:`~.branch.OrbitPoint` (contact pattern in time order from t = 0, one letter per
-    spell)."""
-
-    pattern: str
-    separation: float
-    back: float
-    dte_rms: float
-    dte_ptp: float
-    dte_mean: float
-
-
 def _states(model: MeshModel, t: FloatArray, x: FloatArray) -> NDArray[np.int64]:
     u = x
     if model.transmission_error is not None:
@@ -139,7 +124,9 @@ def _run_letters(states: NDArray[np.int64]) -> str:
 
 def orbit_shape(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: float,
                 walked: Walk | None = None) -> OrbitShape:
-    """The contact pattern and response measures of the orbit through ``y0``.
+    """The contact pattern and response measures of the orbit through ``y0``
+    (:class:`~gear_dyn.analysis.stability.OrbitShape`, the ``shape`` of its
+    :class:`~gear_dyn.analysis.stability.PeriodicSolution`).
 
     On the exact route the pattern comes from the located contact changes (every spell is
     seen, however short); on the variational route from :data:`SAMPLES_PER_PERIOD` samples

@@ -1,13 +1,16 @@
-"""An :class:`~.branch.OrbitPoint` from a converged evaluation of the shooting equations."""
+"""An :class:`~.branch.OrbitPoint` from a converged evaluation of the shooting equations: its
+orbit (:class:`~gear_dyn.analysis.stability.PeriodicSolution`, with the shape) and place on the
+branch."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from gear_dyn.analysis.continuation.branch import OrbitPoint, is_stable
+from gear_dyn.analysis.continuation.branch import OrbitPoint
 from gear_dyn.analysis.continuation.orbit import OrbitShape, liouville_residual, orbit_shape
 from gear_dyn.analysis.continuation.settings import ContinuationSettings
 from gear_dyn.analysis.continuation.shooting import Evaluation, Shooting
+from gear_dyn.analysis.stability import PeriodicSolution
 
 
 def make_point(sh: Shooting, ev: Evaluation, settings: ContinuationSettings,
@@ -27,11 +30,10 @@ def make_point(sh: Shooting, ev: Evaluation, settings: ContinuationSettings,
     liou = liouville_residual(ev.model, ev.monodromy, sh.periods)
     if shape is None:
         shape = orbit_shape(ev.model, y, sh.periods, sh.route, sh.rtol, ev.walked)
+    fm = float(ev.model.mesh_frequency)
+    orbit = PeriodicSolution(y, sh.periods / fm, ev.monodromy, mu, True, int(iterations),
+                             "continuation", float(np.max(np.abs(ev.g))), sh.periods, shape)
     return OrbitPoint(
-        parameter=sh.param(ev.z), state=y, periods=sh.periods, multipliers=mu,
-        stable=is_stable(mu), liouville=liou, liouville_ok=liou <= settings.liouville_tol,
-        residual=float(np.max(np.abs(ev.g))), pattern=shape.pattern,
-        separation=shape.separation, back=shape.back, dte_rms=shape.dte_rms,
-        dte_ptp=shape.dte_ptp, dte_mean=shape.dte_mean,
-        mesh_frequency=float(ev.model.mesh_frequency), arclength=float(arclength),
-        tangent_p=float(tangent_p), iterations=int(iterations), dp_error=float(ev.dp_error))
+        parameter=sh.param(ev.z), orbit=orbit, liouville=liou,
+        liouville_ok=liou <= settings.liouville_tol, mesh_frequency=fm,
+        arclength=float(arclength), tangent_p=float(tangent_p), dp_error=float(ev.dp_error))

@@ -8,7 +8,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from gear_dyn.errors import check_range
+from gear_dyn.analysis.newton import NewtonSettings
+from gear_dyn.errors import InputError, check_range
 
 
 @dataclass(frozen=True)
@@ -29,16 +30,19 @@ class ContinuationSettings:
         stops with a message when a step below ``step_min`` would be needed.
     max_points : int
         Largest number of points on one branch (1..100000).
-    newton_tol : float
-        The corrector stops when the scaled residual of the shooting equations and the
-        arclength condition is below this (1e-14..1e-4).
-    max_newton : int
-        Corrector iterations before the step is halved (2..50).
+    newton : NewtonSettings
+        The corrector: ``tolerance``, the scaled residual of the shooting equations and the
+        arclength condition it stops at (1e-14..1e-4; a number, not None), and ``max_iter``,
+        its iterations before the step is halved (2..50). Default 8 iterations to 1e-10.
+    start_newton : NewtonSettings
+        Shooting for the branch's first orbit from the given state
+        (:func:`~gear_dyn.analysis.continuation.arclength.start_orbit`). Default 30
+        iterations to 100 ``rtol``.
     target_newton : int
         Corrector iterations aimed at: at most this many grow the step by ``grow``, more than
         ``target_newton + 2`` shrink it. The corrector starts from the parameter column of the
         Jacobian at the step's start and corrects it by the secant condition of each Newton
-        step (the state columns are exact): 4-5 iterations to ``newton_tol`` on a smooth
+        step (the state columns are exact): 4-5 iterations to ``newton.tolerance`` on a smooth
         stretch.
     grow : float
         Step growth factor after an easy corrector (1..4).
@@ -58,7 +62,7 @@ class ContinuationSettings:
         are located (1e-14..1e-4): the bracketing stops when the parameter changes by at most
         ``locate_tol |p|`` over the final bracket (:mod:`.detect`). The default is a
         hundredth of the 1e-8 asked for, which leaves room for the corrector's own error
-        (each point closes to ``newton_tol``); both make up a located point's stated
+        (each point closes to ``newton.tolerance``); both make up a located point's stated
         ``parameter_error``.
     liouville_tol : float
         Largest relative mismatch ``|det M / exp(-c nT / m) - 1|`` accepted on a point
@@ -92,8 +96,8 @@ class ContinuationSettings:
     step_min: float = 1e-7
     step_max: float = 0.1
     max_points: int = 2000
-    newton_tol: float = 1e-10
-    max_newton: int = 8
+    newton: NewtonSettings = NewtonSettings(max_iter=8, tolerance=1e-10)
+    start_newton: NewtonSettings = NewtonSettings(max_iter=30)
     target_newton: int = 4
     grow: float = 1.5
     max_turn: float = 0.3
@@ -108,9 +112,11 @@ class ContinuationSettings:
         check_range("step_min", self.step_min, "", low=0.0, low_open=True, high=self.step_max)
         check_range("step", self.step, "", low=self.step_min, high=self.step_max)
         check_range("max_points", self.max_points, "", low=1, high=100000)
-        check_range("newton_tol", self.newton_tol, "", low=1e-14, high=1e-4)
-        check_range("max_newton", self.max_newton, "", low=2, high=50)
-        check_range("target_newton", self.target_newton, "", low=1, high=self.max_newton)
+        if self.newton.tolerance is None:
+            raise InputError("newton.tolerance = None: the continuation corrector needs a "
+                             "residual to stop at, valid range 1e-14 <= x <= 0.0001")
+        check_range("newton.max_iter", self.newton.max_iter, "", low=2, high=50)
+        check_range("target_newton", self.target_newton, "", low=1, high=self.newton.max_iter)
         check_range("grow", self.grow, "", low=1.0, high=4.0)
         check_range("max_turn", self.max_turn, "rad", low=0.0, high=1.5707963267948966,
                     low_open=True)

@@ -24,7 +24,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.analysis.continuation.orbit import map_only, period_map
-from gear_dyn.errors import SolverError
+from gear_dyn.analysis.newton import NewtonSettings
+from gear_dyn.errors import InputError, SolverError
 from gear_dyn.models.base import MeshModel
 from gear_dyn.solvers.contact_exact import Walk
 
@@ -35,7 +36,7 @@ SECANT_AGREEMENT = 1e-4
 #: a secant update is made only where the parameter's share of the residual change,
 #: ``|col| |dz_p|``, exceeds this times ``1 + max|z|``: the map rounds the scaled residual to
 #: about 1e-15 of that, so the column's own rounding error stays below ~1e-5 relative. A
-#: Newton step at the rounding level (a corrector run to ``newton_tol`` near 1e-14) would
+#: Newton step at the rounding level (a corrector run to ``newton.tolerance`` near 1e-14) would
 #: otherwise replace a good column by noise (a difference quotient over a step near the
 #: function's noise level; Dennis and Schnabel 1996, sec. 5.4).
 SECANT_FLOOR = 1e-10
@@ -183,15 +184,16 @@ class Shooting:
         except (SolverError, ValueError):
             return None
 
-    def correct(self, z0: FloatArray, row: FloatArray, rhs: float, tol: float, max_iter: int,
+    def correct(self, z0: FloatArray, row: FloatArray, rhs: float, newton: NewtonSettings,
                 dp_col: FloatArray | None = None, fresh: bool = True
                 ) -> tuple[Evaluation, int] | None:
-        """Newton's method on ``G(z) = 0``, ``row . z = rhs`` from ``z0``.
+        """Newton's method on ``G(z) = 0``, ``row . z = rhs`` from ``z0``, at most
+        ``newton.max_iter`` iterations.
 
-        Converged when the scaled residual of all three equations is below ``tol`` at an
-        iterate; the returned evaluation is that iterate's. (The shooting residual bounds the
-        distance to the orbit by ``tol / (1 - |mu|)`` in scaled units, mu the multiplier
-        nearest 1.)
+        Converged when the scaled residual of all three equations is below
+        ``newton.tolerance`` (``tol``) at an iterate; the returned evaluation is that
+        iterate's. (The shooting residual bounds the distance to the orbit by
+        ``tol / (1 - |mu|)`` in scaled units, mu the multiplier nearest 1.)
         With ``dp_col`` (the parameter column at the step's start) the iterations skip the
         difference quotient and correct the column by the secant condition of each step;
         ``fresh`` then makes sure the converged point's column is good for the tangent
@@ -203,7 +205,16 @@ class Shooting:
         (Evaluation, iterations) or None
             None when Newton does not converge in ``max_iter`` iterations, diverges, meets a
             singular system or the map fails (a chattering contact, a parameter out of range).
+
+        Raises
+        ------
+        InputError
+            ``newton.tolerance`` is None (the scaled residual has no map tolerance to follow).
         """
+        if newton.tolerance is None:
+            raise InputError("newton.tolerance = None: the corrector needs a scaled residual "
+                             "to stop at, valid range 1e-14 <= x <= 0.0001")
+        tol, max_iter = float(newton.tolerance), newton.max_iter
         z = np.array(z0, dtype=float)
         step_prev = math.inf
         prev: tuple[Evaluation, FloatArray] | None = None

@@ -54,7 +54,7 @@ def switch_at_period_doubling(sh: Shooting, bif: Bifurcation, window: tuple[floa
     sh2 = sh.with_periods(2 * sh.periods)
     for eps in OFFSETS:
         z0 = ev.z + eps * phi
-        out = sh2.correct(z0, phi, float(phi @ z0), settings.newton_tol, settings.max_newton)
+        out = sh2.correct(z0, phi, float(phi @ z0), settings.newton)
         if out is None:
             continue
         ev2 = out[0]

@@ -26,7 +26,7 @@ From the stroboscopic samples (one per mesh period after settling,
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -34,7 +34,8 @@ from numpy.typing import NDArray
 from gear_dyn.analysis.motion.lyapunov import LyapunovEstimate, largest_lyapunov
 from gear_dyn.analysis.motion.period import MAX_PERIOD, repeat_errors
 from gear_dyn.analysis.motion.samples import flow_periods, stroboscopic
-from gear_dyn.analysis.stability import UNIT_CIRCLE_TOL, PeriodicSolution, shoot
+from gear_dyn.analysis.newton import NewtonSettings
+from gear_dyn.analysis.stability import PeriodicSolution, shoot
 from gear_dyn.analysis.threads import blas_limited
 from gear_dyn.errors import check_range
 from gear_dyn.models.base import MeshModel
@@ -42,6 +43,12 @@ from gear_dyn.models.base import MeshModel
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
 
+#: shooting of each period tried, unless the caller gives its own (15 iterations to 100 rtol;
+#: the table of :class:`~gear_dyn.analysis.newton.NewtonSettings`)
+NEWTON = NewtonSettings()
+#: shooting over the least period d from a confirmed n-period orbit (already closed to 1e3 rtol
+#: after d periods), for the multipliers over d periods
+LEAST_PERIOD_NEWTON = NewtonSettings(max_iter=3)
 #: kinds of motion
 KINDS = ("periodic", "quasi-periodic", "chaotic", "not settled", "undetermined", "unbounded")
 #: a Lyapunov exponent within this many standard errors of zero counts as zero ...
@@ -74,8 +81,6 @@ class Motion:
     ----------
     kind : str
         One of :data:`~gear_dyn.analysis.motion.classify.KINDS`.
-    period : int
-        Least period in mesh periods of a confirmed orbit (``kind == "periodic"``), else 0.
     label : str
         ``period-4``, ``quasi-periodic``, ``chaotic, lambda = 2054 +- 98 1/s`` ...
     state : ndarray
@@ -83,8 +88,8 @@ class Motion:
         SI units.
     samples : ndarray (n_samples, n_states)
         The stroboscopic samples classified, SI units.
-    multipliers : ndarray of complex
-        Floquet multipliers of the orbit over its ``period`` mesh periods (empty if none).
+    orbit : PeriodicSolution or None
+        The confirmed orbit over its least period (``kind == "periodic"``), else None.
     lyapunov : LyapunovEstimate or None
         Computed where no orbit was confirmed.
     repeat_error : ndarray
@@ -97,6 +102,10 @@ class Motion:
     ----------
     periodic : bool
         A stable orbit of ``period`` mesh periods was confirmed by shooting.
+    period : int
+        Least period in mesh periods of the confirmed orbit, else 0.
+    multipliers : ndarray of complex
+        Floquet multipliers of the orbit over its ``period`` mesh periods (empty if none).
     spectral_radius : float
         Largest multiplier modulus of the orbit (NaN without an orbit).
 
@@ -116,11 +125,10 @@ class Motion:
     """
 
     kind: str
-    period: int
     label: str
     state: FloatArray
     samples: FloatArray
-    multipliers: ComplexArray = field(default_factory=lambda: np.zeros(0, complex))
+    orbit: PeriodicSolution | None = None
     lyapunov: LyapunovEstimate | None = None
     repeat_error: FloatArray = field(default_factory=lambda: np.zeros(0))
     shooting_iterations: int = 0
@@ -131,9 +139,19 @@ class Motion:
         return self.kind == "periodic"
 
     @property
+    def period(self) -> int:
+        """Least period in mesh periods of the confirmed orbit, else 0."""
+        return 0 if self.orbit is None else self.orbit.periods
+
+    @property
+    def multipliers(self) -> ComplexArray:
+        """Floquet multipliers of the orbit over its ``period`` mesh periods (empty if none)."""
+        return np.zeros(0, complex) if self.orbit is None else self.orbit.multipliers
+
+    @property
     def spectral_radius(self) -> float:
         """Largest multiplier modulus of the orbit (NaN without an orbit)."""
-        return float(np.max(np.abs(self.multipliers))) if self.multipliers.size else math.nan
+        return math.nan if self.orbit is None else self.orbit.spectral_radius
 
     def __repr__(self) -> str:
         return f"Motion({self.label})"
@@ -164,7 +182,7 @@ def lyapunov_label(est: LyapunovEstimate) -> str:
 
 
 def confirm_period(model: MeshModel, y: FloatArray, n: int, rtol: float = 1e-10,
-                   max_newton: int = 15) -> tuple[PeriodicSolution, int]:
+                   newton: NewtonSettings = NEWTON) -> tuple[PeriodicSolution, int]:
     """A stable orbit of ``n`` mesh periods near ``y`` by shooting, and its least period.
 
     Parameters
@@ -176,8 +194,8 @@ def confirm_period(model: MeshModel, y: FloatArray, n: int, rtol: float = 1e-10,
         Mesh periods (1..16).
     rtol : float
         Tolerance of shooting (:func:`gear_dyn.analysis.stability.shoot`).
-    max_newton : int
-        Newton iterations.
+    newton : NewtonSettings
+        Newton iterations and closing tolerance of shooting (default 15, 100 ``rtol``).
 
     Returns
     -------
@@ -187,8 +205,8 @@ def confirm_period(model: MeshModel, y: FloatArray, n: int, rtol: float = 1e-10,
         the orbit is unstable.
     """
     check_range("n", n, "", low=1, high=MAX_PERIOD)
-    sol = shoot(model, y, rtol, max_newton, periods=n)
-    if not (sol.converged and sol.spectral_radius <= 1.0 + UNIT_CIRCLE_TOL):
+    sol = shoot(model, y, rtol, newton.max_iter, periods=n, tol=newton.tolerance)
+    if not sol.stable:
         return sol, 0
     least = n
     if n > 1:
@@ -203,7 +221,7 @@ def confirm_period(model: MeshModel, y: FloatArray, n: int, rtol: float = 1e-10,
 
 def classify_samples(model: MeshModel, samples: FloatArray, rtol: float = 1e-10,
                      lyapunov_periods: int = 400, lyapunov_block: int = 40,
-                     max_newton: int = 15, route: str = "auto") -> Motion:
+                     newton: NewtonSettings = NEWTON, route: str = "auto") -> Motion:
     """Classify the motion whose stroboscopic samples are ``samples`` (see the module text).
 
     Parameters
@@ -216,8 +234,8 @@ def classify_samples(model: MeshModel, samples: FloatArray, rtol: float = 1e-10,
         Tolerance of shooting and of the variational route.
     lyapunov_periods, lyapunov_block : int
         Mesh periods of the Lyapunov estimate and per block (:func:`.lyapunov.largest_lyapunov`).
-    max_newton : int
-        Newton iterations per period tried.
+    newton : NewtonSettings
+        Shooting for each period tried (:func:`confirm_period`).
     route : {"auto", "exact", "variational"}
         Sensitivity route of the Lyapunov exponent (shooting takes ``auto``).
 
@@ -235,8 +253,8 @@ def classify_samples(model: MeshModel, samples: FloatArray, rtol: float = 1e-10,
     samples = np.asarray(samples, dtype=float)
     scale = np.asarray(model.state_scale, dtype=float)
     if not np.all(np.isfinite(samples)) or np.max(np.abs(samples) / scale) > UNBOUNDED:
-        return Motion("unbounded", 0, "unbounded", samples[-1].copy(), samples)
-    found, iters = find_orbit(model, samples, rtol, max_newton)
+        return Motion("unbounded", "unbounded", samples[-1].copy(), samples)
+    found, iters = find_orbit(model, samples, rtol, newton)
     if found is not None:
         return found
     est = largest_lyapunov(model, samples[-1], lyapunov_periods, lyapunov_block, rtol=rtol,
@@ -244,7 +262,7 @@ def classify_samples(model: MeshModel, samples: FloatArray, rtol: float = 1e-10,
     # the run may have ended a transient (a slow escape from an unstable orbit shows a
     # positive exponent for a while): look for an orbit once more, from where it ended
     again = stroboscopic(model, est.y_end, 0, samples.shape[0], rtol)
-    found, iters = find_orbit(model, again, rtol, max_newton, iters)
+    found, iters = find_orbit(model, again, rtol, newton, iters)
     if found is not None:
         return found
     kind = lyapunov_kind(est)
@@ -259,7 +277,7 @@ def classify_samples(model: MeshModel, samples: FloatArray, rtol: float = 1e-10,
         est = largest_lyapunov(model, est.y_end, LONGER * lyapunov_periods, lyapunov_block,
                                rtol=rtol, route=route)
         again = stroboscopic(model, est.y_end, 0, samples.shape[0], rtol)
-        found, iters = find_orbit(model, again, rtol, max_newton, iters)
+        found, iters = find_orbit(model, again, rtol, newton, iters)
         if found is not None:
             return found
         first = repeat_errors(again, scale)
@@ -280,12 +298,12 @@ def classify_samples(model: MeshModel, samples: FloatArray, rtol: float = 1e-10,
         label = f"undetermined (exponent not resolved: run longer), {lyapunov_label(est)}"
     else:
         label = f"{kind}, {lyapunov_label(est)}"
-    return Motion(kind, 0, label, est.y_end.copy(), samples, np.zeros(0, complex), est,
+    return Motion(kind, label, est.y_end.copy(), samples, None, est,
                   repeat_errors(samples, scale), iters)
 
 
-def find_orbit(model: MeshModel, samples: FloatArray, rtol: float = 1e-10, max_newton: int = 15,
-               iters: int = 0) -> tuple[Motion | None, int]:
+def find_orbit(model: MeshModel, samples: FloatArray, rtol: float = 1e-10,
+               newton: NewtonSettings = NEWTON, iters: int = 0) -> tuple[Motion | None, int]:
     """A stable orbit of n <= 16 mesh periods that the samples suggest, confirmed by shooting.
 
     The periods after which the samples repeat to :data:`.TRY_TOL` state scales are tried in
@@ -299,7 +317,7 @@ def find_orbit(model: MeshModel, samples: FloatArray, rtol: float = 1e-10, max_n
     model : MeshModel
     samples : ndarray (n_samples, n_states)
         Stroboscopic samples, at least 32, SI units.
-    rtol, max_newton
+    rtol, newton
         As :func:`confirm_period`.
     iters : int
         Newton iterations spent so far (added to).
@@ -313,13 +331,16 @@ def find_orbit(model: MeshModel, samples: FloatArray, rtol: float = 1e-10, max_n
     err = repeat_errors(samples, scale)
     tried = [n for n in range(1, MAX_PERIOD + 1) if err[n - 1] <= TRY_TOL][:MAX_TRIES]
     for n in tried:
-        sol, least = confirm_period(model, samples[-1], n, rtol, max_newton)
+        sol, least = confirm_period(model, samples[-1], n, rtol, newton)
         iters += sol.iterations
         if least:
-            # the multipliers over the least period
-            mult = (sol.multipliers if least == n
-                    else shoot(model, sol.y0, rtol, 3, periods=least).multipliers)
-            return Motion("periodic", least, f"period-{least}", sol.y0.copy(), samples, mult,
+            # the orbit over its least period: the state confirmed, the least period's
+            # multipliers
+            orbit = (sol if least == n
+                     else replace(shoot(model, sol.y0, rtol, LEAST_PERIOD_NEWTON.max_iter,
+                                        periods=least, tol=LEAST_PERIOD_NEWTON.tolerance),
+                                  y0=sol.y0))
+            return Motion("periodic", f"period-{least}", sol.y0.copy(), samples, orbit,
                           None, err, iters), iters
     return None, iters
 
@@ -327,7 +348,7 @@ def find_orbit(model: MeshModel, samples: FloatArray, rtol: float = 1e-10, max_n
 @blas_limited
 def classify_motion(model: MeshModel, y0: FloatArray, settle: int = 200, samples: int = 64,
                     rtol: float = 1e-10, lyapunov_periods: int = 400,
-                    lyapunov_block: int = 40, max_newton: int = 15,
+                    lyapunov_block: int = 40, newton: NewtonSettings = NEWTON,
                     route: str = "auto") -> Motion:
     """Settle from ``y0`` and classify the motion (period-n, quasi-periodic, chaotic).
 
@@ -342,7 +363,7 @@ def classify_motion(model: MeshModel, y0: FloatArray, settle: int = 200, samples
         Mesh periods run before sampling (0..1e6).
     samples : int
         Stroboscopic samples classified (32..1e6).
-    rtol, lyapunov_periods, lyapunov_block, max_newton, route
+    rtol, lyapunov_periods, lyapunov_block, newton, route
         As :func:`classify_samples`.
 
     Returns
@@ -373,5 +394,5 @@ def classify_motion(model: MeshModel, y0: FloatArray, settle: int = 200, samples
     """
     check_range("samples", samples, "", low=2 * MAX_PERIOD)
     strobe = stroboscopic(model, y0, settle, samples, rtol)
-    return classify_samples(model, strobe, rtol, lyapunov_periods, lyapunov_block, max_newton,
+    return classify_samples(model, strobe, rtol, lyapunov_periods, lyapunov_block, newton,
                             route)

@@ -24,7 +24,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.analysis.executor import run_blocks, speed_blocks, task_map
+from gear_dyn.analysis.executor import (
+    SpeedBlock,
+    check_speeds,
+    run_blocks,
+    speed_blocks,
+    task_map,
+)
 from gear_dyn.analysis.motion.classify import (
     UNBOUNDED,
     Motion,
@@ -33,6 +39,7 @@ from gear_dyn.analysis.motion.classify import (
 )
 from gear_dyn.analysis.motion.period import MAX_PERIOD
 from gear_dyn.analysis.motion.samples import stroboscopic
+from gear_dyn.analysis.newton import NewtonSettings
 from gear_dyn.analysis.threads import blas_limited
 from gear_dyn.errors import InputError, SolverError, check_range
 from gear_dyn.models.base import Model
@@ -67,6 +74,9 @@ class DiagramOptions:
         Mesh periods of each Lyapunov estimate where ``classify`` (20..1e6).
     rtol : float
         Relative tolerance where the exact flow does not apply (1e-13..1e-4).
+    newton : NewtonSettings
+        Shooting that confirms each period (default 15 iterations to 100 ``rtol``;
+        :func:`gear_dyn.analysis.motion.find_orbit`).
 
     Raises
     ------
@@ -93,6 +103,7 @@ class DiagramOptions:
     classify: bool = False
     lyapunov_periods: int = 200
     rtol: float = 1e-10
+    newton: NewtonSettings = NewtonSettings(max_iter=15)
 
     def __post_init__(self) -> None:
         check_range("settle", self.settle, "", low=0, high=1_000_000)
@@ -107,20 +118,20 @@ _Speed = tuple[float, float, FloatArray, int, str, float, float]
 
 
 @dataclass(frozen=True)
-class _Task:
+class _Job:
+    """What a diagram does at each speed (the job of its :class:`.executor.SpeedBlock`)."""
+
     factory: ModelFactory
     options: DiagramOptions
-    speeds: tuple[float, ...]
-    y_start: FloatArray | None
 
 
 @blas_limited
-def _run_task(task: _Task) -> tuple[list[_Speed], FloatArray | None]:
+def _run_task(task: SpeedBlock[_Job]) -> tuple[list[_Speed], FloatArray | None]:
     """Evaluate a block of speeds in order, each from the previous speed's final state."""
-    opts, y = task.options, task.y_start
+    opts, y = task.job.options, task.start
     out = []
     for s in task.speeds:
-        model: Any = task.factory(s)
+        model: Any = task.job.factory(s)
         y0 = model.initial_state() if y is None else y
         nan = math.nan
         try:
@@ -139,9 +150,9 @@ def _run_task(task: _Task) -> tuple[list[_Speed], FloatArray | None]:
         if opts.classify:
             motion: Motion | None = classify_samples(
                 model, strobe, opts.rtol, opts.lyapunov_periods,
-                max(10, opts.lyapunov_periods // 10))
+                max(10, opts.lyapunov_periods // 10), opts.newton)
         else:
-            motion, _iters = find_orbit(model, strobe, opts.rtol)
+            motion, _iters = find_orbit(model, strobe, opts.rtol, opts.newton)
         if motion is None:  # not classified, no orbit confirmed
             out.append((s, model.mesh_frequency, strobe, 0, "", nan, nan))
             y = strobe[-1]
@@ -489,11 +500,7 @@ def bifurcation_diagram(
     if direction not in ("both", "up", "down"):
         raise InputError(f"direction = {direction!r}: valid choices are both, up, down")
     size = BLOCK if block is None else int(check_range("block", block, "", low=1, high=10_000))
-    sp = np.unique(np.asarray(speeds, dtype=float))
-    if sp.size < 1:
-        raise InputError("bifurcation_diagram: no speeds given")
-    for s in (sp[0], sp[-1]):
-        check_range("speed", s, "rad/s", low=0.0, high=1e5, low_open=True)
+    sp = check_speeds(speeds, "bifurcation_diagram")
     model = factory(float(sp[0]))
     if not model.mesh_periodic:
         raise InputError(f"a bifurcation diagram needs the single-DOF mesh model; this model is "
@@ -501,9 +508,8 @@ def bifurcation_diagram(
     start = time.perf_counter()
     dirs = ("up", "down") if direction == "both" else (direction,)
     with task_map(workers, executor) as (run_map, label):
-        pts = run_blocks(run_map, _run_task, speed_blocks(sp, dirs, size),
-                         lambda speeds, y: _Task(factory, opts, speeds, y), None,
-                         progress=progress)
+        pts = run_blocks(run_map, _run_task, speed_blocks(sp, dirs, size), _Job(factory, opts),
+                         None, progress=progress)
     fn = model.natural_frequency
     return BifurcationDiagram(
         scene_name=name, curves=tuple(DiagramCurve.from_speeds(d, pts[d]) for d in dirs),

@@ -18,7 +18,7 @@ from typing import cast
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.analysis.stability import UNIT_CIRCLE_TOL
+from gear_dyn.analysis.stability import floquet_stable
 from gear_dyn.analysis.sweep.points import _nan_point, _order_spectrum
 from gear_dyn.analysis.sweep.types import Point, SweepOptions
 from gear_dyn.models.base import MeshModel, Model
@@ -54,7 +54,7 @@ def linear_block(models: Sequence[Model], speeds: Sequence[float], settings: Sol
     rho = np.max(np.abs(mult), axis=1)
     if not np.all(np.linalg.cond(np.eye(2)[None] - phi) < 1e14):
         return None  # a multiplier at 1: the per-speed path raises the SolverError
-    ok = rho <= 1.0 + UNIT_CIRCLE_TOL
+    ok = floquet_stable(rho)
     dte = np.full((fm.size, spp), np.nan)
     force = np.full((fm.size, spp), np.nan)
     for i in np.flatnonzero(ok).tolist():

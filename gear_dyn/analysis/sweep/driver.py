@@ -18,7 +18,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.analysis.dynamic_factor import quasi_static_model_of, quasi_static_reference
-from gear_dyn.analysis.executor import check_workers, run_blocks, speed_blocks, task_map
+from gear_dyn.analysis.executor import (
+    SpeedBlock,
+    check_speeds,
+    check_workers,
+    run_blocks,
+    speed_blocks,
+    task_map,
+)
 from gear_dyn.analysis.sweep.batch import linear_block
 from gear_dyn.analysis.sweep.orbit_jumps import find_jumps
 from gear_dyn.analysis.sweep.points import steady_point, transient_point
@@ -46,18 +53,15 @@ LINEAR_MIN_BLOCK = 32
 
 
 @dataclass(frozen=True)
-class _Block:
-    """A block of speeds to evaluate in order, and the state a continuation starts from."""
+class _Job:
+    """What a sweep does at each speed (the job of its :class:`.executor.SpeedBlock`)."""
 
     factory: ModelFactory
     settings: SolverSettings
     options: SweepOptions
     periods: int
     steady_periods: int
-    speeds: tuple[float, ...]
     continuation: bool
-    y_start: FloatArray | None = None
-    orbit_periods: int = 1
 
 
 #: where a direction's continuation stands: (last state or None, mesh periods of its orbit)
@@ -65,29 +69,30 @@ _ChainState = tuple[FloatArray | None, int]
 
 
 @blas_limited
-def _run_block(block: _Block) -> tuple[list[Point], _ChainState]:
+def _run_block(block: SpeedBlock[_Job]) -> tuple[list[Point], _ChainState]:
     """Evaluate a block of speeds in order (the worker function; picklable).
 
     Returns the points and where the continuation stands after the block (the start of the
     next block of the same direction).
     """
-    y, n_prev = block.y_start, block.orbit_periods
-    if block.options.method == "steady" and not block.continuation:
-        models = [block.factory(s) for s in block.speeds]
-        batch = linear_block(models, block.speeds, block.settings, block.options)
+    job = block.job
+    y, n_prev = block.start
+    if job.options.method == "steady" and not job.continuation:
+        models = [job.factory(s) for s in block.speeds]
+        batch = linear_block(models, block.speeds, job.settings, job.options)
         if batch is not None:
             return batch, (None, 1)
     points = []
     for s in block.speeds:
-        model = block.factory(s)
-        if block.options.method == "steady":
-            p, y_next = steady_point(model, s, block.settings, block.options, y, n_prev)
+        model = job.factory(s)
+        if job.options.method == "steady":
+            p, y_next = steady_point(model, s, job.settings, job.options, y, n_prev)
             n_prev = p.orbit_periods or n_prev
         else:
-            p, y_next = transient_point(model, s, block.settings, block.options, block.periods,
-                                        block.steady_periods, y)
+            p, y_next = transient_point(model, s, job.settings, job.options, job.periods,
+                                        job.steady_periods, y)
         points.append(p)
-        if block.continuation and y_next is not None:
+        if job.continuation and y_next is not None:
             y = y_next
     return points, (y, n_prev)
 
@@ -99,12 +104,7 @@ def _checked(speeds: Sequence[float] | FloatArray, direction: str, block: int | 
     if block is not None:
         check_range("block", block, "", low=1, high=10_000)
     check_workers(workers, executor)
-    sp = np.unique(np.asarray(speeds, dtype=float))
-    if sp.size < 1:
-        raise InputError("sweep: no speeds given")
-    for s in (sp[0], sp[-1]):
-        check_range("speed", s, "rad/s", low=0.0, high=1e5, low_open=True)
-    return sp
+    return check_speeds(speeds, "sweep")
 
 
 def _block_size(block: int | None, n: int, nonlinear: bool) -> int:
@@ -219,14 +219,12 @@ def sweep(
                          f"{period} mesh periods (deviations: shaft orders); a window shorter "
                          f"than that misses part of the response: valid range >= {period}")
 
-    def task(speeds: tuple[float, ...], state: _ChainState) -> _Block:
-        return _Block(factory, settings, opts, int(periods), n_steady, speeds, nonlinear, *state)
-
     with task_map(workers, executor) as (run_map, label):
         if progress is not None:
             progress(0, sp.size * len(dirs))  # a bar from the start, before a block is done
         # backlash: each direction a chain of blocks (continuation); linear: blocks on their own
-        points = run_blocks(run_map, _run_block, speed_blocks(sp, dirs, size), task, (None, 1),
+        job = _Job(factory, settings, opts, int(periods), n_steady, nonlinear)
+        points = run_blocks(run_map, _run_block, speed_blocks(sp, dirs, size), job, (None, 1),
                             chained=nonlinear, progress=progress)
     # one quasi-static reference for the whole sweep: its peak force does not depend on speed
     qs_model = quasi_static_model_of(factory, float(sp[0]), model)

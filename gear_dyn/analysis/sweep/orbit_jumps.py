@@ -111,7 +111,8 @@ def check_pair(curve: SweepCurve, i: int, factory: Callable[[float], Model], rto
         # closes the orbits to 100 rtol (as the sweep's shooting does) and a fold is known to
         # about as much
         tol = min(max(rtol, 1e-13), 1e-6)
-        settings = replace(settings, rtol=tol, newton_tol=min(100 * tol, 1e-4),
+        settings = replace(settings, rtol=tol,
+                           newton=replace(settings.newton, tolerance=min(100 * tol, 1e-4)),
                            locate_tol=min(100 * tol, 1e-4))
 
     def jump(kind: str, fold: float = math.nan, before: str = "", after: str = "") -> Jump:

@@ -12,8 +12,9 @@ from numpy.typing import NDArray
 from gear_dyn.analysis.motion.classify import Motion, classify_motion
 from gear_dyn.analysis.motion.period import MAX_PERIOD
 from gear_dyn.analysis.stability import (
-    UNIT_CIRCLE_TOL,
+    PeriodicSolution,
     floquet_multipliers,
+    floquet_stable,
     flow_on_grid,
     periodic_steady_state,
     shoot,
@@ -98,11 +99,11 @@ def _flow(model: Model, t: FloatArray, settings: SolverSettings, y0: FloatArray)
     return y
 
 
-def _orbit_point(model: Model, speed: float, y0: FloatArray, settings: SolverSettings,
-                 opts: SweepOptions, rho: float, stable: bool, status: str, iterations: int,
-                 orbit_periods: int = 1) -> Point:
-    """Metrics of a periodic orbit of ``orbit_periods`` mesh periods starting at ``y0``: the
+def _orbit_point(model: Model, speed: float, orbit: PeriodicSolution, settings: SolverSettings,
+                 opts: SweepOptions, status: str, iterations: int) -> Point:
+    """Metrics of a periodic orbit (its state, mesh periods, multipliers and verdict): the
     orbit sampled once, repeated over the spectrum window."""
+    y0, rho, stable, orbit_periods = orbit.y0, orbit.spectral_radius, orbit.stable, orbit.periods
     spp = settings.samples_per_period
     fm = model.mesh_frequency
     n = orbit_periods * spp
@@ -146,8 +147,8 @@ def _window_point(model: Model, speed: float, t: FloatArray, y: FloatArray, n_wi
     closing = np.abs(y[:, -1] - y[:, -1 - spp]) / np.maximum(scale, np.abs(y[:, -1]))
     periodic = bool(np.max(closing) <= 1e3 * settings.rtol)
     est = None if motion is None else motion.lyapunov
-    return Point(speed, model.mesh_frequency, df, rms, ptp, mean, rho, math.isfinite(rho) and
-                 rho <= 1.0, periodic, status, sep, back, iterations, spec, y[:, -1].copy(),
+    return Point(speed, model.mesh_frequency, df, rms, ptp, mean, rho, floquet_stable(rho),
+                 periodic, status, sep, back, iterations, spec, y[:, -1].copy(),
                  0, "" if motion is None else motion.label,
                  math.nan if est is None else est.value, math.nan if est is None else est.error)
 
@@ -166,14 +167,14 @@ def steady_point(model: Model, speed: float, settings: SolverSettings, opts: Swe
         sol = periodic_steady_state(mesh, rtol=settings.rtol)
         if not sol.stable:
             return _nan_point(mesh, speed, sol.spectral_radius, "unstable", opts), None
-        return _orbit_point(mesh, speed, sol.y0, settings, opts, sol.spectral_radius, True,
-                            "periodic", 0), sol.y0
+        return _orbit_point(mesh, speed, sol, settings, opts, "periodic", 0), sol.y0
     guess = mesh.initial_state() if y_guess is None else np.asarray(y_guess, dtype=float)
     first = n_prev if 1 <= n_prev <= MAX_PERIOD else 1
-    sol = shoot(mesh, guess, settings.rtol, opts.max_newton, periods=first)
+    sol = shoot(mesh, guess, settings.rtol, opts.newton.max_iter, periods=first,
+                tol=opts.newton.tolerance)
     if sol.converged and sol.stable:
-        return _orbit_point(mesh, speed, sol.y0, settings, opts, sol.spectral_radius, True,
-                            orbit_status(first), sol.iterations, first), sol.y0
+        return _orbit_point(mesh, speed, sol, settings, opts, orbit_status(first),
+                            sol.iterations), sol.y0
     return _settle_and_shoot(mesh, speed, settings, opts, guess, sol.iterations,
                              continuing=y_guess is not None)
 
@@ -196,19 +197,19 @@ def _settle_and_shoot(model: MeshModel, speed: float, settings: SolverSettings,
         y_end = _flow(model, np.arange(n * spp + 1) / (fm * spp), loose, y_end)[:, -1]
         settled += n
         for per in (1, 2):
-            sol = shoot(model, y_end, settings.rtol, opts.max_newton, periods=per)
+            sol = shoot(model, y_end, settings.rtol, opts.newton.max_iter, periods=per,
+                        tol=opts.newton.tolerance)
             iters += sol.iterations
-            if sol.converged and sol.spectral_radius <= 1.0 + UNIT_CIRCLE_TOL:
-                return _orbit_point(model, speed, sol.y0, settings, opts, sol.spectral_radius,
-                                    True, orbit_status(per, continuing), iters, per), sol.y0
+            if sol.stable:
+                return _orbit_point(model, speed, sol, settings, opts,
+                                    orbit_status(per, continuing), iters), sol.y0
     motion = classify_motion(model, y_end, 0, CLASSIFY_SAMPLES, settings.rtol,
                              opts.lyapunov_periods, max(10, opts.lyapunov_periods // 10),
-                             opts.max_newton)
+                             opts.newton)
     iters += motion.shooting_iterations
-    if motion.periodic:
-        return _orbit_point(model, speed, motion.state, settings, opts, motion.spectral_radius,
-                            True, orbit_status(motion.period, continuing), iters,
-                            motion.period), motion.state
+    if motion.orbit is not None:
+        return _orbit_point(model, speed, motion.orbit, settings, opts,
+                            orbit_status(motion.period, continuing), iters), motion.state
     n_win = opts.window_periods * spp
     tw = np.arange(n_win + spp + 1) / (fm * spp)
     yw = _flow(model, tw, settings, motion.state)
@@ -224,7 +225,7 @@ def transient_point(model: Model, speed: float, settings: SolverSettings,
     if model.mesh_periodic and model.is_linear:
         assert isinstance(model, MeshModel)
         rho = float(np.max(np.abs(floquet_multipliers(model, settings.rtol))))
-        if rho > 1.0 + UNIT_CIRCLE_TOL:
+        if not floquet_stable(rho):
             return _nan_point(model, speed, rho, "unstable", opts), None
         y_guess = None  # linear: every speed from the static state, as run_scene
     spp = settings.samples_per_period

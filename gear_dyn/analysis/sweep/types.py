@@ -11,6 +11,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from gear_dyn.analysis.newton import NewtonSettings
 from gear_dyn.analysis.sweep.jump import RPM, Jump
 from gear_dyn.errors import InputError, check_range
 from gear_dyn.solvers import SolverSettings
@@ -36,8 +37,9 @@ class SweepOptions:
     settle_periods : int
         Steady method with backlash: periods of settling transient where shooting from the
         previous orbit fails (10..100000).
-    max_newton : int
-        Shooting iterations per attempt (2..100).
+    newton : NewtonSettings
+        Shooting at each speed: ``max_iter`` iterations per attempt (2..100; default 12) to
+        the closing error ``tolerance`` (default None: 100 ``rtol`` of the solver settings).
     lyapunov_periods : int
         Steady method, where no orbit of 1..16 mesh periods is found after settling: mesh
         periods of the largest Lyapunov exponent that tells quasi-periodic from chaotic motion
@@ -67,7 +69,7 @@ class SweepOptions:
     window_periods: int = 4
     harmonics: int = 5
     settle_periods: int = 100
-    max_newton: int = 12
+    newton: NewtonSettings = NewtonSettings(max_iter=12)
     lyapunov_periods: int = 200
 
     def __post_init__(self) -> None:
@@ -77,7 +79,7 @@ class SweepOptions:
         check_range("window_periods", self.window_periods, "", low=1, high=64)
         check_range("harmonics", self.harmonics, "", low=1, high=64)
         check_range("settle_periods", self.settle_periods, "", low=10, high=100_000)
-        check_range("max_newton", self.max_newton, "", low=2, high=100)
+        check_range("newton.max_iter", self.newton.max_iter, "", low=2, high=100)
         check_range("lyapunov_periods", self.lyapunov_periods, "", low=20, high=1_000_000)
 
 

@@ -15,7 +15,9 @@
  * shortened by the secant method until it ends on the edge.
  * f is the identity, or the backlash dead zone of half gap b (continuous: its kinks are left to
  * the error control). s = -1 for the single-DOF tables (e: the transmission error), +1 for the
- * torsional ones (e: the eccentric kinematic error). */
+ * torsional ones (e: the eccentric kinematic error). An eccentric pair's contact-line form has
+ * no polynomials: e, de/dp, k, phi1, phi2 come from its series (gd_lines_eval, gd_torsional.c),
+ * the pieces remaining as the edges the steps end on. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -38,6 +40,10 @@ static void dcoef(const dctx *q, double th1, double v[5])
     int deg = q->m->degree, k, j;
     double p = q->p0 + q->m->z1 * (th1 - q->th0) / (2.0 * PI);
     double s = (2.0 * p - q->a - q->b) / (q->b - q->a);
+    if (q->m->tors && q->m->tors->lines) {   /* the contact-line form: no polynomials */
+        gd_lines_eval(q->m->tors->lines, p, v);
+        return;
+    }
     for (k = 0; k < 5; k++) {
         double acc = 0.0;
         if (q->d->idx[k] >= 0) {
@@ -84,7 +90,8 @@ static void setup(dctx *q, const gd_dstate *s, const gd_model *m, const gd_drive
 {
     q->m = m;
     q->d = d;
-    q->c = m->coef + (long)s->k.piece * d->nq * (m->degree + 1);
+    q->c = m->tors && m->tors->lines ? m->coef
+        : m->coef + (long)s->k.piece * d->nq * (m->degree + 1);
     q->a = m->breaks[s->k.piece];
     q->b = m->breaks[s->k.piece + 1];
     q->p0 = s->k.frac;

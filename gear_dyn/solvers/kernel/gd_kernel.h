@@ -98,6 +98,8 @@ extern const double gd_dp_a[7][6], gd_dp_c[7], gd_dp_err[7];
 
 int gd_tors_advance(gd_state *s, const gd_model *m, double t_end);
 void gd_tors_outputs(const gd_state *s, const gd_model *m, double *out);
+/* e, de/dp, k, phi1, phi2 of the contact-line form at mesh phase p (cycles, any real) */
+void gd_lines_eval(const gd_lines *g, double p, double v[5]);
 
 /* the FMI glue of both versions: values by value reference (0 time, 1..GD_NPAR the parameters
  * and inputs, then the outputs); gd_set writes one message into msg on a refused value */

@@ -9,7 +9,10 @@
  * breaks are the switching instants; data in model_data.c, written by gear_dyn), or, for an
  * eccentric pair with contact-line stiffness (gd_tors.lines), they come from Fourier series of
  * the kinematics over the hunting period and the contact-line overlap of Liu et al. (2017),
- * eqs. 14-27 (gear_dyn.eccentricity.contact_lines and .friction). Each piece is
+ * eqs. 14-27 (gear_dyn.eccentricity.contact_lines and .friction); over each stretch of a
+ * piece the kernel steps at once, the series are replaced by their Taylor polynomials about the
+ * stretch's middle (lines_expand), of the lowest degree whose remainder bound is below
+ * GD_LOCAL_ERROR of the displacement scale, else summed directly. Each piece is
  * stepped by the Dormand-Prince 5(4) pair with error control (Hairer, Norsett & Wanner 1993);
  * piece edges are time events and a communication point ends the last step exactly. */
 #include <math.h>
@@ -19,34 +22,35 @@
 #define PI 3.14159265358979323846
 #define NQ 5
 
+#define NX (GD_NKIN + 1)          /* the kinematics and de_ecc/dp */
+#define MAX_LOCAL 8               /* highest degree of the local Taylor polynomials */
+#define GD_LOCAL_ERROR 1e-13      /* their remainder bound, relative to the displacement scale */
+
+typedef struct {                 /* the contact-line form's kinematics near a phase */
+    int degree;                  /* -1: none (sum the series) */
+    double pm;                   /* the expansion's centre (cycles) */
+    double c[NX][MAX_LOCAL + 1]; /* Taylor coefficients in p - pm, ascending powers (m, m/cycle) */
+} lexp;
+
 typedef struct {                 /* one piece at constant inputs */
     const gd_model *m;
     const double *c;             /* the piece's coefficients [NQ][degree + 1] */
     double a, b;                 /* its phase edges */
     double t0, p0, fm, cd, t1, t2;
+    lexp x;                      /* the contact-line form's local kinematics */
 } tctx;
 
 /* e, de/dp, k, phi1, phi2 at phase p of the contact-line form: the kinematic series (cos k th,
  * sin k th by rotation) and the overlap of each contact line with the field of contact, split
- * at the pitch line (gear_dyn.eccentricity.friction.line_state_scalar) */
-static void lines_eval(const gd_lines *g, double p, double v[NQ])
+ * at the pitch line (gear_dyn.eccentricity.friction.line_state_scalar); the drivetrain
+ * interface (gd_drive.c) evaluates the same */
+/* e, de/dp, k, phi1, phi2 at phase p from the kinematics kin[GD_NKIN] (travel less its mean
+ * growth p p_bt) and de_ecc/dp */
+static void overlap(const gd_lines *g, const double *kin, double dedp, double p, double v[NQ])
 {
-    double th = 2.0 * PI * p / g->period, c1 = cos(th), s1 = sin(th), ck = 1.0, sk = 0.0;
-    double kin[GD_NKIN] = {0.0}, rate = 0.0, travel, d, total = 0.0, t1 = 0.0, t2 = 0.0;
+    double travel, d, total = 0.0, t1 = 0.0, t2 = 0.0;
     double l_ac, l_cd, l_cp, f1, f2, w = g->width;
-    int k, i = 0;
-    for (k = 0; i < g->n_terms; k++) {
-        if (k > 0) {
-            double cn = ck * c1 - sk * s1;
-            sk = sk * c1 + ck * s1;
-            ck = cn;
-        }
-        for (; i < g->n_terms && g->term_k[i] == k; i++) {
-            const double *ab = g->term_ab + 2 * i;
-            kin[g->term_q[i]] += ab[0] * ck + ab[1] * sk;
-            if (g->term_q[i] == 0) rate += k * (ab[1] * ck - ab[0] * sk);
-        }
-    }
+    int k;
     travel = kin[1] + p * g->pitch;
     l_ac = kin[2];
     l_cd = kin[3];
@@ -81,10 +85,100 @@ static void lines_eval(const gd_lines *g, double p, double v[NQ])
         }
     }
     v[0] = kin[0];
-    v[1] = rate * 2.0 * PI / g->period;
+    v[1] = dedp;
     v[2] = g->per_length * total;
     v[3] = g->mu >= 0.0 && total > 0.0 ? g->mu / total * t1 : 0.0;
     v[4] = g->mu >= 0.0 && total > 0.0 ? g->mu / total * t2 : 0.0;
+}
+
+void gd_lines_eval(const gd_lines *g, double p, double v[NQ])
+{
+    double th = 2.0 * PI * p / g->period, c1 = cos(th), s1 = sin(th), ck = 1.0, sk = 0.0;
+    double kin[GD_NKIN] = {0.0}, rate = 0.0;
+    int k, i = 0;
+    for (k = 0; i < g->n_terms; k++) {
+        if (k > 0) {
+            double cn = ck * c1 - sk * s1;
+            sk = sk * c1 + ck * s1;
+            ck = cn;
+        }
+        for (; i < g->n_terms && g->term_k[i] == k; i++) {
+            const double *ab = g->term_ab + 2 * i;
+            kin[g->term_q[i]] += ab[0] * ck + ab[1] * sk;
+            if (g->term_q[i] == 0) rate += k * (ab[1] * ck - ab[0] * sk);
+        }
+    }
+    overlap(g, kin, rate * 2.0 * PI / g->period, p, v);
+}
+
+/* the Taylor polynomials of the kinematics and de_ecc/dp about pm for |p - pm| <= r: each term
+ * a cos(k w p) + b sin(k w p), w = 2 pi / P, is Re z e^{i k w s}, z = (a - i b) e^{i k w pm},
+ * s = p - pm, whose degree-n Taylor coefficient is Re z (i k w)^n / n! and whose remainder after
+ * degree n is at most |z| (k w r)^(n + 1) / (n + 1)! (Lagrange). The lowest degree whose summed
+ * bound is below tol for every quantity, else x->degree = -1 (the series summed directly). */
+static void lines_expand(const gd_lines *g, double pm, double r, double tol, lexp *x)
+{
+    double w = 2.0 * PI / g->period, c1 = cos(w * pm), s1 = sin(w * pm), ck = 1.0, sk = 0.0;
+    static const double inv[MAX_LOCAL + 3] = {1.0, 1.0, 1.0 / 2, 1.0 / 3, 1.0 / 4, 1.0 / 5,
+                                              1.0 / 6, 1.0 / 7, 1.0 / 8, 1.0 / 9, 1.0 / 10};
+    double bound[NX][MAX_LOCAL + 1];
+    int k, i = 0, n, q;
+    memset(x->c, 0, sizeof x->c);
+    memset(bound, 0, sizeof bound);
+    x->pm = pm;
+    x->degree = -1;
+    for (k = 0; i < g->n_terms; k++) {
+        double f = k * w;
+        if (k > 0) {
+            double cn = ck * c1 - sk * s1;
+            sk = sk * c1 + ck * s1;
+            ck = cn;
+        }
+        for (; i < g->n_terms && g->term_k[i] == k; i++) {
+            const double *ab = g->term_ab + 2 * i;
+            double zr = ab[0] * ck + ab[1] * sk, zi = ab[0] * sk - ab[1] * ck;
+            int rows = g->term_q[i] == 0 ? 2 : 1, row;
+            for (row = 0; row < rows; row++) {
+                /* row 1: de_ecc/dp, the term's derivative, z i k w */
+                double yr = row ? -zi * f : zr, yi = row ? zr * f : zi;
+                double rem = sqrt(yr * yr + yi * yi) * f * r;
+                q = row ? GD_NKIN : g->term_q[i];
+                for (n = 0; n <= MAX_LOCAL; n++) {
+                    double t = yr, fn = f * inv[n + 1];
+                    x->c[q][n] += yr;
+                    bound[q][n] += rem;
+                    yr = -yi * fn;
+                    yi = t * fn;
+                    rem *= f * r * inv[n + 2];
+                }
+            }
+        }
+    }
+    for (n = 0; n <= MAX_LOCAL; n++) {
+        for (q = 0; q < NX && bound[q][n] <= tol; q++) {}
+        if (q == NX) {
+            x->degree = n;
+            return;
+        }
+    }
+}
+
+/* e, de/dp, k, phi1, phi2 of the contact-line form at phase p: from the local polynomials
+ * where there are, else from the series */
+static void lines_at(const gd_lines *g, const lexp *x, double p, double v[NQ])
+{
+    double kin[NX], s = p - x->pm;
+    int q, n;
+    if (x->degree < 0) {
+        gd_lines_eval(g, p, v);
+        return;
+    }
+    for (q = 0; q < NX; q++) {
+        double acc = x->c[q][x->degree];
+        for (n = x->degree - 1; n >= 0; n--) acc = acc * s + x->c[q][n];
+        kin[q] = acc;
+    }
+    overlap(g, kin, kin[GD_NKIN], p, v);
 }
 
 static void tcoef(const tctx *q, double t, double v[NQ])
@@ -93,7 +187,7 @@ static void tcoef(const tctx *q, double t, double v[NQ])
     double p = q->p0 + q->fm * (t - q->t0), s;
     const double *c = q->c;
     if (q->m->tors->lines) {
-        lines_eval(q->m->tors->lines, p, v);
+        lines_at(q->m->tors->lines, &q->x, p, v);
         return;
     }
     s = (2.0 * p - q->a - q->b) / (q->b - q->a);
@@ -181,6 +275,7 @@ static void setup(tctx *q, const gd_state *s, const gd_model *m)
     q->cd = 2.0 * s->par[GD_ZETA] * sqrt(m->mass * m->k_mean);
     q->t1 = s->par[GD_TORQUE];
     q->t2 = g->load_fixed >= 0.0 ? g->load_fixed : w * (m->rb2 + g->arm[1]);
+    q->x.degree = -1;
 }
 
 /* static deflection with delta' = 0 and no rigid-body momentum (TorsionalModel.initial_state) */
@@ -214,6 +309,9 @@ int gd_tors_advance(gd_state *s, const gd_model *m, double t_end)
         to_edge = (q.b - s->frac) / q.fm;
         if (to_edge <= dt) { dt = to_edge; hit = 1; }
         else if ((to_edge - dt) * q.fm < 1e-12) hit = 1;   /* an edge at t_end: take it */
+        if (m->tors->lines)   /* the phases this stretch steps over: [p0, p0 + f_m dt] */
+            lines_expand(m->tors->lines, q.p0 + 0.5 * q.fm * dt, 0.5 * fabs(q.fm * dt),
+                         GD_LOCAL_ERROR * m->x_scale, &q.x);
         rc = rk_piece(&q, s, s->q, dt);
         if (rc != GD_OK) return rc;
         if (hit) {
