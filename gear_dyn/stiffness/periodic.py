@@ -287,6 +287,7 @@ class PiecewiseStiffness(PeriodicStiffness):
     _u: FloatArray = field(init=False, repr=False)
     _v: FloatArray = field(init=False, repr=False)
     _lists: tuple[list[float], list[float], list[float]] = field(init=False, repr=False)
+    _flat: FloatArray | None = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         try:
@@ -322,6 +323,10 @@ class PiecewiseStiffness(PeriodicStiffness):
         object.__setattr__(self, "_v", np.concatenate(vs))
         # plain lists for the scalar fast path of __call__ (the solver's right-hand side)
         object.__setattr__(self, "_lists", (e.tolist(), self._u.tolist(), self._v.tolist()))
+        # piecewise constant or not: fixed with the samples (every model built on k asks)
+        flat = not any(np.ptp(val) > 0 for _ph, val in samples)
+        object.__setattr__(self, "_flat", np.array([float(val[0]) for _ph, val in samples])
+                           if flat else None)
 
     @property
     def switching_phases(self) -> FloatArray:
@@ -353,10 +358,8 @@ class PiecewiseStiffness(PeriodicStiffness):
         return v_list[j] + (v_list[j + 1] - v_list[j]) * (u - u0) / (u1 - u0)
 
     def segments(self) -> tuple[FloatArray, FloatArray] | None:
-        vals = [np.asarray(v, dtype=float) for _ph, v in self.samples]
-        if any(np.ptp(v) > 0 for v in vals):
-            return None
-        return self.edges.copy(), np.array([float(v[0]) for v in vals])
+        flat = self._flat
+        return None if flat is None else (self.edges.copy(), flat.copy())
 
     def fourier_coefficients(self, n: int) -> tuple[float, FloatArray, FloatArray]:
         e = self.edges
