@@ -69,22 +69,25 @@ P = np.array([
     [0, 40617522 / 29380423, -110615467 / 29380423, 69997945 / 29380423]])
 
 
-@numba.njit(cache=False)
-def field(kind, t, y, p, kvals, mids, inv_half, coefs, par, out):  # pragma: no cover - compiled
-    """The peer's right-hand side on piece ``p``. kind 0: single DOF, ``m x'' + c x' +
-    k f(x) = W`` with ``k = kvals[p]``, ``f(x) = x`` when ``par[3] < 0`` (no backlash), else the
-    dead zone of half gap ``b = par[3]`` (``par = m, c, W, b``). kind 1: the torsional model's
-    force form ``q' = v``, ``v' = u F + g_v``, ``F = k (r_b1 q1 - r_b2 q2 + e) + c (r_b1 v1 -
-    r_b2 v2 + e')`` with ``e, e', k, phi1, phi2`` from piece ``p``'s polynomial of the model's
-    own table (``par = r_b1, r_b2, I1, I2, c, T1/I1, -T2/I2``)."""
-    if kind == 0:
-        m, c, w, b = par[0], par[1], par[2], par[3]
-        x = y[0]
-        if b >= 0.0:
-            x = x - b if x > b else (x + b if x < -b else 0.0)
-        out[0] = y[1]
-        out[1] = (w - c * y[1] - kvals[p] * x) / m
-        return
+@numba.njit(cache=False, inline="always")
+def field_sdof(t, y, p, kvals, mids, inv_half, coefs, par, K, row):  # pragma: no cover
+    """Single DOF on piece ``p``: ``m x'' + c x' + k f(x) = W``, ``k = kvals[p]``, ``f(x) = x``
+    when ``par[3] < 0`` (no backlash), else the dead zone of half gap ``b = par[3]``
+    (``par = m, c, W, b``). Writes ``K[row]``."""
+    m, c, w, b = par[0], par[1], par[2], par[3]
+    x = y[0]
+    if b >= 0.0:
+        x = x - b if x > b else (x + b if x < -b else 0.0)
+    K[row, 0] = y[1]
+    K[row, 1] = (w - c * y[1] - kvals[p] * x) / m
+
+
+@numba.njit(cache=False, inline="always")
+def field_torsional(t, y, p, kvals, mids, inv_half, coefs, par, K, row):  # pragma: no cover
+    """The torsional model's force form on piece ``p``: ``q' = v``, ``v' = u F + g_v``,
+    ``F = k (r_b1 q1 - r_b2 q2 + e) + c (r_b1 v1 - r_b2 v2 + e')`` with ``e, e', k, phi1,
+    phi2`` from piece ``p``'s polynomial of the model's own table (``par = r_b1, r_b2, I1, I2,
+    c, T1/I1, -T2/I2``). Writes ``K[row]``."""
     s = (t - mids[p]) * inv_half[p]
     e, ed, k, p1, p2 = coefs[p, 0, 0], coefs[p, 0, 1], coefs[p, 0, 2], coefs[p, 0, 3], \
         coefs[p, 0, 4]
@@ -96,18 +99,18 @@ def field(kind, t, y, p, kvals, mids, inv_half, coefs, par, out):  # pragma: no 
         p2 = p2 * s + coefs[p, r, 4]
     rb1, rb2, i1, i2, c = par[0], par[1], par[2], par[3], par[4]
     f = k * (rb1 * y[0] - rb2 * y[1] + e) + c * (rb1 * y[2] - rb2 * y[3] + ed)
-    out[0], out[1] = y[2], y[3]
-    out[2] = (p1 - rb1) / i1 * f + par[5]
-    out[3] = (rb2 + p2) / i2 * f + par[6]
+    K[row, 0], K[row, 1] = y[2], y[3]
+    K[row, 2] = (p1 - rb1) / i1 * f + par[5]
+    K[row, 3] = (rb2 + p2) / i2 * f + par[6]
 
 
-@numba.njit(cache=False)
+@numba.njit(cache=False, inline="always")
 def region(x, b):  # pragma: no cover - compiled
     """Contact state of ``x`` with half gap ``b``: 1 drive flank, -1 back flank, 0 gap."""
     return 1 if x > b else (-1 if x < -b else 0)
 
 
-@numba.njit(cache=False)
+@numba.njit(cache=False, inline="always")
 def dense(y, K, h, th, j):  # pragma: no cover - compiled
     """Component ``j`` of the 4th-order dense output at ``t + th h`` of the step from ``y``."""
     acc = 0.0
@@ -116,11 +119,24 @@ def dense(y, K, h, th, j):  # pragma: no cover - compiled
     return y[j] + h * acc
 
 
-@numba.njit(cache=False)
-def dopri(kind, cuts, kvals, mids, inv_half, coefs, par, t_out, y0, rtol,
-          atol):  # pragma: no cover - compiled
-    """States on t_out of ``y' = field(kind, ...)``, restarted at every ``cuts[p]``."""
-    n = y0.size
+def make_dopri(n: int, field: Any, dead: bool) -> Any:
+    """The peer for ``n`` states and right-hand side ``field``, compiled for them (loops of
+    fixed length, the field inlined); ``dead``: locate the backlash's contact changes (half
+    gap ``par[3]``) and end a step on each."""
+
+    @numba.njit(cache=False)
+    def dopri(cuts, kvals, mids, inv_half, coefs, par, t_out, y0, rtol,
+              atol):  # pragma: no cover - compiled
+        """States on t_out of ``y' = field(...)``, restarted at every ``cuts[p]``."""
+        return _dopri(n, field, dead, cuts, kvals, mids, inv_half, coefs, par, t_out, y0, rtol,
+                      atol)
+    return dopri
+
+
+@numba.njit(cache=False, inline="always")
+def _dopri(n, field, dead, cuts, kvals, mids, inv_half, coefs, par, t_out, y0, rtol,
+           atol):  # pragma: no cover - compiled
+    """The stepper of :func:`make_dopri`."""
     n_out = t_out.size
     out = np.empty((n, n_out))
     y = y0.copy()
@@ -128,8 +144,7 @@ def dopri(kind, cuts, kvals, mids, inv_half, coefs, par, t_out, y0, rtol,
     ys = np.empty(n)
     yn = np.empty(n)
     iout = 0
-    b = par[3] if kind == 0 else -1.0
-    dead = b >= 0.0  # the backlash's contact changes are located and restarted at
+    b = par[3] if dead else -1.0
     reg = region(y[0], b) if dead else 0
     aiming = False
     entered, h_free = 0, 0.0
@@ -141,7 +156,7 @@ def dopri(kind, cuts, kvals, mids, inv_half, coefs, par, t_out, y0, rtol,
         ta, tb = cuts[p], cuts[p + 1]
         last = p == cuts.size - 2
         t = ta
-        field(kind, t, y, p, kvals, mids, inv_half, coefs, par, K[0])
+        field(t, y, p, kvals, mids, inv_half, coefs, par, K, 0)
         rejected = False
         while t < tb:
             h = min(h, tb - t)
@@ -151,11 +166,11 @@ def dopri(kind, cuts, kvals, mids, inv_half, coefs, par, t_out, y0, rtol,
                     for q in range(s):
                         acc += h * A[s, q] * K[q, j]
                     ys[j] = acc
-                field(kind, t + C[s] * h, ys, p, kvals, mids, inv_half, coefs, par, K[s])
+                field(t + C[s] * h, ys, p, kvals, mids, inv_half, coefs, par, K, s)
             for j in range(n):
                 yn[j] = y[j] + h * (B[0] * K[0, j] + B[2] * K[2, j] + B[3] * K[3, j]
                                     + B[4] * K[4, j] + B[5] * K[5, j])
-            field(kind, t + h, yn, p, kvals, mids, inv_half, coefs, par, K[6])
+            field(t + h, yn, p, kvals, mids, inv_half, coefs, par, K, 6)
             acc = 0.0
             for j in range(n):
                 ej = 0.0
@@ -208,6 +223,11 @@ def dopri(kind, cuts, kvals, mids, inv_half, coefs, par, t_out, y0, rtol,
     return out
 
 
+PEER_LINEAR = make_dopri(2, field_sdof, False)
+PEER_BACKLASH = make_dopri(2, field_sdof, True)
+PEER_TORSIONAL = make_dopri(4, field_torsional, False)
+
+
 def sdof_case(model: Any, t: np.ndarray, exact: Callable[..., Any]) -> Case:
     """A single-DOF scene: the peer gets the stiffness pieces (and the half gap); gear_dyn's
     ``exact`` (or ``exact_contact``) has no tolerance: one run for every target."""
@@ -221,13 +241,14 @@ def sdof_case(model: Any, t: np.ndarray, exact: Callable[..., Any]) -> Case:
         kvals = np.asarray(model.stiffness(model.phase(0.5 * (cuts[:-1] + cuts[1:]))),
                            dtype=float)
     b = -1.0 if model.backlash is None else float(model.backlash)
+    run = PEER_BACKLASH if b >= 0.0 else PEER_LINEAR
     par = np.array([model.mass, model.damping, model.static_load, b])
     y0 = np.asarray(model.initial_state(), dtype=float)
     scale = np.asarray(model.state_scale, dtype=float)
     none2, none3 = np.zeros((1,)), np.zeros((1, 1, 5))
 
     def peer(rtol: float) -> np.ndarray:
-        return dopri(0, cuts, kvals, none2, none2, none3, par, t, y0, rtol, rtol * scale)[0]
+        return run(cuts, kvals, none2, none2, none3, par, t, y0, rtol, rtol * scale)[0]
 
     return Case(peer, lambda _rtol: exact(model, t)[0][0], None,
                 float(model.static_load / model.mean_stiffness))
@@ -255,7 +276,8 @@ def torsional_case(model: Any, t: np.ndarray, integrate: Callable[..., Any],
     scale = np.asarray(model.state_scale, dtype=float)
 
     def peer(rtol: float) -> np.ndarray:
-        y = dopri(1, cuts, np.zeros(1), mids, inv_half, coefs, par, t, y0, rtol, rtol * scale)
+        y = PEER_TORSIONAL(cuts, np.zeros(1), mids, inv_half, coefs, par, t, y0, rtol,
+                           rtol * scale)
         return rb1 * y[0] - rb2 * y[1]
 
     def ours(rtol: float) -> np.ndarray:
@@ -336,8 +358,7 @@ def main(argv: list[str] | None = None) -> int:
                                  lambda r: SolverSettings(method="gauss", rtol=r)), 1))
 
     jit = 0.0
-    for kind in (0, 1):
-        case = next(c for *_x, c, k in cases if k == kind)
+    for *_x, case, _kind in cases:  # one compiled peer per scene kind (linear, backlash, torsional)
         start = time.process_time()
         case.peer(1e-6)
         jit += time.process_time() - start
@@ -354,8 +375,9 @@ def main(argv: list[str] | None = None) -> int:
         "# gear_dyn's best method against a compiled Dormand-Prince 5(4) peer",
         "",
         f"Command: `python benchmarks/bench_dopri_peer.py --repeats {args.repeats} --calls "
-        f"{args.calls}`. numba {numba.__version__}; peer JIT compile time {jit:.3g} s CPU (both "
-        "right-hand sides; not in the figures). CPU time per run (64 samples per mesh period), "
+        f"{args.calls}`. numba {numba.__version__}; peer JIT compile time {jit:.3g} s CPU "
+        "(the three compiled peers; not in the figures). CPU time per run (64 samples per "
+        "mesh period), "
         f"medians of {args.calls} calls, median over {args.repeats} interleaved repeats, one "
         "BLAS thread. Error: max |dte - dte_ref| / (W/k_m) on the output grid, against "
         "gear_dyn's exact route (helicopter tail scenes; its own error is rounding) or "
