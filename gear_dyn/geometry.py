@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 from gear_dyn.errors import InputError, check_range
 
@@ -191,89 +192,91 @@ class GearPair:
         self._validate_meshing()
 
     # ------------------------------------------------------------------ basic radii
-    @property
+    # Derived values are cached on the instance (functools.cached_property; the pair is frozen,
+    # so they never go stale): validation and a run read them hundreds of times.
+    @cached_property
     def hand(self) -> str:
         """Hand of the pinion's helix: ``"right"`` (b > 0), ``"left"`` (b < 0) or ``"spur"``."""
         if self.helix_angle == 0.0:
             return "spur"
         return "right" if self.helix_angle > 0 else "left"
 
-    @property
+    @cached_property
     def beta(self) -> float:
         """Helix angle magnitude ``abs(b)`` in rad (the geometry's b; :attr:`hand` has the sign)."""
         return abs(self.helix_angle)
 
-    @property
+    @cached_property
     def alpha_t(self) -> float:
         """Transverse pressure angle a_t in rad."""
         return math.atan(math.tan(self.pressure_angle) / math.cos(self.beta))
 
-    @property
+    @cached_property
     def beta_b(self) -> float:
         """Base helix angle b_b in rad (tan b_b = tan abs(b) cos a_t), >= 0."""
         return math.atan(math.tan(self.beta) * math.cos(self.alpha_t))
 
-    @property
+    @cached_property
     def transverse_module(self) -> float:
         """Transverse module m_t = m_n / cos b in m."""
         return self.module / math.cos(self.beta)
 
-    @property
+    @cached_property
     def r1(self) -> float:
         """Pinion reference (pitch) radius in m."""
         return self.transverse_module * self.z1 / 2
 
-    @property
+    @cached_property
     def r2(self) -> float:
         """Gear reference (pitch) radius in m."""
         return self.transverse_module * self.z2 / 2
 
-    @property
+    @cached_property
     def rb1(self) -> float:
         """Pinion base radius in m."""
         return self.r1 * math.cos(self.alpha_t)
 
-    @property
+    @cached_property
     def rb2(self) -> float:
         """Gear base radius in m."""
         return self.r2 * math.cos(self.alpha_t)
 
-    @property
+    @cached_property
     def ra1(self) -> float:
         """Pinion tip radius in m (``d_a1 / 2`` if given, else ``r1 + m_n (ha* + x1 - k*)``)."""
         if self.tip_diameter1 is not None:
             return self.tip_diameter1 / 2
         return self.r1 + self.module * (self.addendum_coef + self.x1 - self.tip_shortening)
 
-    @property
+    @cached_property
     def ra2(self) -> float:
         """Gear tip radius in m (``d_a2 / 2`` if given, else ``r2 + m_n (ha* + x2 - k*)``)."""
         if self.tip_diameter2 is not None:
             return self.tip_diameter2 / 2
         return self.r2 + self.module * (self.addendum_coef + self.x2 - self.tip_shortening)
 
-    @property
+    @cached_property
     def rf1(self) -> float:
         """Pinion root radius in m."""
         return self.r1 - self.module * (self.addendum_coef + self.clearance_coef - self.x1)
 
-    @property
+    @cached_property
     def rf2(self) -> float:
         """Gear root radius in m."""
         return self.r2 - self.module * (self.addendum_coef + self.clearance_coef - self.x2)
 
-    @property
+    @cached_property
     def ratio(self) -> float:
         """Gear ratio u = z2 / z1."""
         return self.z2 / self.z1
 
     # ------------------------------------------------------------------ centre distance
-    @property
+    @cached_property
     def reference_center_distance(self) -> float:
         """Reference centre distance a = r1 + r2 in m."""
         return self.r1 + self.r2
 
-    @property
+    @cached_property
     def zero_backlash_center_distance(self) -> float:
         """Centre distance in m at which the shifted teeth mesh without backlash."""
         inv_w = involute(self.alpha_t) + 2 * math.tan(self.pressure_angle) * (self.x1 + self.x2) / (
@@ -282,80 +285,80 @@ class GearPair:
         a_wt = inverse_involute(inv_w)
         return self.reference_center_distance * math.cos(self.alpha_t) / math.cos(a_wt)
 
-    @property
+    @cached_property
     def a_w(self) -> float:
         """Operating centre distance in m."""
         if self.center_distance is not None:
             return self.center_distance
         return self.zero_backlash_center_distance
 
-    @property
+    @cached_property
     def alpha_wt(self) -> float:
         """Operating transverse pressure angle in rad."""
         return math.acos(self.reference_center_distance * math.cos(self.alpha_t) / self.a_w)
 
-    @property
+    @cached_property
     def rw1(self) -> float:
         """Pinion operating pitch radius in m."""
         return self.rb1 / math.cos(self.alpha_wt)
 
-    @property
+    @cached_property
     def rw2(self) -> float:
         """Gear operating pitch radius in m."""
         return self.rb2 / math.cos(self.alpha_wt)
 
     # ------------------------------------------------------------------ contact
-    @property
+    @cached_property
     def base_pitch(self) -> float:
         """Transverse base pitch p_bt in m."""
         return math.pi * self.module * math.cos(self.alpha_t) / math.cos(self.beta)
 
-    @property
+    @cached_property
     def line_of_action_length(self) -> float:
         """Distance T1T2 between the tangent points on the base circles, in m."""
         return self.a_w * math.sin(self.alpha_wt)
 
-    @property
+    @cached_property
     def tip_reach1(self) -> float:
         """Distance from T1 to the pinion tip circle along the line of action, in m."""
         return math.sqrt(self.ra1**2 - self.rb1**2)
 
-    @property
+    @cached_property
     def tip_reach2(self) -> float:
         """Distance from T2 to the gear tip circle along the line of action, in m."""
         return math.sqrt(self.ra2**2 - self.rb2**2)
 
-    @property
+    @cached_property
     def path_of_contact(self) -> float:
         """Length g_a of the path of contact (transverse) in m."""
         return self.tip_reach1 + self.tip_reach2 - self.line_of_action_length
 
-    @property
+    @cached_property
     def start_of_contact(self) -> float:
         """Distance from T1 to the start of contact A (gear tip meets pinion root), in m."""
         return self.line_of_action_length - self.tip_reach2
 
-    @property
+    @cached_property
     def end_of_contact(self) -> float:
         """Distance from T1 to the end of contact E (pinion tip), in m."""
         return self.tip_reach1
 
-    @property
+    @cached_property
     def pitch_point(self) -> float:
         """Distance from T1 to the operating pitch point C, in m."""
         return self.rb1 * math.tan(self.alpha_wt)
 
-    @property
+    @cached_property
     def contact_ratio(self) -> float:
         """Transverse contact ratio eps_a."""
         return self.path_of_contact / self.base_pitch
 
-    @property
+    @cached_property
     def overlap_ratio(self) -> float:
         """Overlap (face) contact ratio eps_b = B tan b_b / p_bt."""
         return self.face_width * math.tan(self.beta_b) / self.base_pitch
 
-    @property
+    @cached_property
     def total_contact_ratio(self) -> float:
         """Total contact ratio eps_g = eps_a + eps_b."""
         return self.contact_ratio + self.overlap_ratio
@@ -394,7 +397,7 @@ class GearPair:
         a_y = math.acos(min(1.0, rb / radius))
         return 2 * radius * (s / (2 * r) + involute(self.alpha_t) - involute(a_y))
 
-    @property
+    @cached_property
     def backlash(self) -> float:
         """Theoretical backlash along the line of action in m (zero at the zero-backlash a_w).
 
@@ -430,7 +433,7 @@ class GearPair:
         i2 = 0.5 * self.density2 * math.pi * self.face_width * self.r2**4
         return i1, i2
 
-    @property
+    @cached_property
     def effective_youngs_modulus(self) -> float:
         """Plane-strain contact modulus E* = 1 / ((1-nu1^2)/E1 + (1-nu2^2)/E2) in Pa."""
         return 1.0 / (

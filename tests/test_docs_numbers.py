@@ -586,8 +586,12 @@ def test_motion_route_costs_are_the_recorded_benchmark() -> None:
     (_, s_exact, s_dop), (_, l_exact, l_dop) = rows
     for stated, value in zip(m.groups(), (s_dop, s_exact, l_dop, l_exact), strict=True):
         assert _matches(stated, float(value)), (stated, value)
-    speeds = re.search(r"`workers=2` bought nothing for (\d+) speeds", text)
-    assert speeds and f"{speeds[1]} speeds up and down" in rec
+    speeds = re.search(r"for (\d+) speeds on two cores \(([\d.]+) s serial, ([\d.]+) s with "
+                       r"`workers=2`", text)
+    diagram = re.search(r"(\d+) speeds up and down.*?serial\s+([\d.]+) \(.*?`workers=2` "
+                        r"([\d.]+) \(", rec, re.S)
+    assert speeds and diagram and speeds[1] == diagram[1]
+    assert _matches(speeds[2], float(diagram[2])) and _matches(speeds[3], float(diagram[3]))
 
 
 # ------------------------------------------------------------------ stiff-cases table

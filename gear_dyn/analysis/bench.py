@@ -24,6 +24,7 @@ from gear_dyn.analysis.accuracy import error_series, relative_errors, rounding_e
 from gear_dyn.errors import InputError, SolverError
 from gear_dyn.models.base import Model
 from gear_dyn.solvers import (
+    MAX_NFEV,
     SolverSettings,
     exact_applies,
     integrate,
@@ -107,24 +108,29 @@ def recommend(cases: Sequence[BenchCase], target: float) -> BenchCase | None:
     return min(ok, key=lambda c: c.run_time_s) if ok else None
 
 
-def reference_solution(model: Model, t_grid: FloatArray) -> Reference:
-    """The reference for ``model`` on ``t_grid`` (module docstring), with its own error."""
+def reference_solution(model: Model, t_grid: FloatArray, max_nfev: int = MAX_NFEV) -> Reference:
+    """The reference for ``model`` on ``t_grid`` (module docstring), with its own error
+    (``max_nfev``: the work budget of each solve_ivp run, :class:`SolverSettings`)."""
     start = time.perf_counter()
     if exact_applies(model):
         y, st = integrate(model, t_grid, SolverSettings(method="exact", estimate_error=False))
         own = rounding_estimate(model, error_series(model, t_grid, y), int(st["n_segments"]))
         return Reference(t_grid, y, "exact propagator", own, time.perf_counter() - start)
-    y13, _ = integrate(model, t_grid, SolverSettings(method="DOP853", rtol=1e-13))
+    y13, _ = integrate(model, t_grid, SolverSettings(method="DOP853", rtol=1e-13,
+                                                     max_nfev=max_nfev))
     run_time = time.perf_counter() - start
-    y12, _ = integrate(model, t_grid, SolverSettings(method="DOP853", rtol=1e-12))
+    y12, _ = integrate(model, t_grid, SolverSettings(method="DOP853", rtol=1e-12,
+                                                     max_nfev=max_nfev))
     own = relative_errors(model, t_grid, y12, y13)[0]
     return Reference(t_grid, y13, "DOP853 restarted at switching instants, rtol 1e-13", own,
                      run_time)
 
 
 def run_case(model: Model, ref: Reference, method: str, mode: str, rtol: float,
-             repeats: int = 3, budget_s: float = math.inf) -> BenchCase:
-    """Time one case (median of ``repeats``; one run only if it exceeds ``budget_s``)."""
+             repeats: int = 3, budget_s: float = math.inf,
+             max_nfev: int = MAX_NFEV) -> BenchCase:
+    """Time one case (median of ``repeats``; one run only if it exceeds ``budget_s``;
+    ``max_nfev``: the work budget of each solve_ivp run)."""
     t_grid = ref.t
     times: list[float] = []
     y: FloatArray | None = None
@@ -137,7 +143,8 @@ def run_case(model: Model, ref: Reference, method: str, mode: str, rtol: float,
             else:
                 m = mode if mode in ("exact", "periodic") else method
                 y, st = integrate(model, t_grid,
-                                  SolverSettings(method=m, rtol=rtol, estimate_error=False))
+                                  SolverSettings(method=m, rtol=rtol, estimate_error=False,
+                                                 max_nfev=max_nfev))
             times.append(time.perf_counter() - start)
             if times[-1] > budget_s:
                 break
@@ -164,6 +171,7 @@ def run_bench(
     budget_s: float = 20.0,
     baseline: bool = True,
     progress: Callable[[int, int], None] | None = None,
+    max_nfev: int = MAX_NFEV,
 ) -> BenchReport:
     """Benchmark every method and tolerance on ``model`` over ``[0, t_end]``.
 
@@ -189,6 +197,10 @@ def run_bench(
         Also run RK45 once over the whole span (the hand-written baseline).
     progress : callable or None
         Called as ``progress(done, total)`` after the reference and after each case.
+    max_nfev : int
+        Work budget of each solve_ivp run, right-hand-side evaluations (``--max-nfev`` of
+        ``gear-dyn bench``; :class:`~gear_dyn.solvers.settings.SolverSettings`): a case over it
+        is recorded as failed with the solver's message, a reference over it raises.
 
     Raises
     ------
@@ -215,7 +227,7 @@ def run_bench(
         if progress is not None:
             progress(1 + len(cases), total)
 
-    ref = reference_solution(model, t_grid)
+    ref = reference_solution(model, t_grid, max_nfev)
     cases: list[BenchCase] = []
     tick(cases)
     if exact_applies(model):
@@ -233,7 +245,7 @@ def run_bench(
                                        message=f"looser rtol took > {budget_s:g} s"))
                 tick(cases)
                 continue
-            c = run_case(model, ref, method, mode, r, repeats, budget_s)
+            c = run_case(model, ref, method, mode, r, repeats, budget_s, max_nfev)
             cases.append(c)
             tick(cases)
             over = c.status == "ok" and c.run_time_s > budget_s

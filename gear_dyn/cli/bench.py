@@ -9,7 +9,7 @@ from dataclasses import asdict
 from typing import Any
 
 from gear_dyn.cli.progress import add_quiet_flag, counter
-from gear_dyn.cli.run import add_scene_and_out, overrides
+from gear_dyn.cli.run import add_budget_flag, add_scene_and_out, overrides
 from gear_dyn.errors import InputError
 
 TARGETS = (1e-4, 1e-6, 1e-8)
@@ -37,6 +37,7 @@ def register(sub: Any) -> None:
                    "are skipped (default 20)")
     p.add_argument("--target", type=float, default=1e-6,
                    help="target max error for the headline recommendation (default 1e-6)")
+    add_budget_flag(p)
     add_quiet_flag(p)
     p.set_defaults(func=run)
 
@@ -65,7 +66,7 @@ def run(args: argparse.Namespace) -> int:
     if args.repeats < 1:
         raise InputError(f"--repeats = {args.repeats}: valid range >= 1")
     rtols = _floats(args.rtols, "rtols")
-    ov = overrides(args)  # --periods
+    ov = overrides(args)  # --periods, --max-nfev
     if not (0 < args.target < 1):
         raise InputError(f"--target = {args.target!r}: valid range 0..1 (relative error)")
     scene = load_scene(args.scene)
@@ -73,7 +74,8 @@ def run(args: argparse.Namespace) -> int:
     show = counter("case", args.quiet)
     report = run_bench(plan.model, plan.t_end, name=scene.name, methods=methods, rtols=rtols,
                        repeats=args.repeats, samples_per_period=plan.settings.samples_per_period,
-                       budget_s=args.budget, progress=show)
+                       budget_s=args.budget, progress=show,
+                       max_nfev=plan.settings.max_nfev)
     targets = tuple(sorted({*TARGETS, args.target}, reverse=True))
     md = markdown_table(report, targets)
     rows = [{k: f"{v:.6g}" if isinstance(v, float) else v for k, v in asdict(c).items()}

@@ -7,6 +7,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from gear_dyn.cli.run import add_budget_flag
+
 
 def register(sub: Any) -> None:
     p = sub.add_parser(
@@ -32,6 +34,7 @@ def register(sub: Any) -> None:
     p.add_argument("--workers", type=int, default=None, metavar="N",
                    help="each sweep on a pool of N local processes (default: serial)")
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    add_budget_flag(p)
     p.set_defaults(func=run)
 
 
@@ -78,8 +81,10 @@ def run(args: argparse.Namespace) -> int:
     names = [s.name for s in scenes]
     if len(set(names)) != len(names):
         names = [f"{s.name} ({p.name})" for s, p in zip(scenes, args.scenes, strict=True)]
+    budget = {} if args.max_nfev is None else {"max_nfev": args.max_nfev}
     comparison = compare_scenes(scenes, args.speeds, names=names, workers=args.workers,
-                                progress=lambda name: counter(f"{name} speed", args.quiet))
+                                progress=lambda name: counter(f"{name} speed", args.quiet),
+                                **budget)
     with staged_output(args.out) as tmp:
         write_json(tmp / "compare.json", {**comparison.to_dict(),
                                           "files": [str(p) for p in args.scenes]})

@@ -558,7 +558,8 @@ def _solve(k_w: FloatArray, k_c: float, k_h: FloatArray, gap: FloatArray, inside
             return np.maximum(force, 0.0), delta, a, it
         act = new
     raise SolverError(f"slice contact: the active set did not settle in {max_iter} iterations "
-                      "(try more slices or a smaller coupling_length)")
+                      "(limit SliceOptions(max_iterations=N) in Python); try more slices or a "
+                      "smaller coupling_length ([slice_contact] slices, coupling_length)")
 
 
 def _pressure(pair: GearPair, mod: FlankModification, s: FloatArray, inside: BoolArray,

@@ -62,11 +62,12 @@ def scene_inertias(scene: Scene) -> tuple[float, float] | None:
     return None if t is None else (t["pinion"], t["gear"])
 
 
-def scene_facts(scene: Scene) -> dict[str, Any]:
+def scene_facts(scene: Scene, pair: GearPair | None = None) -> dict[str, Any]:
     """What the scene says about the case, for run summaries: speeds (rpm), contact and overlap
     ratios, centre distance and geometric backlash (m), stiffness method and why it was chosen
-    (``stiffness_choice``, :func:`stiffness_choice_text`)."""
-    pair = build_pair(scene)
+    (``stiffness_choice``, :func:`stiffness_choice_text`). ``pair``: the scene's
+    :func:`build_pair`, where the caller has it already (None: built here)."""
+    pair = build_pair(scene) if pair is None else pair
     op = scene.get("operating")
     rpm = op["speed"] * 60 / (2 * math.pi)
     return {

@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from gear_dyn.errors import InputError, SceneError
+from gear_dyn.geometry import GearPair
 from gear_dyn.scene.build import build_pair, scene_inertias
 from gear_dyn.scene.deviations import scene_tolerances
 from gear_dyn.scene.fields import Field, Section
@@ -64,16 +65,18 @@ def _tip_relief(scene: Scene, t: dict[str, Any]) -> tuple[float, str]:
     return 0.0, "no tip relief (C_a = 0)"
 
 
-def scene_iso_kv(scene: Scene, speeds: ArrayLike | None = None) -> tuple[IsoKv, dict[str, str]]:
+def scene_iso_kv(scene: Scene, speeds: ArrayLike | None = None,
+                 pair: GearPair | None = None) -> tuple[IsoKv, dict[str, str]]:
     """K_v of the scene's pair at ``speeds`` (rad/s; default the scene's speed), and where each
-    input came from (``{"deviations": ..., "tip_relief": ..., "mass": ...}``).
+    input came from (``{"deviations": ..., "tip_relief": ..., "mass": ...}``). ``pair``: the
+    scene's :func:`~gear_dyn.scene.build.build_pair`, where the caller has it (None: built).
 
     Raises
     ------
     InputError
         Zero torque (K_v needs a load), or values the formulas cannot take.
     """
-    pair = build_pair(scene)
+    pair = build_pair(scene) if pair is None else pair
     op = scene.get("operating")
     t = scene.get("iso")
     if speeds is None:
@@ -108,9 +111,10 @@ def scene_iso_kv(scene: Scene, speeds: ArrayLike | None = None) -> tuple[IsoKv, 
     return kv, {"deviations": src, "tip_relief": relief_src, "mass": mass_src}
 
 
-def iso_kv_summary(scene: Scene) -> dict[str, Any]:
+def iso_kv_summary(scene: Scene, pair: GearPair | None = None) -> dict[str, Any]:
     """The ``iso_6336_kv`` entry of a run summary: K_v at the scene's speed, N, n_E1, the speed
-    range and its formula, the B factors and the inputs with their sources (SI units in names)."""
+    range and its formula, the B factors and the inputs with their sources (SI units in names).
+    ``pair``: the scene's :func:`~gear_dyn.scene.build.build_pair`, where the caller has it."""
     if not scene.get("operating")["torque"] > 0:
         return {"k_v": None, "note": "not defined at zero load (operating.torque = 0)"}
     t = scene.get("iso")
@@ -118,10 +122,10 @@ def iso_kv_summary(scene: Scene) -> dict[str, Any]:
         raise SceneError(f"{scene.source}: iso.sigma_hlim: missing (running_in = "
                          "'through_hardened' needs sigma_Hlim, e.g. \"900 MPa\")")
     try:
-        kv, src = scene_iso_kv(scene)
+        pair = build_pair(scene) if pair is None else pair
+        kv, src = scene_iso_kv(scene, pair=pair)
     except InputError as exc:  # the standard's figure is beside the run, never in its way
         return {"k_v": None, "note": f"not computed: {exc}"}
-    pair = build_pair(scene)
     rng = str(kv.speed_range[0])
     cv = kv.cv
     return {

@@ -85,7 +85,8 @@ def run_scene(scene: Scene, speed: Any = None, torque: Any = None, *, si: bool =
     check_keywords("run_scene", solver, RUN_KEYWORDS)
     scene = with_operating(scene, speed, torque, si=si, function="run_scene")
     plan = build_plan(scene, **solver)
-    iso_kv = iso_kv_summary(scene)  # before the run: a bad [iso] table fails fast
+    pair = build_pair(scene)  # once: the facts, K_v and deviations below read it
+    iso_kv = iso_kv_summary(scene, pair)  # before the run: a bad [iso] table fails fast
     try:
         # the dynamic factor's reference, as a sweep takes it: the scene rebuilt at the
         # quasi-static speed where more than f_m depends on speed (eccentric kinematics)
@@ -96,13 +97,13 @@ def run_scene(scene: Scene, speed: Any = None, torque: Any = None, *, si: bool =
                           quasi_static=quasi_static)
     except InputError as exc:  # e.g. a run too long for the solver: name the file
         raise scene_error(scene.source, exc) from None
-    for key, value in scene_facts(scene).items():
+    for key, value in scene_facts(scene, pair).items():
         result.extra.setdefault(key, value)  # the model's own figures take precedence
     result.extra.setdefault("iso_6336_kv", iso_kv)
     contact = result.extra.get("contact") or {}
     hint = backlash_gap_hint(scene, contact.get("separation_share", 0.0) > 0)
     if hint is not None:
         result.extra.setdefault("warnings", []).append(hint)
-    if (dev := deviations_summary(scene, build_pair(scene))) is not None:
+    if (dev := deviations_summary(scene, pair)) is not None:
         result.extra.setdefault("deviations", dev)
     return result

@@ -18,6 +18,7 @@ Every way of advancing a model's state lives here, one module per method:
 - :mod:`.gauss`: Gauss-Legendre step maps of affine models (the eccentric torsional model);
 - ``kernel``: the compiled C kernel (products, compose, chain, fill_periodic), shared with
   the native FMU;
+- :mod:`.kernel_method`: the native FMU's compiled stepper over the whole grid (``kernel``);
 - ``simulate_bare`` (:func:`simulate_bare`): one run -> :class:`Result` (:mod:`.result`),
   without the checks that :func:`~gear_dyn.analysis.study.simulate` adds.
 

@@ -1,6 +1,10 @@
 """Choose the integration method for a model and grid, and run it.
 
-``auto`` picks, in order: ``exact`` (:mod:`~gear_dyn.solvers.exact`), ``exact_contact``
+``auto`` picks, in order: ``exact`` (:mod:`~gear_dyn.solvers.exact`), ``kernel``
+(:mod:`~gear_dyn.solvers.kernel_method`: the single-DOF model with backlash and
+piecewise-constant stiffness, and the eccentric torsional model over most of its hunting
+period, stepped by the native FMU's compiled kernel from their tables in the mesh phase, where
+the table meets its error limit and the library is built), ``exact_contact``
 (:mod:`~gear_dyn.solvers.contact_exact`), ``periodic`` (:mod:`~gear_dyn.solvers.periodic`),
 ``gauss`` (:mod:`~gear_dyn.solvers.gauss`), else solve_ivp with
 :data:`~gear_dyn.solvers.settings.DEFAULT_ODE_METHOD` (:mod:`~gear_dyn.solvers.ode`), each where
@@ -16,10 +20,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from gear_dyn.errors import InputError
 from gear_dyn.models.base import Model
 from gear_dyn.solvers.contact_exact import contact_exact_applies, propagate_contact_exact
 from gear_dyn.solvers.exact import exact_applies, propagate_exact
 from gear_dyn.solvers.gauss import gauss_applies, propagate_gauss
+from gear_dyn.solvers.kernel_method import kernel_applies, kernel_auto, propagate_kernel
 from gear_dyn.solvers.ode import integrate_ode
 from gear_dyn.solvers.periodic import periodic_map_applies, propagate_periodic
 from gear_dyn.solvers.settings import DEFAULT_ODE_METHOD, SolverSettings
@@ -29,8 +35,8 @@ FloatArray = NDArray[np.float64]
 
 def resolve_auto(model: Model) -> str:
     """The method ``auto`` picks without a grid: ``exact`` or ``exact_contact`` where they
-    apply, else LSODA (which :func:`resolve_method` may turn into ``periodic`` or ``gauss``:
-    those choices need the grid or the model's table)."""
+    apply (in that order), else LSODA (which :func:`resolve_method` may turn into ``kernel``,
+    ``periodic`` or ``gauss``: those choices need the grid or the model's table)."""
     if exact_applies(model):
         return "exact"
     return "exact_contact" if contact_exact_applies(model) else DEFAULT_ODE_METHOD
@@ -42,6 +48,8 @@ def resolve_method(model: Model, t_grid: FloatArray, method: str) -> str:
         return method
     chosen = resolve_auto(model)
     t_arr = np.asarray(t_grid, dtype=float)
+    if chosen == DEFAULT_ODE_METHOD and kernel_auto(model, t_arr):
+        return "kernel"  # the eccentric torsional model over most of its hunting period
     if chosen == DEFAULT_ODE_METHOD and periodic_map_applies(model, t_arr):
         return "periodic"  # linear, mesh-periodic: one period of integration
     if chosen == DEFAULT_ODE_METHOD and gauss_applies(model):
@@ -72,6 +80,14 @@ def integrate(
         y, st = propagate_exact(model, t_grid, run, y0)
     elif method == "exact_contact":
         y, st = propagate_contact_exact(model, t_grid, run, y0)
+    elif method == "kernel":
+        if not kernel_applies(model):
+            raise InputError(f"solver.method = 'kernel' does not apply to the "
+                             f"{type(model).__name__} model: it steps the single-DOF mesh "
+                             "equation with mesh-periodic coefficients and the eccentric "
+                             "torsional model without backlash and transmission error, with the "
+                             "compiled kernel built; use method 'auto'")
+        y, st = propagate_kernel(model, t_grid, run, y0)
     elif method == "periodic":
         y, st = propagate_periodic(model, t_grid, run, y0)
     elif method == "gauss":

@@ -285,7 +285,8 @@ def check_work(model: Model, t0: float, t1: float, y0: FloatArray) -> None:
             f"mesh frequency {model.mesh_frequency:.6g} Hz, duration {t1 - t0:.6g} s): valid "
             f"range <= {limits.MAX_NATURAL_PERIODS} for an ODE solver, i.e. a mesh frequency "
             f">= {f_min:.4g} Hz for these {n_mesh:.4g} mesh periods; raise operating.speed, "
-            "lower solver.periods, or use method 'exact' where it applies"
+            "lower solver.periods, or use method 'exact' where it applies (--speed, --periods, "
+            "--method on the command line)"
         )
 
 

@@ -9,7 +9,7 @@ from gear_dyn.errors import InputError, check_range
 
 #: the names ``SolverSettings.method`` (``[solver] method``) accepts
 METHODS = ("auto", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA", "exact", "periodic",
-           "exact_contact", "gauss")
+           "exact_contact", "gauss", "kernel")
 #: solve_ivp method of ``auto`` when the exact propagator does not apply. LSODA (restarted at
 #: each switching instant) was the fastest for every target error on the helicopter tail scene
 #: with rectangular and Fourier stiffness, heavy damping, a 1000x stiffer mesh and backlash
@@ -30,7 +30,10 @@ class SolverSettings:
     Parameters
     ----------
     method : str
-        ``auto`` (default: the exact propagator where it applies, ``exact_contact`` for the
+        ``auto`` (default: the exact propagator where it applies; ``kernel`` for the
+        single-DOF model with backlash and piecewise-constant stiffness and for the eccentric
+        torsional model over most of its hunting period, where the compiled kernel is built;
+        else ``exact_contact`` for the
         single-DOF model with backlash; else, for a linear single-DOF model on the usual
         uniform grid, ``periodic``; else ``gauss`` where it applies; else LSODA), or one of
         RK45, RK23, DOP853, Radau, BDF, LSODA (solve_ivp), ``exact`` (piecewise-exact
@@ -38,7 +41,10 @@ class SolverSettings:
         (linear mesh-periodic models: one period of step maps integrated, then reused; see
         :func:`gear_dyn.solvers.periodic.propagate_periodic`) or ``gauss`` (models affine in the
         state while a condition holds, the eccentric torsional model: Gauss-Legendre step maps
-        of every output interval at once; :mod:`gear_dyn.solvers.gauss`).
+        of every output interval at once; :mod:`gear_dyn.solvers.gauss`) or ``kernel`` (the
+        native FMU's compiled stepper from the model's tables in the mesh phase, the whole grid
+        in one call; single-DOF and eccentric torsional models;
+        :mod:`gear_dyn.solvers.kernel_method`).
     rtol : float
         Relative tolerance, 1e-13..1e-2.
     atol : float or None

@@ -41,7 +41,8 @@ def output_grid(model: Model, t_end: float, settings: SolverSettings) -> FloatAr
             f"solver.periods x solver.samples_per_period = {n_samples:.4g} output samples "
             f"(duration {t_end:.6g} s at mesh frequency {model.mesh_frequency:.6g} Hz): valid "
             f"range <= {limits.MAX_SAMPLES} samples; simulate fewer periods or fewer samples "
-            "per period"
+            "per period (solver.periods, --periods on the command line; "
+            "solver.samples_per_period)"
         )
     t_grid = time_grid(model.mesh_frequency, t_end, settings.samples_per_period)
     if t_grid.size < 8:

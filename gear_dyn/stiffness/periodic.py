@@ -287,7 +287,7 @@ class PiecewiseStiffness(PeriodicStiffness):
     _u: FloatArray = field(init=False, repr=False)
     _v: FloatArray = field(init=False, repr=False)
     _lists: tuple[list[float], list[float], list[float]] = field(init=False, repr=False)
-    _flat: FloatArray | None = field(init=False, repr=False)
+    _levels: FloatArray | None = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         try:
@@ -323,10 +323,11 @@ class PiecewiseStiffness(PeriodicStiffness):
         object.__setattr__(self, "_v", np.concatenate(vs))
         # plain lists for the scalar fast path of __call__ (the solver's right-hand side)
         object.__setattr__(self, "_lists", (e.tolist(), self._u.tolist(), self._v.tolist()))
-        # piecewise constant or not: fixed with the samples (every model built on k asks)
-        flat = not any(np.ptp(val) > 0 for _ph, val in samples)
-        object.__setattr__(self, "_flat", np.array([float(val[0]) for _ph, val in samples])
-                           if flat else None)
+        # every segment constant (a rectangular wave): the array path looks the level up, the
+        # same value np.interp gives between equal samples, in a third of the time
+        const = all(np.ptp(val) == 0 for val in vs)
+        object.__setattr__(self, "_levels",
+                           np.array([float(val[0]) for val in vs]) if const else None)
 
     @property
     def switching_phases(self) -> FloatArray:
@@ -338,6 +339,10 @@ class PiecewiseStiffness(PeriodicStiffness):
         p = np.mod(np.asarray(phase, dtype=float), 1.0)
         e = self.edges
         idx = np.clip(np.searchsorted(e, p, side="right") - 1, 0, e.size - 2)
+        if self._levels is not None:
+            k = self._levels[idx]
+            k[np.isnan(p)] = np.nan  # nan propagates as through np.interp
+            return k
         u = 2 * idx + (p - e[idx]) / (e[idx + 1] - e[idx])
         return np.interp(u, self._u, self._v)
 
@@ -358,8 +363,9 @@ class PiecewiseStiffness(PeriodicStiffness):
         return v_list[j] + (v_list[j + 1] - v_list[j]) * (u - u0) / (u1 - u0)
 
     def segments(self) -> tuple[FloatArray, FloatArray] | None:
-        flat = self._flat
-        return None if flat is None else (self.edges.copy(), flat.copy())
+        if self._levels is None:
+            return None
+        return self.edges.copy(), self._levels.copy()
 
     def fourier_coefficients(self, n: int) -> tuple[float, FloatArray, FloatArray]:
         e = self.edges

@@ -244,7 +244,9 @@ def _sanitizer_runtime(cc: str) -> str | None:
 def test_kernel_under_sanitizers(tmp_path: Path) -> None:
     """The library built with -fsanitize=address,undefined, loaded by ctypes in a child Python
     (the ASan runtime preloaded), runs every entry point of gd_flow.c against numpy (the
-    contact walk's against DOP853)."""
+    contact walk's against DOP853), and the steppers over a grid (gd_run.c: the ``kernel``
+    method) on a backlash model against ``exact_contact`` and on the eccentric torsional model
+    against ``gauss``."""
     cc = shutil.which(os.environ.get("CC", "cc")) or shutil.which("gcc")
     runtime = _sanitizer_runtime(cc) if cc else None
     if cc is None or runtime is None:
@@ -252,7 +254,8 @@ def test_kernel_under_sanitizers(tmp_path: Path) -> None:
     so = tmp_path / "libgd_asan.so"
     cmd = [cc, "-std=c99", "-g", "-O1", "-fPIC", "-shared", "-Wall", "-Wextra", "-Werror",
            "-pedantic", "-fsanitize=address,undefined", "-fno-sanitize-recover=all",
-           f"-I{SRC}", *(str(SRC / s) for s in ("gd_flow.c", "gd_kernel.c", "gd_torsional.c")),
+           f"-I{SRC}",
+           *(str(SRC / s) for s in ("gd_flow.c", "gd_kernel.c", "gd_torsional.c", "gd_run.c")),
            "-o", str(so), "-lm"]
     subprocess.run(cmd, check=True, capture_output=True)
     script = textwrap.dedent(f"""
@@ -308,6 +311,22 @@ def test_kernel_under_sanitizers(tmp_path: Path) -> None:
             pc.stays_inside(0.0, 0.0)
             pc.at(0.0, 0.02, np.linspace(0.0, pc.h, 9), 1e-4)
         assert abs(ce.find_root(lambda x: x - 0.3, 0.0, 1.0, -0.3, 0.7, 1e-15) - 0.3) < 1e-14
+        # the steppers over a grid: the kernel method
+        from gear_dyn.scene import load_scene
+        from gear_dyn.scene.build import build_plan
+        from gear_dyn.solvers import time_grid
+        bl = SDOFModel(mass=3.0, stiffness=rectangular_stiffness(1.58, 0.7e9, 1.24e9),
+                       damping_ratio=0.06, static_load=1000.0, mesh_frequency=2900.0,
+                       backlash=1e-5)
+        tg = time_grid(bl.mesh_frequency, 30 / bl.mesh_frequency, 64)
+        y, st = integrate(bl, tg, SolverSettings(method="kernel"))
+        y_e, _ = integrate(bl, tg, SolverSettings(method="exact_contact"))
+        assert st["n_events"] > 10 and np.max(np.abs(y - y_e)[0]) < 1e-6 * bl.state_scale[0]
+        ecc = build_plan(load_scene("eccentric_helical")).model
+        tg = time_grid(ecc.mesh_frequency, 10 / ecc.mesh_frequency, 16)
+        y, _ = integrate(ecc, tg, SolverSettings(method="kernel"))
+        y_g, _ = integrate(ecc, tg, SolverSettings(method="gauss", rtol=1e-9))
+        assert np.max(np.abs(y - y_g) / ecc.state_scale[:, None]) < 1e-4
         print("ok")
     """)
     env = {**os.environ, "LD_PRELOAD": runtime, "ASAN_OPTIONS": "detect_leaks=0",

@@ -178,7 +178,8 @@ def follow(sh: Shooting, ev0: Evaluation, t0: FloatArray, window: tuple[float, f
     ds, s_total = settings.step, 0.0
     z_first = ev0.z
     d_prev = parent.residual_only(ev0.z) if parent is not None else np.zeros(2)
-    stop_reason = f"max_points ({settings.max_points}) reached"
+    stop_reason = (f"max_points ({settings.max_points}) reached: raise it with --max-points "
+                   "(gear-dyn response), ContinuationSettings(max_points=N) in Python")
     while len(points) < settings.max_points:
         zp = ev.z + ds * t
         out = sh.correct(zp, t, float(t @ zp), settings.newton,

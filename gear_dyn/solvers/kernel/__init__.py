@@ -3,7 +3,8 @@
 The sources here (``gd_flow.c``: products and applications of affine step maps, and the
 exact contact walk of the backlash model, :mod:`gear_dyn.solvers.kernel.contact`;
 ``gd_kernel.c``, ``gd_torsional.c``: the native FMU's steppers, which the FMU compiles with its
-glue) are built at install into one shared library (``setup.py``) and loaded with ctypes, not
+glue; ``gd_run.c``: those steppers over an output grid, the solvers' ``kernel`` method,
+:mod:`.run`) are built at install into one shared library (``setup.py``) and loaded with ctypes, not
 the Python C API: a call releases the GIL, so threads run kernel calls in parallel. Python
 computes the maps (matrix exponentials, collocation) and the kernel applies them.
 
@@ -17,11 +18,7 @@ from __future__ import annotations
 import ctypes
 import functools
 import importlib.machinery
-import importlib.metadata
-import json
 import re
-import urllib.parse
-import urllib.request
 from pathlib import Path
 from typing import Any
 
@@ -56,7 +53,15 @@ def library_path() -> Path | None:
     (a source checkout whose tests import its own tree after ``pip install .``: in its files,
     or in the source tree of an editable install, PEP 610 ``direct_url.json``); None if none
     exists. :func:`library` checks that the one found matches these sources' interface."""
-    folders = [SOURCE_DIR]
+    beside = _library_in(SOURCE_DIR)
+    if beside is not None:  # the usual case: no need to read the distributions' metadata
+        return beside
+    import importlib.metadata  # only here: reading metadata and urllib cost ~50 ms to import
+    import json
+    import urllib.parse
+    import urllib.request
+
+    folders = []
     # every gear_dyn distribution on the path: a build in a source checkout leaves its
     # gear_dyn.egg-info there, found first when the checkout is the working directory
     for dist in importlib.metadata.distributions(name="gear_dyn"):
@@ -69,10 +74,18 @@ def library_path() -> Path | None:
             tree = Path(urllib.request.url2pathname(urllib.parse.urlparse(url["url"]).path))
             folders.append(tree / "gear_dyn" / "solvers" / "kernel")
     for folder in folders:
-        for suffix in importlib.machinery.EXTENSION_SUFFIXES:
-            p = folder / f"{_NAME}{suffix}"
-            if p.is_file():
-                return p
+        found = _library_in(folder)
+        if found is not None:
+            return found
+    return None
+
+
+def _library_in(folder: Path) -> Path | None:
+    """The kernel library in ``folder`` (any of this interpreter's extension suffixes)."""
+    for suffix in importlib.machinery.EXTENSION_SUFFIXES:
+        p = folder / f"{_NAME}{suffix}"
+        if p.is_file():
+            return p
     return None
 
 
@@ -123,6 +136,12 @@ def library() -> ctypes.CDLL:
                                     _DP, _DP, _DP]
     lib.gd_contact_on_grid.restype = ctypes.c_int
     lib.gd_contact_on_grid.argtypes = [_DP, _DP, _l, _DP, _DP, _l, _DP, _DP]
+    # the steppers (gd_kernel.c, gd_torsional.c, gd_run.c: :mod:`.run` builds their structures)
+    lib.gd_start.restype = None
+    lib.gd_start.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_double]
+    lib.gd_run.restype = ctypes.c_long
+    lib.gd_run.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_long, ctypes.c_void_p,
+                           ctypes.c_void_p, ctypes.c_void_p]
     return lib
 
 

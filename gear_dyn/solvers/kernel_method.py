@@ -1,0 +1,228 @@
+"""The ``kernel`` method: the native FMU's compiled stepper over the whole output grid.
+
+The model goes to the compiled kernel as its tables in the mesh phase (the ones the native FMU
+is built from, :mod:`gear_dyn.solvers.kernel.tables`; the eccentric torsional model with
+polynomials on every piece, :func:`~gear_dyn.solvers.kernel.tables_torsional.torsional_table`
+with ``lines=False``) and the kernel advances it over the grid in one call
+(:func:`gear_dyn.solvers.kernel.run.run`): pieces with constant coefficients in closed form,
+the others by the Dormand-Prince 5(4) pair (Dormand & Prince 1980), backlash contact changes
+located on the closed form or the dense output.
+
+Where it applies (:func:`kernel_applies`): the single-DOF mesh equation (with or without
+backlash and a mesh-periodic transmission error) and the eccentric torsional model without
+backlash and transmission error, when the compiled library is present. The tables are built
+once per model (kept for the model's lifetime, at most :data:`CACHE_SIZE` models).
+
+Error control: the kernel weighs each state's error by ``tol (scale + |y|)``, so a state far
+from zero (the gear angle of an eccentric pair holds the eccentric offset, tens of static
+deflections) gets a looser control than the solvers' ``rtol`` (relative to the state scale)
+means; the kernel runs at ``rtol / (1 + max |e| / x_s)`` (:func:`kernel_tolerance`, ``e`` the
+table's transmission error or eccentric offset). The stated error (:func:`check_run`,
+:func:`table_bound`, composed in :func:`gear_dyn.analysis.accuracy.estimate_error`) is twice the
+difference from a run at :data:`CHECK_TIGHTEN` times tighter tolerance (a 100-fold tightening is
+not enough: where piece edges, not the tolerance, set the steps, two runs 100 times apart can
+take the same steps) from a start moved by :data:`CHECK_NUDGE` of the state scale (closed-form
+pieces do not depend on the tolerance: the nudge shows rounding that an unstable response
+amplifies), plus a bound on the table's interpolation error carried to the DTE.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import weakref
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gear_dyn.errors import GearDynError, InputError
+from gear_dyn.models.base import Model
+from gear_dyn.solvers import kernel
+from gear_dyn.solvers.kernel.run import TOL_RANGE, KernelModel, kernel_model, run
+from gear_dyn.solvers.settings import SolverSettings
+
+FloatArray = NDArray[np.float64]
+
+#: the check run's tolerance is this many times tighter than the run's
+CHECK_TIGHTEN = 1e4
+#: ... from a start moved by this share of the state scale
+CHECK_NUDGE = 1e-12
+#: safety factor of the table part of the stated error
+TABLE_SAFETY = 2.0
+#: models whose kernel form is kept
+CACHE_SIZE = 4
+
+_CACHE: dict[int, tuple[weakref.ref[Any], KernelModel]] = {}
+_LOCK = threading.RLock()  # re-entrant: a weakref callback may run inside a locked block
+
+
+#: largest table error (relative, ``max_error``) for which ``auto`` picks the kernel
+AUTO_TABLE_ERROR = 1e-9
+#: shortest span, as a share of the table's period, on which ``auto`` picks the kernel for the
+#: torsional model
+AUTO_MIN_SHARE = 0.5
+
+
+def _available() -> bool:
+    """The compiled library loads (a copy of gear_dyn without it, the pythonfmu FMU's, has none)."""
+    try:
+        kernel.library()
+    except (GearDynError, OSError, TypeError, AttributeError):
+        return False
+    return True
+
+
+def kernel_applies(model: Model) -> bool:
+    """True for the single-DOF mesh equation with mesh-periodic coefficients (``mesh_periodic``:
+    its table spans one mesh cycle) and for the eccentric torsional model (two inertias,
+    ``force_form``, ``eccentric``) without backlash and transmission error, with the compiled
+    kernel present."""
+    n = len(model.state_labels)
+    if n == 2:
+        ok = bool(model.mesh_periodic)
+    elif n == 4:
+        ok = (bool(getattr(model, "eccentric", False)) and model.backlash is None
+              and callable(getattr(model, "force_form", None))
+              and getattr(model, "transmission_error", None) is None)
+    else:
+        ok = False
+    return ok and _available()
+
+
+def kernel_auto(model: Model, t_grid: FloatArray | None = None) -> bool:
+    """True where ``auto`` picks the kernel (:func:`kernel_applies`): an eccentric torsional
+    model whose table meets :data:`AUTO_TABLE_ERROR`, on a grid spanning at least
+    :data:`AUTO_MIN_SHARE` of its table (the hunting period: the table's cost grows with it,
+    not with the run; shorter runs, such as the quasi-static reference of the dynamic factor,
+    keep ``gauss``).
+
+    Single-DOF models never take it under ``auto``: the linear ones keep their exact and
+    periodic routes, and the one with backlash and piecewise-constant stiffness takes
+    ``exact_contact``, the compiled contact walk, which runs as fast as the kernel on the
+    packaged backlash scene at its mesh resonance (``benchmarks/bench_kernel_method.py``) and
+    brackets every contact change by a bound on the closed form, where the kernel samples a
+    closed-form piece 32 times per natural period. The kernel stays available by name for
+    every single-DOF model with mesh-periodic coefficients."""
+    if not kernel_applies(model) or len(model.state_labels) == 2:
+        return False
+    if t_grid is None or len(t_grid) < 2:
+        return False
+    span = (float(t_grid[-1]) - float(t_grid[0])) * float(model.mesh_frequency)
+    tm: Any = model  # a TorsionalModel (kernel_applies)
+    hunting = float(tm.mesh.hunting_period) * float(model.mesh_frequency)
+    if span < AUTO_MIN_SHARE * hunting:
+        return False
+    try:
+        km = kernel_form(model)
+    except InputError:  # no table fits
+        return False
+    return km.table_error <= AUTO_TABLE_ERROR
+
+
+def kernel_form(model: Model) -> KernelModel:
+    """The model's kernel form, built on first use and kept while the model lives (threads of a
+    sweep share the cache under a lock; a model is built once per thread at most)."""
+    key = id(model)
+    with _LOCK:
+        hit = _CACHE.get(key)
+    if hit is not None and hit[0]() is model:
+        return hit[1]
+    km = kernel_model(model)
+
+    def forget(_ref: weakref.ref[Any], k: int = key) -> None:
+        with _LOCK:
+            _CACHE.pop(k, None)
+
+    with _LOCK:
+        while len(_CACHE) >= CACHE_SIZE:
+            _CACHE.pop(next(iter(_CACHE)))
+        _CACHE[key] = (weakref.ref(model, forget), km)
+    return km
+
+
+def _x_scale(model: Model) -> float:
+    """The static deflection W/k_m (m), the unit of the errors."""
+    return max(float(model.static_load) / float(model.mean_stiffness or 1.0), 1e-300)
+
+
+def kernel_tolerance(model: Model, km: KernelModel, rtol: float) -> float:
+    """The kernel's tolerance for the solvers' ``rtol``: ``rtol / (1 + max |e| / x_s)``, within
+    the kernel's range (module docstring)."""
+    e_row = 1 if km.n_states == 2 else 0  # (k, e, de) or (e, de, k, phi1, phi2)
+    coef = km.table.coef
+    e_max = float(np.max(np.abs(coef[:, e_row, -1]))) if coef.size else 0.0
+    tol = rtol / (1.0 + e_max / _x_scale(model))
+    return min(max(tol, TOL_RANGE[0]), TOL_RANGE[1])
+
+
+def propagate_kernel(model: Model, t_grid: FloatArray, settings: SolverSettings,
+                     y0: FloatArray | None = None) -> tuple[FloatArray, dict[str, Any]]:
+    """States on ``t_grid`` by the compiled kernel.
+
+    Returns
+    -------
+    y : ndarray (n_states, n_t)
+    stats : dict with n_events, kernel_tolerance, n_segments (table pieces crossed), nfev 0
+
+    Raises
+    ------
+    SolverError
+        A failed kernel step (its message says what to change).
+    """
+    km = kernel_form(model)
+    tol = kernel_tolerance(model, km, settings.rtol)
+    y_start = np.asarray(model.initial_state() if y0 is None else y0, dtype=float)
+    y, st = run(km, t_grid, y_start, tol)
+    pieces = km.table.breaks.size - 1
+    span = (float(t_grid[-1]) - float(t_grid[0])) * km.mesh_frequency / km.period
+    return y, {"nfev": 0, "njev": 0, "nlu": 0, "n_segments": int(math.ceil(span * pieces)),
+               "n_events": st["n_events"], "kernel_tolerance": tol}
+
+
+def check_run(model: Model, t_grid: FloatArray, y0: FloatArray, rtol: float
+              ) -> tuple[FloatArray, float]:
+    """The check run of the error estimate of a run at ``rtol``: at :data:`CHECK_TIGHTEN` times
+    the run's kernel tolerance (down to the kernel's 1e-14), from the start moved by
+    :data:`CHECK_NUDGE` of the state scale, and that tolerance. The closed-form pieces do not
+    depend on the tolerance; the nudge shows where rounding grows (an unstable or chaotic
+    response), as ``exact_contact``'s check does."""
+    km = kernel_form(model)
+    tol = max(kernel_tolerance(model, km, rtol) / CHECK_TIGHTEN, TOL_RANGE[0])
+    start = np.asarray(y0, dtype=float) + CHECK_NUDGE * np.asarray(model.state_scale, float)
+    return run(km, t_grid, start, tol)[0], tol
+
+
+def table_bound(model: Model, t_grid: FloatArray, y: FloatArray) -> float:
+    """A bound on the DTE error (over W/k_m) from the table's interpolation error.
+
+    A force error ``dF`` moves the DTE by at most the dynamic amplification ``1 + 1/(2 xi)``
+    times ``dF / k_m``; the table's errors give ``dF / W <= err_k D + err_e K + err_de
+    2 xi f_m / omega_n`` with ``D`` the largest mesh deflection over ``x_s`` on the run and
+    ``K = k_max / k_m`` (errors ``max_error`` relative to ``k_m`` and ``x_s``), times
+    :data:`TABLE_SAFETY`. 0 for an exact table; inf without damping for a fitted one."""
+    km = kernel_form(model)
+    errs = km.table.max_error
+    if not any(v > 0 for v in errs.values()):
+        return 0.0
+    xi = float(getattr(model, "damping_ratio", 0.0))
+    if xi <= 0.0:
+        return math.inf
+    x_s = _x_scale(model)
+    t = np.asarray(t_grid, dtype=float)
+    phase = km.phase0 + km.mesh_frequency * t
+    vals = km.table.evaluate(phase)
+    if km.n_states == 2:
+        k, e = vals[0], vals[1]
+        u = y[0] - e
+        err_k, err_e, err_de = errs.get("k", 0.0), errs.get("e", 0.0), errs.get("de", 0.0)
+    else:
+        e, k = vals[0], vals[2]
+        u = model.pair.rb1 * y[0] - model.pair.rb2 * y[1] + e  # type: ignore[attr-defined]
+        err_k, err_e, err_de = errs["stiffness"], errs["e_ecc"], errs["de_dp"]
+        err_k = max(err_k, errs["phi1"], errs["phi2"])  # friction arms: relative to r_b
+    d = float(np.max(np.abs(u))) / x_s
+    kk = float(np.max(k)) / float(model.mean_stiffness or 1.0)
+    fn = float(model.natural_frequency or km.mesh_frequency)
+    force = err_k * d + err_e * kk + err_de * 2 * xi * km.mesh_frequency / (2 * math.pi * fn)
+    return TABLE_SAFETY * (1.0 + 1.0 / (2.0 * xi)) * force
