@@ -43,6 +43,8 @@ from gear_dyn.scene.sweep import SceneModels, sweep_scene
 RPM = 2 * math.pi / 60
 LO, HI = 3000.0, 9500.0
 MAX_PERIODS = 20000
+#: the speed target: CPU time per point, detection on (ms)
+TARGET_MS = 1.0
 KINDS = {"fold": "folds", "period_doubling": "period doublings", "grazing": "grazing points"}
 
 
@@ -146,10 +148,10 @@ def main(argv: list[str] | None = None) -> int:
         "took the cores from it is left out, not their effect on its caches): detection on "
         f"{spread([1e3 * x for x in cpu_on])} ms, off {spread([1e3 * x for x in cpu_off])} "
         "ms.", "",
-        f"Target: <= 10 ms per period-1 continuation point with detection on: "
-        f"**{'met' if statistics.median(ms_on) <= 10 else 'NOT met'}** "
-        f"(median {statistics.median(ms_on):.1f} ms; {statistics.median(ms):.1f} ms with "
-        "detection off).", "",
+        f"Target: <= {TARGET_MS:g} ms CPU per period-1 continuation point with detection on: "
+        f"**{'met' if statistics.median(cpu_on) * 1e3 <= TARGET_MS else 'NOT met'}** "
+        f"(CPU median {1e3 * statistics.median(cpu_on):.2f} ms; "
+        f"{1e3 * statistics.median(cpu_off):.2f} ms with detection off).", "",
         "The sweep and the brute force find only the stable orbits (the sweep jumps at the "
         "folds); the continuation also follows the unstable branch between them.",
     ]

@@ -52,7 +52,40 @@ def contact_exact_applies(model: Model) -> bool:
                                  and float(getattr(model, "damping", 0.0)) > 0.0):
         return False
     stiffness = getattr(model, "stiffness", None)
-    return stiffness is not None and stiffness.segments() is not None
+    return stiffness is not None and _stiffness_pieces(stiffness) is not None
+
+
+#: per stiffness object (immutable; held here so its id stays valid): its segments' edges
+#: (cycles), the index of each segment's value among the distinct values, the distinct values
+#: (N/m); None where not piecewise constant. Bounded: the oldest entry goes first.
+_PIECES: dict[int, tuple[Any, tuple[FloatArray, NDArray[np.intp], FloatArray] | None]] = {}
+#: piece rows per (stiffness, m, c, W, b, transmission error, f_m when it has harmonics)
+_ROWS: dict[tuple[Any, ...], tuple[Any, FloatArray]] = {}
+_CACHE_SIZE = 16
+
+
+def _remember(cache: dict[Any, Any], key: Any, value: Any) -> Any:
+    if len(cache) >= _CACHE_SIZE:
+        cache.pop(next(iter(cache)))
+    cache[key] = value
+    return value
+
+
+def _stiffness_pieces(stiffness: Any) -> tuple[FloatArray, NDArray[np.intp], FloatArray] | None:
+    """``stiffness.segments()`` as the walk reads it: edges (cycles), each segment's index
+    into the distinct values, the distinct values (N/m); None where not piecewise constant.
+    Computed once per stiffness object (the family of models a continuation walks shares
+    one)."""
+    hit = _PIECES.get(id(stiffness))
+    if hit is not None and hit[0] is stiffness:
+        return hit[1]
+    seg = stiffness.segments()
+    out = None
+    if seg is not None:
+        edges, values = (np.asarray(a, dtype=float) for a in seg)
+        k_values, kidx = np.unique(values, return_inverse=True)
+        out = (edges, kidx.ravel().astype(np.intp), k_values)
+    return _remember(_PIECES, id(stiffness), (stiffness, out))[1]
 
 
 def flow(state: int, k: float, m: float, c: float, w: float, b: float, x0: float, v0: float,
@@ -118,10 +151,13 @@ def find_root(f: Callable[[float], float], lo: float, hi: float, f_lo: float, f_
 def _model_header(model: Any, forcing: Forcing) -> FloatArray:
     """The model table of the kernel walk: m, c, w, b, f_m, p0, nh, ``2 pi n``, ``2 pi n f_m``."""
     n = forcing.n
-    return np.concatenate([
-        [float(model.mass), float(model.damping), float(model.static_load),
-         float(model.backlash), forcing.fm, forcing.p0, float(n.size)],
-        2 * math.pi * n, 2 * math.pi * n * forcing.fm])
+    head = np.empty(7 + 2 * n.size)
+    head[:7] = (float(model.mass), float(model.damping), float(model.static_load),
+                float(model.backlash), forcing.fm, forcing.p0, float(n.size))
+    if n.size:
+        head[7:7 + n.size] = 2 * math.pi * n
+        head[7 + n.size:] = 2 * math.pi * n * forcing.fm
+    return head
 
 
 class _Piece:
@@ -326,6 +362,20 @@ def _piece_tables(mm: Any, k_values: FloatArray) -> tuple[FloatArray, FloatArray
     return _model_header(mm, forcing), np.array(rows)
 
 
+def _walk_tables(mm: Any, k_values: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """:func:`_piece_tables` for all of the stiffness's distinct values ``k_values``, the
+    rows reused while the model differs only in what they do not depend on (speed and phase
+    without a transmission error: the rows of a continuation's family are built once)."""
+    forcing = Forcing.of(mm)
+    te = getattr(mm, "transmission_error", None)
+    key = (id(mm.stiffness), float(mm.mass), float(mm.damping), float(mm.static_load),
+           float(mm.backlash), id(te), forcing.fm if forcing.n.size else 0.0)
+    hit = _ROWS.get(key)
+    if hit is None or hit[0][0] is not mm.stiffness or hit[0][1] is not te:
+        hit = _remember(_ROWS, key, ((mm.stiffness, te), _piece_tables(mm, k_values)[1]))
+    return _model_header(mm, forcing), hit[1]
+
+
 def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0,
          marks: FloatArray | None = None) -> Walk:
     """The exact propagation of ``model`` from ``y(t0) = y0`` to ``t1``, kept as its pieces.
@@ -368,6 +418,7 @@ def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0,
     mm: Any = model  # a mesh model with backlash: checked above
     t0, t1 = float(t0), float(t1)
     x0, v0 = (float(u) for u in y0)
+    edges, seg_k, k_values = _stiffness_pieces(mm.stiffness)  # type: ignore[misc]
     inner = np.asarray(mm.switching_times(t0, t1), dtype=float)
     slots = None
     if marks is not None:
@@ -378,18 +429,20 @@ def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0,
     cuts = np.concatenate([[t0], inner, [t1]])
     if marks is not None:
         slots = np.searchsorted(marks, cuts[:-1], side="right")
-    kts = np.asarray(mm.stiffness(mm.phase(0.5 * (cuts[:-1] + cuts[1:]))), dtype=float)
-    k_values, kidx = np.unique(kts, return_inverse=True)
-    tables = _piece_tables(mm, k_values)
+    # each stiffness piece's segment, from its middle phase
+    mid = np.mod(np.asarray(mm.phase(0.5 * (cuts[:-1] + cuts[1:])), dtype=float), 1.0)
+    kidx = seg_k.take(np.searchsorted(edges, mid, side="right") - 1, mode="clip")
+    tables = _walk_tables(mm, k_values)
     xtol = 4 * float(np.spacing(max(abs(t0), abs(t1), 1e-300)))
-    e0, ed0 = _te_shift(mm, np.array([t0]))
+    shifted = getattr(mm, "transmission_error", None) is not None
+    e0, ed0 = _te_shift(mm, np.array([t0])) if shifted else (np.zeros(1), np.zeros(1))
     segs = ck.walk(*tables, cuts, kidx.ravel(), x0 - float(e0[0]), v0 - float(ed0[0]), xtol,
                    MAX_EVENTS_PER_PIECE, slots)
     if segs.status == ck.CHATTER:
         raise SolverError(
             f"exact_contact: more than {MAX_EVENTS_PER_PIECE} contact changes in one "
             f"stiffness piece at t = {segs.fail_time:.6g} s (a chattering graze); use LSODA")
-    e1, ed1 = _te_shift(mm, np.array([t1]))
+    e1, ed1 = _te_shift(mm, np.array([t1])) if shifted else (e0, ed0)
     x, v = (float(u) for u in segs.end)
     return Walk(model, t0, t1, (x0, v0), tables, segs, (x + float(e1[0]), v + float(ed1[0])))
 

@@ -246,3 +246,38 @@ def test_auto_integrates_the_te_scene_by_the_closed_form() -> None:
     assert st["method"] == "exact_contact"
     y_d, _ = integrate(model, t, SolverSettings(method="DOP853", rtol=1e-10))
     assert np.max(np.abs(y - y_d) / model.state_scale[:, None]) < 1e-6
+
+
+@pytest.mark.parametrize("te", [None, TWO])
+def test_walk_setup_reused_across_speeds_is_the_fresh_one(te: HarmonicSignal | None) -> None:
+    """The walk's setup (the stiffness's segments, the piece rows) is kept between models of
+    one family: walking at a second speed after the first gives, bit for bit, what a walk
+    with nothing kept gives (the rows carry f_m with a transmission error, so they are not
+    reused across speeds then; without one they are)."""
+    from gear_dyn.solvers import contact_exact as ce
+
+    base = te_model(1.3, k_double=1.6 * K1, phase0=0.21)
+    if te is None:
+        base = SDOFModel(mass=M_E, stiffness=base.stiffness, damping_ratio=0.06,
+                         static_load=W, mesh_frequency=base.mesh_frequency, backlash=B,
+                         phase0=0.21)
+    else:
+        base = te_model(1.3, te, k_double=1.6 * K1, phase0=0.21)
+    first, second = base, base.at_mesh_frequency(1.7 * FN)
+    y0 = np.array([W / K1 + 4 * B, 0.0])  # swings through the gap onto the back flank
+
+    def end_and_phi(model: SDOFModel) -> np.ndarray:
+        w = ce.walk(model, y0, 3 / model.mesh_frequency)
+        return np.concatenate([w.end, w.sensitivity().ravel(), w.event_times])
+
+    ce._PIECES.clear()
+    ce._ROWS.clear()
+    fresh = end_and_phi(second)
+    ce._PIECES.clear()
+    ce._ROWS.clear()
+    end_and_phi(first)
+    assert len(ce._ROWS) == 1
+    reused = end_and_phi(second)
+    assert len(ce._ROWS) == (1 if te is None else 2)
+    np.testing.assert_array_equal(reused, fresh)
+    assert fresh.size > 6  # contact changes were walked
