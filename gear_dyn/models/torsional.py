@@ -44,6 +44,9 @@ FloatArray = NDArray[np.float64]
 Signal = HarmonicSignal | SampledSignal
 
 _MEAN_SAMPLES = 200_000  # cap on samples used for the mean friction factors
+#: times per block of :meth:`TorsionalModel.excitations`: the kinematics' and contact lines'
+#: temporaries of one block stay in the CPU cache (about 2x faster on long grids than one pass)
+_EXCITE_BLOCK = 8192
 
 
 @dataclass(frozen=True, eq=False)
@@ -258,6 +261,13 @@ class TorsionalModel:
         (N/m), ``contact_length`` (m, when contact lines are modelled), ``phi1``, ``phi2``
         (friction torque per unit normal load, m), ``w2_kinematic`` (rad/s)."""
         t = np.asarray(t, dtype=float)
+        if t.ndim == 1 and t.size > _EXCITE_BLOCK:
+            parts = [self._excitations(t[i:i + _EXCITE_BLOCK])
+                     for i in range(0, t.size, _EXCITE_BLOCK)]
+            return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
+        return self._excitations(t)
+
+    def _excitations(self, t: FloatArray) -> dict[str, FloatArray]:
         lay = self._layout
         # the kinematics, where eccentricity or contact lines need them
         kin = self.mesh.kinematics(t) if self.eccentric or lay is not None else None
