@@ -226,6 +226,12 @@ class EccentricMesh:
         return self._c["l_ac0"]
 
     @property
+    def angle_key(self) -> tuple[tuple[str, float], ...]:
+        """The constants that fix the kinematics as functions of the pinion angle (all but the
+        speed): meshes with equal keys differ only in their speed."""
+        return tuple(sorted((k, v) for k, v in self._c.items() if k != "w1"))
+
+    @property
     def l_ac_range(self) -> tuple[float, float]:
         """Bounds (min, max) of the distance A..C over all eccentric positions in m."""
         return self._c["ab_min"] - self._c["tip2"], self._c["ab_max"] - self._c["tip2"]

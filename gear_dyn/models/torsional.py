@@ -44,6 +44,11 @@ FloatArray = NDArray[np.float64]
 Signal = HarmonicSignal | SampledSignal
 
 _MEAN_SAMPLES = 200_000  # cap on samples used for the mean friction factors
+#: mean friction arms by the speed-free inputs they depend on (geometry, eccentricity, layout,
+#: mu, samples): the mean over the hunting period is a mean over shaft angles, the same at every
+#: speed, so the quasi-static model and the points of a sweep reuse it
+_MEAN_ARMS: dict[tuple[Any, ...], tuple[float, float]] = {}
+_MEAN_ARMS_KEPT = 32
 #: times per block of :meth:`TorsionalModel.excitations`: the kinematics' and contact lines'
 #: temporaries of one block stay in the CPU cache (about 2x faster on long grids than one pass)
 _EXCITE_BLOCK = 8192
@@ -114,6 +119,9 @@ class TorsionalModel:
     _excite: Excite = field(init=False, repr=False)
     _table: ExcitationTable | None = field(init=False, repr=False)
     _rhs: Callable[[float, FloatArray], FloatArray] = field(init=False, repr=False)
+    #: the last grid of :meth:`excitations` and its values (a run's outputs and its error
+    #: check ask for the same grid)
+    _last: list[Any] = field(init=False, repr=False, default_factory=list, compare=False)
 
     def __post_init__(self) -> None:
         check_speed(self.speed)
@@ -261,11 +269,18 @@ class TorsionalModel:
         (N/m), ``contact_length`` (m, when contact lines are modelled), ``phi1``, ``phi2``
         (friction torque per unit normal load, m), ``w2_kinematic`` (rad/s)."""
         t = np.asarray(t, dtype=float)
+        last = self._last
+        if last and last[0].shape == t.shape and np.array_equal(last[0], t):
+            return {k: v.copy() for k, v in last[1].items()}
         if t.ndim == 1 and t.size > _EXCITE_BLOCK:
             parts = [self._excitations(t[i:i + _EXCITE_BLOCK])
                      for i in range(0, t.size, _EXCITE_BLOCK)]
-            return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
-        return self._excitations(t)
+            out = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
+        else:
+            out = self._excitations(t)
+        if t.ndim == 1 and t.size > _EXCITE_BLOCK:  # worth keeping
+            last[:] = [t.copy(), {k: v.copy() for k, v in out.items()}]
+        return out
 
     def _excitations(self, t: FloatArray) -> dict[str, FloatArray]:
         lay = self._layout
@@ -301,16 +316,28 @@ class TorsionalModel:
         return out
 
     def _mean_friction_arms(self) -> tuple[float, float]:
-        """Time means of phi1, phi2 over one hunting period (one mesh period if error-free)."""
+        """Time means of phi1, phi2 over one hunting period (one mesh period if error-free):
+        means over the shaft angles, independent of the speed (kept by their inputs)."""
         if self.eccentric:
             span = self.mesh.hunting_period
             n = int(min(_MEAN_SAMPLES, 64 * round(span * self.mesh_frequency)))
         else:
             span = 1.0 / self.mesh_frequency
             n = 4096
-        t = np.arange(n, dtype=np.float64) * (span / n)
-        ex = self.excitations(t)
-        return float(np.mean(ex["phi1"])), float(np.mean(ex["phi2"]))
+        lay = self._layout
+        assert lay is not None  # friction models contact lines
+        key = (self.mesh.angle_key, self.pair.z1, self.pair.z2, lay.pitch,
+               lay.width, lay.sin_bb, lay.face_width, lay.l_ac0, tuple(lay.index.tolist()),
+               self.friction, self.eccentric, n)
+        got = _MEAN_ARMS.get(key)
+        if got is None:
+            t = np.arange(n, dtype=np.float64) * (span / n)
+            ex = self.excitations(t)
+            got = float(np.mean(ex["phi1"])), float(np.mean(ex["phi2"]))
+            if len(_MEAN_ARMS) >= _MEAN_ARMS_KEPT:
+                del _MEAN_ARMS[next(iter(_MEAN_ARMS))]
+            _MEAN_ARMS[key] = got
+        return got
 
     # ---------------------------------------------------------------- dynamics
     def _build_rhs(self) -> Callable[[float, FloatArray], FloatArray]:
