@@ -213,20 +213,31 @@ def torsional_table(model: Any, lines: bool = True) -> TorsionalTable:
         s, to_mono = node_matrix(degree)
         if degree < MAX_DEGREE and few.size < a.size:
             vals = direct((mid[few, None] + half[few, None] * s[None, :]).ravel())
-            coef = np.einsum("ij,qpj->pqi", to_mono, vals.reshape(5, few.size, s.size))
-            approx = np.einsum("pqi,ji->qpj", coef, np.vander(u, degree + 1)).reshape(5, -1)
+            coef = _fit(to_mono, vals.reshape(5, few.size, s.size))
+            approx = _at(coef, np.vander(u, degree + 1))
             if not np.all(np.max(np.abs(approx - exact_few), axis=1) / scale <= TABLE_ERROR):
                 continue
         vals = direct((mid[:, None] + half[:, None] * s[None, :]).ravel())
-        coef = np.einsum("ij,qpj->pqi", to_mono, vals.reshape(5, a.size, s.size))
+        coef = _fit(to_mono, vals.reshape(5, a.size, s.size))
         # the check points sit at s = u on every piece: the table there, piece by piece
-        approx = np.einsum("pqi,ji->qpj", coef, np.vander(u, degree + 1)).reshape(5, -1)
+        approx = _at(coef, np.vander(u, degree + 1))
         err = np.max(np.abs(approx - exact), axis=1) / scale
         if np.all(err <= TABLE_ERROR):
             return TorsionalTable(br, degree, coef, period,
                                   {n: float(e) for n, e in zip(QUANTITIES, err, strict=True)})
     raise InputError(f"native FMU table: no polynomial degree up to {MAX_DEGREE} reaches the "
                      f"table error {TABLE_ERROR:g} (reached {float(np.max(err)):.3g})")
+
+
+def _fit(to_mono: FloatArray, vals: FloatArray) -> FloatArray:
+    """Coefficients (pieces, 5, degree + 1) from values (5, pieces, nodes) at the nodes."""
+    return np.ascontiguousarray((vals @ to_mono.T).transpose(1, 0, 2))
+
+
+def _at(coef: FloatArray, vander: FloatArray) -> FloatArray:
+    """The polynomials ``coef`` (pieces, 5, degree + 1) at the points of ``vander`` on every
+    piece: (5, pieces x points)."""
+    return (coef.transpose(1, 0, 2) @ vander.T).reshape(5, -1)
 
 
 def _line_table(model: Any, br: FloatArray, chk: FloatArray, exact: FloatArray,
