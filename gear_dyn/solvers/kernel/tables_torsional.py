@@ -231,13 +231,17 @@ def torsional_table(model: Any, lines: bool = True) -> TorsionalTable:
 
 def _fit(to_mono: FloatArray, vals: FloatArray) -> FloatArray:
     """Coefficients (pieces, 5, degree + 1) from values (5, pieces, nodes) at the nodes."""
-    return np.ascontiguousarray((vals @ to_mono.T).transpose(1, 0, 2))
+    q, p, n = vals.shape
+    flat = np.ascontiguousarray(vals).reshape(q * p, n) @ to_mono.T  # one matrix product
+    return np.ascontiguousarray(flat.reshape(q, p, -1).transpose(1, 0, 2))
 
 
 def _at(coef: FloatArray, vander: FloatArray) -> FloatArray:
     """The polynomials ``coef`` (pieces, 5, degree + 1) at the points of ``vander`` on every
     piece: (5, pieces x points)."""
-    return (coef.transpose(1, 0, 2) @ vander.T).reshape(5, -1)
+    p, q, d = coef.shape
+    flat = coef.reshape(p * q, d) @ vander.T  # one matrix product
+    return np.ascontiguousarray(flat.reshape(p, q, -1).transpose(1, 0, 2)).reshape(q, -1)
 
 
 def _line_table(model: Any, br: FloatArray, chk: FloatArray, exact: FloatArray,
