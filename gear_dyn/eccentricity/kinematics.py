@@ -41,6 +41,8 @@ _MATH = SimpleNamespace(cos=math.cos, sin=math.sin, sqrt=math.sqrt, arccos=math.
 _FIXED_POINT_TOL = 1e-12
 _EPS = float(np.finfo(float).eps)
 _FIXED_POINT_MAX = 60
+#: factor on the predicted error of the next Newton step before it is skipped
+_NEWTON_SAFETY = 100.0
 
 
 @dataclass(frozen=True)
@@ -273,20 +275,33 @@ class EccentricMesh:
         pin = _pinion(xp, c, th1)
         if c["e2"] > 0.0:
             # Newton's method on u = F(u) (F' ~ e2 / r_b2, so it converges quadratically from
-            # u = 0: three steps to rounding), on the light evaluation of the gear's part; the
-            # whole geometry once, at the last iterate
+            # u = 0: two or three steps to rounding), on the light evaluation of the gear's
+            # part; the whole geometry once, at the last iterate. It stops when a step moves u
+            # by less than the tolerance, or when the next step would: quadratic convergence,
+            # e_next = K e^2 with K ~ c2 / c1^2 from two successive steps c1, c2, predicts the
+            # error after c2 as c2^3 / c1^2 (Kelley 2003, sec. 1.7), taken _NEWTON_SAFETY times
             scalar = xp is _MATH
             # rounding of the angle p2 - th2 moves u by ~eps |th2| e2 / r_b2: never ask for less
             big = abs(nominal) if scalar else float(np.max(np.abs(nominal)))
             tol = (_FIXED_POINT_TOL * (c["e1"] + c["e2"]) + 8 * _EPS * big * c["e2"]) / c["rb2"]
             u = 0.0 * th1
+            step: Any = None
             for _ in range(_FIXED_POINT_MAX):
                 f, df = _rigid_u_newton(xp, c, pin, nominal + u)
                 u_new = u - (u - f) / (1.0 - df)
-                change = abs(u_new - u) if scalar else float(np.max(np.abs(u_new - u)))
+                prev, step = step, abs(u_new - u) if scalar else np.abs(u_new - u)
                 u = u_new
+                change = step if scalar else float(np.max(step))
                 if change <= tol:
                     break
+                if prev is not None:
+                    if scalar:
+                        ahead = step**3 / prev**2 if prev > 0.0 else 0.0
+                    else:
+                        ahead = float(np.max(np.where(prev > 0.0, step**3 / np.where(
+                            prev > 0.0, prev, 1.0)**2, 0.0)))
+                    if _NEWTON_SAFETY * ahead <= tol:
+                        break
             g = _geometry(xp, c, pin, nominal + u)
         else:
             g = _geometry(xp, c, pin, nominal)
