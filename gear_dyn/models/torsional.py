@@ -119,7 +119,7 @@ class TorsionalModel:
     _excite: Excite = field(init=False, repr=False)
     _table: ExcitationTable | None = field(init=False, repr=False)
     _rhs: Callable[[float, FloatArray], FloatArray] = field(init=False, repr=False)
-    #: the last grid of :meth:`excitations` and its values (a run's outputs and its error
+    #: the last long grid of :meth:`outputs` and its excitations (a run's outputs and its error
     #: check ask for the same grid)
     _last: list[Any] = field(init=False, repr=False, default_factory=list, compare=False)
 
@@ -269,15 +269,18 @@ class TorsionalModel:
         (N/m), ``contact_length`` (m, when contact lines are modelled), ``phi1``, ``phi2``
         (friction torque per unit normal load, m), ``w2_kinematic`` (rad/s)."""
         t = np.asarray(t, dtype=float)
-        last = self._last
-        if last and last[0].shape == t.shape and np.array_equal(last[0], t):
-            return {k: v.copy() for k, v in last[1].items()}
         if t.ndim == 1 and t.size > _EXCITE_BLOCK:
             parts = [self._excitations(t[i:i + _EXCITE_BLOCK])
                      for i in range(0, t.size, _EXCITE_BLOCK)]
-            out = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
-        else:
-            out = self._excitations(t)
+            return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
+        return self._excitations(t)
+
+    def _kept_excitations(self, t: FloatArray) -> dict[str, FloatArray]:
+        """:meth:`excitations`, kept for the last long grid (fresh copies each call)."""
+        last = self._last
+        if last and last[0].shape == t.shape and np.array_equal(last[0], t):
+            return {k: v.copy() for k, v in last[1].items()}
+        out = self.excitations(t)
         if t.ndim == 1 and t.size > _EXCITE_BLOCK:  # worth keeping
             last[:] = [t.copy(), {k: v.copy() for k, v in out.items()}]
         return out
@@ -525,7 +528,7 @@ class TorsionalModel:
         t = np.asarray(t, dtype=float)
         y = np.asarray(y, dtype=float)
         rb1, rb2 = self.pair.rb1, self.pair.rb2
-        ex = self.excitations(t)
+        ex = self._kept_excitations(t)
         dte = rb1 * y[0] - rb2 * y[1]
         d = dte + ex["e_ecc"]
         dd = rb1 * y[2] - rb2 * y[3] + ex["e_ecc_rate"]
