@@ -279,7 +279,8 @@ class EccentricMesh:
             # part; the whole geometry once, at the last iterate. It stops when a step moves u
             # by less than the tolerance, or when the next step would: quadratic convergence,
             # e_next = K e^2 with K ~ c2 / c1^2 from two successive steps c1, c2, predicts the
-            # error after c2 as c2^3 / c1^2 (Kelley 2003, sec. 1.7), taken _NEWTON_SAFETY times
+            # error after c2 as c2^3 / c1^2 (Kelley 2003, on terminating Newton iterations), taken
+            # _NEWTON_SAFETY times
             scalar = xp is _MATH
             # rounding of the angle p2 - th2 moves u by ~eps |th2| e2 / r_b2: never ask for less
             big = abs(nominal) if scalar else float(np.max(np.abs(nominal)))
