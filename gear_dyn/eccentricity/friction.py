@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.eccentricity.contact_lines import LineLayout, LinePlace, line_positions, overlap
+from gear_dyn.eccentricity.contact_lines import LineLayout, LinePlace, line_positions
 from gear_dyn.eccentricity.kinematics import Kinematics
 from gear_dyn.errors import check_range
 
@@ -80,11 +80,12 @@ def split_segments(layout: LineLayout, kin: Kinematics) -> Segments:
         beyond = np.where((pos >= l_cp) & (pos < l_cd), b, 0.0)
         mid_before = mid_beyond = pos + l_ac
     else:
-        w = layout.width
-        lo2, hi2 = np.maximum(pos - w, 0.0), np.minimum(pos, l_cp)
-        lo1, hi1 = np.maximum(pos - w, l_cp), np.minimum(pos, l_cd)
-        before = overlap(pos, w, 0.0, l_cp) / layout.sin_bb
-        beyond = overlap(pos, w, l_cp, l_cd) / layout.sin_bb
+        back = pos - layout.width
+        lo2, hi2 = np.maximum(back, 0.0), np.minimum(pos, l_cp)
+        lo1, hi1 = np.maximum(back, l_cp), np.minimum(pos, l_cd)
+        # the overlaps of the line with [0, l_cp] and [l_cp, l_cd] (contact_lines.overlap)
+        before = np.maximum(hi2 - lo2, 0.0) / layout.sin_bb
+        beyond = np.maximum(hi1 - lo1, 0.0) / layout.sin_bb
         mid_before = 0.5 * (lo2 + hi2) + l_ac
         mid_beyond = 0.5 * (lo1 + hi1) + l_ac
     total = (before + beyond).sum(axis=0)
@@ -120,11 +121,13 @@ def friction_factors(layout: LineLayout, kin: Kinematics, mu: float,
     q = mu / seg.total
     foot1 = np.asarray(kin.foot1, dtype=float)
     foot2 = np.asarray(kin.foot2, dtype=float)
-    force = q * (seg.beyond - seg.before).sum(axis=0)
-    t1 = q * (seg.before * (seg.mid_before - foot1) - seg.beyond * (seg.mid_beyond - foot1)).sum(
-        axis=0)
-    t2 = q * (seg.beyond * (foot2 - seg.mid_beyond) - seg.before * (foot2 - seg.mid_before)).sum(
-        axis=0)
+    # sum_i (L_i1 - L_i2) and sum_i (L_i2 s_i2 - L_i1 s_i1), s the midpoints: the arms' feet
+    # come out of the sums
+    net = (seg.beyond - seg.before).sum(axis=0)
+    moment = (seg.before * seg.mid_before - seg.beyond * seg.mid_beyond).sum(axis=0)
+    force = q * net
+    t1 = q * (moment + foot1 * net)
+    t2 = q * (moment + foot2 * net)
     return FrictionFactors(force=force, torque_pinion=t1, torque_gear=t2)
 
 

@@ -9,7 +9,7 @@ sin(ph2 - th2))`` (eq. 1). From them, exactly for rigid involute teeth: the cent
 the paper prints ``cos psi``).
 
 Displacement form: unwinding the involutes gives ``r_b1 th1 - r_b2 th2 = |AB| - (r_b1 + r_b2)
-alpha + const``, hence the rigid gear angle (fixed-point iteration), the eccentricity's
+alpha + const``, hence the rigid gear angle (Newton's method), the eccentricity's
 displacement along the line of action ``e_ecc = r_b2 th2 - r_b1 th1`` (m) and the contact travel
 from the moving tangent point ``tau = r_b1 (th1 + alpha - alpha_0)`` (m). With ``e1 = e2 = 0``
 everything reduces to the error-free pair. The readings of the paper are listed in
@@ -36,11 +36,13 @@ Scalar = float | FloatArray
 _MATH = SimpleNamespace(cos=math.cos, sin=math.sin, sqrt=math.sqrt, arccos=math.acos,
                         arctan2=math.atan2)
 
-#: of (e1 + e2) / r_b2, the scale of u (rounding moves u by ~1e-15 rad); each step contracts by
-#: ~e2 / r_b2, so the last iterate is ~1e-3 of the tolerance from the fixed point
+#: of (e1 + e2) / r_b2, the scale of u (rounding moves u by ~1e-15 rad); Newton's steps converge
+#: quadratically, so the last iterate is far below the tolerance from the solution
 _FIXED_POINT_TOL = 1e-12
 _EPS = float(np.finfo(float).eps)
 _FIXED_POINT_MAX = 60
+#: factor on the predicted error of the next Newton step before it is skipped
+_NEWTON_SAFETY = 100.0
 
 
 @dataclass(frozen=True)
@@ -213,7 +215,7 @@ class EccentricMesh:
             tip2=p.tip_reach2, l_ad=p.tip_reach1, w1=self.speed,
             ab_min=math.sqrt(l_min**2 - rbs**2), ab_max=math.sqrt(l_max**2 - rbs**2),
         )
-        g0 = _geometry(_MATH, c, 0.0, 0.0)
+        g0 = _geometry(_MATH, c, _pinion(_MATH, c, 0.0), 0.0)
         c["ab0"] = g0["ab"]
         c["alpha0"] = g0["alpha"]
         c["l_ac0"] = g0["ab"] - c["tip2"]
@@ -224,6 +226,12 @@ class EccentricMesh:
     def l_ac0(self) -> float:
         """Distance A..C at t = 0 (``L_AC0`` of Liu et al. 2017) in m."""
         return self._c["l_ac0"]
+
+    @property
+    def angle_key(self) -> tuple[tuple[str, float], ...]:
+        """The constants that fix the kinematics as functions of the pinion angle (all but the
+        speed): meshes with equal keys differ only in their speed."""
+        return tuple(sorted((k, v) for k, v in self._c.items() if k != "w1"))
 
     @property
     def l_ac_range(self) -> tuple[float, float]:
@@ -264,43 +272,54 @@ class EccentricMesh:
         nominal = th1 * c["rb1"] / c["rb2"]
         # the gear angle as nominal + u, u = e_ecc / r_b2 small: iterating on u keeps it free of
         # the cancellation of r_b2 th2 - r_b1 th1 (th1 grows without bound, u does not)
-        u = 0.0 * th1
-        g = _geometry(xp, c, th1, nominal)
+        pin = _pinion(xp, c, th1)
         if c["e2"] > 0.0:
-            # fixed point u = F(u), contracting by ~e2 / r_b2 per step: two plain steps, one
-            # Aitken extrapolation, then plain steps until the change is below the tolerance
+            # Newton's method on u = F(u) (F' ~ e2 / r_b2, so it converges quadratically from
+            # u = 0: two or three steps to rounding), on the light evaluation of the gear's
+            # part; the whole geometry once, at the last iterate. It stops when a step moves u
+            # by less than the tolerance, or when the next step would: quadratic convergence,
+            # e_next = K e^2 with K ~ c2 / c1^2 from two successive steps c1, c2, predicts the
+            # error after c2 as c2^3 / c1^2 (Kelley 2003, on terminating Newton iterations), taken
+            # _NEWTON_SAFETY times
             scalar = xp is _MATH
             # rounding of the angle p2 - th2 moves u by ~eps |th2| e2 / r_b2: never ask for less
             big = abs(nominal) if scalar else float(np.max(np.abs(nominal)))
             tol = (_FIXED_POINT_TOL * (c["e1"] + c["e2"]) + 8 * _EPS * big * c["e2"]) / c["rb2"]
-            x1 = _rigid_u(c, g)
-            x2 = _rigid_u(c, _geometry(xp, c, th1, nominal + x1))
-            d1, d2 = x1 - u, x2 - x1
-            den = d2 - d1
-            if scalar:
-                u = x2 - d2 * d2 / den if den != 0.0 else x2
-            else:
-                safe = np.where(den != 0.0, den, 1.0)
-                u = np.where(den != 0.0, x2 - d2 * d2 / safe, x2)
-            g = _geometry(xp, c, th1, nominal + u)
+            u = 0.0 * th1
+            step: Any = None
             for _ in range(_FIXED_POINT_MAX):
-                u_new = _rigid_u(c, g)
-                change = abs(u_new - u) if scalar else float(np.max(np.abs(u_new - u)))
+                f, df = _rigid_u_newton(xp, c, pin, nominal + u)
+                u_new = u - (u - f) / (1.0 - df)
+                prev, step = step, abs(u_new - u) if scalar else np.abs(u_new - u)
                 u = u_new
-                g = _geometry(xp, c, th1, nominal + u)
+                change = step if scalar else float(np.max(step))
                 if change <= tol:
                     break
+                if prev is not None:
+                    if scalar:
+                        ahead = step**3 / prev**2 if prev > 0.0 else 0.0
+                    else:
+                        ahead = float(np.max(np.where(prev > 0.0, step**3 / np.where(
+                            prev > 0.0, prev, 1.0)**2, 0.0)))
+                    if _NEWTON_SAFETY * ahead <= tol:
+                        break
+            g = _geometry(xp, c, pin, nominal + u)
         else:
+            g = _geometry(xp, c, pin, nominal)
             u = _rigid_u(c, g)
         return _assemble(c, tt, th1, nominal, u, g)
 
 
-def _geometry(xp: Any, c: dict[str, float], th1: Any, th2: Any) -> dict[str, Any]:
-    """Liu et al. (2017), eqs. 1-11, for rotation angles th1 (CCW) and th2 (CW); xp = numpy or
-    math."""
-    e1, e2, h, rb1, rbs = c["e1"], c["e2"], c["h"], c["rb1"], c["rbs"]
-    x1 = e1 * xp.cos(c["p1"] + th1)
-    y1 = e1 * xp.sin(c["p1"] + th1)
+def _pinion(xp: Any, c: dict[str, float], th1: Any) -> tuple[Any, Any]:
+    """The pinion's geometric centre O1' (eq. 1) at rotation angle th1 (CCW) in m."""
+    return c["e1"] * xp.cos(c["p1"] + th1), c["e1"] * xp.sin(c["p1"] + th1)
+
+
+def _geometry(xp: Any, c: dict[str, float], pin: tuple[Any, Any], th2: Any) -> dict[str, Any]:
+    """Liu et al. (2017), eqs. 1-11, for the pinion centre ``pin`` = :func:`_pinion` and the
+    gear's rotation angle th2 (CW); xp = numpy or math."""
+    e2, h, rb1, rbs = c["e2"], c["h"], c["rb1"], c["rbs"]
+    x1, y1 = pin
     x2 = h + e2 * xp.cos(c["p2"] - th2)
     y2 = e2 * xp.sin(c["p2"] - th2)
     dx, dy = x2 - x1, y2 - y1
@@ -325,6 +344,24 @@ def _rigid_u(c: dict[str, float], g: dict[str, Any]) -> Any:
     """Gear angle minus its nominal value r_b1 th1 / r_b2, from the displacement relation of
     rigid involute teeth (rad)."""
     return (c["rbs"] * (g["alpha"] - c["alpha0"]) - (g["ab"] - c["ab0"])) / c["rb2"]
+
+
+def _rigid_u_newton(xp: Any, c: dict[str, float], pin: tuple[Any, Any], th2: Any
+                    ) -> tuple[Any, Any]:
+    """:func:`_rigid_u` at the gear angle th2 and its derivative with respect to th2, from the
+    gear's part of :func:`_geometry` only (what Newton's method on u needs)."""
+    e2, rbs = c["e2"], c["rbs"]
+    x1, y1 = pin
+    ca2, sa2 = xp.cos(c["p2"] - th2), xp.sin(c["p2"] - th2)
+    dx, dy = c["h"] + e2 * ca2 - x1, e2 * sa2 - y1
+    l2 = dx * dx + dy * dy
+    ab = xp.sqrt(l2 - rbs * rbs)
+    alpha = xp.arccos(rbs / xp.sqrt(l2)) - xp.arctan2(dy, dx)
+    # d(dx)/d th2 = e2 sin(p2 - th2), d(dy)/d th2 = -e2 cos(p2 - th2)
+    dl2 = 2.0 * e2 * (dx * sa2 - dy * ca2)
+    dalpha = rbs * dl2 / (2.0 * l2 * ab) + e2 * (dx * ca2 + dy * sa2) / l2
+    f = (rbs * (alpha - c["alpha0"]) - (ab - c["ab0"])) / c["rb2"]
+    return f, (rbs * dalpha - 0.5 * dl2 / ab) / c["rb2"]
 
 
 def _assemble(c: dict[str, float], t: Any, th1: Any, nominal: Any, u: Any, g: dict[str, Any]

@@ -133,10 +133,12 @@ class ExcitationTable:
             tb = t[sel]
             i = np.maximum(np.searchsorted(starts, tb, side="right") - 1, 0)
             s = (tb - mids[i]) * inv_half[i]
-            c = coefs[i]  # (n, DEGREE + 1, 5)
-            acc = c[:, 0, :].copy()
+            # Horner, gathering one power's rows at a time (no (n, DEGREE + 1, 5) copy)
+            sc = s[:, None]
+            acc = coefs[i, 0, :]
             for k in range(1, DEGREE + 1):
-                acc = acc * s[:, None] + c[:, k, :]
+                acc *= sc
+                acc += coefs[i, k, :]
             out[:, sel] = acc.T
         return out
 

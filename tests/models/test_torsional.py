@@ -266,3 +266,38 @@ def test_periodic_stiffness_follows_the_eccentric_mesh_phase() -> None:
                                atol=1e-15)
     r = simulate(model, 0.004, SolverSettings(method="DOP853", rtol=1e-7))
     assert np.all(np.isfinite(r.outputs["mesh_force"]))
+
+
+def test_mean_friction_arms_are_means_over_shaft_angles_at_any_speed() -> None:
+    """The kept means serve another speed: computed afresh there they agree to rounding."""
+    from gear_dyn.models import torsional
+
+    def build(speed: float) -> TorsionalModel:
+        return TorsionalModel(PAIR, speed, T1, ContactLineStiffness(K_L), INERTIAS,
+                              eccentricity=ECC, friction=0.05)
+    torsional._MEAN_ARMS.clear()
+    fast = build(W1).mean_friction_arms
+    torsional._MEAN_ARMS.clear()
+    slow = build(W1 / 37).mean_friction_arms
+    np.testing.assert_allclose(slow, fast, rtol=1e-12)
+    assert build(W1 / 37).mean_friction_arms == slow  # kept: the same numbers
+
+
+def test_outputs_on_a_repeated_grid_are_fresh_and_equal() -> None:
+    """The kept excitations of the last grid: the same numbers, never the caller's arrays."""
+    model = TorsionalModel(PAIR, W1, T1, ContactLineStiffness(K_L), INERTIAS, eccentricity=ECC,
+                           friction=0.05)
+    t = time_grid(model.mesh_frequency, 200 / model.mesh_frequency, 64)
+    y = np.repeat(model.initial_state()[:, None], t.size, axis=1)
+    first = model.outputs(t, y)
+    first["stiffness"][:] = 0.0  # the caller's array, not the kept one
+    again = model.outputs(t.copy(), y)
+    ex = model.excitations(t)
+    np.testing.assert_array_equal(again["stiffness"], ex["stiffness"])
+    np.testing.assert_array_equal(again["e_ecc"], ex["e_ecc"])
+    blocks = [model.excitations(t[i:i + 1000]) for i in range(0, t.size, 1000)]
+    for name, value in ex.items():
+        ref = np.concatenate([b[name] for b in blocks])
+        # blocks of another size: the same formulas point by point (the kinematics' Newton
+        # steps may stop one step apart, at rounding)
+        np.testing.assert_allclose(value, ref, rtol=1e-12, atol=1e-12 * np.max(np.abs(ref)))

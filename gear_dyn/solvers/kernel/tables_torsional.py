@@ -39,6 +39,8 @@ QUANTITIES = ("e_ecc", "de_dp", "stiffness", "phi1", "phi2")
 TABLE_ERROR = 1e-9
 #: lowest and highest polynomial degree tried
 MIN_DEGREE, MAX_DEGREE = 3, 10
+#: one piece in SCREEN tries each degree before all pieces do (the degree search's screen)
+SCREEN = 8
 #: the kinematics of the contact-line form, in the kernel's order (gd_lines in gd_kernel.h);
 #: ``travel`` less its mean growth ``p p_bt``
 KINEMATICS = ("e_ecc", "travel", "l_ac", "l_cd", "l_cp", "foot1", "foot2")
@@ -203,18 +205,43 @@ def torsional_table(model: Any, lines: bool = True) -> TorsionalTable:
     exact = direct(chk)
     if lines and model.eccentric and isinstance(model.stiffness, ContactLineStiffness):
         return _line_table(model, br, chk, exact, scale)
+    # every SCREEN-th piece first: a degree that fails there fails on all pieces (the error is
+    # a maximum over pieces, each fitted alone), so only a degree that passes is fitted on all
+    few = np.arange(0, a.size, SCREEN)
+    exact_few = exact.reshape(5, a.size, u.size)[:, few].reshape(5, -1)
     for degree in range(MIN_DEGREE, MAX_DEGREE + 1):
         s, to_mono = node_matrix(degree)
+        if degree < MAX_DEGREE and few.size < a.size:
+            vals = direct((mid[few, None] + half[few, None] * s[None, :]).ravel())
+            coef = _fit(to_mono, vals.reshape(5, few.size, s.size))
+            approx = _at(coef, np.vander(u, degree + 1))
+            if not np.all(np.max(np.abs(approx - exact_few), axis=1) / scale <= TABLE_ERROR):
+                continue
         vals = direct((mid[:, None] + half[:, None] * s[None, :]).ravel())
-        coef = np.einsum("ij,qpj->pqi", to_mono, vals.reshape(5, a.size, s.size))
+        coef = _fit(to_mono, vals.reshape(5, a.size, s.size))
         # the check points sit at s = u on every piece: the table there, piece by piece
-        approx = np.einsum("pqi,ji->qpj", coef, np.vander(u, degree + 1)).reshape(5, -1)
+        approx = _at(coef, np.vander(u, degree + 1))
         err = np.max(np.abs(approx - exact), axis=1) / scale
         if np.all(err <= TABLE_ERROR):
             return TorsionalTable(br, degree, coef, period,
                                   {n: float(e) for n, e in zip(QUANTITIES, err, strict=True)})
     raise InputError(f"native FMU table: no polynomial degree up to {MAX_DEGREE} reaches the "
                      f"table error {TABLE_ERROR:g} (reached {float(np.max(err)):.3g})")
+
+
+def _fit(to_mono: FloatArray, vals: FloatArray) -> FloatArray:
+    """Coefficients (pieces, 5, degree + 1) from values (5, pieces, nodes) at the nodes."""
+    q, p, n = vals.shape
+    flat = np.ascontiguousarray(vals).reshape(q * p, n) @ to_mono.T  # one matrix product
+    return np.ascontiguousarray(flat.reshape(q, p, -1).transpose(1, 0, 2))
+
+
+def _at(coef: FloatArray, vander: FloatArray) -> FloatArray:
+    """The polynomials ``coef`` (pieces, 5, degree + 1) at the points of ``vander`` on every
+    piece: (5, pieces x points)."""
+    p, q, d = coef.shape
+    flat = coef.reshape(p * q, d) @ vander.T  # one matrix product
+    return np.ascontiguousarray(flat.reshape(p, q, -1).transpose(1, 0, 2)).reshape(q, -1)
 
 
 def _line_table(model: Any, br: FloatArray, chk: FloatArray, exact: FloatArray,
