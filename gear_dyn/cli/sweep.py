@@ -205,19 +205,20 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
     import numpy as np
 
     from gear_dyn.analysis.chart import chart_summary, sweep_charts
-    from gear_dyn.analysis.sweep import RPM, summarize_sweep, sweep_columns
+    from gear_dyn.analysis.sweep import RPM
     from gear_dyn.io import save_figure, staged_output, write_csv, write_json
     from gear_dyn.models.base import MeshModel
     from gear_dyn.plots.sweep import plot_stability_charts, plot_sweep_response, plot_waterfall
     from gear_dyn.scene import build_model
     from gear_dyn.scene.iso import iso_kv_at
 
-    summary = summarize_sweep(result)
-    cols = sweep_columns(result)
+    summary = result.to_dict()
+    speed = np.concatenate([c.speed for c in result.curves])  # rad/s, the order of the rows
+    extra: dict[str, Any] = {}
     iso_curve = None
-    if (kv := iso_kv_at(scene, cols["speed_rad_s"])) is not None:  # the standard per speed
-        cols["iso_6336_kv"] = kv
-        rpm = np.linspace(float(np.min(cols["speed_rpm"])), float(np.max(cols["speed_rpm"])), 600)
+    if (kv := iso_kv_at(scene, speed)) is not None:  # the standard per speed
+        extra["iso_6336_kv"] = kv
+        rpm = np.linspace(float(np.min(speed / RPM)), float(np.max(speed / RPM)), 600)
         dense = np.asarray(iso_kv_at(scene, rpm * RPM))
         iso_curve = (rpm, dense)
         summary["iso_6336_kv_max"] = float(np.max(dense))
@@ -236,7 +237,7 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
             stability = plot_stability_charts(found, sweep_range=(lo, hi), title=title)
             summary["stability_chart"] = chart_summary(found)
     with staged_output(out) as tmp:
-        write_csv(tmp / "sweep.csv", cols)
+        result.to_csv(tmp / "sweep.csv", extra)
         write_csv(tmp / "spectra.csv", _spectra_columns(result))
         write_json(tmp / "sweep.json", summary)
         save_figure(plot_sweep_response(result, iso_kv=iso_curve), tmp / "response.png", dpi=110)

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import importlib
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -396,6 +397,82 @@ class SweepResult:
         (each returns the Figure; :class:`.SweepPlots`)."""
         return SweepPlots(self)
 
+    def to_dict(self) -> dict[str, Any]:
+        """The sweep's summary, what sweep.json holds before the scene's figures are added
+        (:func:`gear_dyn.analysis.sweep.report.summarize_sweep`).
+
+        Returns
+        -------
+        dict
+            JSON-ready (plain numbers, lists, strings); SI units in the key names, speeds in
+            rpm (``speed_range_rpm``, ``curves[direction]["max_dynamic_factor_speed_rpm"]``).
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.sweep.types.SweepResult.rows` : One row per speed.
+
+        Examples
+        --------
+        >>> import gear_dyn as gd
+        >>> sweep = gd.sweep_scene(gd.load_scene("helicopter_tail"), "3000 rpm:3600 rpm:3")
+        >>> sweep.to_dict()["speed_range_rpm"]
+        [3000.0, 3600.0]
+        """
+        from gear_dyn.analysis.sweep.report import summarize_sweep
+
+        return summarize_sweep(self)
+
+    def rows(self) -> list[dict[str, float]]:
+        """One row per (direction, speed), the rows of sweep.csv
+        (:func:`gear_dyn.analysis.sweep.report.sweep_columns`: ``direction_down`` 0 = up,
+        1 = down; ``dynamic_factor`` is K_dyn, ``peak_force_ratio`` F_max / W).
+
+        Returns
+        -------
+        list of dict
+            Plain floats; SI units (and rpm) in the key names.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.sweep.types.SweepResult.to_csv` : Writes them.
+
+        Examples
+        --------
+        >>> import gear_dyn as gd
+        >>> sweep = gd.sweep_scene(gd.load_scene("helicopter_tail"), "3000 rpm:3600 rpm:3")
+        >>> [row["speed_rpm"] for row in sweep.rows()]
+        [3000.0, 3300.0, 3600.0]
+        """
+        from gear_dyn.analysis.sweep.report import sweep_columns
+        from gear_dyn.io import column_rows
+
+        return column_rows(sweep_columns(self))
+
+    def to_csv(self, path: str | Path, extra: Mapping[str, Any] | None = None) -> Path:
+        """Write :meth:`rows` as CSV (sweep.csv) atomically, the columns of ``extra`` (one
+        value per row, e.g. the CLI's ``iso_6336_kv``) after them.
+
+        Parameters
+        ----------
+        path : str or Path
+            The file to write (replaced if it exists).
+        extra : mapping of str to array or None
+            More columns, each as long as :meth:`rows`.
+
+        Returns
+        -------
+        Path
+            The file written.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.sweep.types.SweepResult.to_dict` : The same for JSON.
+        """
+        from gear_dyn.analysis.sweep.report import sweep_columns
+        from gear_dyn.io import write_csv
+
+        return write_csv(path, {**sweep_columns(self), **(extra or {})})
+
     def peak(self, quantity: str = "dynamic_factor") -> Peak:
         """The largest value of ``quantity`` over all curves: a
         :class:`~gear_dyn.analysis.sweep.types.Peak` (value, pinion
@@ -488,3 +565,4 @@ class SweepResult:
                 return c
         raise InputError(f"sweep direction {direction!r} not in this result; available: "
                          f"{', '.join(c.direction for c in self.curves)}")
+

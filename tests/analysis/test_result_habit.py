@@ -1,0 +1,67 @@
+"""One habit for the public result types: ``plot(ax=None)``, ``to_dict()`` and ``rows()``.
+
+Per type: ``to_dict()`` survives ``json.dumps`` and carries the key figures of the result
+itself; ``rows()`` agrees, row for row and key for key, with the CSV that ``to_csv`` (the
+CLI's writer) puts on disk.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+import gear_dyn as gd
+from gear_dyn.analysis.motion import DiagramOptions, bifurcation_diagram
+from gear_dyn.analysis.sweep import RPM
+
+
+def _csv_rows(path: Path) -> list[dict[str, str]]:
+    lines = [ln for ln in path.read_text().splitlines() if not ln.startswith("#")]
+    return list(csv.DictReader(lines))
+
+
+def _agree(rows: list[dict[str, Any]], path: Path) -> None:
+    """The rows are the file's: same length, same keys in order, same values (exact)."""
+    back = _csv_rows(path)
+    assert len(back) == len(rows) > 0
+    assert list(back[0]) == list(rows[0])
+    for r, b in zip(rows, back, strict=True):
+        for k, v in r.items():
+            assert (np.isnan(v) and b[k] == "nan") if v != v else float(b[k]) == v, k
+
+
+@pytest.fixture(scope="module")
+def sweep() -> Any:
+    return gd.sweep_scene(gd.load_scene("helicopter_tail"), "3000 rpm:3600 rpm:3")
+
+
+def test_sweep_result_habit(sweep, tmp_path) -> None:
+    d = json.loads(json.dumps(sweep.to_dict()))
+    value, speed, direction = sweep.peak()
+    assert d["curves"][direction]["max_dynamic_factor"] == value
+    assert d["curves"][direction]["max_dynamic_factor_speed_rpm"] == pytest.approx(speed / RPM)
+    assert d["n_speeds"] == 3 and d["natural_frequency_hz"] == sweep.natural_frequency
+    rows = sweep.rows()
+    assert [r["dynamic_factor"] for r in rows] == sweep.curves[0].dynamic_factor.tolist()
+    _agree(rows, sweep.to_csv(tmp_path / "sweep.csv"))
+
+
+def test_bifurcation_diagram_habit(tmp_path) -> None:
+    m = gd.SDOFModel(1.0, gd.rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+                     backlash=1e-3)
+    diagram = bifurcation_diagram(gd.sdof_family(m, "speed", teeth=20), [43.0, 44.0],
+                                  options=DiagramOptions(settle=20, samples=32), name="case")
+    d = json.loads(json.dumps(diagram.to_dict()))
+    up = diagram.curve("up")
+    assert [p["period"] for p in d["curves"]["up"]] == up.period.tolist()
+    assert [p["speed_rad_s"] for p in d["curves"]["up"]] == up.speed.tolist()
+    rows = diagram.rows()
+    assert len(rows) == 2 * 2 * 32
+    path = diagram.to_csv(tmp_path / "samples.csv")
+    assert path.read_text().startswith("# case: stroboscopic samples")
+    _agree(rows, path)
