@@ -65,3 +65,17 @@ def test_bifurcation_diagram_habit(tmp_path) -> None:
     path = diagram.to_csv(tmp_path / "samples.csv")
     assert path.read_text().startswith("# case: stroboscopic samples")
     _agree(rows, path)
+
+
+def test_tolerance_result_habit(tmp_path) -> None:
+    from gear_dyn.scene.tolerance import tolerance_scene
+
+    res = tolerance_scene(gd.load_scene("helicopter_tail"), ["2500 rpm", "3300 rpm"],
+                          samples=4, grade=7, samples_per_period=16)
+    d = json.loads(json.dumps(res.to_dict()))
+    k = res.stats("k_dyn")
+    assert d["metrics"]["k_dyn"]["median"] == k["median"].tolist()
+    assert d["speed_rad_per_s"] == res.speeds.tolist() and d["n_samples"] == 4
+    rows = res.rows()
+    assert [r["k_dyn_median"] for r in rows] == k["median"].tolist()
+    _agree(rows, res.to_csv(tmp_path / "tolerance.csv"))
