@@ -79,3 +79,17 @@ def test_tolerance_result_habit(tmp_path) -> None:
     rows = res.rows()
     assert [r["k_dyn_median"] for r in rows] == k["median"].tolist()
     _agree(rows, res.to_csv(tmp_path / "tolerance.csv"))
+
+
+def test_run_result_habit(tmp_path) -> None:
+    m = gd.SDOFModel(0.5, gd.rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+    res = gd.simulate(m, 0.02)
+    d = json.loads(json.dumps(res.to_dict()))
+    assert d["rms_dte_m"] == res.rms_dte and d["dynamic_factor"] == res.dynamic_factor
+    assert d["mesh_frequency_hz"] == 500.0
+    rows = res.rows()
+    assert len(rows) == res.t.size
+    assert [r["dte"] for r in rows] == res.series("dte").tolist()
+    path = res.to_csv(tmp_path / "timeseries.csv")
+    assert path.read_text().splitlines()[2] == f"# dte: {d['dte_definition']}"
+    _agree(rows, path)
