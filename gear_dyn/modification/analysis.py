@@ -6,8 +6,10 @@ modifications and misalignment (:class:`~gear_dyn.modification.analysis.SliceCas
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -26,6 +28,10 @@ from gear_dyn.modification.slice_contact import SliceContact, SliceOptions, slic
 from gear_dyn.modification.stress import contact_stress
 
 FloatArray = NDArray[np.float64]
+
+#: the module that draws a ReliefStudy; looked up by name at call time (never imported on load,
+#: as :class:`gear_dyn.solvers.result.ResultPlots` does for runs)
+PLOTS_MODULE = "gear_dyn.plots.contact"
 
 
 @dataclass(frozen=True)
@@ -246,6 +252,13 @@ class ReliefDynamics:
                 "best": self.best,
                 "best_rule": "lowest peak dynamic mesh force F_max / W over the speed range"}
 
+    def to_csv(self, path: str | Path) -> Path:
+        """Write :meth:`rows` as CSV (dynamics.csv: one row per design and speed) atomically;
+        returns the file written."""
+        from gear_dyn.io import write_rows
+
+        return write_rows(path, self.rows())
+
 
 @dataclass(frozen=True, eq=False)
 class ReliefStudy:
@@ -318,3 +331,28 @@ class ReliefStudy:
         if self.dynamics is not None:
             out["dynamics"] = self.dynamics.to_dict()
         return out
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write :meth:`rows` as CSV (study.csv: one row per design and torque) atomically;
+        returns the file written."""
+        from gear_dyn.io import write_rows
+
+        return write_rows(path, self.rows())
+
+    def plot(self, ax: Any = None) -> Any:
+        """PPTE and peak Hertz pressure against torque, with the dynamics a right-hand column
+        of F_max / W and p-p DTE against speed (:func:`gear_dyn.plots.contact.plot_relief_study`,
+        looked up by name as ``Result.plot`` does); returns the Figure.
+
+        Parameters
+        ----------
+        ax : sequence of matplotlib.axes.Axes or None
+            2 Axes (4 with dynamics, row-major), or None for a new figure.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure drawn on.
+        """
+        plots = importlib.import_module(PLOTS_MODULE)
+        return plots.plot_relief_study(self, ax=ax)

@@ -82,7 +82,8 @@ def test_operating_speed_inside_the_range_is_swept_with_it() -> None:
     rpm = cmp.sweeps[0].curves[0].speed / RPM
     np.testing.assert_allclose(rpm, [3000.0, 3300.0, 3319.0, 3600.0])
     assert "operating_speed_outside_range" not in cmp.designs[0]["flags"]
-    assert cmp.designs[0]["operating_peak_force_ratio"] == cmp.sweeps[0].curves[0].peak_force_ratio[2]
+    row = cmp.designs[0]
+    assert row["operating_peak_force_ratio"] == cmp.sweeps[0].curves[0].peak_force_ratio[2]
     assert cmp.speed_range_rpm == pytest.approx((3000.0, 3600.0))
 
 
