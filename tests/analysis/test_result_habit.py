@@ -93,3 +93,16 @@ def test_run_result_habit(tmp_path) -> None:
     path = res.to_csv(tmp_path / "timeseries.csv")
     assert path.read_text().splitlines()[2] == f"# dte: {d['dte_definition']}"
     _agree(rows, path)
+
+
+def test_branch_habit(tmp_path) -> None:
+    m = gd.SDOFModel(1.0, gd.rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+                     backlash=1e-3)
+    branch = gd.continue_orbits(gd.sdof_family(m, "speed", teeth=20), 43.0, 44.5)
+    d = json.loads(json.dumps(branch.to_dict()))
+    assert len(d["points"]) == len(branch.points)
+    assert [p["speed_rad_s"] for p in d["points"]] == branch.array("parameter").tolist()
+    rows = branch.rows()
+    back = _csv_rows(branch.to_csv(tmp_path / "branch.csv"))
+    assert len(back) == len(rows) and list(back[0]) == list(rows[0])
+    assert [str(r[k]) for r in rows for k in r] == [b[k] for b in back for k in b]

@@ -14,6 +14,7 @@ from __future__ import annotations
 import importlib
 import math
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -479,6 +480,23 @@ class Branch:
                 for i, b in enumerate(self.walk())],
             "points": self.rows(),
         }
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write :meth:`rows` (this branch and its children) as CSV (branch.csv) atomically.
+
+        Parameters
+        ----------
+        path : str or Path
+            The file to write (replaced if it exists).
+
+        Returns
+        -------
+        Path
+            The file written.
+        """
+        from gear_dyn.io import write_rows
+
+        return write_rows(path, self.rows())
 
     def plot(self, ax: Any = None, **kwargs: Any) -> Any:
         """The response curve (:func:`gear_dyn.plots.continuation.plot_branch`): stable

@@ -13,6 +13,7 @@ from __future__ import annotations
 import importlib
 import math
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -253,6 +254,24 @@ class FoldMap:
                             "torque_error_n_m": c.torque_error,
                             "fold_half_gap_rad_s": c.half_gap})
         return out
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write :meth:`rows` as CSV (fold_curve.csv) atomically; with no fold, the header
+        ``region`` alone.
+
+        Parameters
+        ----------
+        path : str or Path
+            The file to write (replaced if it exists).
+
+        Returns
+        -------
+        Path
+            The file written.
+        """
+        from gear_dyn.io import write_rows
+
+        return write_rows(path, self.rows(), empty=["region"])
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-able: the speed window, f_n, torques, folds per torque, cusps and rows.
