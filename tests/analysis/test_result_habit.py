@@ -106,3 +106,19 @@ def test_branch_habit(tmp_path) -> None:
     back = _csv_rows(branch.to_csv(tmp_path / "branch.csv"))
     assert len(back) == len(rows) and list(back[0]) == list(rows[0])
     assert [str(r[k]) for r in rows for k in r] == [b[k] for b in back for k in b]
+
+
+def test_motion_habit(tmp_path) -> None:
+    m = gd.SDOFModel(1.0, gd.rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 136.9,
+                     backlash=1e-3)
+    motion = gd.classify_motion(m, m.initial_state(), settle=20, samples=32)
+    d = json.loads(json.dumps(motion.to_dict()))
+    assert (d["kind"], d["label"], d["period"]) == (motion.kind, motion.label, motion.period)
+    assert max(abs(complex(*z)) for z in d["multipliers"]) == pytest.approx(
+        d["spectral_radius"], rel=1e-12)
+    assert d["state_si"] == motion.state.tolist()
+    rows = motion.rows()
+    assert [r["state_0"] for r in rows] == motion.samples[:, 0].tolist()
+    _agree(rows, motion.to_csv(tmp_path / "motion.csv"))
+    fig = motion.plot()
+    assert fig.axes[0].get_title() == motion.label
