@@ -130,7 +130,6 @@ def run(args: argparse.Namespace) -> int:
 
     from gear_dyn.io import save_figure, staged_output, write_csv, write_json
     from gear_dyn.plots.contact import (
-        plot_face_load,
         plot_load_sharing,
         plot_loaded_stiffness,
         plot_slice_stiffness,
@@ -171,7 +170,7 @@ def run(args: argparse.Namespace) -> int:
                 table[f"{key}_{col}"] = values
     featured = ltca.get("scene relief") or next(iter(ltca.values()))
     with staged_output(args.out) as tmp:
-        save_figure(plot_face_load(featured.contact, title=featured.name), tmp / "face_load.png",
+        save_figure(featured.contact.plot(title=featured.name), tmp / "face_load.png",
                     dpi=120)
         write_csv(tmp / "ltca.csv", table)
         if cases:

@@ -122,3 +122,21 @@ def test_motion_habit(tmp_path) -> None:
     _agree(rows, motion.to_csv(tmp_path / "motion.csv"))
     fig = motion.plot()
     assert fig.axes[0].get_title() == motion.label
+
+
+def test_slice_contact_habit(tmp_path) -> None:
+    import math
+
+    from gear_dyn.geometry import GearPair
+    from gear_dyn.modification.slice_contact import SliceOptions, slice_contact
+
+    rail = GearPair(23, 79, 6e-3, math.radians(20), 70e-3, math.radians(20), x1=0.3, x2=-0.1)
+    c = slice_contact(rail, [400.0, 2000.0], options=SliceOptions(slices=8, positions=12))
+    d = json.loads(json.dumps(c.to_dict()))
+    assert [s["peak_to_peak_static_te_m"] for s in d["summary"]] == c.peak_to_peak_te.tolist()
+    rows = c.rows()
+    assert len(rows) == 2 * c.phase.size
+    assert [r["loaded_te_m"] for r in rows] == c.deflection.ravel().tolist()
+    _agree(rows, c.to_csv(tmp_path / "ltca.csv"))
+    fig = c.plot(title="rail")
+    assert len(fig.axes) >= 2
