@@ -206,6 +206,7 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
 
     from gear_dyn.analysis.chart import chart_summary, sweep_charts
     from gear_dyn.analysis.sweep import RPM
+    from gear_dyn.analysis.sweep.report import spectra_columns
     from gear_dyn.io import save_figure, staged_output, write_csv, write_json
     from gear_dyn.models.base import MeshModel
     from gear_dyn.plots.sweep import plot_stability_charts, plot_sweep_response, plot_waterfall
@@ -238,7 +239,7 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
             summary["stability_chart"] = chart_summary(found)
     with staged_output(out) as tmp:
         result.to_csv(tmp / "sweep.csv", extra)
-        write_csv(tmp / "spectra.csv", _spectra_columns(result))
+        write_csv(tmp / "spectra.csv", spectra_columns(result))
         write_json(tmp / "sweep.json", summary)
         save_figure(plot_sweep_response(result, iso_kv=iso_curve), tmp / "response.png", dpi=110)
         for c in result.curves:
@@ -247,21 +248,6 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
         if stability is not None:
             save_figure(stability, tmp / "stability.png", dpi=110)
     return summary
-
-
-def _spectra_columns(result: Any) -> dict[str, Any]:
-    """spectra.csv: direction, speed and the DTE amplitude of each order, per speed."""
-    import numpy as np
-
-    from gear_dyn.analysis.sweep import RPM
-
-    curves = result.curves
-    cols = {"direction_down": np.concatenate([np.full(c.speed.size, float(c.direction == "down"))
-                                              for c in curves]),
-            "speed_rpm": np.concatenate([c.speed / RPM for c in curves])}
-    for j, o in enumerate(result.orders):
-        cols[f"dte_amp_m_order_{o:g}"] = np.concatenate([c.spectrum[:, j] for c in curves])
-    return cols
 
 
 __all__ = ["register", "run", "write_sweep_outputs"]

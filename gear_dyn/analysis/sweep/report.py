@@ -44,6 +44,18 @@ def sweep_columns(result: SweepResult) -> dict[str, Any]:
     return {k: np.concatenate([np.asarray(p[k], dtype=float) for p in parts]) for k in parts[0]}
 
 
+def spectra_columns(result: SweepResult) -> dict[str, Any]:
+    """spectra.csv columns: one row per (direction, speed), as :func:`sweep_columns`: direction
+    coded 0 = up, 1 = down, the speed in rpm and the DTE amplitude (m) of each mesh order."""
+    curves = result.curves
+    cols = {"direction_down": np.concatenate([np.full(c.speed.size, float(c.direction == "down"))
+                                              for c in curves]),
+            "speed_rpm": np.concatenate([c.speed / RPM for c in curves])}
+    for j, o in enumerate(result.orders):
+        cols[f"dte_amp_m_order_{o:g}"] = np.concatenate([c.spectrum[:, j] for c in curves])
+    return cols
+
+
 def speed_ranges(speed: FloatArray, mask: NDArray[np.bool_]) -> list[list[float]]:
     """Contiguous ranges of the speeds ``speed`` (rad/s) where ``mask`` holds: [first, last]
     in rpm, sorted."""
