@@ -51,6 +51,22 @@ def test_sweep_result_habit(sweep, tmp_path) -> None:
     _agree(rows, sweep.to_csv(tmp_path / "sweep.csv"))
 
 
+def test_sweep_cli_files_are_the_methods(sweep, tmp_path) -> None:
+    """gear-dyn sweep's sweep.csv: rows() then the scene's ISO K_v column; its sweep.json:
+    to_dict() plus the scene's figures."""
+    from gear_dyn.cli.sweep import write_sweep_outputs
+
+    write_sweep_outputs(sweep, gd.load_scene("helicopter_tail"), tmp_path / "out", "none")
+    back = _csv_rows(tmp_path / "out" / "sweep.csv")
+    rows = sweep.rows()
+    assert len(back) == len(rows) and list(back[0]) == [*rows[0], "iso_6336_kv"]
+    assert [float(b["rms_dte_m"]) for b in back] == [r["rms_dte_m"] for r in rows]
+    written = json.loads((tmp_path / "out" / "sweep.json").read_text())
+    up = sweep.to_dict()["curves"]["up"]
+    assert written["curves"]["up"]["max_dynamic_factor"] == up["max_dynamic_factor"]
+    assert set(sweep.to_dict()) <= set(written)
+
+
 def test_bifurcation_diagram_habit(tmp_path) -> None:
     m = gd.SDOFModel(1.0, gd.rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
                      backlash=1e-3)
