@@ -177,9 +177,7 @@ def run(args: argparse.Namespace) -> int:
             cols: dict[str, Any] = {}
             for name, c in cases.items():
                 key = name.replace(" ", "_")
-                cols[f"{key}_s_from_a_m"] = c.path.position - pair.start_of_contact
-                cols[f"{key}_sharing"] = c.path.sharing
-                cols[f"{key}_stress_pa"] = c.stress
+                cols |= {f"{key}_{col}": v for col, v in c.path_columns().items()}
             n = max(len(v) for v in cols.values())
             cols = {k: np.concatenate([v, np.full(n - len(v), np.nan)]) for k, v in cols.items()}
             save_figure(plot_load_sharing(cases), tmp / "load_sharing.png", dpi=120)

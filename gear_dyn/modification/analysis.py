@@ -78,6 +78,38 @@ class ReliefCase:
         out["single_contact_end_from_a_m"] = None if zone is None else zone[1] - s_a
         return out
 
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: :meth:`row` (the case's figures) and the series along the path of
+        contact (:meth:`rows` as lists). SI units in the key names."""
+        return {**self.row(), "path": {k: v.tolist() for k, v in self.path_columns().items()}}
+
+    def path_columns(self) -> dict[str, FloatArray]:
+        """Along the path of contact: ``s_from_a_m`` (m from the start of contact A), the load
+        sharing ``sharing`` and the Hertz contact stress ``stress_pa``."""
+        s_a = self.contact.pair.start_of_contact
+        return {"s_from_a_m": self.path.position - s_a, "sharing": self.path.sharing,
+                "stress_pa": self.stress}
+
+    def rows(self) -> list[dict[str, float]]:
+        """One row per position along the path of contact (:meth:`path_columns` as dicts of
+        plain floats): the case's columns of path.csv."""
+        from gear_dyn.io import column_rows
+
+        return column_rows(self.path_columns())
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write :meth:`rows` as CSV atomically; returns the file written."""
+        from gear_dyn.io import write_csv
+
+        return write_csv(path, self.path_columns())
+
+    def plot(self, ax: Any = None) -> Any:
+        """Load sharing and Hertz stress along the path of contact
+        (:func:`gear_dyn.plots.contact.plot_load_sharing` of this case alone, looked up by
+        name; ``ax``: None or 2 Axes); returns the Figure."""
+        plots = importlib.import_module(PLOTS_MODULE)
+        return plots.plot_load_sharing({self.name: self}, ax=ax)
+
 
 def relief_columns(pair: GearPair, modification: ProfileModification | None) -> dict[str, Any]:
     """Amount, length, height (m) and curve of each gear's tip relief, as table columns."""

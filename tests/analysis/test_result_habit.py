@@ -156,3 +156,21 @@ def test_slice_contact_habit(tmp_path) -> None:
     _agree(rows, c.to_csv(tmp_path / "ltca.csv"))
     fig = c.plot(title="rail")
     assert len(fig.axes) >= 2
+
+
+def test_relief_case_habit(tmp_path) -> None:
+    import math
+
+    from gear_dyn.geometry import GearPair
+    from gear_dyn.modification.analysis import relief_case
+    from gear_dyn.stiffness.select import pair_stiffness_function
+
+    tail = GearPair(23, 64, 6e-3, math.radians(22.5), 50e-3)
+    case = relief_case("unmodified", tail, pair_stiffness_function(tail), 1474.4, None)
+    d = json.loads(json.dumps(case.to_dict()))
+    assert d["peak_stress_pa"] == float(np.max(case.stress)) == max(d["path"]["stress_pa"])
+    assert d["path"]["sharing"] == case.path.sharing.tolist()
+    rows = case.rows()
+    assert len(rows) == case.path.position.size
+    _agree(rows, case.to_csv(tmp_path / "path.csv"))
+    assert len(case.plot().axes) == 2
