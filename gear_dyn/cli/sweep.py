@@ -206,7 +206,7 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
 
     from gear_dyn.analysis.chart import chart_summary, sweep_charts
     from gear_dyn.analysis.sweep import RPM
-    from gear_dyn.analysis.sweep.report import spectra_columns
+    from gear_dyn.analysis.sweep.types import spectra_columns
     from gear_dyn.io import save_figure, staged_output, write_csv, write_json
     from gear_dyn.models.base import MeshModel
     from gear_dyn.plots.sweep import plot_stability_charts, plot_sweep_response, plot_waterfall
