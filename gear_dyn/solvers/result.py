@@ -204,7 +204,24 @@ class Result:
 
     def columns(self) -> dict[str, FloatArray]:
         """The time series as columns: ``t_s``, the states, then the outputs (an output named
-        as a state is given once, as the state); SI units. For ``io.write_csv``."""
+        as a state is given once, as the state); SI units. For ``io.write_csv``.
+
+        Returns
+        -------
+        dict of ndarray
+            Columns of equal length over ``t``.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.solvers.result.Result.rows` : The same as one dict per sample.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, rectangular_stiffness, simulate
+        >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+        >>> list(simulate(m, 0.2).columns())
+        ['t_s', 'x', 'v', 'dte', 'mesh_force', 'stiffness']
+        """
         cols: dict[str, FloatArray] = {"t_s": self.t,
                                        **dict(zip(self.state_labels, self.y, strict=True))}
         for name, arr in self.outputs.items():
@@ -254,6 +271,17 @@ class Result:
         See Also
         --------
         :meth:`~gear_dyn.solvers.result.Result.to_dict` : The summary, for JSON.
+
+        Examples
+        --------
+        >>> import tempfile
+        >>> from pathlib import Path
+        >>> from gear_dyn import SDOFModel, rectangular_stiffness, simulate
+        >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+        >>> with tempfile.TemporaryDirectory() as folder:
+        ...     lines = simulate(m, 0.2).to_csv(Path(folder) / "t.csv").read_text().splitlines()
+        >>> lines[4], len(lines)  # 4 comment lines, the header, 6401 samples
+        ('t_s,x,v,dte,mesh_force,stiffness', 6406)
         """
         from gear_dyn.io import write_csv
 

@@ -493,6 +493,23 @@ class Branch:
         -------
         Path
             The file written.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.continuation.branch.Branch.to_dict` : The same for JSON.
+
+        Examples
+        --------
+        >>> import tempfile
+        >>> from pathlib import Path
+        >>> from gear_dyn import SDOFModel, continue_orbits, rectangular_stiffness, sdof_family
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+        ...               backlash=1e-3)
+        >>> branch = continue_orbits(sdof_family(m, "speed", teeth=20), 43.0, 44.5)
+        >>> with tempfile.TemporaryDirectory() as folder:
+        ...     text = branch.to_csv(Path(folder) / "branch.csv").read_text()
+        >>> len(text.splitlines()) == len(branch.rows()) + 1  # header and one line per point
+        True
         """
         from gear_dyn.io import write_rows
 

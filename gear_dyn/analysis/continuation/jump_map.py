@@ -268,6 +268,25 @@ class FoldMap:
         -------
         Path
             The file written.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.continuation.jump_map.FoldMap.to_dict` : The same for JSON.
+
+        Examples
+        --------
+        >>> import tempfile
+        >>> from pathlib import Path
+        >>> from gear_dyn import (SDOFModel, SpeedTorqueFamily, fold_map, rectangular_stiffness,
+        ...                       sdof_family)
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+        ...               backlash=1e-3)
+        >>> fam = SpeedTorqueFamily(sdof_family(m, "speed", teeth=20), torque_ref=52.0)
+        >>> fmap = fold_map(fam, (43.0, 44.5), [50.0, 52.0], cusp_bisections=0)
+        >>> with tempfile.TemporaryDirectory() as folder:
+        ...     text = fmap.to_csv(Path(folder) / "fold_curve.csv").read_text()
+        >>> len(text.splitlines()) == len(fmap.rows()) + 1  # header and one line per fold
+        True
         """
         from gear_dyn.io import write_rows
 

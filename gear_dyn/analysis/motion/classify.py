@@ -205,6 +205,15 @@ class Motion:
         See Also
         --------
         :meth:`~gear_dyn.analysis.motion.classify.Motion.to_csv` : Writes them.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, classify_motion, rectangular_stiffness
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 136.9,
+        ...               backlash=1e-3)
+        >>> motion = classify_motion(m, m.initial_state(), settle=20, samples=32)
+        >>> len(motion.rows()), list(motion.rows()[0])
+        (32, ['sample', 'state_0', 'state_1'])
         """
         from gear_dyn.io import column_rows
 
@@ -216,7 +225,35 @@ class Motion:
                 **{f"state_{i}": self.samples[:, i] for i in range(self.samples.shape[1])}}
 
     def to_csv(self, path: str | Path) -> Path:
-        """Write :meth:`rows` as CSV atomically; returns the file written."""
+        """Write :meth:`rows` as CSV atomically.
+
+        Parameters
+        ----------
+        path : str or Path
+            The file to write (replaced if it exists).
+
+        Returns
+        -------
+        Path
+            The file written.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.motion.classify.Motion.to_dict` : The same for JSON.
+
+        Examples
+        --------
+        >>> import tempfile
+        >>> from pathlib import Path
+        >>> from gear_dyn import SDOFModel, classify_motion, rectangular_stiffness
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 136.9,
+        ...               backlash=1e-3)
+        >>> motion = classify_motion(m, m.initial_state(), settle=20, samples=32)
+        >>> with tempfile.TemporaryDirectory() as folder:
+        ...     lines = motion.to_csv(Path(folder) / "motion.csv").read_text().splitlines()
+        >>> lines[0], len(lines)
+        ('sample,state_0,state_1', 33)
+        """
         from gear_dyn.io import write_csv
 
         return write_csv(path, self._columns())
@@ -235,6 +272,22 @@ class Motion:
         -------
         matplotlib.figure.Figure
             The figure drawn on.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.motion.diagram.BifurcationDiagram.plot` : Motions over speed.
+
+        Examples
+        --------
+        >>> import matplotlib.pyplot as plt
+        >>> from gear_dyn import SDOFModel, classify_motion, rectangular_stiffness
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 136.9,
+        ...               backlash=1e-3)
+        >>> motion = classify_motion(m, m.initial_state(), settle=20, samples=32)
+        >>> fig = motion.plot()
+        >>> fig.axes[0].get_title()
+        'period-1'
+        >>> plt.close(fig)
         """
         plots = importlib.import_module("gear_dyn.plots.bifurcation")
         return plots.plot_motion(self, ax=ax)

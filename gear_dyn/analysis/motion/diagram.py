@@ -435,6 +435,21 @@ class BifurcationDiagram:
         --------
         :meth:`~gear_dyn.analysis.motion.diagram.BifurcationDiagram.to_dict` : The same for
             JSON, one entry per speed.
+
+        Examples
+        --------
+        >>> import tempfile
+        >>> from pathlib import Path
+        >>> from gear_dyn import (DiagramOptions, SDOFModel, bifurcation_diagram,
+        ...                       rectangular_stiffness, sdof_family)
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+        ...               backlash=1e-3)
+        >>> diagram = bifurcation_diagram(sdof_family(m, "speed", teeth=20), [43.0, 44.0],
+        ...                               options=DiagramOptions(settle=20, samples=32))
+        >>> with tempfile.TemporaryDirectory() as folder:
+        ...     lines = diagram.to_csv(Path(folder) / "samples.csv").read_text().splitlines()
+        >>> len(lines)  # 2 comment lines, the header, 2 directions x 2 speeds x 32 samples
+        131
         """
         from gear_dyn.io import write_csv
 

@@ -468,6 +468,17 @@ class SweepResult:
         See Also
         --------
         :meth:`~gear_dyn.analysis.sweep.types.SweepResult.to_dict` : The same for JSON.
+
+        Examples
+        --------
+        >>> import tempfile
+        >>> from pathlib import Path
+        >>> import gear_dyn as gd
+        >>> sweep = gd.sweep_scene(gd.load_scene("helicopter_tail"), "3000 rpm:3600 rpm:3")
+        >>> with tempfile.TemporaryDirectory() as folder:
+        ...     lines = sweep.to_csv(Path(folder) / "sweep.csv").read_text().splitlines()
+        >>> len(lines)  # the header and one line per speed
+        4
         """
         from gear_dyn.io import write_csv
 
