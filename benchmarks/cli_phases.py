@@ -62,14 +62,14 @@ def phases(scene_path: str) -> None:
     lap("read the scene")
     result = run_scene(scene)
     lap("solve + error estimate")
-    from gear_dyn.cli.output import DPI, ENVELOPE_BLOCKS, PNG_OPTIONS, _write_timeseries
+    from gear_dyn.cli.output import DPI, ENVELOPE_BLOCKS, PNG_OPTIONS
     from gear_dyn.io import save_figure
     from gear_dyn.plots.run import plot_spectrum, plot_time_history
 
     lap("import matplotlib (Figure, Agg) and the run figures")
     summary = summarize(result)
     with tempfile.TemporaryDirectory() as tmp:
-        _write_timeseries(result, summary, Path(tmp) / "timeseries.csv")
+        result.to_csv(Path(tmp) / "timeseries.csv")
         write_json(Path(tmp) / "summary.json", summary)
         lap("summary, timeseries.csv, summary.json")
         save_figure(plot_time_history(result, blocks=ENVELOPE_BLOCKS), Path(tmp) / "t.png",

@@ -61,7 +61,7 @@ def main(out: Path, fast: bool = False) -> Any:
     save_figure(cmp.plot(), out / "compare.png", dpi=110)
     cmp.to_csv(out / "compare.csv")
     write_json(out / "compare.json", cmp.to_dict())
-    for r in cmp.table():
+    for r in cmp.rows():
         print(f"{r['rank']}. {r['scene']:<20} F/W {r['peak_peak_force_ratio']:.3f} at "
               f"{r['peak_peak_force_ratio_speed_rpm']:.0f} rpm "
               f"({r['peak_peak_force_ratio_delta_pct']:+.1f} %), K_dyn "

@@ -126,6 +126,14 @@ def write_csv(path: str | Path, columns: Mapping[str, Sequence[float] | np.ndarr
     return write_text(path, buf.getvalue())
 
 
+def column_rows(columns: Mapping[str, Sequence[float] | np.ndarray]) -> list[dict[str, float]]:
+    """Equal-length columns (as :func:`write_csv` takes them) as one dict of plain floats per
+    row: the rows of their CSV, for a result's ``rows()``."""
+    names = list(columns)
+    values = [np.asarray(columns[n], dtype=float).ravel().tolist() for n in names]
+    return [dict(zip(names, row, strict=True)) for row in zip(*values, strict=True)]
+
+
 def write_rows(path: str | Path, rows: Sequence[Mapping[str, Any]],
                empty: Sequence[str] = ()) -> Path:
     """Atomically write dict rows as CSV, the first row's keys as header (``empty``: the header

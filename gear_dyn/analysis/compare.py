@@ -214,7 +214,7 @@ class Comparison:
     sweeps : tuple of SweepResult
         One per design, over the same speeds (each with its own operating speed added where it
         lies inside the range).
-    rows : tuple of dict
+    designs : tuple of dict
         One per design, in input order: the figures at the operating speed
         (``operating_*``) and over the range (``peak_*`` with ``*_speed_rpm`` and
         ``*_direction``), ``*_delta`` and ``*_delta_pct`` against the baseline, ``rank``
@@ -254,7 +254,7 @@ class Comparison:
 
     names: tuple[str, ...]
     sweeps: tuple[SweepResult, ...]
-    rows: tuple[dict[str, Any], ...]
+    designs: tuple[dict[str, Any], ...]
     speed_range_rpm: tuple[float, float]
     warnings: tuple[str, ...] = ()
 
@@ -266,11 +266,11 @@ class Comparison:
     @property
     def ranking(self) -> tuple[str, ...]:
         """The designs by peak F_max / W, lowest first (designs without a finite peak last)."""
-        order = sorted(range(len(self.rows)),
-                       key=lambda k: (self.rows[k]["rank"] is None, self.rows[k]["rank"] or 0))
+        rank = [d["rank"] for d in self.designs]
+        order = sorted(range(len(rank)), key=lambda k: (rank[k] is None, rank[k] or 0))
         return tuple(self.names[k] for k in order)
 
-    def table(self) -> list[dict[str, Any]]:
+    def rows(self) -> list[dict[str, Any]]:
         """The rows in rank order, flags joined by ``;`` (what :meth:`to_csv` writes).
 
         Returns
@@ -293,10 +293,10 @@ class Comparison:
         ...         "operating": {"speed": "3319 rpm", "torque": "1474.4 N*m"},
         ...         "damping": {"ratio": ratio}})
         >>> cmp = gd.compare_scenes([design(0.06), design(0.1)], "3000 rpm:3600 rpm:3")
-        >>> [row["scene"] for row in cmp.table()]
+        >>> [row["scene"] for row in cmp.rows()]
         ['xi=0.1', 'xi=0.06']
         """
-        by_name = {r["scene"]: r for r in self.rows}
+        by_name = {r["scene"]: r for r in self.designs}
         return [{**by_name[n], "flags": ";".join(by_name[n]["flags"])} for n in self.ranking]
 
     def to_dict(self) -> dict[str, Any]:
@@ -310,7 +310,7 @@ class Comparison:
 
         See Also
         --------
-        :meth:`~gear_dyn.analysis.compare.Comparison.table` : The rows in rank order.
+        :meth:`~gear_dyn.analysis.compare.Comparison.rows` : The rows in rank order.
 
         Examples
         --------
@@ -330,14 +330,14 @@ class Comparison:
                 "ranking": list(self.ranking), "ranked_by": "peak_peak_force_ratio",
                 "speed_range_rpm": list(self.speed_range_rpm),
                 "n_speeds": int(self.sweeps[0].curves[0].speed.size),
-                "designs": [dict(r) for r in self.rows],
+                "designs": [dict(r) for r in self.designs],
                 "definitions": DEFINITIONS,
                 "flags": {code: FLAGS[code] for code in
-                          dict.fromkeys(f for r in self.rows for f in r["flags"])},
+                          dict.fromkeys(f for r in self.designs for f in r["flags"])},
                 "warnings": list(self.warnings)}
 
     def to_csv(self, path: str | Path) -> Path:
-        """Write :meth:`table` as CSV (one row per design, rank order) atomically.
+        """Write :meth:`rows` as CSV (one row per design, rank order) atomically.
 
         Parameters
         ----------
@@ -373,7 +373,7 @@ class Comparison:
         """
         from gear_dyn.io import write_rows
 
-        return write_rows(path, self.table())
+        return write_rows(path, self.rows())
 
     def plot(self, ax: Any = None, **kwargs: Any) -> Any:
         """The comparison figure (:func:`gear_dyn.plots.compare.plot_comparison`: ``ax`` None
@@ -416,7 +416,7 @@ class Comparison:
     def __repr__(self) -> str:
         lines = [f"Comparison of {len(self.names)} designs over {self.speed_range_rpm[0]:.0f}-"
                  f"{self.speed_range_rpm[1]:.0f} rpm, baseline {self.baseline!r}, by peak F/W:"]
-        by_name = {r["scene"]: r for r in self.rows}
+        by_name = {r["scene"]: r for r in self.designs}
         for n in self.ranking:
             r = by_name[n]
             lines.append(f"  {r['rank']}. {n}: F/W {r['peak_peak_force_ratio']:.4g} at "

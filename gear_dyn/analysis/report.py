@@ -48,6 +48,17 @@ def dominant_peak(result: Result, name: str = "dte") -> tuple[float, float]:
     return peaks[0] if peaks else (math.nan, math.nan)
 
 
+def timeseries_comments(result: Result) -> list[str]:
+    """The ``#`` lines heading timeseries.csv (:meth:`gear_dyn.solvers.result.Result.to_csv`):
+    the scene's name (``run`` without a scene), the units, what ``dte`` is and the dynamic
+    factor with its definition, as :func:`summarize` states them."""
+    name = getattr(result.scene, "name", None) or "run"
+    return [f"# {name}: time series in SI units (t_s in s; dte, delta, e_ecc in m;",
+            "# mesh_force in N; stiffness in N/m; angles in rad, rates in rad/s)",
+            f"# dte: {DTE_DEFINITION[model_kind(result)]}",
+            f"# dynamic factor {result.dynamic_factor:.6g}: {DYNAMIC_FACTOR_DEFINITION}"]
+
+
 def summarize(result: Result) -> dict[str, Any]:
     """The run summary: kinematics, stiffness, dynamic factor, DTE figures, solver cost.
 

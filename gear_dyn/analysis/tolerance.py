@@ -44,8 +44,9 @@ from __future__ import annotations
 import concurrent.futures as cf
 import math
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
+from pathlib import Path
 from typing import Any, cast
 
 import numpy as np
@@ -372,9 +373,20 @@ class ToleranceResult:
         out["mean_stderr"] = out["std"] / math.sqrt(n)
         return out
 
-    def summary(self) -> dict[str, Any]:
-        """JSON-ready summary: definitions, the band of every figure against speed, with the
-        Monte-Carlo standard errors (SI units in the names; speeds also in rpm)."""
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summary, what tolerance.json holds before the CLI adds ISO K_v:
+        definitions, the band of every figure against speed, with the Monte-Carlo standard
+        errors (SI units in the names; speeds also in rpm).
+
+        Returns
+        -------
+        dict
+            Plain numbers, lists and strings.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.tolerance.ToleranceResult.rows` : One row per speed.
+        """
         rpm = self.speeds * 60 / (2 * math.pi)
         out: dict[str, Any] = {
             "scene": self.name, "n_samples": self.n_samples, "n_speeds": int(self.speeds.size),
@@ -398,20 +410,56 @@ class ToleranceResult:
                                     **{k: v.tolist() for k, v in st.items()}}
         return out
 
-    def rows(self) -> tuple[list[str], list[list[float]]]:
-        """CSV table: one row per speed; the band and standard errors of every figure."""
-        head = ["speed_rpm", "speed_rad_per_s", "mesh_frequency_hz"]
-        cols: list[FloatArray] = [self.speeds * 60 / (2 * math.pi), self.speeds,
-                                  self.mesh_frequency]
+    def columns(self) -> dict[str, FloatArray]:
+        """The table as columns (one value per speed): the band and standard errors of every
+        figure, SI units in the names. For ``io.write_csv``."""
+        cols: dict[str, FloatArray] = {"speed_rpm": self.speeds * 60 / (2 * math.pi),
+                                       "speed_rad_per_s": self.speeds,
+                                       "mesh_frequency_hz": self.mesh_frequency}
         for name, (unit, _what) in METRICS.items():
             suffix = f"_{unit.lower()}" if unit else ""
             st = self.stats(name)
             for k in ("p05", "median", "p95", "mean", "mean_stderr", "median_stderr"):
-                head.append(f"{name}_{k}{suffix}")
-                cols.append(st[k])
-            head.append(f"{name}_baseline{suffix}")
-            cols.append(self.baseline[name])
-        return head, np.stack(cols, axis=1).tolist()
+                cols[f"{name}_{k}{suffix}"] = st[k]
+            cols[f"{name}_baseline{suffix}"] = self.baseline[name]
+        return cols
+
+    def rows(self) -> list[dict[str, float]]:
+        """One row per speed, the rows of tolerance.csv: the band and standard errors of
+        every figure (:meth:`columns` as dicts of plain floats).
+
+        Returns
+        -------
+        list of dict
+            SI units (and rpm) in the key names.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.tolerance.ToleranceResult.to_csv` : Writes them.
+        """
+        from gear_dyn.io import column_rows
+
+        return column_rows(self.columns())
+
+    def to_csv(self, path: str | Path, extra: Mapping[str, Any] | None = None) -> Path:
+        """Write :meth:`rows` as CSV (tolerance.csv) atomically, the columns of ``extra`` (one
+        value per speed, e.g. the CLI's ``iso_6336_kv``) after them.
+
+        Parameters
+        ----------
+        path : str or Path
+            The file to write (replaced if it exists).
+        extra : mapping of str to array or None
+            More columns, one value per speed each.
+
+        Returns
+        -------
+        Path
+            The file written.
+        """
+        from gear_dyn.io import write_csv
+
+        return write_csv(path, {**self.columns(), **(extra or {})})
 
     def plot(self, ax: Any = None) -> Any:
         """The band figure (:func:`gear_dyn.plots.tolerance.plot_tolerance`); returns the

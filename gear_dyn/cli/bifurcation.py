@@ -46,7 +46,7 @@ def register(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from gear_dyn.analysis.motion import DiagramOptions
-    from gear_dyn.io import save_figure, staged_output, write_csv, write_json
+    from gear_dyn.io import save_figure, staged_output, write_json
     from gear_dyn.plots.bifurcation import plot_bifurcation
     from gear_dyn.scene import load_scene
     from gear_dyn.scene.bifurcation import bifurcation_scene
@@ -62,15 +62,11 @@ def run(args: argparse.Namespace) -> int:
             scene, speeds, si=True, options=opts, direction=args.direction,
             workers=args.workers, executor=executor, block=args.block,
             progress=counter("speed", args.quiet), **solver)
-    summary = diagram.summary()
+    summary = diagram.to_dict()
     with staged_output(args.out) as tmp:
         save_figure(plot_bifurcation(diagram, state=args.state), tmp / "bifurcation.png",
                     dpi=110)
-        write_csv(tmp / "samples.csv", diagram.columns(), comments=[
-            f"# {scene.name}: stroboscopic samples (t = k / f_m after {opts.settle} mesh "
-            "periods), SI units: speed in rad/s and rpm, f_m in Hz, x in m, v in m/s,",
-            "# direction +1 up / -1 down; period: least period in mesh periods confirmed by "
-            "shooting (0: none of 1..16); lyapunov in 1/s (NaN: not computed)"])
+        diagram.to_csv(tmp / "samples.csv")
         write_json(tmp / "bifurcation.json", summary)
     _print_summary(diagram)
     print(f"wrote {args.out}/")

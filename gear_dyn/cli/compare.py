@@ -42,7 +42,7 @@ def table_lines(comparison: Any) -> list[str]:
     """The ranked table for the terminal, its legend and the warnings."""
     import math
 
-    rows = comparison.table()
+    rows = comparison.rows()
     width = max(len(r["scene"]) for r in rows)
 
     def num(v: float, fmt: str, scale: float = 1.0) -> str:

@@ -130,7 +130,6 @@ def run(args: argparse.Namespace) -> int:
 
     from gear_dyn.io import save_figure, staged_output, write_csv, write_json
     from gear_dyn.plots.contact import (
-        plot_face_load,
         plot_load_sharing,
         plot_loaded_stiffness,
         plot_slice_stiffness,
@@ -171,16 +170,14 @@ def run(args: argparse.Namespace) -> int:
                 table[f"{key}_{col}"] = values
     featured = ltca.get("scene relief") or next(iter(ltca.values()))
     with staged_output(args.out) as tmp:
-        save_figure(plot_face_load(featured.contact, title=featured.name), tmp / "face_load.png",
+        save_figure(featured.contact.plot(title=featured.name), tmp / "face_load.png",
                     dpi=120)
         write_csv(tmp / "ltca.csv", table)
         if cases:
             cols: dict[str, Any] = {}
             for name, c in cases.items():
                 key = name.replace(" ", "_")
-                cols[f"{key}_s_from_a_m"] = c.path.position - pair.start_of_contact
-                cols[f"{key}_sharing"] = c.path.sharing
-                cols[f"{key}_stress_pa"] = c.stress
+                cols |= {f"{key}_{col}": v for col, v in c.path_columns().items()}
             n = max(len(v) for v in cols.values())
             cols = {k: np.concatenate([v, np.full(n - len(v), np.nan)]) for k, v in cols.items()}
             save_figure(plot_load_sharing(cases), tmp / "load_sharing.png", dpi=120)

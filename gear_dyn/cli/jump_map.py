@@ -47,7 +47,7 @@ def write_jump_map(scene: Any, speeds: tuple[float, float], torques: list[float]
     """Compute the fold map of ``scene`` and write ``jump_map.png``, ``fold_curve.csv`` and
     ``fold_map.json`` into ``out``; returns the FoldMap."""
     from gear_dyn.analysis.continuation import SpeedTorqueFamily, fold_map
-    from gear_dyn.io import save_figure, write_json, write_rows
+    from gear_dyn.io import save_figure, write_json
     from gear_dyn.plots.fold_map import plot_fold_map
     from gear_dyn.scene.sweep import SceneModels
 
@@ -58,6 +58,6 @@ def write_jump_map(scene: Any, speeds: tuple[float, float], torques: list[float]
     family = SpeedTorqueFamily(models)  # the scene's torque, from the scene
     fm = fold_map(family, speeds, torques, settings=settings, reference_torque=family.reference)
     save_figure(plot_fold_map(fm), out / "jump_map.png", dpi=120)
-    write_rows(out / "fold_curve.csv", fm.rows(), empty=["region"])
+    fm.to_csv(out / "fold_curve.csv")
     write_json(out / "fold_map.json", {"scene": scene.name, **fm.to_dict()})
     return fm

@@ -5,8 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from gear_dyn.analysis.report import summarize
-from gear_dyn.io import save_figure, staged_output, write_csv, write_json
+from gear_dyn.io import save_figure, staged_output, write_json
 from gear_dyn.plots.run import plot_spectrum, plot_time_history
 from gear_dyn.solvers import Result
 
@@ -24,11 +23,11 @@ def write_run_outputs(result: Result, out: Path, spectrum_scale: str = "log") ->
     """Write plots, CSV and summary.json of ``result`` into ``out`` (whole or not at all).
 
     ``spectrum_scale``: amplitude axis of spectrum.png, ``"log"`` or ``"linear"``.
-    Returns the summary (:func:`gear_dyn.analysis.report.summarize`).
+    Returns the summary (:meth:`Result.to_dict <gear_dyn.solvers.result.Result.to_dict>`).
     """
-    summary = summarize(result)
+    summary = result.to_dict()
     with staged_output(out) as tmp:
-        _write_timeseries(result, summary, tmp / "timeseries.csv")
+        result.to_csv(tmp / "timeseries.csv")
         write_json(tmp / "summary.json", summary)
         save_figure(plot_time_history(result, blocks=ENVELOPE_BLOCKS), tmp / "time_history.png",
                     dpi=DPI, pil_kwargs=PNG_OPTIONS)
@@ -36,18 +35,3 @@ def write_run_outputs(result: Result, out: Path, spectrum_scale: str = "log") ->
                     pil_kwargs=PNG_OPTIONS)
     return summary
 
-
-def _write_timeseries(result: Result, summary: dict[str, Any], path: Path) -> None:
-    """timeseries.csv: states and outputs in SI units, a commented head stating them."""
-    cols: dict[str, Any] = {"t_s": result.t,
-                            **dict(zip(result.state_labels, result.y, strict=True))}
-    for name, arr in result.outputs.items():
-        cols.setdefault(name, arr)  # an output named as a state is written once, as the state
-    name = getattr(result.scene, "name", None) or "run"  # a result without a scene: "run"
-    head = [f"# {name}: time series in SI units (t_s in s; dte, delta, "
-            "e_ecc in m;", "# mesh_force in N; stiffness in N/m; angles in rad, rates in "
-            "rad/s)",
-            f"# dte: {summary['dte_definition']}",
-            f"# dynamic factor {summary['dynamic_factor']:.6g}: "
-            f"{summary['dynamic_factor_definition']}"]
-    write_csv(path, cols, comments=head)

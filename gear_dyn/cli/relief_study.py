@@ -110,8 +110,7 @@ def compute(scene: Any, torques: str | None = None, curve: str | None = None,
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from gear_dyn.io import save_figure, staged_output, write_json, write_rows
-    from gear_dyn.plots.contact import plot_relief_study
+    from gear_dyn.io import save_figure, staged_output, write_json
     from gear_dyn.scene import load_scene
 
     scene = load_scene(args.scene)
@@ -120,11 +119,11 @@ def run(args: argparse.Namespace) -> int:
     report = {"scene": scene.name, "contact_ratio": pair.contact_ratio,
               "overlap_ratio": pair.overlap_ratio, **study.to_dict()}
     with staged_output(args.out) as tmp:
-        save_figure(plot_relief_study(study), tmp / "study.png", dpi=120)
-        write_rows(tmp / "study.csv", study.rows())
+        save_figure(study.plot(), tmp / "study.png", dpi=120)
+        study.to_csv(tmp / "study.csv")
         write_json(tmp / "study.json", report)
         if study.dynamics is not None:
-            write_rows(tmp / "dynamics.csv", study.dynamics.rows())
+            study.dynamics.to_csv(tmp / "dynamics.csv")
     t = study.torque
     print(f"{scene.name}: relief designs over T1 = {t[0]:.6g} .. {t[-1]:.6g} N m "
           f"({t.size} torques; eps_alpha = {pair.contact_ratio:.4f}, "

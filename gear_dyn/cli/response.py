@@ -78,7 +78,7 @@ def run(args: argparse.Namespace) -> int:
         continue_orbits,
     )
     from gear_dyn.analysis.sweep import RPM
-    from gear_dyn.io import save_figure, staged_output, write_json, write_rows
+    from gear_dyn.io import save_figure, staged_output, write_json
     from gear_dyn.plots.bifurcation import plot_branch_samples
     from gear_dyn.plots.continuation import plot_branch
     from gear_dyn.scene import load_scene
@@ -133,7 +133,7 @@ def run(args: argparse.Namespace) -> int:
                          + (f"\ngrey: brute force at {args.diagram} speeds" if diagram else ""))
                 save_figure(plot_branch_samples(strobe, diagram=diagram, title=title),
                             tmp / "bifurcation.png", dpi=120)
-                write_rows(tmp / "branch.csv", branch.rows())
+                branch.to_csv(tmp / "branch.csv")
                 write_json(tmp / "branch.json", {"scene": scene.name, **branch.to_dict()})
                 if torques is not None:
                     st.next()

@@ -205,19 +205,21 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
     import numpy as np
 
     from gear_dyn.analysis.chart import chart_summary, sweep_charts
-    from gear_dyn.analysis.sweep import RPM, summarize_sweep, sweep_columns
+    from gear_dyn.analysis.sweep import RPM
+    from gear_dyn.analysis.sweep.types import spectra_columns
     from gear_dyn.io import save_figure, staged_output, write_csv, write_json
     from gear_dyn.models.base import MeshModel
     from gear_dyn.plots.sweep import plot_stability_charts, plot_sweep_response, plot_waterfall
     from gear_dyn.scene import build_model
     from gear_dyn.scene.iso import iso_kv_at
 
-    summary = summarize_sweep(result)
-    cols = sweep_columns(result)
+    summary = result.to_dict()
+    speed = np.concatenate([c.speed for c in result.curves])  # rad/s, the order of the rows
+    extra: dict[str, Any] = {}
     iso_curve = None
-    if (kv := iso_kv_at(scene, cols["speed_rad_s"])) is not None:  # the standard per speed
-        cols["iso_6336_kv"] = kv
-        rpm = np.linspace(float(np.min(cols["speed_rpm"])), float(np.max(cols["speed_rpm"])), 600)
+    if (kv := iso_kv_at(scene, speed)) is not None:  # the standard per speed
+        extra["iso_6336_kv"] = kv
+        rpm = np.linspace(float(np.min(speed / RPM)), float(np.max(speed / RPM)), 600)
         dense = np.asarray(iso_kv_at(scene, rpm * RPM))
         iso_curve = (rpm, dense)
         summary["iso_6336_kv_max"] = float(np.max(dense))
@@ -236,8 +238,8 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
             stability = plot_stability_charts(found, sweep_range=(lo, hi), title=title)
             summary["stability_chart"] = chart_summary(found)
     with staged_output(out) as tmp:
-        write_csv(tmp / "sweep.csv", cols)
-        write_csv(tmp / "spectra.csv", _spectra_columns(result))
+        result.to_csv(tmp / "sweep.csv", extra)
+        write_csv(tmp / "spectra.csv", spectra_columns(result))
         write_json(tmp / "sweep.json", summary)
         save_figure(plot_sweep_response(result, iso_kv=iso_curve), tmp / "response.png", dpi=110)
         for c in result.curves:
@@ -246,21 +248,6 @@ def write_sweep_outputs(result: Any, scene: Any, out: Path, chart: str = "both"
         if stability is not None:
             save_figure(stability, tmp / "stability.png", dpi=110)
     return summary
-
-
-def _spectra_columns(result: Any) -> dict[str, Any]:
-    """spectra.csv: direction, speed and the DTE amplitude of each order, per speed."""
-    import numpy as np
-
-    from gear_dyn.analysis.sweep import RPM
-
-    curves = result.curves
-    cols = {"direction_down": np.concatenate([np.full(c.speed.size, float(c.direction == "down"))
-                                              for c in curves]),
-            "speed_rpm": np.concatenate([c.speed / RPM for c in curves])}
-    for j, o in enumerate(result.orders):
-        cols[f"dte_amp_m_order_{o:g}"] = np.concatenate([c.spectrum[:, j] for c in curves])
-    return cols
 
 
 __all__ = ["register", "run", "write_sweep_outputs"]

@@ -43,7 +43,7 @@ def register(sub: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from gear_dyn.io import save_figure, staged_output, write_csv, write_json
+    from gear_dyn.io import save_figure, staged_output, write_json
     from gear_dyn.plots.tolerance import plot_tolerance
     from gear_dyn.scene import load_scene
     from gear_dyn.scene.iso import like_for_like_note, scene_iso_kv
@@ -56,19 +56,16 @@ def run(args: argparse.Namespace) -> int:
         res = tolerance_scene(scene, speeds, si=True, samples=args.samples, seed=args.seed,
                               grade=args.grade, samples_per_period=args.samples_per_period,
                               workers=args.workers, executor=executor)
-    summary = res.summary()
+    summary = res.to_dict()
     kv = None
     if scene.get("operating")["torque"] > 0:
         study_scene = _with_grade(scene, args.grade)
         kv = scene_iso_kv(study_scene, res.speeds)[0].k_v
         summary["iso_6336_kv"] = {"k_v": np.asarray(kv).tolist(),
                                   "like_for_like": like_for_like_note(study_scene)}
-    head, rows = res.rows()
-    cols = {h: [r[i] for r in rows] for i, h in enumerate(head)}
-    if kv is not None:
-        cols["iso_6336_kv"] = list(np.asarray(kv, dtype=float))
+    extra = {} if kv is None else {"iso_6336_kv": np.asarray(kv, dtype=float)}
     with staged_output(args.out) as tmp:
-        write_csv(tmp / "tolerance.csv", cols)
+        res.to_csv(tmp / "tolerance.csv", extra)
         write_json(tmp / "tolerance.json", summary)
         save_figure(plot_tolerance(res, iso_kv=kv), tmp / "tolerance.png", dpi=110)
     k = res.stats("k_dyn")

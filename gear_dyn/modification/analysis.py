@@ -6,8 +6,10 @@ modifications and misalignment (:class:`~gear_dyn.modification.analysis.SliceCas
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -26,6 +28,10 @@ from gear_dyn.modification.slice_contact import SliceContact, SliceOptions, slic
 from gear_dyn.modification.stress import contact_stress
 
 FloatArray = NDArray[np.float64]
+
+#: the module that draws a ReliefStudy; looked up by name at call time (never imported on load,
+#: as :class:`gear_dyn.solvers.result.ResultPlots` does for runs)
+PLOTS_MODULE = "gear_dyn.plots.contact"
 
 
 @dataclass(frozen=True)
@@ -71,6 +77,38 @@ class ReliefCase:
         out["single_contact_start_from_a_m"] = None if zone is None else zone[0] - s_a
         out["single_contact_end_from_a_m"] = None if zone is None else zone[1] - s_a
         return out
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: :meth:`row` (the case's figures) and the series along the path of
+        contact (:meth:`rows` as lists). SI units in the key names."""
+        return {**self.row(), "path": {k: v.tolist() for k, v in self.path_columns().items()}}
+
+    def path_columns(self) -> dict[str, FloatArray]:
+        """Along the path of contact: ``s_from_a_m`` (m from the start of contact A), the load
+        sharing ``sharing`` and the Hertz contact stress ``stress_pa``."""
+        s_a = self.contact.pair.start_of_contact
+        return {"s_from_a_m": self.path.position - s_a, "sharing": self.path.sharing,
+                "stress_pa": self.stress}
+
+    def rows(self) -> list[dict[str, float]]:
+        """One row per position along the path of contact (:meth:`path_columns` as dicts of
+        plain floats): the case's columns of path.csv."""
+        from gear_dyn.io import column_rows
+
+        return column_rows(self.path_columns())
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write :meth:`rows` as CSV atomically; returns the file written."""
+        from gear_dyn.io import write_csv
+
+        return write_csv(path, self.path_columns())
+
+    def plot(self, ax: Any = None) -> Any:
+        """Load sharing and Hertz stress along the path of contact
+        (:func:`gear_dyn.plots.contact.plot_load_sharing` of this case alone, looked up by
+        name; ``ax``: None or 2 Axes); returns the Figure."""
+        plots = importlib.import_module(PLOTS_MODULE)
+        return plots.plot_load_sharing({self.name: self}, ax=ax)
 
 
 def relief_columns(pair: GearPair, modification: ProfileModification | None) -> dict[str, Any]:
@@ -246,6 +284,13 @@ class ReliefDynamics:
                 "best": self.best,
                 "best_rule": "lowest peak dynamic mesh force F_max / W over the speed range"}
 
+    def to_csv(self, path: str | Path) -> Path:
+        """Write :meth:`rows` as CSV (dynamics.csv: one row per design and speed) atomically;
+        returns the file written."""
+        from gear_dyn.io import write_rows
+
+        return write_rows(path, self.rows())
+
 
 @dataclass(frozen=True, eq=False)
 class ReliefStudy:
@@ -318,3 +363,28 @@ class ReliefStudy:
         if self.dynamics is not None:
             out["dynamics"] = self.dynamics.to_dict()
         return out
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write :meth:`rows` as CSV (study.csv: one row per design and torque) atomically;
+        returns the file written."""
+        from gear_dyn.io import write_rows
+
+        return write_rows(path, self.rows())
+
+    def plot(self, ax: Any = None) -> Any:
+        """PPTE and peak Hertz pressure against torque, with the dynamics a right-hand column
+        of F_max / W and p-p DTE against speed (:func:`gear_dyn.plots.contact.plot_relief_study`,
+        looked up by name as ``Result.plot`` does); returns the Figure.
+
+        Parameters
+        ----------
+        ax : sequence of matplotlib.axes.Axes or None
+            2 Axes (4 with dynamics, row-major), or None for a new figure.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure drawn on.
+        """
+        plots = importlib.import_module(PLOTS_MODULE)
+        return plots.plot_relief_study(self, ax=ax)

@@ -50,9 +50,11 @@ loads, Hertz pressure (line load ``f_n / (dy / cos b_b)`` on the normal curvatur
 
 from __future__ import annotations
 
+import importlib
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -314,6 +316,34 @@ class SliceContact:
             "peak_pressure_pa": self.peak_pressure.ravel(),
             "load_centre_m": self.load_centre.ravel(),
         }
+
+    def rows(self) -> list[dict[str, float]]:
+        """One row per torque and mesh position (:meth:`position_table` as dicts of plain
+        floats, SI units in the keys): the table ``gear-dyn contact`` writes per case into
+        ltca.csv.
+
+        Returns
+        -------
+        list of dict
+            ``torque_n_m``, ``phase``, loaded and unloaded TE (m), stiffnesses (N/m), peak
+            pressure (Pa), load centre (m).
+        """
+        from gear_dyn.io import column_rows
+
+        return column_rows(self.position_table())
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write :meth:`rows` as CSV atomically; returns the file written."""
+        from gear_dyn.io import write_csv
+
+        return write_csv(path, self.position_table())
+
+    def plot(self, ax: Any = None, **kwargs: Any) -> Any:
+        """Line load over the field of contact and the static TE
+        (:func:`gear_dyn.plots.contact.plot_face_load`, looked up by name; ``ax``: None or its
+        Axes, ``kwargs`` as there, e.g. ``index``, ``title``); returns the Figure."""
+        plots = importlib.import_module("gear_dyn.plots.contact")
+        return plots.plot_face_load(self, ax=ax, **kwargs)
 
     def slice_table(self) -> dict[str, FloatArray]:
         """Columns (one row per torque, position, tooth pair and slice in contact) for CSV."""

@@ -20,6 +20,7 @@ from gear_dyn.plots._labels import label_marks, legend_once
 
 if TYPE_CHECKING:
     from gear_dyn.analysis.continuation.strobe import BranchSamples
+    from gear_dyn.analysis.motion.classify import Motion
 
 FloatArray = NDArray[np.float64]
 _STYLE = {"up": dict(color="tab:blue", marker="."), "down": dict(color="tab:orange", marker="x")}
@@ -217,4 +218,31 @@ def plot_branch_samples(samples: BranchSamples, ax: Any = None, state: str = "x"
     marks = [(bx, float(ys.max()), text) for bx, ys, text in labels] if label_points else []
     others = [(bx, float(v)) for bx, ys, _ in labels for v in ys] if label_points else []
     label_marks(axes, marks, own_figure=ax is None, layout=tidy, avoid=others)
+    return fig
+
+
+def plot_motion(motion: Motion, ax: Any = None) -> Any:
+    """The stroboscopic samples of one motion in the state plane (a Poincaré section at mesh
+    phase 0): the first state component (µm) against the second (m/s), the motion's label as
+    the title. A period-n orbit shows n points, a quasi-periodic motion a closed curve, a
+    chaotic one a scattered set.
+
+    Parameters
+    ----------
+    motion : Motion
+        From :func:`gear_dyn.analysis.motion.classify_motion` (at least two state components).
+    ax : Axes or None
+        Where to draw (None: a new figure of 5 x 4.5 in).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, axes = axes_of(ax, figsize=(5, 4.5), name="plot_motion")
+    x, v = motion.samples[:, 0], motion.samples[:, 1]
+    axes.plot(x * _UNITS["x"][0], v * _UNITS["v"][0], ".", color="tab:blue", ms=5)
+    axes.set_xlabel(f"x at t = k T_m ({_UNITS['x'][1]})")
+    axes.set_ylabel(f"v at t = k T_m ({_UNITS['v'][1]})")
+    axes.set_title(motion.label, fontsize=10)
+    axes.grid(alpha=0.3)
     return fig

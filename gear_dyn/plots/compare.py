@@ -72,7 +72,7 @@ def plot_comparison(comparison: Comparison, ax: Any = None) -> Any:
         a_force, a_dte, a_bar = axes
     handles = []
     for i, (name, res, row) in enumerate(zip(comparison.names, comparison.sweeps,
-                                             comparison.rows, strict=True)):
+                                             comparison.designs, strict=True)):
         st = design_style(i)
         for c in res.curves:
             down = c.direction == "down"
@@ -100,11 +100,11 @@ def plot_comparison(comparison: Comparison, ax: Any = None) -> Any:
     # bars in rank order, the best on top
     order = [comparison.names.index(nm) for nm in comparison.ranking]
     ypos = np.arange(len(order))[::-1]
-    base = comparison.rows[0]["peak_peak_force_ratio"]
-    top = max((comparison.rows[k]["peak_peak_force_ratio"] for k in order
-               if np.isfinite(comparison.rows[k]["peak_peak_force_ratio"])), default=1.0)
+    base = comparison.designs[0]["peak_peak_force_ratio"]
+    top = max((comparison.designs[k]["peak_peak_force_ratio"] for k in order
+               if np.isfinite(comparison.designs[k]["peak_peak_force_ratio"])), default=1.0)
     for y, k in zip(ypos, order, strict=True):
-        row = comparison.rows[k]
+        row = comparison.designs[k]
         v = row["peak_peak_force_ratio"]
         st = design_style(k)
         a_bar.barh(y, v if np.isfinite(v) else 0.0, height=0.6, color=st["color"], alpha=0.85,
@@ -118,7 +118,7 @@ def plot_comparison(comparison: Comparison, ax: Any = None) -> Any:
         a_bar.text(v if np.isfinite(v) else 0.0, y, text, va="center", ha="left", fontsize=7.5)
     if np.isfinite(base):
         a_bar.axvline(base, color="k", lw=0.8, ls="--")
-    a_bar.set_yticks(ypos, [f"{comparison.rows[k]['rank'] or '-'}. "
+    a_bar.set_yticks(ypos, [f"{comparison.designs[k]['rank'] or '-'}. "
                             f"{_short(comparison.names[k], 22)}" for k in order], fontsize=8)
     a_bar.set_xlim(0, 2.0 * top)
     a_bar.set_ylim(-0.7, len(order) - 0.3)  # room for the value, the change and the flags

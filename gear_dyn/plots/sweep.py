@@ -17,7 +17,7 @@ from gear_dyn.analysis.sweep import (
     hysteresis_ranges,
     periodic_response,
 )
-from gear_dyn.analysis.sweep.report import (
+from gear_dyn.analysis.sweep.types import (
     RESONANCES,
     resonance_notes,
     rpm_per_ratio,

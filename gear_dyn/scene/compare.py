@@ -102,8 +102,9 @@ def compare_scenes(scenes: Sequence[Scene | str | Path], speeds: Any, *, si: boo
     Returns
     -------
     Comparison
-        ``.rows`` (figures, deltas, ranks, flags), ``.ranking``, ``.to_dict()``,
-        ``.to_csv(path)``, ``.plot(ax=None)`` (:class:`~gear_dyn.analysis.compare.Comparison`).
+        ``.designs`` (figures, deltas, ranks, flags; ``.rows()`` in rank order), ``.ranking``,
+        ``.to_dict()``, ``.to_csv(path)``, ``.plot(ax=None)``
+        (:class:`~gear_dyn.analysis.compare.Comparison`).
 
     Raises
     ------
@@ -133,7 +134,7 @@ def compare_scenes(scenes: Sequence[Scene | str | Path], speeds: Any, *, si: boo
     >>> cmp = gd.compare_scenes([design(0.06), design(0.1)], "3000 rpm:3600 rpm:3")
     >>> cmp.ranking  # lowest peak F_max / W first
     ('xi=0.1', 'xi=0.06')
-    >>> [round(row["peak_peak_force_ratio"], 2) for row in cmp.rows]
+    >>> [round(row["peak_peak_force_ratio"], 2) for row in cmp.designs]
     [2.15, 2.06]
     """
     check_keywords("compare_scenes", solver, (

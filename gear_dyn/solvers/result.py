@@ -5,6 +5,8 @@ like pandas' ``DataFrame.plot``, the accessor looks up the plotting module by na
 method is called (``importlib.import_module("gear_dyn.plots.run")``), so importing this module
 loads no matplotlib and no plots module, and the layers contract (``lint-imports``, which follows
 import statements) stays as it is: the figures remain functions of the plots layer.
+``Result.to_dict`` and ``Result.to_csv`` look up :mod:`gear_dyn.analysis.report` (the run
+summary and the CSV head's definitions) by name in the same way.
 """
 
 from __future__ import annotations
@@ -12,6 +14,7 @@ from __future__ import annotations
 import importlib
 import math
 from dataclasses import asdict, dataclass, field
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -24,6 +27,8 @@ FloatArray = NDArray[np.float64]
 
 #: the module that draws a Result; looked up by name at call time (never imported on load)
 PLOTS_MODULE = "gear_dyn.plots.run"
+#: the module that summarises a Result (summary.json, the CSV head); looked up the same way
+REPORT_MODULE = "gear_dyn.analysis.report"
 
 
 class ResultPlots:
@@ -172,6 +177,116 @@ class Result:
         """The run's figures: ``result.plot.time(ax=None)``, ``result.plot.spectrum(ax=None)``
         (each returns the Figure; :class:`.ResultPlots`)."""
         return ResultPlots(self)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The run summary, what summary.json holds
+        (:func:`gear_dyn.analysis.report.summarize`, looked up by name as ``plot`` is).
+
+        Returns
+        -------
+        dict
+            JSON-ready: kinematics, stiffness, dynamic factor, DTE figures, solver cost; SI
+            units in the key names (``rms_dte_m``, ``mesh_frequency_hz`` ...).
+
+        See Also
+        --------
+        :meth:`~gear_dyn.solvers.result.Result.rows` : The time series, one row per sample.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, rectangular_stiffness, simulate
+        >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+        >>> simulate(m, 0.2).to_dict()["mesh_frequency_hz"]
+        500.0
+        """
+        summary: dict[str, Any] = importlib.import_module(REPORT_MODULE).summarize(self)
+        return summary
+
+    def columns(self) -> dict[str, FloatArray]:
+        """The time series as columns: ``t_s``, the states, then the outputs (an output named
+        as a state is given once, as the state); SI units. For ``io.write_csv``.
+
+        Returns
+        -------
+        dict of ndarray
+            Columns of equal length over ``t``.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.solvers.result.Result.rows` : The same as one dict per sample.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, rectangular_stiffness, simulate
+        >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+        >>> list(simulate(m, 0.2).columns())
+        ['t_s', 'x', 'v', 'dte', 'mesh_force', 'stiffness']
+        """
+        cols: dict[str, FloatArray] = {"t_s": self.t,
+                                       **dict(zip(self.state_labels, self.y, strict=True))}
+        for name, arr in self.outputs.items():
+            cols.setdefault(name, arr)
+        return cols
+
+    def rows(self) -> list[dict[str, float]]:
+        """One row per sample, the rows of timeseries.csv (:meth:`columns` as dicts of plain
+        floats).
+
+        Returns
+        -------
+        list of dict
+            ``t_s``, states and outputs in SI units.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.solvers.result.Result.to_csv` : Writes them.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, rectangular_stiffness, simulate
+        >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+        >>> rows = simulate(m, 0.2).rows()
+        >>> len(rows), list(rows[0])[:3]
+        (6401, ['t_s', 'x', 'v'])
+        """
+        from gear_dyn.io import column_rows
+
+        return column_rows(self.columns())
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write :meth:`rows` as CSV (timeseries.csv) atomically, after ``#`` lines stating the
+        units, the DTE and the dynamic factor
+        (:func:`gear_dyn.analysis.report.timeseries_comments`).
+
+        Parameters
+        ----------
+        path : str or Path
+            The file to write (replaced if it exists).
+
+        Returns
+        -------
+        Path
+            The file written.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.solvers.result.Result.to_dict` : The summary, for JSON.
+
+        Examples
+        --------
+        >>> import tempfile
+        >>> from pathlib import Path
+        >>> from gear_dyn import SDOFModel, rectangular_stiffness, simulate
+        >>> m = SDOFModel(0.5, rectangular_stiffness(1.6, 1e8, 1.5e8), 0.05, 1000.0, 500.0)
+        >>> with tempfile.TemporaryDirectory() as folder:
+        ...     lines = simulate(m, 0.2).to_csv(Path(folder) / "t.csv").read_text().splitlines()
+        >>> lines[4], len(lines)  # 4 comment lines, the header, 6401 samples
+        ('t_s,x,v,dte,mesh_force,stiffness', 6406)
+        """
+        from gear_dyn.io import write_csv
+
+        head = importlib.import_module(REPORT_MODULE).timeseries_comments(self)
+        return write_csv(path, self.columns(), comments=head)
 
     @property
     def steady(self) -> NDArray[np.bool_]:

@@ -52,7 +52,7 @@ def test_ranking_follows_the_peak_force_not_k_dyn() -> None:
     relief = _result(_curve([1.1, 1.6, 2.55, 2.0, 1.5], jump=1.2), jump=1.2)
     cmp = compare_sweeps([plain, relief], ["plain", "relief"], [3000 * RPM, 3000 * RPM])
     assert cmp.ranking == ("relief", "plain")
-    by = {r["scene"]: r for r in cmp.rows}
+    by = {r["scene"]: r for r in cmp.designs}
     assert by["relief"]["peak_dynamic_factor"] > by["plain"]["peak_dynamic_factor"]
     assert by["relief"]["rank"] == 1 and by["plain"]["rank"] == 2
     assert by["relief"]["peak_peak_force_ratio_delta_pct"] == pytest.approx(
@@ -69,24 +69,24 @@ def test_deltas_are_the_arithmetic_of_the_values() -> None:
     stress = [1.0e9, 0.9e9, 1.1e9]
     cmp = compare_sweeps(sweeps, ["a", "b", "c"], [2000 * RPM, 4000 * RPM, 3000 * RPM],
                          static_stress=stress)
-    base = cmp.rows[0]
-    for r in cmp.rows:
+    base = cmp.designs[0]
+    for r in cmp.designs:
         for key in COMPARED:
             assert r[f"{key}_delta"] == pytest.approx(r[key] - base[key], rel=1e-14, abs=0)
             assert r[f"{key}_delta_pct"] == pytest.approx(100 * (r[key] / base[key] - 1),
                                                           rel=1e-12, abs=1e-12)
     assert all(base[f"{k}_delta"] == 0 for k in COMPARED)
     # the values at each design's own operating speed
-    assert [r["operating_peak_force_ratio"] for r in cmp.rows] == [2.0, 2.2, 4.1]
-    assert [r["operating_rms_dte_m"] for r in cmp.rows] == [2.0, 6.0, 3.0]
+    assert [r["operating_peak_force_ratio"] for r in cmp.designs] == [2.0, 2.2, 4.1]
+    assert [r["operating_rms_dte_m"] for r in cmp.designs] == [2.0, 6.0, 3.0]
     # ranks by RMS DTE and by contact stress, each on its own figure
-    assert [r["rank_rms_dte"] for r in cmp.rows] == [2, 3, 1]  # peaks 5, 6, 3 um
+    assert [r["rank_rms_dte"] for r in cmp.designs] == [2, 3, 1]  # peaks 5, 6, 3 um
     # contact stress: the quasi-static peak times sqrt(K_dyn) (sigma_H ~ sqrt(F))
-    for r, s, sw in zip(cmp.rows, stress, sweeps, strict=True):
+    for r, s, sw in zip(cmp.designs, stress, sweeps, strict=True):
         k = sw.peak().value
         assert r["peak_contact_stress_pa"] == pytest.approx(s * math.sqrt(k), rel=1e-14)
-    order = sorted(range(3), key=lambda i: cmp.rows[i]["peak_contact_stress_pa"])
-    assert [cmp.rows[i]["rank_contact_stress"] for i in order] == [1, 2, 3]
+    order = sorted(range(3), key=lambda i: cmp.designs[i]["peak_contact_stress_pa"])
+    assert [cmp.designs[i]["rank_contact_stress"] for i in order] == [1, 2, 3]
 
 
 def test_flag_peak_at_an_end_of_the_range() -> None:
@@ -97,7 +97,7 @@ def test_flag_peak_at_an_end_of_the_range() -> None:
                        _curve([3.0, 1.4, 1.3, 1.1, 1.0], direction="down"), nonlinear=True)
     cmp = compare_sweeps([inside, rising, down_top], ["inside", "rising", "down_top"],
                          [3000 * RPM] * 3)
-    flags = {r["scene"]: r["flags"] for r in cmp.rows}
+    flags = {r["scene"]: r["flags"] for r in cmp.designs}
     assert flags == {"inside": [], "rising": ["peak_at_range_end"],
                      "down_top": ["peak_at_range_end"]}
     assert any("rising: " + FLAGS["peak_at_range_end"] == w for w in cmp.warnings)
@@ -110,7 +110,7 @@ def test_flag_a_linear_model_invalid_at_its_peak() -> None:
     elsewhere = _result(_curve([1.0, 1.5, 2.5, 1.5, 1.2], separation=[0, 0.1, 0, 0, 0]))
     cmp = compare_sweeps([linear, backlash, elsewhere], ["linear", "backlash", "elsewhere"],
                          [3000 * RPM] * 3)
-    flags = {r["scene"]: r["flags"] for r in cmp.rows}
+    flags = {r["scene"]: r["flags"] for r in cmp.designs}
     assert flags == {"linear": ["linear_model_invalid_at_peak"],
                      "backlash": ["teeth_separate_at_peak"],
                      "elsewhere": ["linear_model_invalid_in_range"]}
@@ -120,11 +120,11 @@ def test_operating_speed_off_the_grid_is_read_from_its_own_sweep() -> None:
     main = _result(_curve([1.0, 1.5, 2.5, 1.5, 1.2]))
     one = _result(_curve([1.33], rpm=np.array([6500.0])))
     cmp = compare_sweeps([main], ["a"], [6500 * RPM], operating=[one])
-    row = cmp.rows[0]
+    row = cmp.designs[0]
     assert row["operating_peak_force_ratio"] == 1.33
     assert row["flags"] == ["operating_speed_outside_range"]
     # without a sweep that holds it, the value is not known
-    assert math.isnan(compare_sweeps([main], ["a"], [6500 * RPM]).rows[0][
+    assert math.isnan(compare_sweeps([main], ["a"], [6500 * RPM]).designs[0][
         "operating_peak_force_ratio"])
 
 

@@ -73,7 +73,7 @@ def test_rows_and_plot_carry_every_sample(diagram, tmp_path) -> None:
     write_csv(tmp_path / "samples.csv", cols)
     back = np.genfromtxt(tmp_path / "samples.csv", delimiter=",", names=True)
     assert np.array_equal(back["x"], cols["x"])
-    write_json(tmp_path / "diagram.json", res.summary())
+    write_json(tmp_path / "diagram.json", res.to_dict())
     summary = json.loads((tmp_path / "diagram.json").read_text())
     assert [p["period"] for p in summary["curves"]["up"]] == res.curve("up").period.tolist()
     fig = res.plot()

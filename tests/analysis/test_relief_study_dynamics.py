@@ -72,3 +72,21 @@ def test_ranking_follows_the_values_and_a_transient_run(study) -> None:  # noqa:
 def test_speeds_are_checked() -> None:
     with pytest.raises(InputError, match="speeds"):
         relief_study(RAIL, [TORQUE], {"unmodified": None}, options=OPTS, speeds=[-1.0])
+
+
+def test_study_habit_json_rows_csv_and_plot(study, tmp_path) -> None:  # noqa: ANN001
+    """to_dict survives json.dumps with the study's figures; rows() are the CSV's rows (the
+    files the relief-study command writes); plot() draws the 4 panels with dynamics."""
+    import csv
+    import json
+
+    d = json.loads(json.dumps(study.to_dict()))
+    assert d["best"] == study.best
+    assert [x["peak_to_peak_static_te_m"] for x in d["designs"]] == study.ppte.tolist()
+    for obj, name in ((study, "study.csv"), (study.dynamics, "dynamics.csv")):
+        rows = obj.rows()
+        back = list(csv.DictReader(obj.to_csv(tmp_path / name).read_text().splitlines()))
+        assert len(back) == len(rows) and list(back[0]) == list(rows[0])
+        assert [str(r[k]) for r in rows for k in r] == [b[k] for b in back for k in b]
+    fig = study.plot()
+    assert len(fig.axes) == 4

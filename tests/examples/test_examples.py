@@ -87,7 +87,7 @@ def test_relief_trends(tmp_path: Path) -> None:
 
 def test_compare_reliefs(tmp_path: Path) -> None:
     cmp = _load("compare_reliefs").main(tmp_path, fast=True)
-    plain, handbook = cmp.rows
+    plain, handbook = cmp.designs
     # ranked by the peak force: the handbook relief first, though its K_dyn is the larger (it
     # is divided by the relief's own, lower quasi-static peak)
     assert cmp.ranking == ("handbook relief", "no relief")
@@ -124,7 +124,7 @@ def test_tutorial(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     # stiffness and no excitation: F_max / W = 1 up to the rounding of the angle
     cmp = ns["comparison"]
     assert cmp.ranking[0] == "rail_pair_eps1"
-    rows = {r["scene"]: r for r in cmp.rows}
+    rows = {r["scene"]: r for r in cmp.designs}
     assert rows["rail_pair_eps1"]["peak_peak_force_ratio"] == pytest.approx(1.0, abs=1e-2)
     # constant stiffness without deviations: the static response, K_dyn = 1
     assert np.allclose(ns["study"].baseline["k_dyn"], 1.0, atol=1e-9)

@@ -207,3 +207,19 @@ def test_period2_samples_on_the_variational_route() -> None:
         back = flow_on_grid(m, s[1], np.array([0.0, 1.0 / m.mesh_frequency]), rtol=1e-12)
         assert np.all(np.abs(back[:, -1] - s[0]) <= 1e-6 * m.state_scale)
         assert np.max(np.abs(s[1] - s[0]) / m.state_scale) > 0.1
+
+
+def test_samples_habit_json_rows_csv(samples, tmp_path) -> None:
+    """to_dict survives json.dumps with every branch's period and marks; rows() carry every
+    sample (the period-2 child two per point) and are the rows of to_csv's file."""
+    import csv
+    import json
+
+    d = json.loads(json.dumps(samples.to_dict()))
+    assert [b["periods"] for b in d["branches"]] == [c.branch.periods for c in samples.curves]
+    rows = samples.rows()
+    assert len(rows) == sum(c.samples.shape[0] * c.samples.shape[1] for c in samples.curves)
+    assert [r["state_0"] for r in rows if r["branch"] == 1] == (
+        samples.curves[1].samples[:, :, 0].ravel().tolist())
+    back = list(csv.DictReader(samples.to_csv(tmp_path / "s.csv").read_text().splitlines()))
+    assert [float(b["state_1"]) for b in back] == [r["state_1"] for r in rows]

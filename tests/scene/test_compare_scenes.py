@@ -38,7 +38,7 @@ def test_ranking_follows_the_peak_force_of_a_stronger_excitation() -> None:
     speeds = "5000 rpm:6500 rpm:4"
     cmp = gear_dyn.compare_scenes([strong, weak], speeds, rtol=1e-6)
     assert cmp.baseline == "te 2 um" and cmp.ranking == ("te 1 um", "te 2 um")
-    s, w = cmp.rows
+    s, w = cmp.designs
     # linear in the transmission error: (F/W - 1) doubles with it, at every speed; the sweeps
     # hold the steady state to rtol = 1e-6
     for cs, cw in zip(cmp.sweeps[0].curves, cmp.sweeps[1].curves, strict=True):
@@ -66,7 +66,7 @@ def test_ranking_follows_the_peak_force_of_a_stronger_excitation() -> None:
 def test_linear_model_invalid_at_the_resonance_and_operating_speed_off_range() -> None:
     scene = load_scene("helicopter_tail")
     cmp = gear_dyn.compare_scenes(["helicopter_tail"], "7000 rpm:8000 rpm:5")
-    row = cmp.rows[0]
+    row = cmp.designs[0]
     assert "linear_model_invalid_at_peak" in row["flags"]
     assert "operating_speed_outside_range" in row["flags"]
     assert "peak_at_range_end" not in row["flags"]
@@ -81,8 +81,9 @@ def test_operating_speed_inside_the_range_is_swept_with_it() -> None:
     cmp = gear_dyn.compare_scenes(["helicopter_tail"], "3000 rpm:3600 rpm:3")
     rpm = cmp.sweeps[0].curves[0].speed / RPM
     np.testing.assert_allclose(rpm, [3000.0, 3300.0, 3319.0, 3600.0])
-    assert "operating_speed_outside_range" not in cmp.rows[0]["flags"]
-    assert cmp.rows[0]["operating_peak_force_ratio"] == cmp.sweeps[0].curves[0].peak_force_ratio[2]
+    assert "operating_speed_outside_range" not in cmp.designs[0]["flags"]
+    row = cmp.designs[0]
+    assert row["operating_peak_force_ratio"] == cmp.sweeps[0].curves[0].peak_force_ratio[2]
     assert cmp.speed_range_rpm == pytest.approx((3000.0, 3600.0))
 
 

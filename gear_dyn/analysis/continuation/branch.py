@@ -14,6 +14,7 @@ from __future__ import annotations
 import importlib
 import math
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -479,6 +480,40 @@ class Branch:
                 for i, b in enumerate(self.walk())],
             "points": self.rows(),
         }
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write :meth:`rows` (this branch and its children) as CSV (branch.csv) atomically.
+
+        Parameters
+        ----------
+        path : str or Path
+            The file to write (replaced if it exists).
+
+        Returns
+        -------
+        Path
+            The file written.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.continuation.branch.Branch.to_dict` : The same for JSON.
+
+        Examples
+        --------
+        >>> import tempfile
+        >>> from pathlib import Path
+        >>> from gear_dyn import SDOFModel, continue_orbits, rectangular_stiffness, sdof_family
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+        ...               backlash=1e-3)
+        >>> branch = continue_orbits(sdof_family(m, "speed", teeth=20), 43.0, 44.5)
+        >>> with tempfile.TemporaryDirectory() as folder:
+        ...     text = branch.to_csv(Path(folder) / "branch.csv").read_text()
+        >>> len(text.splitlines()) == len(branch.rows()) + 1  # header and one line per point
+        True
+        """
+        from gear_dyn.io import write_rows
+
+        return write_rows(path, self.rows())
 
     def plot(self, ax: Any = None, **kwargs: Any) -> Any:
         """The response curve (:func:`gear_dyn.plots.continuation.plot_branch`): stable

@@ -13,6 +13,7 @@ from __future__ import annotations
 import importlib
 import math
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -253,6 +254,43 @@ class FoldMap:
                             "torque_error_n_m": c.torque_error,
                             "fold_half_gap_rad_s": c.half_gap})
         return out
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write :meth:`rows` as CSV (fold_curve.csv) atomically; with no fold, the header
+        ``region`` alone.
+
+        Parameters
+        ----------
+        path : str or Path
+            The file to write (replaced if it exists).
+
+        Returns
+        -------
+        Path
+            The file written.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.continuation.jump_map.FoldMap.to_dict` : The same for JSON.
+
+        Examples
+        --------
+        >>> import tempfile
+        >>> from pathlib import Path
+        >>> from gear_dyn import (SDOFModel, SpeedTorqueFamily, fold_map, rectangular_stiffness,
+        ...                       sdof_family)
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+        ...               backlash=1e-3)
+        >>> fam = SpeedTorqueFamily(sdof_family(m, "speed", teeth=20), torque_ref=52.0)
+        >>> fmap = fold_map(fam, (43.0, 44.5), [50.0, 52.0], cusp_bisections=0)
+        >>> with tempfile.TemporaryDirectory() as folder:
+        ...     text = fmap.to_csv(Path(folder) / "fold_curve.csv").read_text()
+        >>> len(text.splitlines()) == len(fmap.rows()) + 1  # header and one line per fold
+        True
+        """
+        from gear_dyn.io import write_rows
+
+        return write_rows(path, self.rows(), empty=["region"])
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-able: the speed window, f_n, torques, folds per torque, cusps and rows.

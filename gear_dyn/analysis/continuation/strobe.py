@@ -16,6 +16,7 @@ from __future__ import annotations
 import importlib
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -117,6 +118,60 @@ class BranchSamples:
         ``diagram``, ``state``). Returns the Figure."""
         plots = importlib.import_module(PLOTS_MODULE)
         return plots.plot_branch_samples(self, ax=ax, **kwargs)
+
+    def _columns(self) -> dict[str, FloatArray]:
+        cols: dict[str, list[FloatArray]] = {"branch": [], "point": [], "parameter": [],
+                                             "stable": [], "sample": []}
+        for i, c in enumerate(self.curves):
+            n_p, n_s, n_y = c.samples.shape
+            stable = np.array([p.stable for p in c.branch.points], dtype=float)
+            cols["branch"].append(np.full(n_p * n_s, float(i)))
+            cols["point"].append(np.repeat(np.arange(n_p, dtype=float), n_s))
+            cols["parameter"].append(np.repeat(c.parameter, n_s))
+            cols["stable"].append(np.repeat(stable, n_s))
+            cols["sample"].append(np.tile(np.arange(n_s, dtype=float), n_p))
+            for k in range(n_y):
+                cols.setdefault(f"state_{k}", []).append(c.samples[:, :, k].ravel())
+        return {k: np.concatenate(v) if v else np.zeros(0) for k, v in cols.items()}
+
+    def rows(self) -> list[dict[str, float]]:
+        """One row per branch, point and sample: ``branch`` (index, depth first), ``point``,
+        ``parameter`` (SI, :attr:`unit`), ``stable`` (1 or 0), ``sample`` (k: t = k T_m) and
+        each state component ``state_0``, ``state_1`` ... (SI: m, m/s).
+
+        Returns
+        -------
+        list of dict
+            Plain floats.
+        """
+        from gear_dyn.io import column_rows
+
+        return column_rows(self._columns())
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write :meth:`rows` as CSV atomically; returns the file written."""
+        from gear_dyn.io import write_csv
+
+        return write_csv(path, self._columns())
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: the parameter and its unit, the flow runs made, per branch its period,
+        points and located folds and period doublings (with the located orbit's samples), and
+        :meth:`rows`.
+
+        Returns
+        -------
+        dict
+            Plain numbers, lists and strings; SI values.
+        """
+        return {"parameter": self.parameter_name, "unit": self.unit, "n_maps": self.n_maps,
+                "branches": [{"index": i, "periods": c.branch.periods,
+                              "n_points": int(c.samples.shape[0]),
+                              "marks": [{"kind": kind, "parameter": float(par),
+                                         "samples": np.asarray(at, dtype=float).tolist()}
+                                        for kind, par, at in c.marks]}
+                             for i, c in enumerate(self.curves)],
+                "rows": self.rows()}
 
 
 def branch_samples(branch: Branch, family: Callable[[float], Any], rtol: float = 1e-10

@@ -25,8 +25,11 @@ From the stroboscopic samples (one per mesh period after settling,
 
 from __future__ import annotations
 
+import importlib
 import math
 from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -152,6 +155,142 @@ class Motion:
     def spectral_radius(self) -> float:
         """Largest multiplier modulus of the orbit (NaN without an orbit)."""
         return math.nan if self.orbit is None else self.orbit.spectral_radius
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: kind, label, period, the orbit's multipliers (``[re, im]`` pairs) and
+        spectral radius, the Lyapunov exponent and its error (1/s; None where not computed),
+        the repeat errors, the state and the Newton iterations.
+
+        Returns
+        -------
+        dict
+            Plain numbers, lists and strings; SI units in the key names (``state_si``: the
+            model's state components, x in m and v in m/s for a single-DOF model).
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.motion.classify.Motion.rows` : The samples.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, classify_motion, rectangular_stiffness
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 136.9,
+        ...               backlash=1e-3)
+        >>> motion = classify_motion(m, m.initial_state(), settle=20, samples=32)
+        >>> motion.to_dict()["label"], motion.to_dict()["period"]
+        ('period-1', 1)
+        """
+        lyap = self.lyapunov
+        return {"kind": self.kind, "label": self.label, "periodic": self.periodic,
+                "period": self.period,
+                "spectral_radius": None if self.orbit is None else self.spectral_radius,
+                "multipliers": [[float(z.real), float(z.imag)] for z in self.multipliers],
+                "lyapunov_1_s": None if lyap is None else float(lyap.value),
+                "lyapunov_error_1_s": None if lyap is None else float(lyap.error),
+                "repeat_error": [float(e) for e in self.repeat_error],
+                "state_si": [float(y) for y in self.state],
+                "n_samples": int(self.samples.shape[0]),
+                "shooting_iterations": int(self.shooting_iterations)}
+
+    def rows(self) -> list[dict[str, float]]:
+        """One row per stroboscopic sample: ``sample`` (k, at t = k T_m) and each state
+        component ``state_0``, ``state_1`` ... in SI units (x in m, v in m/s for a single-DOF
+        model).
+
+        Returns
+        -------
+        list of dict
+            Plain floats.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.motion.classify.Motion.to_csv` : Writes them.
+
+        Examples
+        --------
+        >>> from gear_dyn import SDOFModel, classify_motion, rectangular_stiffness
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 136.9,
+        ...               backlash=1e-3)
+        >>> motion = classify_motion(m, m.initial_state(), settle=20, samples=32)
+        >>> len(motion.rows()), list(motion.rows()[0])
+        (32, ['sample', 'state_0', 'state_1'])
+        """
+        from gear_dyn.io import column_rows
+
+        return column_rows(self._columns())
+
+    def _columns(self) -> dict[str, FloatArray]:
+        n = self.samples.shape[0]
+        return {"sample": np.arange(n, dtype=float),
+                **{f"state_{i}": self.samples[:, i] for i in range(self.samples.shape[1])}}
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write :meth:`rows` as CSV atomically.
+
+        Parameters
+        ----------
+        path : str or Path
+            The file to write (replaced if it exists).
+
+        Returns
+        -------
+        Path
+            The file written.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.motion.classify.Motion.to_dict` : The same for JSON.
+
+        Examples
+        --------
+        >>> import tempfile
+        >>> from pathlib import Path
+        >>> from gear_dyn import SDOFModel, classify_motion, rectangular_stiffness
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 136.9,
+        ...               backlash=1e-3)
+        >>> motion = classify_motion(m, m.initial_state(), settle=20, samples=32)
+        >>> with tempfile.TemporaryDirectory() as folder:
+        ...     lines = motion.to_csv(Path(folder) / "motion.csv").read_text().splitlines()
+        >>> lines[0], len(lines)
+        ('sample,state_0,state_1', 33)
+        """
+        from gear_dyn.io import write_csv
+
+        return write_csv(path, self._columns())
+
+    def plot(self, ax: Any = None) -> Any:
+        """The samples in the state plane, a Poincaré section
+        (:func:`gear_dyn.plots.bifurcation.plot_motion`, looked up by name as
+        ``BifurcationDiagram.plot`` does); returns the Figure.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes or None
+            Where to draw; None makes a new figure.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure drawn on.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.motion.diagram.BifurcationDiagram.plot` : Motions over speed.
+
+        Examples
+        --------
+        >>> import matplotlib.pyplot as plt
+        >>> from gear_dyn import SDOFModel, classify_motion, rectangular_stiffness
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 136.9,
+        ...               backlash=1e-3)
+        >>> motion = classify_motion(m, m.initial_state(), settle=20, samples=32)
+        >>> fig = motion.plot()
+        >>> fig.axes[0].get_title()
+        'period-1'
+        >>> plt.close(fig)
+        """
+        plots = importlib.import_module("gear_dyn.plots.bifurcation")
+        return plots.plot_motion(self, ax=ax)
 
     def __repr__(self) -> str:
         return f"Motion({self.label})"

@@ -19,6 +19,7 @@ import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -357,7 +358,7 @@ class BifurcationDiagram:
 
         See Also
         --------
-        :meth:`~gear_dyn.analysis.motion.diagram.BifurcationDiagram.summary` : One entry per speed.
+        :meth:`~gear_dyn.analysis.motion.diagram.BifurcationDiagram.to_dict` : One entry per speed.
 
         Examples
         --------
@@ -388,9 +389,81 @@ class BifurcationDiagram:
                 cols[name].append(c.samples[:, :, i].ravel())
         return {k: np.concatenate(v).astype(float) for k, v in cols.items()}
 
-    def summary(self) -> dict[str, Any]:
+    def rows(self) -> list[dict[str, float]]:
+        """One row per sample, the rows of samples.csv (:meth:`columns` as dicts of plain
+        floats).
+
+        Returns
+        -------
+        list of dict
+            SI units (and rpm) in the key names.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.motion.diagram.BifurcationDiagram.to_csv` : Writes them.
+
+        Examples
+        --------
+        >>> from gear_dyn import (DiagramOptions, SDOFModel, bifurcation_diagram,
+        ...                       rectangular_stiffness, sdof_family)
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+        ...               backlash=1e-3)
+        >>> diagram = bifurcation_diagram(sdof_family(m, "speed", teeth=20), [43.0, 44.0],
+        ...                               options=DiagramOptions(settle=20, samples=32))
+        >>> len(diagram.rows()), diagram.rows()[0]["direction"]
+        (128, 1.0)
+        """
+        from gear_dyn.io import column_rows
+
+        return column_rows(self.columns())
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write :meth:`rows` as CSV (samples.csv) atomically, after two ``#`` lines stating
+        the units.
+
+        Parameters
+        ----------
+        path : str or Path
+            The file to write (replaced if it exists).
+
+        Returns
+        -------
+        Path
+            The file written.
+
+        See Also
+        --------
+        :meth:`~gear_dyn.analysis.motion.diagram.BifurcationDiagram.to_dict` : The same for
+            JSON, one entry per speed.
+
+        Examples
+        --------
+        >>> import tempfile
+        >>> from pathlib import Path
+        >>> from gear_dyn import (DiagramOptions, SDOFModel, bifurcation_diagram,
+        ...                       rectangular_stiffness, sdof_family)
+        >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+        ...               backlash=1e-3)
+        >>> diagram = bifurcation_diagram(sdof_family(m, "speed", teeth=20), [43.0, 44.0],
+        ...                               options=DiagramOptions(settle=20, samples=32))
+        >>> with tempfile.TemporaryDirectory() as folder:
+        ...     lines = diagram.to_csv(Path(folder) / "samples.csv").read_text().splitlines()
+        >>> len(lines)  # 2 comment lines, the header, 2 directions x 2 speeds x 32 samples
+        131
+        """
+        from gear_dyn.io import write_csv
+
+        return write_csv(path, self.columns(), comments=[
+            f"# {self.scene_name}: stroboscopic samples (t = k / f_m after "
+            f"{self.options.settle} mesh periods), SI units: speed in rad/s and rpm, f_m in Hz, "
+            "x in m, v in m/s,",
+            "# direction +1 up / -1 down; period: least period in mesh periods confirmed by "
+            "shooting (0: none of 1..16); lyapunov in 1/s (NaN: not computed)"])
+
+    def to_dict(self) -> dict[str, Any]:
         """Per direction and speed: speed (rad/s, rpm), f_m / f_n, period, label, Lyapunov
-        exponent and error (1/s; None where not computed). JSON-able with ``io.write_json``.
+        exponent and error (1/s; NaN where not computed, null in JSON written with
+        ``io.write_json``), what bifurcation.json holds.
 
         Returns
         -------
@@ -409,7 +482,7 @@ class BifurcationDiagram:
         ...               backlash=1e-3)
         >>> diagram = bifurcation_diagram(sdof_family(m, "speed", teeth=20), [43.0, 44.0],
         ...                               options=DiagramOptions(settle=20, samples=32))
-        >>> diagram.summary()["settle_periods"]
+        >>> diagram.to_dict()["settle_periods"]
         20
         """
         return {

@@ -12,14 +12,6 @@ are found" and "Parallel runs", gives the routes, the statuses and where the blo
 from gear_dyn.analysis.sweep.driver import ModelFactory, sweep
 from gear_dyn.analysis.sweep.jump import JUMP_KINDS, Jump
 from gear_dyn.analysis.sweep.orbit_jumps import find_jumps
-from gear_dyn.analysis.sweep.report import (
-    aperiodic_ranges,
-    hysteresis_ranges,
-    jumps,
-    periodic_response,
-    summarize_sweep,
-    sweep_columns,
-)
 from gear_dyn.analysis.sweep.types import (
     DIRECTIONS,
     METHODS,
@@ -28,6 +20,12 @@ from gear_dyn.analysis.sweep.types import (
     SweepCurve,
     SweepOptions,
     SweepResult,
+    aperiodic_ranges,
+    hysteresis_ranges,
+    jumps,
+    periodic_response,
+    summarize_sweep,
+    sweep_columns,
 )
 
 __all__ = [
