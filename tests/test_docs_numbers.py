@@ -654,3 +654,22 @@ def test_stiff_cases_parametric_resonance_row(heli: Any) -> None:
     stated = re.findall(r"grows ([\d.]+)x per period|largest multiplier ([\d.]+) > 1", row)
     figures = [s for groups in stated for s in groups if s]
     assert len(figures) == 2 and all(_matches(s, mu) for s in figures), (figures, mu)
+
+
+def test_eccentric_run_cost_and_dynamic_factors() -> None:
+    """The eccentricity page's hunting-period run: its cost is the recorded `run_scene` time of
+    `benchmarks/results/kernel_method.md`, and the dynamic factors of the paper's scene and its
+    error-free twin are those the runs give (to the page's three decimals; each run states an
+    error below 1e-6 of W/k_m, far below that rounding)."""
+    from gear_dyn import run_scene
+    from gear_dyn.scene import load_scene
+
+    text = " ".join(_page("eccentricity").split())
+    m = re.search(r"costs ([\d.]+) ms CPU in `run_scene` with the `kernel` method .*?its dynamic "
+                  r"factor is ([\d.]+) \(error-free twin: ([\d.]+),", text)
+    rec = re.search(r"\| `eccentric_helical` \| gauss \| [\d.]+ ms \| kernel \| ([\d.]+) ms \|",
+                    _recorded("kernel_method"))
+    assert m and rec and _matches(m[1], float(rec[1]))
+    for stated, name in ((m[2], "eccentric_helical"), (m[3], "eccentric_helical_ideal")):
+        res = run_scene(load_scene(f"examples/scenes/{name}.toml"))
+        assert _matches(stated, res.extra["dynamic_factor"]), (name, stated)
