@@ -143,7 +143,7 @@ def test_cached_propagator_matches_expm(n: int) -> None:
     sums): rounding only (2e-14 relative; without the second-order term 1e-13)."""
     from scipy.linalg import expm
 
-    from gear_dyn.fmu.stepper import _Propagator
+    from gear_dyn.solvers.exact import StepPropagator as _Propagator
 
     rng = np.random.default_rng(n)
     a = rng.normal(size=(n, n)) * 1e3 - 2e3 * np.eye(n)
