@@ -67,14 +67,14 @@ def _step_maps(model: Any, t0: float, dt: float, n_steps: int, rtol: float
     single-DOF model: ``[F_j h_j]`` integrated from ``[I 0]`` with DOP853, all steps at once
     (one vectorised system), restarted at the switching instants of every step.
 
-    A direct solve_ivp call per piece, not the solve_ivp driver (:func:`~gear_dyn.solvers.ode.
-    flow`): the driver advances one model's state in real time, cut at its switching instants,
-    while here the steps run side by side in a local time ``s in [0, 1]`` mapped onto each
-    step's own piece, whose real ends differ from step to step (no common time axis for the
-    driver's cuts). Its piece integrator (:func:`~gear_dyn.solvers.events.
-    solve_piece_with_events`) returns the end state through the dense output, which for DOP853
-    costs three more evaluations per piece (26 -> 29 evaluations for a five-period run) and
-    moves the recorded evaluation counts; only the end state is wanted here."""
+    A direct solve_ivp call per piece, not the solve_ivp driver
+    (:func:`~gear_dyn.solvers.ode.flow`): the driver advances one model's state in real
+    time, cut at its switching instants, while here the steps run side by side in a local
+    time ``s in [0, 1]`` mapped onto each step's own piece, whose real ends differ from step
+    to step (no common time axis for the driver's cuts). Nor through the driver's piece
+    integrator (:func:`~gear_dyn.solvers.events.solve_piece_with_events`): it returns the end
+    state from the dense output, which for DOP853 costs three more evaluations per piece and
+    changes the recorded evaluation counts, while only the end state is wanted here."""
     from scipy.integrate import solve_ivp
 
     n = 2
