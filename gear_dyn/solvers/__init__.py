@@ -7,6 +7,8 @@ Every way of advancing a model's state lives here, one module per method:
 - :mod:`.ode`: :func:`~gear_dyn.solvers.ode.flow`, the one solve_ivp driver (piece by piece
   between switching instants, restarted at contact changes by :mod:`.events`, optionally with
   the variational equations), and ``integrate_ode``, that driver with settings;
+- :mod:`.session`: that integration advanced point by point (one ``OdeSolver`` kept alive,
+  restarted where the driver restarts; ``exact`` by cached exponentials), the FMU's stepper;
 - :mod:`.sensitivity`: a state and ``d y(t1) / d y0`` by route (the backlash closed form or
   the driver's variational equations);
 - :mod:`.exact`: exact propagation of piecewise-constant linear models;
