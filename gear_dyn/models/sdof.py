@@ -15,9 +15,10 @@ With both off the equation is exactly that of Jiang et al. (2018).
 from __future__ import annotations
 
 import bisect
+import copy
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -224,7 +225,15 @@ class SDOFModel:
         >>> m.at_mesh_frequency(100.0).mesh_frequency  # Hz
         100.0
         """
-        return replace(self, mesh_frequency=mesh_frequency)
+        check_range("mesh_frequency", mesh_frequency, "Hz", low=0.0, high=1e7, low_open=True)
+        # only f_m changes: the other fields were checked when this model was built, so the
+        # copy skips their checks and rebuilds only what captures f_m (the right-hand side
+        # and its Jacobian); continuation evaluates the map at a new speed every iterate
+        out = copy.copy(self)
+        object.__setattr__(out, "mesh_frequency", float(mesh_frequency))
+        object.__setattr__(out, "_rhs", out._build_rhs())
+        object.__setattr__(out, "_jac", out._build_jac())
+        return out
 
     def contact_events(self) -> list[Callable[[float, FloatArray], float]]:
         """With backlash: ``x - e - b`` and ``x - e + b`` (drive and back flank); else none.
