@@ -15,9 +15,10 @@ With both off the equation is exactly that of Jiang et al. (2018).
 from __future__ import annotations
 
 import bisect
+import copy
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -150,8 +151,12 @@ class SDOFModel:
     state_labels: tuple[str, ...] = field(default=("x", "v"), init=False)
     output_names: tuple[str, ...] = field(default=("dte", "mesh_force", "stiffness"), init=False)
     damping: float = field(init=False)
-    _rhs: Callable[[float, FloatArray], FloatArray] = field(init=False, repr=False)
-    _jac: Callable[[float, FloatArray], FloatArray] = field(init=False, repr=False)
+    #: the right-hand side and its Jacobian, built at their first call (the exact contact
+    #: walk never calls them; a continuation builds a model at every iterate's speed)
+    _rhs: Callable[[float, FloatArray], FloatArray] | None = field(default=None, init=False,
+                                                                   repr=False)
+    _jac: Callable[[float, FloatArray], FloatArray] | None = field(default=None, init=False,
+                                                                   repr=False)
 
     def __post_init__(self) -> None:
         check_range("mass", self.mass, "kg", low=0.0, low_open=True)
@@ -165,8 +170,8 @@ class SDOFModel:
         if not (math.isfinite(k_m) and k_m > 0):
             raise InputError(f"mean mesh stiffness = {k_m:.6g} N/m: valid range > 0 N/m")
         object.__setattr__(self, "damping", 2 * self.damping_ratio * math.sqrt(self.mass * k_m))
-        object.__setattr__(self, "_rhs", self._build_rhs())
-        object.__setattr__(self, "_jac", self._build_jac())
+        object.__setattr__(self, "_rhs", None)
+        object.__setattr__(self, "_jac", None)
 
     # ---------------------------------------------------------------- derived constants
     @property
@@ -224,7 +229,16 @@ class SDOFModel:
         >>> m.at_mesh_frequency(100.0).mesh_frequency  # Hz
         100.0
         """
-        return replace(self, mesh_frequency=mesh_frequency)
+        check_range("mesh_frequency", mesh_frequency, "Hz", low=0.0, high=1e7, low_open=True)
+        # only f_m changes: the other fields were checked when this model was built, so the
+        # copy skips their checks and drops only what captures f_m (the right-hand side and
+        # its Jacobian, rebuilt at their first call); continuation evaluates the map at a new
+        # speed every iterate
+        out = copy.copy(self)
+        object.__setattr__(out, "mesh_frequency", float(mesh_frequency))
+        object.__setattr__(out, "_rhs", None)
+        object.__setattr__(out, "_jac", None)
+        return out
 
     def contact_events(self) -> list[Callable[[float, FloatArray], float]]:
         """With backlash: ``x - e - b`` and ``x - e + b`` (drive and back flank); else none.
@@ -385,7 +399,11 @@ class SDOFModel:
         >>> m.rhs(0.0, m.initial_state())  # k(0) = 1.5e8 N/m > k_m: pushed back (m/s^2)
         array([   0.        , -307.69230769])
         """
-        return self._rhs(t, y)
+        f = self._rhs
+        if f is None:
+            f = self._build_rhs()
+            object.__setattr__(self, "_rhs", f)
+        return f(t, y)
 
     def jac(self, t: float, y: FloatArray) -> FloatArray:
         """Jacobian d rhs / d y (2 x 2).
@@ -413,7 +431,11 @@ class SDOFModel:
         >>> float(m.jac(0.0, m.initial_state())[1, 0])  # -k(0) / m_e in 1/s^2
         -300000000.0
         """
-        return self._jac(t, y)
+        f = self._jac
+        if f is None:
+            f = self._build_jac()
+            object.__setattr__(self, "_jac", f)
+        return f(t, y)
 
     def switching_times(self, t0: float, t1: float) -> FloatArray:
         """Instants in (t0, t1) where k(t) jumps.

@@ -271,6 +271,46 @@ def test_corrector_run_to_rounding_keeps_its_parameter_column(load: float, ratio
         assert np.max(np.abs(col - ref)) <= 1e-3 * np.max(np.abs(ref)), (ds, col, ref)
 
 
+@pytest.mark.parametrize("ratio", [0.8, 0.87, 0.95])
+def test_forward_difference_column_states_an_upper_error(ratio: float) -> None:
+    """The one-map forward difference of the exact route's parameter column, checked against
+    a secant-like column (the central difference 1e-4 relative away, first order off as the
+    corrector's secants are): its stated error bounds its distance from the Richardson
+    extrapolation of two central differences (error O(h^4), below 1e-10 relative here), it
+    costs one map, and it agrees with the two-map central difference to 1e-5."""
+    from gear_dyn.analysis.continuation.arclength import start_orbit
+    from gear_dyn.analysis.continuation.orbit import map_only
+    from gear_dyn.analysis.continuation.shooting import Evaluation, Shooting
+
+    fam = sdof_family(oscillator(1040.0), "speed", teeth=TEETH)
+    w = ratio * WN / TEETH
+    model = fam(w)
+    sh = Shooting(fam, 1, "exact", model.state_scale, w, 1e-10, 1e-5)
+    y0 = start_orbit(model, 1, "exact", ContinuationSettings(), None)
+    out = sh.correct(sh.scaled(y0, w), np.array([0.0, 0.0, 1.0]), 1.0,
+                     NewtonSettings(max_iter=8, tolerance=1e-12), fresh=False)
+    assert out is not None
+    ev = out[0]
+    y = sh.state(ev.z)
+
+    def central(p: float, h: float) -> np.ndarray:
+        plus, minus = (map_only(fam(p + d), y, 1, "exact", 1e-10) for d in (h, -h))
+        return (plus - minus) / (2 * h) * sh.p_ref / sh.scale
+
+    exact = (4 * central(w, 5e-5 * w) - central(w, 1e-4 * w)) / 3
+    chord = central(w * (1 + 1e-4), 1e-5 * w)
+    bare = Evaluation(ev.z, ev.g, ev.jac.copy(), ev.monodromy, math.nan, ev.model, ev.walked)
+    n0 = sh.n_maps
+    fwd = sh.refresh(bare, chord)
+    assert sh.n_maps == n0 + 1
+    col = fwd.jac[:, 2]
+    size = float(np.max(np.abs(exact)))
+    assert float(np.max(np.abs(col - exact))) / size <= fwd.dp_error < 1e-3
+    ctr = sh.refresh(bare)
+    assert sh.n_maps == n0 + 3
+    assert float(np.max(np.abs(col - ctr.jac[:, 2]))) <= 1e-5 * size
+
+
 def test_branch_rows_json_and_repr() -> None:
     fam = sdof_family(oscillator(), "speed", teeth=TEETH)
     br = continue_orbits(fam, _speed(0.84), _speed(0.9),

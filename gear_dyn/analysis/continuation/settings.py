@@ -56,7 +56,9 @@ class ContinuationSettings:
     fd_step : float
         Relative step of the central difference for the parameter derivative of the shooting
         map (1e-9..1e-2); its error is O(fd_step**2) (truncation) plus O(eps / fd_step)
-        (rounding), both about 1e-10 at the default.
+        (rounding), both about 1e-10 at the default. On the exact route, where the corrector's
+        secant column is at hand to check it, the one-map forward difference steps
+        ``FORWARD_STEP_RATIO`` (1e-3) of it instead (:mod:`.shooting`).
     locate_tol : float
         Relative error of the parameter to which folds, period doublings and grazing points
         are located (1e-14..1e-4): the bracketing stops when the parameter changes by at most

@@ -7,11 +7,16 @@ linear equation ``r . z = rhs``: the pseudo-arclength condition ``t . (z - z_pre
 1977) or, to stop at a given parameter value, ``p = p_end``.
 
 The Jacobian ``[M - I | dP/dp]`` (scaled): ``M`` exact or variational (:mod:`.orbit`); the
-parameter derivative by a central difference of the map over ``p +- h``, ``h = fd_step |p|``
-(truncation O(h^2), rounding O(eps / h)), whose one-sided differences' disagreement is kept as
-an upper estimate of its error; inside the corrector by the secant condition of each Newton
-step (a finite difference along the step, whose change from one step to the next is its error
-estimate).
+parameter derivative inside the corrector by the secant condition of each Newton step (a finite
+difference along the step, whose change from one step to the next is its error estimate). At a
+converged point whose secant columns have not settled, on the exact route (a map exact to
+rounding) by one more map: the forward difference over ``p + h_f``, ``h_f = FORWARD_STEP_RATIO
+fd_step |p|`` (truncation ``h_f |d2P/dp2| / 2``, rounding O(eps / h_f); Dennis and Schnabel
+1996, sec. 5.4), whose disagreement with the corrector's last secant column (first order in the
+longer Newton step) plus its rounding is kept as an upper estimate of its error. Where no
+secant column was taken, or on the variational route (a map accurate to ``rtol`` only), by the
+central difference over ``p +- h``, ``h = fd_step |p|`` (two maps; truncation O(h^2)), whose
+one-sided differences' disagreement is kept as an upper estimate of its error.
 """
 
 from __future__ import annotations
@@ -40,6 +45,15 @@ SECANT_AGREEMENT = 1e-4
 #: otherwise replace a good column by noise (a difference quotient over a step near the
 #: function's noise level; Dennis and Schnabel 1996, sec. 5.4).
 SECANT_FLOOR = 1e-10
+#: the forward difference's step as a fraction of the central difference's ``fd_step |p|``:
+#: its truncation error is first order in the step, the central one's second, so the same
+#: accuracy needs a shorter step (near ``sqrt(eps)`` relative rather than ``eps**(1/3)``):
+#: 1e-8 relative at the default ``fd_step``, about 1e-7 relative error on the packaged
+#: backlash scene's resonance (against a Richardson-extrapolated central difference)
+FORWARD_STEP_RATIO = 1e-3
+#: relative rounding of the scaled map (its residual is rounded to about this times
+#: ``1 + max|z|``): the rounding part of a forward difference's error estimate
+MAP_ROUNDING = 1e-15
 
 
 @dataclass(frozen=True, eq=False)
@@ -151,9 +165,30 @@ class Shooting:
         return Evaluation(np.array(z, dtype=float), (yt - y) / s, jac, mono, dp_err, model,
                           walked)
 
-    def _dp_column(self, y: FloatArray, p: float, yt: FloatArray) -> tuple[FloatArray, float]:
-        """Scaled ``dP/dp`` by the central difference, and its error estimate."""
+    def _dp_column(self, y: FloatArray, p: float, yt: FloatArray,
+                   ref: FloatArray | None = None) -> tuple[FloatArray, float]:
+        """Scaled ``dP/dp`` and an upper estimate of its relative error.
+
+        ``ref``: a secant column of the corrector at this point: on the exact route (a map
+        exact to rounding) the forward difference (one map), its error bounded by its
+        disagreement with that column plus its rounding; None, or the variational route (a
+        map accurate to ``rtol``, too coarse for the forward difference's short step): the
+        central difference (two maps).
+        """
         h = self.fd_step * max(abs(p), 1e-3 * self.p_ref)
+        if ref is not None and self.route == "exact":
+            h *= FORWARD_STEP_RATIO
+            y_plus = map_only(self.family(p + h), y, self.periods, self.route, self.rtol)
+            self.n_maps += 1
+            col = (y_plus - yt) / h * self.p_ref / self.scale
+            # the secant column's error (first order in the corrector's Newton step, or its
+            # rounding at SECANT_FLOOR) exceeds the forward difference's: their disagreement
+            # bounds the latter's truncation error; plus its rounding
+            hs = h / self.p_ref  # the step, scaled
+            size = max(float(np.max(np.abs(col))), 1e-300)
+            z_size = 1.0 + float(np.max(np.abs(np.append(y / self.scale, p / self.p_ref))))
+            err = (float(np.max(np.abs(col - ref))) + 2 * MAP_ROUNDING * z_size / hs) / size
+            return col, err
         y_plus = map_only(self.family(p + h), y, self.periods, self.route, self.rtol)
         y_minus = map_only(self.family(p - h), y, self.periods, self.route, self.rtol)
         self.n_maps += 2
@@ -162,25 +197,31 @@ class Shooting:
         dp_err = float(np.max(np.abs(fwd - bwd)) / max(float(np.max(np.abs(dp))), 1e-300))
         return dp * self.p_ref / self.scale, dp_err
 
-    def refresh(self, ev: Evaluation) -> Evaluation:
-        """``ev`` with its parameter column computed at its own point (for the tangent)."""
+    def refresh(self, ev: Evaluation, ref: FloatArray | None = None) -> Evaluation:
+        """``ev`` with its parameter column computed at its own point (for the tangent).
+
+        ``ref``: a secant column of the corrector at ``ev`` (the forward difference, one map);
+        None: the central difference (two maps).
+        """
         if not np.isnan(ev.dp_error):
             return ev
         y, p = self.state(ev.z), self.param(ev.z)
-        col, err = self._dp_column(y, p, y + ev.g * self.scale)
+        col, err = self._dp_column(y, p, y + ev.g * self.scale, ref)
         return replace(ev, jac=np.column_stack([ev.jac[:, :2], col]), dp_error=err)
 
-    def _settled_column(self, ev: Evaluation, secants: list[FloatArray]) -> Evaluation | None:
+    def _settled_column(self, ev: Evaluation, secants: list[FloatArray],
+                        last: FloatArray | None = None) -> Evaluation | None:
         """``ev`` with a parameter column good for the tangent: the last secant column where
         the last two agree to :data:`SECANT_AGREEMENT` (their difference is its error
-        estimate), else the central difference (:meth:`refresh`)."""
+        estimate), else the forward difference checked against ``last`` (the corrector's last
+        secant column), else the central difference (:meth:`refresh`)."""
         if len(secants) >= 2:
             a, b = secants[-1], secants[-2]
             err = float(np.max(np.abs(a - b)) / max(float(np.max(np.abs(a))), 1e-300))
             if err <= SECANT_AGREEMENT:
                 return replace(ev, dp_error=err)
         try:
-            return self.refresh(ev)
+            return self.refresh(ev, last)
         except (SolverError, ValueError):
             return None
 
@@ -219,6 +260,7 @@ class Shooting:
         step_prev = math.inf
         prev: tuple[Evaluation, FloatArray] | None = None
         secants: list[FloatArray] = []  # the column after each secant update, in order
+        last: FloatArray | None = None  # the last of them
         for it in range(1, max_iter + 1):
             try:
                 ev = self.evaluate(z, dp_col)
@@ -230,12 +272,13 @@ class Shooting:
                 if new is not None:
                     dp_col, updated = new, True
                     secants.append(new)
+                    last = new
                     ev.jac[:, 2] = dp_col
             f = np.append(ev.g, float(row @ z) - rhs)
             if float(np.max(np.abs(f))) <= tol:
                 if not fresh:
                     return ev, it
-                settled = self._settled_column(ev, secants if updated else [])
+                settled = self._settled_column(ev, secants if updated else [], last)
                 return None if settled is None else (settled, it)
             a = np.vstack([ev.jac, row])
             try:
