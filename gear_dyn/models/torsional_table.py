@@ -78,7 +78,8 @@ class ExcitationTable:
         s, to_mono = node_matrix(DEGREE)
         vals = self.values((mid[:, None] + half[:, None] * s[None, :]).ravel())
         vals = vals.reshape(5, mid.size, s.size)
-        coefs = np.einsum("ij,qpj->piq", to_mono, vals)  # (pieces, DEGREE + 1, 5)
+        # (pieces, DEGREE + 1, 5), contiguous: evaluate gathers whole rows
+        coefs = np.ascontiguousarray(np.einsum("ij,qpj->piq", to_mono, vals))
         s_chk, _ = node_matrix(DEGREE + 1)
         exact = self.values((mid[:, None] + half[:, None] * s_chk[None, :]).ravel())
         approx = np.einsum("ij,pjq->qpi", np.vander(s_chk, DEGREE + 1), coefs)
@@ -133,12 +134,14 @@ class ExcitationTable:
             tb = t[sel]
             i = np.maximum(np.searchsorted(starts, tb, side="right") - 1, 0)
             s = (tb - mids[i]) * inv_half[i]
-            # Horner, gathering one power's rows at a time (no (n, DEGREE + 1, 5) copy)
+            # Horner on the pieces' rows gathered once (one take of contiguous rows)
+            rows = np.take(coefs.reshape(coefs.shape[0], -1), i, axis=0)
+            rows = rows.reshape(i.size, DEGREE + 1, 5)
             sc = s[:, None]
-            acc = coefs[i, 0, :]
+            acc = rows[:, 0, :].copy()
             for k in range(1, DEGREE + 1):
                 acc *= sc
-                acc += coefs[i, k, :]
+                acc += rows[:, k, :]
             out[:, sel] = acc.T
         return out
 
