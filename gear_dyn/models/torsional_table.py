@@ -78,8 +78,7 @@ class ExcitationTable:
         s, to_mono = node_matrix(DEGREE)
         vals = self.values((mid[:, None] + half[:, None] * s[None, :]).ravel())
         vals = vals.reshape(5, mid.size, s.size)
-        # (pieces, DEGREE + 1, 5), contiguous: evaluate gathers whole rows
-        coefs = np.ascontiguousarray(np.einsum("ij,qpj->piq", to_mono, vals))
+        coefs = np.einsum("ij,qpj->piq", to_mono, vals)  # (pieces, DEGREE + 1, 5)
         s_chk, _ = node_matrix(DEGREE + 1)
         exact = self.values((mid[:, None] + half[:, None] * s_chk[None, :]).ravel())
         approx = np.einsum("ij,pjq->qpi", np.vander(s_chk, DEGREE + 1), coefs)
@@ -134,15 +133,14 @@ class ExcitationTable:
             tb = t[sel]
             i = np.maximum(np.searchsorted(starts, tb, side="right") - 1, 0)
             s = (tb - mids[i]) * inv_half[i]
-            # Horner on the pieces' rows gathered once (one take of contiguous rows)
-            rows = np.take(coefs.reshape(coefs.shape[0], -1), i, axis=0)
-            rows = rows.reshape(i.size, DEGREE + 1, 5)
-            sc = s[:, None]
-            acc = rows[:, 0, :].copy()
+            # Horner with the points last (long inner loops): the block's coefficients as
+            # (DEGREE + 1, 5, pieces), gathered once at the points' pieces
+            rows = np.take(np.ascontiguousarray(coefs.transpose(1, 2, 0)), i, axis=2)
+            acc = rows[0]
             for k in range(1, DEGREE + 1):
-                acc *= sc
-                acc += rows[:, k, :]
-            out[:, sel] = acc.T
+                acc *= s
+                acc += rows[k]
+            out[:, sel] = acc
         return out
 
 

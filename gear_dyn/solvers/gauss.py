@@ -84,8 +84,8 @@ def _maps(model: Model, ta: FloatArray, h: FloatArray) -> FloatArray:
     s, m = STAGES, ta.size
     # stage-major order: every array below is (stage, ..., substep), contiguous in the substeps
     u, f, f0, gv = model.force_form((ta[None, :] + c[:, None] * h[None, :]).ravel())  # type: ignore[attr-defined]
-    u = u.reshape(s, m, 2).transpose(0, 2, 1)  # (s, 2, m)
-    f = f.reshape(s, m, 4).transpose(0, 2, 1)  # (s, 4, m)
+    u = np.ascontiguousarray(u.reshape(s, m, 2).transpose(0, 2, 1))  # (s, 2, m)
+    f = np.ascontiguousarray(f.reshape(s, m, 4).transpose(0, 2, 1))  # (s, 4, m)
     fq, fv, f0 = f[:, :2], f[:, 2:], f0.reshape(s, m)
     h2 = h * h
     # G_il = h^2 (aa)_il fq_i . u_l + h a_il fv_i . u_l
