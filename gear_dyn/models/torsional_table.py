@@ -125,11 +125,14 @@ class ExcitationTable:
         t = np.asarray(t, dtype=float)
         out = np.empty((5, t.size))
         blocks = np.floor_divide(t, self.block).astype(np.int64)
-        for b in np.unique(blocks):
-            if int(b) not in self._arrays:
-                self._build(int(b))
-            starts, mids, inv_half, coefs = self._arrays[int(b)]
-            sel = np.nonzero(blocks == b)[0]
+        if t.size == 0:
+            return out
+        lo, hi = int(blocks.min()), int(blocks.max())
+        for b in ([lo] if lo == hi else np.unique(blocks).tolist()):  # one block: no sort
+            if b not in self._arrays:
+                self._build(b)
+            starts, mids, inv_half, coefs = self._arrays[b]
+            sel = slice(None) if lo == hi else np.nonzero(blocks == b)[0]
             tb = t[sel]
             i = np.maximum(np.searchsorted(starts, tb, side="right") - 1, 0)
             s = (tb - mids[i]) * inv_half[i]
