@@ -125,21 +125,25 @@ class ExcitationTable:
         t = np.asarray(t, dtype=float)
         out = np.empty((5, t.size))
         blocks = np.floor_divide(t, self.block).astype(np.int64)
-        for b in np.unique(blocks):
-            if int(b) not in self._arrays:
-                self._build(int(b))
-            starts, mids, inv_half, coefs = self._arrays[int(b)]
-            sel = np.nonzero(blocks == b)[0]
+        if t.size == 0:
+            return out
+        lo, hi = int(blocks.min()), int(blocks.max())
+        for b in ([lo] if lo == hi else np.unique(blocks).tolist()):  # one block: no sort
+            if b not in self._arrays:
+                self._build(b)
+            starts, mids, inv_half, coefs = self._arrays[b]
+            sel = slice(None) if lo == hi else np.nonzero(blocks == b)[0]
             tb = t[sel]
             i = np.maximum(np.searchsorted(starts, tb, side="right") - 1, 0)
             s = (tb - mids[i]) * inv_half[i]
-            # Horner, gathering one power's rows at a time (no (n, DEGREE + 1, 5) copy)
-            sc = s[:, None]
-            acc = coefs[i, 0, :]
+            # Horner with the points last (long inner loops): the block's coefficients as
+            # (DEGREE + 1, 5, pieces), gathered once at the points' pieces
+            rows = np.take(np.ascontiguousarray(coefs.transpose(1, 2, 0)), i, axis=2)
+            acc = rows[0]
             for k in range(1, DEGREE + 1):
-                acc *= sc
-                acc += coefs[i, k, :]
-            out[:, sel] = acc.T
+                acc *= s
+                acc += rows[k]
+            out[:, sel] = acc
         return out
 
 

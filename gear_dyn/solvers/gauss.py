@@ -4,9 +4,9 @@ For a model ``q' = v``, ``v' = u(t) F + g_v`` with one scalar force ``F = f(t) .
 (``model.force_form(t)``: the torsional model, F the mesh force), the state after a step is an
 affine map of the state before it. The output grid is cut at ``model.switching_times`` and each
 interval divided into ``n`` substeps, each one ``s``-stage Gauss-Legendre step (order ``2 s``)
-whose stage equations reduce to ``(I - G) F = B y0 + r`` for the stage forces: one batched
-s x s solve for all steps. Only the application of the maps is sequential (in the compiled
-kernel). Where ``model.force_form_needs_compression`` and the force is not compressive at a
+whose stage equations reduce to ``(I - G) F = B y0 + r`` for the stage forces: one s x s
+elimination vectorised over all steps. Only the application of the maps is sequential (in the
+compiled kernel). Where ``model.force_form_needs_compression`` and the force is not compressive at a
 substep end, the run falls back to the ODE path (:mod:`~gear_dyn.solvers.ode`).
 
 Substeps: ``n`` is the smallest with ``(omega_n h / 2)^(2 s) <= rtol``; the stated error is the
@@ -72,35 +72,71 @@ def _edges(model: Model, t_grid: FloatArray) -> FloatArray:
 
 
 def _maps(model: Model, ta: FloatArray, h: FloatArray) -> FloatArray:
-    """Augmented 5x5 affine maps of the substeps starting at ``ta`` with lengths ``h`` (s)."""
+    """Augmented 5x5 affine maps of the substeps starting at ``ta`` with lengths ``h`` (s).
+
+    The stage forces ``F_l`` solve ``(I - G) F = R [y0, 1]`` with ``G_il = h^2 (a a)_il
+    f_q,i . u_l + h a_il f_v,i . u_l``: one s x s system per substep, all substeps at once by
+    Gaussian elimination written out over the stage indices (arrays of the substeps: no
+    per-matrix library call). ``G`` is small on the substeps of :func:`substeps` (entries of
+    order ``(omega_n h)^2`` and ``xi omega_n h``), so elimination without pivoting is stable;
+    :func:`_solve_stages` checks its pivots and falls back to a pivoted solve."""
     c, a, b = tableau(STAGES)
     s, m = STAGES, ta.size
-    u, f, f0, gv = model.force_form((ta[:, None] + h[:, None] * c[None, :]).ravel())  # type: ignore[attr-defined]
-    u, f, f0 = u.reshape(m, s, 2), f.reshape(m, s, 4), f0.reshape(m, s)
-    fq, fv = f[:, :, :2], f[:, :, 2:]
-    aa = a @ a
-    h1, h2 = h[:, None, None], (h * h)[:, None, None]
+    # stage-major order: every array below is (stage, ..., substep), contiguous in the substeps
+    u, f, f0, gv = model.force_form((ta[None, :] + c[:, None] * h[None, :]).ravel())  # type: ignore[attr-defined]
+    u = np.ascontiguousarray(u.reshape(s, m, 2).transpose(0, 2, 1))  # (s, 2, m)
+    f = np.ascontiguousarray(f.reshape(s, m, 4).transpose(0, 2, 1))  # (s, 4, m)
+    fq, fv, f0 = f[:, :2], f[:, 2:], f0.reshape(s, m)
+    h2 = h * h
     # G_il = h^2 (aa)_il fq_i . u_l + h a_il fv_i . u_l
-    ut = u.transpose(0, 2, 1)
-    g = h2 * aa[None] * (fq @ ut) + h1 * a[None] * (fv @ ut)
-    rhs = np.empty((m, s, 5))
-    rhs[:, :, :2] = fq
-    rhs[:, :, 2:4] = h1 * c[None, :, None] * fq + fv
-    rhs[:, :, 4] = f0 + (h2[:, :, 0] * (aa.sum(axis=1))[None, :] * (fq @ gv)
-                         + h1[:, :, 0] * c[None, :] * (fv @ gv))
-    forces = np.linalg.solve(np.eye(s) - g, rhs)  # (m, s, 5): F_l as a map of [y0, 1]
+    uq = np.einsum("ikm,lkm->ilm", fq, u)
+    uv = np.einsum("ikm,lkm->ilm", fv, u)
+    aa = a @ a
+    g = aa[:, :, None] * uq * h2 + a[:, :, None] * uv * h
+    rhs = np.empty((s, 5, m))
+    rhs[:, :2] = fq
+    rhs[:, 2:4] = c[:, None, None] * fq * h + fv
+    rhs[:, 4] = f0 + (aa.sum(axis=1)[:, None] * np.einsum("ikm,k->im", fq, gv) * h2
+                      + c[:, None] * np.einsum("ikm,k->im", fv, gv) * h)
+    forces = _solve_stages(g, rhs)  # (s, 5, m): F_l as a map of [y0, 1]
     ba = b @ a
     out = np.zeros((m, 5, 5))
-    eye2 = np.eye(2)
-    out[:, :2, :2] = eye2
-    out[:, :2, 2:4] = h1 * eye2
-    out[:, 2:4, 2:4] = eye2
-    out[:, 4, 4] = 1.0
-    out[:, :2, :] += h2 * ((ut * ba[None, None, :]) @ forces)
-    out[:, 2:4, :] += h1 * ((ut * b[None, None, :]) @ forces)
-    out[:, :2, 4] += 0.5 * h2[:, :, 0] * gv[None, :]
-    out[:, 2:4, 4] += h1[:, :, 0] * gv[None, :]
+    out[:, 0, 0] = out[:, 1, 1] = out[:, 2, 2] = out[:, 3, 3] = out[:, 4, 4] = 1.0
+    out[:, 0, 2] = out[:, 1, 3] = h
+    # sum_l u_l (ba_l, b_l) F_l: the position rows over h^2, the velocity rows over h
+    pos = np.einsum("lkm,l,lpm->mkp", u, ba, forces)
+    vel = np.einsum("lkm,l,lpm->mkp", u, b, forces)
+    out[:, :2, :] += h2[:, None, None] * pos
+    out[:, 2:4, :] += h[:, None, None] * vel
+    out[:, :2, 4] += 0.5 * h2[:, None] * gv[None, :]
+    out[:, 2:4, 4] += h[:, None] * gv[None, :]
     return out
+
+
+def _solve_stages(g: FloatArray, rhs: FloatArray) -> FloatArray:
+    """``X`` with ``(I - G) X = R`` for every substep: ``g`` (s, s, m), ``rhs`` (s, r, m).
+
+    Gaussian elimination without pivoting over the stage indices, vectorised over the m
+    substeps; where a pivot falls below 1/2 (``G`` not small: never with the substeps of
+    :func:`substeps`), the batched LAPACK solve with partial pivoting instead."""
+    s = g.shape[0]
+    mat = -g
+    for k in range(s):
+        mat[k, k] += 1.0
+    x = rhs.copy()
+    for k in range(s):
+        piv = mat[k, k].copy()
+        if not np.min(np.abs(piv)) >= 0.5:
+            full = np.linalg.solve(np.eye(s) - g.transpose(2, 0, 1), rhs.transpose(2, 0, 1))
+            return np.asarray(full.transpose(1, 2, 0), dtype=float)
+        mat[k] /= piv
+        x[k] /= piv
+        below = mat[k + 1:, k].copy()  # (s - k - 1, m)
+        mat[k + 1:] -= below[:, None, :] * mat[k][None, :, :]
+        x[k + 1:] -= below[:, None, :] * x[k][None, :, :]
+    for k in range(s - 1, 0, -1):  # upper unit-triangular: back substitution
+        x[:k] -= mat[:k, k][:, None, :] * x[k][None, :, :]
+    return x
 
 
 def _apply(maps: FloatArray, z: FloatArray) -> FloatArray:
