@@ -65,6 +65,7 @@ ENTRIES: dict[str, list[tuple[str, str, str, str]]] = {
         ("collections.namedtuple", "py:function",
          "library/collections.html#collections.namedtuple", "-"),
         ("abc.ABC", "py:class", "library/abc.html#abc.ABC", "-"),
+        ("ctypes.Structure", "py:class", "library/ctypes.html#ctypes.Structure", "-"),
         ("collections.abc.Callable", "py:class",
          "library/collections.abc.html#collections.abc.Callable", "-"),
         ("collections.abc.Iterable", "py:class",

@@ -110,7 +110,8 @@ def recommend(cases: Sequence[BenchCase], target: float) -> BenchCase | None:
 
 def reference_solution(model: Model, t_grid: FloatArray, max_nfev: int = MAX_NFEV) -> Reference:
     """The reference for ``model`` on ``t_grid`` (module docstring), with its own error
-    (``max_nfev``: the work budget of each solve_ivp run, :class:`SolverSettings`)."""
+    (``max_nfev``: the work budget of each solve_ivp run,
+    :class:`~gear_dyn.solvers.SolverSettings`)."""
     start = time.perf_counter()
     if exact_applies(model):
         y, st = integrate(model, t_grid, SolverSettings(method="exact", estimate_error=False))

@@ -340,7 +340,7 @@ def shoot(model: MeshModel, y_guess: FloatArray, rtol: float = 1e-10, max_iter: 
         Mesh periods of the orbit (1..16).
     route : str
         How the one-period map and its Jacobian are computed
-        (:func:`integrate_with_sensitivity`):
+        (:func:`~gear_dyn.solvers.sensitivity.integrate_with_sensitivity`):
         ``auto`` (exact where it applies, else variational), ``exact`` or ``variational``.
     tol : float or None
         Relative closing error to stop at; None: ``100 rtol``. Each study's ``max_iter`` and

@@ -5,7 +5,7 @@ the exporter (pythonfmu for FMI 2, pythonfmu3 for FMI 3; this module imports nei
 FMUs carry it): the parameters form a scene (SI values, so no pint),
 :func:`gear_dyn.scene.build_plan` builds the model exactly as ``gear-dyn run`` does,
 :class:`gear_dyn.fmu.stepper.Stepper` advances it (keeping the scipy solver alive across
-communication steps, :meth:`~gear_dyn.fmu.stepper.Stepper.step_to`),
+communication steps, :meth:`~gear_dyn.solvers.session.Session.step_to`),
 :mod:`gear_dyn.fmu.inputs` applies changed inputs, :mod:`gear_dyn.fmu.outputs` writes the
 outputs as Python floats, and a refused call is logged and raised safely (``_refuse()``).
 The slaves (:class:`gear_dyn.fmu.slave.GearDynSlave`,

@@ -80,7 +80,7 @@ def _copy_into(cur: Any, val: Any) -> bool:
 
 class Stepper(Session):
     """The stepwise session of one model (:class:`~gear_dyn.solvers.session.Session`, same
-    parameters), with :meth:`snapshot` and :meth:`restore` of its whole integrator state."""
+    parameters), with ``snapshot`` and ``restore`` of its whole integrator state."""
 
     def snapshot(self) -> dict[str, Any]:
         """Everything needed to continue exactly from here (plain, picklable data)."""

@@ -58,7 +58,8 @@ The contract a method meets (as scipy's ``OdeSolver`` states its own):
    otherwise a second run at ``rtol / 100`` (what every method gets without more code), or a
    cheaper independent check from its own stats (``periodic``: a Gauss-Legendre reference from
    ``step_maps``). The estimate's ``basis`` says which.
-6. Registration: its name in :data:`METHODS`, a branch in :func:`integrate`, and in
+6. Registration: its name in ``METHODS`` (:mod:`gear_dyn.solvers.settings`), a branch in
+   :func:`integrate`, and in
    :func:`resolve_method` only where ``auto`` should pick it, with the benchmark that shows
    why (docs/solvers.md). Tests compare it with an independent reference (a closed form, or
    DOP853 at a tight tolerance) within its stated error.

@@ -133,7 +133,7 @@ class StepPropagator:
 
     A co-simulation master steps with a fixed communication step, and the stiffness is
     periodic: the piece durations ``s`` repeat (up to rounding of the times). Their matrices
-    ``expm(M s)`` are computed once (:class:`_Exponential`) for ``s``
+    ``expm(M s)`` are computed once (``_Exponential``) for ``s``
     rounded to a grid of width ``q`` (a power of two with ``rho q <= 1e-6``, ``rho`` the
     spectral radius of ``M``), and the remainder ``d = s - s_grid`` (``|d| <= q / 2``) is
     applied through ``expm(M d) = I + M d + (M d)^2 / 2 + O((rho d)^3)``: the neglected term

@@ -58,7 +58,8 @@ def integrate_ode(
     model: Model, t_grid: FloatArray, settings: SolverSettings, y0: FloatArray | None = None
 ) -> tuple[FloatArray, dict[str, Any]]:
     """States on ``t_grid`` with the solve_ivp method ``settings.method``, piece by piece
-    (:func:`flow` with the settings' tolerances, step limit and work budget).
+    (:func:`~gear_dyn.solvers.ode.flow` with the settings' tolerances, step limit and work
+    budget).
 
     Returns
     -------

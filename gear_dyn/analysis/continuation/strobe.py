@@ -136,7 +136,7 @@ class BranchSamples:
 
     def rows(self) -> list[dict[str, float]]:
         """One row per branch, point and sample: ``branch`` (index, depth first), ``point``,
-        ``parameter`` (SI, :attr:`unit`), ``stable`` (1 or 0), ``sample`` (k: t = k T_m) and
+        ``parameter`` (SI, in ``unit``), ``stable`` (1 or 0), ``sample`` (k: t = k T_m) and
         each state component ``state_0``, ``state_1`` ... (SI: m, m/s).
 
         Returns
