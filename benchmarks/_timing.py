@@ -55,6 +55,18 @@ def median_time(fn: Callable[[], Any], repeats: int) -> tuple[float, Any]:
     return statistics.median(times), out
 
 
+def cpu_median(fn: Callable[[], Any], calls: int) -> float:
+    """Median CPU time (``time.process_time``) of ``calls`` calls in s, after one warm-up call
+    (first-use caches and imports left out)."""
+    fn()
+    times = []
+    for _ in range(calls):
+        t0 = time.process_time()
+        fn()
+        times.append(time.process_time() - t0)
+    return statistics.median(times)
+
+
 def as_installed(package_dir: Any) -> dict[str, str]:
     """The environment for timing whole processes as a user runs them after ``pip install``:
     the package's bytecode compiled beforehand (pip does so at install; an editable install

@@ -40,7 +40,8 @@ BEFORE = "b6e4209"  # "kernel: move ...": the kernel's C files at their new home
 
 def child(calls: int) -> dict[str, float]:
     """The measurements in this process (the gear_dyn on sys.path), medians in seconds."""
-    import time
+
+    from _timing import cpu_median as med
 
     import gear_dyn
     from gear_dyn import run_scene
@@ -48,15 +49,6 @@ def child(calls: int) -> dict[str, float]:
     from gear_dyn.scene.packaged import resolve_scene
     from gear_dyn.solvers.exact import propagate_exact
     from gear_dyn.solvers.result import time_grid
-
-    def med(fn: object, n: int) -> float:
-        fn()  # type: ignore[operator]
-        ts = []
-        for _ in range(n):
-            t0 = time.process_time()
-            fn()  # type: ignore[operator]
-            ts.append(time.process_time() - t0)
-        return statistics.median(ts)
 
     heli = load_scene(resolve_scene("helicopter_tail"))
     ecc = load_scene(resolve_scene("eccentric_helical"))

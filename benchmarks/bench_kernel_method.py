@@ -39,20 +39,12 @@ CASES = {"ecc": ("eccentric_helical", None), "bl": ("helicopter_tail_backlash", 
 
 def child(calls: int) -> dict[str, object]:
     """The measurements in this process (the gear_dyn on sys.path), medians in seconds."""
-    import time
+
+    from _timing import cpu_median as med
 
     import gear_dyn
     from gear_dyn import run_scene
     from gear_dyn.scene import load_scene
-
-    def med(fn: object, n: int) -> float:
-        fn()  # type: ignore[operator]
-        ts = []
-        for _ in range(n):
-            t0 = time.process_time()
-            fn()  # type: ignore[operator]
-            ts.append(time.process_time() - t0)
-        return statistics.median(ts)
 
     out: dict[str, object] = {"gear_dyn": str(Path(gear_dyn.__file__).parent)}
     for key, (name, speed) in CASES.items():
