@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 
 from gear_dyn.errors import InputError
 from gear_dyn.models.base import Model
+from gear_dyn.solvers.events import STATE
 from gear_dyn.solvers.session import Session, session_method
 
 FloatArray = NDArray[np.float64]
@@ -84,18 +85,15 @@ class Stepper(Session):
 
     def snapshot(self) -> dict[str, Any]:
         """Everything needed to continue exactly from here (plain, picklable data)."""
-        solver = None
-        if self._solver is not None:
-            solver = {"t_bound": float(self._solver.t_bound),
-                      "attrs": _save_attrs(self._solver)}
-        return {"t": self.t, "y": self.y.copy(), "method": self.method, "solver": solver,
+        ode = None
+        if self._ode is not None:
+            ode = {"solver": _save_attrs(self._ode.solver),
+                   "state": copy.deepcopy({k: getattr(self._ode, k) for k in STATE})}
+        return {"t": self.t, "y": self.y.copy(), "method": self.method, "ode": ode,
                 # the switching instants in use (found numerically by some models: another
                 # search window could move them in the last digits)
                 "switches": self._switches.copy(), "switch_end": self._switch_end,
-                "events": {"dirs": list(self._dirs), "g": list(self._g),
-                           "cut": None if self._cut is None else
-                           (self._cut[0], self._cut[1].copy()),
-                           "cut_event": self._cut_event, "n_events": self.n_events}}
+                "events_before": self._events_before}
 
     def restore(self, snap: dict[str, Any]) -> None:
         """Return to a :meth:`snapshot` (taken with the same model)."""
@@ -107,17 +105,14 @@ class Stepper(Session):
         self._pieces, self._props, self._piece = [], [], 0
         self._switches = np.array(snap["switches"], dtype=float)
         self._switch_end = snap["switch_end"]
-        self._events = list(self.model.contact_events())
-        ev = snap["events"]
-        self._dirs, self._g = list(ev["dirs"]), list(ev["g"])
-        self._cut = None if ev["cut"] is None else (float(ev["cut"][0]),
-                                                    np.array(ev["cut"][1], dtype=float))
-        self._cut_event, self.n_events = ev["cut_event"], int(ev["n_events"])
-        s = snap["solver"]
-        if s is None:
-            self._solver = None
+        self._events_before = int(snap["events_before"])
+        saved = snap["ode"]
+        if saved is None:
+            self._ode = None
             return
-        attrs = s["attrs"]
-        solver = self._new_solver(float(attrs["t"]), np.array(attrs["y"], dtype=float))
-        _load_attrs(solver, attrs)
-        self._solver = solver
+        attrs = saved["solver"]
+        ode = self._new_ode(float(attrs["t"]), np.array(attrs["y"], dtype=float))
+        _load_attrs(ode.solver, attrs)
+        for key, val in copy.deepcopy(saved["state"]).items():
+            setattr(ode, key, val)
+        self._ode = ode

@@ -25,7 +25,7 @@ from numpy.typing import NDArray
 from gear_dyn.errors import InputError, SolverError
 from gear_dyn.models.base import Model
 from gear_dyn.solvers import settings as limits
-from gear_dyn.solvers.events import solve_piece_with_events
+from gear_dyn.solvers.events import RestartingSolver
 from gear_dyn.solvers.pieces import pieces
 from gear_dyn.solvers.settings import IMPLICIT, SolverSettings
 
@@ -146,40 +146,38 @@ def flow(
     scale = np.asarray(model.state_scale, dtype=float)
     tol = rtol * scale if atol is None else np.broadcast_to(np.asarray(atol, dtype=float), (n,))
     z = np.array(y0, dtype=float)
-    events: list[Callable[[float, FloatArray], float]] = list(model.contact_events())
+    events = list(model.contact_events())
     if variational:
         z = np.concatenate([z, np.eye(n).ravel()])
         ratio = (tol[:, None] / scale[None, :]).ravel() if atol is not None else (
             rtol * (scale[:, None] / scale[None, :]).ravel())  # the same, rounded as rtol * ratio
         tol = np.concatenate([tol, ratio])
-        # the events see the state, not the variational part after it
-        events = [_on_state(g, n) for g in events]
     cuts = np.concatenate([[t0], model.switching_times(t0, t1), [t1]])
+
+    made: dict[float, tuple[Any, Any]] = {}  # per piece (keyed by its end), over restarts
+
+    def functions(ta: float, tb: float) -> tuple[Any, Any]:
+        if tb not in made:
+            f, jac = frozen_functions(model, ta, tb) if frozen else (model.rhs, model.jac)
+            made.clear()
+            made[tb] = (_augmented(f, jac, n), None) if variational else (f, jac)
+        return made[tb]
+
+    def next_cut(t: float) -> float:
+        i = int(np.searchsorted(cuts, t, side="right"))
+        return float(cuts[i]) if i < cuts.size else math.inf
+
+    run = RestartingSolver(method, functions, events, n, next_cut, t0, z, rtol, tol, max_step,
+                           span=t1 - t0)
     out = np.empty((z.size, t_grid.size))
     out[:, 0] = z
-    counts = {"nfev": 0, "njev": 0, "nlu": 0, "n_events": 0}
-    for ta, tb, i0, i1, t_eval in pieces(t_grid, cuts):
-        f, jac = frozen_functions(model, ta, tb) if frozen else (model.rhs, model.jac)
-        rhs = _augmented(f, jac, n) if variational else f
-        extra: dict[str, Any] = {"jac": jac} if method in IMPLICIT and not variational else {}
-        zs, z, st = solve_piece_with_events(rhs, ta, tb, z, t_eval, events, method, rtol, tol,
-                                            max_step, extra)
-        for key in counts:
-            counts[key] += st.get(key, 0)
-        _check_nfev(counts["nfev"], method, tb, max_nfev)
-        out[:, i0:i1] = zs[:, : i1 - i0]
-    counts["n_segments"] = int(cuts.size - 1)
-    if not events:
-        del counts["n_events"]
+    for _ta, tb, i0, i1, t_eval in pieces(t_grid, cuts):
+        out[:, i0:i1] = run.advance(t_eval)[:, : i1 - i0]
+        _check_nfev(run.counts()["nfev"], method, tb, max_nfev)
+    counts = {**run.counts(), "n_segments": int(cuts.size - 1)}
+    if events:
+        counts["n_events"] = run.n_events
     return out, counts
-
-
-def _on_state(g: Callable[[float, FloatArray], float], n: int
-              ) -> Callable[[float, FloatArray], float]:
-    """The event ``g`` of the state, evaluated on an augmented state (its first ``n`` rows)."""
-    def ev(t: float, z: FloatArray) -> float:
-        return g(t, z[:n])
-    return ev
 
 
 def _augmented(f: Callable[[float, FloatArray], FloatArray],

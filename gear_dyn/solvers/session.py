@@ -22,22 +22,16 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, OdeSolver, Radau
 
 from gear_dyn.errors import InputError, SolverError
 from gear_dyn.models.base import Model
+from gear_dyn.solvers.events import ODE_METHODS, RestartingSolver
 from gear_dyn.solvers.exact import StepPropagator
 from gear_dyn.solvers.integrate import resolve_auto
 from gear_dyn.solvers.ode import atol_of, step_limit
-from gear_dyn.solvers.settings import DEFAULT_ODE_METHOD, IMPLICIT, SolverSettings
+from gear_dyn.solvers.settings import DEFAULT_ODE_METHOD, SolverSettings
 
 FloatArray = NDArray[np.float64]
-EPS = float(np.finfo(float).eps)
-
-#: OdeSolver classes a session can keep alive, by solve_ivp method name
-ODE_CLASSES: dict[str, type[OdeSolver]] = {
-    "RK45": RK45, "RK23": RK23, "DOP853": DOP853, "Radau": Radau, "BDF": BDF, "LSODA": LSODA,
-}
 
 
 def session_method(model: Model) -> str:
@@ -45,7 +39,7 @@ def session_method(model: Model) -> str:
     the solve_ivp default (the closed form between contact changes, which ``auto`` takes for a
     whole run with backlash, is not kept alive across steps)."""
     method = resolve_auto(model)
-    return method if method in ("exact", *ODE_CLASSES) else DEFAULT_ODE_METHOD
+    return method if method in ("exact", *ODE_METHODS) else DEFAULT_ODE_METHOD
 
 
 class Session:
@@ -83,20 +77,19 @@ class Session:
         self.y = np.array(model.initial_state() if y0 is None else y0, dtype=float)
         self._switches: FloatArray = np.empty(0)
         self._switch_end: float | None = None
-        self._solver: OdeSolver | None = None
-        # contact changes (backlash): restart the solver where one happens, as integrate does
-        self._events = list(model.contact_events())
-        self._dirs: list[float] = []
-        self._g: list[float] = []
-        self._cut: tuple[float, FloatArray] | None = None
-        self._cut_event: int | None = None
-        self.n_events = 0
+        self._ode: RestartingSolver | None = None
+        self._events_before = 0  # contact changes located with the models replaced
         self._pieces: list[tuple[float, float, FloatArray, FloatArray]] = []
         self._props: list[StepPropagator] = []  # the propagator of each piece
         self._piece = 0
         self._exps: dict[bytes, StepPropagator] = {}
 
     # ------------------------------------------------------------------ helpers
+    @property
+    def n_events(self) -> int:
+        """Contact changes located so far."""
+        return self._events_before + (self._ode.n_events if self._ode is not None else 0)
+
     @property
     def atol(self) -> FloatArray:
         """Absolute tolerances per state (:func:`gear_dyn.solvers.ode.atol_of`)."""
@@ -125,16 +118,17 @@ class Session:
                 return math.inf
             start, end = end - 0.5 * period, end + 64.0 * period
 
-    def _new_solver(self, t: float, y: FloatArray) -> OdeSolver:
-        cls = ODE_CLASSES[self.method]
-        extra: dict[str, Any] = {"jac": self.model.jac} if self.method in IMPLICIT else {}
-        # neither the switching windows nor the solver's bound depend on the announced stop
-        # time: an FMU's outputs at t must not depend on what the master plans after t
-        t_bound = self._next_switch(t)
-        # explicit Runge-Kutta steps limited as in integrate (their dense output, which gives
-        # the communication points inside a step, stays within the tolerance)
-        return cls(self.model.rhs, t, y, t_bound, rtol=self.settings.rtol, atol=self.atol,
-                   max_step=step_limit(self.model, self.settings), **extra)
+    def _new_ode(self, t: float, y: FloatArray) -> RestartingSolver:
+        """The restarted solver from ``(t, y)``: the model's own functions, its contact events,
+        explicit Runge-Kutta steps limited as in integrate (their dense output, which gives the
+        communication points inside a step, stays within the tolerance). Neither the switching
+        windows nor the solver's bounds depend on the announced stop time: an FMU's outputs at
+        t must not depend on what the master plans after t."""
+        model = self.model
+        return RestartingSolver(
+            self.method, lambda ta, tb: (model.rhs, model.jac), list(model.contact_events()),
+            len(model.state_labels), self._next_switch, t, y, self.settings.rtol, self.atol,
+            step_limit(model, self.settings), span=1.0 / model.mesh_frequency)
 
     # ------------------------------------------------------------------ stepping
     def advance(self, t1: float) -> FloatArray:
@@ -162,12 +156,10 @@ class Session:
             self.y = self._advance_exact(t1)  # checks its states itself (plain floats)
             self.t = float(t1)
             return
-        y = self._advance_ode(t1)
-        if not np.all(np.isfinite(y)):
-            raise SolverError(f"{self.method} produced non-finite states near t = {t1:.6g} s; "
-                              "the response diverges (parametric instability?) or the "
-                              "tolerances are too loose")
-        self.y, self.t = y, float(t1)
+        if self._ode is None:
+            self._ode = self._new_ode(self.t, self.y)
+        self.y = self._ode.advance(np.array([float(t1)]))[:, 0]
+        self.t = float(t1)
 
     def _advance_exact(self, t1: float) -> FloatArray:
         t = self.t
@@ -210,78 +202,14 @@ class Session:
         self._pieces, self._props = pieces, props
         self._piece = 0
 
-    def _advance_ode(self, t1: float) -> FloatArray:
-        solver = self._solver
-        if solver is None:
-            solver = self._start(self.t, self.y, None)
-        while True:
-            if self._cut is not None:  # a contact change inside the last step
-                te, ye = self._cut
-                if t1 <= te:
-                    return np.asarray(solver.dense_output()(t1), dtype=float)
-                solver = self._start(te, ye, self._cut_event)
-                continue
-            if solver.t >= t1:
-                if solver.t == t1 or solver.t_old is None:
-                    return np.array(solver.y, dtype=float)
-                return np.asarray(solver.dense_output()(t1), dtype=float)
-            if solver.status == "finished":  # reached a switching instant: restart there
-                solver = self._start(solver.t, np.array(solver.y), None)
-                continue
-            msg = solver.step()
-            if solver.status == "failed":
-                raise SolverError(f"{self.method} failed at t = {solver.t:.6g} s: {msg}; try a "
-                                  "smaller rtol or an implicit method (Radau, BDF)")
-            if self._events:
-                self._check_events(solver)
-
-    def _start(self, t: float, y: FloatArray, event: int | None) -> OdeSolver:
-        """New solver at ``(t, y)``; after a contact change of event ``event`` only that
-        function's opposite crossing is looked for (as :mod:`gear_dyn.solvers.events` does)."""
-        solver = self._solver = self._new_solver(t, y)
-        self._cut = None
-        self._cut_event = None
-        if self._events:
-            self._dirs = [0.0] * len(self._events)
-            if event is not None:
-                span = max(solver.t_bound - t, 0.0) if math.isfinite(solver.t_bound) else 0.0
-                dt = 1e-9 * (span or 1.0 / self.model.mesh_frequency)
-                slope = self._events[event](t + dt, y + dt * self.model.rhs(t, y))
-                self._dirs[event] = -1.0 if slope > 0 else 1.0
-            self._g = [float(fn(t, y)) for fn in self._events]
-            self.n_events += event is not None
-        return solver
-
-    def _check_events(self, solver: OdeSolver) -> None:
-        """Locate the first contact change in the last step (root of g on the dense output)."""
-        from scipy.optimize import brentq
-
-        g_new = [float(fn(solver.t, solver.y)) for fn in self._events]
-        first: tuple[float, int] | None = None
-        sol = None
-        for i, (g0, g1, d) in enumerate(zip(self._g, g_new, self._dirs, strict=True)):
-            up, down = g0 <= 0 <= g1, g0 >= 0 >= g1
-            if not ((up and d >= 0) or (down and d <= 0)) or g0 == g1:
-                continue
-            sol = sol or solver.dense_output()
-            fn = self._events[i]
-            tr = float(brentq(lambda tt, fn=fn, sol=sol: fn(tt, sol(tt)), solver.t_old,
-                              solver.t, xtol=4 * EPS, rtol=4 * EPS))
-            if first is None or tr < first[0]:
-                first = (tr, i)
-        self._g = g_new
-        if first is not None and sol is not None:
-            self._cut = (first[0], np.asarray(sol(first[0]), dtype=float))
-            self._cut_event = first[1]
-
     def replace_model(self, model: Model) -> None:
         """Continue with another model (e.g. a new input value) from the current state.
 
         The solver is restarted at the current time: the right-hand side jumps there.
         """
         self.model = model
-        self._solver = None
-        self._events = list(model.contact_events())
-        self._cut, self._cut_event = None, None
+        if self._ode is not None:
+            self._events_before += self._ode.n_events
+        self._ode = None
         self._pieces, self._props, self._piece, self._exps = [], [], 0, {}
         self._switches, self._switch_end = np.empty(0), None
