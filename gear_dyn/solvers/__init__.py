@@ -4,11 +4,15 @@ Every way of advancing a model's state lives here, one module per method:
 
 - :mod:`.settings`: :class:`SolverSettings`, the method names and the work limits;
 - ``integrate`` (:func:`integrate`): method choice (``auto``) and dispatch;
-- :mod:`.ode`: :func:`~gear_dyn.solvers.ode.flow`, the one solve_ivp driver (piece by piece
-  between switching instants, restarted at contact changes by :mod:`.events`, optionally with
-  the variational equations), and ``integrate_ode``, that driver with settings;
-- :mod:`.session`: that integration advanced point by point (one ``OdeSolver`` kept alive,
-  restarted where the driver restarts; ``exact`` by cached exponentials), the FMU's stepper;
+- :mod:`.events`: :class:`~gear_dyn.solvers.events.RestartingSolver`, one scipy
+  ``OdeSolver`` kept alive, restarted at switching instants and at contact changes, and the
+  one event locator of the Python solvers (roots of the contact functions on its dense
+  output, grazing contacts, the chattering cap); the compiled kernel has its own;
+- :mod:`.ode`: :func:`~gear_dyn.solvers.ode.flow`, the one solve_ivp driver (that solver over
+  a whole grid, cut at the switching instants, optionally with the variational equations),
+  and ``integrate_ode``, that driver with settings;
+- :mod:`.session`: the same solver advanced point by point (switching instants found window
+  by window; ``exact`` by cached exponentials), the FMU's stepper;
 - :mod:`.sensitivity`: a state and ``d y(t1) / d y0`` by route (the backlash closed form or
   the driver's variational equations);
 - :mod:`.exact`: exact propagation of piecewise-constant linear models;

@@ -1,14 +1,15 @@
 """The solve_ivp driver: scipy's solve_ivp piece by piece between switching instants,
 restarted at contact changes, optionally with the variational equations.
 
-:func:`flow` is the one loop: the span is cut at ``model.switching_times`` and each piece is
-one :func:`scipy.integrate.solve_ivp` call; a model with contact changes
-(``model.contact_events()``: backlash) is also restarted at each of them
-(:mod:`gear_dyn.solvers.events`); ``variational=True`` carries ``d y / d y0`` along (augmented
-state). :func:`integrate_ode` is that loop with a
+:func:`flow` is the one loop: the span is cut at ``model.switching_times`` and one scipy
+``OdeSolver`` is stepped over it, restarted at each cut and, for a model with contact changes
+(``model.contact_events()``: backlash), at each of them
+(:class:`~gear_dyn.solvers.events.RestartingSolver`, the one event locator, which the stepwise
+session of :mod:`gear_dyn.solvers.session` steps too); ``variational=True`` carries
+``d y / d y0`` along (augmented state). :func:`integrate_ode` is that loop with a
 :class:`~gear_dyn.solvers.settings.SolverSettings` (the methods RK45 ... LSODA of
 :func:`~gear_dyn.solvers.integrate`). The dense output's interpolation error is not controlled
-by solve_ivp, so there explicit Runge-Kutta steps are limited to ``omega_n h <= (pi / 4)
+by scipy, so there explicit Runge-Kutta steps are limited to ``omega_n h <= (pi / 4)
 (rtol / 1e-8)^(1 / (q + 1))`` (:func:`step_limit`, ``q`` the interpolant's order). A reported
 failure or a non-finite state raises :class:`~gear_dyn.errors.SolverError` with scipy's message.
 """
@@ -92,9 +93,10 @@ def flow(
     frozen: bool = True, variational: bool = False, max_nfev: int = limits.MAX_NFEV,
 ) -> tuple[FloatArray, dict[str, int]]:
     """The solve_ivp driver: states on ``t_grid`` from ``y(t_grid[0]) = y0``, one solve_ivp
-    call per piece between the model's switching instants, restarted at every contact change
-    (:func:`~gear_dyn.solvers.events.solve_piece_with_events`), so that no step crosses a jump
-    or kink of the coefficients or of the dead zone.
+    method's solver restarted at the model's switching instants and at every contact change
+    (:class:`~gear_dyn.solvers.events.RestartingSolver`), so that no step crosses a jump or
+    kink of the coefficients or of the dead zone; the grid points are read from its dense
+    output, a piece's end from the step that ends there.
 
     Parameters
     ----------

@@ -68,13 +68,13 @@ def _step_maps(model: Any, t0: float, dt: float, n_steps: int, rtol: float
     (one vectorised system), restarted at the switching instants of every step.
 
     A direct solve_ivp call per piece, not the solve_ivp driver
-    (:func:`~gear_dyn.solvers.ode.flow`): the driver advances one model's state in real
-    time, cut at its switching instants, while here the steps run side by side in a local
-    time ``s in [0, 1]`` mapped onto each step's own piece, whose real ends differ from step
-    to step (no common time axis for the driver's cuts). Nor through the driver's piece
-    integrator (:func:`~gear_dyn.solvers.events.solve_piece_with_events`): it returns the end
-    state from the dense output, which for DOP853 costs three more evaluations per piece and
-    changes the recorded evaluation counts, while only the end state is wanted here."""
+    (:func:`~gear_dyn.solvers.ode.flow`): the driver advances one model's state in real time,
+    cut at its switching instants and restarted at its contact changes, so each map would be a
+    run of its own (``variational=True`` from ``y0 = 0`` gives ``F_j`` and ``h_j``), the
+    ``n_steps`` steps one after another. Here they run side by side as one vectorised system in
+    a local time ``s in [0, 1]`` mapped onto each step's own piece, whose real ends differ from
+    step to step (no common time axis for the driver's cuts), and the stacked system has no
+    contact events to locate."""
     from scipy.integrate import solve_ivp
 
     n = 2

@@ -2,14 +2,14 @@
 
 A caller that asks for the state at ``t + h`` again and again (the FMU's communication steps)
 cannot use :func:`gear_dyn.solvers.ode.flow`, which needs the whole output grid up front.
-:class:`Session` keeps one scipy ``OdeSolver`` object (DOP853, RK45, RK23, Radau, BDF or LSODA)
-alive across those points and reads the state at each from its dense output, so the points
-never disturb the integration. It restarts the solver where :func:`~gear_dyn.solvers.ode.flow`
-does: at the model's switching instants and at contact changes (backlash: the first root of a
-contact function on the dense output, then only that function's opposite crossing is looked
-for, as :mod:`gear_dyn.solvers.events` does), with :func:`~gear_dyn.solvers.ode.step_limit`
-and :func:`~gear_dyn.solvers.ode.atol_of`; and where the caller changes the model
-(:meth:`Session.replace_model`, an input). ``exact`` carries the state with cached matrix
+:class:`Session` advances the driver's own integrator,
+:class:`~gear_dyn.solvers.events.RestartingSolver` (one scipy ``OdeSolver`` kept alive,
+restarted at the switching instants and at contact changes located by the one event locator),
+to each point in turn and reads the state there from its dense output, so the points never
+disturb the integration; with :func:`~gear_dyn.solvers.ode.step_limit` and
+:func:`~gear_dyn.solvers.ode.atol_of`. What the session adds: the switching instants found for
+windows of mesh periods (the stop time is not known), a restart where the caller changes the
+model (:meth:`Session.replace_model`, an input). ``exact`` carries the state with cached matrix
 exponentials (:class:`gear_dyn.solvers.exact.StepPropagator`). What this buys and how it is
 tested: docs/fmu.md, "Inside doStep".
 """
@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
