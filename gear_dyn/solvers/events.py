@@ -158,26 +158,26 @@ class RestartingSolver:
             A failed step, non-finite states or a chattering contact, with scipy's message.
         """
         out = np.empty((self.solver.y.size, times.size))
-        done = 0
-        while done < times.size:
+        done, n_t = 0, times.size
+        while done < n_t:
             solver = self.solver
             end = self.cut[0] if self.cut is not None else solver.t
-            k = int(np.searchsorted(times, end, side="right"))
-            if k > done:
-                m = k
-                if self.cut is None and times[k - 1] == solver.t:
-                    out[:, k - 1] = solver.y  # the step's own end: no interpolation
-                    m = k - 1
-                if m > done:
-                    out[:, done:m] = self.dense()(times[done:m])
-                if not np.all(np.isfinite(out[:, done:k])):
-                    raise SolverError(
-                        f"{self.method} produced non-finite states near t = {end:.6g} s; the "
-                        "response diverges (parametric instability?) or the tolerances are "
-                        "too loose")
-                done = k
-            else:
+            if times[done] > end:
                 self._step()
+                continue
+            k = int(np.searchsorted(times, end, side="right"))
+            m = k
+            if self.cut is None and times[k - 1] == solver.t:
+                out[:, k - 1] = solver.y  # the step's own end: no interpolation
+                m = k - 1
+            if m > done:
+                out[:, done:m] = self.dense()(times[done:m])
+            if not np.all(np.isfinite(out[:, done:k])):
+                raise SolverError(
+                    f"{self.method} produced non-finite states near t = {end:.6g} s; the "
+                    "response diverges (parametric instability?) or the tolerances are too "
+                    "loose")
+            done = k
         return out
 
     def _step(self) -> None:
