@@ -1,6 +1,6 @@
 """The solve_ivp driver and the period maps: CPU per call, against another source tree.
 
-Run:  python benchmarks/bench_flow.py [--repeats 5] [--before DIR] [--record]
+Run:  python benchmarks/bench_flow.py [--repeats 5] [--before DIR [--before-label TEXT]] [--record]
 
 Each case runs in a child process that imports gear_dyn from the tree under test (this one and,
 with ``--before``, another), interleaved over the repeats; the figure is the child's CPU time
@@ -120,6 +120,8 @@ def main() -> None:
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--before", type=Path, default=None, metavar="DIR",
                     help="another source tree to compare with (its gear_dyn, same cases)")
+    ap.add_argument("--before-label", default="the source tree given by --before",
+                    metavar="TEXT", help="what the --before tree is, for the table's note")
     ap.add_argument("--record", action="store_true", help="write into benchmarks/results/")
     ap.add_argument("--worker", default=None, help=argparse.SUPPRESS)
     args = ap.parse_args()
@@ -154,15 +156,15 @@ def main() -> None:
         "# The solve_ivp driver and the period maps: CPU per case",
         "",
         f"Command: `python benchmarks/bench_flow.py --repeats {args.repeats}"
-        f"{' --before DIR' if args.before else ''}{' --record' if args.record else ''}`. "
+        f"{' --before DIR --before-label TEXT' if args.before else ''}"
+        f"{' --record' if args.record else ''}`. "
         f"CPU time of each case in its own child process, median of {args.repeats} "
         "interleaved repeats (min..max); one BLAS thread. Cases: the module docstring.",
         "",
         f"Machine: {platform.machine()}, 2 cores shared with other jobs (load average at the "
         f"end: {load}), Python {platform.python_version()}.",
         "",
-        *(["`before`: the same cases on the source tree before the solve_ivp driver and the "
-           "period maps moved into gear_dyn.solvers (`--before DIR`).", ""]
+        *([f"`before`: the same cases on {args.before_label} (`--before DIR`).", ""]
           if args.before else []),
         head, "|---|---|" + ("---|---|---|" if args.before else ""), *rows, ""])
     out = ROOT / "benchmarks" / ("results" if args.record else "out")

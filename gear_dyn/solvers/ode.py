@@ -1,4 +1,4 @@
-"""The solve_ivp driver: scipy's solve_ivp piece by piece between switching instants,
+"""The solve_ivp driver: scipy's solve_ivp methods piece by piece between switching instants,
 restarted at contact changes, optionally with the variational equations.
 
 :func:`flow` is the one loop: the span is cut at ``model.switching_times`` and one scipy
