@@ -126,7 +126,8 @@ class RestartingSolver:
         t_sw = self.next_switch(t)
         bound = t_sw
         if quiet:
-            bound = min(t_sw, t + 1e-9 * self._length(t_sw))
+            # at least one ulp on: a step that does not move would meet the graze again
+            bound = min(t_sw, max(t + 1e-9 * self._length(t_sw), math.nextafter(t, math.inf)))
         rhs, jac = self.functions(t, t_sw)
         cls = {"RK45": RK45, "RK23": RK23, "DOP853": DOP853, "Radau": Radau, "BDF": BDF,
                "LSODA": LSODA}[self.method]
