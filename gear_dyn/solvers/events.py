@@ -214,8 +214,13 @@ class RestartingSolver:
             if g0 == g1 or not ((up and d >= 0) or (down and d <= 0)):
                 continue
             sol, fn = self.dense(), self.events[i]
-            tr = float(brentq(lambda tt, fn=fn, sol=sol: fn(tt, sol(tt)[:n]), solver.t_old,
-                              solver.t, xtol=4 * EPS, rtol=4 * EPS))
+            try:
+                tr = float(brentq(lambda tt, fn=fn, sol=sol: fn(tt, sol(tt)[:n]),
+                                  solver.t_old, solver.t, xtol=4 * EPS, rtol=4 * EPS))
+            except RuntimeError as exc:  # no convergence in brentq's iteration limit
+                raise SolverError(f"{self.method}: the contact change between t = "
+                                  f"{solver.t_old:.9g} s and {solver.t:.9g} s was not located "
+                                  f"({exc}); try a smaller rtol") from exc
             if first is None or tr < first[0]:
                 first = (tr, i)
         self.g = g_new
