@@ -130,11 +130,12 @@ class Point(NamedTuple):
     peak_force_ratio : float
         F_max / W (-).
     status : str
-        As :attr:`SweepCurve.status`.
+        As :attr:`~gear_dyn.analysis.sweep.types.SweepCurve.status`.
     iterations : int
         Newton iterations spent at this speed (every shooting attempt).
     spectrum : ndarray
-        DTE amplitudes (m) at the orders of :attr:`SweepResult.orders`.
+        DTE amplitudes (m) at the orders of
+        :attr:`~gear_dyn.analysis.sweep.types.SweepResult.orders`.
     orbit : PeriodicSolution or None
         The steady orbit (for a linear model also the unstable one; its multipliers decide
         the row's stability), None for window rows.
@@ -206,8 +207,8 @@ class Point(NamedTuple):
 
     @property
     def stable(self) -> bool:
-        """The orbit's verdict (:attr:`PeriodicSolution.stable`; a window: its linear
-        system's, :func:`~gear_dyn.analysis.stability.floquet_stable`)."""
+        """The orbit's verdict (:attr:`~gear_dyn.analysis.stability.PeriodicSolution.stable`;
+        a window: its linear system's, :func:`~gear_dyn.analysis.stability.floquet_stable`)."""
         if self.window is not None:
             return floquet_stable(self.window.spectral_radius)
         return self.orbit is not None and self.orbit.stable
