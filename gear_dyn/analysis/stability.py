@@ -131,7 +131,7 @@ def contact_shares(states: NDArray[np.int64], durations: FloatArray | None = Non
 
 def contact_pattern(states: NDArray[np.int64]) -> str:
     """The contact pattern of states in time order, one letter per spell
-    (:data:`CONTACT_LETTERS`), e.g. ``DGD``.
+    (``CONTACT_LETTERS``), e.g. ``DGD``.
 
     >>> contact_pattern(np.array([1, 1, 0, 0, 1]))
     'DGD'
@@ -142,7 +142,9 @@ def contact_pattern(states: NDArray[np.int64]) -> str:
 
 @dataclass(frozen=True)
 class OrbitShape:
-    """What an orbit looks like over its n mesh periods (part of :class:`PeriodicSolution`).
+    """What an orbit looks like over its n mesh periods (part of :class:`PeriodicSolution`;
+    a sweep row's orbit: over its least period, from the sweep's samples; a sweep row without
+    an orbit has one of its run's window).
 
     Attributes
     ----------

@@ -44,7 +44,7 @@ FloatArray = NDArray[np.float64]
 ROUTES = ("auto", "exact", "variational")
 #: samples per mesh period for the response measures and the sampled contact pattern
 SAMPLES_PER_PERIOD = 256
-#: contact states as letters (:data:`gear_dyn.analysis.stability.CONTACT_LETTERS`)
+#: contact states as letters (``gear_dyn.analysis.stability.CONTACT_LETTERS``)
 STATE_LETTERS = CONTACT_LETTERS
 
 

@@ -127,9 +127,8 @@ class DiagramSpeed(NamedTuple):
     samples : ndarray (n_samples, n_states)
         Stroboscopic samples, SI units (NaN where the response diverged).
     orbit : PeriodicSolution or None
-        The orbit confirmed by shooting, over its least period
-        (:attr:`~gear_dyn.analysis.motion.classify.Motion.orbit`); None where none of 1..16
-        mesh periods was.
+        The orbit confirmed by shooting, over its least period (``Motion.orbit``); None where
+        none of 1..16 mesh periods was.
     label : str
         The motion's label (``period-4``, ``chaotic, lambda = ...``, ``unbounded``) or "".
     lyapunov, lyapunov_error : float

@@ -130,12 +130,11 @@ class Point(NamedTuple):
     peak_force_ratio : float
         F_max / W (-).
     status : str
-        As :attr:`~gear_dyn.analysis.sweep.types.SweepCurve.status`.
+        As ``SweepCurve.status``.
     iterations : int
         Newton iterations spent at this speed (every shooting attempt).
     spectrum : ndarray
-        DTE amplitudes (m) at the orders of
-        :attr:`~gear_dyn.analysis.sweep.types.SweepResult.orders`.
+        DTE amplitudes (m) at the orders of ``SweepResult.orders``.
     orbit : PeriodicSolution or None
         The steady orbit (for a linear model also the unstable one; its multipliers decide
         the row's stability), None for window rows.
