@@ -96,7 +96,7 @@ def main(argv: list[str] | None = None) -> int:
                             ["--calls", str(args.calls)])
 
     def m(name: str, key: str) -> float:
-        return statistics.median(float(g[key]) for g in got[name])  # type: ignore[arg-type]
+        return statistics.median(float(g[key]) for g in got[name])
 
     lines = [
         "# The kernel method: run_scene before and after",
@@ -117,8 +117,8 @@ def main(argv: list[str] | None = None) -> int:
         label = f"`{name}`" + (f" at {speed}" if speed else "")
         lines.append(f"| {label} | {got['before'][0][f'{key}_method']} | {b * 1e3:.4g} ms | "
                      f"{got['after'][0][f'{key}_method']} | {a * 1e3:.4g} ms | {b / a:.2f}x | "
-                     f"{float(got['before'][0][f'{key}_error']):.2g} / "  # type: ignore[arg-type]
-                     f"{float(got['after'][0][f'{key}_error']):.2g} |")  # type: ignore[arg-type]
+                     f"{float(got['before'][0][f'{key}_error']):.2g} / "
+                     f"{float(got['after'][0][f'{key}_error']):.2g} |")
     lines += ["", "The kernel route's parts in this tree (the scene's model and grid):", "",
               "| scene | table (once per model) | one kernel run over the grid |", "|---|---|---|"]
     for key, (name, _) in CASES.items():

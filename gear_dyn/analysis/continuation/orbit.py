@@ -22,7 +22,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.analysis.stability import (
-    CONTACT_LETTERS,
     OrbitShape,
     contact_pattern,
     contact_shares,
@@ -44,8 +43,6 @@ FloatArray = NDArray[np.float64]
 ROUTES = ("auto", "exact", "variational")
 #: samples per mesh period for the response measures and the sampled contact pattern
 SAMPLES_PER_PERIOD = 256
-#: contact states as letters (``gear_dyn.analysis.stability.CONTACT_LETTERS``)
-STATE_LETTERS = CONTACT_LETTERS
 
 
 def resolve_route(model: MeshModel, route: str) -> str:
