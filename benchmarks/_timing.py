@@ -4,12 +4,19 @@ from __future__ import annotations
 
 import argparse
 import compileall
+import json
 import os
+import resource
+import shutil
 import statistics
+import subprocess
+import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple, TypeVar
+
+T = TypeVar("T")
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -76,3 +83,84 @@ def as_installed(package_dir: Any) -> dict[str, str]:
     env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
     env["MPLBACKEND"] = "Agg"
     return env
+
+
+# ------------------------------------------------------------------ child processes
+class ChildRun(NamedTuple):
+    """One child process run to its end: wall and CPU time in s, its output."""
+
+    wall: float
+    cpu: float
+    stdout: str
+    stderr: str
+
+
+def run_child(cmd: list[str], cwd: Path | None = None,
+              env: Mapping[str, str] | None = None) -> ChildRun:
+    """Run ``cmd`` to its end (a failure raises, with its stderr): wall time, CPU time (user +
+    system of the child and of its own children, ``RUSAGE_CHILDREN``) and its output."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t0 = time.perf_counter()
+    done = subprocess.run(cmd, cwd=cwd, env=None if env is None else dict(env), check=True,
+                          capture_output=True, text=True)
+    wall = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return ChildRun(wall, cpu, done.stdout, done.stderr)
+
+
+def tree_env(tree: Path, env: Mapping[str, str] | None = None) -> dict[str, str]:
+    """``env`` (default: this process's environment) with ``tree``'s gear_dyn first on the
+    path."""
+    return {**(os.environ if env is None else env), "PYTHONPATH": str(tree)}
+
+
+def child_json(cmd: list[str], tree: Path, env: Mapping[str, str] | None = None) -> Any:
+    """The JSON a child prints last (on its last line of stdout), run in ``tree`` with that
+    tree's gear_dyn (:func:`tree_env`)."""
+    out = run_child(cmd, cwd=tree, env=tree_env(tree, env)).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def interleaved(trees: Mapping[str, Path], repeats: int,
+                measure: Callable[[str, Path], T]) -> dict[str, list[T]]:
+    """``repeats`` rounds, each measuring every tree once in turn (a change in the machine's
+    load falls on all trees alike): ``measure(name, tree)`` per round, listed per tree."""
+    got: dict[str, list[T]] = {name: [] for name in trees}
+    for _ in range(repeats):
+        for name, tree in trees.items():
+            got[name].append(measure(name, tree))
+    return got
+
+
+def tree_children(script: Path, trees: Mapping[str, Path], repeats: int,
+                  args: list[str]) -> dict[str, list[dict[str, Any]]]:
+    """``python SCRIPT --child ARGS`` once per tree and round (:func:`interleaved`), the dict
+    each child prints last; each child states the gear_dyn it imported (its ``gear_dyn``
+    entry), checked to be its own tree's."""
+    got = interleaved(trees, repeats, lambda _name, tree: child_json(
+        [sys.executable, str(script), "--child", *args], tree))
+    for name, tree in trees.items():
+        if not all(Path(str(g["gear_dyn"])).resolve() == (tree / "gear_dyn").resolve()
+                   for g in got[name]):
+            raise RuntimeError(f"{name}: a child imported another gear_dyn than {tree}")
+    return got
+
+
+def source_tree(ref: str, dest: Path, kernel: str = "") -> Path:
+    """The source tree of git ``ref`` in ``dest`` (``git archive``). ``kernel``: ``copy``
+    this checkout's compiled kernel into it (sources that need one and cannot build it), or
+    ``build`` the tree's own; "" neither."""
+    archive = subprocess.run(["git", "archive", ref], cwd=ROOT, check=True,
+                             capture_output=True).stdout
+    subprocess.run(["tar", "-x", "-C", str(dest)], input=archive, check=True)
+    if kernel == "copy":
+        lib_dir = ROOT / "gear_dyn" / "solvers" / "kernel"
+        for lib in lib_dir.glob("_gd_kernel*"):
+            shutil.copy2(lib, dest / "gear_dyn" / "solvers" / "kernel" / lib.name)
+    elif kernel == "build":
+        subprocess.run([sys.executable, "setup.py", "build_ext", "--inplace", "-q"], cwd=dest,
+                       check=True, capture_output=True)
+    elif kernel:
+        raise ValueError(f"kernel = {kernel!r}: valid choices are copy, build or ''")
+    return dest

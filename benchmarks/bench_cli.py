@@ -40,7 +40,6 @@ import json
 import math
 import os
 import platform
-import resource
 import statistics
 import subprocess
 import sys
@@ -50,7 +49,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from _timing import as_installed, spread  # noqa: E402  (benchmarks/ is on sys.path)
+from _timing import as_installed, run_child, spread  # noqa: E402  (benchmarks/ is on sys.path)
 
 from gear_dyn.analysis.accuracy import relative_errors
 from gear_dyn.analysis.bench import reference_solution
@@ -101,14 +100,8 @@ def timed_cpu(cmd: list[str], env: dict[str, str] | None = None) -> tuple[float,
     """Wall time and CPU time (user + system, of the process and its children) of one whole
     process in s. On a machine busy with other work the wall time grows with the load; the CPU
     time much less."""
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    t0 = time.perf_counter()
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                   env={**ENV, **(env or {})})
-    wall = time.perf_counter() - t0
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return wall, cpu
+    done = run_child(cmd, env={**ENV, **(env or {})})
+    return done.wall, done.cpu
 
 
 def naive_params(model: Any, t: np.ndarray, rtol: float) -> dict[str, Any]:

@@ -32,7 +32,6 @@ from __future__ import annotations
 import argparse
 import os
 import platform
-import resource
 import statistics
 import subprocess
 import sys
@@ -40,7 +39,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from _timing import as_installed, spread  # noqa: E402  (benchmarks/ is on sys.path)
+from _timing import as_installed, run_child, source_tree, spread  # noqa: E402  (benchmarks/ is on sys.path)
 
 ROOT = Path(__file__).resolve().parents[1]
 ONE_THREAD = {var: "1" for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")}
@@ -66,11 +65,8 @@ COMMANDS: tuple[tuple[str, list[str], float | None], ...] = (
 
 def cpu_of(tree: Path, args: list[str], out: Path, env: dict[str, str]) -> float:
     """CPU s (user + system) of ``python -m gear_dyn.cli ARGS --out OUT`` run in ``tree``."""
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    subprocess.run([sys.executable, "-m", "gear_dyn.cli", *args, "--out", str(out)], cwd=tree,
-                   check=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env)
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return run_child([sys.executable, "-m", "gear_dyn.cli", *args, "--out", str(out)], tree,
+                     env).cpu
 
 
 #: what a command that reads units and writes a figure imports before any work
@@ -79,10 +75,7 @@ FLOOR = "import numpy, scipy.integrate, pint, matplotlib.figure, matplotlib.back
 
 def import_cpu(env: dict[str, str]) -> float:
     """CPU s of a process that only imports :data:`FLOOR`."""
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    subprocess.run([sys.executable, "-c", FLOOR], check=True, env=env)
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return run_child([sys.executable, "-c", FLOOR], env=env).cpu
 
 
 def per_speed_cpu(name: str) -> float:
@@ -107,14 +100,6 @@ def per_speed_cpu(name: str) -> float:
     return (cpu(361) - cpu(37)) / 324
 
 
-def extract(ref: str, dest: Path) -> Path:
-    """The source tree of git ``ref`` in ``dest`` (``git archive``)."""
-    archive = subprocess.run(["git", "archive", ref], cwd=ROOT, check=True,
-                             capture_output=True).stdout
-    subprocess.run(["tar", "-x", "-C", str(dest)], input=archive, check=True)
-    return dest
-
-
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--before", default="",
@@ -135,7 +120,7 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
         (work / "before").mkdir()
-        trees = {"before": extract(before, work / "before"), "after": ROOT}
+        trees = {"before": source_tree(before, work / "before"), "after": ROOT}
         envs = {k: {**as_installed(t / "gear_dyn"), **ONE_THREAD} for k, t in trees.items()}
         cpu: dict[str, dict[str, list[float]]] = {c[0]: {"before": [], "after": []}
                                                   for c in commands}

@@ -32,10 +32,10 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import argparse  # noqa: E402
 import json
 import platform
-import statistics
-import subprocess
 import sys
 from pathlib import Path
+
+from _timing import child_json, spread  # noqa: E402  (benchmarks/ is on sys.path)
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ("flow_on_grid", "variational", "integrate_lsoda", "sweep_charts")
@@ -104,15 +104,7 @@ def _worker(case: str) -> None:
 
 
 def _run(case: str, tree: Path) -> dict:
-    env = dict(os.environ, PYTHONPATH=str(tree))
-    done = subprocess.run([sys.executable, str(Path(__file__).resolve()), "--worker", case],
-                          check=True, capture_output=True, text=True, env=env, cwd=tree)
-    return json.loads(done.stdout.strip().splitlines()[-1])
-
-
-def spread(xs: list[float], fmt: str = ".3g", unit: str = "") -> str:
-    return (f"{format(statistics.median(xs), fmt)}{unit} "
-            f"({format(min(xs), fmt)}..{format(max(xs), fmt)})")
+    return child_json([sys.executable, str(Path(__file__).resolve()), "--worker", case], tree)
 
 
 def main() -> None:

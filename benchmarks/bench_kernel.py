@@ -26,12 +26,13 @@ import platform
 import shutil
 import statistics
 import subprocess
-import sys
 import tempfile
 from pathlib import Path
 
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ[_var] = "1"
+
+from _timing import source_tree, tree_children  # noqa: E402  (benchmarks/ is on sys.path)
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -94,22 +95,10 @@ def main(argv: list[str] | None = None) -> int:
         tmp = Path(tmpdir)
         old = tmp / "before"
         old.mkdir()
-        archive = subprocess.run(["git", "archive", args.before], cwd=ROOT, check=True,
-                                 capture_output=True).stdout
-        subprocess.run(["tar", "-x", "-C", str(old)], input=archive, check=True)
-        trees = {"before": old, "after": ROOT}
-        got: dict[str, list[dict[str, float]]] = {k: [] for k in trees}
-        for _ in range(args.repeats):
-            for name, tree in trees.items():
-                proc = subprocess.run(
-                    [sys.executable, str(Path(__file__).resolve()), "--child", "--calls",
-                     str(args.calls)], cwd=tree, capture_output=True, text=True, check=True,
-                    env={**os.environ, "PYTHONPATH": str(tree)})
-                got[name].append(json.loads(proc.stdout.strip().splitlines()[-1]))
+        trees = {"before": source_tree(args.before, old), "after": ROOT}
+        got = tree_children(Path(__file__).resolve(), trees, args.repeats,
+                            ["--calls", str(args.calls)])
         floor = floor_us_per_period(tmp)
-    for name, tree in trees.items():
-        assert all(Path(g["gear_dyn"]).resolve() == (Path(tree) / "gear_dyn").resolve()
-                   for g in got[name]), f"{name}: imported another gear_dyn"
 
     def fig(name: str, key: str, scale: float) -> list[float]:
         return [g[key] * scale for g in got[name]]

@@ -23,13 +23,13 @@ import json
 import os
 import platform
 import statistics
-import subprocess
-import sys
 import tempfile
 from pathlib import Path
 
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ[_var] = "1"
+
+from _timing import source_tree, tree_children  # noqa: E402  (benchmarks/ is on sys.path)
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -91,26 +91,12 @@ def main(argv: list[str] | None = None) -> int:
     with tempfile.TemporaryDirectory() as tmpdir:
         old = Path(tmpdir) / "before"
         old.mkdir()
-        archive = subprocess.run(["git", "archive", args.before], cwd=ROOT, check=True,
-                                 capture_output=True).stdout
-        subprocess.run(["tar", "-x", "-C", str(old)], input=archive, check=True)
-        subprocess.run([sys.executable, "setup.py", "build_ext", "--inplace", "-q"], cwd=old,
-                       check=True, capture_output=True)
-        trees = {"before": old, "after": ROOT}
-        got: dict[str, list[dict[str, object]]] = {k: [] for k in trees}
-        for _ in range(args.repeats):
-            for name, tree in trees.items():
-                proc = subprocess.run(
-                    [sys.executable, str(Path(__file__).resolve()), "--child", "--calls",
-                     str(args.calls)], cwd=tree, capture_output=True, text=True, check=True,
-                    env={**os.environ, "PYTHONPATH": str(tree)})
-                got[name].append(json.loads(proc.stdout.strip().splitlines()[-1]))
-        for name, tree in trees.items():
-            assert all(Path(str(g["gear_dyn"])).resolve() == (tree / "gear_dyn").resolve()
-                       for g in got[name]), f"{name}: imported another gear_dyn"
+        trees = {"before": source_tree(args.before, old, kernel="build"), "after": ROOT}
+        got = tree_children(Path(__file__).resolve(), trees, args.repeats,
+                            ["--calls", str(args.calls)])
 
     def m(name: str, key: str) -> float:
-        return statistics.median(float(g[key]) for g in got[name])  # type: ignore[arg-type]
+        return statistics.median(float(g[key]) for g in got[name])
 
     lines = [
         "# The kernel method: run_scene before and after",
@@ -131,8 +117,8 @@ def main(argv: list[str] | None = None) -> int:
         label = f"`{name}`" + (f" at {speed}" if speed else "")
         lines.append(f"| {label} | {got['before'][0][f'{key}_method']} | {b * 1e3:.4g} ms | "
                      f"{got['after'][0][f'{key}_method']} | {a * 1e3:.4g} ms | {b / a:.2f}x | "
-                     f"{float(got['before'][0][f'{key}_error']):.2g} / "  # type: ignore[arg-type]
-                     f"{float(got['after'][0][f'{key}_error']):.2g} |")  # type: ignore[arg-type]
+                     f"{float(got['before'][0][f'{key}_error']):.2g} / "
+                     f"{float(got['after'][0][f'{key}_error']):.2g} |")
     lines += ["", "The kernel route's parts in this tree (the scene's model and grid):", "",
               "| scene | table (once per model) | one kernel run over the grid |", "|---|---|---|"]
     for key, (name, _) in CASES.items():

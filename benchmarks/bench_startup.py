@@ -31,15 +31,13 @@ import argparse
 import json
 import os
 import platform
-import resource
-import shutil
 import statistics
 import subprocess
 import sys
 import tempfile
 from pathlib import Path
 
-from _timing import as_installed, spread  # noqa: E402  (benchmarks/ is on sys.path)
+from _timing import as_installed, run_child, source_tree, spread  # noqa: E402  (benchmarks/ is on sys.path)
 
 ROOT = Path(__file__).resolve().parents[1]
 ONE_THREAD = {var: "1" for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")}
@@ -126,10 +124,8 @@ for name in ("a", "b"):
 
 def cpu(cmd: list[str], cwd: Path, env: dict[str, str]) -> tuple[float, str]:
     """CPU s (user + system) of a child process, and its stdout."""
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    done = subprocess.run(cmd, cwd=cwd, env=env, check=True, capture_output=True, text=True)
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime), done.stdout
+    done = run_child(cmd, cwd, env)
+    return done.cpu, done.stdout
 
 
 def instructions(tree: Path, env: dict[str, str], calls: int) -> float:
@@ -138,18 +134,6 @@ def instructions(tree: Path, env: dict[str, str], calls: int) -> float:
                            sys.executable, "-c", RUN_N, str(calls)], cwd=tree, env=env,
                           check=True, capture_output=True, text=True)
     return float(done.stderr.split("Collected :")[1].split()[0])
-
-
-def extract(ref: str, dest: Path) -> Path:
-    """The source tree of git ``ref`` in ``dest`` (``git archive``), with this checkout's
-    compiled kernel (the sources of a tree without it would not load)."""
-    archive = subprocess.run(["git", "archive", ref], cwd=ROOT, check=True,
-                             capture_output=True).stdout
-    subprocess.run(["tar", "-x", "-C", str(dest)], input=archive, check=True)
-    kernel = ROOT / "gear_dyn" / "solvers" / "kernel"
-    for lib in kernel.glob("_gd_kernel*"):
-        shutil.copy2(lib, dest / "gear_dyn" / "solvers" / "kernel" / lib.name)
-    return dest
 
 
 def main() -> None:
@@ -172,7 +156,7 @@ def main() -> None:
         work = Path(tmp)
         (work / "before").mkdir()
         (work / "o").mkdir()
-        trees = {"before": extract(before, work / "before"), "after": ROOT}
+        trees = {"before": source_tree(before, work / "before", kernel="copy"), "after": ROOT}
         envs = {k: {**as_installed(t / "gear_dyn"), **ONE_THREAD, "PYTHONPATH": str(t)}
                 for k, t in trees.items()}
         response: dict[str, list[float]] = {k: [] for k in trees}

@@ -53,7 +53,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from _timing import as_installed, spread, timed  # noqa: E402  (benchmarks/ is on sys.path)
+from _timing import as_installed, run_child, spread, timed, tree_env  # noqa: E402  (benchmarks/ is on sys.path)
 
 from gear_dyn.analysis.stability import periodic_steady_state
 from gear_dyn.analysis.study import simulate
@@ -424,14 +424,8 @@ def jumps_table(args: argparse.Namespace) -> str:
 def _cpu_of_command(cmd: list[str], tree: Path = ROOT) -> float:
     """CPU time (user + system) of ``python -m gear_dyn.cli CMD...`` in a child process, in s,
     with gear_dyn imported from the source tree ``tree``."""
-    import resource
-
-    env = dict(ENV or os.environ, PYTHONPATH=str(tree))
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    subprocess.run([sys.executable, "-m", "gear_dyn.cli", *cmd], check=True,
-                   capture_output=True, env=env, cwd=tree)
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return run_child([sys.executable, "-m", "gear_dyn.cli", *cmd], tree,
+                     tree_env(tree, ENV or None)).cpu
 
 
 def linear_table(args: argparse.Namespace) -> str:

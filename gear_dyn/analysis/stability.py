@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, overload
+from typing import Any, cast, overload
 
 import numpy as np
 from numpy.typing import NDArray
@@ -53,9 +53,98 @@ def floquet_stable(spectral_radius: float | FloatArray) -> bool | NDArray[np.boo
     return bool(verdict) if verdict.ndim == 0 else verdict
 
 
+#: contact states as the letters of a contact pattern: drive flank, gap (teeth apart), back flank
+CONTACT_LETTERS = {1: "D", 0: "G", -1: "B"}
+
+
+def contact_states(model: Model, t: FloatArray, y: FloatArray,
+                   force: FloatArray | None = None) -> NDArray[np.int64]:
+    """The contact state at each sample: 1 on the drive flank, 0 with the teeth apart, -1 on the
+    back flank. The one rule behind every contact share and pattern here (sweeps, runs,
+    continuation).
+
+    With backlash ``b`` (a mesh-periodic model): the flank separation ``u = x - e(t)``, the
+    state ``x = y[0]`` less the transmission error, is drive contact where ``u > b``, a gap
+    where ``|u| <= b`` and back contact where ``u < -b``. Without backlash the model keeps the
+    teeth in contact; a negative mesh force marks where they would part (0), else 1.
+
+    Parameters
+    ----------
+    model : Model
+    t : ndarray (n,)
+        Times in s.
+    y : ndarray (n_states, n)
+        States on ``t``, SI units.
+    force : ndarray (n,) or None
+        Mesh force on ``t`` in N, used without backlash; None: ``model.outputs``.
+
+    Returns
+    -------
+    ndarray of int (n,)
+
+    Examples
+    --------
+    >>> from gear_dyn import SDOFModel, rectangular_stiffness
+    >>> m = SDOFModel(1.0, rectangular_stiffness(1.6, 8e5, 1.2e6), 0.05, 1040.0, 100.0,
+    ...               backlash=1e-3)
+    >>> contact_states(m, np.zeros(3), np.array([[2e-3, 0.0, -2e-3], [0.0, 0.0, 0.0]]))
+    array([ 1,  0, -1])
+    """
+    if model.mesh_periodic and model.backlash is not None:
+        mesh = cast(MeshModel, model)
+        u = np.asarray(y[0], dtype=float)
+        if mesh.transmission_error is not None:
+            u = u - np.asarray(mesh.transmission_error.value(mesh.phase(t)), dtype=float)
+        b = float(mesh.backlash or 0.0)
+        return np.where(u > b, 1, np.where(u < -b, -1, 0)).astype(np.int64)
+    f = model.outputs(t, y)["mesh_force"] if force is None else force
+    return np.where(np.asarray(f) < 0, 0, 1).astype(np.int64)
+
+
+def contact_shares(states: NDArray[np.int64], durations: FloatArray | None = None,
+                   span: float | None = None) -> tuple[float, float]:
+    """``(separation, back)``: the shares of time with the teeth apart and on the back flank.
+
+    Parameters
+    ----------
+    states : ndarray of int
+        :func:`contact_states`: of samples equally spaced over whole periods, or one per
+        spell between contact changes.
+    durations : ndarray or None
+        Durations of the spells in s; None: the samples count equally.
+    span : float or None
+        Time the spells cover in s (default: the sum of ``durations``).
+
+    Examples
+    --------
+    >>> contact_shares(np.array([1, 0, 0, -1]))
+    (0.5, 0.25)
+    >>> contact_shares(np.array([1, 0, 1]), np.array([0.5, 0.25, 0.25]), span=1.0)
+    (0.25, 0.0)
+    """
+    if durations is None:
+        return float(np.mean(states == 0)), float(np.mean(states == -1))
+    total = float(np.sum(durations)) if span is None else span
+    return (float(np.sum(durations[states == 0]) / total),
+            float(np.sum(durations[states == -1]) / total))
+
+
+def contact_pattern(states: NDArray[np.int64]) -> str:
+    """The contact pattern of states in time order, one letter per spell
+    (``CONTACT_LETTERS``), e.g. ``DGD``.
+
+    >>> contact_pattern(np.array([1, 1, 0, 0, 1]))
+    'DGD'
+    """
+    keep = np.concatenate([[True], states[1:] != states[:-1]])
+    return "".join(CONTACT_LETTERS[int(s)] for s in states[keep])
+
+
 @dataclass(frozen=True)
 class OrbitShape:
-    """What an orbit looks like over its n mesh periods (part of :class:`PeriodicSolution`).
+    """What an orbit looks like over its n mesh periods (part of :class:`PeriodicSolution`;
+    a sweep row's orbit: over its least period, from the sweep's samples; a sweep row without
+    an orbit has one of its run's window).
 
     Attributes
     ----------
@@ -74,6 +163,14 @@ class OrbitShape:
     dte_rms: float
     dte_ptp: float
     dte_mean: float
+
+    @classmethod
+    def of_samples(cls, states: NDArray[np.int64], dte: FloatArray) -> OrbitShape:
+        """The shape from samples equally spaced over whole periods (the end excluded): their
+        contact states (:func:`contact_states`) and DTE (m)."""
+        sep, back = contact_shares(states)
+        return cls(contact_pattern(states), sep, back, float(np.std(dte)), float(np.ptp(dte)),
+                   float(np.mean(dte)))
 
 
 @dataclass(frozen=True, eq=False)
@@ -97,8 +194,9 @@ class PeriodicSolution:
     iterations : int
         Newton iterations (0 for linear models: one direct solve).
     how : str
-        ``expm`` (exact product), ``variational`` (solve_ivp over one period), ``shooting``
-        or ``continuation`` (a corrector's point).
+        ``expm`` (exact product), ``magnus`` (Magnus step maps, a sweep's linear block),
+        ``variational`` (solve_ivp over one period), ``shooting`` or ``continuation`` (a
+        corrector's point).
     residual : float
         Final closing error: relative, ``max_i |P(y0)_i - y0_i| / scale_i``, for shooting
         (0 for linear models); the scaled residual of the shooting equations for
@@ -133,6 +231,23 @@ class PeriodicSolution:
     def spectral_radius(self) -> float:
         """Largest Floquet multiplier modulus."""
         return float(np.max(np.abs(self.multipliers)))
+
+    def spectral_radius_over(self, periods: int) -> float:
+        """Largest multiplier modulus of the map over ``periods`` mesh periods, a divisor of
+        ``self.periods`` after which the orbit already repeats (its least period): the
+        multipliers of the n-period map are those of the d-period map to the power n / d.
+
+        Raises
+        ------
+        InputError
+            ``periods`` does not divide the orbit's.
+        """
+        if periods == self.periods:
+            return self.spectral_radius
+        if periods < 1 or self.periods % periods:
+            raise InputError(f"periods = {periods}: must divide the orbit's {self.periods} "
+                             "mesh periods")
+        return self.spectral_radius ** (periods / self.periods)
 
     @property
     def separation(self) -> float:

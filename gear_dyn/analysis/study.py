@@ -35,7 +35,7 @@ from gear_dyn.analysis.dynamic_factor import (
     quasi_static_reference,
 )
 from gear_dyn.analysis.newton import NewtonSettings
-from gear_dyn.analysis.stability import shoot
+from gear_dyn.analysis.stability import contact_shares, contact_states, shoot
 from gear_dyn.analysis.threads import blas_limited
 from gear_dyn.errors import GearDynError
 from gear_dyn.models.base import MeshModel, Model
@@ -110,13 +110,8 @@ def contact_check(model: Model, result: Result) -> dict[str, Any]:
     if "n_contact_events" in result.extra:
         out["n_contact_events"] = int(result.extra["n_contact_events"])
     if model.backlash is not None and model.mesh_periodic:
-        mesh = cast(MeshModel, model)
-        u = result.y[0, steady]
-        if mesh.transmission_error is not None:
-            u = u - mesh.transmission_error.value(mesh.phase(result.t[steady]))
-        b = float(mesh.backlash or 0.0)
-        out["separation_share"] = float(np.mean(np.abs(u) <= b))
-        out["backside_share"] = float(np.mean(u < -b))
+        states = contact_states(model, result.t[steady], result.y[:, steady])
+        out["separation_share"], out["backside_share"] = contact_shares(states)
         return out
     if force is not None and model.is_linear:
         fmin = float(np.min(force[steady]))

@@ -21,6 +21,7 @@ import numpy as np
 import pytest
 
 from gear_dyn.analysis.continuation import orbit
+from gear_dyn.analysis.stability import CONTACT_LETTERS
 from gear_dyn.errors import InputError
 from gear_dyn.models.sdof import SDOFModel
 from gear_dyn.scene import build_plan, load_scene
@@ -60,7 +61,7 @@ def fresh_pattern(model: SDOFModel, y0: np.ndarray, periods: int, samples: int
     states = np.where(ym[0, 1:] > b, 1, np.where(ym[0, 1:] < -b, -1, 0))
     dur = np.diff(edges)
     keep = np.concatenate([[True], states[1:] != states[:-1]])
-    letters = "".join(orbit.STATE_LETTERS[int(s)] for s in states[keep])
+    letters = "".join(CONTACT_LETTERS[int(s)] for s in states[keep])
     return (letters, float(np.sum(dur[states == 0]) / t1), float(np.sum(dur[states == -1]) / t1),
             float(np.std(y[0, :-1])))
 

@@ -21,7 +21,13 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.analysis.stability import OrbitShape, flow_on_grid
+from gear_dyn.analysis.stability import (
+    OrbitShape,
+    contact_pattern,
+    contact_shares,
+    contact_states,
+    flow_on_grid,
+)
 from gear_dyn.errors import InputError, SolverError
 from gear_dyn.models.base import MeshModel
 from gear_dyn.solvers.contact_exact import (
@@ -37,8 +43,6 @@ FloatArray = NDArray[np.float64]
 ROUTES = ("auto", "exact", "variational")
 #: samples per mesh period for the response measures and the sampled contact pattern
 SAMPLES_PER_PERIOD = 256
-#: contact states as letters: drive flank, gap (teeth apart), back flank
-STATE_LETTERS = {1: "D", 0: "G", -1: "B"}
 
 
 def resolve_route(model: MeshModel, route: str) -> str:
@@ -108,21 +112,6 @@ def liouville_residual(model: MeshModel, monodromy: FloatArray, periods: int) ->
     return abs(float(np.linalg.det(monodromy)) / expected - 1.0)
 
 
-def _states(model: MeshModel, t: FloatArray, x: FloatArray) -> NDArray[np.int64]:
-    u = x
-    if model.transmission_error is not None:
-        u = x - np.asarray(model.transmission_error.value(model.phase(t)), dtype=float)
-    b = float(model.backlash or 0.0)
-    if model.backlash is None:
-        return np.ones(x.size, dtype=np.int64)
-    return np.where(u > b, 1, np.where(u < -b, -1, 0)).astype(np.int64)
-
-
-def _run_letters(states: NDArray[np.int64]) -> str:
-    keep = np.concatenate([[True], states[1:] != states[:-1]])
-    return "".join(STATE_LETTERS[int(s)] for s in states[keep])
-
-
 def orbit_shape(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: float,
                 walked: Walk | None = None) -> OrbitShape:
     """The contact pattern and response measures of the orbit through ``y0``
@@ -161,19 +150,12 @@ def orbit_shape(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol
         mids = 0.5 * (edges[:-1] + edges[1:])
         owner = np.searchsorted(edges, t[:-1], side="right") - 1
         st = np.full(mids.size, 2, dtype=np.int64)  # 2: no sample in the spell
-        st[owner] = _states(model, t[:-1], y[0, :-1])
+        st[owner] = contact_states(model, t[:-1], y[:, :-1])
         if np.any(st == 2):  # a spell shorter than a sample step: its midpoint's state
-            st = _states(model, mids, walked.on_grid(mids)[0])
-        dur = np.diff(edges)
-        pattern = _run_letters(st)
-        sep = float(np.sum(dur[st == 0]) / t1)
-        back = float(np.sum(dur[st == -1]) / t1)
-    else:
-        y = flow_on_grid(model, y0, t, rtol=rtol)
-        st = _states(model, t[:-1], y[0, :-1])
-        pattern = _run_letters(st)
-        sep = float(np.mean(st == 0))
-        back = float(np.mean(st == -1))
-    x = y[0, :-1]
-    return OrbitShape(pattern, sep, back, float(np.std(x)), float(np.ptp(x)),
-                      float(np.mean(x)))
+            st = contact_states(model, mids, walked.on_grid(mids))
+        sep, back = contact_shares(st, np.diff(edges), span=t1)
+        x = y[0, :-1]
+        return OrbitShape(contact_pattern(st), sep, back, float(np.std(x)), float(np.ptp(x)),
+                          float(np.mean(x)))
+    y = flow_on_grid(model, y0, t, rtol=rtol)
+    return OrbitShape.of_samples(contact_states(model, t[:-1], y[:, :-1]), y[0, :-1])

@@ -20,7 +20,7 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -41,6 +41,7 @@ from gear_dyn.analysis.motion.classify import (
 from gear_dyn.analysis.motion.period import MAX_PERIOD
 from gear_dyn.analysis.motion.samples import stroboscopic
 from gear_dyn.analysis.newton import NewtonSettings
+from gear_dyn.analysis.stability import PeriodicSolution
 from gear_dyn.analysis.threads import blas_limited
 from gear_dyn.errors import InputError, SolverError, check_range
 from gear_dyn.models.base import Model
@@ -113,9 +114,39 @@ class DiagramOptions:
         check_range("rtol", self.rtol, "", low=1e-13, high=1e-4)
 
 
-#: one speed of a diagram, as the workers return it: speed (rad/s), mesh frequency (Hz),
-#: samples, period, label, Lyapunov exponent and its error (1/s)
-_Speed = tuple[float, float, FloatArray, int, str, float, float]
+class DiagramSpeed(NamedTuple):
+    """One speed of a diagram, as the workers return it: the row's samples and label beside the
+    orbit confirmed there.
+
+    Attributes
+    ----------
+    speed : float
+        Pinion speed in rad/s.
+    mesh_frequency : float
+        Hz.
+    samples : ndarray (n_samples, n_states)
+        Stroboscopic samples, SI units (NaN where the response diverged).
+    orbit : PeriodicSolution or None
+        The orbit confirmed by shooting, over its least period (``Motion.orbit``); None where
+        none of 1..16 mesh periods was.
+    label : str
+        The motion's label (``period-4``, ``chaotic, lambda = ...``, ``unbounded``) or "".
+    lyapunov, lyapunov_error : float
+        Largest Lyapunov exponent and its standard error in 1/s (NaN where not computed).
+    """
+
+    speed: float
+    mesh_frequency: float
+    samples: FloatArray
+    orbit: PeriodicSolution | None
+    label: str
+    lyapunov: float
+    lyapunov_error: float
+
+    @property
+    def period(self) -> int:
+        """Least period in mesh periods of the orbit (0: none)."""
+        return 0 if self.orbit is None else self.orbit.periods
 
 
 @dataclass(frozen=True)
@@ -127,7 +158,7 @@ class _Job:
 
 
 @blas_limited
-def _run_task(task: SpeedBlock[_Job]) -> tuple[list[_Speed], FloatArray | None]:
+def _run_task(task: SpeedBlock[_Job]) -> tuple[list[DiagramSpeed], FloatArray | None]:
     """Evaluate a block of speeds in order, each from the previous speed's final state."""
     opts, y = task.job.options, task.start
     out = []
@@ -144,8 +175,8 @@ def _run_task(task: SpeedBlock[_Job]) -> tuple[list[_Speed], FloatArray | None]:
         if not np.all(np.abs(strobe) / model.state_scale <= UNBOUNDED):
             # a diverging response (a parametric instability that contact loss does not
             # bound): said, no samples drawn, and the chain restarts from the static state
-            out.append((s, model.mesh_frequency, np.full_like(strobe, nan), 0, "unbounded",
-                        nan, nan))
+            out.append(DiagramSpeed(s, model.mesh_frequency, np.full_like(strobe, nan), None,
+                                    "unbounded", nan, nan))
             y = None
             continue
         if opts.classify:
@@ -155,7 +186,7 @@ def _run_task(task: SpeedBlock[_Job]) -> tuple[list[_Speed], FloatArray | None]:
         else:
             motion, _iters = find_orbit(model, strobe, opts.rtol, opts.newton)
         if motion is None:  # not classified, no orbit confirmed
-            out.append((s, model.mesh_frequency, strobe, 0, "", nan, nan))
+            out.append(DiagramSpeed(s, model.mesh_frequency, strobe, None, "", nan, nan))
             y = strobe[-1]
             continue
         if motion.periodic:  # the orbit itself, sampled: no settling remainder drawn
@@ -163,8 +194,9 @@ def _run_task(task: SpeedBlock[_Job]) -> tuple[list[_Speed], FloatArray | None]:
             one = stroboscopic(model, motion.state, 0, motion.period, opts.rtol)
             strobe = np.tile(one, (-(-opts.samples // motion.period), 1))[:opts.samples]
         est = motion.lyapunov
-        out.append((s, model.mesh_frequency, strobe, motion.period, motion.label,
-                    nan if est is None else est.value, nan if est is None else est.error))
+        out.append(DiagramSpeed(s, model.mesh_frequency, strobe, motion.orbit, motion.label,
+                                nan if est is None else est.value,
+                                nan if est is None else est.error))
         y = motion.state
     return out, y
 
@@ -183,8 +215,11 @@ class DiagramCurve:
         Hz.
     samples : ndarray (n, n_samples, n_states)
         Stroboscopic samples at each speed, SI units.
+    orbits : tuple of (PeriodicSolution or None)
+        The orbit confirmed by shooting at each speed, over its least period (multipliers,
+        stability); None where none of 1..16 mesh periods was.
     period : ndarray of int (n,)
-        Least period in mesh periods of the orbit confirmed by shooting (0: none of 1..16).
+        Least period in mesh periods of each orbit (0: none of 1..16).
     label : tuple of str
         The motion's label (``period-4``; where classified ``chaotic, lambda = ...``,
         ``quasi-periodic, ...``), else "". Where the response diverged (non-finite, or beyond
@@ -198,16 +233,22 @@ class DiagramCurve:
     speed: FloatArray
     mesh_frequency: FloatArray
     samples: FloatArray
-    period: NDArray[np.int_]
+    orbits: tuple[PeriodicSolution | None, ...]
     label: tuple[str, ...]
     lyapunov: FloatArray
     lyapunov_error: FloatArray
 
+    @property
+    def period(self) -> NDArray[np.int_]:
+        """Least period in mesh periods of each orbit (0: none of 1..16)."""
+        return np.array([0 if o is None else o.periods for o in self.orbits], dtype=int)
+
     @classmethod
-    def from_speeds(cls, direction: str, pts: Sequence[_Speed]) -> DiagramCurve:
-        speed, f_m, samples, period, label, lyapunov, error = zip(*pts, strict=True)
+    def from_speeds(cls, direction: str, pts: Sequence[DiagramSpeed]) -> DiagramCurve:
+        """Stack the rows of one direction, in sweep order."""
+        speed, f_m, samples, orbits, label, lyapunov, error = zip(*pts, strict=True)
         return cls(direction, np.array(speed, dtype=float), np.array(f_m, dtype=float),
-                   np.array(samples, dtype=float), np.array(period, dtype=int), label,
+                   np.array(samples, dtype=float), orbits, label,
                    np.array(lyapunov, dtype=float), np.array(error, dtype=float))
 
 

@@ -13,12 +13,18 @@ test_sweep_batch.py compares them).
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import cast
 
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.analysis.stability import floquet_stable
+from gear_dyn.analysis.stability import (
+    OrbitShape,
+    PeriodicSolution,
+    contact_states,
+    floquet_stable,
+)
 from gear_dyn.analysis.sweep.points import _nan_point, _order_spectrum
 from gear_dyn.analysis.sweep.types import Point, SweepOptions
 from gear_dyn.models.base import MeshModel, Model
@@ -45,12 +51,14 @@ def linear_block(models: Sequence[Model], speeds: Sequence[float], settings: Sol
     spp = settings.samples_per_period
     fm = np.array([m.mesh_frequency for m in mesh])
     orbit = piecewise_orbits(mesh, fm, spp)
+    how = "expm"
     if orbit is None:
         if not magnus_applies(mesh):
             return None
         orbit = magnus_orbits(mesh, spp, settings.rtol)
+        how = "magnus"
     y, phi = orbit
-    mult = np.linalg.eigvals(phi)
+    mult = np.linalg.eigvals(phi).astype(np.complex128)
     rho = np.max(np.abs(mult), axis=1)
     if not np.all(np.linalg.cond(np.eye(2)[None] - phi) < 1e14):
         return None  # a multiplier at 1: the per-speed path raises the SolverError
@@ -66,16 +74,17 @@ def linear_block(models: Sequence[Model], speeds: Sequence[float], settings: Sol
     with np.errstate(invalid="ignore", divide="ignore"):
         df = np.where(load > 0, np.max(force, axis=1) / load, np.nan)
     spec = _order_spectrum(np.tile(dte, (1, opts.window_periods)), opts)
-    rms, ptp, mean = np.std(dte, axis=1), np.ptp(dte, axis=1), np.mean(dte, axis=1)
-    sep = np.mean(force < 0, axis=1)
     points = []
     for i, m in enumerate(mesh):
+        sol = PeriodicSolution(y[i, :, 0].copy(), 1.0 / float(fm[i]), phi[i], mult[i], True, 0,
+                               how)
         if not ok[i]:
-            points.append(_nan_point(m, float(speeds[i]), float(rho[i]), "unstable", opts))
+            points.append(_nan_point(m, float(speeds[i]), "unstable", opts, orbit=sol))
             continue
-        points.append(Point(float(speeds[i]), float(fm[i]), float(df[i]), float(rms[i]),
-                            float(ptp[i]), float(mean[i]), float(rho[i]), True, True,
-                            "periodic", float(sep[i]), 0.0, 0, spec[i], y[i, :, 0].copy(), 1))
+        t = np.arange(spp) / (fm[i] * spp)
+        shape = OrbitShape.of_samples(contact_states(m, t, y[i], force[i]), dte[i])
+        points.append(Point(float(speeds[i]), float(fm[i]), float(df[i]), "periodic", 0,
+                            spec[i], replace(sol, shape=shape), 1))
     return points
 
 

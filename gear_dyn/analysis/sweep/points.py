@@ -12,14 +12,16 @@ from numpy.typing import NDArray
 from gear_dyn.analysis.motion.classify import Motion, classify_motion
 from gear_dyn.analysis.motion.period import MAX_PERIOD
 from gear_dyn.analysis.stability import (
+    OrbitShape,
     PeriodicSolution,
+    contact_states,
     floquet_multipliers,
     floquet_stable,
     flow_on_grid,
     periodic_steady_state,
     shoot,
 )
-from gear_dyn.analysis.sweep.types import Point, SweepOptions
+from gear_dyn.analysis.sweep.types import Point, SweepOptions, Window
 from gear_dyn.models.base import MeshModel, Model
 from gear_dyn.solvers import (
     DEFAULT_ODE_METHOD,
@@ -45,19 +47,6 @@ def orbit_status(periods: int, continuing: bool = False) -> str:
     return f"period-{periods}"
 
 
-def _contact(model: Model, t: FloatArray, y: FloatArray, force: FloatArray
-             ) -> tuple[float, float]:
-    """Shares of samples with the teeth apart and in back-side contact."""
-    if model.mesh_periodic and model.backlash is not None:
-        assert isinstance(model, MeshModel)
-        u = y[0]
-        if model.transmission_error is not None:
-            u = u - model.transmission_error.value(model.phase(t))
-        b = model.backlash
-        return float(np.mean(np.abs(u) <= b)), float(np.mean(u < -b))
-    return float(np.mean(force < 0)), 0.0
-
-
 def _order_spectrum(dte: FloatArray, opts: SweepOptions) -> FloatArray:
     """Amplitudes at orders k / window, k = 1..window*harmonics, of ``window`` periods (of each
     row of ``dte``)."""
@@ -66,24 +55,28 @@ def _order_spectrum(dte: FloatArray, opts: SweepOptions) -> FloatArray:
     return np.abs(spec[..., 1: opts.window_periods * opts.harmonics + 1])
 
 
-def _metrics(model: Model, t: FloatArray, y: FloatArray, load: float,
-             out: dict[str, FloatArray] | None = None
-             ) -> tuple[float, float, float, float, float, float]:
+def _measures(model: Model, t: FloatArray, y: FloatArray,
+              out: dict[str, FloatArray] | None = None) -> tuple[float, OrbitShape | None]:
+    """F_max / W and the shape (contact shares, DTE measures) of samples over whole periods,
+    the end excluded; NaN and None where the response is not finite."""
     out = model.outputs(t, y) if out is None else out
     dte, force = out["dte"], out["mesh_force"]
     if not (np.all(np.isfinite(dte)) and np.all(np.isfinite(force))):
-        nan = math.nan
-        return nan, nan, nan, nan, nan, nan
+        return math.nan, None
+    load = model.static_load
     df = float(np.max(force) / load) if load > 0 else math.nan
-    sep, back = _contact(model, t, y, force)
-    return (df, float(np.std(dte)), float(np.ptp(dte)), float(np.mean(dte)), sep, back)
+    return df, OrbitShape.of_samples(contact_states(model, t, y, force), dte)
 
 
-def _nan_point(model: Model, speed: float, rho: float, status: str, opts: SweepOptions) -> Point:
+def _nan_point(model: Model, speed: float, status: str, opts: SweepOptions,
+               orbit: PeriodicSolution | None = None, rho: float = math.nan) -> Point:
+    """A row of NaN figures: a linear model's unstable ``orbit`` (its multipliers), else a
+    window with spectral radius ``rho`` and no samples."""
     nan = math.nan
-    return Point(speed, model.mesh_frequency, nan, nan, nan, nan, rho, False, False, status, nan,
-                 nan, 0, np.full(opts.window_periods * opts.harmonics, nan),
-                 np.full(len(model.state_labels), nan))
+    spec = np.full(opts.window_periods * opts.harmonics, nan)
+    window = None if orbit is not None else Window(np.full(len(model.state_labels), nan),
+                                                   False, rho, None)
+    return Point(speed, model.mesh_frequency, nan, status, 0, spec, orbit, 0, window)
 
 
 def _flow(model: Model, t: FloatArray, settings: SolverSettings, y0: FloatArray) -> FloatArray:
@@ -101,45 +94,42 @@ def _flow(model: Model, t: FloatArray, settings: SolverSettings, y0: FloatArray)
 
 def _orbit_point(model: Model, speed: float, orbit: PeriodicSolution, settings: SolverSettings,
                  opts: SweepOptions, status: str, iterations: int) -> Point:
-    """Metrics of a periodic orbit (its state, mesh periods, multipliers and verdict): the
-    orbit sampled once, repeated over the spectrum window."""
-    y0, rho, stable, orbit_periods = orbit.y0, orbit.spectral_radius, orbit.stable, orbit.periods
+    """The row of a periodic orbit: the orbit sampled once (its least period), repeated over
+    the spectrum window; the samples give the orbit its ``shape``."""
     spp = settings.samples_per_period
     fm = model.mesh_frequency
-    n = orbit_periods * spp
+    least = orbit.periods
+    n = least * spp
     t = np.arange(n + 1) / (fm * spp)
-    y = _flow(model, t, settings, y0)
-    if orbit_periods > 1:
+    y = _flow(model, t, settings, orbit.y0)
+    if least > 1:
         # a period-d orbit (d dividing n) is a fixed point of the n-period map too: call it
         # what it is
         scale = np.maximum(np.asarray(model.state_scale, dtype=float), np.abs(y[:, 0]))
-        for d in range(1, orbit_periods):
-            if (orbit_periods % d == 0
+        for d in range(1, least):
+            if (least % d == 0
                     and np.max(np.abs(y[:, d * spp] - y[:, 0]) / scale) <= 1e3 * settings.rtol):
-                rho = rho ** (d / orbit_periods)  # multipliers of the n-period map: powers
                 if status.startswith("period-"):
                     status = orbit_status(d)
-                orbit_periods, n = d, d * spp
+                least, n = d, d * spp
                 t, y = t[: n + 1], y[:, : n + 1]
                 break
     t, y = t[:-1], y[:, :-1]  # whole periods, the end excluded
     out = model.outputs(t, y)
-    df, rms, ptp, mean, sep, back = _metrics(model, t, y, model.static_load, out)
-    reps = -(-opts.window_periods // orbit_periods)
+    df, shape = _measures(model, t, y, out)
+    reps = -(-opts.window_periods // least)
     dte_win = np.tile(out["dte"], reps)[: opts.window_periods * spp]
     spec = _order_spectrum(dte_win, opts)
-    return Point(speed, fm, df, rms, ptp, mean, rho, stable, orbit_periods == 1, status, sep,
-                 back, iterations, spec, np.array(y[:, 0], dtype=float), orbit_periods,
-                 f"period-{orbit_periods}")
+    return Point(speed, fm, df, status, iterations, spec, replace(orbit, shape=shape), least,
+                 motion=f"period-{least}")
 
 
 def _window_point(model: Model, speed: float, t: FloatArray, y: FloatArray, n_window: int,
                   settings: SolverSettings, opts: SweepOptions, rho: float, status: str,
                   iterations: int, motion: Motion | None = None) -> Point:
-    """Metrics over the last ``n_window`` samples of a run (whole periods)."""
+    """The row of the last ``n_window`` samples of a run (whole periods)."""
     spp = settings.samples_per_period
-    tw, yw = t[-n_window:], y[:, -n_window:]
-    df, rms, ptp, mean, sep, back = _metrics(model, tw, yw, model.static_load)
+    df, shape = _measures(model, t[-n_window:], y[:, -n_window:])
     dte = model.outputs(t, y)["dte"]
     nspec = opts.window_periods * spp
     spec = _order_spectrum(dte[-nspec - 1:-1], opts)
@@ -147,10 +137,11 @@ def _window_point(model: Model, speed: float, t: FloatArray, y: FloatArray, n_wi
     closing = np.abs(y[:, -1] - y[:, -1 - spp]) / np.maximum(scale, np.abs(y[:, -1]))
     periodic = bool(np.max(closing) <= 1e3 * settings.rtol)
     est = None if motion is None else motion.lyapunov
-    return Point(speed, model.mesh_frequency, df, rms, ptp, mean, rho, floquet_stable(rho),
-                 periodic, status, sep, back, iterations, spec, y[:, -1].copy(),
-                 0, "" if motion is None else motion.label,
-                 math.nan if est is None else est.value, math.nan if est is None else est.error)
+    return Point(speed, model.mesh_frequency, df, status, iterations, spec,
+                 window=Window(y[:, -1].copy(), periodic, rho, shape),
+                 motion="" if motion is None else motion.label,
+                 lyapunov=math.nan if est is None else est.value,
+                 lyapunov_error=math.nan if est is None else est.error)
 
 
 def steady_point(model: Model, speed: float, settings: SolverSettings, opts: SweepOptions,
@@ -166,7 +157,7 @@ def steady_point(model: Model, speed: float, settings: SolverSettings, opts: Swe
     if mesh.backlash is None:  # linear: the orbit from the one-period map, NaN where unstable
         sol = periodic_steady_state(mesh, rtol=settings.rtol)
         if not sol.stable:
-            return _nan_point(mesh, speed, sol.spectral_radius, "unstable", opts), None
+            return _nan_point(mesh, speed, "unstable", opts, orbit=sol), None
         return _orbit_point(mesh, speed, sol, settings, opts, "periodic", 0), sol.y0
     guess = mesh.initial_state() if y_guess is None else np.asarray(y_guess, dtype=float)
     first = n_prev if 1 <= n_prev <= MAX_PERIOD else 1
@@ -226,7 +217,7 @@ def transient_point(model: Model, speed: float, settings: SolverSettings,
         assert isinstance(model, MeshModel)
         rho = float(np.max(np.abs(floquet_multipliers(model, settings.rtol))))
         if not floquet_stable(rho):
-            return _nan_point(model, speed, rho, "unstable", opts), None
+            return _nan_point(model, speed, "unstable", opts, rho=rho), None
         y_guess = None  # linear: every speed from the static state, as run_scene
     spp = settings.samples_per_period
     t = time_grid(model.mesh_frequency, periods / model.mesh_frequency, spp)

@@ -17,6 +17,7 @@ from gear_dyn.analysis.dynamic_factor import (
     STIFFNESS_JUMP_DEFINITION,
 )
 from gear_dyn.analysis.newton import NewtonSettings
+from gear_dyn.analysis.stability import OrbitShape, PeriodicSolution, floquet_stable
 from gear_dyn.analysis.sweep.jump import RPM, Jump
 from gear_dyn.errors import InputError, check_range
 from gear_dyn.solvers import SolverSettings
@@ -88,28 +89,155 @@ class SweepOptions:
         check_range("lyapunov_periods", self.lyapunov_periods, "", low=20, high=1_000_000)
 
 
+class Window(NamedTuple):
+    """What a sweep row measures over the last window of a run instead of on an orbit (the
+    transient method; speeds where no orbit of 1..16 mesh periods is found; a linear model's
+    parametric instability).
+
+    Attributes
+    ----------
+    state : ndarray
+        State at the end of the run, SI (NaN where unstable).
+    periodic : bool
+        The response repeats after one mesh period (to 1e3 ``rtol`` of the state scale).
+    spectral_radius : float
+        Largest Floquet multiplier modulus of a linear model (NaN otherwise).
+    shape : OrbitShape or None
+        Contact pattern, contact shares and DTE measures over the window (None where it is not
+        finite or not run).
+    """
+
+    state: FloatArray
+    periodic: bool
+    spectral_radius: float
+    shape: OrbitShape | None
+
+
 class Point(NamedTuple):
-    """One speed of a sweep (SI units)."""
+    """One speed of a sweep (SI units): the row's own figures beside the orbit they measure.
+
+    The orbit part (state, mesh periods, multipliers and stability, contact shares and DTE
+    measures) is read from ``orbit`` (:class:`~gear_dyn.analysis.stability.PeriodicSolution`,
+    its ``shape`` from the sweep's samples) or, where the row has no orbit, from ``window``;
+    the properties of the :class:`SweepCurve` column names read it from there.
+
+    Attributes
+    ----------
+    speed : float
+        Pinion speed in rad/s.
+    mesh_frequency : float
+        Hz.
+    peak_force_ratio : float
+        F_max / W (-).
+    status : str
+        As ``SweepCurve.status``.
+    iterations : int
+        Newton iterations spent at this speed (every shooting attempt).
+    spectrum : ndarray
+        DTE amplitudes (m) at the orders of ``SweepResult.orders``.
+    orbit : PeriodicSolution or None
+        The steady orbit (for a linear model also the unstable one; its multipliers decide
+        the row's stability), None for window rows.
+    least_period : int
+        Mesh periods after which the orbit's samples repeat (a divisor of
+        ``orbit.periods``); 0 where the row shows no orbit.
+    window : Window or None
+        The run's window where the row has no orbit.
+    motion : str
+        The classified motion (``period-4``, ``chaotic, lambda = ...``), or "".
+    lyapunov, lyapunov_error : float
+        Largest Lyapunov exponent and its standard error in 1/s (NaN where not computed).
+    """
 
     speed: float
     mesh_frequency: float
     peak_force_ratio: float
-    rms_dte: float
-    ptp_dte: float
-    mean_dte: float
-    spectral_radius: float
-    stable: bool
-    periodic: bool
     status: str
-    separation: float
-    backside: float
     iterations: int
     spectrum: FloatArray
-    state: FloatArray
-    orbit_periods: int = 0
+    orbit: PeriodicSolution | None = None
+    least_period: int = 0
+    window: Window | None = None
     motion: str = ""
     lyapunov: float = math.nan
     lyapunov_error: float = math.nan
+
+    @property
+    def shape(self) -> OrbitShape | None:
+        """Contact pattern and shares and DTE measures of the orbit or the window."""
+        if self.window is not None:
+            return self.window.shape
+        return None if self.orbit is None else self.orbit.shape
+
+    @property
+    def rms_dte(self) -> float:
+        """DTE standard deviation in m (NaN without a shape)."""
+        return math.nan if self.shape is None else self.shape.dte_rms
+
+    @property
+    def ptp_dte(self) -> float:
+        """Peak-to-peak DTE in m."""
+        return math.nan if self.shape is None else self.shape.dte_ptp
+
+    @property
+    def mean_dte(self) -> float:
+        """Mean DTE in m."""
+        return math.nan if self.shape is None else self.shape.dte_mean
+
+    @property
+    def separation(self) -> float:
+        """Share of the time with the teeth apart (a linear model: a negative mesh force)."""
+        return math.nan if self.shape is None else self.shape.separation
+
+    @property
+    def backside(self) -> float:
+        """Share of the time on the back flank."""
+        return math.nan if self.shape is None else self.shape.back
+
+    @property
+    def spectral_radius(self) -> float:
+        """Largest multiplier modulus of the map over ``least_period`` mesh periods (of the
+        orbit's own map where it shows none; the window's linear system)."""
+        if self.window is not None:
+            return self.window.spectral_radius
+        if self.orbit is None:
+            return math.nan
+        return self.orbit.spectral_radius_over(self.least_period or self.orbit.periods)
+
+    @property
+    def stable(self) -> bool:
+        """The orbit's verdict (:attr:`~gear_dyn.analysis.stability.PeriodicSolution.stable`;
+        a window: its linear system's, :func:`~gear_dyn.analysis.stability.floquet_stable`)."""
+        if self.window is not None:
+            return floquet_stable(self.window.spectral_radius)
+        return self.orbit is not None and self.orbit.stable
+
+    @property
+    def periodic(self) -> bool:
+        """The response repeats every mesh period."""
+        return self.window.periodic if self.window is not None else self.least_period == 1
+
+    @property
+    def state(self) -> FloatArray:
+        """State on the orbit at t = 0 (window: at the end of the run); NaN where unstable."""
+        if self.window is not None:
+            return self.window.state
+        if self.orbit is None:
+            return np.zeros(0)
+        return self.orbit.y0 if self.least_period else np.full_like(self.orbit.y0, math.nan)
+
+    @property
+    def orbit_periods(self) -> int:
+        """Mesh periods of the steady orbit (0: none shown)."""
+        return self.least_period
+
+
+#: the per-speed columns of a :class:`SweepCurve`, each a :class:`Point` field or property of
+#: that name
+POINT_COLUMNS = ("speed", "mesh_frequency", "peak_force_ratio", "rms_dte", "ptp_dte", "mean_dte",
+                 "spectral_radius", "stable", "periodic", "status", "separation", "backside",
+                 "iterations", "spectrum", "state", "orbit_periods", "motion", "lyapunov",
+                 "lyapunov_error")
 
 
 #: the curve arrays a peak can be taken of (:meth:`SweepCurve.peak`), with their SI unit
@@ -274,7 +402,7 @@ class SweepCurve:
         reference; NaN: none) turns their peak force ratios into dynamic factors."""
         kinds = {"stable": bool, "periodic": bool, "iterations": int, "orbit_periods": int}
         cols: dict[str, Any] = {}
-        for name in Point._fields:  # every Point field is a SweepCurve field of that name
+        for name in POINT_COLUMNS:
             values = [getattr(p, name) for p in points]
             cols[name] = (tuple(values) if name in ("status", "motion")
                           else np.array(values, dtype=kinds.get(name, float)))
