@@ -236,9 +236,9 @@ def harmonic_orbits(model: MeshModel, orders: FloatArray, spp: int
     harmonic ``e = e^{i Omega t}`` (``Omega = 2 pi q f_m``, ``q`` a mesh order) the particular
     solution in a cell is ``U e^{i Omega t}``, ``U = Omega^2 / (kappa - Omega^2 + i gamma
     Omega)``, and the rest follows the cell's exponential (its map from the kernel). The
-    response is quasi-periodic, ``Z(t + T) = e^{2 pi i q} Z(t)``: its state at the period start solves
-    ``(e^{2 pi i q} I - M) Z0 = r`` with ``M`` the monodromy matrix and ``r`` the response over
-    one period from rest.
+    response is quasi-periodic, ``Z(t + T) = e^{2 pi i q} Z(t)``: its state at the period
+    start solves ``(e^{2 pi i q} I - M) Z0 = r`` with ``M`` the monodromy matrix and ``r`` the
+    response over one period from rest.
 
     Parameters
     ----------
