@@ -353,9 +353,10 @@ def magnus_orbits(models: Sequence[Model], spp: int, rtol: float
 
 def periodic_orbit(p: FloatArray, u: FloatArray) -> tuple[FloatArray, FloatArray]:
     """(orbit samples (S, 2, spp), monodromy (S, 2, 2)) from the partial products of one
-    period's step maps after each sample 1..spp (:func:`~gear_dyn.solvers.kernel.linear.
-    period_products`, ``p`` (S, spp, 2, 2), ``u`` (S, spp, 2); the last: the period): the
-    fixed point ``y0 = (I - P) y0 + u`` of the period map and the samples ``P_j y0 + u_j``."""
+    period's step maps after each sample 1..spp
+    (:func:`~gear_dyn.solvers.kernel.linear.period_products`: ``p`` (S, spp, 2, 2), ``u``
+    (S, spp, 2); the last, the period): the fixed point ``y0 = P y0 + u`` of the period map
+    and the samples ``P_j y0 + u_j``."""
     phi = p[:, -1]
     y0 = np.linalg.solve(np.eye(2)[None] - phi, u[:, -1][:, :, None])[:, :, 0]
     out = np.empty((p.shape[0], 2, p.shape[1]))
