@@ -193,7 +193,8 @@ def cell_monodromy(mass: float, edges: FloatArray, values: FloatArray, damping: 
                    ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Monodromy matrix ``(p11, p12, p21, p22)`` of ``m x'' + c x' + k(f_m t) x = 0`` over one
     mesh period, for a piecewise-constant stiffness: the product of the cells' ``exp(A dt)``,
-    vectorised.
+    taken by the kernel in one call (a table of cells per stiffness and damping, each lane one
+    point of the grid).
 
     Parameters
     ----------
