@@ -23,8 +23,9 @@ Targets (whole commands, CPU):
   needed for the per-speed part to stand out of the run-to-run spread).
 
 Writes ``commands.md`` (``--name``) into ``--out`` (default ``benchmarks/out/``, git-ignored);
-``--record`` writes it into ``benchmarks/results/``. The in-process sweep table is made only
-when a sweep command is among those run (``--only``).
+``--record`` writes it into ``benchmarks/results/``. The in-process sweep tables (the cost per
+speed of ``sweep_scene``, and of the speed blocks alone, each tree in a child process) are made
+only when a sweep command is among those run (``--only``).
 """
 
 from __future__ import annotations
@@ -107,6 +108,32 @@ def per_speed_cpu(name: str, tree: Path = ROOT) -> float:
     return (cpu(361) - cpu(37)) / 324
 
 
+def block_cpu(name: str, tree: Path = ROOT) -> float:
+    """CPU s per speed of the linear speed blocks alone of the packaged scene ``name`` (with
+    the gear_dyn of ``tree``): ``linear_block`` over 640 speeds, 1000-6000 rpm, in the sweep's
+    blocks of 32, the models built beforehand; the part of a linear sweep that grows with the
+    number of speeds, without the fixed costs whose spread hides it in :func:`per_speed_cpu`."""
+    if str(tree) not in sys.path:
+        sys.path.insert(0, str(tree))
+    import numpy as np
+
+    from gear_dyn.analysis.sweep.batch import linear_block
+    from gear_dyn.analysis.sweep.types import SweepOptions
+    from gear_dyn.scene import load_scene
+    from gear_dyn.scene.sweep import SceneModels
+
+    factory = SceneModels.of(load_scene(tree / "gear_dyn" / "scenes" / f"{name}.toml"))
+    speeds = np.linspace(1000, 6000, 640) * 2 * np.pi / 60
+    models = [factory(float(s)) for s in speeds]
+    settings, opts = factory.plan.settings, SweepOptions()
+    linear_block(models[:32], speeds[:32], settings, opts)  # imports, caches
+    t0 = time.process_time()
+    for i in range(0, speeds.size, 32):
+        if linear_block(models[i:i + 32], speeds[i:i + 32], settings, opts) is None:
+            raise RuntimeError(f"{name}: not a linear block")
+    return (time.process_time() - t0) / speeds.size
+
+
 def extract(ref: str, dest: Path) -> Path:
     """The source tree of git ``ref`` in ``dest`` (``git archive``)."""
     archive = subprocess.run(["git", "archive", ref], cwd=ROOT, check=True,
@@ -128,10 +155,13 @@ def main() -> None:
     ap.add_argument("--per-speed", default="", metavar="SCENE",
                     help="instead: print the in-process CPU s per speed of sweeping SCENE with "
                          "the gear_dyn of --tree (what the in-process table runs in a child)")
+    ap.add_argument("--blocks", action="store_true",
+                    help="with --per-speed: the speed blocks alone (block_cpu)")
     ap.add_argument("--tree", type=Path, default=ROOT, help="with --per-speed")
     args = ap.parse_args()
     if args.per_speed:
-        print(per_speed_cpu(args.per_speed, args.tree.resolve()))
+        measure = block_cpu if args.blocks else per_speed_cpu
+        print(measure(args.per_speed, args.tree.resolve()))
         return
     out_dir = ROOT / "benchmarks" / "results" if args.record else args.out
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -156,16 +186,20 @@ def main() -> None:
                 print(name, {k: round(v[-1], 2) for k, v in cpu[name].items()}, flush=True)
         floor = [import_cpu(envs["after"]) for _ in range(args.repeats)]
         # the in-process cost per speed, each tree in a child process, in turn
-        inproc: dict[str, dict[str, list[float]]] = {
-            s: {"before": [], "after": []} for s in LINEAR
-            if any(c[0].startswith(f"sweep {s} ") for c in commands)}
+        swept = [s for s in LINEAR if any(c[0].startswith(f"sweep {s} ") for c in commands)]
+        inproc: dict[str, dict[str, list[float]]] = {s: {"before": [], "after": []}
+                                                     for s in swept}
+        blocks: dict[str, dict[str, list[float]]] = {s: {"before": [], "after": []}
+                                                     for s in swept}
         for _ in range(args.repeats if inproc else 0):
-            for s in inproc:
-                for key, tree in trees.items():
-                    out = subprocess.run([sys.executable, __file__, "--per-speed", s, "--tree",
-                                          str(tree)], cwd=tree, env=envs[key], check=True,
-                                         capture_output=True, text=True).stdout
-                    inproc[s][key].append(float(out.split()[-1]))
+            for s in swept:
+                for table, extra in ((inproc, []), (blocks, ["--blocks"])):
+                    for key, tree in trees.items():
+                        out = subprocess.run([sys.executable, __file__, "--per-speed", s,
+                                              "--tree", str(tree), *extra], cwd=tree,
+                                             env=envs[key], check=True, capture_output=True,
+                                             text=True).stdout
+                        table[s][key].append(float(out.split()[-1]))
     med = {n: {k: statistics.median(v) for k, v in d.items()} for n, d in cpu.items()}
     lines = ["# Long study commands: CPU time before and after", "",
              f"`python benchmarks/bench_commands.py --repeats {args.repeats}"
@@ -211,17 +245,24 @@ def main() -> None:
         for s, d in per_speed.items():
             lines.append(f"| {s} | {1e3 * d['before']:.3g} | {1e3 * d['after']:.3g} | "
                          f"{rel(d, 'before')} | {rel(d, 'after')} |")
-    if LINEAR[0] in inproc:
-        def ratios(s: str, key: str) -> list[float]:
-            return [a / b for a, b in zip(inproc[s][key], inproc[LINEAR[0]][key], strict=True)]
+    titles = ((inproc, "The same, in one process (`sweep_scene`, 361 - 37 speeds over "
+                       "1000-6000 rpm, CPU, each tree in a child process in turn; the ratios "
+                       "within each repeat):"),
+              (blocks, "The speed blocks alone (`linear_block` over 640 speeds, 1000-6000 rpm, "
+                       "in the sweep's blocks of 32, models built beforehand: the part of a "
+                       "linear sweep that grows with the speeds, free of the fixed costs whose "
+                       "spread the differences above carry; CPU, each tree in a child process "
+                       "in turn):"))
+    for table, title in titles if LINEAR[0] in inproc else ():
+        def ratios(s: str, key: str, t: dict[str, dict[str, list[float]]] = table
+                   ) -> list[float]:
+            return [a / b for a, b in zip(t[s][key], t[LINEAR[0]][key], strict=True)]
 
-        lines += ["", "The same, in one process (`sweep_scene`, 361 - 37 speeds over 1000-6000 "
-                  "rpm, CPU, each tree in a child process in turn; the ratios within each "
-                  "repeat):", "",
+        lines += ["", title, "",
                   "| scene | before ms/speed | after ms/speed | after / before | "
                   "before / iso6336 | after / iso6336 (target <= 5x) |",
                   "| --- | --- | --- | --- | --- | --- |"]
-        for s, d in inproc.items():
+        for s, d in table.items():
             gain = [a / b for a, b in zip(d["after"], d["before"], strict=True)]
             lines.append(f"| {s} | {spread([1e3 * x for x in d['before']])} | "
                          f"{spread([1e3 * x for x in d['after']])} | {spread(gain, '.2g', 'x')} | "
