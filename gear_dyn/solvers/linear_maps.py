@@ -24,7 +24,8 @@ is the periodic orbit, and the partial products carry it to the output samples
   method; the local error of one step grows as ``(omega h)^5``.
 - :func:`harmonic_orbits`: the same cells with the responses to unit harmonics of a
   transmission error (the tolerance study's superposition): the cells' maps from the kernel,
-  their products with each harmonic's offsets by :func:`gear_dyn.solvers.kernel.products`.
+  which also carries every harmonic's offsets through them
+  (:func:`~gear_dyn.solvers.kernel.linear.responses`).
 - :func:`cell_monodromy`: the monodromy matrix of a staircase stiffness over any grid of
   masses, dampings and mesh frequencies (the stability charts).
 
@@ -47,7 +48,7 @@ from numpy.typing import NDArray
 
 from gear_dyn.models.base import MeshModel, Model
 from gear_dyn.solvers import kernel
-from gear_dyn.solvers.kernel.linear import ROW_FIELDS, period_products, step_maps
+from gear_dyn.solvers.kernel.linear import ROW_FIELDS, period_products, responses, step_maps
 
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
@@ -283,10 +284,8 @@ def harmonic_orbits(model: MeshModel, orders: FloatArray, spp: int
     # products of the cells' maps: the load's orbit, then the real and imaginary parts of each
     # unit response (the same matrices, other offsets)
     mono, r_y = kernel.products(f, q)
-    r_z = np.zeros((edges.size, om.size, 2), dtype=complex)
-    for i in range(om.size):
-        r_z[:, i] = (kernel.products(f, h_z[:, i].real)[1]
-                     + 1j * kernel.products(f, h_z[:, i].imag)[1])
+    parts = responses(f, np.concatenate([h_z.real, h_z.imag], axis=1).transpose(1, 0, 2))
+    r_z = (parts[:om.size] + 1j * parts[om.size:]).transpose(1, 0, 2)  # (C+1, Q, 2)
     rho = float(np.max(np.abs(np.linalg.eigvals(mono[-1]))))
     y0 = np.asarray(np.linalg.solve(np.eye(2) - mono[-1], r_y[-1]), dtype=np.float64)
     lam = np.exp(2j * math.pi * np.asarray(orders, dtype=float))

@@ -297,10 +297,12 @@ def test_kernel_under_sanitizers(tmp_path: Path) -> None:
         fm, table = np.array([300.0, 700.0, 1100.0]), np.array([0, 1, 1])
         fs, hs = kl.step_maps(rows, fm, table)
         p, u = kl.period_products(rows, fm, np.array([2, 8]), table)
+        ys = kl.responses(fs[0], hs)
         for s in range(3):
             q, r = k.products(fs[s], hs[s])
             assert np.allclose(p[s], q[[3, 9]], rtol=1e-12, atol=1e-12)
             assert np.allclose(u[s], r[[3, 9]], rtol=1e-12, atol=1e-12)
+            assert np.allclose(ys[s], k.products(fs[0], hs[s])[1], rtol=1e-12, atol=1e-12)
         rect = [SDOFModel(mass=3.0, stiffness=rectangular_stiffness(1.41, 1e9, 1.3e9),
                           damping_ratio=0.06, static_load=2000.0, mesh_frequency=f)
                 for f in (1500.0, 2500.0)]

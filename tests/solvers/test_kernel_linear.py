@@ -22,7 +22,13 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.linalg import expm
 
-from gear_dyn.solvers.kernel.linear import ROW_FIELDS, expm2, period_products, step_maps
+from gear_dyn.solvers.kernel.linear import (
+    ROW_FIELDS,
+    expm2,
+    period_products,
+    responses,
+    step_maps,
+)
 
 G = math.sqrt(3) / 6  # Gauss points at 1/2 -+ G of a step
 
@@ -102,6 +108,21 @@ def test_period_products_match_scipy_products() -> None:
             scale = np.max(np.abs(ref[:2]))
             assert np.max(np.abs(p[s, k] - ref[:2, :2])) <= 1e-11 * scale
             assert np.max(np.abs(u[s, k] - ref[:2, 2])) <= 1e-11 * np.max(np.abs(ref[:2, 2]))
+
+
+def test_responses_match_a_numpy_loop() -> None:
+    # the kernel does the same products in the same order: equal to a few ulps
+    rng = np.random.default_rng(5)
+    f = rng.standard_normal((30, 2, 2)) * 0.5
+    h = rng.standard_normal((3, 30, 2))
+    y = responses(f, h)
+    for s in range(3):
+        ref = [np.zeros(2)]
+        for i in range(30):
+            ref.append(f[i] @ ref[-1] + h[s, i])
+        assert np.allclose(y[s], ref, rtol=1e-13, atol=1e-13 * np.max(np.abs(ref)))
+    with pytest.raises(ValueError, match="need"):
+        responses(f, h[:, :29])
 
 
 def test_period_products_check_their_inputs() -> None:

@@ -145,6 +145,8 @@ def library() -> ctypes.CDLL:
     lib.gd_lin_maps.argtypes = [_l, _l, _DP, _DP, _DP, _DP, _DP]
     lib.gd_lin_period.restype = None
     lib.gd_lin_period.argtypes = [_l, _l, _DP, _DP, _DP, _l, _DP, _DP, _DP]
+    lib.gd_lin_chain.restype = None
+    lib.gd_lin_chain.argtypes = [_l, _l, _DP, _DP, _DP]
     # the steppers (gd_kernel.c, gd_torsional.c, gd_run.c: :mod:`.run` builds their structures)
     lib.gd_start.restype = None
     lib.gd_start.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_double]

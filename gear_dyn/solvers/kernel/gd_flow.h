@@ -121,4 +121,9 @@ void gd_lin_maps(long n_lanes, long n_steps, const double *rows, const long *tab
 void gd_lin_period(long n_lanes, long n_steps, const double *rows, const long *table,
                    const double *fm, long n_keep, const long *keep, double *Q, double *R);
 
+/* the responses from rest of n_lanes offset sequences to one sequence of 2x2 maps: lane s
+ * from Y[s, 0] = 0, Y[s, i+1] = F[i] Y[s, i] + h[s, i] (F: n_steps 4, shared by the lanes;
+ * h: n_lanes n_steps 2; Y: n_lanes (n_steps + 1) 2) */
+void gd_lin_chain(long n_lanes, long n_steps, const double *F, const double *h, double *Y);
+
 #endif

@@ -106,3 +106,18 @@ void gd_lin_period(long n_lanes, long n_steps, const double *rows, const long *t
         }
     }
 }
+
+void gd_lin_chain(long n_lanes, long n_steps, const double *F, const double *h, double *Y)
+{
+    long s, i;
+    for (s = 0; s < n_lanes; s++) {
+        const double *hs = h + 2 * (size_t)s * (size_t)n_steps;
+        double *y = Y + 2 * (size_t)s * (size_t)(n_steps + 1);
+        y[0] = y[1] = 0.0;
+        for (i = 0; i < n_steps; i++, y += 2) {
+            const double *e = F + 4 * (size_t)i;
+            y[2] = e[0] * y[0] + e[1] * y[1] + hs[2 * i];
+            y[3] = e[2] * y[0] + e[3] * y[1] + hs[2 * i + 1];
+        }
+    }
+}

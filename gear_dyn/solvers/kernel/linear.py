@@ -107,4 +107,28 @@ def period_products(rows: FloatArray, fm: FloatArray, keep: NDArray[np.intp],
     return p, u
 
 
-__all__ = ["ROW_FIELDS", "expm2", "period_products", "step_maps"]
+def responses(f: FloatArray, h: FloatArray) -> FloatArray:
+    """Responses from rest of many offset sequences to one sequence of 2x2 maps: lane ``s``
+    from ``y[s, 0] = 0``, ``y[s, i+1] = f[i] y[s, i] + h[s, i]``.
+
+    Parameters
+    ----------
+    f : ndarray (N, 2, 2)
+        The maps' matrices, in time order, shared by the lanes.
+    h : ndarray (L, N, 2)
+        Each lane's offsets.
+
+    Returns
+    -------
+    ndarray (L, N + 1, 2)
+    """
+    f, h = _c(f), _c(h)
+    if f.ndim != 3 or f.shape[1:] != (2, 2) or h.ndim != 3 or h.shape[1:] != (f.shape[0], 2):
+        raise ValueError(f"responses: maps of shape {f.shape}, offsets {h.shape}: need (N, 2, 2)"
+                         ", (lanes, N, 2)")
+    y = np.empty((h.shape[0], f.shape[0] + 1, 2))
+    library().gd_lin_chain(h.shape[0], f.shape[0], _ptr(f), _ptr(h), _ptr(y))
+    return y
+
+
+__all__ = ["ROW_FIELDS", "expm2", "period_products", "responses", "step_maps"]
