@@ -17,12 +17,15 @@ from setuptools.errors import CCompilerError, CompileError, ExecError, PlatformE
 
 KERNEL = "gear_dyn/solvers/kernel"
 SOURCES = [f"{KERNEL}/{name}"
-           for name in ("gd_flow.c", "gd_kernel.c", "gd_torsional.c", "gd_run.c")]
+           for name in ("gd_flow.c", "gd_linear.c", "gd_kernel.c", "gd_torsional.c",
+                        "gd_run.c")]
 #: the library's entry points (Windows DLLs export only these)
 EXPORTS = ["gd_flow_version", "gd_flow_products", "gd_flow_chain", "gd_flow_fill_periodic",
            "gd_defaults", "gd_start", "gd_advance", "gd_outputs",
            "gd_contact_flow", "gd_find_root", "gd_contact_stays_inside",
-           "gd_contact_first_crossing", "gd_contact_walk", "gd_contact_on_grid", "gd_run"]
+           "gd_contact_first_crossing", "gd_contact_walk", "gd_contact_on_grid", "gd_run",
+           "gd_flow_compose", "gd_flow_grid_error", "gd_lin_expm2", "gd_lin_maps", "gd_lin_period",
+           "gd_lin_chain"]
 NO_COMPILER = (
     "gear_dyn builds its compiled kernel (C99, {sources}) at install and found no working C "
     "compiler ({why}). Install one and retry: Debian/Ubuntu 'apt-get install gcc', Fedora "

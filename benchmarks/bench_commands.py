@@ -23,14 +23,14 @@ Targets (whole commands, CPU):
   needed for the per-speed part to stand out of the run-to-run spread).
 
 Writes ``commands.md`` (``--name``) into ``--out`` (default ``benchmarks/out/``, git-ignored);
-``--record`` writes it into ``benchmarks/results/``. The in-process sweep table is made only
-when a sweep command is among those run (``--only``).
+``--record`` writes it into ``benchmarks/results/``. The in-process sweep tables (the cost per
+speed of ``sweep_scene``, and of the speed blocks alone, each tree in a child process) are made
+only when a sweep command is among those run (``--only``).
 """
 
 from __future__ import annotations
 
 import argparse
-import os
 import platform
 import statistics
 import subprocess
@@ -78,18 +78,19 @@ def import_cpu(env: dict[str, str]) -> float:
     return run_child([sys.executable, "-c", FLOOR], env=env).cpu
 
 
-def per_speed_cpu(name: str) -> float:
+def per_speed_cpu(name: str, tree: Path = ROOT) -> float:
     """CPU s per speed of ``sweep_scene`` of the packaged scene ``name``, in this process
-    (this checkout): (361 speeds - 37 speeds) / 324 over 1000-6000 rpm, so the fixed cost
-    (model, quasi-static run) drops out, as ``bench_sweep_stiffness.py`` measures it."""
-    if str(ROOT) not in sys.path:  # this checkout's gear_dyn, not another installed one
-        sys.path.insert(0, str(ROOT))
+    (with the gear_dyn of ``tree``): (361 speeds - 37 speeds) / 324 over 1000-6000 rpm, so the
+    fixed cost (model, quasi-static run) drops out, as ``bench_sweep_stiffness.py`` measures
+    it."""
+    if str(tree) not in sys.path:  # that tree's gear_dyn, not another installed one
+        sys.path.insert(0, str(tree))
     import numpy as np
 
     from gear_dyn.scene import load_scene
     from gear_dyn.scene.sweep import sweep_scene
 
-    scene = load_scene(ROOT / "gear_dyn" / "scenes" / f"{name}.toml")
+    scene = load_scene(tree / "gear_dyn" / "scenes" / f"{name}.toml")
     rpm = 2 * np.pi / 60
 
     def cpu(n: int) -> float:
@@ -98,6 +99,32 @@ def per_speed_cpu(name: str) -> float:
         return time.process_time() - t0
     cpu(2)  # imports, caches
     return (cpu(361) - cpu(37)) / 324
+
+
+def block_cpu(name: str, tree: Path = ROOT) -> float:
+    """CPU s per speed of the linear speed blocks alone of the packaged scene ``name`` (with
+    the gear_dyn of ``tree``): ``linear_block`` over 640 speeds, 1000-6000 rpm, in the sweep's
+    blocks of 32, the models built beforehand; the part of a linear sweep that grows with the
+    number of speeds, without the fixed costs whose spread hides it in :func:`per_speed_cpu`."""
+    if str(tree) not in sys.path:
+        sys.path.insert(0, str(tree))
+    import numpy as np
+
+    from gear_dyn.analysis.sweep.batch import linear_block
+    from gear_dyn.analysis.sweep.types import SweepOptions
+    from gear_dyn.scene import load_scene
+    from gear_dyn.scene.sweep import SceneModels
+
+    factory = SceneModels.of(load_scene(tree / "gear_dyn" / "scenes" / f"{name}.toml"))
+    speeds = np.linspace(1000, 6000, 640) * 2 * np.pi / 60
+    models = [factory(float(s)) for s in speeds]
+    settings, opts = factory.plan.settings, SweepOptions()
+    linear_block(models[:32], speeds[:32], settings, opts)  # imports, caches
+    t0 = time.process_time()
+    for i in range(0, speeds.size, 32):
+        if linear_block(models[i:i + 32], speeds[i:i + 32], settings, opts) is None:
+            raise RuntimeError(f"{name}: not a linear block")
+    return (time.process_time() - t0) / speeds.size
 
 
 def main() -> None:
@@ -110,7 +137,17 @@ def main() -> None:
     ap.add_argument("--only", default="", help="run only commands whose name contains this")
     ap.add_argument("--name", default="commands",
                     help="file name of the table, without .md (default: commands)")
+    ap.add_argument("--per-speed", default="", metavar="SCENE",
+                    help="instead: print the in-process CPU s per speed of sweeping SCENE with "
+                         "the gear_dyn of --tree (what the in-process table runs in a child)")
+    ap.add_argument("--blocks", action="store_true",
+                    help="with --per-speed: the speed blocks alone (block_cpu)")
+    ap.add_argument("--tree", type=Path, default=ROOT, help="with --per-speed")
     args = ap.parse_args()
+    if args.per_speed:
+        measure = block_cpu if args.blocks else per_speed_cpu
+        print(measure(args.per_speed, args.tree.resolve()))
+        return
     out_dir = ROOT / "benchmarks" / "results" if args.record else args.out
     out_dir.mkdir(parents=True, exist_ok=True)
     commands = [c for c in COMMANDS if args.only in c[0]]
@@ -133,12 +170,21 @@ def main() -> None:
                     cpu[name][key].append(cpu_of(tree, cmd, work / "o", envs[key]))
                 print(name, {k: round(v[-1], 2) for k, v in cpu[name].items()}, flush=True)
         floor = [import_cpu(envs["after"]) for _ in range(args.repeats)]
-    os.environ.update(ONE_THREAD)
-    inproc: dict[str, list[float]] = {s: [] for s in LINEAR
-                                      if any(c[0].startswith(f"sweep {s} ") for c in commands)}
-    for _ in range(args.repeats if inproc else 0):
-        for s in LINEAR:
-            inproc[s].append(per_speed_cpu(s))
+        # the in-process cost per speed, each tree in a child process, in turn
+        swept = [s for s in LINEAR if any(c[0].startswith(f"sweep {s} ") for c in commands)]
+        inproc: dict[str, dict[str, list[float]]] = {s: {"before": [], "after": []}
+                                                     for s in swept}
+        blocks: dict[str, dict[str, list[float]]] = {s: {"before": [], "after": []}
+                                                     for s in swept}
+        for _ in range(args.repeats if inproc else 0):
+            for s in swept:
+                for table, extra in ((inproc, []), (blocks, ["--blocks"])):
+                    for key, tree in trees.items():
+                        out = subprocess.run([sys.executable, __file__, "--per-speed", s,
+                                              "--tree", str(tree), *extra], cwd=tree,
+                                             env=envs[key], check=True, capture_output=True,
+                                             text=True).stdout
+                        table[s][key].append(float(out.split()[-1]))
     med = {n: {k: statistics.median(v) for k, v in d.items()} for n, d in cpu.items()}
     lines = ["# Long study commands: CPU time before and after", "",
              f"`python benchmarks/bench_commands.py --repeats {args.repeats}"
@@ -184,15 +230,29 @@ def main() -> None:
         for s, d in per_speed.items():
             lines.append(f"| {s} | {1e3 * d['before']:.3g} | {1e3 * d['after']:.3g} | "
                          f"{rel(d, 'before')} | {rel(d, 'after')} |")
-    if LINEAR[0] in inproc:
-        ratios_in = {s: [a / b for a, b in zip(v, inproc[LINEAR[0]], strict=True)]
-                     for s, v in inproc.items()}
-        lines += ["", "The same, in one process (this checkout; `sweep_scene`, 361 - 37 speeds "
-                  "over 1000-6000 rpm, CPU; the ratio within each repeat):", "",
-                  "| scene | CPU ms/speed | / iso6336 (target <= 5x) |", "| --- | --- | --- |"]
-        for s in inproc:
-            lines.append(f"| {s} | {spread([1e3 * x for x in inproc[s]])} | "
-                         f"{spread(ratios_in[s], '.2g', 'x')} |")
+    titles = ((inproc, "The same, in one process (`sweep_scene`, 361 - 37 speeds over "
+                       "1000-6000 rpm, CPU, each tree in a child process in turn; the ratios "
+                       "within each repeat):"),
+              (blocks, "The speed blocks alone (`linear_block` over 640 speeds, 1000-6000 rpm, "
+                       "in the sweep's blocks of 32, models built beforehand: the part of a "
+                       "linear sweep that grows with the speeds, free of the fixed costs whose "
+                       "spread the differences above carry; CPU, each tree in a child process "
+                       "in turn):"))
+    for table, title in titles if LINEAR[0] in inproc else ():
+        def ratios(s: str, key: str, t: dict[str, dict[str, list[float]]] = table
+                   ) -> list[float]:
+            return [a / b for a, b in zip(t[s][key], t[LINEAR[0]][key], strict=True)]
+
+        lines += ["", title, "",
+                  "| scene | before ms/speed | after ms/speed | after / before | "
+                  "before / iso6336 | after / iso6336 (target <= 5x) |",
+                  "| --- | --- | --- | --- | --- | --- |"]
+        for s, d in table.items():
+            gain = [a / b for a, b in zip(d["after"], d["before"], strict=True)]
+            lines.append(f"| {s} | {spread([1e3 * x for x in d['before']])} | "
+                         f"{spread([1e3 * x for x in d['after']])} | {spread(gain, '.2g', 'x')} | "
+                         f"{spread(ratios(s, 'before'), '.2g', 'x')} | "
+                         f"{spread(ratios(s, 'after'), '.2g', 'x')} |")
     text = "\n".join(lines) + "\n"
     (out_dir / f"{args.name}.md").write_text(text)
     print(text)

@@ -90,7 +90,7 @@ def load_fmu_scene(target: str | Path) -> Scene:
 NOT_IN_FMU = ("cli/", "plots/", "fmu/build.py", "fmu/staging.py",
               "fmu/check.py", "fmu/cosim.py", "fmu/export", "io.py",
               "scene/packaged.py", "scene/sweep.py", "scenes/", "analysis/sweep/",
-              "solvers/linear_maps.py",
+              "solvers/linear_maps.py", "solvers/kernel/linear.py",
               "analysis/bench.py", "analysis/chart.py", "analysis/excitation.py",
               "analysis/report.py", "analysis/spectrum.py", "analysis/spectrum_labels.py",
               "analysis/stiffness.py", "analysis/tolerance.py", "scene/tolerance.py",

@@ -19,11 +19,13 @@ Every way of advancing a model's state lives here, one module per method:
 - :mod:`.contact_exact`: the closed form between located contact changes (backlash);
 - :mod:`.periodic`: step maps of linear mesh-periodic models on a commensurate grid;
 - :mod:`.linear_maps`: one-period maps of the linear single-DOF model over many speeds at once
-  (the one closed-form 2x2 exponential, exact cells, Magnus substeps; sweeps, charts, the
-  tolerance study); not imported here (import it from its module);
+  (exact cells, Magnus substeps; sweeps, charts, the tolerance study): it builds the phase
+  tables, the kernel advances every speed (:mod:`.kernel.linear`); not imported here (import
+  it from its module);
 - :mod:`.gauss`: Gauss-Legendre step maps of affine models (the eccentric torsional model);
-- ``kernel``: the compiled C kernel (products, compose, chain, fill_periodic), shared with
-  the native FMU;
+- ``kernel``: the compiled C kernel (products, compose, chain, fill_periodic; the linear
+  single-DOF steps over many speeds and the one closed-form 2x2 exponential, ``kernel.linear``),
+  shared with the native FMU;
 - :mod:`.kernel_method`: the native FMU's compiled stepper over the whole grid (``kernel``);
 - ``simulate_bare`` (:func:`simulate_bare`): one run -> :class:`Result` (:mod:`.result`),
   without the checks that :func:`~gear_dyn.analysis.study.simulate` adds.
@@ -34,7 +36,7 @@ The contract a method meets (as scipy's ``OdeSolver`` states its own):
 
 1. One module here, the method's only home. Building blocks are called, not copied: a
    solve_ivp integration goes through :func:`~gear_dyn.solvers.ode.flow`, a 2x2 exponential
-   through :func:`~gear_dyn.solvers.linear_maps.expm2`, products of step maps through
+   through :func:`~gear_dyn.solvers.kernel.linear.expm2`, products of step maps through
    ``kernel``.
 2. A predicate ``<name>_applies(model[, t_grid]) -> bool`` that answers from the model's
    capabilities alone (``is_linear``, ``mesh_periodic``, ``backlash``, ``linear_segments``,

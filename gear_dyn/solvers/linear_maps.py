@@ -1,19 +1,20 @@
-"""One-period maps of the linear single-DOF mesh model over many speeds at once.
+"""One-period maps of the linear single-DOF mesh model over many speeds at once: the inputs.
 
 For ``m x'' + c (x' - f_m e'(p)) + k(p) (x - e(p)) = W`` (``p = f_m t + p0`` the mesh phase, ``e``
 the transmission error in m, ``e'`` its slope in m per cycle) the coefficients are functions of
 the mesh phase only, so the same phase tables serve every speed of a block; only the step
-length ``h = (phase step) / f_m`` depends on speed. Every step is an affine map
-``y -> E y + q`` of the state ``[x, v]``, taken with the closed-form 2x2 exponential
-(:func:`expm2`, the one in gear_dyn), for all speeds at once (numpy over speeds); the maps of one
-mesh period compose into the one-period map (monodromy matrix and response,
-:func:`compose_period`), whose fixed point is the periodic orbit, and the same maps carry it to
-the output samples.
+length ``h = (phase step) / f_m`` depends on speed. This module cuts one mesh period into steps
+and writes them as rows in phase (:mod:`gear_dyn.solvers.kernel.linear`); the compiled kernel
+takes every step as an affine map ``y -> E y + q`` of the state ``[x, v]`` (the closed-form 2x2
+exponential, the one in gear_dyn) and composes them over the period for all speeds in one call
+(:func:`~gear_dyn.solvers.kernel.linear.period_products`). The fixed point of the period map
+is the periodic orbit, and the partial products carry it to the output samples
+(:func:`periodic_orbit`).
 
 - Piecewise-constant stiffness without transmission error (:func:`piecewise_orbits`): the
-  period is cut at the stiffness switches and at the samples (:func:`cells`); in each cell
-  ``E = exp(A dt)`` and ``q = (I - E) y*`` with ``y* = [g / kappa, 0]`` the cell's equilibrium.
-  Exact up to rounding.
+  period is cut at the stiffness switches and at the samples (:func:`cells`,
+  :func:`constant_rows`); in each cell ``E = exp(A dt)`` and ``q = (I - E) y*`` with
+  ``y* = [g / kappa, 0]`` the cell's equilibrium. Exact up to rounding.
 - Varying stiffness or a transmission error (:func:`magnus_orbits`, where :func:`magnus_applies`):
   each cell is divided into equal substeps, each one step of the fourth-order Magnus integrator
   with two Gauss points (Blanes, Casas, Oteo & Ros 2009, eq. 4.6) on the augmented state
@@ -22,7 +23,9 @@ the output samples.
   the block's lowest speed, the rule of :mod:`gear_dyn.solvers.gauss` for a fourth-order
   method; the local error of one step grows as ``(omega h)^5``.
 - :func:`harmonic_orbits`: the same cells with the responses to unit harmonics of a
-  transmission error (the tolerance study's superposition).
+  transmission error (the tolerance study's superposition): the cells' maps from the kernel,
+  which also carries every harmonic's offsets through them
+  (:func:`~gear_dyn.solvers.kernel.linear.responses`).
 - :func:`cell_monodromy`: the monodromy matrix of a staircase stiffness over any grid of
   masses, dampings and mesh frequencies (the stability charts).
 
@@ -44,6 +47,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gear_dyn.models.base import MeshModel, Model
+from gear_dyn.solvers import kernel
+from gear_dyn.solvers.kernel.linear import ROW_FIELDS, period_products, responses, step_maps
 
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
@@ -51,7 +56,6 @@ ComplexArray = NDArray[np.complex128]
 #: most substeps per period (memory and time bound: a sweep far below resonance would need more)
 MAX_SUBSTEPS = 200_000
 _G = math.sqrt(3) / 6  # Gauss points at 1/2 -+ _G of a step
-_C3 = math.sqrt(3) / 12
 
 
 def _kinks(model: MeshModel) -> FloatArray:
@@ -65,32 +69,6 @@ def _kinks(model: MeshModel) -> FloatArray:
         cuts.append(np.asarray(te.knots, dtype=float))
     p = np.mod(np.concatenate(cuts) - model.phase0, 1.0) if cuts else np.zeros(0)
     return np.unique(np.round(p, 13))
-
-
-def expm2(b11: FloatArray | float, b12: FloatArray, b21: FloatArray, b22: FloatArray
-          ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    """``exp(B)`` of 2x2 matrices ``B = [[b11, b12], [b21, b22]]`` given by components, in
-    closed form, elementwise over any broadcast shape; returns ``(e11, e12, e21, e22)``.
-
-    With ``mu = tr(B) / 2`` and ``d2 = mu^2 - det(B)``: ``exp(B) = e^mu (C I + S (B - mu I))``,
-    ``C = cos(sqrt(-d2))``, ``S = sin(sqrt(-d2)) / sqrt(-d2)`` where ``d2 < 0`` (cosh and sinh
-    where ``d2 >= 0``; the series of ``S`` where ``|d2|`` is small), from Cayley-Hamilton
-    (``(B - mu I)^2 = d2 I``); exact up to rounding.
-    """
-    mu = 0.5 * (b11 + b22)
-    det = b11 * b22 - b12 * b21
-    d2 = mu * mu - det
-    s = np.sqrt(np.abs(d2))
-    small = s < 1e-4
-    osc = d2 < 0
-    s_osc, s_hyp = np.where(osc, s, 0.0), np.where(osc, 0.0, s)  # each only where it is taken
-    with np.errstate(invalid="ignore", divide="ignore"):
-        ch = np.where(osc, np.cos(s_osc), np.cosh(s_hyp))
-        sh = np.where(small, 1 + d2 / 6 + d2 * d2 / 120,
-                      np.where(osc, np.sin(s_osc), np.sinh(s_hyp)) / np.where(small, 1.0, s))
-    em = np.exp(mu)
-    return (em * (ch + sh * (b11 - mu)), em * sh * b12, em * sh * b21,
-            em * (ch + sh * (b22 - mu)))
 
 
 def magnus_applies(models: Sequence[Model]) -> bool:
@@ -187,13 +165,28 @@ def piecewise_orbits(mesh: list[MeshModel], fm: FloatArray, spp: int
     if len(found) < len(mesh) or any(not np.array_equal(c[0], found[0][0]) for c in found):
         return None  # not covered, or cells differ between speeds (not seen for sdof models)
     edges = found[0][0]
-    kappa, gamma, g = (np.stack([c[i] for c in found]) for i in (1, 2, 3))  # (S, C): speed, cell
-    dt = np.diff(edges)[None, :] / fm[:, None]
-    e11, e12, e21, e22 = expm2(0.0, dt, -kappa * dt, -gamma * dt)  # exp of A dt
-    xs = g / kappa  # equilibrium deflection of each cell
-    # cell map y -> E y + d with d = (I - E) y*, y* = [xs, 0]; the cells ending on a sample
+    rows = np.stack([constant_rows(np.diff(edges), *c[1:]) for c in found])  # (S, C, ROW)
+    # the cells ending on a sample
     ends = np.flatnonzero(np.isin(np.round(edges[1:] * spp, 9), np.arange(1, spp + 1)))
-    return compose_period((e11, e12, e21, e22, (1 - e11) * xs, -e21 * xs), ends, spp)
+    p, u = period_products(rows, fm, ends, np.arange(len(found)))
+    return periodic_orbit(p, u)
+
+
+def constant_rows(widths: FloatArray, kappa: FloatArray, gamma: FloatArray | float,
+                  g: FloatArray | float) -> FloatArray:
+    """Kernel step rows (:mod:`gear_dyn.solvers.kernel.linear`) of cells with constant
+    coefficients: phase ``widths`` (cycles), ``kappa`` (1/s^2), ``gamma`` (1/s) and ``g``
+    (m/s^2) of each cell, broadcast over leading axes; shape ``(..., C, ROW_FIELDS)``."""
+    kappa = np.asarray(kappa, dtype=float)
+    shape = np.broadcast_shapes(np.shape(widths), kappa.shape, np.shape(gamma), np.shape(g))
+    rows = np.zeros((*shape, ROW_FIELDS))
+    rows[..., 0] = widths
+    rows[..., 1] = kappa
+    rows[..., 2] = kappa
+    rows[..., 3] = gamma
+    rows[..., 4] = g
+    rows[..., 5] = g
+    return rows
 
 
 def cell_monodromy(mass: float, edges: FloatArray, values: FloatArray, damping: FloatArray,
@@ -201,7 +194,8 @@ def cell_monodromy(mass: float, edges: FloatArray, values: FloatArray, damping: 
                    ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Monodromy matrix ``(p11, p12, p21, p22)`` of ``m x'' + c x' + k(f_m t) x = 0`` over one
     mesh period, for a piecewise-constant stiffness: the product of the cells' ``exp(A dt)``,
-    vectorised.
+    taken by the kernel in one call (a table of cells per stiffness and damping, each lane one
+    point of the grid).
 
     Parameters
     ----------
@@ -221,18 +215,17 @@ def cell_monodromy(mass: float, edges: FloatArray, values: FloatArray, damping: 
     widths = np.diff(np.asarray(edges, dtype=float))
     damping = np.asarray(damping, dtype=float)
     fm = np.asarray(mesh_frequency, dtype=float)
-    shape = np.broadcast_shapes(values.shape[:-1], damping.shape, fm.shape)
-    p11 = np.ones(shape)
-    p12 = np.zeros(shape)
-    p21 = np.zeros(shape)
-    p22 = np.ones(shape)
-    gamma = damping / mass
-    for j, w in enumerate(widths):
-        dt = w / fm  # exp of [[0, 1], [-k/m, -c/m]] dt
-        e11, e12, e21, e22 = expm2(0.0, dt, -values[..., j] / mass * dt, -gamma * dt)
-        p11, p12, p21, p22 = (e11 * p11 + e12 * p21, e11 * p12 + e12 * p22,
-                              e21 * p11 + e22 * p21, e21 * p12 + e22 * p22)
-    return p11, p12, p21, p22
+    lead = np.broadcast_shapes(values.shape[:-1], damping.shape)  # one step table each
+    shape = np.broadcast_shapes(lead, fm.shape)
+    n_tab = math.prod(lead)
+    kappa = np.broadcast_to(values, (*lead, widths.size)).reshape(n_tab, widths.size) / mass
+    gamma = np.broadcast_to(damping / mass, lead).reshape(n_tab, 1)
+    table = np.broadcast_to(np.arange(n_tab).reshape(lead), shape).ravel()
+    p, _ = period_products(constant_rows(widths, kappa, gamma, 0.0),
+                           np.broadcast_to(fm, shape).ravel(), np.array([widths.size - 1]),
+                           table)
+    p = p[:, 0].reshape(*shape, 2, 2)
+    return p[..., 0, 0], p[..., 0, 1], p[..., 1, 0], p[..., 1, 1]
 
 
 def harmonic_orbits(model: MeshModel, orders: FloatArray, spp: int
@@ -244,10 +237,10 @@ def harmonic_orbits(model: MeshModel, orders: FloatArray, spp: int
     With ``u = x - e`` the model reads ``u'' + gamma u' + kappa u = g - e''``. For the unit
     harmonic ``e = e^{i Omega t}`` (``Omega = 2 pi q f_m``, ``q`` a mesh order) the particular
     solution in a cell is ``U e^{i Omega t}``, ``U = Omega^2 / (kappa - Omega^2 + i gamma
-    Omega)``, and the rest follows the cell's exponential (:func:`expm2`). The response is
-    quasi-periodic, ``Z(t + T) = e^{2 pi i q} Z(t)``: its state at the period start solves
-    ``(e^{2 pi i q} I - M) Z0 = r`` with ``M`` the monodromy matrix and ``r`` the response over
-    one period from rest.
+    Omega)``, and the rest follows the cell's exponential (its map from the kernel). The
+    response is quasi-periodic, ``Z(t + T) = e^{2 pi i q} Z(t)``: its state at the period
+    start solves ``(e^{2 pi i q} I - M) Z0 = r`` with ``M`` the monodromy matrix and ``r`` the
+    response over one period from rest.
 
     Parameters
     ----------
@@ -275,42 +268,32 @@ def harmonic_orbits(model: MeshModel, orders: FloatArray, spp: int
         return None
     edges, kappa, gamma, g = found
     fm = model.mesh_frequency
-    dt = np.diff(edges) / fm
-    e11, e12, e21, e22 = expm2(0.0, dt, -kappa * dt, -gamma * dt)
+    f, q = (a[0] for a in step_maps(constant_rows(np.diff(edges), kappa, gamma, g),
+                                    np.array([fm])))
     om = 2 * math.pi * np.asarray(orders, dtype=float) * fm
-    t_edge = edges / fm
-    rot = np.exp(1j * om[None, :] * t_edge[:, None])  # (C+1, Q)
+    rot = np.exp(1j * om[None, :] * (edges / fm)[:, None])  # (C+1, Q)
     u_part = om[None, :] ** 2 / (kappa[:, None] - om[None, :] ** 2
                                  + 1j * gamma[:, None] * om[None, :])  # (C, Q)
-    xs = g / kappa
-    at_sample = np.isin(np.round(edges * spp, 9), np.arange(spp))
 
-    def sweep_cells(y: FloatArray, z: ComplexArray, record: bool
-                    ) -> tuple[FloatArray, ComplexArray, list[Any]]:
-        kept = []
-        for c in range(dt.size):
-            if record and at_sample[c]:
-                kept.append((y.copy(), z.copy()))
-            d1, d2 = y[0] - xs[c], y[1]
-            y = np.array([xs[c] + e11[c] * d1 + e12[c] * d2, e21[c] * d1 + e22[c] * d2])
-            pa0, pa1 = u_part[c] * rot[c], 1j * om * u_part[c] * rot[c]
-            pb0, pb1 = u_part[c] * rot[c + 1], 1j * om * u_part[c] * rot[c + 1]
-            w1, w2 = z[0] - pa0, z[1] - pa1
-            z = np.array([pb0 + e11[c] * w1 + e12[c] * w2, pb1 + e21[c] * w1 + e22[c] * w2])
-        return y, z, kept
+    def particular(r: ComplexArray) -> ComplexArray:  # [u, u'] of the particular solution
+        return np.stack([u_part * r, 1j * om * u_part * r], axis=-1)  # (C, Q, 2)
 
-    mono = np.eye(2)
-    for c in range(dt.size):
-        mono = np.array([[e11[c], e12[c]], [e21[c], e22[c]]]) @ mono
-    rho = float(np.max(np.abs(np.linalg.eigvals(mono))))
-    y_end, z_end, _ = sweep_cells(np.zeros(2), np.zeros((2, om.size), dtype=complex), False)
-    y0 = np.asarray(np.linalg.solve(np.eye(2) - mono, y_end), dtype=np.float64)
+    # the cell's map of a unit response: z -> p_b + F (z - p_a), p_a, p_b the particular
+    # solution at the cell's start and end
+    h_z = particular(rot[1:]) - np.einsum("cij,cqj->cqi", f, particular(rot[:-1]))
+    # products of the cells' maps: the load's orbit, then the real and imaginary parts of each
+    # unit response (the same matrices, other offsets)
+    mono, r_y = kernel.products(f, q)
+    parts = responses(f, np.concatenate([h_z.real, h_z.imag], axis=1).transpose(1, 0, 2))
+    r_z = (parts[:om.size] + 1j * parts[om.size:]).transpose(1, 0, 2)  # (C+1, Q, 2)
+    rho = float(np.max(np.abs(np.linalg.eigvals(mono[-1]))))
+    y0 = np.asarray(np.linalg.solve(np.eye(2) - mono[-1], r_y[-1]), dtype=np.float64)
     lam = np.exp(2j * math.pi * np.asarray(orders, dtype=float))
-    z0 = np.stack([np.linalg.solve(lq * np.eye(2) - mono, z_end[:, i])
-                   for i, lq in enumerate(lam)], axis=1) if om.size else z_end
-    _, _, kept = sweep_cells(y0, z0, True)
-    ys = np.stack([k[0] for k in kept], axis=1)  # (2, spp)
-    zs = np.stack([k[1] for k in kept], axis=2)  # (2, Q, spp)
+    z0 = np.stack([np.linalg.solve(lq * np.eye(2) - mono[-1], r_z[-1, i])
+                   for i, lq in enumerate(lam)], axis=1) if om.size else np.zeros((2, 0), complex)
+    at = np.flatnonzero(np.isin(np.round(edges[:-1] * spp, 9), np.arange(spp)))  # sample cells
+    ys = (np.einsum("sij,j->is", mono[at], y0) + r_y[at].T).astype(np.float64)  # (2, spp)
+    zs = np.einsum("sij,jq->iqs", mono[at], z0) + r_z[at].transpose(2, 1, 0)  # (2, Q, spp)
     return y0, ys, z0, zs, rho
 
 
@@ -362,58 +345,26 @@ def magnus_orbits(models: Sequence[Model], spp: int, rtol: float
         else:
             g0.append((w + k * np.asarray(te.value(ph), dtype=float)) / mass)
             g1.append(c * np.asarray(te.slope(ph), dtype=float) / mass)
-    gam = c / mass
-    h = lengths[None, :] / fm[:, None]  # (S, N) seconds
-    ga = g0[0][None, :] + fm[:, None] * g1[0][None, :]
-    gb = g0[1][None, :] + fm[:, None] * g1[1][None, :]
-    d = (kap[0] - kap[1])[None, :]
-    c3 = _C3 * h * h
-    b11 = -c3 * d
-    b12 = h
-    b21 = -0.5 * h * (kap[0] + kap[1])[None, :] + c3 * gam * d
-    b22 = -h * gam + c3 * d
-    f1 = c3 * (ga - gb)
-    f2 = 0.5 * h * (ga + gb) - c3 * gam * (ga - gb)
-    e11, e12, e21, e22 = expm2(b11, b12, b21, b22)
-    # affine part: B^-1 (E - I) f
-    det = b11 * b22 - b12 * b21
-    r1 = (e11 - 1) * f1 + e12 * f2
-    r2 = e21 * f1 + (e22 - 1) * f2
-    q1 = (b22 * r1 - b12 * r2) / det
-    q2 = (-b21 * r1 + b11 * r2) / det
-    return compose_period((e11, e12, e21, e22, q1, q2), at_sample, spp)
+    rows = np.stack([lengths, kap[0], kap[1], np.full_like(lengths, c / mass), g0[0], g0[1],
+                     g1[0], g1[1]], axis=-1)
+    p, u = period_products(rows, fm, at_sample)
+    return periodic_orbit(p, u)
 
 
-def compose_period(maps: tuple[FloatArray, ...], at_sample: NDArray[np.intp], spp: int
-                   ) -> tuple[FloatArray, FloatArray]:
-    """(orbit samples (S, 2, spp), monodromy (S, 2, 2)) of the affine maps ``y -> E_i y + q_i``
-    of one period: ``maps = (E11, E12, E21, E22, q1, q2)``, each (S, N) over the speeds and the
-    N steps in time order; ``at_sample[j - 1]`` is the step ending at sample j = 1..spp."""
-    n_s, n = maps[0].shape
-    # compose: y_k = P_k y0 + u_k after step k; keep them at the samples
-    p11, p12, p21, p22 = (np.ones(n_s), np.zeros(n_s), np.zeros(n_s), np.ones(n_s))
-    u1, u2 = np.zeros(n_s), np.zeros(n_s)
-    keep = np.zeros(n, dtype=bool)
-    keep[at_sample] = True
-    saved = []
-    cols = [a.T.copy() for a in maps]  # (N, S): contiguous rows
-    for i in range(n):
-        a11, a12, a21, a22, v1, v2 = (col[i] for col in cols)
-        p11, p12, p21, p22 = (a11 * p11 + a12 * p21, a11 * p12 + a12 * p22,
-                              a21 * p11 + a22 * p21, a21 * p12 + a22 * p22)
-        u1, u2 = a11 * u1 + a12 * u2 + v1, a21 * u1 + a22 * u2 + v2
-        if keep[i]:
-            saved.append((p11, p12, p21, p22, u1, u2))
-    phi = np.stack([np.stack([p11, p12], -1), np.stack([p21, p22], -1)], 1)
-    y0 = np.linalg.solve(np.eye(2)[None] - phi, np.stack([u1, u2], -1)[:, :, None])[:, :, 0]
-    out = np.empty((n_s, 2, spp))
+def periodic_orbit(p: FloatArray, u: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """(orbit samples (S, 2, spp), monodromy (S, 2, 2)) from the partial products of one
+    period's step maps after each sample 1..spp
+    (:func:`~gear_dyn.solvers.kernel.linear.period_products`: ``p`` (S, spp, 2, 2), ``u``
+    (S, spp, 2); the last, the period): the fixed point ``y0 = P y0 + u`` of the period map
+    and the samples ``P_j y0 + u_j``."""
+    phi = p[:, -1]
+    y0 = np.linalg.solve(np.eye(2)[None] - phi, u[:, -1][:, :, None])[:, :, 0]
+    out = np.empty((p.shape[0], 2, p.shape[1]))
     out[:, :, 0] = y0
-    for j, (s11, s12, s21, s22, w1, w2) in enumerate(saved[:-1], start=1):
-        out[:, 0, j] = s11 * y0[:, 0] + s12 * y0[:, 1] + w1
-        out[:, 1, j] = s21 * y0[:, 0] + s22 * y0[:, 1] + w2
+    out[:, :, 1:] = (np.einsum("sjik,sk->sij", p[:, :-1], y0) + u[:, :-1].transpose(0, 2, 1))
     return out, phi
 
 
-__all__ = ["MAX_SUBSTEPS", "cell_monodromy", "cells", "compose_period", "expm2",
-           "harmonic_orbits", "magnus_applies", "magnus_orbits", "phase_cells",
+__all__ = ["MAX_SUBSTEPS", "cell_monodromy", "cells", "constant_rows", "harmonic_orbits",
+           "magnus_applies", "magnus_orbits", "periodic_orbit", "phase_cells",
            "piecewise_orbits", "same_values", "substep_grid"]

@@ -16,7 +16,7 @@ from gear_dyn.models.sdof import SDOFModel
 from gear_dyn.scene import load_scene
 from gear_dyn.scene.loader import Scene
 from gear_dyn.scene.sweep import SceneModels
-from gear_dyn.solvers.linear_maps import expm2, magnus_applies, magnus_orbits
+from gear_dyn.solvers.linear_maps import magnus_applies, magnus_orbits
 from gear_dyn.stiffness.periodic import FourierStiffness
 
 SCENES = Path(__file__).resolve().parents[2] / "gear_dyn" / "scenes"
@@ -28,16 +28,6 @@ def _scene(name: str, method: str | None = None) -> Scene:
         return sc
     tables = {**sc.tables, "stiffness": {**sc.tables["stiffness"], "method": method}}
     return Scene(source=sc.source, tables=tables)
-
-
-def test_expm2_matches_scipy() -> None:
-    from scipy.linalg import expm
-
-    rng = np.random.default_rng(3)
-    for scale in (1e-6, 1e-2, 1.0, 5.0):
-        b = rng.normal(size=(2, 2)) * scale
-        got = np.array(expm2(*(np.array([v]) for v in b.ravel()))).reshape(2, 2)
-        assert np.allclose(got, expm(b), rtol=1e-12, atol=1e-14)
 
 
 @pytest.mark.parametrize(("name", "method"), [("helicopter_tail", "potential_energy"),

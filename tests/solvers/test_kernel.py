@@ -255,7 +255,8 @@ def test_kernel_under_sanitizers(tmp_path: Path) -> None:
     cmd = [cc, "-std=c99", "-g", "-O1", "-fPIC", "-shared", "-Wall", "-Wextra", "-Werror",
            "-pedantic", "-fsanitize=address,undefined", "-fno-sanitize-recover=all",
            f"-I{SRC}",
-           *(str(SRC / s) for s in ("gd_flow.c", "gd_kernel.c", "gd_torsional.c", "gd_run.c")),
+           *(str(SRC / s) for s in ("gd_flow.c", "gd_linear.c", "gd_kernel.c", "gd_torsional.c",
+                                     "gd_run.c")),
            "-o", str(so), "-lm"]
     subprocess.run(cmd, check=True, capture_output=True)
     script = textwrap.dedent(f"""
@@ -280,6 +281,43 @@ def test_kernel_under_sanitizers(tmp_path: Path) -> None:
         assert tot.shape == (4, 3, 3) and np.array_equal(tot[1], np.eye(3))
         t = np.arange(50) * 0.1
         assert k.grid_error(t, 0.0, 0.1) == np.max(np.abs(t - np.arange(50) * 0.1))
+        # the linear single-DOF steps (gd_linear.c), three lanes on two tables, against the
+        # products of their own step maps; then every caller in linear_maps
+        from scipy.linalg import expm
+        from gear_dyn.solvers import linear_maps as lm
+        from gear_dyn.models.sdof import SDOFModel
+        from gear_dyn.solvers.kernel import linear as kl
+        from gear_dyn.stiffness.periodic import FourierStiffness, rectangular_stiffness
+        b = rng.standard_normal((7, 2, 2))
+        assert np.allclose(kl.expm2(b), [expm(x) for x in b], rtol=1e-12, atol=1e-12)
+        rows = np.zeros((2, 9, kl.ROW_FIELDS))
+        rows[..., 0] = 1 / 9
+        rows[..., 1:3] = 4e6 * (1 + 0.1 * rng.uniform(-1, 1, (2, 9, 2)))
+        rows[..., 3], rows[..., 4:6], rows[..., 6:8] = 50.0, 10.0, 1e-3
+        fm, table = np.array([300.0, 700.0, 1100.0]), np.array([0, 1, 1])
+        fs, hs = kl.step_maps(rows, fm, table)
+        p, u = kl.period_products(rows, fm, np.array([2, 8]), table)
+        ys = kl.responses(fs[0], hs)
+        for s in range(3):
+            q, r = k.products(fs[s], hs[s])
+            assert np.allclose(p[s], q[[3, 9]], rtol=1e-12, atol=1e-12)
+            assert np.allclose(u[s], r[[3, 9]], rtol=1e-12, atol=1e-12)
+            assert np.allclose(ys[s], k.products(fs[0], hs[s])[1], rtol=1e-12, atol=1e-12)
+        rect = [SDOFModel(mass=3.0, stiffness=rectangular_stiffness(1.41, 1e9, 1.3e9),
+                          damping_ratio=0.06, static_load=2000.0, mesh_frequency=f)
+                for f in (1500.0, 2500.0)]
+        y, phi = lm.piecewise_orbits(rect, np.array([1500.0, 2500.0]), 16)
+        assert y.shape == (2, 2, 16) and np.all(np.isfinite(y)) and phi.shape == (2, 2, 2)
+        assert np.all(np.isfinite(lm.harmonic_orbits(rect[0], np.array([1.0, 2.5]), 16)[3]))
+        mono = lm.cell_monodromy(3.0, np.array([0.0, 0.41, 1.0]), np.array([1.3e9, 1e9]),
+                                 np.array([[50.0], [80.0]]), np.array([[900.0, 2000.0]]))
+        assert mono[0].shape == (2, 2) and np.all(np.isfinite(mono))
+        four = [SDOFModel(mass=3.0, stiffness=FourierStiffness(1.2e9, np.array([1e8]),
+                                                               np.array([0.0])),
+                          damping_ratio=0.06, static_load=2000.0, mesh_frequency=f)
+                for f in (1500.0, 2500.0)]
+        y, phi = lm.magnus_orbits(four, 16, 1e-8)
+        assert y.shape == (2, 2, 16) and np.all(np.isfinite(y)) and np.all(np.isfinite(phi))
         # the contact walk: a backlash model with a two-harmonic transmission error at
         # resonance (the bounded crossing search) and without one (the unforced search)
         from gear_dyn.excitation import HarmonicSignal

@@ -2,11 +2,14 @@
 
 The sources here (``gd_flow.c``: products and applications of affine step maps, and the
 exact contact walk of the backlash model, :mod:`gear_dyn.solvers.kernel.contact`;
+``gd_linear.c``: the step maps of the linear single-DOF model and their products over one mesh
+period for many speeds per call, :mod:`gear_dyn.solvers.kernel.linear`;
 ``gd_kernel.c``, ``gd_torsional.c``: the native FMU's steppers, which the FMU compiles with its
 glue; ``gd_run.c``: those steppers over an output grid, the solvers' ``kernel`` method,
 :mod:`.run`) are built at install into one shared library (``setup.py``) and loaded with ctypes, not
 the Python C API: a call releases the GIL, so threads run kernel calls in parallel. Python
-computes the maps (matrix exponentials, collocation) and the kernel applies them.
+computes the other maps (matrix exponentials of n-state pieces, collocation) and the kernel
+applies them.
 
 The library is looked up beside these sources, then in the installed gear_dyn distribution
 (:func:`library_path`); where neither has one, the first use raises
@@ -136,6 +139,14 @@ def library() -> ctypes.CDLL:
                                     _DP, _DP, _DP]
     lib.gd_contact_on_grid.restype = ctypes.c_int
     lib.gd_contact_on_grid.argtypes = [_DP, _DP, _l, _DP, _DP, _l, _DP, _DP]
+    lib.gd_lin_expm2.restype = None
+    lib.gd_lin_expm2.argtypes = [_l, _DP, _DP]
+    lib.gd_lin_maps.restype = None
+    lib.gd_lin_maps.argtypes = [_l, _l, _DP, _DP, _DP, _DP, _DP]
+    lib.gd_lin_period.restype = None
+    lib.gd_lin_period.argtypes = [_l, _l, _DP, _DP, _DP, _l, _DP, _DP, _DP]
+    lib.gd_lin_chain.restype = None
+    lib.gd_lin_chain.argtypes = [_l, _l, _DP, _DP, _DP]
     # the steppers (gd_kernel.c, gd_torsional.c, gd_run.c: :mod:`.run` builds their structures)
     lib.gd_start.restype = None
     lib.gd_start.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_double]

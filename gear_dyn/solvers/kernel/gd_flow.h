@@ -6,7 +6,7 @@
 #define GD_FLOW_H
 
 /* the version of this interface (gear_dyn.solvers.kernel checks it on load) */
-#define GD_FLOW_VERSION 4
+#define GD_FLOW_VERSION 5
 
 int gd_flow_version(void);
 
@@ -94,5 +94,36 @@ int gd_contact_walk(const double *model, const double *pieces, long n_cuts, cons
  * (row-major). Returns 1 when a state is not finite, else 0. */
 int gd_contact_on_grid(const double *model, const double *pieces, long n_seg, const double *seg,
                        const long *seg_id, long n_t, const double *t, double *out);
+
+/* ---- the linear single-DOF model over many speeds at once (gd_linear.c; gear_dyn.solvers.
+ * linear_maps): x'' = -kappa(p) x - gamma x' + g0(p) + fm g1(p), p the mesh phase, fm the mesh
+ * frequency (Hz). One mesh period is cut into n_steps steps, each a row of GD_LIN_ROW values
+ * in phase, shared by every speed (lane) that uses its table:
+ *   length (cycles), kappa_a, kappa_b (1/s^2), gamma (1/s), g0_a, g0_b (m/s^2),
+ *   g1_a, g1_b (m/s), the coefficients at the step's two Gauss points a, b.
+ * At fm the step (h = length / fm) is y -> E y + q, the exponential of the augmented generator
+ * [[B, f], [0, 0]] of the fourth-order Magnus step with two Gauss points (Blanes, Casas, Oteo
+ * & Ros 2009, eq. 4.6), B = h/2 (A_a + A_b) + sqrt(3)/12 h^2 [A_b, A_a]: exact where the
+ * coefficients are constant in the step (kappa_a = kappa_b, ...). E = exp(B) in closed form,
+ * q = (I - E) y* with y* = -B^-1 f (q = f where B is singular). rows holds the tables one after
+ * the other (n_steps rows each); table[lane] names a lane's table (NULL: table 0 for all). */
+#define GD_LIN_ROW 8
+
+/* E[i] = exp(B[i]) of n 2x2 matrices (row-major, 4 values each), in closed form */
+void gd_lin_expm2(long n, const double *B, double *E);
+
+/* every step's map of every lane: F (n_lanes n_steps 4), h (n_lanes n_steps 2) */
+void gd_lin_maps(long n_lanes, long n_steps, const double *rows, const long *table,
+                 const double *fm, double *F, double *h);
+
+/* the partial products y_i = P_i y_0 + u_i of every lane's steps after the steps keep[k]
+ * (increasing, in 0..n_steps-1): Q (n_lanes n_keep 4) holds P, R (n_lanes n_keep 2) holds u */
+void gd_lin_period(long n_lanes, long n_steps, const double *rows, const long *table,
+                   const double *fm, long n_keep, const long *keep, double *Q, double *R);
+
+/* the responses from rest of n_lanes offset sequences to one sequence of 2x2 maps: lane s
+ * from Y[s, 0] = 0, Y[s, i+1] = F[i] Y[s, i] + h[s, i] (F: n_steps 4, shared by the lanes;
+ * h: n_lanes n_steps 2; Y: n_lanes (n_steps + 1) 2) */
+void gd_lin_chain(long n_lanes, long n_steps, const double *F, const double *h, double *Y);
 
 #endif
