@@ -347,8 +347,10 @@ class Walk:
         t_grid = np.asarray(t_grid, dtype=float)
         out, finite = ck.on_grid(*self._tables, self._segs.table, self._segs.ids, t_grid)
         out = out.reshape((2, *t_grid.shape))
-        out += np.asarray(_te_shift(self.model, t_grid))  # back from u = x - e to x
-        if not (finite and np.all(np.isfinite(out))):
+        if getattr(self.model, "transmission_error", None) is not None:
+            out += np.asarray(_te_shift(self.model, t_grid))  # back from u = x - e to x
+            finite = finite and bool(np.all(np.isfinite(out)))
+        if not finite:  # the kernel's flag: a state not finite
             raise SolverError("exact_contact produced non-finite states: the response diverges")
         return out
 
@@ -433,7 +435,7 @@ def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0,
     mid = np.mod(np.asarray(mm.phase(0.5 * (cuts[:-1] + cuts[1:])), dtype=float), 1.0)
     kidx = seg_k.take(np.searchsorted(edges, mid, side="right") - 1, mode="clip")
     tables = _walk_tables(mm, k_values)
-    xtol = 4 * float(np.spacing(max(abs(t0), abs(t1), 1e-300)))
+    xtol = 4 * math.ulp(max(abs(t0), abs(t1), 1e-300))
     shifted = getattr(mm, "transmission_error", None) is not None
     e0, ed0 = _te_shift(mm, np.array([t0])) if shifted else (np.zeros(1), np.zeros(1))
     segs = ck.walk(*tables, cuts, kidx.ravel(), x0 - float(e0[0]), v0 - float(ed0[0]), xtol,
