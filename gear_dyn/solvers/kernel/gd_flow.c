@@ -477,11 +477,52 @@ static double g_value(double s, void *ctx)
     return gv;
 }
 
-static double g_slope(double s, void *ctx)
+/* g and its slope, and the slope and its own (g'' = inside u'': the closed form's acceleration
+ * about the equilibrium, -a z' - w2 (z - x_eq), or w/m - a z' in the gap; without forcing) */
+static void g_and_slope(double s, void *ctx, double *f, double *df)
 {
-    double gv, dgv, zx, zv;
-    g_eval((const cw_gap *)ctx, s, &gv, &dgv, &zx, &zv);
-    return dgv;
+    double zx, zv;
+    g_eval((const cw_gap *)ctx, s, f, df, &zx, &zv);
+}
+
+static void slope_and_curvature(double s, void *ctx, double *f, double *df)
+{
+    const cw_gap *g = (const cw_gap *)ctx;
+    const cw_form *fm = &g->pc->f;
+    double gv, zx, zv;
+    g_eval(g, s, &gv, f, &zx, &zv);
+    *df = g->inside * (fm->state == 0 ? fm->wm - fm->a * zv
+                                      : -(fm->a * zv + fm->w2 * (zx - fm->x_eq)));
+}
+
+/* A zero of f in [lo, hi] (f_lo, f_hi of opposite signs), to xtol: Newton steps on f and its
+ * derivative (the walk has both from one evaluation of the closed form), from the secant point,
+ * each kept in the bracket, which the sign of f at every iterate shrinks; a step that would
+ * leave the bracket or does not halve the previous one is replaced by the midpoint (Press et
+ * al. 2007, Numerical Recipes, 3rd ed., section 9.4, "rtsafe"). Ends when the bracket is
+ * narrower than xtol or a Newton step shorter than xtol / 2 (the quadratic convergence then
+ * leaves an error far below the step). Fewer evaluations than gd_find_root's false position
+ * on the walk's smooth closed forms. */
+static double newton_root(void (*fd)(double, void *, double *, double *), void *ctx,
+                          double lo, double hi, double f_lo, double f_hi, double xtol)
+{
+    int hi_positive = f_hi > 0.0 || (f_hi == 0.0 && f_lo < 0.0), it;
+    double den = f_hi - f_lo, x, step = hi - lo;
+    x = den != 0.0 ? (lo * f_hi - hi * f_lo) / den : 0.5 * (lo + hi);
+    if (!(lo < x && x < hi)) x = 0.5 * (lo + hi);
+    for (it = 0; it < 200; it++) {
+        double fx, dfx, xn, prev = step;
+        fd(x, ctx, &fx, &dfx);
+        if (fx == 0.0) return x;
+        if ((fx > 0.0) == hi_positive) hi = x; else lo = x;
+        if (hi - lo <= xtol) break;
+        xn = dfx != 0.0 ? x - fx / dfx : 0.5 * (lo + hi);
+        if (!(lo < xn && xn < hi) || fabs(xn - x) > 0.5 * prev) xn = 0.5 * (lo + hi);
+        step = fabs(xn - x);
+        if (step <= 0.5 * xtol) return xn;
+        x = xn;
+    }
+    return 0.5 * (lo + hi);
 }
 
 /* first zero of g in [s0, s1]: each interval is proved free of a zero (g above its chord less
@@ -504,7 +545,7 @@ static int refine(cw_gap *g, double s0, double s1, double g0, double dg0, double
         if (ga > 0.0 && gb > 0.0 && fmin(ga, gb) > ca * wd * wd / 8) continue;
         if (fabs(dga) > ca * wd) {      /* monotone on [a, b] */
             if (gb < 0.0) {
-                *hit = gd_find_root(g_value, g, a, b, ga, gb, xtol);
+                *hit = newton_root(g_and_slope, g, a, b, ga, gb, xtol);
                 return 1;
             }
             continue;
@@ -598,13 +639,14 @@ static int first_crossing(const cw_model *md, const cw_piece *pc, double t0, dou
                 if (!clear)
                     found = refine(&gap[l], s_j, s1, g0[l], dg0[l], c_j, g1, xtol, &h1);
             } else if (g1 < 0.0) {      /* a sign change */
-                h1 = gd_find_root(g_value, &gap[l], s_j, s1, g0[l], g1, xtol);
+                h1 = newton_root(g_and_slope, &gap[l], s_j, s1, g0[l], g1, xtol);
                 found = 1;
             } else if (dg0[l] < 0.0 && dg1 > 0.0) {     /* a minimum of g inside */
-                double sm = gd_find_root(g_slope, &gap[l], s_j, s1, dg0[l], dg1, xtol);
+                double sm = newton_root(slope_and_curvature, &gap[l], s_j, s1, dg0[l], dg1,
+                                       xtol);
                 double gm = g_value(sm, &gap[l]);
                 if (gm < 0.0) {         /* dips below the boundary and returns */
-                    h1 = gd_find_root(g_value, &gap[l], s_j, sm, g0[l], gm, xtol);
+                    h1 = newton_root(g_and_slope, &gap[l], s_j, sm, g0[l], gm, xtol);
                     found = 1;
                 }
             }
