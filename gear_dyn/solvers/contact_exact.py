@@ -8,8 +8,8 @@ closed-form (:func:`flow` plus the harmonic particular solution of
 :mod:`gear_dyn.solvers.harmonic_forcing`). This module defines the pieces (``_Piece``: the
 constants of each contact state and stiffness value, exported as rows of a table) and the
 compiled kernel walks them (:mod:`gear_dyn.solvers.kernel.contact`, ``gd_flow.c``): contact
-changes ``u = +-b`` are bracketed on the closed form and closed by the safeguarded root finder
-:func:`find_root` to 4 ulps of time; pieces that provably stay in their contact state
+changes ``u = +-b`` are bracketed on the closed form and closed by safeguarded Newton steps on
+the gap and its slope to 4 ulps of time; pieces that provably stay in their contact state
 (``_Piece.stays_inside``) are not searched. What is left is rounding
 (:func:`rounding_bound`). Method ``exact_contact``; ``auto`` takes it where
 :func:`contact_exact_applies`. The flow's exact sensitivity (:func:`flow_with_sensitivity`,
@@ -118,8 +118,9 @@ def find_root(f: Callable[[float], float], lo: float, hi: float, f_lo: float, f_
               xtol: float) -> float:
     """A root of ``f`` in ``[lo, hi]`` (``f_lo``, ``f_hi`` of opposite signs), to ``xtol``.
 
-    The kernel's root finder (the one the walk closes contact changes with), here on a Python
-    function. Illinois false position, safeguarded by bisection: the midpoint is taken instead
+    The kernel's bracketing root finder, here on a Python function (the walk closes contact
+    changes with Newton steps on such a bracket: it has the slope too). Illinois false
+    position, safeguarded by bisection: the midpoint is taken instead
     of the secant point when the secant is degenerate (equal end values, e.g. values near the
     smallest float, which the Illinois halving can underflow to zero), when it falls outside
     the open bracket, or when the bracket has not halved within two steps. The sign of ``f`` at
@@ -235,11 +236,12 @@ def _first_crossing(pc: _Piece, t0: float, x0: float, v0: float, length: float, 
     Sampled ``pc.h`` apart (a quarter of the damped and of the top harmonic's period). Without
     a transmission error the motion about each contact state's equilibrium is a damped
     oscillation (or, in the gap, has one extremum at most), so each sample interval holds at
-    most one extremum: a sign change is closed by :func:`find_root`, an extremum below the
-    boundary by the root of the velocity first. With one, each sample interval of the distance
+    most one extremum: a sign change is closed by safeguarded Newton steps (the closed form
+    gives the slope), an extremum below the boundary by the root of the velocity first. With
+    one, each sample interval of the distance
     ``g`` to a boundary is proved free of a zero (g lies above its chord less
     ``G (s - s0)(s1 - s) / 2``, ``G`` a bound on ``|u''|``) or ``g`` monotone (then closed by
-    :func:`find_root`), else halved, left half first (docs/solvers.md, "With a harmonic
+    Newton steps), else halved, left half first (docs/solvers.md, "With a harmonic
     transmission error"). A tangential graze is bisected down to ``xtol``. Proofs hold up to
     the rounding of ``g`` (~ eps |u|).
     """
