@@ -7,7 +7,8 @@ is refused with a message proposing readings. Dimensionless quantities stay plai
 ``Nm`` as nanometre). In rotational-speed fields ``RPM`` (any case), ``r/min`` and ``rev``
 (``rev/min``, ``rev/s``) are read as rpm and turns (pint knows only ``rpm`` and ``turn``).
 
-pint is imported when the first text with a unit is read, and the registry is built once per
+pint is imported when the first text with a unit other than the plainest ones (``_PLAIN``: a
+number and ``mm``, ``deg``, ``rpm``, ``N*m``, ...) is read, and the registry is built once per
 process. The spelling rules of our own are the torque and speed ones above. A value out of
 range is reported with the range in the unit the user wrote (:func:`range_in_user_unit`).
 """
@@ -183,7 +184,7 @@ def range_in_user_unit(raw: Any, unit: str, low: float | None, high: float | Non
     text = _user_unit(raw, unit)
     if text is None:
         return range_text(low, high, low_open, high_open, unit)
-    factor = float(registry().Quantity(1.0, _normalised(text, unit)).to(unit).magnitude)
+    factor = _factor(text, unit)
     lo = None if low is None else float(f"{low / factor:.9g}")
     hi = None if high is None else float(f"{high / factor:.9g}")
     return range_text(lo, hi, low_open, high_open, text)
@@ -198,10 +199,49 @@ def _user_unit(raw: Any, unit: str) -> str | None:
     if not text:
         return None
     try:
-        factor = registry().Quantity(1.0, _normalised(text, unit)).to(unit).magnitude
+        factor = _factor(text, unit)
     except Exception:  # not a unit, or another dimension: keep the SI unit
         return None
-    return text if float(factor) > 0 else None
+    return text if factor > 0 else None
+
+
+def _factor(text: str, unit: str) -> float:
+    """1 ``text`` (a unit) in the SI ``unit``: from :data:`_PLAIN` or pint."""
+    plain = _PLAIN.get(unit, {}).get(text)
+    if plain is not None:
+        return plain
+    return float(registry().Quantity(1.0, _normalised(text, unit)).to(unit).magnitude)
+
+
+#: SI factors of the plainest spellings, per SI unit of a field: ``"<number> <unit>"`` with one
+#: of these is read without pint (importing it and building its registry costs more than the
+#: rest of a small command). Each factor is pint's own for that unit, and pint's value is the
+#: number times it, so the reading is pint's to the bit (tests/ground/test_units.py compares).
+_PLAIN: dict[str, dict[str, float]] = {
+    "m": {"m": 1.0, "mm": 1e-3, "um": 1e-6, "cm": 1e-2},
+    "rad": {"rad": 1.0, "deg": 0.017453292519943295},
+    "Pa": {"Pa": 1.0, "kPa": 1e3, "MPa": 1e6, "GPa": 1e9},
+    "kg/m**3": {"kg/m^3": 1.0, "kg/m**3": 1.0},
+    "rad/s": {"rpm": 0.10471975511965977, "rad/s": 1.0},
+    "N*m": {"N*m": 1.0, "kN*m": 1e3, "Nm": 1.0},
+    "N/m": {"N/m": 1.0, "N/um": 1e6, "N/mm": 1e3},
+    "N": {"N": 1.0, "kN": 1e3},
+    "kg*m**2": {"kg*m^2": 1.0, "kg*m**2": 1.0},
+    "kg": {"kg": 1.0, "g": 1e-3},
+    "s": {"s": 1.0, "ms": 1e-3},
+    "W": {"W": 1.0, "kW": 1e3},
+}
+
+
+def _plain_reading(raw: str, unit: str) -> float | None:
+    """``raw`` in the SI ``unit`` when it is a number and a unit of :data:`_PLAIN` for it,
+    else None (pint reads it)."""
+    units = _PLAIN.get(unit)
+    number = _NUMBER_RE.match(raw) if units else None
+    if number is None:
+        return None
+    factor = units.get(raw[number.end():].strip())  # type: ignore[union-attr]
+    return None if factor is None else float(number.group()) * factor
 
 
 def parse_quantity(raw: str, unit: str, where: str, rng: str,
@@ -222,6 +262,9 @@ def parse_quantity(raw: str, unit: str, where: str, rng: str,
         Unparsable text, an unknown unit (named), a missing unit, a wrong dimension, or Hz for
         a rotational speed (pint would read 1 Hz as 1 rad/s).
     """
+    plain = _plain_reading(raw, unit)
+    if plain is not None:
+        return plain
     import pint
 
     ureg = registry()

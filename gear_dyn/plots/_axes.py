@@ -93,6 +93,10 @@ def tidy(fig: Any) -> None:
     engine = fig.get_layout_engine()
     if engine is None or isinstance(engine, PlaceHolderLayoutEngine | TightLayoutEngine):
         fig.tight_layout()
+        if not isinstance(engine, TightLayoutEngine):
+            # tight_layout leaves a placeholder engine behind, and with any engine savefig
+            # lays the figure out once more (a whole draw pass): none, as before the call
+            fig.set_layout_engine(None)
 
 
 __all__ = ["axes_of", "fixed_layout", "tidy"]

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from gear_dyn.analysis.continuation.branch import Branch
-from gear_dyn.analysis.sweep import RPM
+from gear_dyn.analysis.motion.diagram import RPM
 from gear_dyn.plots._axes import axes_of, tidy
 from gear_dyn.plots._labels import label_marks, legend_once
 

@@ -11,18 +11,21 @@ import json
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from functools import lru_cache
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from gear_dyn.analysis.sweep import SweepOptions, SweepResult, sweep
 from gear_dyn.geometry import GearPair
 from gear_dyn.models.base import Model, at_speed
 from gear_dyn.scene.build import RunPlan, build_model, build_pair, build_plan
 from gear_dyn.scene.hints import backlash_gap_hint
 from gear_dyn.scene.operating import check_keywords, parse_speeds
 from gear_dyn.scene.validated import Scene
+
+if TYPE_CHECKING:  # the sweep itself is imported by sweep_scene (SceneModels, for a continuation,
+    # needs none of it)
+    from gear_dyn.analysis.sweep import SweepOptions, SweepResult
 
 FloatArray = NDArray[np.float64]
 #: the ``[solver]`` values a sweep may override
@@ -162,6 +165,8 @@ def sweep_scene(scene: Scene, speeds: Any, *, si: bool = False,
     ...
     gear_dyn.errors.InputError: ...
     """
+    from gear_dyn.analysis.sweep import sweep
+
     check_keywords("sweep_scene", solver, (
         "si", "options", "direction", "workers", "executor", "block", "progress",
         *SOLVER_OVERRIDES))

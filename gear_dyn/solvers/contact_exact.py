@@ -8,8 +8,8 @@ closed-form (:func:`flow` plus the harmonic particular solution of
 :mod:`gear_dyn.solvers.harmonic_forcing`). This module defines the pieces (``_Piece``: the
 constants of each contact state and stiffness value, exported as rows of a table) and the
 compiled kernel walks them (:mod:`gear_dyn.solvers.kernel.contact`, ``gd_flow.c``): contact
-changes ``u = +-b`` are bracketed on the closed form and closed by the safeguarded root finder
-:func:`find_root` to 4 ulps of time; pieces that provably stay in their contact state
+changes ``u = +-b`` are bracketed on the closed form and closed by safeguarded Newton steps on
+the gap and its slope to 4 ulps of time; pieces that provably stay in their contact state
 (``_Piece.stays_inside``) are not searched. What is left is rounding
 (:func:`rounding_bound`). Method ``exact_contact``; ``auto`` takes it where
 :func:`contact_exact_applies`. The flow's exact sensitivity (:func:`flow_with_sensitivity`,
@@ -118,8 +118,9 @@ def find_root(f: Callable[[float], float], lo: float, hi: float, f_lo: float, f_
               xtol: float) -> float:
     """A root of ``f`` in ``[lo, hi]`` (``f_lo``, ``f_hi`` of opposite signs), to ``xtol``.
 
-    The kernel's root finder (the one the walk closes contact changes with), here on a Python
-    function. Illinois false position, safeguarded by bisection: the midpoint is taken instead
+    The kernel's bracketing root finder, here on a Python function (the walk closes contact
+    changes with Newton steps on such a bracket: it has the slope too). Illinois false
+    position, safeguarded by bisection: the midpoint is taken instead
     of the secant point when the secant is degenerate (equal end values, e.g. values near the
     smallest float, which the Illinois halving can underflow to zero), when it falls outside
     the open bracket, or when the bracket has not halved within two steps. The sign of ``f`` at
@@ -235,11 +236,12 @@ def _first_crossing(pc: _Piece, t0: float, x0: float, v0: float, length: float, 
     Sampled ``pc.h`` apart (a quarter of the damped and of the top harmonic's period). Without
     a transmission error the motion about each contact state's equilibrium is a damped
     oscillation (or, in the gap, has one extremum at most), so each sample interval holds at
-    most one extremum: a sign change is closed by :func:`find_root`, an extremum below the
-    boundary by the root of the velocity first. With one, each sample interval of the distance
+    most one extremum: a sign change is closed by safeguarded Newton steps (the closed form
+    gives the slope), an extremum below the boundary by the root of the velocity first. With
+    one, each sample interval of the distance
     ``g`` to a boundary is proved free of a zero (g lies above its chord less
     ``G (s - s0)(s1 - s) / 2``, ``G`` a bound on ``|u''|``) or ``g`` monotone (then closed by
-    :func:`find_root`), else halved, left half first (docs/solvers.md, "With a harmonic
+    Newton steps), else halved, left half first (docs/solvers.md, "With a harmonic
     transmission error"). A tangential graze is bisected down to ``xtol``. Proofs hold up to
     the rounding of ``g`` (~ eps |u|).
     """
@@ -347,8 +349,10 @@ class Walk:
         t_grid = np.asarray(t_grid, dtype=float)
         out, finite = ck.on_grid(*self._tables, self._segs.table, self._segs.ids, t_grid)
         out = out.reshape((2, *t_grid.shape))
-        out += np.asarray(_te_shift(self.model, t_grid))  # back from u = x - e to x
-        if not (finite and np.all(np.isfinite(out))):
+        if getattr(self.model, "transmission_error", None) is not None:
+            out += np.asarray(_te_shift(self.model, t_grid))  # back from u = x - e to x
+            finite = finite and bool(np.all(np.isfinite(out)))
+        if not finite:  # the kernel's flag: a state not finite
             raise SolverError("exact_contact produced non-finite states: the response diverges")
         return out
 
@@ -433,7 +437,7 @@ def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0,
     mid = np.mod(np.asarray(mm.phase(0.5 * (cuts[:-1] + cuts[1:])), dtype=float), 1.0)
     kidx = seg_k.take(np.searchsorted(edges, mid, side="right") - 1, mode="clip")
     tables = _walk_tables(mm, k_values)
-    xtol = 4 * float(np.spacing(max(abs(t0), abs(t1), 1e-300)))
+    xtol = 4 * math.ulp(max(abs(t0), abs(t1), 1e-300))
     shifted = getattr(mm, "transmission_error", None) is not None
     e0, ed0 = _te_shift(mm, np.array([t0])) if shifted else (np.zeros(1), np.zeros(1))
     segs = ck.walk(*tables, cuts, kidx.ravel(), x0 - float(e0[0]), v0 - float(ed0[0]), xtol,

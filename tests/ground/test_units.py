@@ -13,6 +13,7 @@ from pathlib import Path
 
 import pytest
 
+import gear_dyn.units as units_mod
 from gear_dyn.errors import InputError, SceneError
 from gear_dyn.scene import parse_scene
 from gear_dyn.scene.operating import parse_speed_range
@@ -137,3 +138,40 @@ def test_registry_without_a_usable_cache_folder() -> None:
         out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                              env=env, check=True).stdout.split()
     assert out == ["None", "0.006"]
+
+
+@pytest.mark.parametrize("si", sorted(units_mod._PLAIN))
+def test_plain_spellings_read_without_pint_are_pints_values_to_the_bit(si: str) -> None:
+    """The plainest spellings are read from a table of factors, not by pint: each reading
+    equals pint's (same factor, same product), for integers, decimals and exponents."""
+    ureg = units_mod.registry()
+    numbers = ["0", "1", "3000", "9500", "3319", "368.6", "2.07e5", "-1.5", ".25", "6.02E23",
+               "1e-7", "7850"]
+    for spelling in units_mod._PLAIN[si]:
+        pint_spelling = "N*m" if spelling == "Nm" else spelling  # pint: Nm is nanometre
+        for x in numbers:
+            ours = units_mod.parse_quantity(f"{x} {spelling}", si, "f", "any")
+            assert units_mod._plain_reading(f"{x} {spelling}", si) is not None
+            theirs = float(ureg.Quantity(f"{x} {pint_spelling}").to(si).magnitude)
+            assert ours == theirs, (x, spelling, si)
+
+
+def test_other_spellings_still_go_through_pint() -> None:
+    """Not in the table (a prefix, a compound, another dimension): pint reads or refuses it."""
+    assert units_mod._plain_reading("1 N/(mm*um)", "N/m**2") is None
+    assert units_mod.parse_quantity("1 N/(mm*um)", "N/m**2", "f", "any") == 1e9
+    assert units_mod._plain_reading("6 mm", "rad") is None
+    with pytest.raises(InputError, match="wrong unit"):
+        units_mod.parse_quantity("6 mm", "rad", "pressure_angle", "0..45 deg")
+
+
+def test_ranges_in_a_plain_spelling_are_pints() -> None:
+    """A field's range in the unit the user wrote is the same from the table as from pint."""
+    ureg = units_mod.registry()
+    for si, spellings in units_mod._PLAIN.items():
+        for spelling in spellings:
+            pint_spelling = "N*m" if spelling == "Nm" else spelling
+            assert units_mod._factor(spelling, si) == float(
+                ureg.Quantity(1.0, pint_spelling).to(si).magnitude), (spelling, si)
+    assert units_mod.range_in_user_unit("50 deg", "rad", 0.0, math.radians(45)) \
+        == "0 <= x <= 45 deg"

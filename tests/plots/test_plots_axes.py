@@ -150,3 +150,23 @@ def test_stability_charts_draw_into_given_axes(chart: Any) -> None:
     fig = sweep.plot_stability_charts([chart, chart], title="two charts")
     assert tuple(fig.get_size_inches()) == pytest.approx((8, 8.4))
     assert [a.get_title() for a in fig.axes if a.get_title()] == ["two charts"] * 2
+
+
+def test_tidy_leaves_no_layout_engine_so_saving_draws_once(tmp_path: Path) -> None:
+    """tight_layout leaves a placeholder engine, with which savefig lays the figure out in a
+    draw pass of its own: tidy removes it (the figure then draws once when saved), and keeps
+    a caller's constrained layout."""
+    from gear_dyn.plots._axes import tidy
+
+    fig = Figure(figsize=(4, 3))
+    fig.subplots().plot([0, 1], [0, 1])
+    tidy(fig)
+    assert fig.get_layout_engine() is None
+    draws = []
+    fig.canvas.mpl_connect("draw_event", lambda _e: draws.append(1))
+    fig.savefig(tmp_path / "a.png", dpi=50)
+    assert len(draws) == 1
+    constrained = Figure(figsize=(4, 3), layout="constrained")
+    constrained.subplots()
+    tidy(constrained)
+    assert constrained.get_layout_engine() is not None

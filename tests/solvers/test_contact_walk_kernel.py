@@ -116,3 +116,25 @@ def test_bad_tables_and_marks_are_refused(resonance) -> None:
     w = walk(model, model.initial_state(), 1 / model.mesh_frequency)
     with pytest.raises(InputError, match="without marks"):
         w.mark_sensitivities()
+
+
+def test_uniform_grid_sampling_is_the_closed_form_at_each_time(resonance) -> None:
+    """On a uniform grid the walk's segments are sampled by the addition theorems from
+    tabulated terms; each state equals the closed form evaluated at its time alone (a grid
+    of one time is evaluated directly) to rounding, and a grid off uniform (jittered) is
+    evaluated directly, to the same states."""
+    model = resonance
+    t = time_grid(model.mesh_frequency, 20 / model.mesh_frequency, 64)
+    w = walk(model, model.initial_state(), float(t[-1]), float(t[0]))
+    y = w.on_grid(t)
+    pick = np.arange(0, t.size, 7)
+    direct = np.stack([w.on_grid(t[i:i + 1])[:, 0] for i in pick], axis=1)
+    scale = np.max(np.abs(y), axis=1, keepdims=True)
+    eps = np.finfo(float).eps
+    assert np.max(np.abs(y[:, pick] - direct) / scale) <= 64 * eps
+    rng = np.random.default_rng(3)
+    dt = float(t[1] - t[0])
+    jittered = np.sort(np.clip(t + rng.uniform(-0.3, 0.3, t.size) * dt, t[0], t[-1]))
+    yj = w.on_grid(jittered)
+    direct_j = np.stack([w.on_grid(jittered[i:i + 1])[:, 0] for i in pick], axis=1)
+    assert np.max(np.abs(yj[:, pick] - direct_j) / scale) <= 64 * eps

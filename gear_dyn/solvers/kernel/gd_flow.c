@@ -2,6 +2,7 @@
  * maps themselves (matrix exponentials of the pieces, collocation maps) come from Python; only
  * the sequential part, which numpy would run one small product per Python iteration, is here. */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 #include "gd_flow.h"
 
@@ -157,8 +158,112 @@ int gd_flow_fill_periodic(int n, long s_per, long n_samples, const double *Q, co
 
 #define CW_STACK 256            /* bisection depth of a crossing search (~60 is the most used) */
 
+/* The closed form of one contact state (contact_exact.flow), split in its constants (cw_form),
+ * the transcendental terms at a time s (cw_terms: what the exponential and trigonometric
+ * functions give) and their application to a start state, so the walk evaluates the terms once
+ * where it needs several states at the same s (the segment end and the two columns of its
+ * sensitivity), and reads the constants from the piece row instead of dividing again. */
 typedef struct {
-    double m, c, w, b, fm, p0;
+    int state;                  /* -1, 0, 1 */
+    int kind;                   /* 1 underdamped, 2 overdamped, 3 critical; in the gap 0 (a = 0)
+                                   or 4 */
+    double a, w2, x_eq, wm, q;  /* c/m, k/m, state b + w/k, w/m, damped (or decay) frequency */
+} cw_form;
+
+typedef struct {
+    double s, cs, sn, dec, e1;
+} cw_terms;
+
+static cw_form form_of(int state, double k, double m, double c, double w, double b)
+{
+    cw_form f;
+    double q2;
+    f.state = state;
+    f.a = c / m;
+    f.wm = w / m;
+    f.w2 = f.x_eq = f.q = 0.0;
+    if (state == 0) {
+        f.kind = f.a == 0.0 ? 0 : 4;
+        return f;
+    }
+    f.w2 = k / m;
+    f.x_eq = state * b + w / k;
+    q2 = 0.25 * f.a * f.a - f.w2;
+    if (q2 < 0.0) {
+        f.kind = 1;
+        f.q = sqrt(-q2);
+    } else if (q2 > 0.0) {
+        f.kind = 2;
+        f.q = sqrt(q2);
+    } else {
+        f.kind = 3;
+    }
+    return f;
+}
+
+static void form_terms(const cw_form *f, double s, cw_terms *e)
+{
+    e->s = s;
+    if (s == 0.0) {             /* the start (each search's first sample): no function calls */
+        e->cs = e->dec = 1.0;
+        e->sn = e->e1 = 0.0;
+        return;
+    }
+    switch (f->kind) {
+    case 1:
+        e->cs = cos(f->q * s);
+        e->sn = sin(f->q * s) / f->q;
+        break;
+    case 2:
+        e->cs = cosh(f->q * s);
+        e->sn = sinh(f->q * s) / f->q;
+        break;
+    case 3:
+        e->cs = 1.0;
+        e->sn = s;
+        break;
+    case 4:
+        e->e1 = -expm1(-f->a * s) / f->a;   /* (1 - e^{-a s}) / a, exact also for small a s */
+        return;
+    default:
+        return;
+    }
+    e->dec = exp(-0.5 * f->a * s);
+}
+
+/* x(s), v(s) from (x0, v0); x_eq and wm given apart (the sensitivity's unit starts take the
+ * form without load: both zero) */
+static void form_apply(const cw_form *f, const cw_terms *e, double x_eq, double wm, double x0,
+                       double v0, double *x, double *v)
+{
+    double a = f->a, s = e->s, u0;
+    if (f->kind == 0) {
+        *x = x0 + v0 * s + 0.5 * wm * s * s;
+        *v = v0 + wm * s;
+        return;
+    }
+    if (f->kind == 4) {
+        *x = x0 + v0 * e->e1 + wm * (s - e->e1) / a;
+        *v = v0 + (wm - a * v0) * e->e1;
+        return;
+    }
+    u0 = x0 - x_eq;
+    *x = x_eq + e->dec * (e->cs * u0 + e->sn * (v0 + 0.5 * a * u0));
+    *v = e->dec * (e->cs * v0 - e->sn * (f->w2 * u0 + 0.5 * a * v0));
+}
+
+/* x(s), v(s) in one contact state: the closed form of contact_exact.flow */
+static void flow1(int state, double k, double m, double c, double w, double b, double x0,
+                  double v0, double s, double *x, double *v)
+{
+    cw_form f = form_of(state, k, m, c, w, b);
+    cw_terms e;
+    form_terms(&f, s, &e);
+    form_apply(&f, &e, f.x_eq, f.wm, x0, v0, x, v);
+}
+
+typedef struct {
+    double m, c, w, b, fm, p0, wm;   /* wm = w / m */
     long nh;
     const double *tn, *om;
 } cw_model;
@@ -167,6 +272,7 @@ typedef struct {
     int state;
     double k, a, w2, q, x_eq, h, amp, curv;
     const double *ca, *cb;
+    cw_form f;                  /* the closed form's constants, from the row */
 } cw_piece;
 
 static cw_model cw_model_of(const double *model)
@@ -178,6 +284,7 @@ static cw_model cw_model_of(const double *model)
     md.b = model[3];
     md.fm = model[4];
     md.p0 = model[5];
+    md.wm = md.w / md.m;
     md.nh = (long)model[6];
     md.tn = model + GD_CW_MODEL;
     md.om = model + GD_CW_MODEL + md.nh;
@@ -199,45 +306,20 @@ static cw_piece cw_piece_of(const cw_model *md, const double *pieces, long row)
     pc.curv = r[8];
     pc.ca = r + GD_CW_ROW;
     pc.cb = r + GD_CW_ROW + md->nh;
-    return pc;
-}
-
-/* x(s), v(s) in one contact state: the closed form of contact_exact.flow */
-static void flow1(int state, double k, double m, double c, double w, double b, double x0,
-                  double v0, double s, double *x, double *v)
-{
-    double a = c / m, w2, x_eq, u0, q2, q, cs, sn, dec;
-    if (state == 0) {
-        double e1;
-        if (a == 0.0) {
-            *x = x0 + v0 * s + 0.5 * (w / m) * s * s;
-            *v = v0 + (w / m) * s;
-            return;
-        }
-        e1 = -expm1(-a * s) / a;        /* (1 - e^{-a s}) / a, exact also for small a s */
-        *x = x0 + v0 * e1 + (w / m) * (s - e1) / a;
-        *v = v0 + (w / m - a * v0) * e1;
-        return;
-    }
-    w2 = k / m;
-    x_eq = state * b + w / k;
-    u0 = x0 - x_eq;
-    q2 = 0.25 * a * a - w2;
-    if (q2 < 0.0) {                     /* underdamped */
-        q = sqrt(-q2);
-        cs = cos(q * s);
-        sn = sin(q * s) / q;
-    } else if (q2 > 0.0) {              /* overdamped */
-        q = sqrt(q2);
-        cs = cosh(q * s);
-        sn = sinh(q * s) / q;
+    /* the row holds a = c/m, w2 = k/m, x_eq = state b + w/k and the damped frequency q (0:
+     * none) as form_of computes them; the overdamped and critical forms are computed here */
+    if (pc.state != 0 && !(pc.q > 0.0)) {
+        pc.f = form_of(pc.state, pc.k, md->m, md->c, md->w, md->b);
     } else {
-        cs = 1.0;
-        sn = s;
+        pc.f.state = pc.state;
+        pc.f.kind = pc.state != 0 ? 1 : (pc.a == 0.0 ? 0 : 4);
+        pc.f.a = pc.a;
+        pc.f.w2 = pc.w2;
+        pc.f.x_eq = pc.x_eq;
+        pc.f.wm = md->wm;
+        pc.f.q = pc.q;
     }
-    dec = exp(-0.5 * a * s);
-    *x = x_eq + dec * (cs * u0 + sn * (v0 + 0.5 * a * u0));
-    *v = dec * (cs * v0 - sn * (w2 * u0 + 0.5 * a * v0));
+    return pc;
 }
 
 void gd_contact_flow(int state, double k, double m, double c, double w, double b, double x0,
@@ -282,7 +364,10 @@ static void z_of(const cw_model *md, const cw_piece *pc, double u0, double v0, d
 static void hom(const cw_model *md, const cw_piece *pc, double z0, double zv0, double s,
                 double *zx, double *zv)
 {
-    flow1(pc->state, pc->k, md->m, md->c, md->w, md->b, z0, zv0, s, zx, zv);
+    cw_terms e;
+    (void)md;
+    form_terms(&pc->f, s, &e);
+    form_apply(&pc->f, &e, pc->f.x_eq, pc->f.wm, z0, zv0, zx, zv);
 }
 
 /* u, u' at time t from (z0, zv0), the state of z at t0 (s = t - t0) */
@@ -392,11 +477,52 @@ static double g_value(double s, void *ctx)
     return gv;
 }
 
-static double g_slope(double s, void *ctx)
+/* g and its slope, and the slope and its own (g'' = inside u'': the closed form's acceleration
+ * about the equilibrium, -a z' - w2 (z - x_eq), or w/m - a z' in the gap; without forcing) */
+static void g_and_slope(double s, void *ctx, double *f, double *df)
 {
-    double gv, dgv, zx, zv;
-    g_eval((const cw_gap *)ctx, s, &gv, &dgv, &zx, &zv);
-    return dgv;
+    double zx, zv;
+    g_eval((const cw_gap *)ctx, s, f, df, &zx, &zv);
+}
+
+static void slope_and_curvature(double s, void *ctx, double *f, double *df)
+{
+    const cw_gap *g = (const cw_gap *)ctx;
+    const cw_form *fm = &g->pc->f;
+    double gv, zx, zv;
+    g_eval(g, s, &gv, f, &zx, &zv);
+    *df = g->inside * (fm->state == 0 ? fm->wm - fm->a * zv
+                                      : -(fm->a * zv + fm->w2 * (zx - fm->x_eq)));
+}
+
+/* A zero of f in [lo, hi] (f_lo, f_hi of opposite signs), to xtol: Newton steps on f and its
+ * derivative (the walk has both from one evaluation of the closed form), from the secant point,
+ * each kept in the bracket, which the sign of f at every iterate shrinks; a step that would
+ * leave the bracket or does not halve the previous one is replaced by the midpoint (Press et
+ * al. 2007, Numerical Recipes, 3rd ed., section 9.4, "rtsafe"). Ends when the bracket is
+ * narrower than xtol or a Newton step shorter than xtol / 2 (the quadratic convergence then
+ * leaves an error far below the step). Fewer evaluations than gd_find_root's false position
+ * on the walk's smooth closed forms. */
+static double newton_root(void (*fd)(double, void *, double *, double *), void *ctx,
+                          double lo, double hi, double f_lo, double f_hi, double xtol)
+{
+    int hi_positive = f_hi > 0.0 || (f_hi == 0.0 && f_lo < 0.0), it;
+    double den = f_hi - f_lo, x, step = hi - lo;
+    x = den != 0.0 ? (lo * f_hi - hi * f_lo) / den : 0.5 * (lo + hi);
+    if (!(lo < x && x < hi)) x = 0.5 * (lo + hi);
+    for (it = 0; it < 200; it++) {
+        double fx, dfx, xn, prev = step;
+        fd(x, ctx, &fx, &dfx);
+        if (fx == 0.0) return x;
+        if ((fx > 0.0) == hi_positive) hi = x; else lo = x;
+        if (hi - lo <= xtol) break;
+        xn = dfx != 0.0 ? x - fx / dfx : 0.5 * (lo + hi);
+        if (!(lo < xn && xn < hi) || fabs(xn - x) > 0.5 * prev) xn = 0.5 * (lo + hi);
+        step = fabs(xn - x);
+        if (step <= 0.5 * xtol) return xn;
+        x = xn;
+    }
+    return 0.5 * (lo + hi);
 }
 
 /* first zero of g in [s0, s1]: each interval is proved free of a zero (g above its chord less
@@ -419,7 +545,7 @@ static int refine(cw_gap *g, double s0, double s1, double g0, double dg0, double
         if (ga > 0.0 && gb > 0.0 && fmin(ga, gb) > ca * wd * wd / 8) continue;
         if (fabs(dga) > ca * wd) {      /* monotone on [a, b] */
             if (gb < 0.0) {
-                *hit = gd_find_root(g_value, g, a, b, ga, gb, xtol);
+                *hit = newton_root(g_and_slope, g, a, b, ga, gb, xtol);
                 return 1;
             }
             continue;
@@ -513,13 +639,14 @@ static int first_crossing(const cw_model *md, const cw_piece *pc, double t0, dou
                 if (!clear)
                     found = refine(&gap[l], s_j, s1, g0[l], dg0[l], c_j, g1, xtol, &h1);
             } else if (g1 < 0.0) {      /* a sign change */
-                h1 = gd_find_root(g_value, &gap[l], s_j, s1, g0[l], g1, xtol);
+                h1 = newton_root(g_and_slope, &gap[l], s_j, s1, g0[l], g1, xtol);
                 found = 1;
             } else if (dg0[l] < 0.0 && dg1 > 0.0) {     /* a minimum of g inside */
-                double sm = gd_find_root(g_slope, &gap[l], s_j, s1, dg0[l], dg1, xtol);
+                double sm = newton_root(slope_and_curvature, &gap[l], s_j, s1, dg0[l], dg1,
+                                       xtol);
                 double gm = g_value(sm, &gap[l]);
                 if (gm < 0.0) {         /* dips below the boundary and returns */
-                    h1 = gd_find_root(g_value, &gap[l], s_j, sm, g0[l], gm, xtol);
+                    h1 = newton_root(g_and_slope, &gap[l], s_j, sm, g0[l], gm, xtol);
                     found = 1;
                 }
             }
@@ -563,15 +690,15 @@ static int next_state(int state, double x, double v)
     return 0;
 }
 
-/* phi <- exp(A s) phi for one contact state (the closed form with unit starts, no load), and
- * the same for part (NULL: none), the sensitivity since the start of its slot */
-static void transition(const cw_model *md, const cw_piece *pc, double s, double *phi,
-                       double *part)
+/* phi <- exp(A s) phi for one contact state (the closed form with unit starts, no load, from
+ * the terms e at s), and the same for part (NULL: none), the sensitivity since the start of its
+ * slot */
+static void transition(const cw_form *f, const cw_terms *e, double *phi, double *part)
 {
     double t[4];
     int j;
-    flow1(pc->state, pc->k, md->m, md->c, 0.0, 0.0, 1.0, 0.0, s, t, t + 2);
-    flow1(pc->state, pc->k, md->m, md->c, 0.0, 0.0, 0.0, 1.0, s, t + 1, t + 3);
+    form_apply(f, e, 0.0, 0.0, 1.0, 0.0, t, t + 2);
+    form_apply(f, e, 0.0, 0.0, 0.0, 1.0, t + 1, t + 3);
     for (j = 0; j < 2; j++) {
         double *p = j ? part : phi, p0, p1, p2, p3;
         if (!p) continue;
@@ -620,6 +747,7 @@ int gd_contact_walk(const double *model, const double *pieces, long n_cuts, cons
             long row = 3 * kidx[i] + state + 1;
             cw_piece pc = cw_piece_of(&md, pieces, row);
             double hit = 0.0, s, z0, zv0, xn, vn;
+            cw_terms e;
             int ev = first_crossing(&md, &pc, t, x, v, tb - t, xtol, &hit) && t + hit < tb;
             s = ev ? hit : tb - t;
             if (ns < cap) {
@@ -632,8 +760,15 @@ int gd_contact_walk(const double *model, const double *pieces, long n_cuts, cons
             }
             ns++;
             z_of(&md, &pc, x, v, t, &z0, &zv0);
-            piece_eval(&md, &pc, z0, zv0, s, t + s, &xn, &vn);
-            transition(&md, &pc, s, phi, part);
+            form_terms(&pc.f, s, &e);   /* once for the end state and its sensitivity */
+            form_apply(&pc.f, &e, pc.f.x_eq, pc.f.wm, z0, zv0, &xn, &vn);
+            if (md.nh > 0) {
+                double pu, pv;
+                part_at(&md, &pc, t + s, &pu, &pv);
+                xn += pu;
+                vn += pv;
+            }
+            transition(&pc.f, &e, phi, part);
             x = xn;
             v = vn;
             if (!ev) {
@@ -675,18 +810,61 @@ int gd_contact_walk(const double *model, const double *pieces, long n_cuts, cons
     return status;
 }
 
+/* Sampling a segment on a uniform grid: the states at s_a + j dt (j < CW_RUN) from an anchor
+ * s_a, by the addition theorems, with the terms at j dt tabulated once per piece row (the
+ * rows are few, the samples many):
+ *   underdamped, z - x_eq = e^{-a s/2} (A cos qs + B sin qs):
+ *     at s_a + j dt  = C_j P + S_j Q,  C_j, S_j = e^{-a j dt/2} (cos, sin)(q j dt),
+ *     P = D (A c + B n), Q = D (B c - A n), D, c, n = e^{-a s_a/2}, cos, sin (q s_a);
+ *   gap, e1(s) = (1 - e^{-a s}) / a:  e1(s_a + j dt) = e1(s_a) + e^{-a s_a} e1(j dt).
+ * Each term is a direct evaluation (no recurrence: the error does not grow with j). A sample
+ * whose time is off s_a + j dt by d (the grid's rounding) is moved there along the flow,
+ * x += v d, v += x'' d; where (q + a) |d| > 1e-8 (not uniform: the second-order term would
+ * exceed rounding) it is evaluated directly. */
+#define CW_RUN 64
+
+typedef struct {
+    long filled;                /* terms tabulated: j < filled */
+    double c[CW_RUN], n[CW_RUN];
+} cw_run;
+
+static void run_fill(const cw_form *f, double dt, long upto, cw_run *r)
+{
+    for (; r->filled <= upto; r->filled++) {
+        double s = (double)r->filled * dt;
+        if (f->kind == 1) {
+            double d = exp(-0.5 * f->a * s);
+            r->c[r->filled] = d * cos(f->q * s);
+            r->n[r->filled] = d * sin(f->q * s);
+        } else {                        /* the damped gap */
+            r->c[r->filled] = -expm1(-f->a * s) / f->a;
+            r->n[r->filled] = exp(-f->a * s);
+        }
+    }
+}
+
 int gd_contact_on_grid(const double *model, const double *pieces, long n_seg, const double *seg,
                        const long *seg_id, long n_t, const double *t, double *out)
 {
     cw_model md = cw_model_of(model);
-    long i, o = 0, cached = -1;
-    double z0 = 0.0, zv0 = 0.0;
+    long i, o = 0, cached = -1, anchor = 0, n_rows = 0;
+    double z0 = 0.0, zv0 = 0.0, dt = 0.0, s_a = 0.0, an[4] = {0.0, 0.0, 0.0, 0.0};
     cw_piece pc;
+    cw_run *runs = NULL, *run = NULL;
     int bad = 0;
     if (n_seg < 1) return 1;
+    for (i = 0; i < n_seg; i++)
+        if (seg_id[2 * i] + 1 > n_rows) n_rows = seg_id[2 * i] + 1;
+    if (n_t > 2) {
+        dt = (t[n_t - 1] - t[0]) / (double)(n_t - 1);
+        if (isfinite(dt) && dt > 0.0) runs = calloc((size_t)n_rows, sizeof(cw_run));
+    }
     pc = cw_piece_of(&md, pieces, seg_id[0]);
     for (i = 0; i < n_t; i++) {
         double ti = t[i];
+        while (o + 1 < n_seg && seg[4 * o] <= ti && seg[4 * (o + 1)] <= ti
+               && (o + 2 == n_seg || ti < seg[4 * (o + 2)]))
+            o++;                        /* the next segment (in order, the usual case) */
         if (!(o < n_seg && seg[4 * o] <= ti && (o + 1 == n_seg || ti < seg[4 * (o + 1)]))) {
             long lo = 0, hi = n_seg;          /* the last segment starting at or before ti */
             while (hi - lo > 1) {
@@ -699,9 +877,61 @@ int gd_contact_on_grid(const double *model, const double *pieces, long n_seg, co
             pc = cw_piece_of(&md, pieces, seg_id[2 * o]);
             z_of(&md, &pc, seg[4 * o + 1], seg[4 * o + 2], seg[4 * o], &z0, &zv0);
             cached = o;
+            run = runs && (pc.f.kind == 1 || pc.f.kind == 4) ? runs + seg_id[2 * o] : NULL;
+            anchor = -CW_RUN;
+        }
+        if (run) {
+            const cw_form *f = &pc.f;
+            double s = ti - seg[4 * o], d, x, v;
+            long j = i - anchor;
+            if (j >= CW_RUN || j < 0) {         /* a new anchor at this sample */
+                anchor = i;
+                j = 0;
+                s_a = s;
+                if (f->kind == 1) {
+                    double u = z0 - f->x_eq, bx = (zv0 + 0.5 * f->a * u) / f->q;
+                    double bv = -(f->w2 * u + 0.5 * f->a * zv0) / f->q;
+                    double dd = exp(-0.5 * f->a * s), c = dd * cos(f->q * s),
+                           n = dd * sin(f->q * s);
+                    an[0] = u * c + bx * n;
+                    an[1] = bx * c - u * n;
+                    an[2] = zv0 * c + bv * n;
+                    an[3] = bv * c - zv0 * n;
+                } else {
+                    an[0] = -expm1(-f->a * s) / f->a;
+                    an[1] = exp(-f->a * s);
+                }
+            }
+            d = s - (s_a + (double)j * dt);
+            if (fabs(d) * (f->q + f->a) <= 1e-8) {
+                if (j >= run->filled) run_fill(f, dt, j, run);
+                if (f->kind == 1) {
+                    double xr = run->c[j] * an[0] + run->n[j] * an[1];
+                    v = run->c[j] * an[2] + run->n[j] * an[3];
+                    x = f->x_eq + xr + v * d;
+                    v -= (f->a * v + f->w2 * xr) * d;
+                } else {
+                    double e1 = an[0] + an[1] * run->c[j], sj = s - d;
+                    x = z0 + zv0 * e1 + f->wm * (sj - e1) / f->a;
+                    v = zv0 + (f->wm - f->a * zv0) * e1;
+                    x += v * d;
+                    v += (f->wm - f->a * v) * d;
+                }
+                if (md.nh > 0) {
+                    double pu, pv;
+                    part_at(&md, &pc, ti, &pu, &pv);
+                    x += pu;
+                    v += pv;
+                }
+                out[i] = x;
+                out[n_t + i] = v;
+                if (!(isfinite(x) && isfinite(v))) bad = 1;
+                continue;
+            }
         }
         piece_eval(&md, &pc, z0, zv0, ti - seg[4 * o], ti, out + i, out + n_t + i);
         if (!(isfinite(out[i]) && isfinite(out[n_t + i]))) bad = 1;
     }
+    free(runs);
     return bad;
 }

@@ -63,7 +63,8 @@ void gd_contact_flow(int state, double k, double m, double c, double w, double b
                      double v0, long n, const double *s, double *x, double *v);
 
 /* a root of f in [lo, hi] (f_lo, f_hi of opposite signs) to xtol: Illinois false position
- * safeguarded by bisection (the contact walk's root finder, exported for tests) */
+ * safeguarded by bisection (the kernel's bracketing root finder, exported for tests; the contact
+ * walk closes its contact changes with Newton steps, having the slope too) */
 double gd_find_root(double (*f)(double, void *), void *ctx, double lo, double hi, double f_lo,
                     double f_hi, double xtol);
 
