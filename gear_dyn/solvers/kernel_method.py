@@ -10,8 +10,12 @@ located on the closed form or the dense output.
 
 Where it applies (:func:`kernel_applies`): the single-DOF mesh equation (with or without
 backlash and a mesh-periodic transmission error) and the eccentric torsional model without
-backlash and transmission error, when the compiled library is present. The tables are built
-once per model (kept for the model's lifetime, at most :data:`CACHE_SIZE` models).
+backlash and transmission error, when the compiled library is present. The kernel form is
+built once per model (kept for the model's lifetime, at most :data:`CACHE_SIZE` models); the
+torsional model's table, which does not depend on the speed (the eccentric kinematics are
+functions of the pinion angle, so every quantity of the table is one of the mesh phase,
+de/dt = f_m de/dp), once per :func:`table_key`: the same pair at another speed, such as the
+quasi-static reference of the dynamic factor or the next point of a sweep, reuses it.
 
 Error control: the kernel weighs each state's error by ``tol (scale + |y|)``, so a state far
 from zero (the gear angle of an eccentric pair holds the eccentric offset, tens of static
@@ -19,11 +23,12 @@ deflections) gets a looser control than the solvers' ``rtol`` (relative to the s
 means; the kernel runs at ``rtol / (1 + max |e| / x_s)`` (:func:`kernel_tolerance`, ``e`` the
 table's transmission error or eccentric offset). The stated error (:func:`check_run`,
 :func:`table_bound`, composed in :func:`gear_dyn.analysis.accuracy.estimate_error`) is twice the
-difference from a run at :data:`CHECK_TIGHTEN` times tighter tolerance (a 100-fold tightening is
-not enough: where piece edges, not the tolerance, set the steps, two runs 100 times apart can
-take the same steps) from a start moved by :data:`CHECK_NUDGE` of the state scale (closed-form
-pieces do not depend on the tolerance: the nudge shows rounding that an unstable response
-amplifies), plus a bound on the table's interpolation error carried to the DTE.
+difference from a check run with every step halved (the output grid's midpoints added and a
+:data:`CHECK_TIGHTEN` = 2^5 times tighter tolerance: where the grid sets the steps a tighter
+tolerance alone changes nothing, where the tolerance does it halves them) from a start moved
+by :data:`CHECK_NUDGE` of the state scale (closed-form pieces do not depend on the tolerance:
+the nudge shows rounding that an unstable response amplifies), plus a bound on the table's
+interpolation error carried to the DTE.
 """
 
 from __future__ import annotations
@@ -40,12 +45,14 @@ from gear_dyn.errors import GearDynError, InputError
 from gear_dyn.models.base import Model
 from gear_dyn.solvers import kernel
 from gear_dyn.solvers.kernel.run import TOL_RANGE, KernelModel, kernel_model, run
+from gear_dyn.solvers.kernel.tables_torsional import TorsionalTable, torsional_table
 from gear_dyn.solvers.settings import SolverSettings
 
 FloatArray = NDArray[np.float64]
 
-#: the check run's tolerance is this many times tighter than the run's
-CHECK_TIGHTEN = 1e4
+#: the check run's tolerance is this many times tighter than the run's: 2^5, one halving of
+#: the step of the fifth-order pair (its step goes as tol^(1/5), its error as h^5)
+CHECK_TIGHTEN = 2.0**5
 #: ... from a start moved by this share of the state scale
 CHECK_NUDGE = 1e-12
 #: safety factor of the table part of the stated error
@@ -54,6 +61,8 @@ TABLE_SAFETY = 2.0
 CACHE_SIZE = 4
 
 _CACHE: dict[int, tuple[weakref.ref[Any], KernelModel]] = {}
+#: the torsional tables by :func:`table_key` (at most CACHE_SIZE)
+_TABLES: dict[Any, TorsionalTable] = {}
 _LOCK = threading.RLock()  # re-entrant: a weakref callback may run inside a locked block
 
 
@@ -94,8 +103,10 @@ def kernel_auto(model: Model, t_grid: FloatArray | None = None) -> bool:
     """True where ``auto`` picks the kernel (:func:`kernel_applies`): an eccentric torsional
     model whose table meets :data:`AUTO_TABLE_ERROR`, on a grid spanning at least
     :data:`AUTO_MIN_SHARE` of its table (the hunting period: the table's cost grows with it,
-    not with the run; shorter runs, such as the quasi-static reference of the dynamic factor,
-    keep ``gauss``).
+    not with the run), or on any grid once its table is built (:func:`table_ready`: the
+    quasi-static reference of the dynamic factor after the run, the same pair at another
+    speed). A short run of a pair whose table is not built keeps ``gauss``, which tabulates
+    only the span it runs (docs/solvers.md has the measurement).
 
     Single-DOF models never take it under ``auto``: the linear ones keep their exact and
     periodic routes, and the one with backlash and piecewise-constant stiffness takes
@@ -111,7 +122,7 @@ def kernel_auto(model: Model, t_grid: FloatArray | None = None) -> bool:
     span = (float(t_grid[-1]) - float(t_grid[0])) * float(model.mesh_frequency)
     tm: Any = model  # a TorsionalModel (kernel_applies)
     hunting = float(tm.mesh.hunting_period) * float(model.mesh_frequency)
-    if span < AUTO_MIN_SHARE * hunting:
+    if span < AUTO_MIN_SHARE * hunting and not table_ready(model):
         return False
     try:
         km = kernel_form(model)
@@ -128,7 +139,7 @@ def kernel_form(model: Model) -> KernelModel:
         hit = _CACHE.get(key)
     if hit is not None and hit[0]() is model:
         return hit[1]
-    km = kernel_model(model)
+    km = kernel_model(model, shared_table(model) if len(model.state_labels) == 4 else None)
 
     def forget(_ref: weakref.ref[Any], k: int = key) -> None:
         with _LOCK:
@@ -139,6 +150,36 @@ def kernel_form(model: Model) -> KernelModel:
             _CACHE.pop(next(iter(_CACHE)))
         _CACHE[key] = (weakref.ref(model, forget), km)
     return km
+
+
+def table_key(model: Model) -> tuple[Any, ...]:
+    """What the torsional model's table depends on: the pair, the stiffness, the eccentricity,
+    the friction and the torque (the static deflection is the unit of its error), not the
+    speed, the inertias or the damping."""
+    tm: Any = model
+    return (tm.pair, tm.stiffness, tm.eccentricity, tm.friction, float(tm.torque))
+
+
+def shared_table(model: Model) -> TorsionalTable:
+    """The torsional model's polynomial table (``torsional_table(model, lines=False)``), built
+    once per :func:`table_key` (module docstring)."""
+    key = table_key(model)
+    with _LOCK:
+        tab = _TABLES.get(key)
+    if tab is not None:
+        return tab
+    tab = torsional_table(model, lines=False)
+    with _LOCK:
+        while len(_TABLES) >= CACHE_SIZE:
+            _TABLES.pop(next(iter(_TABLES)))
+        _TABLES[key] = tab
+    return tab
+
+
+def table_ready(model: Model) -> bool:
+    """The torsional model's table is built (:func:`shared_table` costs nothing)."""
+    with _LOCK:
+        return table_key(model) in _TABLES
 
 
 def _x_scale(model: Model) -> float:
@@ -182,15 +223,27 @@ def propagate_kernel(model: Model, t_grid: FloatArray, settings: SolverSettings,
 
 def check_run(model: Model, t_grid: FloatArray, y0: FloatArray, rtol: float
               ) -> tuple[FloatArray, float]:
-    """The check run of the error estimate of a run at ``rtol``: at :data:`CHECK_TIGHTEN` times
-    the run's kernel tolerance (down to the kernel's 1e-14), from the start moved by
-    :data:`CHECK_NUDGE` of the state scale, and that tolerance. The closed-form pieces do not
-    depend on the tolerance; the nudge shows where rounding grows (an unstable or chaotic
-    response), as ``exact_contact``'s check does."""
+    """The check run of the error estimate of a run at ``rtol``, on ``t_grid``, and its
+    tolerance.
+
+    Every step of the run is halved: the run's steps end at the output times or where its
+    tolerance puts them, so the check steps over ``t_grid`` with the midpoints added (a step
+    the grid cut is cut in two) at :data:`CHECK_TIGHTEN` = 2^5 times the run's kernel
+    tolerance (down to the kernel's 1e-14; a step the tolerance set halves, the Dormand-Prince
+    5(4) step going as tol^(1/5)). Its error is then about 1/32 of the run's, and twice the
+    difference (the estimate's ``SAFETY``) bounds the run's error. A tighter tolerance alone
+    does not: where the grid, not the tolerance, sets the steps, two runs take the same steps
+    and agree. The start is moved by :data:`CHECK_NUDGE` of the state scale: the closed-form
+    pieces do not depend on the tolerance, and the nudge shows where rounding grows (an
+    unstable or chaotic response), as ``exact_contact``'s check does."""
     km = kernel_form(model)
     tol = max(kernel_tolerance(model, km, rtol) / CHECK_TIGHTEN, TOL_RANGE[0])
     start = np.asarray(y0, dtype=float) + CHECK_NUDGE * np.asarray(model.state_scale, float)
-    return run(km, t_grid, start, tol)[0], tol
+    t = np.asarray(t_grid, dtype=float)
+    both = np.empty(2 * t.size - 1)
+    both[0::2] = t
+    both[1::2] = 0.5 * (t[1:] + t[:-1])
+    return np.ascontiguousarray(run(km, both, start, tol)[0][:, 0::2]), tol
 
 
 def table_bound(model: Model, t_grid: FloatArray, y: FloatArray) -> float:

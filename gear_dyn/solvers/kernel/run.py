@@ -149,9 +149,11 @@ def _table_format() -> int:
     return int(re.search(r"#define GD_TABLE_FORMAT (\d+)", text)[1])  # type: ignore[index]
 
 
-def kernel_model(model: Any) -> KernelModel:
+def kernel_model(model: Any, table: TorsionalTable | None = None) -> KernelModel:
     """The kernel's form of a single-DOF model (``SDOFModel``: two states) or of an eccentric
-    torsional model (``TorsionalModel`` without backlash and transmission error).
+    torsional model (``TorsionalModel`` without backlash and transmission error), whose table
+    (``torsional_table(model, lines=False)``) may be given: it is the same for the pair at any
+    speed (:func:`gear_dyn.solvers.kernel_method.table_key`).
 
     The single-DOF model goes in with ``r_b1 = 1``, ``z1 = 1`` and its mesh frequency as the
     speed: the kernel's ``W = T1 / r_b1`` and ``f_m = z1 w1 / (2 pi)`` are then the model's
@@ -182,7 +184,8 @@ def kernel_model(model: Any) -> KernelModel:
                           float(model.mean_stiffness), 1.0, 1.0, 1.0, 0.0,
                           float(model.state_scale[0]), None)
         return KernelModel(c_model, tuple(keep), sd, par, 1.0, fm, float(model.phase0), 2)
-    tab = torsional_table(model, lines=False)  # polynomials: cheaper to step
+    # polynomials: cheaper to step
+    tab = torsional_table(model, lines=False) if table is None else table
     br, p_br = _arr(tab.breaks, np.float64, ctypes.c_double)
     cf, p_cf = _arr(tab.coef, np.float64, ctypes.c_double)
     fl, p_fl = _arr(np.zeros(br.size - 1), np.uint8, ctypes.c_ubyte)
