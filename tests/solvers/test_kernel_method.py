@@ -97,8 +97,8 @@ def test_a_run_from_a_later_start_and_phase() -> None:
 
 def test_auto_choice_and_refusal() -> None:
     """auto: the kernel for the eccentric torsional model over most of its hunting period or
-    once its table is built (gauss on short spans before), exact_contact for backlash; exact for the linear model; ``kernel``
-    asked for a model it does not step names what it steps."""
+    once its table is built (gauss on short spans before), exact_contact for backlash; exact for
+    the linear model; ``kernel`` asked for a model it does not step names what it steps."""
     bl = _backlash()
     t = time_grid(bl.mesh_frequency, 10 / bl.mesh_frequency, 64)
     assert resolve_method(bl, t, "auto") == "exact_contact"
