@@ -60,9 +60,14 @@ def error_scale(model: Model) -> float:
     return float(np.asarray(model.state_scale, dtype=float)[0])
 
 
-def error_series(model: Model, t: FloatArray, y: FloatArray) -> FloatArray:
-    """The series errors are measured on: ``dte`` output if the model has one, else state 0."""
-    out = model.outputs(np.asarray(t, dtype=float), y)
+def error_series(model: Model, t: FloatArray, y: FloatArray,
+                 excitations: dict[str, FloatArray] | None = None) -> FloatArray:
+    """The series errors are measured on: ``dte`` output if the model has one, else state 0.
+    ``excitations``: the model's excitations on ``t`` where the run has them (a kernel run's
+    table, passed to ``outputs``)."""
+    t = np.asarray(t, dtype=float)
+    out = (model.outputs(t, y) if excitations is None
+           else cast(Any, model).outputs(t, y, excitations=excitations))
     if "dte" in out:
         return np.asarray(out["dte"], dtype=float)
     return np.asarray(y[0], dtype=float)
@@ -173,7 +178,8 @@ def _kernel_estimate(model: Model, t_grid: FloatArray, y: FloatArray, x: FloatAr
     from gear_dyn.solvers.kernel_method import CHECK_TIGHTEN, check_run, table_bound
 
     start = time.perf_counter()
-    y_c, tol = check_run(model, t_grid, y[:, 0], settings.rtol)
+    y_c, tol, ex_c = check_run(model, t_grid, y[:, 0], settings.rtol)
+    x_c = error_series(model, t_grid, y_c, ex_c)
     table = table_bound(model, t_grid, y)
     cost = time.perf_counter() - start
     n_seq = int(stats.get("n_segments", 1)) + t_grid.size
@@ -182,7 +188,7 @@ def _kernel_estimate(model: Model, t_grid: FloatArray, y: FloatArray, x: FloatAr
                     f"added, a {CHECK_TIGHTEN:g} times tighter tolerance, {tol:.3g}) from a "
                     "state moved by 1e-12 over the whole span, plus the table's "
                     "interpolation error carried to the DTE",
-                    cost, steady_start, (x, None))
+                    cost, steady_start, (x, x_c))
     est["max_rel"] = est["max_rel"] + table
     est["table_part"] = table
     return est

@@ -204,7 +204,9 @@ def propagate_kernel(model: Model, t_grid: FloatArray, settings: SolverSettings,
     Returns
     -------
     y : ndarray (n_states, n_t)
-    stats : dict with n_events, kernel_tolerance, n_segments (table pieces crossed), nfev 0
+    stats : dict with n_events, kernel_tolerance, n_segments (table pieces crossed), nfev 0,
+        and for the torsional model ``excitations``: its table's ``e_ecc``, ``e_ecc_rate``,
+        ``stiffness``, ``phi1``, ``phi2`` on the grid (for ``TorsionalModel.outputs``)
 
     Raises
     ------
@@ -214,17 +216,27 @@ def propagate_kernel(model: Model, t_grid: FloatArray, settings: SolverSettings,
     km = kernel_form(model)
     tol = kernel_tolerance(model, km, settings.rtol)
     y_start = np.asarray(model.initial_state() if y0 is None else y0, dtype=float)
-    y, st = run(km, t_grid, y_start, tol)
+    y, st = run(km, t_grid, y_start, tol, values=True)
     pieces = km.table.breaks.size - 1
     span = (float(t_grid[-1]) - float(t_grid[0])) * km.mesh_frequency / km.period
-    return y, {"nfev": 0, "njev": 0, "nlu": 0, "n_segments": int(math.ceil(span * pieces)),
-               "n_events": st["n_events"], "kernel_tolerance": tol}
+    out = {"nfev": 0, "njev": 0, "nlu": 0, "n_segments": int(math.ceil(span * pieces)),
+           "n_events": st["n_events"], "kernel_tolerance": tol}
+    if "values" in st:  # the torsional model: its table on the grid, for the outputs
+        out["excitations"] = _excitations(km, st["values"])
+    return y, out
+
+
+def _excitations(km: KernelModel, v: FloatArray) -> dict[str, FloatArray]:
+    """The torsional table's values ``v`` (5, n) as ``TorsionalModel.outputs`` takes them."""
+    return {"e_ecc": v[0], "e_ecc_rate": v[1] * km.mesh_frequency, "stiffness": v[2],
+            "phi1": v[3], "phi2": v[4]}
 
 
 def check_run(model: Model, t_grid: FloatArray, y0: FloatArray, rtol: float
-              ) -> tuple[FloatArray, float]:
-    """The check run of the error estimate of a run at ``rtol``, on ``t_grid``, and its
-    tolerance.
+              ) -> tuple[FloatArray, float, dict[str, FloatArray] | None]:
+    """The check run of the error estimate of a run at ``rtol``, on ``t_grid``, its tolerance
+    and, for the torsional model, its table on the grid (as :func:`propagate_kernel`'s
+    ``excitations``; None for the single-DOF model).
 
     Every step of the run is halved: the run's steps end at the output times or where its
     tolerance puts them, so the check steps over ``t_grid`` with the midpoints added (a step
@@ -243,7 +255,9 @@ def check_run(model: Model, t_grid: FloatArray, y0: FloatArray, rtol: float
     both = np.empty(2 * t.size - 1)
     both[0::2] = t
     both[1::2] = 0.5 * (t[1:] + t[:-1])
-    return np.ascontiguousarray(run(km, both, start, tol)[0][:, 0::2]), tol
+    y, st = run(km, both, start, tol, values=True)
+    ex = _excitations(km, st["values"][:, 0::2]) if "values" in st else None
+    return np.ascontiguousarray(y[:, 0::2]), tol, ex
 
 
 def table_bound(model: Model, t_grid: FloatArray, y: FloatArray) -> float:

@@ -4,7 +4,8 @@
 #include <math.h>
 #include "gd_kernel.h"
 
-long gd_run(gd_state *s, const gd_model *m, long n, const double *t, double *y, int *status)
+long gd_run(gd_state *s, const gd_model *m, long n, const double *t, double *y, double *coef,
+            int *status)
 {
     int ns = m->tors ? 4 : 2, j;
     long i;
@@ -20,6 +21,7 @@ long gd_run(gd_state *s, const gd_model *m, long n, const double *t, double *y, 
             y[2 * i + 1] = s->v;
         } else {
             for (j = 0; j < 4; j++) y[4 * i + j] = q[j];
+            if (coef) gd_tors_coef(s, m, coef + 5 * i);
         }
         for (j = 0; j < ns; j++) {
             if (!isfinite(y[ns * i + j])) {

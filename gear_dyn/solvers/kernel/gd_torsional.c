@@ -91,22 +91,48 @@ static void overlap(const gd_lines *g, const double *kin, double dedp, double p,
     v[4] = g->mu >= 0.0 && total > 0.0 ? g->mu / total * t2 : 0.0;
 }
 
+/* the series' terms in order, each with cos and sin of its harmonic k of th (by rotation:
+ * both sums below walk the terms so) */
+typedef struct {
+    const gd_lines *g;
+    int i, k;                    /* the next term, the harmonic of ck, sk */
+    double c1, s1, ck, sk;       /* cos, sin of th and of k th */
+} terms;
+
+static void terms_start(terms *it, const gd_lines *g, double th)
+{
+    it->g = g;
+    it->i = it->k = 0;
+    it->c1 = cos(th);
+    it->s1 = sin(th);
+    it->ck = 1.0;
+    it->sk = 0.0;
+}
+
+/* the next term's amplitudes (a, b), it->k its harmonic, it->ck, it->sk cos and sin of k th;
+ * NULL after the last */
+static const double *terms_next(terms *it)
+{
+    if (it->i >= it->g->n_terms) return 0;
+    while (it->k < it->g->term_k[it->i]) {
+        double cn = it->ck * it->c1 - it->sk * it->s1;
+        it->sk = it->sk * it->c1 + it->ck * it->s1;
+        it->ck = cn;
+        it->k++;
+    }
+    return it->g->term_ab + 2 * it->i++;
+}
+
 void gd_lines_eval(const gd_lines *g, double p, double v[NQ])
 {
-    double th = 2.0 * PI * p / g->period, c1 = cos(th), s1 = sin(th), ck = 1.0, sk = 0.0;
     double kin[GD_NKIN] = {0.0}, rate = 0.0;
-    int k, i = 0;
-    for (k = 0; i < g->n_terms; k++) {
-        if (k > 0) {
-            double cn = ck * c1 - sk * s1;
-            sk = sk * c1 + ck * s1;
-            ck = cn;
-        }
-        for (; i < g->n_terms && g->term_k[i] == k; i++) {
-            const double *ab = g->term_ab + 2 * i;
-            kin[g->term_q[i]] += ab[0] * ck + ab[1] * sk;
-            if (g->term_q[i] == 0) rate += k * (ab[1] * ck - ab[0] * sk);
-        }
+    const double *ab;
+    terms it;
+    terms_start(&it, g, 2.0 * PI * p / g->period);
+    while ((ab = terms_next(&it)) != 0) {
+        int q = g->term_q[it.i - 1];
+        kin[q] += ab[0] * it.ck + ab[1] * it.sk;
+        if (q == 0) rate += it.k * (ab[1] * it.ck - ab[0] * it.sk);
     }
     overlap(g, kin, rate * 2.0 * PI / g->period, p, v);
 }
@@ -118,39 +144,34 @@ void gd_lines_eval(const gd_lines *g, double p, double v[NQ])
  * bound is below tol for every quantity, else x->degree = -1 (the series summed directly). */
 static void lines_expand(const gd_lines *g, double pm, double r, double tol, lexp *x)
 {
-    double w = 2.0 * PI / g->period, c1 = cos(w * pm), s1 = sin(w * pm), ck = 1.0, sk = 0.0;
+    double w = 2.0 * PI / g->period;
     static const double inv[MAX_LOCAL + 3] = {1.0, 1.0, 1.0 / 2, 1.0 / 3, 1.0 / 4, 1.0 / 5,
                                               1.0 / 6, 1.0 / 7, 1.0 / 8, 1.0 / 9, 1.0 / 10};
     double bound[NX][MAX_LOCAL + 1];
-    int k, i = 0, n, q;
+    const double *ab;
+    terms it;
+    int n, q;
     memset(x->c, 0, sizeof x->c);
     memset(bound, 0, sizeof bound);
     x->pm = pm;
     x->degree = -1;
-    for (k = 0; i < g->n_terms; k++) {
-        double f = k * w;
-        if (k > 0) {
-            double cn = ck * c1 - sk * s1;
-            sk = sk * c1 + ck * s1;
-            ck = cn;
-        }
-        for (; i < g->n_terms && g->term_k[i] == k; i++) {
-            const double *ab = g->term_ab + 2 * i;
-            double zr = ab[0] * ck + ab[1] * sk, zi = ab[0] * sk - ab[1] * ck;
-            int rows = g->term_q[i] == 0 ? 2 : 1, row;
-            for (row = 0; row < rows; row++) {
-                /* row 1: de_ecc/dp, the term's derivative, z i k w */
-                double yr = row ? -zi * f : zr, yi = row ? zr * f : zi;
-                double rem = sqrt(yr * yr + yi * yi) * f * r;
-                q = row ? GD_NKIN : g->term_q[i];
-                for (n = 0; n <= MAX_LOCAL; n++) {
-                    double t = yr, fn = f * inv[n + 1];
-                    x->c[q][n] += yr;
-                    bound[q][n] += rem;
-                    yr = -yi * fn;
-                    yi = t * fn;
-                    rem *= f * r * inv[n + 2];
-                }
+    terms_start(&it, g, w * pm);
+    while ((ab = terms_next(&it)) != 0) {
+        double f = it.k * w;
+        double zr = ab[0] * it.ck + ab[1] * it.sk, zi = ab[0] * it.sk - ab[1] * it.ck;
+        int rows = g->term_q[it.i - 1] == 0 ? 2 : 1, row;
+        for (row = 0; row < rows; row++) {
+            /* row 1: de_ecc/dp, the term's derivative, z i k w */
+            double yr = row ? -zi * f : zr, yi = row ? zr * f : zi;
+            double rem = sqrt(yr * yr + yi * yi) * f * r;
+            q = row ? GD_NKIN : g->term_q[it.i - 1];
+            for (n = 0; n <= MAX_LOCAL; n++) {
+                double t = yr, fn = f * inv[n + 1];
+                x->c[q][n] += yr;
+                bound[q][n] += rem;
+                yr = -yi * fn;
+                yi = t * fn;
+                rem *= f * r * inv[n + 2];
             }
         }
     }
@@ -327,6 +348,13 @@ int gd_tors_advance(gd_state *s, const gd_model *m, double t_end)
         }
     }
     return GD_OK;
+}
+
+void gd_tors_coef(const gd_state *s, const gd_model *m, double v[NQ])
+{
+    tctx q;
+    setup(&q, s, m);
+    tcoef(&q, s->t, v);
 }
 
 void gd_tors_outputs(const gd_state *s, const gd_model *m, double *out)
