@@ -535,12 +535,13 @@ class TorsionalModel:
         t = np.asarray(t, dtype=float)
         y = np.asarray(y, dtype=float)
         rb1, rb2 = self.pair.rb1, self.pair.rb2
-        lines = isinstance(self.stiffness, ContactLineStiffness)
+        stiff = self.stiffness
+        lines = isinstance(stiff, ContactLineStiffness)
         if excitations is not None and (lines or self._layout is None):
             ex = dict(excitations)
             ex["w2_kinematic"] = (ex["e_ecc_rate"] + rb1 * self.speed) / rb2
-            if lines:
-                ex["contact_length"] = ex["stiffness"] / self.stiffness.per_length
+            if isinstance(stiff, ContactLineStiffness):
+                ex["contact_length"] = ex["stiffness"] / stiff.per_length
         else:
             ex = self._kept_excitations(t)
         dte = rb1 * y[0] - rb2 * y[1]
