@@ -75,6 +75,22 @@ def child(calls: int) -> dict[str, object]:
         y0 = model.initial_state()
         out[f"{key}_kernel_run"] = med(lambda km=km, t=t, y0=y0, tol=tol: run(km, t, y0, tol),
                                        calls)
+        if key == "ecc":  # a short run (4 mesh periods) of a model built in the call
+            from gear_dyn.solvers import SolverSettings, integrate
+            from gear_dyn.solvers import kernel_method as kmod
+
+            short = t[: 4 * plan.settings.samples_per_period + 1]
+
+            def fresh(method: str, keep: bool, short=short, sc=sc) -> None:
+                if not keep:
+                    kmod._CACHE.clear()
+                    kmod._TABLES.clear()
+                m = build_plan(with_operating(sc, None, None, function="bench")).model
+                integrate(m, short, SolverSettings(method=method))
+
+            for method, keep, label in (("gauss", True, "gauss"), ("kernel", False, "cold"),
+                                        ("kernel", True, "kept")):
+                out[f"short_{label}"] = med(lambda m=method, k=keep: fresh(m, k), calls)
     return out
 
 
@@ -150,7 +166,12 @@ def main(argv: list[str] | None = None) -> int:
                      f"{m('after', f'{key}_kernel_run') * 1e3:.4g} ms | "
                      f"{m('before', f'{key}_first') * 1e3:.4g} ms / "
                      f"{m('after', f'{key}_first') * 1e3:.4g} ms |")
-    lines += ["", "Raw medians per child (s): " + json.dumps(
+    lines += ["", "A short run, 4 mesh periods of `eccentric_helical` (its model built in the "
+              "call), by method: `gauss` "
+              f"{m('after', 'short_gauss') * 1e3:.4g} ms; `kernel` with its table built "
+              f"{m('after', 'short_cold') * 1e3:.4g} ms, with the pair's table kept "
+              f"{m('after', 'short_kept') * 1e3:.4g} ms.",
+              "", "Raw medians per child (s): " + json.dumps(
         {k: [{kk: (float(f"{v:.4g}") if isinstance(v, float) else v) for kk, v in g.items()
               if kk != "gear_dyn"} for g in got[k]] for k in trees})]
     text = "\n".join(lines) + "\n"

@@ -157,3 +157,27 @@ def test_shared_table_holds_at_another_speed() -> None:
     # the check points are where the error peaks: off them it is below the stated figure (a
     # 1e-15 margin for rounding of k and the arms, whose errors are near it)
     assert np.all(err <= stated + 1e-15), (err, stated)
+
+
+def test_check_run_halves_the_steps_the_grid_sets() -> None:
+    """At rtol 1e-6 the packaged eccentric scene's steps are set by its output grid: a run at a
+    32 times tighter tolerance takes the same steps (no difference, nothing to state), while the
+    check run (every step halved: the grid's midpoints too) states an error above the run's
+    error against a run at the kernel's tightest tolerance (its own error far below)."""
+    from gear_dyn.solvers.kernel.run import run
+    from gear_dyn.solvers.kernel_method import CHECK_TIGHTEN, check_run, kernel_tolerance
+
+    plan = build_plan(load_scene("eccentric_helical"))
+    ecc = plan.model
+    t = time_grid(ecc.mesh_frequency, plan.t_end, plan.settings.samples_per_period)
+    km = kernel_form(ecc)
+    y0 = ecc.initial_state()
+    tol = kernel_tolerance(ecc, km, 1e-6)
+    y = run(km, t, y0, tol)[0]
+    same = run(km, t, y0, tol / CHECK_TIGHTEN)[0]
+    assert np.array_equal(y, same)
+    x, x_s = error_series(ecc, t, y), error_scale(ecc)
+    err = float(np.max(np.abs(x - error_series(ecc, t, run(km, t, y0, 1e-14)[0])))) / x_s
+    y_c, _, ex_c = check_run(ecc, t, y0, 1e-6)
+    stated = 2 * float(np.max(np.abs(x - error_series(ecc, t, y_c, ex_c)))) / x_s
+    assert err < stated < 4 * err, (err, stated)
