@@ -23,9 +23,10 @@ deflections) gets a looser control than the solvers' ``rtol`` (relative to the s
 means; the kernel runs at ``rtol / (1 + max |e| / x_s)`` (:func:`kernel_tolerance`, ``e`` the
 table's transmission error or eccentric offset). The stated error (:func:`check_run`,
 :func:`table_bound`, composed in :func:`gear_dyn.analysis.accuracy.estimate_error`) is twice the
-difference from a check run with every step halved (the output grid's midpoints added and a
-:data:`CHECK_TIGHTEN` = 2^5 times tighter tolerance: where the grid sets the steps a tighter
-tolerance alone changes nothing, where the tolerance does it halves them) from a start moved
+difference from a check run with every step halved (:func:`check_run`: the fixed times the
+steps end at halved, and a :data:`CHECK_TIGHTEN` = 2^5 times tighter tolerance: where those
+times set the steps a tighter tolerance alone changes nothing, where the tolerance does it
+halves them) from a start moved
 by :data:`CHECK_NUDGE` of the state scale (closed-form pieces do not depend on the tolerance:
 the nudge shows rounding that an unstable response amplifies), plus a bound on the table's
 interpolation error carried to the DTE.
@@ -45,7 +46,11 @@ from gear_dyn.errors import GearDynError, InputError
 from gear_dyn.models.base import Model
 from gear_dyn.solvers import kernel
 from gear_dyn.solvers.kernel.run import TOL_RANGE, KernelModel, kernel_model, run
-from gear_dyn.solvers.kernel.tables_torsional import TorsionalTable, torsional_table
+from gear_dyn.solvers.kernel.tables_torsional import (
+    TorsionalTable,
+    split_table,
+    torsional_table,
+)
 from gear_dyn.solvers.settings import SolverSettings
 
 FloatArray = NDArray[np.float64]
@@ -60,7 +65,7 @@ TABLE_SAFETY = 2.0
 #: models whose kernel form is kept
 CACHE_SIZE = 4
 
-_CACHE: dict[int, tuple[weakref.ref[Any], KernelModel]] = {}
+_CACHE: dict[tuple[int, bool], tuple[weakref.ref[Any], KernelModel]] = {}
 #: the torsional tables by :func:`table_key` (at most CACHE_SIZE)
 _TABLES: dict[Any, TorsionalTable] = {}
 _LOCK = threading.RLock()  # re-entrant: a weakref callback may run inside a locked block
@@ -131,22 +136,29 @@ def kernel_auto(model: Model, t_grid: FloatArray | None = None) -> bool:
     return km.table_error <= AUTO_TABLE_ERROR
 
 
-def kernel_form(model: Model) -> KernelModel:
+def kernel_form(model: Model, split: bool = False) -> KernelModel:
     """The model's kernel form, built on first use and kept while the model lives (threads of a
-    sweep share the cache under a lock; a model is built once per thread at most)."""
-    key = id(model)
+    sweep share the cache under a lock; a model is built once per thread at most). ``split``:
+    the torsional model's form on its table with every piece split at its middle (the check
+    run's, :func:`check_run`)."""
+    key = (id(model), split)
     with _LOCK:
         hit = _CACHE.get(key)
     if hit is not None and hit[0]() is model:
         return hit[1]
-    km = kernel_model(model, shared_table(model) if len(model.state_labels) == 4 else None)
+    table = None
+    if len(model.state_labels) == 4:
+        table = shared_table(model)
+        if split:
+            table = split_table(table)
+    km = kernel_model(model, table)
 
-    def forget(_ref: weakref.ref[Any], k: int = key) -> None:
+    def forget(_ref: weakref.ref[Any], k: tuple[int, bool] = key) -> None:
         with _LOCK:
             _CACHE.pop(k, None)
 
     with _LOCK:
-        while len(_CACHE) >= CACHE_SIZE:
+        while len(_CACHE) >= 2 * CACHE_SIZE:
             _CACHE.pop(next(iter(_CACHE)))
         _CACHE[key] = (weakref.ref(model, forget), km)
     return km
@@ -238,26 +250,30 @@ def check_run(model: Model, t_grid: FloatArray, y0: FloatArray, rtol: float
     and, for the torsional model, its table on the grid (as :func:`propagate_kernel`'s
     ``excitations``; None for the single-DOF model).
 
-    Every step of the run is halved: the run's steps end at the output times or where its
-    tolerance puts them, so the check steps over ``t_grid`` with the midpoints added (a step
-    the grid cut is cut in two) at :data:`CHECK_TIGHTEN` = 2^5 times the run's kernel
-    tolerance (down to the kernel's 1e-14; a step the tolerance set halves, the Dormand-Prince
-    5(4) step going as tol^(1/5)). Its error is then about 1/32 of the run's, and twice the
-    difference (the estimate's ``SAFETY``) bounds the run's error. A tighter tolerance alone
-    does not: where the grid, not the tolerance, sets the steps, two runs take the same steps
-    and agree. The start is moved by :data:`CHECK_NUDGE` of the state scale: the closed-form
-    pieces do not depend on the tolerance, and the nudge shows where rounding grows (an
-    unstable or chaotic response), as ``exact_contact``'s check does."""
+    Every step of the run is halved. The run's steps end where its tolerance puts them or at
+    fixed times: the output times for the single-DOF model (the check adds the grid's
+    midpoints), the table's piece edges for the torsional model (whose outputs come from the
+    steps' dense output; the check steps the table with every piece split at its middle,
+    :func:`~gear_dyn.solvers.kernel.tables_torsional.split_table`); and its tolerance is
+    :data:`CHECK_TIGHTEN` = 2^5 times the run's kernel tolerance (down to the kernel's 1e-14),
+    which halves a step the tolerance set (the Dormand-Prince 5(4) step goes as tol^(1/5)). Its
+    error is then about 1/32 of the run's, and twice the difference (the estimate's
+    ``SAFETY``) bounds the run's error. A tighter tolerance alone does not: where the fixed
+    times, not the tolerance, set the steps, two runs take the same steps and agree. The start
+    is moved by :data:`CHECK_NUDGE` of the state scale: the closed-form pieces do not depend on
+    the tolerance, and the nudge shows where rounding grows (an unstable or chaotic response),
+    as ``exact_contact``'s check does."""
     km = kernel_form(model)
     tol = max(kernel_tolerance(model, km, rtol) / CHECK_TIGHTEN, TOL_RANGE[0])
     start = np.asarray(y0, dtype=float) + CHECK_NUDGE * np.asarray(model.state_scale, float)
     t = np.asarray(t_grid, dtype=float)
+    if km.n_states == 4:
+        y, st = run(kernel_form(model, split=True), t, start, tol, values=True)
+        return y, tol, _excitations(km, st["values"])
     both = np.empty(2 * t.size - 1)
     both[0::2] = t
     both[1::2] = 0.5 * (t[1:] + t[:-1])
-    y, st = run(km, both, start, tol, values=True)
-    ex = _excitations(km, st["values"][:, 0::2]) if "values" in st else None
-    return np.ascontiguousarray(y[:, 0::2]), tol, ex
+    return np.ascontiguousarray(run(km, both, start, tol)[0][:, 0::2]), tol, None
 
 
 def table_bound(model: Model, t_grid: FloatArray, y: FloatArray) -> float:

@@ -37,6 +37,7 @@ typedef struct {                 /* one piece at constant inputs */
     const double *c;             /* the piece's coefficients [NQ][degree + 1] */
     double a, b;                 /* its phase edges */
     double t0, p0, fm, cd, t1, t2;
+    double t1_end;               /* gd_tors_run: the stretch's end time, exact (t0 + dt is not) */
     lexp x;                      /* the contact-line form's local kinematics */
 } tctx;
 
@@ -240,8 +241,51 @@ static void trhs(const tctx *q, double t, const double *y, double *dy)
 }
 
 
-/* advance y over dt (s) on one piece; s->h carries the step size from one call to the next */
-static int rk_piece(const tctx *q, gd_state *s, double *y, double dt)
+/* the outputs a run fills while it steps (gd_tors_run): times t[n], states y[n][4], the table's
+ * values coef[n][5] (or NULL), the next one i */
+typedef struct {
+    long n, i;
+    const double *t;
+    double *y, *coef;
+} sink;
+
+/* the outputs in (t_a, t_b] of the step from y (size h, stages k, end state yn) into o: yn at
+ * t_b, elsewhere the continuous extension of order 4 (Hairer, Norsett & Wanner 1993, II.6) */
+static void emit(const tctx *q, sink *o, double t_a, double t_b, double h, const double *y,
+                 const double *yn, double k[7][4])
+{
+    double rc[5][4];
+    int j, st, ready = 0;
+    for (; o->i < o->n && o->t[o->i] <= t_b; o->i++) {
+        double *out = o->y + 4 * o->i, th = (o->t[o->i] - t_a) / h;
+        if (o->t[o->i] == t_b || th >= 1.0) {
+            memcpy(out, yn, 4 * sizeof *out);
+        } else {
+            if (!ready) {
+                for (j = 0; j < 4; j++) {
+                    double dd = 0.0;
+                    for (st = 0; st < 7; st++) dd += gd_dp_dense[st] * k[st][j];
+                    rc[0][j] = y[j];
+                    rc[1][j] = yn[j] - y[j];
+                    rc[2][j] = h * k[0][j] - rc[1][j];
+                    rc[3][j] = rc[1][j] - h * k[6][j] - rc[2][j];
+                    rc[4][j] = h * dd;
+                }
+                ready = 1;
+            }
+            th = fmax(th, 0.0);
+            for (j = 0; j < 4; j++)
+                out[j] = rc[0][j] + th * (rc[1][j] + (1.0 - th) * (rc[2][j] + th * (rc[3][j]
+                         + (1.0 - th) * rc[4][j])));
+        }
+        if (o->coef) tcoef(q, o->t[o->i], o->coef + 5 * o->i);
+    }
+}
+
+/* advance y over dt (s) on one piece; s->h carries the step size from one call to the next;
+ * with o, the outputs inside the steps from their dense output (o NULL: the FMU's steps, the
+ * last one cut at the communication point) */
+static int rk_piece(const tctx *q, gd_state *s, double *y, double dt, sink *o)
 {
     const double *sc = q->m->tors->q_scale;
     double tol = s->par[GD_TOL], t = 0.0, h = s->h, k[7][4], yt[4];
@@ -272,6 +316,7 @@ static int rk_piece(const tctx *q, gd_state *s, double *y, double dt)
             h *= fmax(0.2, 0.9 * pow(err, -0.2));
             continue;
         }
+        if (o) emit(q, o, q->t0 + t, last ? q->t1_end : q->t0 + t + h, h, y, yt, k);
         t = last ? dt : t + h;
         memcpy(y, yt, sizeof yt);
         memcpy(k[0], k[6], sizeof k[0]);
@@ -333,7 +378,7 @@ int gd_tors_advance(gd_state *s, const gd_model *m, double t_end)
         if (m->tors->lines)   /* the phases this stretch steps over: [p0, p0 + f_m dt] */
             lines_expand(m->tors->lines, q.p0 + 0.5 * q.fm * dt, 0.5 * fabs(q.fm * dt),
                          GD_LOCAL_ERROR * m->x_scale, &q.x);
-        rc = rk_piece(&q, s, s->q, dt);
+        rc = rk_piece(&q, s, s->q, dt, 0);
         if (rc != GD_OK) return rc;
         if (hit) {
             s->t = dt == t_end - s->t ? t_end : s->t + dt;
@@ -379,4 +424,70 @@ void gd_tors_outputs(const gd_state *s, const gd_model *m, double *out)
     out[GT_ECC] = v[0];
     out[GT_TF1] = n * v[3];
     out[GT_TF2] = n * v[4];
+}
+
+long gd_tors_run(gd_state *s, const gd_model *m, long n, const double *t, double *y,
+                 double *coef, int *status)
+{
+    /* the mesh phase runs with the time, p0 + f_m (t - t0) (the speed is constant over a run):
+     * each piece's end time comes from its edge's phase, cycles + b (cycles: the table's
+     * periods passed), not from sums of the steps, which drift by rounding */
+    double t0 = s->t, p0 = s->frac, cycles = 0.0, period = m->breaks[m->n_pieces];
+    sink o;
+    int j;
+    o.n = n;
+    o.i = 0;
+    o.t = t;
+    o.y = y;
+    o.coef = coef;
+    *status = GD_OK;
+    while (o.i < n) {
+        tctx q;
+        double t_edge, t_stop;
+        int hit = 1, rc;
+        long first = o.i;
+        setup(&q, s, m);
+        t_edge = t0 + (cycles + q.b - p0) / q.fm;
+        t_stop = t_edge;
+        if (t[n - 1] < t_edge && (t_edge - t[n - 1]) * q.fm >= 1e-12) {
+            t_stop = t[n - 1];   /* the run ends inside this piece */
+            hit = 0;
+        }
+        for (; o.i < n && t[o.i] <= s->t; o.i++) {   /* outputs at the stretch's start */
+            memcpy(y + 4 * o.i, s->q, 4 * sizeof *y);
+            if (coef) tcoef(&q, t[o.i], coef + 5 * o.i);
+        }
+        if (o.i < n && t_stop > s->t) {
+            double dt = t_stop - s->t;
+            q.t1_end = t_stop;
+            if (m->tors->lines)
+                lines_expand(m->tors->lines, q.p0 + 0.5 * q.fm * dt, 0.5 * fabs(q.fm * dt),
+                             GD_LOCAL_ERROR * m->x_scale, &q.x);
+            rc = rk_piece(&q, s, s->q, dt, &o);
+            if (rc != GD_OK) {
+                *status = rc;
+                return o.i;
+            }
+        }
+        for (; first < o.i; first++) {
+            for (j = 0; j < 4; j++) {
+                if (!isfinite(y[4 * first + j])) {
+                    *status = GD_ERR_STEP;
+                    return first;
+                }
+            }
+        }
+        s->t = t_stop;
+        if (hit) {
+            s->frac = m->breaks[++s->piece];
+            if (s->piece == m->n_pieces) {
+                s->piece = 0;
+                s->frac = 0.0;
+                cycles += period;
+            }
+        } else {
+            s->frac = fmin(fmax(p0 + q.fm * (t_stop - t0) - cycles, q.a), q.b);
+        }
+    }
+    return n;
 }

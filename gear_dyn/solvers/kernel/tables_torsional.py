@@ -237,6 +237,24 @@ def torsional_table(model: Any, lines: bool = True) -> TorsionalTable:
                      f"table error {TABLE_ERROR:g} (reached {float(np.max(err)):.3g})")
 
 
+def split_table(table: TorsionalTable) -> TorsionalTable:
+    """The polynomial table with every piece split at its middle: the same polynomials (each
+    half re-expanded in its own local variable, exactly up to rounding) on twice the pieces, so
+    a stepper whose steps end at piece edges takes half steps where the edges set them."""
+    if table.lines is not None:
+        raise InputError("split_table: the contact-line form has no polynomials to split")
+    a, b = table.breaks[:-1], table.breaks[1:]
+    br = np.empty(2 * a.size + 1)
+    br[0::2], br[1::2] = table.breaks, 0.5 * (a + b)
+    s, to_mono = node_matrix(table.degree)
+    p, q, d = table.coef.shape
+    coef = np.empty((2 * p, q, d))
+    for half, shift in ((0, -1.0), (1, 1.0)):  # s = (s' -+ 1) / 2 on the two halves
+        m = to_mono @ np.vander(0.5 * (s + shift), d)  # coefficients -> the half's
+        coef[half::2] = (table.coef.reshape(p * q, d) @ m.T).reshape(p, q, d)
+    return TorsionalTable(br, table.degree, coef, table.period, dict(table.max_error))
+
+
 def _fit(to_mono: FloatArray, vals: FloatArray) -> FloatArray:
     """Coefficients (pieces, 5, degree + 1) from values (5, pieces, nodes) at the nodes."""
     q, p, n = vals.shape
