@@ -6,7 +6,9 @@ polynomials on every piece, :func:`~gear_dyn.solvers.kernel.tables_torsional.tor
 with ``lines=False``) and the kernel advances it over the grid in one call
 (:func:`gear_dyn.solvers.kernel.run.run`): pieces with constant coefficients in closed form,
 the others by the Dormand-Prince 5(4) pair (Dormand & Prince 1980), backlash contact changes
-located on the closed form or the dense output.
+located on the closed form or the dense output; the torsional model's steps end at its
+table's piece edges only, its states at the output times from the steps' dense output (of
+order 4; Hairer, Norsett & Wanner 1993, II.6).
 
 Where it applies (:func:`kernel_applies`): the single-DOF mesh equation (with or without
 backlash and a mesh-periodic transmission error) and the eccentric torsional model without
