@@ -213,11 +213,10 @@ static void tcoef(const tctx *q, double t, double v[NQ])
         return;
     }
     s = (2.0 * p - q->a - q->b) / (q->b - q->a);
-    for (k = 0; k < NQ; k++, c += d + 1) {
-        double acc = c[0];
-        for (j = 1; j <= d; j++) acc = acc * s + c[j];
-        v[k] = acc;
-    }
+    /* the five Horner sums side by side: independent chains, not one after another */
+    for (k = 0; k < NQ; k++) v[k] = c[k * (d + 1)];
+    for (j = 1; j <= d; j++)
+        for (k = 0; k < NQ; k++) v[k] = v[k] * s + c[k * (d + 1) + j];
 }
 
 static double force(const tctx *q, const double *v, const double *y)
