@@ -65,10 +65,11 @@ def piecewise_values(breaks: FloatArray, coef: FloatArray, phase: FloatArray,
     i = np.clip(np.searchsorted(breaks, p, side="right") - 1, 0, breaks.size - 2)
     a, b = breaks[i], breaks[i + 1]
     s = (2 * p - a - b) / (b - a)
-    # one matrix product per quantity: the coefficients of each point's piece times its
-    # powers of s (Horner in numpy would pass over (n, quantities) arrays degree times)
-    powers = np.vander(s, coef.shape[2])
-    return np.einsum("nqd,nd->qn", coef[i], powers, optimize=False)
+    c = coef[i]
+    acc = c[:, :, 0].copy()
+    for j in range(1, c.shape[2]):  # Horner
+        acc = acc * s[:, None] + c[:, :, j]
+    return acc.T
 
 
 @dataclass(frozen=True)
