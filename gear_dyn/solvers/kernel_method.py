@@ -68,7 +68,7 @@ TABLE_SAFETY = 2.0
 CACHE_SIZE = 4
 
 _CACHE: dict[tuple[int, bool], tuple[weakref.ref[Any], KernelModel]] = {}
-#: the torsional tables by :func:`table_key` (at most CACHE_SIZE)
+#: the torsional tables by :func:`table_key` and split (at most 2 CACHE_SIZE)
 _TABLES: dict[Any, TorsionalTable] = {}
 _LOCK = threading.RLock()  # re-entrant: a weakref callback may run inside a locked block
 
@@ -148,11 +148,7 @@ def kernel_form(model: Model, split: bool = False) -> KernelModel:
         hit = _CACHE.get(key)
     if hit is not None and hit[0]() is model:
         return hit[1]
-    table = None
-    if len(model.state_labels) == 4:
-        table = shared_table(model)
-        if split:
-            table = split_table(table)
+    table = shared_table(model, split) if len(model.state_labels) == 4 else None
     km = kernel_model(model, table)
 
     def forget(_ref: weakref.ref[Any], k: tuple[int, bool] = key) -> None:
@@ -174,17 +170,18 @@ def table_key(model: Model) -> tuple[Any, ...]:
     return (tm.pair, tm.stiffness, tm.eccentricity, tm.friction, float(tm.torque))
 
 
-def shared_table(model: Model) -> TorsionalTable:
+def shared_table(model: Model, split: bool = False) -> TorsionalTable:
     """The torsional model's polynomial table (``torsional_table(model, lines=False)``), built
-    once per :func:`table_key` (module docstring)."""
-    key = table_key(model)
+    once per :func:`table_key` (module docstring); ``split``: with every piece split at its
+    middle (:func:`~gear_dyn.solvers.kernel.tables_torsional.split_table`, the check run's)."""
+    key = (table_key(model), split)
     with _LOCK:
         tab = _TABLES.get(key)
     if tab is not None:
         return tab
-    tab = torsional_table(model, lines=False)
+    tab = split_table(shared_table(model)) if split else torsional_table(model, lines=False)
     with _LOCK:
-        while len(_TABLES) >= CACHE_SIZE:
+        while len(_TABLES) >= 2 * CACHE_SIZE:
             _TABLES.pop(next(iter(_TABLES)))
         _TABLES[key] = tab
     return tab
@@ -193,7 +190,7 @@ def shared_table(model: Model) -> TorsionalTable:
 def table_ready(model: Model) -> bool:
     """The torsional model's table is built (:func:`shared_table` costs nothing)."""
     with _LOCK:
-        return table_key(model) in _TABLES
+        return (table_key(model), False) in _TABLES
 
 
 def _x_scale(model: Model) -> float:
