@@ -38,6 +38,10 @@ typedef struct {                 /* one piece at constant inputs */
     double a, b;                 /* its phase edges */
     double t0, p0, fm, cd, t1, t2;
     double t1_end;               /* gd_tors_run: the stretch's end time, exact (t0 + dt is not) */
+    double s0, s1;               /* the local variable s = s0 + s1 (t - t0) on the piece */
+    double inv1, inv2;           /* 1 / I1, 1 / I2 */
+    int degree;
+    const gd_lines *lines;
     lexp x;                      /* the contact-line form's local kinematics */
 } tctx;
 
@@ -203,30 +207,31 @@ static void lines_at(const gd_lines *g, const lexp *x, double p, double v[NQ])
     overlap(g, kin, kin[GD_NKIN], p, v);
 }
 
-static void tcoef(const tctx *q, double t, double v[NQ])
+static void tcoef(const tctx *restrict q, double t, double *restrict v)
 {
-    int d = q->m->degree, k, j;
-    double p = q->p0 + q->fm * (t - q->t0), s;
+    int d = q->degree, k, j;
+    double s;
     const double *c = q->c;
-    if (q->m->tors->lines) {
-        lines_at(q->m->tors->lines, &q->x, p, v);
+    if (q->lines) {
+        lines_at(q->lines, &q->x, q->p0 + q->fm * (t - q->t0), v);
         return;
     }
-    s = (2.0 * p - q->a - q->b) / (q->b - q->a);
+    s = q->s0 + q->s1 * (t - q->t0);
     /* the five Horner sums side by side: independent chains, not one after another */
     for (k = 0; k < NQ; k++) v[k] = c[k * (d + 1)];
     for (j = 1; j <= d; j++)
         for (k = 0; k < NQ; k++) v[k] = v[k] * s + c[k * (d + 1) + j];
 }
 
-static double force(const tctx *q, const double *v, const double *y)
+static double force(const tctx *restrict q, const double *restrict v, const double *restrict y)
 {
     const gd_model *m = q->m;
     return v[2] * (m->rb1 * y[0] - m->rb2 * y[1] + v[0])
         + q->cd * (m->rb1 * y[2] - m->rb2 * y[3] + q->fm * v[1]);
 }
 
-static void trhs(const tctx *q, double t, const double *y, double *dy)
+static void trhs(const tctx *restrict q, double t, const double *restrict y,
+                 double *restrict dy)
 {
     const gd_model *m = q->m;
     double v[NQ], f, n;
@@ -235,8 +240,8 @@ static void trhs(const tctx *q, double t, const double *y, double *dy)
     n = f > 0.0 ? f : 0.0;
     dy[0] = y[2];
     dy[1] = y[3];
-    dy[2] = (q->t1 - m->rb1 * f + n * v[3]) / m->tors->inertia[0];
-    dy[3] = (m->rb2 * f - q->t2 + n * v[4]) / m->tors->inertia[1];
+    dy[2] = (q->t1 - m->rb1 * f + n * v[3]) * q->inv1;
+    dy[3] = (m->rb2 * f - q->t2 + n * v[4]) * q->inv2;
 }
 
 
@@ -341,6 +346,12 @@ static void setup(tctx *q, const gd_state *s, const gd_model *m)
     q->t1 = s->par[GD_TORQUE];
     q->t2 = g->load_fixed >= 0.0 ? g->load_fixed : w * (m->rb2 + g->arm[1]);
     q->x.degree = -1;
+    q->s0 = (2.0 * q->p0 - q->a - q->b) / (q->b - q->a);
+    q->s1 = 2.0 * q->fm / (q->b - q->a);
+    q->inv1 = 1.0 / g->inertia[0];
+    q->inv2 = 1.0 / g->inertia[1];
+    q->degree = m->degree;
+    q->lines = g->lines;
 }
 
 /* static deflection with delta' = 0 and no rigid-body momentum (TorsionalModel.initial_state) */
