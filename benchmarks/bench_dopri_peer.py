@@ -1,7 +1,6 @@
 """gear_dyn's best method against a compiled Dormand-Prince 5(4) peer on three scenes.
 
 Run:  python benchmarks/bench_dopri_peer.py [--repeats 5] [--calls 20] [--out DIR] [--record]
-      [--scenes NAME ...]  (only these scenes; --record then keeps the other rows)
 (needs numba)
 
 The peer is what an engineer who writes compiled code would use: Dormand-Prince 5(4) (Dormand
@@ -18,12 +17,14 @@ same output grid (64 samples per mesh period). Same equations, same grid, same e
   steps over the contact changes (the force is continuous, its step control sees the kink);
   gear_dyn's ``exact_contact`` (the compiled contact walk), reference the same;
 - ``eccentric_helical`` (the scene's 630 mesh periods): the torsional model's force form with
-  eccentricity and friction, the peer handed the model's own coefficient table (the degree-10
-  polynomial of ``e, e', k, phi1, phi2`` on every smooth piece, built before timing) and
-  restarted at every piece; gear_dyn's ``gauss`` (which builds the table in every timed call)
-  and ``kernel`` (the native FMU's compiled stepper on its own table: built in every timed
-  call, and kept between calls as the peer's is), reference gear_dyn's gauss at rtol 1e-13
-  (checked against the peer at 1e-13).
+  eccentricity and friction on the kernel method's coefficient table (the polynomial of
+  ``e, de/dp, k, phi1, phi2`` on every piece between switching instants, in the mesh phase,
+  built before timing), which the peer is handed and steps restarted at every piece: both
+  sides integrate the same equations; gear_dyn's ``kernel`` (the native FMU's compiled
+  stepper), its table built in every timed call, and kept between calls as the peer's is (it
+  is kept per pair: ``kernel_method.shared_table``); reference the kernel at its tightest
+  tolerance (1e-14) on that table (checked against the peer at rtol 1e-13). ``gauss``, which
+  fits its own table and is the slower route, is not in the comparison.
 
 For each target (1e-8, 1e-10) each side takes the loosest rtol of the grid 10^(-k/4) that
 meets it (the exact routes have none). CPU time (``time.process_time``), one BLAS thread,
@@ -260,18 +261,21 @@ def sdof_case(model: Any, t: np.ndarray, exact: Callable[..., Any]) -> Case:
 
 def torsional_case(model: Any, t: np.ndarray, integrate: Callable[..., Any],
                    settings: Callable[[float], Any], forget: Callable[[], None] | None,
-                   ref: np.ndarray) -> Case:
-    """eccentric_helical: the peer gets the model's own coefficient table (the polynomial
-    of ``e, e', k, phi1, phi2`` on each smooth piece of the gauss route's table) built before
-    timing, free; gear_dyn's method (``settings(rtol)``) at the loosest rtol of the same grid
-    that meets the target, ``forget()`` run before each call (its table then built in every
-    timed call; None: kept between calls, as the peer's). ``ref``: the reference dte."""
-    table = model._table
-    pieces = [table._arrays[b] for b in sorted(table._arrays)]
-    starts = np.concatenate([a[0] for a in pieces])
-    mids = np.concatenate([a[1] for a in pieces])
-    inv_half = np.concatenate([a[2] for a in pieces])
-    coefs = np.ascontiguousarray(np.concatenate([a[3] for a in pieces]))
+                   ref: np.ndarray, table: Any) -> Case:
+    """eccentric_helical: the peer gets the kernel method's coefficient table (``table``, the
+    polynomial of ``e, de/dp, k, phi1, phi2`` on each piece between switching instants, in the
+    mesh phase), built before timing, free; gear_dyn's method (``settings(rtol)``) at the
+    loosest rtol of the same grid that meets the target, ``forget()`` run before each call (its
+    table then built in every timed call; None: kept between calls, as the peer's). ``ref``:
+    the reference dte (from the same table)."""
+    fm = float(model.mesh_frequency)
+    a, b = table.breaks[:-1], table.breaks[1:]
+    starts = a / fm
+    mids = 0.5 * (a + b) / fm
+    inv_half = 2.0 * fm / (b - a)
+    # (pieces, 5, degree + 1) in phase -> (pieces, degree + 1, 5) with e' = f_m de/dp
+    coefs = np.ascontiguousarray(table.coef.transpose(0, 2, 1))
+    coefs[:, :, 1] *= fm
     keep = starts < t[-1]
     starts, mids, inv_half, coefs = starts[keep], mids[keep], inv_half[keep], coefs[keep]
     cuts = np.append(starts, t[-1])
@@ -308,6 +312,8 @@ class Case:
     ref: np.ndarray | None = None  # None: ``ours(0)`` (an exact route)
 
 
+#: the scenes (``--scenes``)
+SCENES = ("helicopter_tail", "helicopter_tail_backlash", "eccentric_helical")
 #: the rtol grid both sides pick from (the loosest that meets the target)
 RTOLS = [10.0 ** (-k / 4) for k in range(16, 57)]
 
@@ -325,59 +331,13 @@ def loosest(fn: Callable[[float], np.ndarray], ref: np.ndarray, x_s: float, targ
     return None, best
 
 
-#: the scenes, in the order of the table
-SCENES = ["helicopter_tail", "helicopter_tail_backlash", "eccentric_helical"]
-
-
-def merge_rows(old: list[str], new: list[str], scenes: list[str]) -> list[str]:
-    """The lines of a run of ``scenes`` alone (``new``) with the other scenes' table rows,
-    verdicts and notes of the recorded file (``old``); its command line names both runs."""
-    def scene(line: str) -> str | None:
-        if line.startswith("| ") and not line.startswith("| scene"):
-            return line.split("|")[1].split()[0]
-        if line.startswith("- ") and "," in line:
-            return line[2:].split(",")[0].split()[0]
-        if line.startswith("eccentric_helical's reference"):
-            return "eccentric_helical"
-        return None
-
-    def rank(line: str) -> int:
-        name = scene(line)
-        return SCENES.index(name) if name in SCENES else len(SCENES)
-
-    kept = {i: ln for i, ln in enumerate(old) if scene(ln) not in (None, *scenes)}
-    out, done = [], set()
-    for ln in new:
-        if ln.startswith("Command:"):  # the recorded run's command for the other rows
-            before = next((o for o in old if o.startswith("Command:")), "").split("`")
-            head, _, rest = ln.partition("`. ")
-            if len(before) > 2:
-                head += f"` for the rows of {', '.join(scenes)}, `{before[1]}"
-            out.append(f"{head}` for the others. {rest}")
-            continue
-        kind = "row" if ln.startswith("| ") else "verdict" if ln.startswith("- ") else None
-        if kind and kind not in done and scene(ln) is not None:
-            done.add(kind)
-            same = [o for o in kept.values() if o[:1] == ln[:1]]
-            mine = [n for n in new if n[:1] == ln[:1] and scene(n) is not None]
-            out.extend(sorted(same + mine, key=rank))
-            continue
-        if kind and scene(ln) is not None:
-            continue  # already placed with its kind
-        out.append(ln)
-    notes = [o for o in kept.values() if o.startswith("eccentric_helical's reference")]
-    if notes and notes[0] not in out:
-        at = next(i for i, ln in enumerate(out) if ln.startswith("The exact routes"))
-        out[at - 1:at - 1] = notes
-    return out
-
-
 def main(argv: list[str] | None = None) -> int:
     from gear_dyn.scene import build_plan, load_scene
     from gear_dyn.scene.packaged import resolve_scene
     from gear_dyn.solvers import SolverSettings, integrate, kernel_method
     from gear_dyn.solvers.contact_exact import propagate_contact_exact
     from gear_dyn.solvers.exact import propagate_exact
+    from gear_dyn.solvers.kernel.run import run as run_kernel
     from gear_dyn.solvers.simulate_bare import output_grid
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -385,9 +345,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--calls", type=int, default=20)
     ap.add_argument("--out", type=Path, default=HERE / "out")
     ap.add_argument("--record", action="store_true")
-    ap.add_argument("--scenes", nargs="+", choices=SCENES, default=None,
-                    help="run only these scenes; with --record, the recorded file keeps the "
-                         "other scenes' rows")
+    ap.add_argument("--scenes", nargs="+", default=list(SCENES), choices=SCENES,
+                    help="the scenes to run (default: all); the file written holds only these")
     args = ap.parse_args(argv)
     import gear_dyn
 
@@ -397,41 +356,43 @@ def main(argv: list[str] | None = None) -> int:
         return build_plan(load_scene(resolve_scene(name)))
 
     cases: list[tuple[str, str, str, Case, int]] = []
-    plan = plan_of("helicopter_tail")
-    model = plan.model
-    t = output_grid(model, float(plan.t_end), plan.settings)
-    cases.append(("helicopter_tail", "exact", "200 mesh periods",
-                  sdof_case(model, t, propagate_exact), 0))
-    plan = plan_of("helicopter_tail_backlash")
-    model = plan.model.at_mesh_frequency(plan.model.natural_frequency)  # the mesh resonance
-    t = output_grid(model, 200 / model.mesh_frequency, plan.settings)
-    n_changes = propagate_contact_exact(model, t)[1]["n_contact_events"]
-    cases.append(("helicopter_tail_backlash at f_m = f_n", "exact_contact",
-                  f"200 mesh periods, {n_changes} contact changes",
-                  sdof_case(model, t, propagate_contact_exact), 0))
+    if "helicopter_tail" in args.scenes:
+        plan = plan_of("helicopter_tail")
+        model = plan.model
+        t = output_grid(model, float(plan.t_end), plan.settings)
+        cases.append(("helicopter_tail", "exact", "200 mesh periods",
+                      sdof_case(model, t, propagate_exact), 0))
+    if "helicopter_tail_backlash" in args.scenes:
+        plan = plan_of("helicopter_tail_backlash")
+        model = plan.model.at_mesh_frequency(plan.model.natural_frequency)  # the resonance
+        t = output_grid(model, 200 / model.mesh_frequency, plan.settings)
+        n_changes = propagate_contact_exact(model, t)[1]["n_contact_events"]
+        cases.append(("helicopter_tail_backlash at f_m = f_n", "exact_contact",
+                      f"200 mesh periods, {n_changes} contact changes",
+                      sdof_case(model, t, propagate_contact_exact), 0))
     plan = plan_of("eccentric_helical")
     model = plan.model
     t = output_grid(model, float(plan.t_end), plan.settings)
-    ref_settings = SolverSettings(method="gauss", rtol=1e-13)
-    ref = integrate(model, t, ref_settings)[0]  # builds the table the peer is handed
-    ref = model.pair.rb1 * ref[0] - model.pair.rb2 * ref[1]
-    table = model._table
+    table = kernel_method.shared_table(model)  # the table both sides are handed
+    # the reference: the kernel at its tightest tolerance on that table (checked against the
+    # peer at rtol 1e-13 below)
+    km = kernel_method.kernel_form(model)
+    ref_y = run_kernel(km, t, np.asarray(model.initial_state(), dtype=float), 1e-14)[0]
+    ref = model.pair.rb1 * ref_y[0] - model.pair.rb2 * ref_y[1]
 
-    def forget_gauss() -> None:
-        table._arrays.clear()
-        table._blocks.clear()
+    def forget_kernel() -> None:
+        kernel_method._CACHE.clear()
+        kernel_method._TABLES.clear()
 
     span = "630 mesh periods (the scene's span)"
-    for method, forget, label in (
-            ("gauss", forget_gauss, "gauss"),
-            ("kernel", kernel_method._CACHE.clear, "kernel (its table built in the call)"),
-            ("kernel", None, "kernel (its table kept, as the peer's)")):
-        cases.append(("eccentric_helical", label, span, torsional_case(
-            model, t, integrate, lambda r, m=method: SolverSettings(method=m, rtol=r), forget,
-            ref), 1))
+    if "eccentric_helical" in args.scenes:
+        for forget, label in ((forget_kernel, "kernel (its table built in the call)"),
+                              (None, "kernel (its table kept, as the peer's)")):
+            cases.append(("eccentric_helical", label, span, torsional_case(
+                model, t, integrate, lambda r: SolverSettings(method="kernel", rtol=r), forget,
+                ref, table), 1))
 
-    if args.scenes is not None:
-        cases = [c for c in cases if c[0].split()[0] in args.scenes]
+    load = os.getloadavg()
     jit = 0.0
     for *_x, case, _kind in cases:  # one compiled peer per scene kind (linear, backlash, torsional)
         start = time.process_time()
@@ -446,21 +407,20 @@ def main(argv: list[str] | None = None) -> int:
             ts.append(time.process_time() - t0)
         return statistics.median(ts)
 
+    scenes = "" if list(args.scenes) == list(SCENES) else " --scenes " + " ".join(args.scenes)
     lines = [
         "# gear_dyn's best method against a compiled Dormand-Prince 5(4) peer",
         "",
-        "Command: `python benchmarks/bench_dopri_peer.py "
-        + ("" if args.scenes is None else f"--scenes {' '.join(args.scenes)} ")
-        + f"--repeats {args.repeats} --calls {args.calls}`. numba {numba.__version__}; peer JIT "
-        f"compile time {jit:.3g} s CPU "
-        "(the three compiled peers; not in the figures). CPU time per run (64 samples per "
-        "mesh period), "
+        f"Command: `python benchmarks/bench_dopri_peer.py --repeats {args.repeats} --calls "
+        f"{args.calls}{scenes}`. numba {numba.__version__}; peer JIT compile time "
+        f"{jit:.3g} s CPU (the compiled peers of these scenes; not in the figures). CPU time "
+        "per run (64 samples per mesh period), "
         f"medians of {args.calls} calls, median over {args.repeats} interleaved repeats, one "
         "BLAS thread. Error: max |dte - dte_ref| / (W/k_m) on the output grid, against "
         "gear_dyn's exact route (helicopter tail scenes; its own error is rounding) or "
-        "gear_dyn's gauss at rtol 1e-13 (eccentric_helical; the peer is handed the gauss "
-        "route's coefficient table, the kernel method fits its own, whose difference from it "
-        "bounds how close the kernel can come to this reference). Each side takes the loosest "
+        "gear_dyn's kernel at its tightest tolerance, 1e-14 (eccentric_helical; the peer is "
+        "handed the kernel method's coefficient table, so both integrate the same equations; "
+        "gauss, which fits its own table, is not compared). Each side takes the loosest "
         "rtol of the grid 10^(-k/4) that meets the target (gear_dyn's exact routes have none; "
         "its rtol stops at 1e-13).",
         "",
@@ -473,8 +433,9 @@ def main(argv: list[str] | None = None) -> int:
         ref = case.ours(0.0) if case.ref is None else case.ref
         if kind and not notes:
             tight = float(np.max(np.abs(case.peer(1e-13) - ref)) / case.x_s)
-            notes.append(f"eccentric_helical's reference (gear_dyn's gauss at rtol 1e-13) "
-                           f"and the peer at rtol 1e-13 differ by {tight:.1g} of W/k_m.")
+            notes.append(f"eccentric_helical's reference (gear_dyn's kernel at tolerance "
+                         f"1e-14) and the peer at rtol 1e-13, on the same table, differ by "
+                         f"{tight:.1g} of W/k_m.")
         for target in (1e-8, 1e-10):
             rtol, err = loosest(case.peer, ref, case.x_s, target)
             assert rtol is not None, (name, target)
@@ -504,17 +465,16 @@ def main(argv: list[str] | None = None) -> int:
             lines.append(f"| {name} | {run} | {target:g} | {rtol:.3g} | {err:.2g} | "
                          f"{statistics.median(tp) * 1e3:.3g} ms | {label} | {err_txt} | "
                          f"{statistics.median(to) * 1e3:.3g} ms | {ratio:.2f}x |")
+    notes.append(f"Machine load (1-minute load average) before / after the measurement: "
+                 f"{load[0]:.2f} / {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores.")
     lines += ["", "Target: gear_dyn at least 3x faster than the peer (peer / gear_dyn >= 3):",
               ""] + [f"- {v}" for v in verdicts] + [""] + notes + [
         "", "The exact routes' own error is rounding: tests/solvers/test_kernel.py holds the "
         "linear one to 1e-12 of W/k_m against a step-by-step scipy expm reference, "
         "tests/solvers/test_contact_exact.py the contact walk against event-locating DOP853.",
         ""]
-    out_dir = HERE / "results" if args.record else args.out
-    if args.scenes is not None and (out_dir / "dopri_peer.md").exists():
-        lines = merge_rows((out_dir / "dopri_peer.md").read_text().splitlines(), lines,
-                           args.scenes)
     text = "\n".join(lines) + "\n"
+    out_dir = HERE / "results" if args.record else args.out
     out_dir.mkdir(parents=True, exist_ok=True)
     (out_dir / "dopri_peer.md").write_text(text)
     print(text)

@@ -517,18 +517,33 @@ class TorsionalModel:
         return out
 
     # ---------------------------------------------------------------- outputs
-    def outputs(self, t: FloatArray, y: FloatArray) -> dict[str, FloatArray]:
+    def outputs(self, t: FloatArray, y: FloatArray,
+                excitations: dict[str, FloatArray] | None = None) -> dict[str, FloatArray]:
         """Derived series.
 
         ``dte`` r_b1 q1 - r_b2 q2 (m), ``delta`` mesh deflection (m), ``mesh_force`` (N),
         ``stiffness`` (N/m), ``w1``, ``w2`` speeds (rad/s), ``w2_kinematic`` (rad/s, rigid
         eccentric pair), and, when enabled, ``e_ecc`` (m), ``contact_length`` (m),
         ``friction_torque_pinion``, ``friction_torque_gear`` (N m).
+
+        ``excitations``: ``e_ecc`` (m), ``e_ecc_rate`` (m/s), ``stiffness`` (N/m), ``phi1``,
+        ``phi2`` (m) on ``t`` where the caller has them (the kernel method's table, within its
+        stated error); the rest follows from them (``w2_kinematic = (e_ecc' + r_b1 w1) / r_b2``,
+        ``contact_length = k / k_l`` with contact-line stiffness). None, or where the contact
+        length does not follow (friction on another stiffness): evaluated here.
         """
         t = np.asarray(t, dtype=float)
         y = np.asarray(y, dtype=float)
         rb1, rb2 = self.pair.rb1, self.pair.rb2
-        ex = self._kept_excitations(t)
+        stiff = self.stiffness
+        lines = isinstance(stiff, ContactLineStiffness)
+        if excitations is not None and (lines or self._layout is None):
+            ex = dict(excitations)
+            ex["w2_kinematic"] = (ex["e_ecc_rate"] + rb1 * self.speed) / rb2
+            if isinstance(stiff, ContactLineStiffness):
+                ex["contact_length"] = ex["stiffness"] / stiff.per_length
+        else:
+            ex = self._kept_excitations(t)
         dte = rb1 * y[0] - rb2 * y[1]
         d = dte + ex["e_ecc"]
         dd = rb1 * y[2] - rb2 * y[3] + ex["e_ecc_rate"]

@@ -6,12 +6,18 @@ polynomials on every piece, :func:`~gear_dyn.solvers.kernel.tables_torsional.tor
 with ``lines=False``) and the kernel advances it over the grid in one call
 (:func:`gear_dyn.solvers.kernel.run.run`): pieces with constant coefficients in closed form,
 the others by the Dormand-Prince 5(4) pair (Dormand & Prince 1980), backlash contact changes
-located on the closed form or the dense output.
+located on the closed form or the dense output; the torsional model's steps end at its
+table's piece edges only, its states at the output times from the steps' dense output (of
+order 4; Hairer, Norsett & Wanner 1993, II.6).
 
 Where it applies (:func:`kernel_applies`): the single-DOF mesh equation (with or without
 backlash and a mesh-periodic transmission error) and the eccentric torsional model without
-backlash and transmission error, when the compiled library is present. The tables are built
-once per model (kept for the model's lifetime, at most :data:`CACHE_SIZE` models).
+backlash and transmission error, when the compiled library is present. The kernel form is
+built once per model (kept for the model's lifetime, at most :data:`CACHE_SIZE` models); the
+torsional model's table, which does not depend on the speed (the eccentric kinematics are
+functions of the pinion angle, so every quantity of the table is one of the mesh phase,
+de/dt = f_m de/dp), once per :func:`table_key`: the same pair at another speed, such as the
+quasi-static reference of the dynamic factor or the next point of a sweep, reuses it.
 
 Error control: the kernel weighs each state's error by ``tol (scale + |y|)``, so a state far
 from zero (the gear angle of an eccentric pair holds the eccentric offset, tens of static
@@ -19,11 +25,13 @@ deflections) gets a looser control than the solvers' ``rtol`` (relative to the s
 means; the kernel runs at ``rtol / (1 + max |e| / x_s)`` (:func:`kernel_tolerance`, ``e`` the
 table's transmission error or eccentric offset). The stated error (:func:`check_run`,
 :func:`table_bound`, composed in :func:`gear_dyn.analysis.accuracy.estimate_error`) is twice the
-difference from a run at :data:`CHECK_TIGHTEN` times tighter tolerance (a 100-fold tightening is
-not enough: where piece edges, not the tolerance, set the steps, two runs 100 times apart can
-take the same steps) from a start moved by :data:`CHECK_NUDGE` of the state scale (closed-form
-pieces do not depend on the tolerance: the nudge shows rounding that an unstable response
-amplifies), plus a bound on the table's interpolation error carried to the DTE.
+difference from a check run with every step halved (:func:`check_run`: the fixed times the
+steps end at halved, and a :data:`CHECK_TIGHTEN` = 2^5 times tighter tolerance: where those
+times set the steps a tighter tolerance alone changes nothing, where the tolerance does it
+halves them) from a start moved
+by :data:`CHECK_NUDGE` of the state scale (closed-form pieces do not depend on the tolerance:
+the nudge shows rounding that an unstable response amplifies), plus a bound on the table's
+interpolation error carried to the DTE.
 """
 
 from __future__ import annotations
@@ -40,12 +48,18 @@ from gear_dyn.errors import GearDynError, InputError
 from gear_dyn.models.base import Model
 from gear_dyn.solvers import kernel
 from gear_dyn.solvers.kernel.run import TOL_RANGE, KernelModel, kernel_model, run
+from gear_dyn.solvers.kernel.tables_torsional import (
+    TorsionalTable,
+    split_table,
+    torsional_table,
+)
 from gear_dyn.solvers.settings import SolverSettings
 
 FloatArray = NDArray[np.float64]
 
-#: the check run's tolerance is this many times tighter than the run's
-CHECK_TIGHTEN = 1e4
+#: the check run's tolerance is this many times tighter than the run's: 2^5, one halving of
+#: the step of the fifth-order pair (its step goes as tol^(1/5), its error as h^5)
+CHECK_TIGHTEN = 2.0**5
 #: ... from a start moved by this share of the state scale
 CHECK_NUDGE = 1e-12
 #: safety factor of the table part of the stated error
@@ -53,7 +67,9 @@ TABLE_SAFETY = 2.0
 #: models whose kernel form is kept
 CACHE_SIZE = 4
 
-_CACHE: dict[int, tuple[weakref.ref[Any], KernelModel]] = {}
+_CACHE: dict[tuple[int, bool], tuple[weakref.ref[Any], KernelModel]] = {}
+#: the torsional tables by :func:`table_key` and split (at most 2 CACHE_SIZE)
+_TABLES: dict[Any, TorsionalTable] = {}
 _LOCK = threading.RLock()  # re-entrant: a weakref callback may run inside a locked block
 
 
@@ -94,8 +110,10 @@ def kernel_auto(model: Model, t_grid: FloatArray | None = None) -> bool:
     """True where ``auto`` picks the kernel (:func:`kernel_applies`): an eccentric torsional
     model whose table meets :data:`AUTO_TABLE_ERROR`, on a grid spanning at least
     :data:`AUTO_MIN_SHARE` of its table (the hunting period: the table's cost grows with it,
-    not with the run; shorter runs, such as the quasi-static reference of the dynamic factor,
-    keep ``gauss``).
+    not with the run), or on any grid once its table is built (:func:`table_ready`: the
+    quasi-static reference of the dynamic factor after the run, the same pair at another
+    speed). A short run of a pair whose table is not built keeps ``gauss``, which tabulates
+    only the span it runs (docs/solvers.md has the measurement).
 
     Single-DOF models never take it under ``auto``: the linear ones keep their exact and
     periodic routes, and the one with backlash and piecewise-constant stiffness takes
@@ -111,7 +129,7 @@ def kernel_auto(model: Model, t_grid: FloatArray | None = None) -> bool:
     span = (float(t_grid[-1]) - float(t_grid[0])) * float(model.mesh_frequency)
     tm: Any = model  # a TorsionalModel (kernel_applies)
     hunting = float(tm.mesh.hunting_period) * float(model.mesh_frequency)
-    if span < AUTO_MIN_SHARE * hunting:
+    if span < AUTO_MIN_SHARE * hunting and not table_ready(model):
         return False
     try:
         km = kernel_form(model)
@@ -120,25 +138,59 @@ def kernel_auto(model: Model, t_grid: FloatArray | None = None) -> bool:
     return km.table_error <= AUTO_TABLE_ERROR
 
 
-def kernel_form(model: Model) -> KernelModel:
+def kernel_form(model: Model, split: bool = False) -> KernelModel:
     """The model's kernel form, built on first use and kept while the model lives (threads of a
-    sweep share the cache under a lock; a model is built once per thread at most)."""
-    key = id(model)
+    sweep share the cache under a lock; a model is built once per thread at most). ``split``:
+    the torsional model's form on its table with every piece split at its middle (the check
+    run's, :func:`check_run`)."""
+    key = (id(model), split)
     with _LOCK:
         hit = _CACHE.get(key)
     if hit is not None and hit[0]() is model:
         return hit[1]
-    km = kernel_model(model)
+    table = shared_table(model, split) if len(model.state_labels) == 4 else None
+    km = kernel_model(model, table)
 
-    def forget(_ref: weakref.ref[Any], k: int = key) -> None:
+    def forget(_ref: weakref.ref[Any], k: tuple[int, bool] = key) -> None:
         with _LOCK:
             _CACHE.pop(k, None)
 
     with _LOCK:
-        while len(_CACHE) >= CACHE_SIZE:
+        while len(_CACHE) >= 2 * CACHE_SIZE:
             _CACHE.pop(next(iter(_CACHE)))
         _CACHE[key] = (weakref.ref(model, forget), km)
     return km
+
+
+def table_key(model: Model) -> tuple[Any, ...]:
+    """What the torsional model's table depends on: the pair, the stiffness, the eccentricity,
+    the friction and the torque (the static deflection is the unit of its error), not the
+    speed, the inertias or the damping."""
+    tm: Any = model
+    return (tm.pair, tm.stiffness, tm.eccentricity, tm.friction, float(tm.torque))
+
+
+def shared_table(model: Model, split: bool = False) -> TorsionalTable:
+    """The torsional model's polynomial table (``torsional_table(model, lines=False)``), built
+    once per :func:`table_key` (module docstring); ``split``: with every piece split at its
+    middle (:func:`~gear_dyn.solvers.kernel.tables_torsional.split_table`, the check run's)."""
+    key = (table_key(model), split)
+    with _LOCK:
+        tab = _TABLES.get(key)
+    if tab is not None:
+        return tab
+    tab = split_table(shared_table(model)) if split else torsional_table(model, lines=False)
+    with _LOCK:
+        while len(_TABLES) >= 2 * CACHE_SIZE:
+            _TABLES.pop(next(iter(_TABLES)))
+        _TABLES[key] = tab
+    return tab
+
+
+def table_ready(model: Model) -> bool:
+    """The torsional model's table is built (:func:`shared_table` costs nothing)."""
+    with _LOCK:
+        return (table_key(model), False) in _TABLES
 
 
 def _x_scale(model: Model) -> float:
@@ -163,7 +215,9 @@ def propagate_kernel(model: Model, t_grid: FloatArray, settings: SolverSettings,
     Returns
     -------
     y : ndarray (n_states, n_t)
-    stats : dict with n_events, kernel_tolerance, n_segments (table pieces crossed), nfev 0
+    stats : dict with n_events, kernel_tolerance, n_segments (table pieces crossed), nfev 0,
+        and for the torsional model ``excitations``: its table's ``e_ecc``, ``e_ecc_rate``,
+        ``stiffness``, ``phi1``, ``phi2`` on the grid (for ``TorsionalModel.outputs``)
 
     Raises
     ------
@@ -173,24 +227,52 @@ def propagate_kernel(model: Model, t_grid: FloatArray, settings: SolverSettings,
     km = kernel_form(model)
     tol = kernel_tolerance(model, km, settings.rtol)
     y_start = np.asarray(model.initial_state() if y0 is None else y0, dtype=float)
-    y, st = run(km, t_grid, y_start, tol)
+    y, st = run(km, t_grid, y_start, tol, values=True)
     pieces = km.table.breaks.size - 1
     span = (float(t_grid[-1]) - float(t_grid[0])) * km.mesh_frequency / km.period
-    return y, {"nfev": 0, "njev": 0, "nlu": 0, "n_segments": int(math.ceil(span * pieces)),
-               "n_events": st["n_events"], "kernel_tolerance": tol}
+    out = {"nfev": 0, "njev": 0, "nlu": 0, "n_segments": int(math.ceil(span * pieces)),
+           "n_events": st["n_events"], "kernel_tolerance": tol}
+    if "values" in st:  # the torsional model: its table on the grid, for the outputs
+        out["excitations"] = _excitations(km, st["values"])
+    return y, out
+
+
+def _excitations(km: KernelModel, v: FloatArray) -> dict[str, FloatArray]:
+    """The torsional table's values ``v`` (5, n) as ``TorsionalModel.outputs`` takes them."""
+    return {"e_ecc": v[0], "e_ecc_rate": v[1] * km.mesh_frequency, "stiffness": v[2],
+            "phi1": v[3], "phi2": v[4]}
 
 
 def check_run(model: Model, t_grid: FloatArray, y0: FloatArray, rtol: float
-              ) -> tuple[FloatArray, float]:
-    """The check run of the error estimate of a run at ``rtol``: at :data:`CHECK_TIGHTEN` times
-    the run's kernel tolerance (down to the kernel's 1e-14), from the start moved by
-    :data:`CHECK_NUDGE` of the state scale, and that tolerance. The closed-form pieces do not
-    depend on the tolerance; the nudge shows where rounding grows (an unstable or chaotic
-    response), as ``exact_contact``'s check does."""
+              ) -> tuple[FloatArray, float, dict[str, FloatArray] | None]:
+    """The check run of the error estimate of a run at ``rtol``, on ``t_grid``, its tolerance
+    and, for the torsional model, its table on the grid (as :func:`propagate_kernel`'s
+    ``excitations``; None for the single-DOF model).
+
+    Every step of the run is halved. The run's steps end where its tolerance puts them or at
+    fixed times: the output times for the single-DOF model (the check adds the grid's
+    midpoints), the table's piece edges for the torsional model (whose outputs come from the
+    steps' dense output; the check steps the table with every piece split at its middle,
+    :func:`~gear_dyn.solvers.kernel.tables_torsional.split_table`); and its tolerance is
+    :data:`CHECK_TIGHTEN` = 2^5 times the run's kernel tolerance (down to the kernel's 1e-14),
+    which halves a step the tolerance set (the Dormand-Prince 5(4) step goes as tol^(1/5)). Its
+    error is then about 1/32 of the run's, and twice the difference (the estimate's
+    ``SAFETY``) bounds the run's error. A tighter tolerance alone does not: where the fixed
+    times, not the tolerance, set the steps, two runs take the same steps and agree. The start
+    is moved by :data:`CHECK_NUDGE` of the state scale: the closed-form pieces do not depend on
+    the tolerance, and the nudge shows where rounding grows (an unstable or chaotic response),
+    as ``exact_contact``'s check does."""
     km = kernel_form(model)
     tol = max(kernel_tolerance(model, km, rtol) / CHECK_TIGHTEN, TOL_RANGE[0])
     start = np.asarray(y0, dtype=float) + CHECK_NUDGE * np.asarray(model.state_scale, float)
-    return run(km, t_grid, start, tol)[0], tol
+    t = np.asarray(t_grid, dtype=float)
+    if km.n_states == 4:
+        y, st = run(kernel_form(model, split=True), t, start, tol, values=True)
+        return y, tol, _excitations(km, st["values"])
+    both = np.empty(2 * t.size - 1)
+    both[0::2] = t
+    both[1::2] = 0.5 * (t[1:] + t[:-1])
+    return np.ascontiguousarray(run(km, both, start, tol)[0][:, 0::2]), tol, None
 
 
 def table_bound(model: Model, t_grid: FloatArray, y: FloatArray) -> float:
@@ -200,7 +282,10 @@ def table_bound(model: Model, t_grid: FloatArray, y: FloatArray) -> float:
     times ``dF / k_m``; the table's errors give ``dF / W <= err_k D + err_e K + err_de
     2 xi f_m / omega_n`` with ``D`` the largest mesh deflection over ``x_s`` on the run and
     ``K = k_max / k_m`` (errors ``max_error`` relative to ``k_m`` and ``x_s``), times
-    :data:`TABLE_SAFETY`. 0 for an exact table; inf without damping for a fitted one."""
+    :data:`TABLE_SAFETY`; ``D`` and ``K`` from bounds (the run's largest DTE plus the table's
+    largest ``|e|``, the table's largest ``k``, each piece's bounded by the sum of its
+    coefficients' magnitudes), not from the table evaluated on the grid. 0 for an exact table;
+    inf without damping for a fitted one."""
     km = kernel_form(model)
     errs = km.table.max_error
     if not any(v > 0 for v in errs.values()):
@@ -209,20 +294,20 @@ def table_bound(model: Model, t_grid: FloatArray, y: FloatArray) -> float:
     if xi <= 0.0:
         return math.inf
     x_s = _x_scale(model)
-    t = np.asarray(t_grid, dtype=float)
-    phase = km.phase0 + km.mesh_frequency * t
-    vals = km.table.evaluate(phase)
+    # bounds, not samples: on a piece |sum_j c_j s^j| <= sum_j |c_j| (|s| <= 1)
+    top = np.max(np.sum(np.abs(km.table.coef), axis=2), axis=0)  # per quantity
     if km.n_states == 2:
-        k, e = vals[0], vals[1]
-        u = y[0] - e
+        k_max, e_max = top[0], top[1]
+        u_max = float(np.max(np.abs(y[0]))) + e_max
         err_k, err_e, err_de = errs.get("k", 0.0), errs.get("e", 0.0), errs.get("de", 0.0)
     else:
-        e, k = vals[0], vals[2]
-        u = model.pair.rb1 * y[0] - model.pair.rb2 * y[1] + e  # type: ignore[attr-defined]
+        e_max, k_max = top[0], top[2]
+        pair: Any = model.pair  # type: ignore[attr-defined]
+        u_max = float(np.max(np.abs(pair.rb1 * y[0] - pair.rb2 * y[1]))) + e_max
         err_k, err_e, err_de = errs["stiffness"], errs["e_ecc"], errs["de_dp"]
         err_k = max(err_k, errs["phi1"], errs["phi2"])  # friction arms: relative to r_b
-    d = float(np.max(np.abs(u))) / x_s
-    kk = float(np.max(k)) / float(model.mean_stiffness or 1.0)
+    d = u_max / x_s
+    kk = float(k_max) / float(model.mean_stiffness or 1.0)
     fn = float(model.natural_frequency or km.mesh_frequency)
     force = err_k * d + err_e * kk + err_de * 2 * xi * km.mesh_frequency / (2 * math.pi * fn)
     return TABLE_SAFETY * (1.0 + 1.0 / (2.0 * xi)) * force

@@ -12,9 +12,10 @@ from gear_dyn.analysis.accuracy import error_scale, error_series, relative_error
 from gear_dyn.errors import InputError
 from gear_dyn.models.sdof import SDOFModel
 from gear_dyn.scene import load_scene, run_scene
-from gear_dyn.scene.build import build_plan
+from gear_dyn.scene.build import build_model, build_plan
+from gear_dyn.scene.operating import with_operating
 from gear_dyn.solvers import SolverSettings, integrate, resolve_method, time_grid
-from gear_dyn.solvers.kernel_method import kernel_form, table_bound
+from gear_dyn.solvers.kernel_method import kernel_form, shared_table, table_bound, table_ready
 from gear_dyn.solvers.result import Result
 from gear_dyn.stiffness.periodic import rectangular_stiffness
 
@@ -95,17 +96,27 @@ def test_a_run_from_a_later_start_and_phase() -> None:
 
 
 def test_auto_choice_and_refusal() -> None:
-    """auto: the kernel for the eccentric torsional model over most of its hunting period
-    (gauss on short spans), exact_contact for backlash; exact for the linear model; ``kernel``
-    asked for a model it does not step names what it steps."""
+    """auto: the kernel for the eccentric torsional model over most of its hunting period or
+    once its table is built (gauss on short spans before), exact_contact for backlash; exact for
+    the linear model; ``kernel`` asked for a model it does not step names what it steps."""
     bl = _backlash()
     t = time_grid(bl.mesh_frequency, 10 / bl.mesh_frequency, 64)
     assert resolve_method(bl, t, "auto") == "exact_contact"
     assert resolve_method(replace(bl, backlash=None), t, "auto") == "exact"
     ecc = build_plan(load_scene("eccentric_helical")).model
     hunting = ecc.mesh.hunting_period
+    short = np.linspace(0.0, 0.1 * hunting, 50)
+    # a torque no other test runs: this pair's table is not built yet, a short run keeps gauss
+    fresh = replace(ecc, torque=ecc.torque * 1.0137)
+    assert not table_ready(fresh)
+    assert resolve_method(fresh, short, "auto") == "gauss"
     assert resolve_method(ecc, np.linspace(0.0, hunting, 50), "auto") == "kernel"
-    assert resolve_method(ecc, np.linspace(0.0, 0.1 * hunting, 50), "auto") == "gauss"
+    # the table built, short runs of the pair take the kernel too, at any speed (its table is
+    # one of the mesh phase)
+    assert table_ready(ecc)
+    assert resolve_method(ecc, short, "auto") == "kernel"
+    slow = build_model(with_operating(load_scene("eccentric_helical"), ecc.speed / 64, si=True))
+    assert table_ready(slow) and resolve_method(slow, short * 64, "auto") == "kernel"
     ideal = build_plan(load_scene("eccentric_helical_ideal")).model
     with pytest.raises(InputError, match="does not apply to the TorsionalModel"):
         integrate(ideal, np.linspace(0.0, 1e-3, 5), SolverSettings(method="kernel"))
@@ -124,3 +135,53 @@ def test_table_bound_grows_with_the_table_error() -> None:
     assert kernel_form(ecc).table_error > 0.0
     light = replace(ecc, damping_ratio=0.01)
     assert table_bound(light, t, y) > table_bound(ecc, t, y) > 0.0
+
+
+def test_shared_table_holds_at_another_speed() -> None:
+    """The torsional table is one of the mesh phase: built at the scene's speed, it meets its
+    stated error against the pair rebuilt at 1/64 of that speed (the quasi-static reference's),
+    de_ecc/dp = (de_ecc/dt) / f_m at the slow f_m, at phases off its nodes and check points."""
+    scene = load_scene("eccentric_helical")
+    ecc = build_plan(scene).model
+    slow = build_model(with_operating(scene, ecc.speed / 64, si=True))
+    tab = shared_table(ecc)
+    assert shared_table(slow) is tab
+    phase = np.random.default_rng(7).uniform(0.0, float(tab.period), 2000)
+    ex = slow.excitations(phase / slow.mesh_frequency)
+    exact = np.array([ex["e_ecc"], ex["e_ecc_rate"] / slow.mesh_frequency, ex["stiffness"],
+                      ex["phi1"], ex["phi2"]])
+    x_s = slow.static_load / slow.mean_stiffness
+    scale = np.array([x_s, x_s, slow.mean_stiffness, slow.pair.rb1, slow.pair.rb2])
+    err = np.max(np.abs(tab.evaluate(phase) - exact), axis=1) / scale
+    stated = np.array([tab.max_error[q] for q in ("e_ecc", "de_dp", "stiffness", "phi1", "phi2")])
+    # the check points are where the error peaks: off them it is below the stated figure (a
+    # 1e-15 margin for rounding of k and the arms, whose errors are near it)
+    assert np.all(err <= stated + 1e-15), (err, stated)
+
+
+def test_check_run_states_the_run_error() -> None:
+    """The check run (every step halved: on the table split at every piece's middle, which is
+    the same table, at a 32 times tighter tolerance) states between one and four times the
+    run's error against a run at the kernel's tightest tolerance (the estimate is twice the
+    difference, the check's own error about 1/32 of the run's), on the packaged eccentric scene
+    at rtol 1e-6."""
+    from gear_dyn.solvers.kernel.run import run
+    from gear_dyn.solvers.kernel.tables_torsional import split_table
+    from gear_dyn.solvers.kernel_method import check_run, kernel_tolerance
+
+    plan = build_plan(load_scene("eccentric_helical"))
+    ecc = plan.model
+    tab = shared_table(ecc)
+    phase = np.random.default_rng(3).uniform(0.0, float(tab.period), 1000)
+    whole, halves = tab.evaluate(phase), split_table(tab).evaluate(phase)
+    assert np.allclose(halves, whole, rtol=1e-12, atol=1e-12 * np.max(np.abs(whole), axis=1,
+                                                                      keepdims=True))
+    t = time_grid(ecc.mesh_frequency, plan.t_end, plan.settings.samples_per_period)
+    km = kernel_form(ecc)
+    y0 = ecc.initial_state()
+    y = run(km, t, y0, kernel_tolerance(ecc, km, 1e-6))[0]
+    x, x_s = error_series(ecc, t, y), error_scale(ecc)
+    err = float(np.max(np.abs(x - error_series(ecc, t, run(km, t, y0, 1e-14)[0])))) / x_s
+    y_c, _, ex_c = check_run(ecc, t, y0, 1e-6)
+    stated = 2 * float(np.max(np.abs(x - error_series(ecc, t, y_c, ex_c)))) / x_s
+    assert err < stated < 4 * err, (err, stated)

@@ -152,7 +152,7 @@ def library() -> ctypes.CDLL:
     lib.gd_start.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_double]
     lib.gd_run.restype = ctypes.c_long
     lib.gd_run.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_long, ctypes.c_void_p,
-                           ctypes.c_void_p, ctypes.c_void_p]
+                           ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]
     return lib
 
 

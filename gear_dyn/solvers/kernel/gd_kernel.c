@@ -195,9 +195,10 @@ const double gd_dp_a[7][6] = {
 const double gd_dp_c[7] = {0, 1.0 / 5, 3.0 / 10, 4.0 / 5, 8.0 / 9, 1, 1};
 const double gd_dp_err[7] = {71.0 / 57600, 0, -71.0 / 16695, 71.0 / 1920, -17253.0 / 339200,
                              22.0 / 525, -1.0 / 40};
-static const double D[7] = {-12715105075.0 / 11282082432.0, 0, 87487479700.0 / 32700410799.0,
-                            -10690763975.0 / 1880347072.0, 701980252875.0 / 199316789632.0,
-                            -1453857185.0 / 822651844.0, 69997945.0 / 29380423.0};
+const double gd_dp_dense[7] = {-12715105075.0 / 11282082432.0, 0, 87487479700.0 / 32700410799.0,
+                                -10690763975.0 / 1880347072.0,
+                                701980252875.0 / 199316789632.0, -1453857185.0 / 822651844.0,
+                                69997945.0 / 29380423.0};
 
 static int rk_advance(ctx *q, gd_state *s, double *y, double dt, double *done, int *event)
 {
@@ -237,7 +238,7 @@ static int rk_advance(ctx *q, gd_state *s, double *y, double dt, double *done, i
             double y4[2];
             for (j = 0; j < 2; j++) {
                 double dd = 0.0;
-                for (st = 0; st < 7; st++) dd += D[st] * k[st][j];
+                for (st = 0; st < 7; st++) dd += gd_dp_dense[st] * k[st][j];
                 rc[0][j] = y[j];
                 rc[1][j] = yn[j] - y[j];
                 rc[2][j] = h * k[0][j] - rc[1][j];

@@ -93,19 +93,28 @@ int gd_advance(gd_state *s, const gd_model *m, double t_end);
 void gd_outputs(const gd_state *s, const gd_model *m, double *out);
 /* the torsional model (gd_torsional.c), called by the functions above */
 void gd_tors_start(gd_state *s, const gd_model *m, double t0);
-/* the Dormand-Prince 5(4) pair both kernels step with (gd_kernel.c) */
-extern const double gd_dp_a[7][6], gd_dp_c[7], gd_dp_err[7];
+/* the Dormand-Prince 5(4) pair both kernels step with (gd_kernel.c), and the weights of its
+ * continuous extension (dense output of order 4) */
+extern const double gd_dp_a[7][6], gd_dp_c[7], gd_dp_err[7], gd_dp_dense[7];
 
 int gd_tors_advance(gd_state *s, const gd_model *m, double t_end);
 void gd_tors_outputs(const gd_state *s, const gd_model *m, double *out);
+/* e, de/dp, k, phi1, phi2 of the table at the state's time and phase */
+void gd_tors_coef(const gd_state *s, const gd_model *m, double v[5]);
 /* e, de/dp, k, phi1, phi2 of the contact-line form at mesh phase p (cycles, any real) */
 void gd_lines_eval(const gd_lines *g, double p, double v[5]);
 
 /* the solvers' kernel method (gd_run.c; not in the FMU): from s, advance to each of the n
- * non-decreasing times t and store the states there, y[i][2] = (x, v) or y[i][4] = q; returns
- * the samples stored (n, or fewer with *status GD_ERR_STEP: a failed step or a non-finite
- * state) */
-long gd_run(gd_state *s, const gd_model *m, long n, const double *t, double *y, int *status);
+ * non-decreasing times t and store the states there, y[i][2] = (x, v) or y[i][4] = q, and for
+ * the torsional model, where coef is not NULL, its table's values there, coef[i][5] (e, de/dp,
+ * k, phi1, phi2); returns the samples stored (n, or fewer with *status GD_ERR_STEP: a failed
+ * step or a non-finite state) */
+long gd_run(gd_state *s, const gd_model *m, long n, const double *t, double *y, double *coef,
+            int *status);
+/* gd_run's torsional model (gd_torsional.c): steps end at piece edges only, the outputs come
+ * from each step's dense output */
+long gd_tors_run(gd_state *s, const gd_model *m, long n, const double *t, double *y,
+                 double *coef, int *status);
 
 /* the FMI glue of both versions: values by value reference (0 time, 1..GD_NPAR the parameters
  * and inputs, then the outputs); gd_set writes one message into msg on a refused value */

@@ -37,6 +37,11 @@ typedef struct {                 /* one piece at constant inputs */
     const double *c;             /* the piece's coefficients [NQ][degree + 1] */
     double a, b;                 /* its phase edges */
     double t0, p0, fm, cd, t1, t2;
+    double t1_end;               /* gd_tors_run: the stretch's end time, exact (t0 + dt is not) */
+    double s0, s1;               /* the local variable s = s0 + s1 (t - t0) on the piece */
+    double inv1, inv2;           /* 1 / I1, 1 / I2 */
+    int degree;
+    const gd_lines *lines;
     lexp x;                      /* the contact-line form's local kinematics */
 } tctx;
 
@@ -91,22 +96,48 @@ static void overlap(const gd_lines *g, const double *kin, double dedp, double p,
     v[4] = g->mu >= 0.0 && total > 0.0 ? g->mu / total * t2 : 0.0;
 }
 
+/* the series' terms in order, each with cos and sin of its harmonic k of th (by rotation:
+ * both sums below walk the terms so) */
+typedef struct {
+    const gd_lines *g;
+    int i, k;                    /* the next term, the harmonic of ck, sk */
+    double c1, s1, ck, sk;       /* cos, sin of th and of k th */
+} terms;
+
+static void terms_start(terms *it, const gd_lines *g, double th)
+{
+    it->g = g;
+    it->i = it->k = 0;
+    it->c1 = cos(th);
+    it->s1 = sin(th);
+    it->ck = 1.0;
+    it->sk = 0.0;
+}
+
+/* the next term's amplitudes (a, b), it->k its harmonic, it->ck, it->sk cos and sin of k th;
+ * NULL after the last */
+static const double *terms_next(terms *it)
+{
+    if (it->i >= it->g->n_terms) return 0;
+    while (it->k < it->g->term_k[it->i]) {
+        double cn = it->ck * it->c1 - it->sk * it->s1;
+        it->sk = it->sk * it->c1 + it->ck * it->s1;
+        it->ck = cn;
+        it->k++;
+    }
+    return it->g->term_ab + 2 * it->i++;
+}
+
 void gd_lines_eval(const gd_lines *g, double p, double v[NQ])
 {
-    double th = 2.0 * PI * p / g->period, c1 = cos(th), s1 = sin(th), ck = 1.0, sk = 0.0;
     double kin[GD_NKIN] = {0.0}, rate = 0.0;
-    int k, i = 0;
-    for (k = 0; i < g->n_terms; k++) {
-        if (k > 0) {
-            double cn = ck * c1 - sk * s1;
-            sk = sk * c1 + ck * s1;
-            ck = cn;
-        }
-        for (; i < g->n_terms && g->term_k[i] == k; i++) {
-            const double *ab = g->term_ab + 2 * i;
-            kin[g->term_q[i]] += ab[0] * ck + ab[1] * sk;
-            if (g->term_q[i] == 0) rate += k * (ab[1] * ck - ab[0] * sk);
-        }
+    const double *ab;
+    terms it;
+    terms_start(&it, g, 2.0 * PI * p / g->period);
+    while ((ab = terms_next(&it)) != 0) {
+        int q = g->term_q[it.i - 1];
+        kin[q] += ab[0] * it.ck + ab[1] * it.sk;
+        if (q == 0) rate += it.k * (ab[1] * it.ck - ab[0] * it.sk);
     }
     overlap(g, kin, rate * 2.0 * PI / g->period, p, v);
 }
@@ -118,39 +149,34 @@ void gd_lines_eval(const gd_lines *g, double p, double v[NQ])
  * bound is below tol for every quantity, else x->degree = -1 (the series summed directly). */
 static void lines_expand(const gd_lines *g, double pm, double r, double tol, lexp *x)
 {
-    double w = 2.0 * PI / g->period, c1 = cos(w * pm), s1 = sin(w * pm), ck = 1.0, sk = 0.0;
+    double w = 2.0 * PI / g->period;
     static const double inv[MAX_LOCAL + 3] = {1.0, 1.0, 1.0 / 2, 1.0 / 3, 1.0 / 4, 1.0 / 5,
                                               1.0 / 6, 1.0 / 7, 1.0 / 8, 1.0 / 9, 1.0 / 10};
     double bound[NX][MAX_LOCAL + 1];
-    int k, i = 0, n, q;
+    const double *ab;
+    terms it;
+    int n, q;
     memset(x->c, 0, sizeof x->c);
     memset(bound, 0, sizeof bound);
     x->pm = pm;
     x->degree = -1;
-    for (k = 0; i < g->n_terms; k++) {
-        double f = k * w;
-        if (k > 0) {
-            double cn = ck * c1 - sk * s1;
-            sk = sk * c1 + ck * s1;
-            ck = cn;
-        }
-        for (; i < g->n_terms && g->term_k[i] == k; i++) {
-            const double *ab = g->term_ab + 2 * i;
-            double zr = ab[0] * ck + ab[1] * sk, zi = ab[0] * sk - ab[1] * ck;
-            int rows = g->term_q[i] == 0 ? 2 : 1, row;
-            for (row = 0; row < rows; row++) {
-                /* row 1: de_ecc/dp, the term's derivative, z i k w */
-                double yr = row ? -zi * f : zr, yi = row ? zr * f : zi;
-                double rem = sqrt(yr * yr + yi * yi) * f * r;
-                q = row ? GD_NKIN : g->term_q[i];
-                for (n = 0; n <= MAX_LOCAL; n++) {
-                    double t = yr, fn = f * inv[n + 1];
-                    x->c[q][n] += yr;
-                    bound[q][n] += rem;
-                    yr = -yi * fn;
-                    yi = t * fn;
-                    rem *= f * r * inv[n + 2];
-                }
+    terms_start(&it, g, w * pm);
+    while ((ab = terms_next(&it)) != 0) {
+        double f = it.k * w;
+        double zr = ab[0] * it.ck + ab[1] * it.sk, zi = ab[0] * it.sk - ab[1] * it.ck;
+        int rows = g->term_q[it.i - 1] == 0 ? 2 : 1, row;
+        for (row = 0; row < rows; row++) {
+            /* row 1: de_ecc/dp, the term's derivative, z i k w */
+            double yr = row ? -zi * f : zr, yi = row ? zr * f : zi;
+            double rem = sqrt(yr * yr + yi * yi) * f * r;
+            q = row ? GD_NKIN : g->term_q[it.i - 1];
+            for (n = 0; n <= MAX_LOCAL; n++) {
+                double t = yr, fn = f * inv[n + 1];
+                x->c[q][n] += yr;
+                bound[q][n] += rem;
+                yr = -yi * fn;
+                yi = t * fn;
+                rem *= f * r * inv[n + 2];
             }
         }
     }
@@ -181,31 +207,31 @@ static void lines_at(const gd_lines *g, const lexp *x, double p, double v[NQ])
     overlap(g, kin, kin[GD_NKIN], p, v);
 }
 
-static void tcoef(const tctx *q, double t, double v[NQ])
+static void tcoef(const tctx *restrict q, double t, double *restrict v)
 {
-    int d = q->m->degree, k, j;
-    double p = q->p0 + q->fm * (t - q->t0), s;
+    int d = q->degree, k, j;
+    double s;
     const double *c = q->c;
-    if (q->m->tors->lines) {
-        lines_at(q->m->tors->lines, &q->x, p, v);
+    if (q->lines) {
+        lines_at(q->lines, &q->x, q->p0 + q->fm * (t - q->t0), v);
         return;
     }
-    s = (2.0 * p - q->a - q->b) / (q->b - q->a);
-    for (k = 0; k < NQ; k++, c += d + 1) {
-        double acc = c[0];
-        for (j = 1; j <= d; j++) acc = acc * s + c[j];
-        v[k] = acc;
-    }
+    s = q->s0 + q->s1 * (t - q->t0);
+    /* the five Horner sums side by side: independent chains, not one after another */
+    for (k = 0; k < NQ; k++) v[k] = c[k * (d + 1)];
+    for (j = 1; j <= d; j++)
+        for (k = 0; k < NQ; k++) v[k] = v[k] * s + c[k * (d + 1) + j];
 }
 
-static double force(const tctx *q, const double *v, const double *y)
+static double force(const tctx *restrict q, const double *restrict v, const double *restrict y)
 {
     const gd_model *m = q->m;
     return v[2] * (m->rb1 * y[0] - m->rb2 * y[1] + v[0])
         + q->cd * (m->rb1 * y[2] - m->rb2 * y[3] + q->fm * v[1]);
 }
 
-static void trhs(const tctx *q, double t, const double *y, double *dy)
+static void trhs(const tctx *restrict q, double t, const double *restrict y,
+                 double *restrict dy)
 {
     const gd_model *m = q->m;
     double v[NQ], f, n;
@@ -214,13 +240,56 @@ static void trhs(const tctx *q, double t, const double *y, double *dy)
     n = f > 0.0 ? f : 0.0;
     dy[0] = y[2];
     dy[1] = y[3];
-    dy[2] = (q->t1 - m->rb1 * f + n * v[3]) / m->tors->inertia[0];
-    dy[3] = (m->rb2 * f - q->t2 + n * v[4]) / m->tors->inertia[1];
+    dy[2] = (q->t1 - m->rb1 * f + n * v[3]) * q->inv1;
+    dy[3] = (m->rb2 * f - q->t2 + n * v[4]) * q->inv2;
 }
 
 
-/* advance y over dt (s) on one piece; s->h carries the step size from one call to the next */
-static int rk_piece(const tctx *q, gd_state *s, double *y, double dt)
+/* the outputs a run fills while it steps (gd_tors_run): times t[n], states y[n][4], the table's
+ * values coef[n][5] (or NULL), the next one i */
+typedef struct {
+    long n, i;
+    const double *t;
+    double *y, *coef;
+} sink;
+
+/* the outputs in (t_a, t_b] of the step from y (size h, stages k, end state yn) into o: yn at
+ * t_b, elsewhere the continuous extension of order 4 (Hairer, Norsett & Wanner 1993, II.6) */
+static void emit(const tctx *q, sink *o, double t_a, double t_b, double h, const double *y,
+                 const double *yn, double k[7][4])
+{
+    double rc[5][4];
+    int j, st, ready = 0;
+    for (; o->i < o->n && o->t[o->i] <= t_b; o->i++) {
+        double *out = o->y + 4 * o->i, th = (o->t[o->i] - t_a) / h;
+        if (o->t[o->i] == t_b || th >= 1.0) {
+            memcpy(out, yn, 4 * sizeof *out);
+        } else {
+            if (!ready) {
+                for (j = 0; j < 4; j++) {
+                    double dd = 0.0;
+                    for (st = 0; st < 7; st++) dd += gd_dp_dense[st] * k[st][j];
+                    rc[0][j] = y[j];
+                    rc[1][j] = yn[j] - y[j];
+                    rc[2][j] = h * k[0][j] - rc[1][j];
+                    rc[3][j] = rc[1][j] - h * k[6][j] - rc[2][j];
+                    rc[4][j] = h * dd;
+                }
+                ready = 1;
+            }
+            th = fmax(th, 0.0);
+            for (j = 0; j < 4; j++)
+                out[j] = rc[0][j] + th * (rc[1][j] + (1.0 - th) * (rc[2][j] + th * (rc[3][j]
+                         + (1.0 - th) * rc[4][j])));
+        }
+        if (o->coef) tcoef(q, o->t[o->i], o->coef + 5 * o->i);
+    }
+}
+
+/* advance y over dt (s) on one piece; s->h carries the step size from one call to the next;
+ * with o, the outputs inside the steps from their dense output (o NULL: the FMU's steps, the
+ * last one cut at the communication point) */
+static int rk_piece(const tctx *q, gd_state *s, double *y, double dt, sink *o)
 {
     const double *sc = q->m->tors->q_scale;
     double tol = s->par[GD_TOL], t = 0.0, h = s->h, k[7][4], yt[4];
@@ -251,6 +320,7 @@ static int rk_piece(const tctx *q, gd_state *s, double *y, double dt)
             h *= fmax(0.2, 0.9 * pow(err, -0.2));
             continue;
         }
+        if (o) emit(q, o, q->t0 + t, last ? q->t1_end : q->t0 + t + h, h, y, yt, k);
         t = last ? dt : t + h;
         memcpy(y, yt, sizeof yt);
         memcpy(k[0], k[6], sizeof k[0]);
@@ -276,6 +346,12 @@ static void setup(tctx *q, const gd_state *s, const gd_model *m)
     q->t1 = s->par[GD_TORQUE];
     q->t2 = g->load_fixed >= 0.0 ? g->load_fixed : w * (m->rb2 + g->arm[1]);
     q->x.degree = -1;
+    q->s0 = (2.0 * q->p0 - q->a - q->b) / (q->b - q->a);
+    q->s1 = 2.0 * q->fm / (q->b - q->a);
+    q->inv1 = 1.0 / g->inertia[0];
+    q->inv2 = 1.0 / g->inertia[1];
+    q->degree = m->degree;
+    q->lines = g->lines;
 }
 
 /* static deflection with delta' = 0 and no rigid-body momentum (TorsionalModel.initial_state) */
@@ -312,7 +388,7 @@ int gd_tors_advance(gd_state *s, const gd_model *m, double t_end)
         if (m->tors->lines)   /* the phases this stretch steps over: [p0, p0 + f_m dt] */
             lines_expand(m->tors->lines, q.p0 + 0.5 * q.fm * dt, 0.5 * fabs(q.fm * dt),
                          GD_LOCAL_ERROR * m->x_scale, &q.x);
-        rc = rk_piece(&q, s, s->q, dt);
+        rc = rk_piece(&q, s, s->q, dt, 0);
         if (rc != GD_OK) return rc;
         if (hit) {
             s->t = dt == t_end - s->t ? t_end : s->t + dt;
@@ -327,6 +403,13 @@ int gd_tors_advance(gd_state *s, const gd_model *m, double t_end)
         }
     }
     return GD_OK;
+}
+
+void gd_tors_coef(const gd_state *s, const gd_model *m, double v[NQ])
+{
+    tctx q;
+    setup(&q, s, m);
+    tcoef(&q, s->t, v);
 }
 
 void gd_tors_outputs(const gd_state *s, const gd_model *m, double *out)
@@ -351,4 +434,70 @@ void gd_tors_outputs(const gd_state *s, const gd_model *m, double *out)
     out[GT_ECC] = v[0];
     out[GT_TF1] = n * v[3];
     out[GT_TF2] = n * v[4];
+}
+
+long gd_tors_run(gd_state *s, const gd_model *m, long n, const double *t, double *y,
+                 double *coef, int *status)
+{
+    /* the mesh phase runs with the time, p0 + f_m (t - t0) (the speed is constant over a run):
+     * each piece's end time comes from its edge's phase, cycles + b (cycles: the table's
+     * periods passed), not from sums of the steps, which drift by rounding */
+    double t0 = s->t, p0 = s->frac, cycles = 0.0, period = m->breaks[m->n_pieces];
+    sink o;
+    int j;
+    o.n = n;
+    o.i = 0;
+    o.t = t;
+    o.y = y;
+    o.coef = coef;
+    *status = GD_OK;
+    while (o.i < n) {
+        tctx q;
+        double t_edge, t_stop;
+        int hit = 1, rc;
+        long first = o.i;
+        setup(&q, s, m);
+        t_edge = t0 + (cycles + q.b - p0) / q.fm;
+        t_stop = t_edge;
+        if (t[n - 1] < t_edge && (t_edge - t[n - 1]) * q.fm >= 1e-12) {
+            t_stop = t[n - 1];   /* the run ends inside this piece */
+            hit = 0;
+        }
+        for (; o.i < n && t[o.i] <= s->t; o.i++) {   /* outputs at the stretch's start */
+            memcpy(y + 4 * o.i, s->q, 4 * sizeof *y);
+            if (coef) tcoef(&q, t[o.i], coef + 5 * o.i);
+        }
+        if (o.i < n && t_stop > s->t) {
+            double dt = t_stop - s->t;
+            q.t1_end = t_stop;
+            if (m->tors->lines)
+                lines_expand(m->tors->lines, q.p0 + 0.5 * q.fm * dt, 0.5 * fabs(q.fm * dt),
+                             GD_LOCAL_ERROR * m->x_scale, &q.x);
+            rc = rk_piece(&q, s, s->q, dt, &o);
+            if (rc != GD_OK) {
+                *status = rc;
+                return o.i;
+            }
+        }
+        for (; first < o.i; first++) {
+            for (j = 0; j < 4; j++) {
+                if (!isfinite(y[4 * first + j])) {
+                    *status = GD_ERR_STEP;
+                    return first;
+                }
+            }
+        }
+        s->t = t_stop;
+        if (hit) {
+            s->frac = m->breaks[++s->piece];
+            if (s->piece == m->n_pieces) {
+                s->piece = 0;
+                s->frac = 0.0;
+                cycles += period;
+            }
+        } else {
+            s->frac = fmin(fmax(p0 + q.fm * (t_stop - t0) - cycles, q.a), q.b);
+        }
+    }
+    return n;
 }

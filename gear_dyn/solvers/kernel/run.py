@@ -149,9 +149,11 @@ def _table_format() -> int:
     return int(re.search(r"#define GD_TABLE_FORMAT (\d+)", text)[1])  # type: ignore[index]
 
 
-def kernel_model(model: Any) -> KernelModel:
+def kernel_model(model: Any, table: TorsionalTable | None = None) -> KernelModel:
     """The kernel's form of a single-DOF model (``SDOFModel``: two states) or of an eccentric
-    torsional model (``TorsionalModel`` without backlash and transmission error).
+    torsional model (``TorsionalModel`` without backlash and transmission error), whose table
+    (``torsional_table(model, lines=False)``) may be given: it is the same for the pair at any
+    speed (:func:`gear_dyn.solvers.kernel_method.table_key`).
 
     The single-DOF model goes in with ``r_b1 = 1``, ``z1 = 1`` and its mesh frequency as the
     speed: the kernel's ``W = T1 / r_b1`` and ``f_m = z1 w1 / (2 pi)`` are then the model's
@@ -182,7 +184,8 @@ def kernel_model(model: Any) -> KernelModel:
                           float(model.mean_stiffness), 1.0, 1.0, 1.0, 0.0,
                           float(model.state_scale[0]), None)
         return KernelModel(c_model, tuple(keep), sd, par, 1.0, fm, float(model.phase0), 2)
-    tab = torsional_table(model, lines=False)  # polynomials: cheaper to step
+    # polynomials: cheaper to step
+    tab = torsional_table(model, lines=False) if table is None else table
     br, p_br = _arr(tab.breaks, np.float64, ctypes.c_double)
     cf, p_cf = _arr(tab.coef, np.float64, ctypes.c_double)
     fl, p_fl = _arr(np.zeros(br.size - 1), np.uint8, ctypes.c_ubyte)
@@ -213,8 +216,8 @@ def _regime(km: KernelModel, phase: float, y: FloatArray) -> int:
     return 1 if u > b else (-1 if u < -b else 0)
 
 
-def run(km: KernelModel, t_grid: FloatArray, y0: FloatArray, tolerance: float
-        ) -> tuple[FloatArray, dict[str, Any]]:
+def run(km: KernelModel, t_grid: FloatArray, y0: FloatArray, tolerance: float,
+        values: bool = False) -> tuple[FloatArray, dict[str, Any]]:
     """States on ``t_grid`` (non-decreasing, from the initial time) from ``y0``, in one call of
     the compiled kernel.
 
@@ -228,11 +231,14 @@ def run(km: KernelModel, t_grid: FloatArray, y0: FloatArray, tolerance: float
     tolerance : float
         Relative tolerance of the Runge-Kutta pieces (clipped to the kernel's
         1e-14..1e-3), relative to the state scales.
+    values : bool
+        The torsional model: also its table's values on the grid (``stats["values"]``).
 
     Returns
     -------
     y : ndarray (n_states, n_t)
-    stats : dict with n_events (contact changes located)
+    stats : dict with n_events (contact changes located) and, with ``values``, ``values``:
+        ndarray (5, n_t) of e_ecc (m), de_ecc/dp (m/cycle), k (N/m), phi1, phi2 (m)
 
     Raises
     ------
@@ -259,11 +265,16 @@ def run(km: KernelModel, t_grid: FloatArray, y0: FloatArray, tolerance: float
     else:
         s.q[:] = [float(v) for v in y0]
     status = ctypes.c_int(0)
+    coef = np.empty((t.size, 5)) if values and km.n_states == 4 else None
     done = lib.gd_run(ctypes.byref(s), ctypes.byref(km.c_model), t.size, t.ctypes.data,
-                      out.ctypes.data, ctypes.byref(status))
+                      out.ctypes.data, None if coef is None else coef.ctypes.data,
+                      ctypes.byref(status))
     if status.value != 0 or done != t.size:
         at = float(t[min(int(done), t.size - 1)])
         raise SolverError(f"kernel: step failed at t = {at:.6g} s (step size underflow, too many "
                           "contact changes or a non-finite state); lower solver.rtol or use "
                           "another solver.method")
-    return np.ascontiguousarray(out.T), {"n_events": int(s.n_events)}
+    stats: dict[str, Any] = {"n_events": int(s.n_events)}
+    if coef is not None:
+        stats["values"] = np.ascontiguousarray(coef.T)
+    return np.ascontiguousarray(out.T), stats

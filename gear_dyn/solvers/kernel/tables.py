@@ -36,8 +36,24 @@ SMOOTH_PIECES = 64
 SMOOTH_DEGREE = 10
 #: pieces closer than this (cycles) are merged
 MIN_WIDTH = 1e-12
-#: check points per piece for the stated interpolation error
+#: check points per piece of the contact-line form and the FMU's single-DOF tables
 CHECK_POINTS = 24
+#: the ends of :func:`check_points` sit this share of the half-width inside the piece: exactly
+#: at a break, where a coefficient kinks or jumps, the model's value belongs to either side
+END_INSET = 1e-9
+
+
+def check_points(degree: int) -> FloatArray:
+    """Where the error of a degree-``degree`` interpolant at the first-kind Chebyshev points
+    (:func:`~gear_dyn.models.torsional_table.node_matrix`) is checked: the ``degree + 2``
+    extrema of T_{degree+1}, ``cos(pi j / (degree + 1))``, the ends moved :data:`END_INSET`
+    inside. The remainder is ``f^(n)(xi) / (2^(n-1) n!) T_n(s)`` with ``n = degree + 1``
+    (Cauchy's remainder with the nodes' product written as T_n; Mason & Handscomb 2003,
+    *Chebyshev Polynomials*, sec. 6.1), so where ``f^(n)`` varies little over the piece the
+    error peaks at these points, the ends included."""
+    u = np.cos(np.pi * np.arange(degree + 2) / (degree + 1))
+    u[0], u[-1] = 1.0 - END_INSET, -1.0 + END_INSET
+    return u
 
 
 def piecewise_values(breaks: FloatArray, coef: FloatArray, phase: FloatArray,

@@ -29,7 +29,7 @@ from gear_dyn.eccentricity.friction import friction_factors
 from gear_dyn.errors import InputError
 from gear_dyn.models.torsional_parts import ContactLineStiffness
 from gear_dyn.models.torsional_table import node_matrix
-from gear_dyn.solvers.kernel.tables import CHECK_POINTS, piecewise_values
+from gear_dyn.solvers.kernel.tables import CHECK_POINTS, check_points, piecewise_values
 
 FloatArray = NDArray[np.float64]
 
@@ -39,7 +39,7 @@ QUANTITIES = ("e_ecc", "de_dp", "stiffness", "phi1", "phi2")
 TABLE_ERROR = 1e-9
 #: lowest and highest polynomial degree tried
 MIN_DEGREE, MAX_DEGREE = 3, 10
-#: one piece in SCREEN tries each degree before all pieces do (the degree search's screen)
+#: the widest piece in SCREEN tries each degree before all pieces do (the degree search's screen)
 SCREEN = 8
 #: the kinematics of the contact-line form, in the kernel's order (gd_lines in gd_kernel.h);
 #: ``travel`` less its mean growth ``p p_bt``
@@ -200,33 +200,59 @@ def torsional_table(model: Any, lines: bool = True) -> TorsionalTable:
 
     x_s = max(model.static_load / model.mean_stiffness, 1e-12)
     scale = np.array([x_s, x_s, model.mean_stiffness, model.pair.rb1, model.pair.rb2])
-    u = np.linspace(-0.98, 0.98, CHECK_POINTS)
-    chk = (mid[:, None] + half[:, None] * u[None, :]).ravel()
-    exact = direct(chk)
     if lines and model.eccentric and isinstance(model.stiffness, ContactLineStiffness):
-        return _line_table(model, br, chk, exact, scale)
-    # every SCREEN-th piece first: a degree that fails there fails on all pieces (the error is
-    # a maximum over pieces, each fitted alone), so only a degree that passes is fitted on all
-    few = np.arange(0, a.size, SCREEN)
-    exact_few = exact.reshape(5, a.size, u.size)[:, few].reshape(5, -1)
-    for degree in range(MIN_DEGREE, MAX_DEGREE + 1):
+        u = np.linspace(-0.98, 0.98, CHECK_POINTS)
+        chk = (mid[:, None] + half[:, None] * u[None, :]).ravel()
+        return _line_table(model, br, chk, direct(chk), scale)
+
+    def at(pieces: Any, s: FloatArray) -> FloatArray:
+        """The quantities at the local points ``s`` of ``pieces``: (5, pieces, points)."""
+        ph = (mid[pieces, None] + half[pieces, None] * s[None, :]).ravel()
+        return direct(ph).reshape(5, -1, s.size)
+
+    def fit_error(pieces: Any, degree: int) -> tuple[FloatArray, FloatArray]:
+        """The fit at ``degree`` on ``pieces`` and its largest error at the check points (the
+        extrema of T_{degree+1}), relative to the scales."""
         s, to_mono = node_matrix(degree)
-        if degree < MAX_DEGREE and few.size < a.size:
-            vals = direct((mid[few, None] + half[few, None] * s[None, :]).ravel())
-            coef = _fit(to_mono, vals.reshape(5, few.size, s.size))
-            approx = _at(coef, np.vander(u, degree + 1))
-            if not np.all(np.max(np.abs(approx - exact_few), axis=1) / scale <= TABLE_ERROR):
-                continue
-        vals = direct((mid[:, None] + half[:, None] * s[None, :]).ravel())
-        coef = _fit(to_mono, vals.reshape(5, a.size, s.size))
-        # the check points sit at s = u on every piece: the table there, piece by piece
+        coef = _fit(to_mono, at(pieces, s))
+        u = check_points(degree)
         approx = _at(coef, np.vander(u, degree + 1))
-        err = np.max(np.abs(approx - exact), axis=1) / scale
+        exact = at(pieces, u).reshape(5, -1)
+        return coef, np.max(np.abs(approx - exact), axis=1) / scale
+
+    # the widest share 1/SCREEN of the pieces first (an interpolant's error grows with the
+    # width as width^(degree + 1)): a degree that fails there fails on all pieces (the error is
+    # a maximum over pieces, each fitted alone), so only a degree that passes is fitted on all
+    few = np.sort(np.argsort(a - b, kind="stable")[: -(-a.size // SCREEN)])
+    every = np.arange(a.size)
+    for degree in range(MIN_DEGREE, MAX_DEGREE + 1):
+        if degree < MAX_DEGREE and few.size < a.size:
+            if not np.all(fit_error(few, degree)[1] <= TABLE_ERROR):
+                continue
+        coef, err = fit_error(every, degree)
         if np.all(err <= TABLE_ERROR):
             return TorsionalTable(br, degree, coef, period,
                                   {n: float(e) for n, e in zip(QUANTITIES, err, strict=True)})
     raise InputError(f"native FMU table: no polynomial degree up to {MAX_DEGREE} reaches the "
                      f"table error {TABLE_ERROR:g} (reached {float(np.max(err)):.3g})")
+
+
+def split_table(table: TorsionalTable) -> TorsionalTable:
+    """The polynomial table with every piece split at its middle: the same polynomials (each
+    half re-expanded in its own local variable, exactly up to rounding) on twice the pieces, so
+    a stepper whose steps end at piece edges takes half steps where the edges set them."""
+    if table.lines is not None:
+        raise InputError("split_table: the contact-line form has no polynomials to split")
+    a, b = table.breaks[:-1], table.breaks[1:]
+    br = np.empty(2 * a.size + 1)
+    br[0::2], br[1::2] = table.breaks, 0.5 * (a + b)
+    s, to_mono = node_matrix(table.degree)
+    p, q, d = table.coef.shape
+    coef = np.empty((2 * p, q, d))
+    for half, shift in ((0, -1.0), (1, 1.0)):  # s = (s' -+ 1) / 2 on the two halves
+        m = to_mono @ np.vander(0.5 * (s + shift), d)  # coefficients -> the half's
+        coef[half::2] = (table.coef.reshape(p * q, d) @ m.T).reshape(p, q, d)
+    return TorsionalTable(br, table.degree, coef, table.period, dict(table.max_error))
 
 
 def _fit(to_mono: FloatArray, vals: FloatArray) -> FloatArray:
