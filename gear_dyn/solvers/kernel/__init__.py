@@ -133,7 +133,7 @@ def library() -> ctypes.CDLL:
     lib.gd_contact_first_crossing.argtypes = [_DP, _DP, _l, _d, _d, _d, _d, _d, _DP]
     lib.gd_contact_walk.restype = ctypes.c_int
     lib.gd_contact_walk.argtypes = [_DP, _DP, _l, _DP, _DP, _d, _d, _d, _l, _l, _DP, _DP, _DP,
-                                    _DP, _DP, _DP]
+                                    _DP, _DP, _DP, _DP, _DP, _DP]
     lib.gd_contact_on_grid.restype = ctypes.c_int
     lib.gd_contact_on_grid.argtypes = [_DP, _DP, _l, _DP, _DP, _l, _DP, _DP]
     # the steppers (gd_kernel.c, gd_torsional.c, gd_run.c: :mod:`.run` builds their structures)
