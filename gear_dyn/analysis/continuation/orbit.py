@@ -60,14 +60,15 @@ def resolve_route(model: MeshModel, route: str) -> str:
     return route
 
 
-def period_map(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: float
-               ) -> tuple[FloatArray, FloatArray, Walk | None]:
+def period_map(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: float,
+               mesh_rate: bool = False) -> tuple[FloatArray, FloatArray, Walk | None]:
     """``(P(y0), M, walked)``: the state after ``periods`` mesh periods, ``d P / d y0`` and,
     on the exact route, the walk they come from (:func:`~gear_dyn.solvers.contact_exact.walk`,
     for :func:`orbit_shape` of the same orbit; None on the variational route).
 
     ``route`` is ``exact`` or ``variational`` (:func:`resolve_route`); ``rtol`` is the
-    variational integration's relative tolerance.
+    variational integration's relative tolerance. ``mesh_rate`` (exact route only): the walk
+    also carries ``d P / d f_m`` (:meth:`~gear_dyn.solvers.contact_exact.Walk.mesh_rate`).
 
     Raises
     ------
@@ -76,8 +77,10 @@ def period_map(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol:
     """
     t1 = periods / model.mesh_frequency
     if route == "exact":
-        walked = walk(model, y0, t1)
+        walked = walk(model, y0, t1, mesh_rate=mesh_rate)
         return walked.end, walked.sensitivity(), walked
+    if mesh_rate:
+        raise InputError("period_map: mesh_rate needs route = 'exact'")
     y, mono = integrate_with_sensitivity(model, y0, t1, rtol, route)
     return y, mono, None
 

@@ -6,8 +6,15 @@ y_s = 0`` (two equations, three unknowns: a curve of solutions, the branch), clo
 linear equation ``r . z = rhs``: the pseudo-arclength condition ``t . (z - z_pred) = 0`` (Keller
 1977) or, to stop at a given parameter value, ``p = p_end``.
 
-The Jacobian ``[M - I | dP/dp]`` (scaled): ``M`` exact or variational (:mod:`.orbit`); the
-parameter derivative inside the corrector by the secant condition of each Newton step (a finite
+The Jacobian ``[M - I | dP/dp]`` (scaled): ``M`` exact or variational (:mod:`.orbit`). On the
+exact route, for a family whose models differ only in the mesh frequency, proportional to the
+parameter (a speed family: ``family.mesh_frequency_only``), the parameter column is exact too,
+from the same walk as ``M``: ``dP/dp = (dP/df_m) f_m / p`` with ``dP/df_m`` the walk's
+mesh-frequency derivative (:meth:`gear_dyn.solvers.contact_exact.Walk.mesh_rate`, the time
+scaling ``tau = f_m t`` written as moving stiffness switches and end time), exact to rounding
+(:data:`RATE_ROUNDING` per piece, its stated error): the corrector is Newton's method with the
+exact Jacobian at every iterate, and every converged point's tangent is exact, at no extra map.
+Otherwise the parameter derivative inside the corrector by the secant condition of each Newton step (a finite
 difference along the step, whose change from one step to the next is its error estimate). At a
 converged point whose secant columns have not settled, on the exact route (a map exact to
 rounding) by one more map: the forward difference over ``p + h_f``, ``h_f = FORWARD_STEP_RATIO
@@ -54,6 +61,11 @@ FORWARD_STEP_RATIO = 1e-3
 #: relative rounding of the scaled map (its residual is rounded to about this times
 #: ``1 + max|z|``): the rounding part of a forward difference's error estimate
 MAP_ROUNDING = 1e-15
+#: stated relative error of the exact parameter column per closed-form piece of its walk:
+#: rounding, as the exact flow's own (:func:`gear_dyn.solvers.contact_exact.rounding_bound`,
+#: 1000 eps per piece); measured within 2e-8 relative of a central difference, whose own
+#: truncation and rounding errors that is (tests/solvers/test_mesh_rate.py)
+RATE_ROUNDING = 1000 * float(np.finfo(float).eps)
 
 
 @dataclass(frozen=True, eq=False)
@@ -106,19 +118,34 @@ class Shooting:
         Parameter scale (> 0, SI).
     rtol, fd_step : float
         Variational tolerance; relative step of the parameter difference.
+    mesh_frequency_only : bool
+        The family's models differ only in the mesh frequency, proportional to the
+        parameter (a speed family): on the exact route the parameter column is then the
+        walk's exact one (see the module). Default: the family's own
+        ``mesh_frequency_only`` attribute (False where it has none).
+
+    Attributes
+    ----------
+    exact_column : bool
+        The parameter column is exact (the exact route and ``mesh_frequency_only``).
     """
 
     def __init__(self, family: Callable[[float], MeshModel], periods: int, route: str,
-                 scale: FloatArray, p_ref: float, rtol: float, fd_step: float) -> None:
+                 scale: FloatArray, p_ref: float, rtol: float, fd_step: float,
+                 mesh_frequency_only: bool | None = None) -> None:
         self.family, self.periods, self.route = family, int(periods), route
         self.scale = np.asarray(scale, dtype=float)
         self.p_ref, self.rtol, self.fd_step = float(p_ref), float(rtol), float(fd_step)
+        if mesh_frequency_only is None:
+            mesh_frequency_only = bool(getattr(family, "mesh_frequency_only", False))
+        self.mesh_frequency_only = bool(mesh_frequency_only)
+        self.exact_column = self.mesh_frequency_only and route == "exact"
         self.n_maps = 0  #: n-period maps computed (cost counter)
 
     def with_periods(self, periods: int) -> Shooting:
         """The same problem for period-``periods`` orbits."""
         return Shooting(self.family, periods, self.route, self.scale, self.p_ref, self.rtol,
-                        self.fd_step)
+                        self.fd_step, self.mesh_frequency_only)
 
     def state(self, z: FloatArray) -> FloatArray:
         """SI state of scaled unknowns."""
@@ -142,7 +169,8 @@ class Shooting:
         """The residual, Jacobian and monodromy matrix at ``z``.
 
         ``dp_col``: the scaled parameter column of the Jacobian to use (a chord: e.g. that of
-        the step's start point); None computes it here by the central difference.
+        the step's start point); None computes it here by the central difference. With
+        :attr:`exact_column` the column is the walk's exact one and ``dp_col`` is not used.
 
         Raises
         ------
@@ -153,13 +181,18 @@ class Shooting:
         """
         y, p = self.state(z), self.param(z)
         model = self.family(p)
-        yt, mono, walked = period_map(model, y, self.periods, self.route, self.rtol)
+        yt, mono, walked = period_map(model, y, self.periods, self.route, self.rtol,
+                                      self.exact_column)
         self.n_maps += 1
         s = self.scale
         jac = np.empty((2, 3))
         jac[:, :2] = (mono - np.eye(2)) * s[None, :] / s[:, None]
         dp_err = float("nan")
-        if dp_col is None:
+        if self.exact_column and walked is not None:
+            # dP/dp = dP/df_m * df_m/dp, f_m proportional to p
+            dp_col = walked.mesh_rate() * (float(model.mesh_frequency) / p) * self.p_ref / s
+            dp_err = RATE_ROUNDING * (walked.n_segments + 1)
+        elif dp_col is None:
             dp_col, dp_err = self._dp_column(y, p, yt)
         jac[:, 2] = dp_col
         return Evaluation(np.array(z, dtype=float), (yt - y) / s, jac, mono, dp_err, model,
@@ -235,7 +268,9 @@ class Shooting:
         ``newton.tolerance`` (``tol``) at an iterate; the returned evaluation is that
         iterate's. (The shooting residual bounds the distance to the orbit by
         ``tol / (1 - |mu|)`` in scaled units, mu the multiplier nearest 1.)
-        With ``dp_col`` (the parameter column at the step's start) the iterations skip the
+        With :attr:`exact_column` every iterate has its exact Jacobian (``dp_col`` and
+        ``fresh`` are not used). Otherwise, with ``dp_col`` (the parameter column at the
+        step's start) the iterations skip the
         difference quotient and correct the column by the secant condition of each step;
         ``fresh`` then makes sure the converged point's column is good for the tangent
         (the last secant column if it agrees with the one before, else the central
@@ -256,6 +291,8 @@ class Shooting:
             raise InputError("newton.tolerance = None: the corrector needs a scaled residual "
                              "to stop at, valid range 1e-14 <= x <= 0.0001")
         tol, max_iter = float(newton.tolerance), newton.max_iter
+        if self.exact_column:
+            dp_col, fresh = None, False  # the column of every evaluation is exact
         z = np.array(z0, dtype=float)
         step_prev = math.inf
         prev: tuple[Evaluation, FloatArray] | None = None
