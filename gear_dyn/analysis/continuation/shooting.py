@@ -14,16 +14,16 @@ mesh-frequency derivative (:meth:`gear_dyn.solvers.contact_exact.Walk.mesh_rate`
 scaling ``tau = f_m t`` written as moving stiffness switches and end time), exact to rounding
 (:data:`RATE_ROUNDING` per piece, its stated error): the corrector is Newton's method with the
 exact Jacobian at every iterate, and every converged point's tangent is exact, at no extra map.
-Otherwise the parameter derivative inside the corrector by the secant condition of each Newton step (a finite
-difference along the step, whose change from one step to the next is its error estimate). At a
-converged point whose secant columns have not settled, on the exact route (a map exact to
+Otherwise the parameter derivative inside the corrector by the secant condition of each Newton step
+(a finite difference along the step, whose change from one step to the next is its error estimate).
+At a converged point whose secant columns have not settled, on the exact route (a map exact to
 rounding) by one more map: the forward difference over ``p + h_f``, ``h_f = FORWARD_STEP_RATIO
-fd_step |p|`` (truncation ``h_f |d2P/dp2| / 2``, rounding O(eps / h_f); Dennis and Schnabel
-1996, sec. 5.4), whose disagreement with the corrector's last secant column (first order in the
-longer Newton step) plus its rounding is kept as an upper estimate of its error. Where no
-secant column was taken, or on the variational route (a map accurate to ``rtol`` only), by the
-central difference over ``p +- h``, ``h = fd_step |p|`` (two maps; truncation O(h^2)), whose
-one-sided differences' disagreement is kept as an upper estimate of its error.
+fd_step |p|`` (truncation ``h_f |d2P/dp2| / 2``, rounding O(eps / h_f); Dennis and Schnabel 1996,
+sec. 5.4), whose disagreement with the corrector's last secant column (first order in the longer
+Newton step) plus its rounding is kept as an upper estimate of its error. Where no secant column
+was taken, or on the variational route (a map accurate to ``rtol`` only), by the central difference
+over ``p +- h``, ``h = fd_step |p|`` (two maps; truncation O(h^2)), whose one-sided differences'
+disagreement is kept as an upper estimate of its error.
 """
 
 from __future__ import annotations
