@@ -347,7 +347,7 @@ def locate_pattern_change(curve: StepCurve, pattern_a: str, pattern_b: str
     hit: tuple[float, float, float] | None = None
     ev_a, ev_b = curve.cache[0.0], curve.cache[curve.ds]
     made = graze_test(ev_a.model, sh.state(ev_a.z), ev_b.model, sh.state(ev_b.z), sh.periods,
-                      sh.route, sh.rtol)
+                      sh.route, sh.rtol, ev_a.walked, ev_b.walked)
     if made is not None:
         test, v_a, v_b = made
         band = abs(test.level)
@@ -357,7 +357,8 @@ def locate_pattern_change(curve: StepCurve, pattern_a: str, pattern_b: str
             ev = curve.at(s)
             if ev is None:
                 return None
-            got = test.margin(ev.model, sh.state(ev.z), sh.periods, sh.route, sh.rtol)
+            got = test.margin(ev.model, sh.state(ev.z), sh.periods, sh.route, sh.rtol,
+                              ev.walked)
             if got is None:
                 return pattern(s) != pattern_a, None
             val, test = got
