@@ -310,7 +310,7 @@ class Walk:
                               f"at t = {self._segs.fail_time:.6g} s: the flow has no derivative "
                               "there")
         phi = self._segs.phi.copy()
-        if not (np.all(np.isfinite(self.end)) and np.all(np.isfinite(phi))):
+        if not (np.isfinite(self.end).all() and np.isfinite(phi).all()):
             raise SolverError("exact_contact produced non-finite states: the response diverges")
         return phi
 
@@ -356,7 +356,7 @@ class Walk:
             raise InputError("mesh_rate: walk(..., mesh_rate=True) was not asked for")
         self.sensitivity()  # raises on a graze or a diverging response
         rate = self._end_rate.copy()
-        if not np.all(np.isfinite(rate)):
+        if not np.isfinite(rate).all():
             raise SolverError("exact_contact produced a non-finite mesh-frequency derivative")
         return rate
 
@@ -395,7 +395,7 @@ class Walk:
         out, finite = ck.on_grid(*self._tables, self._segs.table, self._segs.ids, t_grid)
         out = out.reshape((2, *t_grid.shape))
         out += np.asarray(_te_shift(self.model, t_grid))  # back from u = x - e to x
-        if not (finite and np.all(np.isfinite(out))):
+        if not (finite and np.isfinite(out).all()):
             raise SolverError("exact_contact produced non-finite states: the response diverges")
         return out
 

@@ -99,7 +99,7 @@ def map_only(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: f
     t1 = periods / model.mesh_frequency
     if route == "exact":
         end = walk(model, y0, t1).end
-        if not np.all(np.isfinite(end)):
+        if not np.isfinite(end).all():
             raise SolverError("exact_contact produced non-finite states: the response diverges")
         return end
     return np.asarray(flow_on_grid(model, y0, np.array([0.0, t1]), rtol=rtol)[:, -1])
