@@ -314,6 +314,14 @@ class Walk:
             raise SolverError("exact_contact produced non-finite states: the response diverges")
         return phi
 
+    def spells(self) -> tuple[NDArray[np.int64], FloatArray]:
+        """The contact state (``BACK``, ``GAP``, ``DRIVE``) and duration (s) of each
+        closed-form segment, in time order: the state the walk propagated it in (its piece
+        row ``3 j + state + 1``), so every spell between located contact changes is seen,
+        however short. Consecutive segments of one state are split at stiffness switches."""
+        rows = self._segs.ids[:, 0]
+        return rows % 3 - 1, self._segs.table[:, 3].copy()
+
     def mesh_rate(self) -> FloatArray:
         """``d y(t1) / d f_m`` [m/Hz, m/(s Hz)]: the end state's derivative with respect to the
         mesh frequency, the span fixed in mesh phase (both ends and every stiffness switch

@@ -45,7 +45,7 @@ from numpy.typing import NDArray
 from gear_dyn.analysis.continuation.graze import graze_test
 from gear_dyn.analysis.continuation.orbit import OrbitShape, orbit_shape
 from gear_dyn.analysis.continuation.settings import ContinuationSettings
-from gear_dyn.analysis.continuation.shooting import Evaluation, Shooting, tangent
+from gear_dyn.analysis.continuation.shooting import Evaluation, Shooting, solve3, tangent
 from gear_dyn.errors import SolverError
 
 FloatArray = NDArray[np.float64]
@@ -152,9 +152,8 @@ class StepCurve:
         once the residual is below ``newton.tolerance``)."""
         ev = self.cache[s]
         f = np.append(ev.g, float(self.t_a @ (ev.z - self.z_a)) - s)
-        try:
-            dz = np.linalg.solve(np.vstack([ev.jac, self.t_a]), -f)
-        except np.linalg.LinAlgError:
+        dz = solve3(np.vstack([ev.jac, self.t_a]), -f)
+        if dz is None:
             return math.nan
         return self.sh.p_ref * abs(float(dz[2]))
 

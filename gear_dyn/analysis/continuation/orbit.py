@@ -132,9 +132,11 @@ def orbit_shape(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol
     (:class:`~gear_dyn.analysis.stability.OrbitShape`, the ``shape`` of its
     :class:`~gear_dyn.analysis.stability.PeriodicSolution`).
 
-    On the exact route the pattern comes from the located contact changes (every spell is
-    seen, however short); on the variational route from :data:`SAMPLES_PER_PERIOD` samples
-    per mesh period (a spell shorter than a sample step can be missed). The response measures
+    On the exact route the pattern comes from the walk's own contact state of each piece
+    (:meth:`~gear_dyn.solvers.contact_exact.Walk.spells`: every spell between located contact
+    changes is seen, however short); on the variational route from
+    :data:`SAMPLES_PER_PERIOD` samples per mesh period (a spell shorter than a sample step
+    can be missed). The response measures
     use the samples.
 
     ``walked``: on the exact route, the walk of this orbit from ``y0`` over the n periods
@@ -158,19 +160,12 @@ def orbit_shape(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol
             raise InputError("orbit_shape: walked is not the walk of this orbit (another "
                              "model, start state or span)")
         y = walked.on_grid(t)
-        ev = walked.event_times
-        ev = ev[(ev > 0.0) & (ev < t1)]
-        edges = np.concatenate([[0.0], ev, [t1]])
-        mids = 0.5 * (edges[:-1] + edges[1:])
-        owner = np.searchsorted(edges, t[:-1], side="right") - 1
-        st = np.full(mids.size, 2, dtype=np.int64)  # 2: no sample in the spell
-        st[owner] = _states(model, t[:-1], y[0, :-1])
-        if np.any(st == 2):  # a spell shorter than a sample step: its midpoint's state
-            st = _states(model, mids, walked.on_grid(mids)[0])
-        dur = np.diff(edges)
+        st, dur = walked.spells()
+        keep = dur > 0.0
+        st, dur = st[keep], dur[keep]
         pattern = _run_letters(st)
-        sep = float(np.sum(dur[st == 0]) / t1)
-        back = float(np.sum(dur[st == -1]) / t1)
+        sep = float(dur[st == 0].sum() / t1)
+        back = float(dur[st == -1].sum() / t1)
     else:
         y = flow_on_grid(model, y0, t, rtol=rtol)
         st = _states(model, t[:-1], y[0, :-1])

@@ -317,10 +317,8 @@ class Shooting:
                     return ev, it
                 settled = self._settled_column(ev, secants if updated else [], last)
                 return None if settled is None else (settled, it)
-            a = np.vstack([ev.jac, row])
-            try:
-                dz = np.linalg.solve(a, -f)
-            except np.linalg.LinAlgError:
+            dz = solve3(np.vstack([ev.jac, row]), -f)
+            if dz is None:
                 return None
             step = float(np.max(np.abs(dz)))
             if not math.isfinite(step):
@@ -349,11 +347,43 @@ def _secant_column(ev0: Evaluation, ev1: Evaluation, dz: FloatArray) -> FloatArr
     return np.asarray((ev1.g - ev0.g - a_y @ dz[:2]) / dzp, dtype=float)
 
 
+def solve3(a: FloatArray, b: FloatArray) -> FloatArray | None:
+    """``a^-1 b`` for a 3 x 3 ``a``: Gaussian elimination with partial pivoting (Golub & Van
+    Loan 2013, alg. 3.4.1), unrolled on Python floats (the corrector's system, a few times per
+    point: a fraction of the time of ``numpy.linalg.solve`` on one so small). None where ``a``
+    is singular (a zero pivot) or not finite."""
+    r0, r1, r2 = (row + [bi] for row, bi in zip(a.tolist(), b.tolist(), strict=True))
+    if abs(r1[0]) > abs(r0[0]):
+        r0, r1 = r1, r0
+    if abs(r2[0]) > abs(r0[0]):
+        r0, r2 = r2, r0
+    p = r0[0]
+    if p == 0.0 or not math.isfinite(p):
+        return None
+    f1, f2 = r1[0] / p, r2[0] / p
+    r1 = [0.0, r1[1] - f1 * r0[1], r1[2] - f1 * r0[2], r1[3] - f1 * r0[3]]
+    r2 = [0.0, r2[1] - f2 * r0[1], r2[2] - f2 * r0[2], r2[3] - f2 * r0[3]]
+    if abs(r2[1]) > abs(r1[1]):
+        r1, r2 = r2, r1
+    p = r1[1]
+    if p == 0.0 or not math.isfinite(p):
+        return None
+    f2 = r2[1] / p
+    c22, c23 = r2[2] - f2 * r1[2], r2[3] - f2 * r1[3]
+    if c22 == 0.0 or not math.isfinite(c22):
+        return None
+    x2 = c23 / c22
+    x1 = (r1[3] - r1[2] * x2) / r1[1]
+    x0 = (r0[3] - r0[1] * x1 - r0[2] * x2) / r0[0]
+    return np.array([x0, x1, x2])
+
+
 def tangent(jac: FloatArray) -> FloatArray:
     """Unit null vector of the 2 x 3 Jacobian ``[M - I | dP/dp]`` (scaled): the branch
     direction (the cross product of its rows; its sign is the caller's choice)."""
-    t = np.cross(jac[0], jac[1])
-    norm = float(np.linalg.norm(t))
+    (a0, a1, a2), (b0, b1, b2) = jac.tolist()
+    t = np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
+    norm = math.sqrt(float(t @ t))
     if norm == 0.0 or not math.isfinite(norm):
         raise SolverError("the branch tangent is undefined (Jacobian of rank < 2): a "
                           "singular point of the shooting equations")
