@@ -362,9 +362,10 @@ class Walk:
         """
         if self._end_rate is None:
             raise InputError("mesh_rate: walk(..., mesh_rate=True) was not asked for")
-        self.sensitivity()  # raises on a graze or a diverging response
+        if self._segs.status == ck.GRAZE:
+            self.sensitivity()  # raises, naming the graze
         rate = self._end_rate.copy()
-        if not np.isfinite(rate).all():
+        if not (np.isfinite(rate).all() and np.isfinite(self.end).all()):
             raise SolverError("exact_contact produced a non-finite mesh-frequency derivative")
         return rate
 
@@ -402,7 +403,8 @@ class Walk:
         t_grid = np.asarray(t_grid, dtype=float)
         out, finite = ck.on_grid(*self._tables, self._segs.table, self._segs.ids, t_grid)
         out = out.reshape((2, *t_grid.shape))
-        out += np.asarray(_te_shift(self.model, t_grid))  # back from u = x - e to x
+        if getattr(self.model, "transmission_error", None) is not None:
+            out += np.asarray(_te_shift(self.model, t_grid))  # back from u = x - e to x
         if not (finite and np.isfinite(out).all()):
             raise SolverError("exact_contact produced non-finite states: the response diverges")
         return out

@@ -108,7 +108,8 @@ def map_only(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: f
 def liouville_residual(model: MeshModel, monodromy: FloatArray, periods: int) -> float:
     """``|det M / exp(-c n T / m_e) - 1|``: the monodromy matrix's Liouville mismatch (-)."""
     expected = math.exp(-model.damping * periods / (model.mass * model.mesh_frequency))
-    return abs(float(np.linalg.det(monodromy)) / expected - 1.0)
+    (a, b), (c, d) = monodromy.tolist()
+    return abs((a * d - b * c) / expected - 1.0)
 
 
 def _states(model: MeshModel, t: FloatArray, x: FloatArray) -> NDArray[np.int64]:
@@ -173,5 +174,7 @@ def orbit_shape(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol
         sep = float(np.mean(st == 0))
         back = float(np.mean(st == -1))
     x = y[0, :-1]
-    return OrbitShape(pattern, sep, back, float(np.std(x)), float(np.ptp(x)),
-                      float(np.mean(x)))
+    mean = float(x.mean())
+    d = x - mean
+    return OrbitShape(pattern, sep, back, math.sqrt(float(d @ d) / x.size),
+                      float(x.max() - x.min()), mean)
