@@ -61,22 +61,14 @@ MIN_SCALE = 1e-3
 GRAZE_BAND = 1e-10
 
 
-def _det_shift(monodromy: FloatArray, shift: float) -> float:
-    """``det(M + shift I)`` (the 2 x 2 of the single-DOF model written out)."""
-    if monodromy.shape == (2, 2):
-        (a, b), (c, d) = monodromy.tolist()
-        return (a + shift) * (d + shift) - b * c
-    return float(np.linalg.det(monodromy + shift * np.eye(monodromy.shape[0])))
-
-
 def fold_test(monodromy: FloatArray) -> float:
     """``det(M - I)``: zero where a multiplier is +1."""
-    return _det_shift(monodromy, -1.0)
+    return float(np.linalg.det(monodromy - np.eye(monodromy.shape[0])))
 
 
 def pd_test(monodromy: FloatArray) -> float:
     """``det(M + I)``: zero where a multiplier is -1."""
-    return _det_shift(monodromy, 1.0)
+    return float(np.linalg.det(monodromy + np.eye(monodromy.shape[0])))
 
 
 class StepCurve:
