@@ -329,7 +329,7 @@ class Walk:
         ``t0 = 0``, ``t1 = n / f_m`` the n-period map's, ``dP / d f_m``.
 
         Derivation (the trajectory sensitivity of a hybrid system to a parameter, Hiskens &
-        Pai 2000, IEEE Trans. Circuits Syst. I 47(2), eqs. 14-23). With ``tau = f_m t`` the
+        Pai 2000, IEEE Trans. Circuits Syst. I 47(2)). With ``tau = f_m t`` the
         map is ``P(y0; f_m)``: the flow of ``m u'' + c u' + k(tau) f(u) = W + m g(t)`` over
         ``0 <= tau <= n``; in time t the stiffness switches at ``t_j = (tau_j - p0) / f_m``
         and the end ``t1 = n / f_m`` move with ``f_m`` (``d t_j / d f_m = -t_j / f_m``), the

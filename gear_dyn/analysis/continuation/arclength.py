@@ -259,7 +259,7 @@ def predict(z: FloatArray, t: FloatArray, prev: tuple[FloatArray, FloatArray] | 
     column): the cubic Hermite interpolant through both points and tangents, the curve
     parametrised by the chord length ``h`` between them, extrapolated to ``ds`` past ``z``
     (error O(h^4) where ``ds ~ h``, against O(ds^2) for the tangent alone; Allgower & Georg
-    2003, sec. 6.1, on higher-order predictors). Without: the tangent, ``z + ds t``.
+    2003, on higher-order predictors). Without: the tangent, ``z + ds t``.
     """
     if prev is None:
         return np.asarray(z + ds * t)

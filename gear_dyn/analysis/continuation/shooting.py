@@ -349,7 +349,7 @@ def _secant_column(ev0: Evaluation, ev1: Evaluation, dz: FloatArray) -> FloatArr
 
 def solve3(a: FloatArray, b: FloatArray) -> FloatArray | None:
     """``a^-1 b`` for a 3 x 3 ``a``: Gaussian elimination with partial pivoting (Golub & Van
-    Loan 2013, alg. 3.4.1), unrolled on Python floats (the corrector's system, a few times per
+    Loan 2013, sec. 3.4), unrolled on Python floats (the corrector's system, a few times per
     point: a fraction of the time of ``numpy.linalg.solve`` on one so small). None where ``a``
     is singular (a zero pivot) or not finite."""
     r0, r1, r2 = (row + [bi] for row, bi in zip(a.tolist(), b.tolist(), strict=True))
