@@ -328,8 +328,12 @@ def detect_step(sh: Shooting, ev_a: Evaluation, t_a: FloatArray, ev_b: Evaluatio
         fa, fb = test(ev_a.monodromy), test(ev_b.monodromy)
         if not _sign_change(fa, fb):
             continue
-        ev, s, err = locate_root(curve, test, fa, fb)
-        kind = kinds[0] if t_a[2] * t_b[2] < 0.0 else kinds[1]
+        turns = t_a[2] * t_b[2] < 0.0
+        # a fold (the speed turns back): trials at the stationary point of the Hermite
+        # interpolant of the speed, from the exact tangents (with an exact speed column)
+        guess = curve.fold_guess if turns and test is fold_test and sh.exact_column else None
+        ev, s, err = locate_root(curve, test, fa, fb, guess)
+        kind = kinds[0] if turns else kinds[1]
         found.append((s, Bifurcation(kind, point(ev, s), err, stab[pt_a.stable],
                                      stab[pt_b.stable])))
     if pt_a.pattern != pt_b.pattern:
