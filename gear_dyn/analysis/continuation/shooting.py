@@ -66,6 +66,8 @@ MAP_ROUNDING = 1e-15
 #: 1000 eps per piece); measured within 2e-8 relative of a central difference, whose own
 #: truncation and rounding errors that is (tests/solvers/test_mesh_rate.py)
 RATE_ROUNDING = 1000 * float(np.finfo(float).eps)
+_EYE2 = np.eye(2)
+_EYE2.flags.writeable = False
 
 
 @dataclass(frozen=True, eq=False)
@@ -186,7 +188,7 @@ class Shooting:
         self.n_maps += 1
         s = self.scale
         jac = np.empty((2, 3))
-        jac[:, :2] = (mono - np.eye(2)) * s[None, :] / s[:, None]
+        jac[:, :2] = (mono - _EYE2) * s[None, :] / s[:, None]
         dp_err = float("nan")
         if self.exact_column and walked is not None:
             # dP/dp = dP/df_m * df_m/dp, f_m proportional to p
@@ -311,8 +313,9 @@ class Shooting:
                     secants.append(new)
                     last = new
                     ev.jac[:, 2] = dp_col
-            f = np.append(ev.g, float(row @ z) - rhs)
-            if float(np.max(np.abs(f))) <= tol:
+            g0, g1 = ev.g.tolist()
+            f = np.array([g0, g1, float(row @ z) - rhs])
+            if max(abs(g0), abs(g1), abs(float(f[2]))) <= tol:
                 if not fresh:
                     return ev, it
                 settled = self._settled_column(ev, secants if updated else [], last)
@@ -320,7 +323,7 @@ class Shooting:
             dz = solve3(np.vstack([ev.jac, row]), -f)
             if dz is None:
                 return None
-            step = float(np.max(np.abs(dz)))
+            step = max(map(abs, dz.tolist()))
             if not math.isfinite(step):
                 return None
             if it >= 3 and step > 0.5 * step_prev:
