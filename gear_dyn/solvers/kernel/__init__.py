@@ -149,7 +149,7 @@ def _ptr(a: NDArray[Any]) -> int:
     """The address of ``a``'s data: through the buffer protocol (a writable C-contiguous
     array, the usual case: a third of the time of ``a.ctypes``), else ``a.ctypes.data``."""
     try:
-        return ctypes.addressof(ctypes.c_char.from_buffer(a))
+        return ctypes.addressof(ctypes.c_char.from_buffer(a))  # type: ignore[arg-type]
     except (TypeError, ValueError, BufferError):
         return int(a.ctypes.data)
 
