@@ -273,8 +273,6 @@ class Walk:
         State at ``t0`` [m, m/s].
     end : ndarray (2,)
         State at ``t1`` [m, m/s].
-    event_times : ndarray
-        Times of the located contact changes (s), in order.
     n_segments : int
         Closed-form pieces.
     """
@@ -287,9 +285,14 @@ class Walk:
         self._tables, self._segs = tables, segments
         self.end = np.array(end)
         self._end_rate = end_rate
-        tab, ids = segments.table, segments.ids
-        self.event_times = (tab[:, 0] + tab[:, 3])[ids[:, 1] == 1]
-        self.n_segments = int(tab.shape[0])
+        self.n_segments = int(segments.table.shape[0])
+
+    @property
+    def event_times(self) -> FloatArray:
+        """Times of the located contact changes (s), in order (the ends of the segments that
+        end at one)."""
+        tab, ids = self._segs.table, self._segs.ids
+        return np.asarray((tab[:, 0] + tab[:, 3])[ids[:, 1] == 1])
 
     def sensitivity(self) -> FloatArray:
         """``d y(t1) / d y(t0)`` (entries dimensionless, s and 1/s): the product, in time
