@@ -491,7 +491,7 @@ def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0,
             "use DOP853 or LSODA")
     mm: Any = model  # a mesh model with backlash: checked above
     t0, t1 = float(t0), float(t1)
-    x0, v0 = (float(u) for u in y0)
+    x0, v0 = float(y0[0]), float(y0[1])
     edges, seg_k, k_values = _stiffness_pieces(mm.stiffness)  # type: ignore[misc]
     inner = np.asarray(mm.switching_times(t0, t1), dtype=float)
     slots = None
@@ -507,27 +507,27 @@ def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0,
     mid = np.mod(np.asarray(mm.phase(0.5 * (cuts[:-1] + cuts[1:])), dtype=float), 1.0)
     kidx = seg_k.take(np.searchsorted(edges, mid, side="right") - 1, mode="clip")
     tables = _walk_tables(mm, k_values)
-    xtol = 4 * float(np.spacing(max(abs(t0), abs(t1), 1e-300)))
+    xtol = 4 * math.ulp(max(abs(t0), abs(t1), 1e-300))
     shifted = getattr(mm, "transmission_error", None) is not None
-    e0, ed0 = _te_shift(mm, np.array([t0])) if shifted else (np.zeros(1), np.zeros(1))
+    e0 = ed0 = e1 = ed1 = 0.0
+    if shifted:
+        e0, ed0 = (float(a[0]) for a in _te_shift(mm, np.array([t0])))
+        e1, ed1 = (float(a[0]) for a in _te_shift(mm, np.array([t1])))
     param = None
     fm = float(mm.mesh_frequency)
     if mesh_rate:  # every cut fixed in phase: d t / d f_m = -t / f_m; the start u' has -E'
-        param = (-cuts / fm, _piece_rates(mm, k_values),
-                 np.array([0.0, -float(ed0[0]) / fm]), 1.0)
-    segs = ck.walk(*tables, cuts, kidx.ravel(), x0 - float(e0[0]), v0 - float(ed0[0]), xtol,
+        param = (-cuts / fm, _piece_rates(mm, k_values), np.array([0.0, -ed0 / fm]), 1.0)
+    segs = ck.walk(*tables, cuts, kidx.ravel(), x0 - e0, v0 - ed0, xtol,
                    MAX_EVENTS_PER_PIECE, slots, param)
     if segs.status == ck.CHATTER:
         raise SolverError(
             f"exact_contact: more than {MAX_EVENTS_PER_PIECE} contact changes in one "
             f"stiffness piece at t = {segs.fail_time:.6g} s (a chattering graze); use LSODA")
-    e1, ed1 = _te_shift(mm, np.array([t1])) if shifted else (e0, ed0)
-    x, v = (float(u) for u in segs.end)
+    x, v = segs.end.tolist()
     end_rate = None
     if segs.dpar is not None:  # back to x: e(t1) is fixed in phase, e'(t1) = f_m E' adds E'
-        end_rate = segs.dpar + np.array([0.0, float(ed1[0]) / fm])
-    return Walk(model, t0, t1, (x0, v0), tables, segs, (x + float(e1[0]), v + float(ed1[0])),
-                end_rate)
+        end_rate = segs.dpar + np.array([0.0, ed1 / fm])
+    return Walk(model, t0, t1, (x0, v0), tables, segs, (x + e1, v + ed1), end_rate)
 
 
 def propagate_contact_exact(
