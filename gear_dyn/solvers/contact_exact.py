@@ -422,11 +422,12 @@ def _piece_tables(mm: Any, k_values: FloatArray) -> tuple[FloatArray, FloatArray
     return _model_header(mm, forcing), np.array(rows)
 
 
-def _walk_tables(mm: Any, k_values: FloatArray) -> tuple[FloatArray, FloatArray]:
+def _walk_tables(mm: Any, k_values: FloatArray, forcing: Forcing | None = None
+                 ) -> tuple[FloatArray, FloatArray]:
     """:func:`_piece_tables` for all of the stiffness's distinct values ``k_values``, the
     rows reused while the model differs only in what they do not depend on (speed and phase
     without a transmission error: the rows of a continuation's family are built once)."""
-    forcing = Forcing.of(mm)
+    forcing = Forcing.of(mm) if forcing is None else forcing
     te = getattr(mm, "transmission_error", None)
     key = (id(mm.stiffness), float(mm.mass), float(mm.damping), float(mm.static_load),
            float(mm.backlash), id(te), forcing.fm if forcing.n.size else 0.0)
@@ -436,9 +437,10 @@ def _walk_tables(mm: Any, k_values: FloatArray) -> tuple[FloatArray, FloatArray]
     return _model_header(mm, forcing), hit[1]
 
 
-def _piece_rates(mm: Any, k_values: FloatArray) -> FloatArray | None:
+def _piece_rates(mm: Any, k_values: FloatArray, forcing: Forcing | None = None
+                 ) -> FloatArray | None:
     """``d (ca, cb) / d f_m`` of the rows of :func:`_piece_tables` (None without harmonics)."""
-    forcing = Forcing.of(mm)
+    forcing = Forcing.of(mm) if forcing is None else forcing
     if not forcing.n.size:
         return None
     m, c = float(mm.mass), float(mm.damping)
@@ -506,7 +508,8 @@ def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0,
     # each stiffness piece's segment, from its middle phase
     mid = np.mod(np.asarray(mm.phase(0.5 * (cuts[:-1] + cuts[1:])), dtype=float), 1.0)
     kidx = seg_k.take(np.searchsorted(edges, mid, side="right") - 1, mode="clip")
-    tables = _walk_tables(mm, k_values)
+    forcing = Forcing.of(mm)
+    tables = _walk_tables(mm, k_values, forcing)
     xtol = 4 * math.ulp(max(abs(t0), abs(t1), 1e-300))
     shifted = getattr(mm, "transmission_error", None) is not None
     e0 = ed0 = e1 = ed1 = 0.0
@@ -516,7 +519,8 @@ def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0,
     param = None
     fm = float(mm.mesh_frequency)
     if mesh_rate:  # every cut fixed in phase: d t / d f_m = -t / f_m; the start u' has -E'
-        param = (-cuts / fm, _piece_rates(mm, k_values), np.array([0.0, -ed0 / fm]), 1.0)
+        param = (-cuts / fm, _piece_rates(mm, k_values, forcing), np.array([0.0, -ed0 / fm]),
+                 1.0)
     segs = ck.walk(*tables, cuts, kidx.ravel(), x0 - e0, v0 - ed0, xtol,
                    MAX_EVENTS_PER_PIECE, slots, param)
     if segs.status == ck.CHATTER:

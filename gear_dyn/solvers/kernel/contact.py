@@ -130,8 +130,9 @@ def walk(model: FloatArray, pieces: FloatArray, cuts: FloatArray, kidx: NDArray[
     model, pieces, n = _tables(model, pieces)
     cuts = _c(cuts)
     kid = np.ascontiguousarray(kidx, dtype=_LONG)
+    listed = kid.tolist() if kid.ndim == 1 else []
     if cuts.ndim != 1 or kid.shape != (cuts.size - 1,) \
-            or (kid.size and (kid.min() < 0 or 3 * kid.max() + 2 >= n)):
+            or (listed and (min(listed) < 0 or 3 * max(listed) + 2 >= n)):
         raise ValueError(f"contact walk: {cuts.size} cuts, {kid.size} stiffness indices, "
                          f"{n} piece rows")
     slot, phis = None, None
@@ -176,7 +177,7 @@ def walk(model: FloatArray, pieces: FloatArray, cuts: FloatArray, kidx: NDArray[
             break
         cap = int(count[0])  # the number the walk needed: once more with room for all
     ns = min(int(count[0]), cap)
-    return Segments(table[:ns], ids[:ns].astype(np.int64), out[:2].copy(),
+    return Segments(table[:ns], ids[:ns].astype(np.int64, copy=False), out[:2].copy(),
                     out[2:6].reshape(2, 2).copy(), int(status), float(out[6]), phis,
                     None if dpar is None else dpar[:2].copy())
 
