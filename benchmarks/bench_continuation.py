@@ -85,6 +85,7 @@ def main(argv: list[str] | None = None) -> int:
     maps_off = maps_on = math.nan
     periods: list[int] = []
     worst_residual = 0.0
+    iters = math.nan
     for _ in range(args.repeats):
         c0 = time.process_time()
         dt, br = timed(lambda: continue_orbits(factory, LO * RPM, HI * RPM, settings=quiet))
@@ -93,6 +94,7 @@ def main(argv: list[str] | None = None) -> int:
         n_pts = len(br)
         maps_off = br.n_maps / len(br)
         worst_residual = max(p.residual for p in br.points)
+        iters = statistics.mean(p.iterations for p in br.points[1:])
         c0 = time.process_time()
         dt, brd = timed(lambda: continue_orbits(factory, LO * RPM, HI * RPM, settings=settings))
         t_on.append(dt / len(brd))
@@ -123,10 +125,14 @@ def main(argv: list[str] | None = None) -> int:
         f"{worst_residual:.1e} (newton_tol {settings.newton.tolerance:g}); with detection on, "
         f"{n_special} special points are located as well ({kinds}), each to "
         f"locate_tol {settings.locate_tol:g} relative in speed (largest stated error "
-        f"{worst_error:.1e} relative, the corrector's included): secant steps on the test "
-        "function with Brent's step by the tolerance, on det(M -+ I) for folds and period "
-        "doublings, on the gap margin of the extremum that touches a contact boundary for "
-        "grazing.", "",
+        f"{worst_error:.1e} relative, the corrector's included): bracketed with Brent's step "
+        "by the tolerance, by secant steps on det(M + I) for period doublings and on the gap "
+        "margin of the extremum that touches a contact boundary for grazing, and for folds at "
+        "the stationary point of the speed's cubic Hermite interpolant from the exact "
+        "tangents. The speed column of the Jacobian is exact (the walk's mesh-frequency "
+        "derivative), so the corrector is Newton's method with the exact Jacobian: "
+        f"{iters:.2f} maps per point on average (the Hermite predictor's and each Newton "
+        "iterate's).", "",
         "| path | per point (ms) | mesh-period maps per point |",
         "|---|---|---|",
         f"| **continue_orbits**, detection on (all special points located) | "

@@ -72,6 +72,14 @@ class SceneModels:
         """The scene's run plan (model at the scene's own speed, settings, span)."""
         return _base(self.source, self.tables_json, self.overrides_json)[1]
 
+    @property
+    def mesh_frequency_only(self) -> bool:
+        """True when the models differ only in the mesh frequency (the scene's model has
+        ``at_mesh_frequency``; else each speed rebuilds it): the continuation then takes the
+        shooting map's exact speed derivative."""
+        model = _base(self.source, self.tables_json, self.overrides_json)[1].model
+        return model.at_mesh_frequency(float(getattr(model, "mesh_frequency", 1.0))) is not None
+
     def __call__(self, speed: float) -> Model:
         """The scene's model at pinion speed ``speed`` in rad/s, as ``run_scene`` builds it
         (:func:`gear_dyn.models.base.at_speed`, else the scene rebuilt at that speed)."""

@@ -275,22 +275,26 @@ class Walk:
         State at ``t0`` [m, m/s].
     end : ndarray (2,)
         State at ``t1`` [m, m/s].
-    event_times : ndarray
-        Times of the located contact changes (s), in order.
     n_segments : int
         Closed-form pieces.
     """
 
     def __init__(self, model: Any, t0: float, t1: float, start: tuple[float, float],
                  tables: tuple[FloatArray, FloatArray], segments: ck.Segments,
-                 end: tuple[float, float]) -> None:
+                 end: tuple[float, float], end_rate: FloatArray | None = None) -> None:
         self.model, self.t0, self.t1 = model, t0, t1
         self.start = np.array(start)
         self._tables, self._segs = tables, segments
         self.end = np.array(end)
-        tab, ids = segments.table, segments.ids
-        self.event_times = (tab[:, 0] + tab[:, 3])[ids[:, 1] == 1]
-        self.n_segments = int(tab.shape[0])
+        self._end_rate = end_rate
+        self.n_segments = int(segments.table.shape[0])
+
+    @property
+    def event_times(self) -> FloatArray:
+        """Times of the located contact changes (s), in order (the ends of the segments that
+        end at one)."""
+        tab, ids = self._segs.table, self._segs.ids
+        return np.asarray((tab[:, 0] + tab[:, 3])[ids[:, 1] == 1])
 
     def sensitivity(self) -> FloatArray:
         """``d y(t1) / d y(t0)`` (entries dimensionless, s and 1/s): the product, in time
@@ -311,9 +315,64 @@ class Walk:
                               f"at t = {self._segs.fail_time:.6g} s: the flow has no derivative "
                               "there")
         phi = self._segs.phi.copy()
-        if not (np.all(np.isfinite(self.end)) and np.all(np.isfinite(phi))):
+        if not (np.isfinite(self.end).all() and np.isfinite(phi).all()):
             raise SolverError("exact_contact produced non-finite states: the response diverges")
         return phi
+
+    def spells(self) -> tuple[NDArray[np.int64], FloatArray]:
+        """The contact state (``BACK``, ``GAP``, ``DRIVE``) and duration (s) of each
+        closed-form segment, in time order: the state the walk propagated it in (its piece
+        row ``3 j + state + 1``), so every spell between located contact changes is seen,
+        however short. Consecutive segments of one state are split at stiffness switches."""
+        rows = self._segs.ids[:, 0]
+        return rows % 3 - 1, self._segs.table[:, 3].copy()
+
+    def mesh_rate(self) -> FloatArray:
+        """``d y(t1) / d f_m`` [m/Hz, m/(s Hz)]: the end state's derivative with respect to the
+        mesh frequency, the span fixed in mesh phase (both ends and every stiffness switch
+        at their phase, so ``d t / d f_m = -t / f_m``), the start state fixed: for
+        ``t0 = 0``, ``t1 = n / f_m`` the n-period map's, ``dP / d f_m``.
+
+        Derivation (the trajectory sensitivity of a hybrid system to a parameter, Hiskens &
+        Pai 2000, IEEE Trans. Circuits Syst. I 47(2)). With ``tau = f_m t`` the
+        map is ``P(y0; f_m)``: the flow of ``m u'' + c u' + k(tau) f(u) = W + m g(t)`` over
+        ``0 <= tau <= n``; in time t the stiffness switches at ``t_j = (tau_j - p0) / f_m``
+        and the end ``t1 = n / f_m`` move with ``f_m`` (``d t_j / d f_m = -t_j / f_m``), the
+        coefficients ``m, c, k`` of each piece do not, and the transmission error's forcing
+        ``g = -e''`` and the particular solution ``u_p`` of each piece do
+        (:meth:`~gear_dyn.solvers.harmonic_forcing.Forcing.particular_rate`). The
+        derivative ``s = d u(t) / d f_m`` at fixed t is then carried along the walk:
+
+        - across a piece from ``t_a`` to ``t_b``, ``u = u_p + H (u(t_a) - u_p(t_a))`` + the
+          static part, so ``s_b = H (s_a - du_p(t_a)) + du_p(t_b)`` with ``H`` the piece's
+          transition matrix (the state sensitivity's factor) and ``du_p`` the explicit
+          derivative of ``u_p`` at fixed time (coefficients and phase ``2 pi n f_m t``);
+        - at a contact change ``u = +-b`` (a surface that does not move with ``f_m``),
+          ``s+ = S s-`` with the saltation matrix S of the state sensitivity;
+        - at a stiffness switch, ``s+ = s- + (F- - F+) d t_j / d f_m``, ``F-+`` the fields
+          of the pieces before and after there (they differ in the spring force only);
+        - at the ends, ``- F(t0) d t0 / d f_m`` and ``+ F(t1) d t1 / d f_m`` (the field of
+          the first and last piece), and back from ``u = x - e`` to x: ``e(t1)`` is fixed in
+          phase, ``e'(t1) = f_m E'(phase)`` adds ``E'``, and at the start ``-E'``.
+
+        Exact to rounding, like :meth:`sensitivity` (tests/solvers/test_mesh_rate.py
+        against a central difference).
+
+        Raises
+        ------
+        InputError
+            The walk was made without ``mesh_rate=True``.
+        SolverError
+            As :meth:`sensitivity` (a graze of a discontinuous field, a diverging response).
+        """
+        if self._end_rate is None:
+            raise InputError("mesh_rate: walk(..., mesh_rate=True) was not asked for")
+        if self._segs.status == ck.GRAZE:
+            self.sensitivity()  # raises, naming the graze
+        rate = self._end_rate.copy()
+        if not (np.isfinite(rate).all() and np.isfinite(self.end).all()):
+            raise SolverError("exact_contact produced a non-finite mesh-frequency derivative")
+        return rate
 
     def mark_sensitivities(self) -> FloatArray:
         """``d y(m_{j+1}) / d y(m_j)`` over each span between consecutive marks of
@@ -366,11 +425,12 @@ def _piece_tables(mm: Any, k_values: FloatArray) -> tuple[FloatArray, FloatArray
     return _model_header(mm, forcing), np.array(rows)
 
 
-def _walk_tables(mm: Any, k_values: FloatArray) -> tuple[FloatArray, FloatArray]:
+def _walk_tables(mm: Any, k_values: FloatArray, forcing: Forcing | None = None
+                 ) -> tuple[FloatArray, FloatArray]:
     """:func:`_piece_tables` for all of the stiffness's distinct values ``k_values``, the
     rows reused while the model differs only in what they do not depend on (speed and phase
     without a transmission error: the rows of a continuation's family are built once)."""
-    forcing = Forcing.of(mm)
+    forcing = Forcing.of(mm) if forcing is None else forcing
     te = getattr(mm, "transmission_error", None)
     key = (id(mm.stiffness), float(mm.mass), float(mm.damping), float(mm.static_load),
            float(mm.backlash), id(te), forcing.fm if forcing.n.size else 0.0)
@@ -380,8 +440,20 @@ def _walk_tables(mm: Any, k_values: FloatArray) -> tuple[FloatArray, FloatArray]
     return _model_header(mm, forcing), hit[1]
 
 
+def _piece_rates(mm: Any, k_values: FloatArray, forcing: Forcing | None = None
+                 ) -> FloatArray | None:
+    """``d (ca, cb) / d f_m`` of the rows of :func:`_piece_tables` (None without harmonics)."""
+    forcing = Forcing.of(mm) if forcing is None else forcing
+    if not forcing.n.size:
+        return None
+    m, c = float(mm.mass), float(mm.damping)
+    rows = [np.concatenate(forcing.particular_rate(float(k) / m if st != GAP else 0.0, c / m))
+            for k in k_values.tolist() for st in (BACK, GAP, DRIVE)]
+    return np.array(rows)
+
+
 def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0,
-         marks: FloatArray | None = None) -> Walk:
+         marks: FloatArray | None = None, mesh_rate: bool = False) -> Walk:
     """The exact propagation of ``model`` from ``y(t0) = y0`` to ``t1``, kept as its pieces.
 
     :func:`propagate_contact_exact` and :func:`flow_with_sensitivity` are its states on a grid
@@ -406,6 +478,9 @@ def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0,
         Increasing times in ``(t0, t1)`` (s) at which the walk also takes the sensitivity
         apart (:meth:`Walk.mark_sensitivities`), e.g. every mesh period for a Lyapunov
         exponent; the pieces are cut there too.
+    mesh_rate : bool
+        Also the end state's derivative with respect to the mesh frequency
+        (:meth:`Walk.mesh_rate`).
 
     Raises
     ------
@@ -421,7 +496,7 @@ def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0,
             "use DOP853 or LSODA")
     mm: Any = model  # a mesh model with backlash: checked above
     t0, t1 = float(t0), float(t1)
-    x0, v0 = (float(u) for u in y0)
+    x0, v0 = float(y0[0]), float(y0[1])
     edges, seg_k, k_values = _stiffness_pieces(mm.stiffness)  # type: ignore[misc]
     inner = np.asarray(mm.switching_times(t0, t1), dtype=float)
     slots = None
@@ -436,19 +511,30 @@ def walk(model: Model, y0: FloatArray, t1: float, t0: float = 0.0,
     # each stiffness piece's segment, from its middle phase
     mid = np.mod(np.asarray(mm.phase(0.5 * (cuts[:-1] + cuts[1:])), dtype=float), 1.0)
     kidx = seg_k.take(np.searchsorted(edges, mid, side="right") - 1, mode="clip")
-    tables = _walk_tables(mm, k_values)
+    forcing = Forcing.of(mm)
+    tables = _walk_tables(mm, k_values, forcing)
     xtol = 4 * math.ulp(max(abs(t0), abs(t1), 1e-300))
     shifted = getattr(mm, "transmission_error", None) is not None
-    e0, ed0 = _te_shift(mm, np.array([t0])) if shifted else (np.zeros(1), np.zeros(1))
-    segs = ck.walk(*tables, cuts, kidx.ravel(), x0 - float(e0[0]), v0 - float(ed0[0]), xtol,
-                   MAX_EVENTS_PER_PIECE, slots)
+    e0 = ed0 = e1 = ed1 = 0.0
+    if shifted:
+        e0, ed0 = (float(a[0]) for a in _te_shift(mm, np.array([t0])))
+        e1, ed1 = (float(a[0]) for a in _te_shift(mm, np.array([t1])))
+    param = None
+    fm = float(mm.mesh_frequency)
+    if mesh_rate:  # every cut fixed in phase: d t / d f_m = -t / f_m; the start u' has -E'
+        param = (-cuts / fm, _piece_rates(mm, k_values, forcing), np.array([0.0, -ed0 / fm]),
+                 1.0)
+    segs = ck.walk(*tables, cuts, kidx.ravel(), x0 - e0, v0 - ed0, xtol,
+                   MAX_EVENTS_PER_PIECE, slots, param)
     if segs.status == ck.CHATTER:
         raise SolverError(
             f"exact_contact: more than {MAX_EVENTS_PER_PIECE} contact changes in one "
             f"stiffness piece at t = {segs.fail_time:.6g} s (a chattering graze); use LSODA")
-    e1, ed1 = _te_shift(mm, np.array([t1])) if shifted else (e0, ed0)
-    x, v = (float(u) for u in segs.end)
-    return Walk(model, t0, t1, (x0, v0), tables, segs, (x + float(e1[0]), v + float(ed1[0])))
+    x, v = segs.end.tolist()
+    end_rate = None
+    if segs.dpar is not None:  # back to x: e(t1) is fixed in phase, e'(t1) = f_m E' adds E'
+        end_rate = segs.dpar + np.array([0.0, ed1 / fm])
+    return Walk(model, t0, t1, (x0, v0), tables, segs, (x + e1, v + ed1), end_rate)
 
 
 def propagate_contact_exact(

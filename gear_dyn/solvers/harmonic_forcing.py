@@ -104,6 +104,31 @@ class Forcing:
         cb = (a * om * self.fc + (w2 - om**2) * self.fs) / det
         return Particular(self, om, ca, cb)
 
+    def particular_rate(self, w2: float, a: float) -> tuple[FloatArray, FloatArray]:
+        """``d A_n / d f_m, d B_n / d f_m`` (m/Hz) of :meth:`particular` at fixed ``w2, a``.
+
+        With ``P = w2 - W^2``, ``Q = a W``, ``D = P^2 + Q^2`` the solution of the module's 2 x 2
+        system is ``A = (P g - Q h) / D``, ``B = (Q g + P h) / D``; its forcing ``g = W^2 C_n``,
+        ``h = W^2 S_n`` and ``W = 2 pi n f_m`` all depend on the mesh frequency
+        (``dW/df_m = 2 pi n``, ``dP = -2 W dW``, ``dQ = a dW``, ``dg = 2 g dW / W``), so by the
+        quotient rule ``dA = (dP g + P dg - dQ h - Q dh) / D - A dD / D`` and
+        ``dB = (dQ g + Q dg + dP h + P dh) / D - B dD / D``, ``dD = 2 (P dP + Q dQ)``.
+        Empty arrays without harmonics.
+        """
+        part = self.particular(w2, a)
+        if not self.n.size:
+            return part.ca, part.cb
+        om = part.om
+        dom = 2 * math.pi * self.n
+        p, q = w2 - om**2, a * om
+        dp, dq = -2 * om * dom, a * dom
+        dg, dh = 2 * self.fc * dom / om, 2 * self.fs * dom / om
+        det = p**2 + q**2
+        dd = 2 * (p * dp + q * dq)
+        da = (dp * self.fc + p * dg - dq * self.fs - q * dh - part.ca * dd) / det
+        db = (dq * self.fc + q * dg + dp * self.fs + p * dh - part.cb * dd) / det
+        return da, db
+
 
 class Particular:
     """``u_p(t) = sum_n A_n cos th_n + B_n sin th_n`` of one contact state (m, m/s).

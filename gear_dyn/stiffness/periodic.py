@@ -214,8 +214,8 @@ class PeriodicStiffness(ABC):
             return np.empty(0)
         p0 = mesh_frequency * t0 + phase0
         p1 = mesh_frequency * t1 + phase0
-        c0 = int(np.floor(p0))
-        c1 = int(np.floor(p1))
+        c0 = math.floor(p0)
+        c1 = math.floor(p1)
         cycles = np.arange(c0, c1 + 1, dtype=float)
         ph = (cycles[:, None] + sw[None, :]).ravel()
         ph = ph[(ph > p0) & (ph < p1)]

@@ -180,8 +180,9 @@ def follow(sh: Shooting, ev0: Evaluation, t0: FloatArray, window: tuple[float, f
     d_prev = parent.residual_only(ev0.z) if parent is not None else np.zeros(2)
     stop_reason = (f"max_points ({settings.max_points}) reached: raise it with --max-points "
                    "(gear-dyn response), ContinuationSettings(max_points=N) in Python")
+    prev: tuple[FloatArray, FloatArray] | None = None  # the point before ev and its tangent
     while len(points) < settings.max_points:
-        zp = ev.z + ds * t
+        zp = predict(ev.z, t, prev, ds)
         out = sh.correct(zp, t, float(t @ zp), settings.newton,
                          dp_col=ev.jac[:, 2])
         t_b: FloatArray | None = None
@@ -215,6 +216,7 @@ def follow(sh: Shooting, ev0: Evaluation, t0: FloatArray, window: tuple[float, f
             break
         points.append(point_b)
         s_total += ds
+        prev = (ev.z, t) if sh.exact_column else None
         ev, t = ev_b, t_b
         if float(np.linalg.norm(ev.z - z_first)) < 0.5 * ds and len(points) > 3:
             stop_reason = f"closed loop: back at its start after {len(points)} points"
@@ -247,6 +249,28 @@ def follow(sh: Shooting, ev0: Evaluation, t0: FloatArray, window: tuple[float, f
     return Branch(parameter, PARAMETERS.get(parameter, ""), tuple(points), tuple(bifs),
                   tuple(children), sh.route, stop_reason, sh.n_maps,
                   math.nan if fn is None else float(fn))
+
+
+def predict(z: FloatArray, t: FloatArray, prev: tuple[FloatArray, FloatArray] | None,
+            ds: float) -> FloatArray:
+    """The predictor of the step ``ds`` from the point ``z`` with unit tangent ``t``.
+
+    With ``prev`` (the point before and its unit tangent, both exact: the exact parameter
+    column): the cubic Hermite interpolant through both points and tangents, the curve
+    parametrised by the chord length ``h`` between them, extrapolated to ``ds`` past ``z``
+    (error O(h^4) where ``ds ~ h``, against O(ds^2) for the tangent alone; Allgower & Georg
+    2003, on higher-order predictors). Without: the tangent, ``z + ds t``.
+    """
+    if prev is None:
+        return np.asarray(z + ds * t)
+    z0, t0 = prev
+    h = float(np.linalg.norm(z - z0))
+    if h == 0.0 or not math.isfinite(h):
+        return np.asarray(z + ds * t)
+    u = 1.0 + ds / h  # Hermite basis on [0, 1] from z0 (u = 0) to z (u = 1), beyond it
+    h00, h10 = 2 * u**3 - 3 * u**2 + 1, u**3 - 2 * u**2 + u
+    h01, h11 = -2 * u**3 + 3 * u**2, u**3 - u**2
+    return np.asarray(h00 * z0 + h10 * h * t0 + h01 * z + h11 * h * t)
 
 
 def _ends_at(child: Branch, pd: Bifurcation) -> bool:
@@ -304,8 +328,12 @@ def detect_step(sh: Shooting, ev_a: Evaluation, t_a: FloatArray, ev_b: Evaluatio
         fa, fb = test(ev_a.monodromy), test(ev_b.monodromy)
         if not _sign_change(fa, fb):
             continue
-        ev, s, err = locate_root(curve, test, fa, fb)
-        kind = kinds[0] if t_a[2] * t_b[2] < 0.0 else kinds[1]
+        turns = t_a[2] * t_b[2] < 0.0
+        # a fold (the speed turns back): trials at the stationary point of the Hermite
+        # interpolant of the speed, from the exact tangents (with an exact speed column)
+        guess = curve.fold_guess if turns and test is fold_test and sh.exact_column else None
+        ev, s, err = locate_root(curve, test, fa, fb, guess)
+        kind = kinds[0] if turns else kinds[1]
         found.append((s, Bifurcation(kind, point(ev, s), err, stab[pt_a.stable],
                                      stab[pt_b.stable])))
     if pt_a.pattern != pt_b.pattern:

@@ -59,8 +59,8 @@ class OrbitPoint:
         Parameter component of the unit tangent (its sign change marks a fold).
     dp_error : float
         Estimated relative error of the parameter derivative ``dP/dp`` the tangent was built
-        from (secant columns' agreement, or the central difference's one-sided disagreement;
-        nan where not computed).
+        from (the exact speed column's rounding bound, secant columns' agreement, or the
+        central difference's one-sided disagreement; nan where not computed).
 
     Attributes
     ----------

@@ -45,7 +45,7 @@ from numpy.typing import NDArray
 from gear_dyn.analysis.continuation.graze import graze_test
 from gear_dyn.analysis.continuation.orbit import OrbitShape, orbit_shape
 from gear_dyn.analysis.continuation.settings import ContinuationSettings
-from gear_dyn.analysis.continuation.shooting import Evaluation, Shooting, tangent
+from gear_dyn.analysis.continuation.shooting import Evaluation, Shooting, solve3, tangent
 from gear_dyn.errors import SolverError
 
 FloatArray = NDArray[np.float64]
@@ -152,9 +152,8 @@ class StepCurve:
         once the residual is below ``newton.tolerance``)."""
         ev = self.cache[s]
         f = np.append(ev.g, float(self.t_a @ (ev.z - self.z_a)) - s)
-        try:
-            dz = np.linalg.solve(np.vstack([ev.jac, self.t_a]), -f)
-        except np.linalg.LinAlgError:
+        dz = solve3(np.vstack([ev.jac, self.t_a]), -f)
+        if dz is None:
             return math.nan
         return self.sh.p_ref * abs(float(dz[2]))
 
@@ -210,11 +209,41 @@ class StepCurve:
         return 2 * tol / (d1 + math.sqrt(d1 * d1 + 4 * abs(q2) * tol) + 1e-300)
 
 
+    def fold_guess(self, lo: float, hi: float) -> float | None:
+        """Where the parameter is stationary on ``[lo, hi]``: the root inside of the
+        derivative of the cubic Hermite interpolant of ``p(s)`` through both ends' values and
+        exact slopes (their tangents' ``dp/ds``; error O(w^3) in the bracket width w, against
+        O(w^2) for a secant step on a test function). None where the slopes do not change
+        sign (no fold: a branch point) or a tangent is undefined."""
+        d_lo, d_hi = self._slope(lo), self._slope(hi)
+        if d_lo is None or d_hi is None:
+            return None
+        h = hi - lo
+        a0, a1 = float(d_lo[2]) * h, float(d_hi[2]) * h  # dp/du, u = (s - lo) / h
+        if a0 == 0.0 or (a0 > 0.0) == (a1 > 0.0):
+            return None
+        dp = self.p(hi) - self.p(lo)
+        # H'(u) = qa u^2 + qb u + qc (the Hermite basis' derivatives)
+        qa, qb, qc = 3 * (a0 + a1) - 6 * dp, 6 * dp - 4 * a0 - 2 * a1, a0
+        if qa == 0.0:
+            roots = [-qc / qb] if qb != 0.0 else []
+        else:
+            disc = qb * qb - 4 * qa * qc
+            if disc < 0.0:
+                return None
+            sq = math.copysign(math.sqrt(disc), qb)
+            q = -0.5 * (qb + sq)  # the stable pair of roots (Press et al. 2007, sec. 5.6)
+            roots = [q / qa] + ([qc / q] if q != 0.0 else [])
+        inside = [u for u in roots if 0.0 < u < 1.0]
+        return lo + h * inside[0] if len(inside) == 1 else None
+
+
 Probe = Callable[[float], "tuple[bool, float | None] | None"]
 
 
 def bracket_root(curve: StepCurve, probe: Probe, v_lo: float | None, v_hi: float | None,
-                 report_hi: bool) -> tuple[float, float, float]:
+                 report_hi: bool, guess: Callable[[float, float], float | None] | None = None
+                 ) -> tuple[float, float, float]:
     """Narrow ``[0, ds]`` onto the point where ``probe`` changes side (module docstring).
 
     Parameters
@@ -227,6 +256,10 @@ def bracket_root(curve: StepCurve, probe: Probe, v_lo: float | None, v_hi: float
     report_hi : bool
         Report the bracket's ``hi`` end (a graze: the first point with the new pattern);
         else the end with the smaller test value.
+    guess : callable or None
+        ``(lo, hi) -> s`` inside the bracket or None: the next trial where it gives one (a
+        fold: :meth:`StepCurve.fold_guess`), in place of the secant step, with the same
+        safeguards; None: the secant step.
 
     Returns
     -------
@@ -250,7 +283,10 @@ def bracket_root(curve: StepCurve, probe: Probe, v_lo: float | None, v_hi: float
         w_ok = curve.tolerated_width(lo, hi, r)
         s = math.nan
         known = [x for x in recent if vals[x] is not None]
-        if len(known) >= 2:  # secant through the two latest values
+        g = guess(lo, hi) if guess is not None else None
+        if g is not None:
+            s = g
+        elif len(known) >= 2:  # secant through the two latest values
             x0, x1 = known[-2], known[-1]
             f0, f1 = vals[x0], vals[x1]
             assert f0 is not None and f1 is not None
@@ -278,12 +314,15 @@ def bracket_root(curve: StepCurve, probe: Probe, v_lo: float | None, v_hi: float
     return (hi if report_hi else lo), lo, hi
 
 
-def locate_root(curve: StepCurve, test: Callable[[FloatArray], float], f_a: float, f_b: float
+def locate_root(curve: StepCurve, test: Callable[[FloatArray], float], f_a: float, f_b: float,
+                guess: Callable[[float, float], float | None] | None = None
                 ) -> tuple[Evaluation, float, float]:
     """The point of the step where ``test(M)`` changes sign: bracketed until the parameter
     is known to ``locate_tol`` relative, then the point at the secant root of the final
     bracket (near a fold the bracket is wide in arclength, and the multiplier at its ends
     still some way from +1; at the secant root the test is zero to second order in it).
+    ``guess``: the trials' proposal in place of the secant step (:func:`bracket_root`; a fold:
+    :meth:`StepCurve.fold_guess`), also for that final point.
 
     Returns
     -------
@@ -300,12 +339,13 @@ def locate_root(curve: StepCurve, test: Callable[[FloatArray], float], f_a: floa
         v = test(ev.monodromy)
         return (v > 0.0) == hi_positive, v
 
-    s, lo, hi = bracket_root(curve, probe, f_a, f_b, report_hi=False)
+    s, lo, hi = bracket_root(curve, probe, f_a, f_b, report_hi=False, guess=guess)
     f_lo, f_hi = test(curve.cache[lo].monodromy), test(curve.cache[hi].monodromy)
-    if f_lo != f_hi:  # the point itself at the secant root inside the final bracket
+    s_root = guess(lo, hi) if guess is not None else None
+    if s_root is None and f_lo != f_hi:  # the point itself at the secant root inside
         s_root = lo - f_lo * (hi - lo) / (f_hi - f_lo)
-        if lo < s_root < hi and curve.at(s_root) is not None:
-            s = s_root
+    if s_root is not None and lo < s_root < hi and curve.at(s_root) is not None:
+        s = s_root
     return curve.cache[s], s, curve.located_error(lo, hi, s)
 
 
@@ -347,7 +387,7 @@ def locate_pattern_change(curve: StepCurve, pattern_a: str, pattern_b: str
     hit: tuple[float, float, float] | None = None
     ev_a, ev_b = curve.cache[0.0], curve.cache[curve.ds]
     made = graze_test(ev_a.model, sh.state(ev_a.z), ev_b.model, sh.state(ev_b.z), sh.periods,
-                      sh.route, sh.rtol)
+                      sh.route, sh.rtol, ev_a.walked, ev_b.walked)
     if made is not None:
         test, v_a, v_b = made
         band = abs(test.level)
@@ -357,7 +397,8 @@ def locate_pattern_change(curve: StepCurve, pattern_a: str, pattern_b: str
             ev = curve.at(s)
             if ev is None:
                 return None
-            got = test.margin(ev.model, sh.state(ev.z), sh.periods, sh.route, sh.rtol)
+            got = test.margin(ev.model, sh.state(ev.z), sh.periods, sh.route, sh.rtol,
+                              ev.walked)
             if got is None:
                 return pattern(s) != pattern_a, None
             val, test = got

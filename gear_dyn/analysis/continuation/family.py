@@ -31,6 +31,13 @@ class SDOFFamily:
     parameter: str
     factor: float = 1.0
 
+    @property
+    def mesh_frequency_only(self) -> bool:
+        """True for ``speed``: the models differ only in the mesh frequency, proportional
+        to the value (``model.at_mesh_frequency``), so the continuation takes the shooting
+        map's exact speed derivative (:mod:`.shooting`)."""
+        return self.parameter == "speed"
+
     def __call__(self, value: float) -> MeshModel:
         """The model at ``value`` (SI unit of the parameter, :data:`PARAMETERS`)."""
         if self.parameter == "speed":  # the one rule of the model at a speed

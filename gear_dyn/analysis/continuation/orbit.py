@@ -64,14 +64,15 @@ def resolve_route(model: MeshModel, route: str) -> str:
     return route
 
 
-def period_map(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: float
-               ) -> tuple[FloatArray, FloatArray, Walk | None]:
+def period_map(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: float,
+               mesh_rate: bool = False) -> tuple[FloatArray, FloatArray, Walk | None]:
     """``(P(y0), M, walked)``: the state after ``periods`` mesh periods, ``d P / d y0`` and,
     on the exact route, the walk they come from (:func:`~gear_dyn.solvers.contact_exact.walk`,
     for :func:`orbit_shape` of the same orbit; None on the variational route).
 
     ``route`` is ``exact`` or ``variational`` (:func:`resolve_route`); ``rtol`` is the
-    variational integration's relative tolerance.
+    variational integration's relative tolerance. ``mesh_rate`` (exact route only): the walk
+    also carries ``d P / d f_m`` (:meth:`~gear_dyn.solvers.contact_exact.Walk.mesh_rate`).
 
     Raises
     ------
@@ -80,8 +81,10 @@ def period_map(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol:
     """
     t1 = periods / model.mesh_frequency
     if route == "exact":
-        walked = walk(model, y0, t1)
+        walked = walk(model, y0, t1, mesh_rate=mesh_rate)
         return walked.end, walked.sensitivity(), walked
+    if mesh_rate:
+        raise InputError("period_map: mesh_rate needs route = 'exact'")
     y, mono = integrate_with_sensitivity(model, y0, t1, rtol, route)
     return y, mono, None
 
@@ -100,7 +103,7 @@ def map_only(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: f
     t1 = periods / model.mesh_frequency
     if route == "exact":
         end = walk(model, y0, t1).end
-        if not np.all(np.isfinite(end)):
+        if not np.isfinite(end).all():
             raise SolverError("exact_contact produced non-finite states: the response diverges")
         return end
     return np.asarray(flow_on_grid(model, y0, np.array([0.0, t1]), rtol=rtol)[:, -1])
@@ -109,7 +112,8 @@ def map_only(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: f
 def liouville_residual(model: MeshModel, monodromy: FloatArray, periods: int) -> float:
     """``|det M / exp(-c n T / m_e) - 1|``: the monodromy matrix's Liouville mismatch (-)."""
     expected = math.exp(-model.damping * periods / (model.mass * model.mesh_frequency))
-    return abs(float(np.linalg.det(monodromy)) / expected - 1.0)
+    (a, b), (c, d) = monodromy.tolist()
+    return abs((a * d - b * c) / expected - 1.0)
 
 
 def orbit_shape(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol: float,
@@ -118,9 +122,11 @@ def orbit_shape(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol
     (:class:`~gear_dyn.analysis.stability.OrbitShape`, the ``shape`` of its
     :class:`~gear_dyn.analysis.stability.PeriodicSolution`).
 
-    On the exact route the pattern comes from the located contact changes (every spell is
-    seen, however short); on the variational route from :data:`SAMPLES_PER_PERIOD` samples
-    per mesh period (a spell shorter than a sample step can be missed). The response measures
+    On the exact route the pattern comes from the walk's own contact state of each piece
+    (:meth:`~gear_dyn.solvers.contact_exact.Walk.spells`: every spell between located contact
+    changes is seen, however short); on the variational route from
+    :data:`SAMPLES_PER_PERIOD` samples per mesh period (a spell shorter than a sample step
+    can be missed). The response measures
     use the samples.
 
     ``walked``: on the exact route, the walk of this orbit from ``y0`` over the n periods
@@ -144,18 +150,14 @@ def orbit_shape(model: MeshModel, y0: FloatArray, periods: int, route: str, rtol
             raise InputError("orbit_shape: walked is not the walk of this orbit (another "
                              "model, start state or span)")
         y = walked.on_grid(t)
-        ev = walked.event_times
-        ev = ev[(ev > 0.0) & (ev < t1)]
-        edges = np.concatenate([[0.0], ev, [t1]])
-        mids = 0.5 * (edges[:-1] + edges[1:])
-        owner = np.searchsorted(edges, t[:-1], side="right") - 1
-        st = np.full(mids.size, 2, dtype=np.int64)  # 2: no sample in the spell
-        st[owner] = contact_states(model, t[:-1], y[:, :-1])
-        if np.any(st == 2):  # a spell shorter than a sample step: its midpoint's state
-            st = contact_states(model, mids, walked.on_grid(mids))
-        sep, back = contact_shares(st, np.diff(edges), span=t1)
+        st, dur = walked.spells()  # the walk's own spells (backlash: the same rule as
+        keep = dur > 0.0           # contact_states), however short
+        st, dur = st[keep], dur[keep]
+        sep, back = contact_shares(st, dur, span=t1)
         x = y[0, :-1]
-        return OrbitShape(contact_pattern(st), sep, back, float(np.std(x)), float(np.ptp(x)),
-                          float(np.mean(x)))
+        mean = float(x.mean())
+        d = x - mean
+        return OrbitShape(contact_pattern(st), sep, back, math.sqrt(float(d @ d) / x.size),
+                          float(x.max() - x.min()), mean)
     y = flow_on_grid(model, y0, t, rtol=rtol)
     return OrbitShape.of_samples(contact_states(model, t[:-1], y[:, :-1]), y[0, :-1])

@@ -40,10 +40,12 @@ class ContinuationSettings:
         iterations to 100 ``rtol``.
     target_newton : int
         Corrector iterations aimed at: at most this many grow the step by ``grow``, more than
-        ``target_newton + 2`` shrink it. The corrector starts from the parameter column of the
-        Jacobian at the step's start and corrects it by the secant condition of each Newton
-        step (the state columns are exact): 4-5 iterations to ``newton.tolerance`` on a smooth
-        stretch.
+        ``target_newton + 2`` shrink it. With the exact speed column (a speed family on the
+        exact route, :mod:`.shooting`) the corrector is Newton's method with the exact
+        Jacobian: about 3 iterations to ``newton.tolerance`` on the packaged backlash scene.
+        Otherwise it starts from the parameter column of the Jacobian at the step's start and
+        corrects it by the secant condition of each Newton step (the state columns are
+        exact): 4-5 iterations on a smooth stretch.
     grow : float
         Step growth factor after an easy corrector (1..4).
     max_turn : float
@@ -58,7 +60,8 @@ class ContinuationSettings:
         map (1e-9..1e-2); its error is O(fd_step**2) (truncation) plus O(eps / fd_step)
         (rounding), both about 1e-10 at the default. On the exact route, where the corrector's
         secant column is at hand to check it, the one-map forward difference steps
-        ``FORWARD_STEP_RATIO`` (1e-3) of it instead (:mod:`.shooting`).
+        ``FORWARD_STEP_RATIO`` (1e-3) of it instead (:mod:`.shooting`). Unused where the
+        column is exact (a speed family on the exact route).
     locate_tol : float
         Relative error of the parameter to which folds, period doublings and grazing points
         are located (1e-14..1e-4): the bracketing stops when the parameter changes by at most

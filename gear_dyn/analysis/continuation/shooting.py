@@ -6,17 +6,24 @@ y_s = 0`` (two equations, three unknowns: a curve of solutions, the branch), clo
 linear equation ``r . z = rhs``: the pseudo-arclength condition ``t . (z - z_pred) = 0`` (Keller
 1977) or, to stop at a given parameter value, ``p = p_end``.
 
-The Jacobian ``[M - I | dP/dp]`` (scaled): ``M`` exact or variational (:mod:`.orbit`); the
-parameter derivative inside the corrector by the secant condition of each Newton step (a finite
-difference along the step, whose change from one step to the next is its error estimate). At a
-converged point whose secant columns have not settled, on the exact route (a map exact to
+The Jacobian ``[M - I | dP/dp]`` (scaled): ``M`` exact or variational (:mod:`.orbit`). On the
+exact route, for a family whose models differ only in the mesh frequency, proportional to the
+parameter (a speed family: ``family.mesh_frequency_only``), the parameter column is exact too,
+from the same walk as ``M``: ``dP/dp = (dP/df_m) f_m / p`` with ``dP/df_m`` the walk's
+mesh-frequency derivative (:meth:`gear_dyn.solvers.contact_exact.Walk.mesh_rate`, the time
+scaling ``tau = f_m t`` written as moving stiffness switches and end time), exact to rounding
+(:data:`RATE_ROUNDING` per piece, its stated error): the corrector is Newton's method with the
+exact Jacobian at every iterate, and every converged point's tangent is exact, at no extra map.
+Otherwise the parameter derivative inside the corrector by the secant condition of each Newton step
+(a finite difference along the step, whose change from one step to the next is its error estimate).
+At a converged point whose secant columns have not settled, on the exact route (a map exact to
 rounding) by one more map: the forward difference over ``p + h_f``, ``h_f = FORWARD_STEP_RATIO
-fd_step |p|`` (truncation ``h_f |d2P/dp2| / 2``, rounding O(eps / h_f); Dennis and Schnabel
-1996, sec. 5.4), whose disagreement with the corrector's last secant column (first order in the
-longer Newton step) plus its rounding is kept as an upper estimate of its error. Where no
-secant column was taken, or on the variational route (a map accurate to ``rtol`` only), by the
-central difference over ``p +- h``, ``h = fd_step |p|`` (two maps; truncation O(h^2)), whose
-one-sided differences' disagreement is kept as an upper estimate of its error.
+fd_step |p|`` (truncation ``h_f |d2P/dp2| / 2``, rounding O(eps / h_f); Dennis and Schnabel 1996,
+sec. 5.4), whose disagreement with the corrector's last secant column (first order in the longer
+Newton step) plus its rounding is kept as an upper estimate of its error. Where no secant column
+was taken, or on the variational route (a map accurate to ``rtol`` only), by the central difference
+over ``p +- h``, ``h = fd_step |p|`` (two maps; truncation O(h^2)), whose one-sided differences'
+disagreement is kept as an upper estimate of its error.
 """
 
 from __future__ import annotations
@@ -54,6 +61,13 @@ FORWARD_STEP_RATIO = 1e-3
 #: relative rounding of the scaled map (its residual is rounded to about this times
 #: ``1 + max|z|``): the rounding part of a forward difference's error estimate
 MAP_ROUNDING = 1e-15
+#: stated relative error of the exact parameter column per closed-form piece of its walk:
+#: rounding, as the exact flow's own (:func:`gear_dyn.solvers.contact_exact.rounding_bound`,
+#: 1000 eps per piece); measured within 2e-8 relative of a central difference, whose own
+#: truncation and rounding errors that is (tests/solvers/test_mesh_rate.py)
+RATE_ROUNDING = 1000 * float(np.finfo(float).eps)
+_EYE2 = np.eye(2)
+_EYE2.flags.writeable = False
 
 
 @dataclass(frozen=True, eq=False)
@@ -106,19 +120,34 @@ class Shooting:
         Parameter scale (> 0, SI).
     rtol, fd_step : float
         Variational tolerance; relative step of the parameter difference.
+    mesh_frequency_only : bool
+        The family's models differ only in the mesh frequency, proportional to the
+        parameter (a speed family): on the exact route the parameter column is then the
+        walk's exact one (see the module). Default: the family's own
+        ``mesh_frequency_only`` attribute (False where it has none).
+
+    Attributes
+    ----------
+    exact_column : bool
+        The parameter column is exact (the exact route and ``mesh_frequency_only``).
     """
 
     def __init__(self, family: Callable[[float], MeshModel], periods: int, route: str,
-                 scale: FloatArray, p_ref: float, rtol: float, fd_step: float) -> None:
+                 scale: FloatArray, p_ref: float, rtol: float, fd_step: float,
+                 mesh_frequency_only: bool | None = None) -> None:
         self.family, self.periods, self.route = family, int(periods), route
         self.scale = np.asarray(scale, dtype=float)
         self.p_ref, self.rtol, self.fd_step = float(p_ref), float(rtol), float(fd_step)
+        if mesh_frequency_only is None:
+            mesh_frequency_only = bool(getattr(family, "mesh_frequency_only", False))
+        self.mesh_frequency_only = bool(mesh_frequency_only)
+        self.exact_column = self.mesh_frequency_only and route == "exact"
         self.n_maps = 0  #: n-period maps computed (cost counter)
 
     def with_periods(self, periods: int) -> Shooting:
         """The same problem for period-``periods`` orbits."""
         return Shooting(self.family, periods, self.route, self.scale, self.p_ref, self.rtol,
-                        self.fd_step)
+                        self.fd_step, self.mesh_frequency_only)
 
     def state(self, z: FloatArray) -> FloatArray:
         """SI state of scaled unknowns."""
@@ -142,7 +171,8 @@ class Shooting:
         """The residual, Jacobian and monodromy matrix at ``z``.
 
         ``dp_col``: the scaled parameter column of the Jacobian to use (a chord: e.g. that of
-        the step's start point); None computes it here by the central difference.
+        the step's start point); None computes it here by the central difference. With
+        :attr:`exact_column` the column is the walk's exact one and ``dp_col`` is not used.
 
         Raises
         ------
@@ -153,13 +183,18 @@ class Shooting:
         """
         y, p = self.state(z), self.param(z)
         model = self.family(p)
-        yt, mono, walked = period_map(model, y, self.periods, self.route, self.rtol)
+        yt, mono, walked = period_map(model, y, self.periods, self.route, self.rtol,
+                                      self.exact_column)
         self.n_maps += 1
         s = self.scale
         jac = np.empty((2, 3))
-        jac[:, :2] = (mono - np.eye(2)) * s[None, :] / s[:, None]
+        jac[:, :2] = (mono - _EYE2) * s[None, :] / s[:, None]
         dp_err = float("nan")
-        if dp_col is None:
+        if self.exact_column and walked is not None:
+            # dP/dp = dP/df_m * df_m/dp, f_m proportional to p
+            dp_col = walked.mesh_rate() * (float(model.mesh_frequency) / p) * self.p_ref / s
+            dp_err = RATE_ROUNDING * (walked.n_segments + 1)
+        elif dp_col is None:
             dp_col, dp_err = self._dp_column(y, p, yt)
         jac[:, 2] = dp_col
         return Evaluation(np.array(z, dtype=float), (yt - y) / s, jac, mono, dp_err, model,
@@ -235,7 +270,9 @@ class Shooting:
         ``newton.tolerance`` (``tol``) at an iterate; the returned evaluation is that
         iterate's. (The shooting residual bounds the distance to the orbit by
         ``tol / (1 - |mu|)`` in scaled units, mu the multiplier nearest 1.)
-        With ``dp_col`` (the parameter column at the step's start) the iterations skip the
+        With :attr:`exact_column` every iterate has its exact Jacobian (``dp_col`` and
+        ``fresh`` are not used). Otherwise, with ``dp_col`` (the parameter column at the
+        step's start) the iterations skip the
         difference quotient and correct the column by the secant condition of each step;
         ``fresh`` then makes sure the converged point's column is good for the tangent
         (the last secant column if it agrees with the one before, else the central
@@ -256,6 +293,8 @@ class Shooting:
             raise InputError("newton.tolerance = None: the corrector needs a scaled residual "
                              "to stop at, valid range 1e-14 <= x <= 0.0001")
         tol, max_iter = float(newton.tolerance), newton.max_iter
+        if self.exact_column:
+            dp_col, fresh = None, False  # the column of every evaluation is exact
         z = np.array(z0, dtype=float)
         step_prev = math.inf
         prev: tuple[Evaluation, FloatArray] | None = None
@@ -274,18 +313,17 @@ class Shooting:
                     secants.append(new)
                     last = new
                     ev.jac[:, 2] = dp_col
-            f = np.append(ev.g, float(row @ z) - rhs)
-            if float(np.max(np.abs(f))) <= tol:
+            g0, g1 = ev.g.tolist()
+            f = np.array([g0, g1, float(row @ z) - rhs])
+            if max(abs(g0), abs(g1), abs(float(f[2]))) <= tol:
                 if not fresh:
                     return ev, it
                 settled = self._settled_column(ev, secants if updated else [], last)
                 return None if settled is None else (settled, it)
-            a = np.vstack([ev.jac, row])
-            try:
-                dz = np.linalg.solve(a, -f)
-            except np.linalg.LinAlgError:
+            dz = solve3(np.vstack([ev.jac, row]), -f)
+            if dz is None:
                 return None
-            step = float(np.max(np.abs(dz)))
+            step = max(map(abs, dz.tolist()))
             if not math.isfinite(step):
                 return None
             if it >= 3 and step > 0.5 * step_prev:
@@ -312,11 +350,43 @@ def _secant_column(ev0: Evaluation, ev1: Evaluation, dz: FloatArray) -> FloatArr
     return np.asarray((ev1.g - ev0.g - a_y @ dz[:2]) / dzp, dtype=float)
 
 
+def solve3(a: FloatArray, b: FloatArray) -> FloatArray | None:
+    """``a^-1 b`` for a 3 x 3 ``a``: Gaussian elimination with partial pivoting (Golub & Van
+    Loan 2013, sec. 3.4), unrolled on Python floats (the corrector's system, a few times per
+    point: a fraction of the time of ``numpy.linalg.solve`` on one so small). None where ``a``
+    is singular (a zero pivot) or not finite."""
+    r0, r1, r2 = (row + [bi] for row, bi in zip(a.tolist(), b.tolist(), strict=True))
+    if abs(r1[0]) > abs(r0[0]):
+        r0, r1 = r1, r0
+    if abs(r2[0]) > abs(r0[0]):
+        r0, r2 = r2, r0
+    p = r0[0]
+    if p == 0.0 or not math.isfinite(p):
+        return None
+    f1, f2 = r1[0] / p, r2[0] / p
+    r1 = [0.0, r1[1] - f1 * r0[1], r1[2] - f1 * r0[2], r1[3] - f1 * r0[3]]
+    r2 = [0.0, r2[1] - f2 * r0[1], r2[2] - f2 * r0[2], r2[3] - f2 * r0[3]]
+    if abs(r2[1]) > abs(r1[1]):
+        r1, r2 = r2, r1
+    p = r1[1]
+    if p == 0.0 or not math.isfinite(p):
+        return None
+    f2 = r2[1] / p
+    c22, c23 = r2[2] - f2 * r1[2], r2[3] - f2 * r1[3]
+    if c22 == 0.0 or not math.isfinite(c22):
+        return None
+    x2 = c23 / c22
+    x1 = (r1[3] - r1[2] * x2) / r1[1]
+    x0 = (r0[3] - r0[1] * x1 - r0[2] * x2) / r0[0]
+    return np.array([x0, x1, x2])
+
+
 def tangent(jac: FloatArray) -> FloatArray:
     """Unit null vector of the 2 x 3 Jacobian ``[M - I | dP/dp]`` (scaled): the branch
     direction (the cross product of its rows; its sign is the caller's choice)."""
-    t = np.cross(jac[0], jac[1])
-    norm = float(np.linalg.norm(t))
+    (a0, a1, a2), (b0, b1, b2) = jac.tolist()
+    t = np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
+    norm = math.sqrt(float(t @ t))
     if norm == 0.0 or not math.isfinite(norm):
         raise SolverError("the branch tangent is undefined (Jacobian of rank < 2): a "
                           "singular point of the shooting equations")

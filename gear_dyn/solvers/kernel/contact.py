@@ -49,6 +49,8 @@ class Segments:
         Time of the failure (s; 0 when none).
     phis : ndarray (n_slots, 2, 2) or None
         The sensitivity over each slot's stiffness pieces (with ``slots``).
+    dpar : ndarray (2,) or None
+        ``d (u, u')(end) / d p`` of a parameter p (with ``rates``; m and m/s per unit of p).
     """
 
     table: FloatArray
@@ -58,6 +60,7 @@ class Segments:
     status: int
     fail_time: float
     phis: FloatArray | None
+    dpar: FloatArray | None = None
 
 
 def _tables(model: FloatArray, pieces: FloatArray) -> tuple[FloatArray, FloatArray, int]:
@@ -114,16 +117,22 @@ def first_crossing(model: FloatArray, pieces: FloatArray, row: int, t0: float, u
 
 def walk(model: FloatArray, pieces: FloatArray, cuts: FloatArray, kidx: NDArray[np.intp],
          u0: float, v0: float, xtol: float, max_events: int,
-         slots: NDArray[np.intp] | None = None) -> Segments:
+         slots: NDArray[np.intp] | None = None,
+         param: tuple[FloatArray, FloatArray | None, FloatArray, float] | None = None
+         ) -> Segments:
     """Walk from ``(u0, v0)`` at ``cuts[0]`` to ``cuts[-1]``; stiffness piece i spans
     ``cuts[i]..cuts[i+1]`` with stiffness value ``kidx[i]`` (rows ``3 kidx + state + 1``).
     ``slots[i]`` (non-decreasing from 0; None: none) names the slot of piece i: the walk also
-    returns the sensitivity over each slot."""
+    returns the sensitivity over each slot. ``param`` (None: none): ``(rates, dpieces, ds0,
+    dfm)``, the cuts' ``d t / d p``, each row's ``d (ca, cb) / d p`` (None without harmonics),
+    ``d (u0, u0') / d p`` and ``d f_m / d p``: the walk also returns ``d (u, u')(end) / d p``
+    (``Segments.dpar``; ``gd_flow.h``)."""
     model, pieces, n = _tables(model, pieces)
     cuts = _c(cuts)
     kid = np.ascontiguousarray(kidx, dtype=_LONG)
+    listed = kid.tolist() if kid.ndim == 1 else []
     if cuts.ndim != 1 or kid.shape != (cuts.size - 1,) \
-            or (kid.size and (kid.min() < 0 or 3 * kid.max() + 2 >= n)):
+            or (listed and (min(listed) < 0 or 3 * max(listed) + 2 >= n)):
         raise ValueError(f"contact walk: {cuts.size} cuts, {kid.size} stiffness indices, "
                          f"{n} piece rows")
     slot, phis = None, None
@@ -132,8 +141,21 @@ def walk(model: FloatArray, pieces: FloatArray, cuts: FloatArray, kidx: NDArray[
         if slot.shape != kid.shape or (slot.size and (slot[0] < 0 or np.any(np.diff(slot) < 0))):
             raise ValueError(f"contact walk: slots {slot.shape} not non-decreasing from 0 for "
                              f"{kid.size} pieces")
+    rates = dpieces = None
+    if param is not None:
+        rates = _c(param[0])
+        if rates.shape != cuts.shape:
+            raise ValueError(f"contact walk: {rates.size} cut rates for {cuts.size} cuts")
+        if param[1] is not None:
+            dpieces = _c(param[1])
+            if dpieces.shape != (n, pieces.shape[1] - ROW_FIELDS):
+                raise ValueError(f"contact walk: piece derivatives {dpieces.shape} for {n} rows "
+                                 f"of {pieces.shape[1] - ROW_FIELDS} coefficients")
+        elif pieces.shape[1] != ROW_FIELDS:
+            raise ValueError("contact walk: a forced walk needs the piece derivatives")
     cap = 4 * kid.size + 64
     out = np.zeros(7)
+    dpar = None
     count = np.zeros(1, dtype=_LONG)
     lib = library()
     while True:
@@ -141,17 +163,23 @@ def walk(model: FloatArray, pieces: FloatArray, cuts: FloatArray, kidx: NDArray[
             phis = np.tile(np.eye(2), (int(slot[-1]) + 1 if slot.size else 0, 1, 1))
         table = np.empty((cap, 4))
         ids = np.empty((cap, 2), dtype=_LONG)
+        if param is not None:
+            dpar = np.array([float(param[2][0]), float(param[2][1]), float(param[3])])
         status = lib.gd_contact_walk(_ptr(model), _ptr(pieces), kid.size, _ptr(cuts), _ptr(kid),
                                      u0, v0, xtol, max_events, cap, _ptr(table), _ptr(ids),
                                      _ptr(count), _ptr(out),
                                      None if slot is None else _ptr(slot),
-                                     None if phis is None else _ptr(phis))
+                                     None if phis is None else _ptr(phis),
+                                     None if rates is None else _ptr(rates),
+                                     None if dpieces is None else _ptr(dpieces),
+                                     None if dpar is None else _ptr(dpar))
         if status != FULL:
             break
         cap = int(count[0])  # the number the walk needed: once more with room for all
     ns = min(int(count[0]), cap)
-    return Segments(table[:ns], ids[:ns].astype(np.int64), out[:2].copy(),
-                    out[2:6].reshape(2, 2).copy(), int(status), float(out[6]), phis)
+    return Segments(table[:ns], ids[:ns].astype(np.int64, copy=False), out[:2].copy(),
+                    out[2:6].reshape(2, 2).copy(), int(status), float(out[6]), phis,
+                    None if dpar is None else dpar[:2].copy())
 
 
 def on_grid(model: FloatArray, pieces: FloatArray, table: FloatArray, ids: NDArray[np.int64],

@@ -730,19 +730,73 @@ static double accel(const cw_model *md, int state, double k, double x, double v)
     return (md->w - md->c * v - spring) / md->m;
 }
 
+/* the explicit derivative of a piece's particular solution with respect to the parameter at
+ * a fixed time t: d u_p / dp, d u_p' / dp from the coefficients' derivatives dca, dcb (2 nh
+ * per row of dpieces) and the phase's, d th_n / dp = tn t dfm (th_n = tn (fm t + p0)) */
+static void part_dp(const cw_model *md, const cw_piece *pc, const double *drow, double dfm,
+                    double t, double *du, double *dv)
+{
+    double p, u = 0.0, v = 0.0;
+    long i;
+    if (md->nh > 0) {
+        p = fmod(md->fm * t + md->p0, 1.0);
+        for (i = 0; i < md->nh; i++) {
+            double cs = cos(md->tn[i] * p), sn = sin(md->tn[i] * p), dth = md->tn[i] * t * dfm;
+            double ca = pc->ca[i], cb = pc->cb[i], da = drow[i], db = drow[md->nh + i];
+            double om = md->om[i], dom = md->tn[i] * dfm;
+            u += da * cs + db * sn + dth * (cb * cs - ca * sn);
+            v += dom * (cb * cs - ca * sn) + om * (db * cs - da * sn)
+                 - om * dth * (cb * sn + ca * cs);
+        }
+    }
+    *du = u;
+    *dv = v;
+}
+
+/* the forcing g(t) = u_p'' + a u_p' + w2 u_p of a piece (zero without harmonics) */
+static double forcing_at(const cw_model *md, const cw_piece *pc, double t)
+{
+    double p, u = 0.0, v = 0.0, acc = 0.0;
+    long i;
+    if (md->nh == 0) return 0.0;
+    p = fmod(md->fm * t + md->p0, 1.0);
+    for (i = 0; i < md->nh; i++) {
+        double cs = cos(md->tn[i] * p), sn = sin(md->tn[i] * p), om = md->om[i];
+        double val = pc->ca[i] * cs + pc->cb[i] * sn;
+        u += val;
+        v += om * (pc->cb[i] * cs - pc->ca[i] * sn);
+        acc -= om * om * val;
+    }
+    return acc + pc->a * v + pc->w2 * u;
+}
+
 int gd_contact_walk(const double *model, const double *pieces, long n_cuts, const double *cuts,
                     const long *kidx, double u0, double v0, double xtol, long max_events,
                     long cap, double *seg, long *seg_id, long *n_seg, double *out,
-                    const long *slot, double *phis)
+                    const long *slot, double *phis, const double *rates,
+                    const double *dpieces, double *dpar)
 {
     cw_model md = cw_model_of(model);
     double x = u0, v = v0, b = md.b, phi[4] = {1.0, 0.0, 0.0, 1.0};
+    double dfm = rates && dpar ? dpar[2] : 0.0, *sp = rates ? dpar : NULL;
     int state = state_at(x, v, b), status = GD_CW_OK, grazed = 0;
-    long i, ns = 0;
+    long i, ns = 0, last_row = -1, width = GD_CW_ROW + 2 * md.nh;
     out[6] = 0.0;
+    if (sp && n_cuts > 0) {             /* the start moving: minus the field there */
+        cw_piece pc = cw_piece_of(&md, pieces, 3 * kidx[0] + state + 1);
+        sp[0] -= rates[0] * v;
+        sp[1] -= rates[0] * (accel(&md, state, pc.k, x, v) + forcing_at(&md, &pc, cuts[0]));
+    }
     for (i = 0; i < n_cuts && status == GD_CW_OK; i++) {
         double t = cuts[i], tb = cuts[i + 1], *part = phis && slot ? phis + 4 * slot[i] : NULL;
         long n_ev = 0;
+        if (sp && i > 0 && kidx[i] != kidx[i - 1]) {
+            /* a stiffness switch moving at rates[i]: (f- - f+) rates[i], the fields of the
+             * piece before and after at the switch (the forcing is the same in both) */
+            double k0 = pieces[(size_t)(3 * kidx[i - 1] + state + 1) * (size_t)width + 1];
+            double k1 = pieces[(size_t)(3 * kidx[i] + state + 1) * (size_t)width + 1];
+            sp[1] += rates[i] * (accel(&md, state, k0, x, v) - accel(&md, state, k1, x, v));
+        }
         while (t < tb) {
             long row = 3 * kidx[i] + state + 1;
             cw_piece pc = cw_piece_of(&md, pieces, row);
@@ -759,6 +813,7 @@ int gd_contact_walk(const double *model, const double *pieces, long n_cuts, cons
                 seg_id[2 * ns + 1] = ev;
             }
             ns++;
+            last_row = row;
             z_of(&md, &pc, x, v, t, &z0, &zv0);
             form_terms(&pc.f, s, &e);   /* once for the end state and its sensitivity */
             form_apply(&pc.f, &e, pc.f.x_eq, pc.f.wm, z0, zv0, &xn, &vn);
@@ -767,6 +822,23 @@ int gd_contact_walk(const double *model, const double *pieces, long n_cuts, cons
                 part_at(&md, &pc, t + s, &pu, &pv);
                 xn += pu;
                 vn += pv;
+            }
+            if (sp) {
+                /* s(t + s) = H (s(t) - du_p(t)) + du_p(t + s): H the piece's transition */
+                double h[4] = {1.0, 0.0, 0.0, 1.0}, da = 0.0, dv = 0.0, d0, d1;
+                transition(&pc.f, &e, h, NULL);
+                if (dpieces) part_dp(&md, &pc, dpieces + (size_t)row * (size_t)(2 * md.nh),
+                                     dfm, t, &da, &dv);
+                d0 = sp[0] - da;
+                d1 = sp[1] - dv;
+                sp[0] = h[0] * d0 + h[1] * d1;
+                sp[1] = h[2] * d0 + h[3] * d1;
+                if (dpieces) {
+                    part_dp(&md, &pc, dpieces + (size_t)row * (size_t)(2 * md.nh), dfm, t + s,
+                            &da, &dv);
+                    sp[0] += da;
+                    sp[1] += dv;
+                }
             }
             transition(&pc.f, &e, phi, part);
             x = xn;
@@ -791,6 +863,13 @@ int gd_contact_walk(const double *model, const double *pieces, long n_cuts, cons
                     }
                     saltate(r, phi);
                     saltate(r, part);
+                    if (sp) {                   /* the surface u = +-b does not move */
+                        if (isnan(r)) {
+                            sp[0] = sp[1] = NAN;
+                        } else {
+                            sp[1] += r * sp[0];
+                        }
+                    }
                 }
                 state = nxt;
             }
@@ -800,6 +879,12 @@ int gd_contact_walk(const double *model, const double *pieces, long n_cuts, cons
                 break;
             }
         }
+    }
+    if (sp && last_row >= 0) {          /* the end moving: the field of the last piece there */
+        cw_piece pc = cw_piece_of(&md, pieces, last_row);
+        sp[0] += rates[n_cuts] * v;
+        sp[1] += rates[n_cuts] * (accel(&md, state, pc.k, x, v)
+                                  + forcing_at(&md, &pc, cuts[n_cuts]));
     }
     out[0] = x;
     out[1] = v;

@@ -84,11 +84,17 @@ int gd_contact_first_crossing(const double *model, const double *pieces, long pi
  * the end state, out[2..5] the sensitivity d y(end) / d y(start) (row-major), out[6] the time
  * of a failure. With slot and phis (else NULL), slot[i] (non-decreasing) names the slot of
  * piece i and phis (4 per slot, identities on entry) receives the sensitivity over each
- * slot's pieces (e.g. one slot per mesh period). Returns a GD_CW_ status. */
+ * slot's pieces (e.g. one slot per mesh period). With rates and dpar (else NULL), the
+ * derivative of the end state with respect to a parameter p: rates[n_cuts + 1] the cuts'
+ * d t / d p (s per unit of p; a stiffness switch or an end that moves with p), dpar[3] on
+ * entry d (u0, u0') / d p and d fm / d p, on exit d (u, u')(end) / d p; dpieces
+ * [n_pieces 2 nh] (NULL without harmonics) the derivatives d ca / d p, d cb / d p of each
+ * row's particular solution. Returns a GD_CW_ status. */
 int gd_contact_walk(const double *model, const double *pieces, long n_cuts, const double *cuts,
                     const long *kidx, double u0, double v0, double xtol, long max_events,
                     long cap, double *seg, long *seg_id, long *n_seg, double *out,
-                    const long *slot, double *phis);
+                    const long *slot, double *phis, const double *rates,
+                    const double *dpieces, double *dpar);
 
 /* u, u' at n_t times t (inside the walked span) from n_seg segments of gd_contact_walk (in
  * time order), each from the closed form of the segment it falls in; out is 2 x n_t
