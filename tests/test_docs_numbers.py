@@ -563,7 +563,7 @@ def test_bifurcation_diagram_costs_are_the_recorded_benchmark() -> None:
     rec = " ".join(_recorded("response_diagram").split())
     m = re.search(r"that is (\d+) runs of one mesh period \((\d+) period-2 points and their "
                   r"three folds\), (\d+) % of the continuation's time; the brute-force diagram "
-                  r"costs (\d+) ms per speed and direction on the packaged scene \(median\), so "
+                  r"costs ([\d.]+) ms per speed and direction on the packaged scene \(median\), so "
                   r"`--diagram 128` takes ([\d.]+) times as long", text)
     runs = re.search(r"\| (\d+) \(one per period-2 orbit: points and located folds\)", rec)
     per = re.search(r"costs ([\d.]+) \([^)]*\) ms per speed and direction.*?([\d.]+)x "
