@@ -22,11 +22,13 @@ Every way of advancing a model's state lives here, one module per method:
   (exact cells, Magnus substeps; sweeps, charts, the tolerance study): it builds the phase
   tables, the kernel advances every speed (:mod:`.kernel.linear`); not imported here (import
   it from its module);
-- :mod:`.gauss`: Gauss-Legendre step maps of affine models (the eccentric torsional model);
+- :mod:`.gauss`: Gauss-Legendre step maps of affine models (the eccentric torsional model,
+  by name, or under ``auto`` where the kernel does not take it);
 - ``kernel``: the compiled C kernel (products, compose, chain, fill_periodic; the linear
   single-DOF steps over many speeds and the one closed-form 2x2 exponential, ``kernel.linear``),
   shared with the native FMU;
-- :mod:`.kernel_method`: the native FMU's compiled stepper over the whole grid (``kernel``);
+- :mod:`.kernel_method`: the native FMU's compiled stepper over the whole grid (``kernel``;
+  ``auto``'s method for the eccentric torsional model on any span, whatever ran before);
 - ``simulate_bare`` (:func:`simulate_bare`): one run -> :class:`Result` (:mod:`.result`),
   without the checks that :func:`~gear_dyn.analysis.study.simulate` adds.
 

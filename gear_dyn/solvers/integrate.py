@@ -1,15 +1,16 @@
 """Choose the integration method for a model and grid, and run it.
 
-``auto`` picks, in order: ``exact`` (:mod:`~gear_dyn.solvers.exact`), ``kernel``
-(:mod:`~gear_dyn.solvers.kernel_method`: the single-DOF model with backlash and
-piecewise-constant stiffness, and the eccentric torsional model over most of its hunting
-period, stepped by the native FMU's compiled kernel from their tables in the mesh phase, where
-the table meets its error limit and the library is built), ``exact_contact``
-(:mod:`~gear_dyn.solvers.contact_exact`), ``periodic`` (:mod:`~gear_dyn.solvers.periodic`),
-``gauss`` (:mod:`~gear_dyn.solvers.gauss`), else solve_ivp with
-:data:`~gear_dyn.solvers.settings.DEFAULT_ODE_METHOD` (:mod:`~gear_dyn.solvers.ode`), each where
-the model says it applies (docs/solvers.md). ``gauss`` falls back to the ODE path where its
-affine form fails.
+``auto`` picks, in order: ``exact`` (:mod:`~gear_dyn.solvers.exact`), ``exact_contact``
+(:mod:`~gear_dyn.solvers.contact_exact`), ``kernel`` (:mod:`~gear_dyn.solvers.kernel_method`:
+the eccentric torsional model on any span, stepped by the native FMU's compiled kernel from its
+table in the mesh phase, where the table meets its error limit and the library is built),
+``periodic`` (:mod:`~gear_dyn.solvers.periodic`), ``gauss`` (:mod:`~gear_dyn.solvers.gauss`),
+else solve_ivp with :data:`~gear_dyn.solvers.settings.DEFAULT_ODE_METHOD`
+(:mod:`~gear_dyn.solvers.ode`), each where the model says it applies (docs/solvers.md). The
+choice depends on the model and the grid only, never on what ran before in the process: runs
+step through the compiled kernel, and ``gauss`` runs under ``auto`` only for an affine model the
+kernel does not take (no table fits, or the library is not built); it falls back to the ODE
+path where its affine form fails.
 """
 
 from __future__ import annotations
@@ -49,7 +50,7 @@ def resolve_method(model: Model, t_grid: FloatArray, method: str) -> str:
     chosen = resolve_auto(model)
     t_arr = np.asarray(t_grid, dtype=float)
     if chosen == DEFAULT_ODE_METHOD and kernel_auto(model, t_arr):
-        return "kernel"  # the eccentric torsional model over most of its hunting period
+        return "kernel"  # the eccentric torsional model, whatever the span
     if chosen == DEFAULT_ODE_METHOD and periodic_map_applies(model, t_arr):
         return "periodic"  # linear, mesh-periodic: one period of integration
     if chosen == DEFAULT_ODE_METHOD and gauss_applies(model):

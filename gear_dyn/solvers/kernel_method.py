@@ -75,9 +75,6 @@ _LOCK = threading.RLock()  # re-entrant: a weakref callback may run inside a loc
 
 #: largest table error (relative, ``max_error``) for which ``auto`` picks the kernel
 AUTO_TABLE_ERROR = 1e-9
-#: shortest span, as a share of the table's period, on which ``auto`` picks the kernel for the
-#: torsional model
-AUTO_MIN_SHARE = 0.5
 
 
 def _available() -> bool:
@@ -108,12 +105,13 @@ def kernel_applies(model: Model) -> bool:
 
 def kernel_auto(model: Model, t_grid: FloatArray | None = None) -> bool:
     """True where ``auto`` picks the kernel (:func:`kernel_applies`): an eccentric torsional
-    model whose table meets :data:`AUTO_TABLE_ERROR`, on a grid spanning at least
-    :data:`AUTO_MIN_SHARE` of its table (the hunting period: the table's cost grows with it,
-    not with the run), or on any grid once its table is built (:func:`table_ready`: the
-    quasi-static reference of the dynamic factor after the run, the same pair at another
-    speed). A short run of a pair whose table is not built keeps ``gauss``, which tabulates
-    only the span it runs (docs/solvers.md has the measurement).
+    model whose table meets :data:`AUTO_TABLE_ERROR`, on any grid of two or more times and
+    whatever tables the process holds, so a run's method depends on the model alone, not on
+    what ran before it. The table spans the hunting period whatever the run's span (it is
+    built once per :func:`table_key` and kept), so a short run of a pair without one pays for
+    it (docs/solvers.md has the measurement); ``gauss`` stays available by name. Where no
+    table fits (:class:`~gear_dyn.errors.InputError`) or the library is not built, ``auto``
+    goes on to its next method.
 
     Single-DOF models never take it under ``auto``: the linear ones keep their exact and
     periodic routes, and the one with backlash and piecewise-constant stiffness takes
@@ -125,11 +123,6 @@ def kernel_auto(model: Model, t_grid: FloatArray | None = None) -> bool:
     if not kernel_applies(model) or len(model.state_labels) == 2:
         return False
     if t_grid is None or len(t_grid) < 2:
-        return False
-    span = (float(t_grid[-1]) - float(t_grid[0])) * float(model.mesh_frequency)
-    tm: Any = model  # a TorsionalModel (kernel_applies)
-    hunting = float(tm.mesh.hunting_period) * float(model.mesh_frequency)
-    if span < AUTO_MIN_SHARE * hunting and not table_ready(model):
         return False
     try:
         km = kernel_form(model)

@@ -83,16 +83,15 @@ def test_default_path_within_its_stated_error(case):
     assert stated < 1e-6
 
 
-def test_auto_takes_gauss_step_maps_within_stated_error(case):
-    """method auto picks the Gauss-Legendre step maps for a short run of the eccentric torsional
-    model (the kernel once the pair's table is built: then gauss is named); its error against
-    the reference is below its stated error and far below 1e-6 (measured 2e-10, the
-    reference's own level; bound 1e-8, 45x that)."""
+def test_gauss_step_maps_within_stated_error(case):
+    """The Gauss-Legendre step maps, named (``auto`` takes the kernel for this model on any
+    span, whatever tables the process holds): the error against the reference is below the
+    stated error and far below 1e-6 (measured 2e-10, the reference's own level; bound 1e-8,
+    45x that)."""
     from gear_dyn.solvers import resolve_method
-    from gear_dyn.solvers.kernel_method import table_ready
 
     model, t, ref = case["model"], case["t"], case["ref"]
-    assert resolve_method(model, t, "auto") == ("kernel" if table_ready(model) else "gauss")
+    assert resolve_method(model, t, "auto") == "kernel"
     gauss = dataclasses.replace(case["settings"], method="gauss")
     res = simulate(model, case["t_end"], gauss)
     assert res.stats.method == "gauss"
@@ -109,7 +108,7 @@ def test_gauss_falls_back_where_the_mesh_force_is_not_compressive(case):
     light = dataclasses.replace(case["model"], torque=1e-3)
     t = output_grid(light, 4 / light.mesh_frequency, case["settings"])
     assert propagate_gauss(light, t, SolverSettings(rtol=1e-7)) is None
-    y, st = integrate(light, t, SolverSettings(method="auto", rtol=1e-7))
+    y, st = integrate(light, t, SolverSettings(method="gauss", rtol=1e-7))
     assert st["method"] == "LSODA" and st["gauss_fallback"]
     y_ode, _ = integrate(light, t, SolverSettings(method="LSODA", rtol=1e-7))
     assert np.array_equal(y, y_ode)

@@ -15,6 +15,7 @@ from gear_dyn.scene import load_scene, run_scene
 from gear_dyn.scene.build import build_model, build_plan
 from gear_dyn.scene.operating import with_operating
 from gear_dyn.solvers import SolverSettings, integrate, resolve_method, time_grid
+from gear_dyn.solvers import kernel_method as kmod
 from gear_dyn.solvers.kernel_method import kernel_form, shared_table, table_bound, table_ready
 from gear_dyn.solvers.result import Result
 from gear_dyn.stiffness.periodic import rectangular_stiffness
@@ -95,28 +96,35 @@ def test_a_run_from_a_later_start_and_phase() -> None:
     assert np.all(np.isfinite(x)) and error_scale(m) > 0
 
 
-def test_auto_choice_and_refusal() -> None:
-    """auto: the kernel for the eccentric torsional model over most of its hunting period or
-    once its table is built (gauss on short spans before), exact_contact for backlash; exact for
-    the linear model; ``kernel`` asked for a model it does not step names what it steps."""
+def test_auto_choice_and_refusal(monkeypatch: pytest.MonkeyPatch) -> None:
+    """auto: the kernel for the eccentric torsional model on any span, whether or not the
+    pair's table is built (the choice does not depend on what ran before in the process),
+    exact_contact for backlash; exact for the linear model; ``kernel`` asked for a model it
+    does not step names what it steps."""
     bl = _backlash()
     t = time_grid(bl.mesh_frequency, 10 / bl.mesh_frequency, 64)
     assert resolve_method(bl, t, "auto") == "exact_contact"
     assert resolve_method(replace(bl, backlash=None), t, "auto") == "exact"
     ecc = build_plan(load_scene("eccentric_helical")).model
     hunting = ecc.mesh.hunting_period
-    short = np.linspace(0.0, 0.1 * hunting, 50)
-    # a torque no other test runs: this pair's table is not built yet, a short run keeps gauss
+    short = np.linspace(0.0, 0.01 * hunting, 50)
+    # the pair's table dropped (kernel_method._TABLES is process-global): a short run of a pair
+    # without one takes the kernel, and so does the same run once the table is built
     fresh = replace(ecc, torque=ecc.torque * 1.0137)
+    with kmod._LOCK:
+        for split in (False, True):
+            kmod._TABLES.pop((kmod.table_key(fresh), split), None)
     assert not table_ready(fresh)
-    assert resolve_method(fresh, short, "auto") == "gauss"
+    assert resolve_method(fresh, short, "auto") == "kernel"
+    assert table_ready(fresh)
+    assert resolve_method(fresh, short, "auto") == "kernel"
     assert resolve_method(ecc, np.linspace(0.0, hunting, 50), "auto") == "kernel"
-    # the table built, short runs of the pair take the kernel too, at any speed (its table is
-    # one of the mesh phase)
-    assert table_ready(ecc)
-    assert resolve_method(ecc, short, "auto") == "kernel"
     slow = build_model(with_operating(load_scene("eccentric_helical"), ecc.speed / 64, si=True))
-    assert table_ready(slow) and resolve_method(slow, short * 64, "auto") == "kernel"
+    assert resolve_method(slow, short * 64, "auto") == "kernel"
+    # without the compiled library auto goes on to gauss (this model is affine in the state)
+    monkeypatch.setattr(kmod, "_available", lambda: False)
+    assert resolve_method(fresh, short, "auto") == "gauss"
+    monkeypatch.undo()
     ideal = build_plan(load_scene("eccentric_helical_ideal")).model
     with pytest.raises(InputError, match="does not apply to the TorsionalModel"):
         integrate(ideal, np.linspace(0.0, 1e-3, 5), SolverSettings(method="kernel"))
