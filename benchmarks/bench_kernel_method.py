@@ -15,7 +15,9 @@ with ``git archive`` into a temporary folder and its kernel library built there.
 also times the parts of the kernel route for both scenes: the table (built once per model; the
 eccentric pair's once per pair, whatever the speed, so the calls after the first in a process
 reuse it, and the first call's time is reported apart) and one kernel run over the scene's
-grid. Writes ``kernel_method.md`` (default benchmarks/out, ``--record``: benchmarks/results).
+grid, and a short run of the eccentric scene (4 mesh periods) by method, with the method
+``auto`` runs there with and without the pair's table. Writes ``kernel_method.md`` (default
+benchmarks/out, ``--record``: benchmarks/results).
 """
 
 from __future__ import annotations
@@ -91,6 +93,13 @@ def child(calls: int) -> dict[str, object]:
             for method, keep, label in (("gauss", True, "gauss"), ("kernel", False, "cold"),
                                         ("kernel", True, "kept")):
                 out[f"short_{label}"] = med(lambda m=method, k=keep: fresh(m, k), calls)
+            for keep, label in ((False, "cold"), (True, "kept")):  # what auto runs there
+                if not keep:
+                    kmod._CACHE.clear()
+                    kmod._TABLES.clear()
+                m = build_plan(with_operating(sc, None, None, function="bench")).model
+                picked = integrate(m, short, SolverSettings(method="auto"))[1]["method"]
+                out[f"short_auto_{label}"] = picked
     return out
 
 
@@ -156,7 +165,9 @@ def main(argv: list[str] | None = None) -> int:
               "call), by method: `gauss` "
               f"{m('after', 'short_gauss') * 1e3:.4g} ms; `kernel` with its table built "
               f"{m('after', 'short_cold') * 1e3:.4g} ms, with the pair's table kept "
-              f"{m('after', 'short_kept') * 1e3:.4g} ms.",
+              f"{m('after', 'short_kept') * 1e3:.4g} ms. `auto` runs "
+              f"`{got['after'][0]['short_auto_cold']}` there without the pair's table and "
+              f"`{got['after'][0]['short_auto_kept']}` with it.",
               "", "Raw medians per child (s): " + json.dumps(
         {k: [{kk: (float(f"{v:.4g}") if isinstance(v, float) else v) for kk, v in g.items()
               if kk != "gear_dyn"} for g in got[k]] for k in trees})]
