@@ -80,7 +80,10 @@ def test_kept_walk_gives_the_fresh_shape(cases: dict[str, tuple[SDOFModel, np.nd
     kept = orbit.orbit_shape(model, y0, periods, "exact", 1e-10, walked)
     assert kept == orbit.orbit_shape(model, y0, periods, "exact", 1e-10)
     pattern, sep, back, rms = fresh_pattern(model, y0, periods, samples)
-    assert (kept.pattern, kept.separation, kept.back, kept.dte_rms) == (pattern, sep, back, rms)
+    assert kept.pattern == pattern
+    # the same spells summed in another order, the RMS by another formula: rounding apart
+    assert (kept.separation, kept.back, kept.dte_rms) == pytest.approx((sep, back, rms),
+                                                                       rel=1e-12, abs=1e-15)
     assert len(pattern) > 1  # the case has contact changes
 
 
