@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 from typing import Any
 
@@ -12,6 +13,8 @@ from numpy.typing import NDArray
 from gear_dyn.errors import SolverError
 from gear_dyn.models.base import Model
 from gear_dyn.solvers import kernel
+from gear_dyn.solvers.kernel.linear import step_maps
+from gear_dyn.solvers.linear_maps import magnus_rows, substep_grid
 from gear_dyn.solvers.ode import integrate_ode
 from gear_dyn.solvers.settings import SolverSettings
 
@@ -48,84 +51,44 @@ def coefficients(model: Any, t: FloatArray) -> tuple[FloatArray, FloatArray]:
     return kt, force
 
 
-def _step_cuts(model: Any, starts: FloatArray, dt: float) -> list[FloatArray]:
-    """Each step ``[ta, ta + dt]`` cut at its switching instants: offsets from its start,
-    ``[0, cuts..., dt]``."""
-    cuts = np.asarray(model.switching_times(float(starts[0]), float(starts[-1] + dt)))
-    if cuts.size == 0:  # smooth coefficients: one piece per step
-        return [np.array([0.0, dt])] * starts.size
-    offs: list[FloatArray] = []
-    for ta in starts:
-        cuts = model.switching_times(float(ta), float(ta + dt)) - ta
-        offs.append(np.concatenate([[0.0], cuts, [dt]]))
-    return offs
-
-
 def _step_maps(model: Any, t0: float, dt: float, n_steps: int, rtol: float
                ) -> tuple[FloatArray, FloatArray, int]:
     """Affine maps ``y(t0 + (j+1) dt) = F_j y(t0 + j dt) + h_j``, j = 0..n_steps-1, of a linear
-    single-DOF model: ``[F_j h_j]`` integrated from ``[I 0]`` with DOP853, all steps at once
-    (one vectorised system), restarted at the switching instants of every step.
+    single-DOF model, in the compiled kernel, and the coefficient evaluations they took.
 
-    A direct solve_ivp call per piece, not the solve_ivp driver
-    (:func:`~gear_dyn.solvers.ode.flow`): the driver advances one model's state in real time,
-    cut at its switching instants and restarted at its contact changes, so each map would be a
-    run of its own (``variational=True`` from ``y0 = 0`` gives ``F_j`` and ``h_j``), the
-    ``n_steps`` steps one after another. Here they run side by side as one vectorised system in
-    a local time ``s in [0, 1]`` mapped onto each step's own piece, whose real ends differ from
-    step to step (no common time axis for the driver's cuts), and the stacked system has no
-    contact events to locate."""
-    from scipy.integrate import solve_ivp
-
-    n = 2
-    m, c = model.mass, model.damping
-    starts = t0 + dt * np.arange(n_steps, dtype=np.float64)
-    offs = _step_cuts(model, starts, dt)
-    scale = np.asarray(model.state_scale, dtype=float)
-    col = np.append(1.0 / scale, 1.0)
-    atol_one = rtol * (scale[:, None] * col[None, :]).ravel()
-    maps = np.empty((n_steps, n, n + 1))
-    nfev = 0
-    # group the steps by their number of cuts; integrate each group as one stacked system in
-    # the local variable s, piece by piece (piece boundaries differ per step: handled by
-    # mapping each piece to s in [0, 1])
-    groups: dict[int, list[int]] = {}
-    for j, o in enumerate(offs):
-        groups.setdefault(o.size, []).append(j)
-    for _size, idx in groups.items():
-        ids = np.asarray(idx)
-        bounds = np.stack([offs[j] for j in idx])  # (g, pieces+1)
-        z = np.tile(np.hstack([np.eye(n), np.zeros((n, 1))]).ravel(), ids.size)
-        for q in range(bounds.shape[1] - 1):
-            a_off = starts[ids] + bounds[:, q]
-            length = bounds[:, q + 1] - bounds[:, q]
-
-            def rhs(s: float, zz: FloatArray, a_off: FloatArray = a_off,
-                    length: FloatArray = length) -> FloatArray:
-                # evaluate just inside the piece: at its ends k may jump (a switching instant)
-                t = a_off + min(max(s, 1e-12), 1.0 - 1e-12) * length
-                kt, force = coefficients(model, t)
-                zr = zz.reshape(-1, n, n + 1)
-                out = np.empty_like(zr)
-                out[:, 0, :] = zr[:, 1, :]
-                out[:, 1, :] = (-kt[:, None] * zr[:, 0, :] - c * zr[:, 1, :]) / m
-                out[:, 1, n] += force / m
-                return (out * length[:, None, None]).ravel()
-
-            sol = solve_ivp(rhs, (0.0, 1.0), z, method="DOP853", rtol=rtol,
-                            atol=np.tile(atol_one, ids.size))
-            nfev += sol.nfev
-            if sol.status != 0:
-                raise SolverError(f"periodic maps: solve_ivp (DOP853) failed: {sol.message}")
-            z = sol.y[:, -1]
-        maps[ids] = z.reshape(-1, n, n + 1)
-    return maps[:, :, :n], maps[:, :, n], nfev
+    Each grid step is the product of fourth-order Magnus substeps with two Gauss points
+    (Blanes, Casas, Oteo & Ros 2009, eq. 4.6): the period from ``t0`` is cut at the samples
+    and at the phases where k or the transmission error jump or kink, every cell divided into
+    equal substeps with ``(omega h / 2)^4 <= rtol`` (``omega = sqrt(max k / m)``; the substep
+    grid and rows of :mod:`gear_dyn.solvers.linear_maps`, :func:`substep_grid` and
+    :func:`magnus_rows`, the sweeps' rule). The kernel takes each substep's map
+    (:func:`gear_dyn.solvers.kernel.linear.step_maps`: exact where the coefficients are
+    constant in it) and composes the substeps of every grid step
+    (:func:`gear_dyn.solvers.kernel.compose`)."""
+    fm = float(model.mesh_frequency)
+    s_per = int(round(1.0 / (fm * dt)))
+    start = math.fmod(fm * t0, 1.0)  # phase of the grid start after phase0, cycles
+    starts, lengths, at_sample = substep_grid(model, s_per, fm, rtol, start)
+    owner = np.searchsorted(at_sample, np.arange(starts.size), side="left")
+    used = owner < n_steps  # a span shorter than a period: its steps only
+    rows = magnus_rows(model, starts[used], lengths[used])
+    f, h = (a[0] for a in step_maps(rows, np.array([fm])))
+    parts = np.zeros((f.shape[0], 3, 3))
+    parts[:, :2, :2] = f
+    parts[:, :2, 2] = h
+    parts[:, 2, 2] = 1.0
+    total = kernel.compose(parts, owner[used], n_steps)
+    if not np.all(np.isfinite(total)):
+        raise SolverError("periodic maps: non-finite step maps (stiffness or load not finite "
+                          "over the mesh period?)")
+    return total[:, :2, :2].copy(), total[:, :2, 2].copy(), 2 * int(f.shape[0])
 
 
 def gauss_step_maps(model: Any, t0: float, dt: float, n_steps: int, substeps: int = 1
                     ) -> tuple[FloatArray, FloatArray]:
     """The step maps of ``_step_maps()`` by ``GAUSS_STAGES``-stage Gauss-Legendre
-    collocation instead of DOP853: a second method, without error control of its own.
+    collocation instead of Magnus substeps: a second method, without error control of its own
+    (the independent check of a ``periodic`` run's stated error).
 
     Each step is cut at its switching instants and every piece divided into ``substeps`` equal
     parts; on each part the collocation equations of ``y' = A(t) y + g(t)`` are linear (one
