@@ -30,8 +30,10 @@ is the periodic orbit, and the partial products carry it to the output samples
   masses, dampings and mesh frequencies (the stability charts).
 
 Callers: the steady sweep's linear blocks (:func:`gear_dyn.analysis.sweep.batch.linear_block`),
-the stability charts (:mod:`gear_dyn.analysis.chart`) and the tolerance study
-(:mod:`gear_dyn.analysis.tolerance`). tests/analysis/test_sweep_batch.py and
+the stability charts (:mod:`gear_dyn.analysis.chart`), the tolerance study
+(:mod:`gear_dyn.analysis.tolerance`) and the ``periodic`` method's step maps
+(:mod:`gear_dyn.solvers.periodic`: :func:`substep_grid` from the grid's start phase and
+:func:`magnus_rows` at one speed). tests/analysis/test_sweep_batch.py and
 test_sweep_smooth.py compare the orbits with the per-speed path (DOP853 at a tight tolerance).
 """
 
@@ -69,6 +71,18 @@ def _kinks(model: MeshModel) -> FloatArray:
         cuts.append(np.asarray(te.knots, dtype=float))
     p = np.mod(np.concatenate(cuts) - model.phase0, 1.0) if cuts else np.zeros(0)
     return np.unique(np.round(p, 13))
+
+
+def kink_times(model: MeshModel, t0: float, t1: float) -> FloatArray:
+    """Instants in ``(t0, t1)`` (s) where k or the transmission error jump or have kinks (the
+    phases of :func:`_kinks`), sorted."""
+    fm = model.mesh_frequency
+    ph = _kinks(model)
+    if ph.size == 0:
+        return np.zeros(0)
+    j = np.arange(math.floor(fm * t0) - 1, math.ceil(fm * t1) + 1, dtype=float)
+    t = ((j[:, None] + ph[None, :]) / fm).ravel()
+    return np.sort(t[(t > t0) & (t < t1)])
 
 
 def magnus_applies(models: Sequence[Model]) -> bool:
@@ -383,5 +397,5 @@ def periodic_orbit(p: FloatArray, u: FloatArray) -> tuple[FloatArray, FloatArray
 
 
 __all__ = ["MAX_SUBSTEPS", "cell_monodromy", "cells", "constant_rows", "harmonic_orbits",
-           "magnus_applies", "magnus_orbits", "magnus_rows", "periodic_orbit", "phase_cells",
-           "piecewise_orbits", "same_values", "substep_grid"]
+           "kink_times", "magnus_applies", "magnus_orbits", "magnus_rows", "periodic_orbit",
+           "phase_cells", "piecewise_orbits", "same_values", "substep_grid"]
