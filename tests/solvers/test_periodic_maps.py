@@ -22,7 +22,7 @@ from gear_dyn.stiffness.periodic import PiecewiseStiffness
 def pwl_te() -> Any:
     """Piecewise-linear stiffness with a jump (0.3) and a kink (0.15) and a transmission error,
     at a phase offset."""
-    heli = build_plan(load_scene("examples/scenes/helicopter_tail.toml")).model
+    heli: Any = build_plan(load_scene("examples/scenes/helicopter_tail.toml")).model
     pwl = PiecewiseStiffness(
         np.array([0.0, 0.3, 1.0]),
         ((np.array([0.0, 0.15, 0.3]), np.array([1.2e9, 1.3e9, 1.25e9])),
