@@ -17,9 +17,11 @@ Every way of advancing a model's state lives here, one module per method:
   the driver's variational equations);
 - :mod:`.exact`: exact propagation of piecewise-constant linear models;
 - :mod:`.contact_exact`: the closed form between located contact changes (backlash);
-- :mod:`.periodic`: step maps of linear mesh-periodic models on a commensurate grid;
+- :mod:`.periodic`: step maps of linear mesh-periodic models on a commensurate grid (the
+  Magnus substeps of :mod:`.linear_maps` at one speed, composed in ``kernel``);
 - :mod:`.linear_maps`: one-period maps of the linear single-DOF model over many speeds at once
-  (exact cells, Magnus substeps; sweeps, charts, the tolerance study): it builds the phase
+  (exact cells, Magnus substeps; sweeps, charts, the tolerance study, the ``periodic`` step
+  maps): it builds the phase
   tables, the kernel advances every speed (:mod:`.kernel.linear`); not imported here (import
   it from its module);
 - :mod:`.gauss`: Gauss-Legendre step maps of affine models (the eccentric torsional model,

@@ -30,8 +30,10 @@ is the periodic orbit, and the partial products carry it to the output samples
   masses, dampings and mesh frequencies (the stability charts).
 
 Callers: the steady sweep's linear blocks (:func:`gear_dyn.analysis.sweep.batch.linear_block`),
-the stability charts (:mod:`gear_dyn.analysis.chart`) and the tolerance study
-(:mod:`gear_dyn.analysis.tolerance`). tests/analysis/test_sweep_batch.py and
+the stability charts (:mod:`gear_dyn.analysis.chart`), the tolerance study
+(:mod:`gear_dyn.analysis.tolerance`) and the ``periodic`` method's step maps
+(:mod:`gear_dyn.solvers.periodic`: :func:`substep_grid` from the grid's start phase and
+:func:`magnus_rows` at one speed). tests/analysis/test_sweep_batch.py and
 test_sweep_smooth.py compare the orbits with the per-speed path (DOP853 at a tight tolerance).
 """
 
@@ -69,6 +71,18 @@ def _kinks(model: MeshModel) -> FloatArray:
         cuts.append(np.asarray(te.knots, dtype=float))
     p = np.mod(np.concatenate(cuts) - model.phase0, 1.0) if cuts else np.zeros(0)
     return np.unique(np.round(p, 13))
+
+
+def kink_times(model: MeshModel, t0: float, t1: float) -> FloatArray:
+    """Instants in ``(t0, t1)`` (s) where k or the transmission error jump or have kinks (the
+    phases of :func:`_kinks`), sorted."""
+    fm = model.mesh_frequency
+    ph = _kinks(model)
+    if ph.size == 0:
+        return np.zeros(0)
+    j = np.arange(math.floor(fm * t0) - 1, math.ceil(fm * t1) + 1, dtype=float)
+    t = ((j[:, None] + ph[None, :]) / fm).ravel()
+    return np.sort(t[(t > t0) & (t < t1)])
 
 
 def magnus_applies(models: Sequence[Model]) -> bool:
@@ -297,28 +311,62 @@ def harmonic_orbits(model: MeshModel, orders: FloatArray, spp: int
     return y0, ys, z0, zs, rho
 
 
-def substep_grid(model: MeshModel, spp: int, fm_min: float, rtol: float
+def substep_grid(model: MeshModel, spp: int, fm_min: float, rtol: float, start: float = 0.0
                  ) -> tuple[FloatArray, FloatArray, NDArray[np.intp]]:
     """Substeps of one period in phase: (starts, lengths, index of the substep ending at each
-    output sample 1..spp)."""
+    output sample 1..spp).
+
+    The period runs from the phase ``start`` (cycles after ``phase0``; the first output
+    sample) to ``start + 1``, the samples at ``start + j / spp``; every cell between samples
+    and kinks (:func:`_kinks`) is divided into equal substeps of at most
+    ``2 rtol^(1/4) f_m / omega`` cycles (``(omega h / 2)^4 <= rtol`` at the lowest mesh
+    frequency ``fm_min``, ``omega = sqrt(max k / m)``), at most :data:`MAX_SUBSTEPS` in all."""
     omega = math.sqrt(float(np.max(model.stiffness._dense())) / model.mass)
     h_max = 2 * rtol ** 0.25 * fm_min / omega  # phase length of the longest substep
-    cuts = np.union1d(np.arange(spp + 1) / spp, _kinks(model))
-    cuts = cuts[(cuts >= 0) & (cuts <= 1)]
-    cuts = np.unique(np.concatenate([[0.0], cuts, [1.0]]))
+    samples = start + np.arange(spp + 1) / spp
+    kinks = start + np.mod(_kinks(model) - start, 1.0)
+    cuts = np.union1d(samples, kinks)
+    cuts = cuts[(cuts >= start) & (cuts <= start + 1)]
+    cuts = np.unique(np.concatenate([[start], cuts, [start + 1.0]]))
     width = np.diff(cuts)
     keep = width > 1e-14
     edges_a, width = cuts[:-1][keep], width[keep]
     n = np.maximum(1, np.ceil(width / h_max).astype(int))
     if int(n.sum()) > MAX_SUBSTEPS:
         n = np.maximum(1, np.floor(n * MAX_SUBSTEPS / n.sum()).astype(int))
-    starts = np.concatenate([a + w * np.arange(k) / k for a, w, k in zip(
-        edges_a.tolist(), width.tolist(), n.tolist(), strict=True)])
-    lengths = np.repeat(width / n, n)
     ends = np.cumsum(n) - 1  # substep ending each cell
+    local = np.arange(int(ends[-1]) + 1) - np.repeat(ends + 1 - n, n)  # substep within its cell
+    starts = np.repeat(edges_a, n) + np.repeat(width, n) * local / np.repeat(n, n)
+    lengths = np.repeat(width / n, n)
+    # the cell ending nearest each sample
     cell_end = edges_a + width
-    sample_cells = [int(np.argmin(np.abs(cell_end - j / spp))) for j in range(1, spp + 1)]
-    return starts, lengths, ends[sample_cells]
+    right = np.clip(np.searchsorted(cell_end, samples[1:]), 0, cell_end.size - 1)
+    left = np.maximum(right - 1, 0)
+    nearer_left = np.abs(cell_end[left] - samples[1:]) <= np.abs(cell_end[right] - samples[1:])
+    return starts, lengths, ends[np.where(nearer_left, left, right)]
+
+
+def magnus_rows(model: MeshModel, starts: FloatArray, lengths: FloatArray) -> FloatArray:
+    """Kernel step rows (:mod:`gear_dyn.solvers.kernel.linear`) of the Magnus substeps with
+    phase ``starts`` (cycles after ``phase0``) and ``lengths`` (cycles): the stiffness, load
+    and transmission error at the two Gauss points of each, speed-free (the mesh frequency
+    enters in the kernel). Shape ``(N, ROW_FIELDS)``."""
+    gp = [starts + (0.5 - _G) * lengths, starts + (0.5 + _G) * lengths]
+    mass, c, w = model.mass, model.damping, model.static_load
+    te = model.transmission_error
+    kap, g0, g1 = [], [], []
+    for p in gp:
+        ph = p + model.phase0
+        k = np.asarray(model.stiffness(ph), dtype=float)
+        kap.append(k / mass)
+        if te is None:
+            g0.append(np.full_like(k, w / mass))
+            g1.append(np.zeros_like(k))
+        else:
+            g0.append((w + k * np.asarray(te.value(ph), dtype=float)) / mass)
+            g1.append(c * np.asarray(te.slope(ph), dtype=float) / mass)
+    return np.stack([lengths, kap[0], kap[1], np.full_like(lengths, c / mass), g0[0], g0[1],
+                     g1[0], g1[1]], axis=-1)
 
 
 def magnus_orbits(models: Sequence[Model], spp: int, rtol: float
@@ -330,24 +378,7 @@ def magnus_orbits(models: Sequence[Model], spp: int, rtol: float
     m0 = mesh[0]
     fm = np.array([m.mesh_frequency for m in mesh])
     starts, lengths, at_sample = substep_grid(m0, spp, float(np.min(fm)), rtol)
-    # phase tables at the two Gauss points of every substep, shared by every speed
-    gp = [starts + (0.5 - _G) * lengths, starts + (0.5 + _G) * lengths]
-    mass, c, w = m0.mass, m0.damping, m0.static_load
-    te = m0.transmission_error
-    kap, g0, g1 = [], [], []
-    for p in gp:
-        ph = p + m0.phase0
-        k = np.asarray(m0.stiffness(ph), dtype=float)
-        kap.append(k / mass)
-        if te is None:
-            g0.append(np.full_like(k, w / mass))
-            g1.append(np.zeros_like(k))
-        else:
-            g0.append((w + k * np.asarray(te.value(ph), dtype=float)) / mass)
-            g1.append(c * np.asarray(te.slope(ph), dtype=float) / mass)
-    rows = np.stack([lengths, kap[0], kap[1], np.full_like(lengths, c / mass), g0[0], g0[1],
-                     g1[0], g1[1]], axis=-1)
-    p, u = period_products(rows, fm, at_sample)
+    p, u = period_products(magnus_rows(m0, starts, lengths), fm, at_sample)
     return periodic_orbit(p, u)
 
 
@@ -366,5 +397,5 @@ def periodic_orbit(p: FloatArray, u: FloatArray) -> tuple[FloatArray, FloatArray
 
 
 __all__ = ["MAX_SUBSTEPS", "cell_monodromy", "cells", "constant_rows", "harmonic_orbits",
-           "magnus_applies", "magnus_orbits", "periodic_orbit", "phase_cells",
-           "piecewise_orbits", "same_values", "substep_grid"]
+           "kink_times", "magnus_applies", "magnus_orbits", "magnus_rows", "periodic_orbit",
+           "phase_cells", "piecewise_orbits", "same_values", "substep_grid"]

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 from typing import Any
 
@@ -48,89 +49,66 @@ def coefficients(model: Any, t: FloatArray) -> tuple[FloatArray, FloatArray]:
     return kt, force
 
 
-def _step_cuts(model: Any, starts: FloatArray, dt: float) -> list[FloatArray]:
-    """Each step ``[ta, ta + dt]`` cut at its switching instants: offsets from its start,
-    ``[0, cuts..., dt]``."""
-    cuts = np.asarray(model.switching_times(float(starts[0]), float(starts[-1] + dt)))
-    if cuts.size == 0:  # smooth coefficients: one piece per step
-        return [np.array([0.0, dt])] * starts.size
-    offs: list[FloatArray] = []
-    for ta in starts:
-        cuts = model.switching_times(float(ta), float(ta + dt)) - ta
-        offs.append(np.concatenate([[0.0], cuts, [dt]]))
-    return offs
-
-
 def _step_maps(model: Any, t0: float, dt: float, n_steps: int, rtol: float
                ) -> tuple[FloatArray, FloatArray, int]:
     """Affine maps ``y(t0 + (j+1) dt) = F_j y(t0 + j dt) + h_j``, j = 0..n_steps-1, of a linear
-    single-DOF model: ``[F_j h_j]`` integrated from ``[I 0]`` with DOP853, all steps at once
-    (one vectorised system), restarted at the switching instants of every step.
+    single-DOF model, in the compiled kernel, and the coefficient evaluations they took.
 
-    A direct solve_ivp call per piece, not the solve_ivp driver
-    (:func:`~gear_dyn.solvers.ode.flow`): the driver advances one model's state in real time,
-    cut at its switching instants and restarted at its contact changes, so each map would be a
-    run of its own (``variational=True`` from ``y0 = 0`` gives ``F_j`` and ``h_j``), the
-    ``n_steps`` steps one after another. Here they run side by side as one vectorised system in
-    a local time ``s in [0, 1]`` mapped onto each step's own piece, whose real ends differ from
-    step to step (no common time axis for the driver's cuts), and the stacked system has no
-    contact events to locate."""
-    from scipy.integrate import solve_ivp
+    Each grid step is the product of fourth-order Magnus substeps with two Gauss points
+    (Blanes, Casas, Oteo & Ros 2009, eq. 4.6): the period from ``t0`` is cut at the samples
+    and at the phases where k or the transmission error jump or kink, every cell divided into
+    equal substeps with ``(omega h / 2)^4 <= rtol`` (``omega = sqrt(max k / m)``; the substep
+    grid and rows of :mod:`gear_dyn.solvers.linear_maps`, :func:`substep_grid` and
+    :func:`magnus_rows`, the sweeps' rule). The kernel takes each substep's map
+    (:func:`gear_dyn.solvers.kernel.linear.step_maps`: exact where the coefficients are
+    constant in it) and composes the substeps of every grid step
+    (:func:`gear_dyn.solvers.kernel.compose`).
 
-    n = 2
-    m, c = model.mass, model.damping
-    starts = t0 + dt * np.arange(n_steps, dtype=np.float64)
-    offs = _step_cuts(model, starts, dt)
-    scale = np.asarray(model.state_scale, dtype=float)
-    col = np.append(1.0 / scale, 1.0)
-    atol_one = rtol * (scale[:, None] * col[None, :]).ravel()
-    maps = np.empty((n_steps, n, n + 1))
-    nfev = 0
-    # group the steps by their number of cuts; integrate each group as one stacked system in
-    # the local variable s, piece by piece (piece boundaries differ per step: handled by
-    # mapping each piece to s in [0, 1])
-    groups: dict[int, list[int]] = {}
-    for j, o in enumerate(offs):
-        groups.setdefault(o.size, []).append(j)
-    for _size, idx in groups.items():
-        ids = np.asarray(idx)
-        bounds = np.stack([offs[j] for j in idx])  # (g, pieces+1)
-        z = np.tile(np.hstack([np.eye(n), np.zeros((n, 1))]).ravel(), ids.size)
-        for q in range(bounds.shape[1] - 1):
-            a_off = starts[ids] + bounds[:, q]
-            length = bounds[:, q + 1] - bounds[:, q]
+    Error rule: the local error of a Magnus substep grows as ``(omega h)^5``, so
+    ``(omega h / 2)^4 <= rtol`` keeps it near ``rtol`` per radian of the natural oscillation,
+    relative to the state; the substeps follow ``rtol``, and the error does not depend on the
+    number of output samples. Measured against DOP853 at rtol 1e-13 on the helicopter tail pair
+    with the 5-term Fourier stiffness, the error relative to the static deflection stays below
+    ``rtol`` (tests/analysis/test_solvers_bench.py). At most
+    :data:`~gear_dyn.solvers.linear_maps.MAX_SUBSTEPS` substeps per period (beyond, the rule
+    is not met: the run's stated error, an independent check, shows it).
 
-            def rhs(s: float, zz: FloatArray, a_off: FloatArray = a_off,
-                    length: FloatArray = length) -> FloatArray:
-                # evaluate just inside the piece: at its ends k may jump (a switching instant)
-                t = a_off + min(max(s, 1e-12), 1.0 - 1e-12) * length
-                kt, force = coefficients(model, t)
-                zr = zz.reshape(-1, n, n + 1)
-                out = np.empty_like(zr)
-                out[:, 0, :] = zr[:, 1, :]
-                out[:, 1, :] = (-kt[:, None] * zr[:, 0, :] - c * zr[:, 1, :]) / m
-                out[:, 1, n] += force / m
-                return (out * length[:, None, None]).ravel()
+    The third value is the coefficient evaluations, two per substep (``nfev``)."""
+    # imported here: the slim FMU, which steps by the session and never takes this method,
+    # leaves these two modules out (gear_dyn/fmu/staging.py)
+    from gear_dyn.solvers.kernel.linear import step_maps
+    from gear_dyn.solvers.linear_maps import magnus_rows, substep_grid
 
-            sol = solve_ivp(rhs, (0.0, 1.0), z, method="DOP853", rtol=rtol,
-                            atol=np.tile(atol_one, ids.size))
-            nfev += sol.nfev
-            if sol.status != 0:
-                raise SolverError(f"periodic maps: solve_ivp (DOP853) failed: {sol.message}")
-            z = sol.y[:, -1]
-        maps[ids] = z.reshape(-1, n, n + 1)
-    return maps[:, :, :n], maps[:, :, n], nfev
+    fm = float(model.mesh_frequency)
+    s_per = int(round(1.0 / (fm * dt)))
+    start = math.fmod(fm * t0, 1.0)  # phase of the grid start after phase0, cycles
+    starts, lengths, at_sample = substep_grid(model, s_per, fm, rtol, start)
+    owner = np.searchsorted(at_sample, np.arange(starts.size), side="left")
+    used = owner < n_steps  # a span shorter than a period: its steps only
+    rows = magnus_rows(model, starts[used], lengths[used])
+    f, h = (a[0] for a in step_maps(rows, np.array([fm])))
+    parts = np.zeros((f.shape[0], 3, 3))
+    parts[:, :2, :2] = f
+    parts[:, :2, 2] = h
+    parts[:, 2, 2] = 1.0
+    total = kernel.compose(parts, owner[used], n_steps)
+    if not np.all(np.isfinite(total)):
+        raise SolverError("periodic maps: non-finite step maps (stiffness or load not finite "
+                          "over the mesh period?)")
+    return total[:, :2, :2].copy(), total[:, :2, 2].copy(), 2 * int(f.shape[0])
 
 
 def gauss_step_maps(model: Any, t0: float, dt: float, n_steps: int, substeps: int = 1
                     ) -> tuple[FloatArray, FloatArray]:
     """The step maps of ``_step_maps()`` by ``GAUSS_STAGES``-stage Gauss-Legendre
-    collocation instead of DOP853: a second method, without error control of its own.
+    collocation instead of Magnus substeps: a second method, without error control of its own
+    (the independent check of a ``periodic`` run's stated error).
 
-    Each step is cut at its switching instants and every piece divided into ``substeps`` equal
-    parts; on each part the collocation equations of ``y' = A(t) y + g(t)`` are linear (one
-    batched ``2 s x 2 s`` solve for all parts at once, three right-hand sides: the map of the
-    two states and the constant). Order ``2 s`` (12) where the coefficients are smooth within
+    Each step is cut at its switching instants and at the kinks of k and the transmission error
+    (:func:`~gear_dyn.solvers.linear_maps.kink_times`), and every piece divided into ``substeps``
+    equal parts; on each part the collocation equations of ``y' = A(t) y + g(t)`` are linear (one
+    batched ``2 s x 2 s`` solve for all parts at once, three right-hand sides: the map of the two
+    states and the constant). Order ``2 s`` (12) where the coefficients are smooth within
     the parts; the error is checked by comparing two ``substeps`` (the caller's business,
     :mod:`gear_dyn.analysis.accuracy`).
 
@@ -141,11 +119,18 @@ def gauss_step_maps(model: Any, t0: float, dt: float, n_steps: int, substeps: in
         ``y(t0 + (j+1) dt) = f[j] y(t0 + j dt) + h[j]`` ([m, m/s]).
     """
     from gear_dyn.solvers.gauss import _edges, tableau
+    from gear_dyn.solvers.linear_maps import kink_times
 
     c, a, b = tableau(GAUSS_STAGES)
     s = c.size
     grid = t0 + dt * np.arange(n_steps + 1, dtype=np.float64)
     edges = _edges(model, grid)  # the grid with the switching instants inserted
+    cuts = kink_times(model, float(grid[0]), float(grid[-1]))  # and the kinks
+    if cuts.size:
+        tol = 1e-12 * max(abs(float(grid[-1])), 1.0 / model.mesh_frequency)
+        i = np.clip(np.searchsorted(edges, cuts), 1, edges.size - 1)
+        near = np.minimum(np.abs(cuts - edges[i - 1]), np.abs(edges[i] - cuts))
+        edges = np.sort(np.concatenate([edges, cuts[near > tol]]))
     owner_piece = np.clip(np.searchsorted(grid, edges[:-1], side="right") - 1, 0, n_steps - 1)
     # every piece in `substeps` equal parts: start, length and step
     frac = np.arange(substeps) / substeps
@@ -220,21 +205,24 @@ def propagate_periodic(
     A linear model whose coefficients have the mesh period ``T`` (``model.mesh_periodic and
     model.is_linear``: the single-DOF mesh model without backlash) and a grid with ``S`` samples
     per period: the step from ``t_i`` to ``t_{i+1}`` is the affine map ``(F_j, h_j)`` with
-    ``j = i mod S``, the same in every period. The ``S`` maps are integrated once (DOP853 at
-    ``settings.rtol``, one stacked system, restarted at the switching instants), composed into
-    the one-period map and its partial products, and the whole span is then filled by matrix
-    products (:func:`gear_dyn.solvers.periodic.fill_periodic`): one period of integration
+    ``j = i mod S``, the same in every period. The ``S`` maps are built once in the compiled
+    kernel (:func:`_step_maps`: Magnus substeps tied to ``settings.rtol``), composed into the
+    one-period map and its partial products, and the whole span is then filled by matrix
+    products (:func:`gear_dyn.solvers.periodic.fill_periodic`): one period of stepping
     instead of all of them. Falls back to LSODA (restarted) where it does not apply
     (:func:`periodic_map_applies`).
 
     The statistics carry the maps, ``step_maps`` = ``(F, h)``, where they cover a whole mesh
     period from the grid start (the period map, whose eigenvalues are the Floquet multipliers,
-    is their product).
+    is their product), and ``nfev``, the coefficient evaluations of the maps (two per Magnus
+    substep: the work unit of a right-hand-side evaluation). The run's stated error
+    (:func:`gear_dyn.analysis.accuracy.estimate_error`) does not rest on the substep rule: it
+    compares the run with the same fill from :func:`gauss_step_maps`, an independent method.
 
     Raises
     ------
     SolverError
-        Failed integration of the maps or non-finite states.
+        Non-finite step maps or states.
     """
     t_grid = np.asarray(t_grid, dtype=float)
     settings = settings if settings is not None else SolverSettings()

@@ -38,7 +38,7 @@ class SolverSettings:
         uniform grid, ``periodic``; else ``gauss`` where it applies; else LSODA), or one of
         RK45, RK23, DOP853, Radau, BDF, LSODA (solve_ivp), ``exact`` (piecewise-exact
         propagator, linear models with piecewise-constant coefficients only) or ``periodic``
-        (linear mesh-periodic models: one period of step maps integrated, then reused; see
+        (linear mesh-periodic models: one period of step maps, then reused; see
         :func:`gear_dyn.solvers.periodic.propagate_periodic`) or ``gauss`` (models affine in the
         state while a condition holds, the eccentric torsional model: Gauss-Legendre step maps
         of every output interval at once; :mod:`gear_dyn.solvers.gauss`) or ``kernel`` (the

@@ -95,7 +95,9 @@ def test_run_bench_api_and_recommend() -> None:
     frep = run_bench(fmodel, 3 / model.mesh_frequency, methods=("LSODA",), rtols=(1e-6,),
                      repeats=1, samples_per_period=32, baseline=False)
     assert [c.label for c in frep.cases] == ["periodic", "LSODA"]
-    assert frep.cases[0].err_max < 1e-9 < frep.cases[1].err_max
+    # the maps' substeps are tied to rtol (solvers/periodic.py): the error stays below it, and
+    # far below LSODA's at the same rtol
+    assert frep.cases[0].err_max < 1e-6 and frep.cases[0].err_max < 1e-2 * frep.cases[1].err_max
     # recommend() picks the fastest case meeting the target and ignores failures
     mk = lambda m, tm, e, s="ok": BenchCase(m, "restart", 1e-6, tm, tm, 1, e, e, 0, 0, 0, 1, s)  # noqa: E731
     cases = [mk("A", 1.0, 1e-7), mk("B", 0.5, 1e-5), mk("C", 0.2, math.nan, "failed"),

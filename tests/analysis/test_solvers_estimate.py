@@ -90,13 +90,14 @@ def pwl_te(heli: Any) -> tuple[Any, Any]:
     return model, reference_solution(model, t)
 
 
-@pytest.mark.parametrize("rtol", [1e-5, 1e-7])
+@pytest.mark.parametrize("rtol", [1e-4, 1e-5])
 def test_periodic_maps_piecewise_linear_stiffness_with_te(pwl_te: tuple[Any, Any],
                                                           rtol: float) -> None:
     """That model is linear and mesh-periodic, so auto takes the periodic step maps; the
-    estimate bounds the error against the reference. The reference's own error (2e-2 of the
-    measured one at rtol 1e-7) is small enough to tell the method's error (below 1e-1 of it),
-    and the estimate bounds the largest error the run can have: measured + the reference's."""
+    estimate bounds the error against the reference. The reference's own error (4e-2 of the
+    measured one at rtol 1e-5) is small enough to tell the method's error (below 1e-1 of it),
+    and the estimate bounds the largest error the run can have: measured + the reference's.
+    (At rtol 1e-7 the maps' error is below the reference's own: it cannot tell them.)"""
     model, ref = pwl_te
     res = simulate(model, float(ref.t[-1]), SolverSettings(rtol=rtol))
     assert res.stats.method == "periodic"
