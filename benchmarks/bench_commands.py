@@ -157,7 +157,7 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
         (work / "before").mkdir()
-        trees = {"before": source_tree(before, work / "before"), "after": ROOT}
+        trees = {"before": source_tree(before, work / "before", kernel="build"), "after": ROOT}
         envs = {k: {**as_installed(t / "gear_dyn"), **ONE_THREAD} for k, t in trees.items()}
         cpu: dict[str, dict[str, list[float]]] = {c[0]: {"before": [], "after": []}
                                                   for c in commands}
