@@ -83,6 +83,8 @@ ENTRIES: dict[str, list[tuple[str, str, str, str]]] = {
         ("arrays.scalars", "std:label", "reference/arrays.scalars.html#arrays-scalars",
          "Scalars"),
         ("numpy", "py:module", "reference/index.html#module-numpy", "-"),
+        ("numpy.dtype", "py:class", "reference/generated/numpy.dtype.html#numpy.dtype", "-"),
+        ("numpy.float64", "py:class", "reference/arrays.scalars.html#numpy.float64", "-"),
         ("numpy.inf", "py:data", "reference/constants.html#numpy.inf", "-"),
         ("numpy.nan", "py:data", "reference/constants.html#numpy.nan", "-"),
         ("numpy.random.RandomState", "py:class",

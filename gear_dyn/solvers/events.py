@@ -52,7 +52,7 @@ STATE = ("dirs", "g", "cut", "graze", "after_contact", "t_start", "piece_start",
 
 class RestartingSolver:
     """One ``OdeSolver`` kept alive from ``(t0, y0)``, restarted at the switching instants and
-    at every located contact change; :meth:`advance` reads the states at given times from the
+    at every located contact change; :meth:`~gear_dyn.solvers.events.RestartingSolver.advance` reads the states at given times from the
     dense output, so those times never disturb the integration.
 
     Parameters

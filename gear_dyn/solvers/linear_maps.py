@@ -75,7 +75,7 @@ def _kinks(model: MeshModel) -> FloatArray:
 
 def kink_times(model: MeshModel, t0: float, t1: float) -> FloatArray:
     """Instants in ``(t0, t1)`` (s) where k or the transmission error jump or have kinks (the
-    phases of :func:`_kinks`), sorted."""
+    phases of ``_kinks``), sorted."""
     fm = model.mesh_frequency
     ph = _kinks(model)
     if ph.size == 0:
@@ -318,7 +318,7 @@ def substep_grid(model: MeshModel, spp: int, fm_min: float, rtol: float, start: 
 
     The period runs from the phase ``start`` (cycles after ``phase0``; the first output
     sample) to ``start + 1``, the samples at ``start + j / spp``; every cell between samples
-    and kinks (:func:`_kinks`) is divided into equal substeps of at most
+    and kinks (``_kinks``) is divided into equal substeps of at most
     ``2 rtol^(1/4) f_m / omega`` cycles (``(omega h / 2)^4 <= rtol`` at the lowest mesh
     frequency ``fm_min``, ``omega = sqrt(max k / m)``), at most :data:`MAX_SUBSTEPS` in all."""
     omega = math.sqrt(float(np.max(model.stiffness._dense())) / model.mass)

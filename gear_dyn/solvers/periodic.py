@@ -206,7 +206,7 @@ def propagate_periodic(
     model.is_linear``: the single-DOF mesh model without backlash) and a grid with ``S`` samples
     per period: the step from ``t_i`` to ``t_{i+1}`` is the affine map ``(F_j, h_j)`` with
     ``j = i mod S``, the same in every period. The ``S`` maps are built once in the compiled
-    kernel (:func:`_step_maps`: Magnus substeps tied to ``settings.rtol``), composed into the
+    kernel (``_step_maps``: Magnus substeps tied to ``settings.rtol``), composed into the
     one-period map and its partial products, and the whole span is then filled by matrix
     products (:func:`gear_dyn.solvers.periodic.fill_periodic`): one period of stepping
     instead of all of them. Falls back to LSODA (restarted) where it does not apply
@@ -217,7 +217,7 @@ def propagate_periodic(
     is their product), and ``nfev``, the coefficient evaluations of the maps (two per Magnus
     substep: the work unit of a right-hand-side evaluation). The run's stated error
     (:func:`gear_dyn.analysis.accuracy.estimate_error`) does not rest on the substep rule: it
-    compares the run with the same fill from :func:`gauss_step_maps`, an independent method.
+    compares the run with the same fill from :func:`~gear_dyn.solvers.periodic.gauss_step_maps`, an independent method.
 
     Raises
     ------

@@ -172,7 +172,7 @@ class Shooting:
 
         ``dp_col``: the scaled parameter column of the Jacobian to use (a chord: e.g. that of
         the step's start point); None computes it here by the central difference. With
-        :attr:`exact_column` the column is the walk's exact one and ``dp_col`` is not used.
+        ``exact_column`` the column is the walk's exact one and ``dp_col`` is not used.
 
         Raises
         ------
@@ -270,7 +270,7 @@ class Shooting:
         ``newton.tolerance`` (``tol``) at an iterate; the returned evaluation is that
         iterate's. (The shooting residual bounds the distance to the orbit by
         ``tol / (1 - |mu|)`` in scaled units, mu the multiplier nearest 1.)
-        With :attr:`exact_column` every iterate has its exact Jacobian (``dp_col`` and
+        With ``exact_column`` every iterate has its exact Jacobian (``dp_col`` and
         ``fresh`` are not used). Otherwise, with ``dp_col`` (the parameter column at the
         step's start) the iterations skip the
         difference quotient and correct the column by the secant condition of each step;
